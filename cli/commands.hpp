@@ -1,0 +1,16 @@
+// The `spar` command's subcommands. Each lives in its own `<name>_command.cpp` and registers itself
+// on the top-level CLI11 app; main.cpp calls every add_*_command in the order they are listed here.
+//
+// A subcommand reports a user's mistake by throwing std::exception (or a module's error type
+// derived from it) with a message a person can act on; main.cpp prints it as one line on stderr and
+// exits non-zero.
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+namespace spar::cli {
+
+void add_demo_command(CLI::App& app);
+void add_simplify_command(CLI::App& app);
+
+}  // namespace spar::cli

@@ -1,0 +1,20 @@
+#include <exception>
+#include <iostream>
+
+#include "cli/commands.hpp"
+
+int main(int argc, char** argv) {
+  CLI::App app{"spar: symbolic worst-case uncertainty analysis of robot task plans"};
+  app.require_subcommand(1);
+  spar::cli::add_demo_command(app);
+  spar::cli::add_simplify_command(app);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& error) {
+    return app.exit(error);
+  } catch (const std::exception& error) {
+    std::cerr << "spar: error: " << error.what() << '\n';
+    return 1;
+  }
+  return 0;
+}
