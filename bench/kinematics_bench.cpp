@@ -1,0 +1,185 @@
+// kinematics benchmark: Puma 560 forward kinematics and closed-form inverse kinematics (all eight
+// configurations with joint-limit checks) against Orocos KDL, in the same run:
+//   FK: spar DhChain::forward            vs KDL ChainFkSolverPos_recursive
+//   IK: spar PumaIk::solve (8 solutions)  vs KDL ChainIkSolverPos_LMA (one solution, no limits,
+//       seeded within 0.3 rad of the answer, as in the corpus's peer_check_orocos_kdl notes)
+// Prints a table and `ratio <workload> <peer> <peer_time/our_time>` lines. `--quick` runs fewer
+// repetitions (well under 60 s).
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <kdl/chain.hpp>
+#include <kdl/chainfksolverpos_recursive.hpp>
+#include <kdl/chainiksolverpos_lma.hpp>
+#include <kdl/frames.hpp>
+#include <random>
+#include <span>
+#include <vector>
+
+#include "kinematics/ik.hpp"
+#include "kinematics/puma.hpp"
+
+namespace {
+
+using spar::kinematics::DhChain;
+using spar::kinematics::JointVector;
+using spar::kinematics::PumaIk;
+using spar::kinematics::Transform;
+using Clock = std::chrono::steady_clock;
+
+struct BenchOptions {
+  bool quick{false};
+};
+
+// Seconds per call of `body(i)` for i over `count` items, repeated `repetitions` times.
+template <typename Body>
+double seconds_per_call(int repetitions, int count, Body&& body) {
+  const Clock::time_point start = Clock::now();
+  for (int repetition = 0; repetition < repetitions; ++repetition)
+    for (int i = 0; i < count; ++i) body(i);
+  const std::chrono::duration<double> elapsed = Clock::now() - start;
+  return elapsed.count() / (static_cast<double>(repetitions) * count);
+}
+
+void print_row(const char* workload, const char* implementation, double seconds, const char* note) {
+  std::printf("%-10s %-40s %10.3f us/call   %s\n", workload, implementation, seconds * 1e6, note);
+}
+
+KDL::Chain kdl_chain(const DhChain& robot) {
+  KDL::Chain chain;
+  for (const spar::kinematics::DhJoint& joint : robot.joints()) {
+    chain.addSegment(KDL::Segment(KDL::Joint(KDL::Joint::RotZ),
+                                  KDL::Frame::DH(joint.a, joint.alpha, joint.d, joint.offset)));
+  }
+  return chain;
+}
+
+KDL::Frame kdl_frame(const Transform& pose) {
+  const Eigen::Matrix3d& r = pose.linear();
+  const Eigen::Vector3d& p = pose.translation();
+  return KDL::Frame(KDL::Rotation(r(0, 0), r(0, 1), r(0, 2), r(1, 0), r(1, 1), r(1, 2), r(2, 0),
+                                  r(2, 1), r(2, 2)),
+                    KDL::Vector(p.x(), p.y(), p.z()));
+}
+
+// Forward and inverse kinematics of the Puma 560, spar vs KDL.
+void run_numeric_kinematics(const BenchOptions& options) {
+  const DhChain& robot = spar::kinematics::puma560();
+  const PumaIk solver(robot);
+  const KDL::Chain chain = kdl_chain(robot);
+
+  std::mt19937_64 random(20260523);
+  const int count = 1000;
+  std::vector<JointVector> joints(count);
+  std::vector<KDL::JntArray> kdl_joints(count, KDL::JntArray(6));
+  std::vector<KDL::JntArray> kdl_seeds(count, KDL::JntArray(6));
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::uniform_real_distribution<double> seed_noise(-0.3, 0.3);
+  for (int i = 0; i < count; ++i) {
+    for (int j = 0; j < 6; ++j) {
+      const auto& limits = robot.joint(static_cast<std::size_t>(j)).limits;
+      joints[i][j] = limits.lower + (limits.upper - limits.lower) * unit(random);
+      kdl_joints[i](j) = joints[i][j];
+      kdl_seeds[i](j) = joints[i][j] + seed_noise(random);
+    }
+  }
+  std::vector<Transform> poses(count);
+  for (int i = 0; i < count; ++i)
+    poses[i] = robot.forward(std::span<const double>(joints[i].data(), 6));
+
+  // Agreement check before timing: same FK, and our IK contains the generating q.
+  KDL::ChainFkSolverPos_recursive kdl_fk(chain);
+  double fk_disagreement = 0.0;
+  int ik_contains_q = 0;
+  for (int i = 0; i < count; ++i) {
+    KDL::Frame frame;
+    kdl_fk.JntToCart(kdl_joints[i], frame);
+    for (int r = 0; r < 3; ++r) {
+      fk_disagreement = std::max(fk_disagreement, std::abs(frame.p(r) - poses[i].translation()[r]));
+      for (int c = 0; c < 3; ++c)
+        fk_disagreement =
+            std::max(fk_disagreement, std::abs(frame.M(r, c) - poses[i].linear()(r, c)));
+    }
+    const spar::kinematics::IkResult result = solver.solve(poses[i]);
+    for (const auto& solution : result.solutions) {
+      double distance = 0.0;
+      for (int j = 0; j < 6; ++j)
+        distance = std::max(distance,
+                            std::abs(spar::kinematics::wrap_angle(solution.q[j] - joints[i][j])));
+      if (result.solved() && distance < 1e-7) {
+        ++ik_contains_q;
+        break;
+      }
+    }
+  }
+  std::printf(
+      "check: max |FK spar - FK KDL| = %.2e over %d joint vectors; spar IK contains q for "
+      "%d/%d\n",
+      fk_disagreement, count, ik_contains_q, count);
+
+  const int fk_repetitions = options.quick ? 200 : 2000;
+  const int ik_repetitions = options.quick ? 200 : 2000;
+  const int lma_count = options.quick ? 200 : 1000;
+
+  double checksum = 0.0;
+  const double our_fk = seconds_per_call(fk_repetitions, count, [&](int i) {
+    const Transform pose = robot.forward(std::span<const double>(joints[i].data(), 6));
+    checksum += pose.translation().x() + pose.linear()(2, 1);
+  });
+  KDL::Frame frame;
+  const double kdl_fk_time = seconds_per_call(fk_repetitions, count, [&](int i) {
+    kdl_fk.JntToCart(kdl_joints[i], frame);
+    checksum += frame.p.x() + frame.M(2, 1);
+  });
+
+  int in_limits = 0;
+  const double our_ik = seconds_per_call(ik_repetitions, count, [&](int i) {
+    const spar::kinematics::IkResult result = solver.solve(poses[i]);
+    in_limits += result.count_within_limits();
+    checksum += result.solutions[7].q[5];
+  });
+
+  KDL::ChainIkSolverPos_LMA kdl_ik(chain);
+  KDL::JntArray kdl_out(6);
+  std::vector<KDL::Frame> kdl_targets(count);
+  for (int i = 0; i < count; ++i) kdl_targets[i] = kdl_frame(poses[i]);
+  int converged = 0;
+  const double kdl_ik_time = seconds_per_call(1, lma_count, [&](int i) {
+    converged += kdl_ik.CartToJnt(kdl_seeds[i], kdl_targets[i], kdl_out) >= 0 ? 1 : 0;
+    checksum += kdl_out(0);
+  });
+
+  char note[128];
+  std::printf("\n%-10s %-40s %10s\n", "workload", "implementation", "time");
+  print_row("fk", "spar DhChain::forward", our_fk, "");
+  print_row("fk", "KDL ChainFkSolverPos_recursive", kdl_fk_time, "");
+  std::snprintf(note, sizeof note, "8 solutions + limits; %.2f in limits per pose",
+                static_cast<double>(in_limits) / (static_cast<double>(ik_repetitions) * count));
+  print_row("ik", "spar PumaIk::solve (all 8)", our_ik, note);
+  std::snprintf(note, sizeof note, "1 solution, no limits; converged %d/%d", converged, lma_count);
+  print_row("ik", "KDL ChainIkSolverPos_LMA", kdl_ik_time, note);
+  std::printf("\nratio fk kdl %.2f\n", kdl_fk_time / our_fk);
+  std::printf("ratio ik_all8 kdl_lma %.1f\n", kdl_ik_time / our_ik);
+  std::printf("target ik_all8 under 2 us: %s (%.3f us)\n", our_ik < 2e-6 ? "met" : "MISSED",
+              our_ik * 1e6);
+  std::printf("(checksum %.6g)\n", checksum);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  BenchOptions options;
+  for (int i = 1; i < argc; ++i) {
+    if (std::strcmp(argv[i], "--quick") == 0) {
+      options.quick = true;
+    } else {
+      std::fprintf(stderr, "usage: %s [--quick]\n", argv[0]);
+      return 2;
+    }
+  }
+  std::printf("kinematics benchmark (%s)\n\n", options.quick ? "quick" : "full");
+  run_numeric_kinematics(options);
+  // The symbolic kinematics (pickup-precondition timing) gets its own function, called here.
+  return 0;
+}
