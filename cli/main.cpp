@@ -8,6 +8,8 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   spar::cli::add_demo_command(app);
   spar::cli::add_simplify_command(app);
+  spar::cli::add_fk_command(app);
+  spar::cli::add_ik_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& error) {
