@@ -17,12 +17,37 @@ constexpr std::size_t solution_index(Shoulder shoulder, Elbow elbow, Wrist wrist
          static_cast<std::size_t>(wrist);
 }
 
+// A direction in the plane as (cos, sin); composing adds the angles (complex multiplication).
+// Lets the solver carry joint angles' cosines and sines without calling sin/cos.
+struct PlaneDirection {
+  double c{1.0};
+  double s{0.0};
+};
+PlaneDirection compose(PlaneDirection a, PlaneDirection b) {
+  return {a.c * b.c - a.s * b.s, a.s * b.c + a.c * b.s};
+}
+PlaneDirection inverse(PlaneDirection a) { return {a.c, -a.s}; }
+// Direction of (x, y); (1, 0) for the zero vector (the angle is then undetermined).
+PlaneDirection direction_of(double x, double y) {
+  const double norm = std::sqrt(x * x + y * y);
+  if (!(norm > 0.0)) return {};
+  return {x / norm, y / norm};
+}
+
+// wrap_angle for the few-turns angles the solver produces, without a division.
+double wrap_small_angle(double angle) {
+  if (!(std::abs(angle) < 8.0 * kPi)) return wrap_angle(angle);
+  while (angle > kPi) angle -= kTwoPi;
+  while (angle <= -kPi) angle += kTwoPi;
+  return angle;
+}
+
 // The representative of `angle` (mod 2 pi) to report: the wrapped one if it is within `limits`
 // (widened by `tolerance`), else the smallest in-limit one, else the wrapped one. Returns whether
 // it is within limits.
 bool choose_representative(double& angle, const JointLimits& limits, double tolerance) {
   const JointLimits widened{limits.lower - tolerance, limits.upper + tolerance};
-  angle = wrap_angle(angle);
+  angle = wrap_small_angle(angle);
   if (widened.contains(angle)) return true;
   const double candidate = angle + kTwoPi * std::ceil((widened.lower - angle) / kTwoPi);
   if (widened.contains(candidate)) {
@@ -166,19 +191,27 @@ IkResult PumaIk::solve(const Transform& flange) const {
 
   result.status = IkStatus::solved;
   result.singularities = arm_flags;
+  const PlaneDirection elbow_offset{a3_ / length, d4_ / length};  // lower_arm_angle
   for (const Shoulder shoulder : {Shoulder::left, Shoulder::right}) {
     const double side = shoulder == Shoulder::right ? 1.0 : -1.0;
     const double x = side * reach;
-    const double theta1 = std::atan2(py * x + px * d, px * x - py * d);
-    const double c1 = std::cos(theta1), s1 = std::sin(theta1);
-    const double wrist_direction = std::atan2(height, x);
+    // (c1, s1) solves px c1 + py s1 = x, px s1 - py c1 = d.
+    const PlaneDirection joint1 = direction_of(px * x - py * d, py * x + px * d);
+    const double theta1 = std::atan2(joint1.s, joint1.c);
+    const PlaneDirection wrist_direction = direction_of(x, height);
     for (const Elbow elbow : {Elbow::up, Elbow::down}) {
       // The elbow is above the shoulder-wrist line when sin(q3 + lower_arm_angle) has the sign
       // opposite to x (cross product of wrist and elbow vectors).
-      const double sin_elbow = (elbow == Elbow::up ? -side : side) * sin_elbow_magnitude;
-      const double theta3 = std::atan2(sin_elbow, c) - lower_arm_angle_;
-      const double theta2 = wrist_direction - std::atan2(length * sin_elbow, a2_ + length * c);
-      const double c23 = std::cos(theta2 + theta3), s23 = std::sin(theta2 + theta3);
+      const PlaneDirection elbow_angle{c,
+                                       (elbow == Elbow::up ? -side : side) * sin_elbow_magnitude};
+      const double theta3 = std::atan2(elbow_angle.s, elbow_angle.c) - lower_arm_angle_;
+      // q2 = direction of the wrist centre minus the angle the lower arm adds at the shoulder.
+      const PlaneDirection joint2 =
+          compose(wrist_direction,
+                  inverse(direction_of(a2_ + length * elbow_angle.c, length * elbow_angle.s)));
+      const double theta2 = std::atan2(joint2.s, joint2.c);
+      const PlaneDirection joint23 = compose(joint2, compose(elbow_angle, inverse(elbow_offset)));
+      const double c1 = joint1.c, s1 = joint1.s, c23 = joint23.c, s23 = joint23.s;
       // Axes of frame 3 in the base frame; M = R03^T R is the wrist rotation
       // Rz(q4) Ry(-q5) Rz(q6) (ZYZ Euler angles with the middle one negated).
       const Eigen::Vector3d x3(c1 * c23, s1 * c23, s23);
@@ -189,13 +222,17 @@ IkResult PumaIk::solve(const Transform& flange) const {
       const double m10 = y3.dot(r0), m11 = y3.dot(r1), m12 = y3.dot(r2);
       const double m22 = z3.dot(r2);
       std::uint8_t flags = arm_flags;
-      const double sin_q5_magnitude = std::hypot(m02, m12);
+      const double sin_q5_magnitude = std::sqrt(m02 * m02 + m12 * m12);
       if (sin_q5_magnitude < options_.singularity_tolerance) flags |= kWristSingularity;
       // Where q4 is numerically undetermined, the documented choice q4 = 0.
-      const double theta4 = sin_q5_magnitude < kUndeterminedWrist ? 0.0 : std::atan2(m12, m02);
-      // q5 and q6 given q4 (well conditioned even near the singularity): Rz(-q4) M = Ry(-q5)
-      // Rz(q6).
-      const double c4 = std::cos(theta4), s4 = std::sin(theta4);
+      const PlaneDirection joint4 =
+          sin_q5_magnitude < kUndeterminedWrist
+              ? PlaneDirection{1.0, 0.0}
+              : PlaneDirection{m02 / sin_q5_magnitude, m12 / sin_q5_magnitude};
+      const double theta4 = std::atan2(joint4.s, joint4.c);
+      // q5 and q6 given q4 (well conditioned even near the singularity):
+      // Rz(-q4) M = Ry(-q5) Rz(q6).
+      const double c4 = joint4.c, s4 = joint4.s;
       const double theta5 = -std::atan2(c4 * m02 + s4 * m12, m22);
       const double theta6 = std::atan2(c4 * m10 - s4 * m00, c4 * m11 - s4 * m01);
       result.singularities |= flags;
