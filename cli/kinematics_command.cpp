@@ -188,7 +188,9 @@ void run_ik(const CommonOptions& options, const std::string& pose_text, double m
                 << (out.empty() ? "ok" : "out " + joint_list(out)) << std::right << std::scientific
                 << std::setprecision(1) << solution["fk_residual_max"].get<double>() << std::fixed;
       const std::vector<std::string> singular = solution["singularities"];
-      if (!singular.empty()) std::cout << "  singular";
+      for (std::size_t i = 0; i < singular.size(); ++i) {
+        std::cout << (i == 0 ? "  singular: " : "+") << singular[i];
+      }
       std::cout << '\n';
     }
     std::cout << "\nwithin limits: " << result.count_within_limits() << " of 8\n";

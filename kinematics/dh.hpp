@@ -9,12 +9,14 @@
 //
 // Example:
 //   const spar::kinematics::DhChain& robot = spar::kinematics::puma560();
-//   const spar::kinematics::Transform flange = robot.forward({0, 0.785, 3.14, 0, 0.785, 0});
+//   const std::vector<double> q = {0, 0.785, 3.14, 0, 0.785, 0};
+//   const spar::kinematics::Transform flange = robot.forward(q);
 //   Eigen::Vector3d where = flange.translation();
-//   bool ok = robot.within_limits(q);          // every joint inside its [lower, upper]
+//   bool ok = robot.within_limits(q);  // false: q3 = 3.14 is outside +-135 degrees
 #pragma once
 
 #include <Eigen/Geometry>
+#include <initializer_list>
 #include <span>
 #include <stdexcept>
 #include <string>

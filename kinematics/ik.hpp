@@ -23,7 +23,7 @@
 //   const IkResult result = solver.solve(puma560().forward({0, 0.7, 0.9, 0, -0.5, 0}));
 //   for (const IkSolution& solution : result.solutions)        // 8 of them if reachable
 //     std::cout << solution.configuration.label() << ' ' << solution.within_limits << '\n';
-//   bool ok = reachable(solver, target).reachable;             // in limits and tool z points down
+//   bool ok = reachable(solver, tool_pose).reachable;  // an in-limit solution, tool z down
 #pragma once
 
 #include <array>
