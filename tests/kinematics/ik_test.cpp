@@ -275,16 +275,29 @@ RC_GTEST_PROP(PumaIkProperty, InverseOfForwardContainsTheJointVector, ()) {
   }
 }
 
-RC_GTEST_PROP(PumaIkProperty, EverySolutionReachesThePoseEvenNearSingularities, ()) {
-  // Any joint vector (limits ignored, singular ones included with some probability).
+RC_GTEST_PROP(PumaIkProperty, EverySolutionReachesThePoseAlsoAtSingularities, ()) {
+  // Any joint vector (limits ignored), pushed onto the wrist, elbow or shoulder singularity (or
+  // several) with some probability; every solution must be finite and reach the pose, and the
+  // singularities built in must be flagged.
   const DhChain& robot = **rc::gen::element(&puma560(), &puma762());
+  const double a2 = robot.joint(1).a, a3 = robot.joint(2).a, d4 = robot.joint(3).d;
   JointVector q;
-  for (int i = 0; i < 6; ++i)
-    q[i] = *rc::gen::weightedOneOf<double>(
-        {{1, rc::gen::just(0.0)}, {6, rc::gen::exec([] { return draw(-kPi, kPi); })}});
+  for (int i = 0; i < 6; ++i) q[i] = draw(-kPi, kPi);
+  const bool wrist = *rc::gen::arbitrary<bool>();
+  const bool elbow = *rc::gen::arbitrary<bool>();
+  const bool shoulder = !elbow && *rc::gen::arbitrary<bool>();
+  if (wrist) q[4] = 0.0;
+  if (elbow) q[2] = -std::atan2(d4, a3);  // fully stretched
+  if (shoulder) {                         // wrist centre above the shoulder: x1 = 0 with q3 = 0
+    q[2] = 0.0;
+    q[1] = std::atan2(a2 + a3, d4) + (*rc::gen::arbitrary<bool>() ? kPi : 0.0);
+  }
   const Transform pose = fk(robot, q);
   const IkResult result = PumaIk(robot).solve(pose);
   RC_ASSERT(result.solved());
+  RC_ASSERT(!wrist || (result.singularities & kWristSingularity));
+  RC_ASSERT(!elbow || (result.singularities & kElbowSingularity));
+  RC_ASSERT(!shoulder || (result.singularities & kShoulderSingularity));
   for (const IkSolution& solution : result.solutions) {
     RC_ASSERT(solution.q.allFinite());
     RC_ASSERT(pose_error(fk(robot, solution.q), pose) < 1e-9);
