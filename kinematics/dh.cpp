@@ -22,11 +22,15 @@ DhChain::DhChain(std::string name, std::vector<DhJoint> joints, std::string sour
   }
 }
 
-Transform DhChain::forward(std::span<const double> q) const {
-  if (q.size() != joints_.size()) {
+void DhChain::require_joint_count(std::size_t count) const {
+  if (count != joints_.size()) {
     throw KinematicsError("robot '" + name_ + "' has " + std::to_string(joints_.size()) +
-                          " joints but " + std::to_string(q.size()) + " joint angles were given");
+                          " joints but " + std::to_string(count) + " joint angles were given");
   }
+}
+
+Transform DhChain::forward(std::span<const double> q) const {
+  require_joint_count(q.size());
   // Accumulate T = A_1 ... A_n as rotation R and translation p; A_i's rotation columns are
   // x = (ct, st, 0), y = (-st ca, ct ca, sa), z = (st sa, -ct sa, ca), its translation (a ct, a st,
   // d).
@@ -56,7 +60,7 @@ Transform DhChain::forward(std::span<const double> q) const {
 }
 
 bool DhChain::within_limits(std::span<const double> q) const {
-  if (q.size() != joints_.size()) return false;
+  require_joint_count(q.size());
   for (std::size_t i = 0; i < joints_.size(); ++i) {
     if (!joints_[i].limits.contains(q[i])) return false;
   }

@@ -69,9 +69,12 @@ class DhChain {
     return forward(std::span<const double>(q.begin(), q.size()));
   }
   // True if every q[i] lies in joint i's limits (no wrapping: the caller picks the representative).
+  // Throws KinematicsError if q.size() != size().
   [[nodiscard]] bool within_limits(std::span<const double> q) const;
 
  private:
+  void require_joint_count(std::size_t count) const;
+
   std::string name_;
   std::string source_;
   std::vector<DhJoint> joints_;

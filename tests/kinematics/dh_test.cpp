@@ -52,6 +52,8 @@ TEST(DhChain, Puma560ZeroPoseIsTheLShape) {
 
 TEST(DhChain, WrongJointCountIsAnError) {
   EXPECT_THROW_MESSAGE(puma560().forward({1.0, 2.0}), "has 6 joints but 2 joint angles");
+  EXPECT_THROW_MESSAGE(puma560().within_limits(std::vector<double>(7, 0.0)),
+                       "has 6 joints but 7 joint angles");
 }
 
 TEST(DhChain, InvertedLimitsAreAnError) {
