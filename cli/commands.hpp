@@ -14,5 +14,6 @@ void add_demo_command(CLI::App& app);
 void add_simplify_command(CLI::App& app);
 void add_fk_command(CLI::App& app);
 void add_ik_command(CLI::App& app);
+void add_qr_command(CLI::App& app);
 
 }  // namespace spar::cli
