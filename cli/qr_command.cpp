@@ -95,6 +95,7 @@ nlohmann::json trial_json(const qr::MatchStrikeModel& model, const Trial& trial)
   for (const Limit& limit : trial.limits_asserted) {
     out["limits_asserted"].push_back(describe_limit(model, limit));
   }
+  if (!trial.limits_retracted.empty()) out["limits_retracted_from_trials"] = trial.limits_retracted;
   if (!trial.blocking.empty()) {
     out["blocking"] = nlohmann::json::array();
     for (const qr::Blocking& block : trial.blocking) {
@@ -122,7 +123,12 @@ void print_table(const qr::MatchStrikeModel& model, const qr::RunResult& run) {
                (trial.plan->goal == qr::kIgnition ? "ignite" : "no break") + ")";
     }
     std::string limits;
-    for (const Limit& limit : trial.limits_asserted) limits += describe_limit(model, limit);
+    for (const Limit& limit : trial.limits_asserted) {
+      limits += describe_limit(model, limit) + (limit.guessed ? " (guessed)" : "");
+    }
+    for (int retracted : trial.limits_retracted) {
+      limits += "; retracted the guessed limit of trial " + std::to_string(retracted);
+    }
     std::cout << std::setw(6) << trial.number << std::setw(8) << number(trial.controls[0])
               << std::setw(8) << number(trial.controls[1]) << std::setw(6)
               << number(trial.controls[2]) << std::setw(24) << describe_outcome(trial.outcome)

@@ -74,6 +74,11 @@ const Limit* ExecutionHistory::excluding_limit(const std::vector<double>& point)
   return nullptr;
 }
 
+void ExecutionHistory::retract_guessed_limit(int trial) {
+  std::erase_if(limits_,
+                [trial](const Limit& limit) { return limit.guessed && limit.trial == trial; });
+}
+
 bool ExecutionHistory::within_physical_limits(const std::vector<double>& point) const {
   if (point.size() != controls_.size()) return false;
   for (std::size_t k = 0; k < controls_.size(); ++k) {
@@ -119,12 +124,15 @@ struct Planner::Search {
     // Per node: its change in the most recent plan that changed it (+ or -), or 0. Ties between
     // directions continue it: the history's qualitative vector points towards the goal region.
     std::vector<Sign> last_change;
+    // Per node: that change rested on a guess, so continuing it is a guess too.
+    std::vector<bool> last_change_guessed;
   };
   const Context* context{nullptr};
   std::vector<Sign> planned;   // planned change per node (0 where undecided)
   std::vector<bool> decided;   // per node
   std::vector<int> path;       // nodes from the result down to the control
   std::optional<int> control;  // the one control this trial changes
+  bool guessed{false};         // some direction on the path was an unbroken tie
 
   [[nodiscard]] bool open(int control_index, Sign direction) const {
     return !context->ranges[control_index][direction_slot(direction)].values.empty();
@@ -223,6 +231,8 @@ bool Planner::plan_node(Search& search, int id, Sign desired, int depth) const {
     const double plus = candidate.potentials[index(Sign::kPlus)];
     const double minus = candidate.potentials[index(Sign::kMinus)];
     bool minus_first = minus > plus;
+    const bool guess = plus == minus && (context.last_change[candidate.cause] == Sign::kZero ||
+                                         context.last_change_guessed[candidate.cause]);
     if (plus == minus) {
       const Sign last = context.last_change[candidate.cause];
       minus_first = last == Sign::kMinus;
@@ -240,6 +250,7 @@ bool Planner::plan_node(Search& search, int id, Sign desired, int depth) const {
       attempt.decided[id] = true;
       attempt.planned[id] = desired;
       attempt.path.push_back(id);
+      attempt.guessed = attempt.guessed || guess;
       if (plan_node(attempt, candidate.cause, direction, depth + 1)) {
         search = std::move(attempt);
         return true;
@@ -312,6 +323,7 @@ const Trial& Planner::record_and_plan(const std::vector<double>& point, const Ou
   if (success) return finish(Status::kSuccess);
   // 6, 8. Visible limits -> contextual ranges -> at-maximum / at-minimum.
   context.last_change.assign(network_.size(), Sign::kZero);
+  context.last_change_guessed.assign(network_.size(), false);
   for (auto earlier = history_.trials().rbegin(); earlier != history_.trials().rend(); ++earlier) {
     if (!earlier->plan) continue;
     for (int id = 0; id < network_.size(); ++id) {
@@ -319,46 +331,76 @@ const Trial& Planner::record_and_plan(const std::vector<double>& point, const Ou
       if (context.last_change[id] == Sign::kZero &&
           (change == Sign::kPlus || change == Sign::kMinus)) {
         context.last_change[id] = change;
+        context.last_change_guessed[id] = earlier->plan->guessed;
       }
     }
   }
   std::optional<PlannedChange> previous_plan;
   if (!history_.trials().empty()) previous_plan = history_.trials().back().plan;
-  context.cycle_back.assign(network_.size(), false);
-  for (std::size_t c = 0; c < controls.size(); ++c) {
-    context.ranges.push_back({history_.contextual_range(point, static_cast<int>(c), Sign::kPlus),
-                              history_.contextual_range(point, static_cast<int>(c), Sign::kMinus)});
-    if (context.ranges[c][0].values.empty()) trial.marks.at_maximum.push_back(static_cast<int>(c));
-    if (context.ranges[c][1].values.empty()) trial.marks.at_minimum.push_back(static_cast<int>(c));
-    // 7. Cycle-back.
-    if (previous_plan && previous_plan->control == static_cast<int>(c) &&
-        context.ranges[c][direction_slot(previous_plan->direction)].values.empty()) {
-      context.cycle_back[controls[c].node] = true;
-      trial.marks.cycle_back.push_back(static_cast<int>(c));
-    }
-  }
-  // 9. Plan, thread by thread in goal order; 5. resist-change per thread.
   std::optional<Search> plan;
   int planned_goal = -1;
-  for (int g : trial.marks.must_change) {
-    context.resist.assign(network_.size(), false);
-    for (int id = 0; id < network_.size(); ++id) {
-      bool resists = network_.node(id).kind == NodeKind::kConstant;
-      for (std::size_t other = 0; other < goals_.size() && !resists; ++other) {
-        resists = static_cast<int>(other) != g && network_.is_ancestor(id, goals_[other].node);
+  while (true) {
+    context.ranges.clear();
+    context.cycle_back.assign(network_.size(), false);
+    trial.marks.at_maximum.clear();
+    trial.marks.at_minimum.clear();
+    trial.marks.cycle_back.clear();
+    for (std::size_t c = 0; c < controls.size(); ++c) {
+      context.ranges.push_back(
+          {history_.contextual_range(point, static_cast<int>(c), Sign::kPlus),
+           history_.contextual_range(point, static_cast<int>(c), Sign::kMinus)});
+      if (context.ranges[c][0].values.empty()) {
+        trial.marks.at_maximum.push_back(static_cast<int>(c));
       }
-      context.resist[id] = resists;
+      if (context.ranges[c][1].values.empty()) {
+        trial.marks.at_minimum.push_back(static_cast<int>(c));
+      }
+      // 7. Cycle-back.
+      if (previous_plan && previous_plan->control == static_cast<int>(c) &&
+          context.ranges[c][direction_slot(previous_plan->direction)].values.empty()) {
+        context.cycle_back[controls[c].node] = true;
+        trial.marks.cycle_back.push_back(static_cast<int>(c));
+      }
     }
-    Search search{&context,
-                  std::vector<Sign>(network_.size(), Sign::kZero),
-                  std::vector<bool>(network_.size(), false),
-                  {},
-                  std::nullopt};
-    const Sign needed = goals_[g].desired ? Sign::kPlus : Sign::kMinus;
-    if (plan_node(search, goals_[g].node, needed, 0) && search.control) {
-      plan = std::move(search);
-      planned_goal = g;
-      break;
+    // 9. Plan, thread by thread in goal order; 5. resist-change per thread.
+    for (int g : trial.marks.must_change) {
+      context.resist.assign(network_.size(), false);
+      for (int id = 0; id < network_.size(); ++id) {
+        bool resists = network_.node(id).kind == NodeKind::kConstant;
+        for (std::size_t other = 0; other < goals_.size() && !resists; ++other) {
+          resists = static_cast<int>(other) != g && network_.is_ancestor(id, goals_[other].node);
+        }
+        context.resist[id] = resists;
+      }
+      Search search{&context,
+                    std::vector<Sign>(network_.size(), Sign::kZero),
+                    std::vector<bool>(network_.size(), false),
+                    {},
+                    std::nullopt};
+      const Sign needed = goals_[g].desired ? Sign::kPlus : Sign::kMinus;
+      if (plan_node(search, goals_[g].node, needed, 0) && search.control) {
+        plan = std::move(search);
+        planned_goal = g;
+        break;
+      }
+    }
+    if (plan) break;
+    // No direction: retract the guessed limits that block, if any, and plan again. Each pass
+    // removes at least one limit, so the loop ends.
+    std::vector<int> guessed;
+    for (const auto& pair : context.ranges) {
+      for (const ExecutionHistory::Range& range : pair) {
+        if (range.values.empty() && range.blocker && range.blocker->guessed) {
+          guessed.push_back(range.blocker->trial);
+        }
+      }
+    }
+    if (guessed.empty()) break;
+    std::sort(guessed.begin(), guessed.end());
+    guessed.erase(std::unique(guessed.begin(), guessed.end()), guessed.end());
+    for (int earlier : guessed) {
+      history_.retract_guessed_limit(earlier);
+      trial.limits_retracted.push_back(earlier);
     }
   }
   if (!plan) {
@@ -383,6 +425,7 @@ const Trial& Planner::record_and_plan(const std::vector<double>& point, const Ou
   change.direction = plan->planned[controls[control].node];
   change.goal = planned_goal;
   change.path = plan->path;
+  change.guessed = plan->guessed;
   change.node_changes = network_.propagate_changes({{controls[control].node, change.direction}});
   change.from = point[control];
   Limit limit{control,
@@ -391,7 +434,8 @@ const Trial& Planner::record_and_plan(const std::vector<double>& point, const Ou
               planned_goal,
               trial.number,
               point,
-              limit_visibility(planned_goal, control)};
+              limit_visibility(planned_goal, control),
+              plan->guessed};
   // 11. The next value within the contextual range.
   const ExecutionHistory::Range& range = context.ranges[control][direction_slot(change.direction)];
   if (range.blocker) {

@@ -32,6 +32,9 @@
 //      one of whose causes already has a planned change that can produce the needed change is done.
 //      9a: planning is complete once a change reaches a control; one control changes per trial,
 //      so the numeric history can attribute each result to one dimension.
+//      If no thread reaches a control and some blocking limits were asserted on a guess (a tie no
+//      history broke, see Limit::guessed), those limits are retracted and steps 6-9 repeated;
+//      each limit is retracted at most once, so this ends. Otherwise: no direction left.
 //  10. Put the plan on the history and, since the trial failed, assert its limit: along the chosen
 //      control, at the trial's value, on the side opposite to the change. The limit is visible from
 //      points that are at least as bad for the thread's result in the other controls: from the
@@ -97,6 +100,10 @@ struct Limit {
   int trial{0};  // 1-based trial number
   std::vector<double> anchor;
   std::vector<Visibility> visibility;
+  // The plan's direction was a guess: somewhere on its path two directions had equal likelihood
+  // potentials and no earlier change broke the tie. Such a limit may be wrong; it is retracted
+  // (once) when it would leave no direction (step 9).
+  bool guessed{false};
 
   [[nodiscard]] bool visible_from(const std::vector<double>& point,
                                   const std::vector<ControlSpec>& controls) const;
@@ -114,6 +121,7 @@ struct PlannedChange {
   std::vector<Sign> node_changes;  // forward propagation of the change over every node
   double from{0};
   double to{0};
+  bool guessed{false};  // the direction rests on an unbroken tie (see Limit::guessed)
 };
 
 // Why a control cannot move in a direction: a physical limit or an asserted limit (trial number).
@@ -143,7 +151,8 @@ struct Trial {
   Marks marks;
   std::optional<PlannedChange> plan;  // empty on success or when no direction is left
   std::vector<Limit> limits_asserted;
-  std::vector<Blocking> blocking;  // filled when no direction is left
+  std::vector<Blocking> blocking;     // filled when no direction is left
+  std::vector<int> limits_retracted;  // trials whose guessed limits this trial retracted
   double planning_microseconds{0};
 };
 
@@ -168,6 +177,8 @@ class ExecutionHistory {
 
   void add_trial(Trial trial) { trials_.push_back(std::move(trial)); }
   void assert_limit(Limit limit) { limits_.push_back(std::move(limit)); }
+  // Removes the guessed limit asserted by trial `trial`, if any.
+  void retract_guessed_limit(int trial);
   [[nodiscard]] const std::vector<Trial>& trials() const { return trials_; }
   [[nodiscard]] std::vector<Trial>& trials() { return trials_; }
   [[nodiscard]] const std::vector<Limit>& limits() const { return limits_; }
