@@ -178,15 +178,6 @@ bool Planner::plan_node(Search& search, int id, Sign desired, int depth) const {
     search.control = control;
     return true;
   }
-  // 9b: a cause already has a planned change that can bring this node's change about.
-  for (int cause : node.causes) {
-    if (search.decided[cause] && search.planned[cause] != Sign::kZero &&
-        network_.node_change_potentials(id, search.planned)[index(desired)] > 0) {
-      search.decided[id] = true;
-      search.planned[id] = desired;
-      return true;
-    }
-  }
   // 9c: order the causes by preference.
   const Search::Context& context = *search.context;
   struct Candidate {

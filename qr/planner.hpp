@@ -28,8 +28,9 @@
 //      resist-change, change-0-most-likely, cycle-back; a cause for which no change is possible
 //      fails and the next is tried (backtracking realises the seed's "lowest: no change possible").
 //      9d: the direction with the higher likelihood potential (potentials of blocked directions are
-//      zero); ties go to continuing the control's last change, then to the longer range. 9b: a node
-//      one of whose causes already has a planned change that can produce the needed change is done.
+//      zero); ties go to continuing the node's last planned change, then (controls) to the longer
+//      range. 9b (a thread ends where a cause already has a planned change) cannot arise here: one
+//      thread is planned per trial, and the nodes it has decided lie on its own path, above.
 //      9a: planning is complete once a change reaches a control; one control changes per trial,
 //      so the numeric history can attribute each result to one dimension.
 //      If no thread reaches a control and some blocking limits were asserted on a guess (a tie no
@@ -180,7 +181,6 @@ class ExecutionHistory {
   // Removes the guessed limit asserted by trial `trial`, if any.
   void retract_guessed_limit(int trial);
   [[nodiscard]] const std::vector<Trial>& trials() const { return trials_; }
-  [[nodiscard]] std::vector<Trial>& trials() { return trials_; }
   [[nodiscard]] const std::vector<Limit>& limits() const { return limits_; }
   [[nodiscard]] const std::vector<ControlSpec>& controls() const { return controls_; }
 
