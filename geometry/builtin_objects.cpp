@@ -1,0 +1,106 @@
+#include "geometry/builtin_objects.hpp"
+
+#include <cmath>
+#include <numbers>
+
+namespace spar::geometry {
+namespace {
+
+// Gives the faces the builders named by plane ("+z (z=3)") the names a person would use.
+void rename(Mesh& mesh, const std::vector<std::pair<std::string, std::string>>& names) {
+  for (std::string& name : mesh.triangle_names)
+    for (const auto& [from, to] : names)
+      if (name == from) name = to;
+}
+
+}  // namespace
+
+Mesh peg_mesh() {
+  RectilinearSolid base({-1.5, 1.5}, {-1.5, -0.25, 0.25, 1.5}, {0, 0.5, 1.0, 1.5});
+  base.carve({-2, -0.25, 0.5}, {2, 0.25, 1.0});  // the cross hole along x
+  Mesh mesh = base.to_mesh("<peg>");
+  // Octagon with flats 1.5 apart: circumradius 0.75 / cos(pi / 8).
+  attach_prism(mesh, 1.5, regular_polygon(0.75 / std::cos(std::numbers::pi / 8), 8), 3.5, "shaft");
+  rename(mesh, {{"-z (z=0)", "base bottom"},
+                {"+z (z=1.5)", "base top"},
+                {"-x (x=-1.5)", "base -x"},
+                {"+x (x=1.5)", "base +x"},
+                {"-y (y=-1.5)", "base -y"},
+                {"+y (y=1.5)", "base +y"},
+                {"-z (z=1)", "cross hole ceiling"},
+                {"+z (z=0.5)", "cross hole floor"},
+                {"-y (y=0.25)", "cross hole wall +y"},
+                {"+y (y=-0.25)", "cross hole wall -y"}});
+  return mesh;
+}
+
+Mesh block_mesh() {
+  RectilinearSolid block({-1.75, -0.8, -0.25, 0.25, 0.8, 1.75}, {-1.5, -0.8, 0.8, 1.5},
+                         {0, 1, 1.75, 2.25, 3});
+  block.carve({-0.8, -0.8, 1}, {0.8, 0.8, 4});      // the blind hole for the peg
+  block.carve({-0.25, -2, 1.75}, {0.25, 2, 2.25});  // the small cross hole along y
+  Mesh mesh = block.to_mesh("<block>");
+  rename(mesh, {{"-z (z=0)", "bottom"},
+                {"+z (z=3)", "top"},
+                {"-x (x=-1.75)", "left -x"},
+                {"+x (x=1.75)", "right +x"},
+                {"-y (y=-1.5)", "front -y"},
+                {"+y (y=1.5)", "back +y"},
+                {"+z (z=1)", "peg hole floor"},
+                {"+x (x=-0.8)", "peg hole wall -x"},
+                {"-x (x=0.8)", "peg hole wall +x"},
+                {"+y (y=-0.8)", "peg hole wall -y"},
+                {"-y (y=0.8)", "peg hole wall +y"},
+                {"-z (z=2.25)", "cross hole ceiling"},
+                {"+z (z=1.75)", "cross hole floor"},
+                {"+x (x=-0.25)", "cross hole wall -x"},
+                {"-x (x=0.25)", "cross hole wall +x"}});
+  return mesh;
+}
+
+Mesh l_shape_mesh() {
+  // Profile in xz: a 1 x 5 upright at x in [0, 1] and a 3 x 1 foot at x in [1, 4]; 1 deep in y.
+  RectilinearSolid l_shape({0, 1, 4}, {0, 1}, {0, 1, 5});
+  l_shape.set_filled(1, 0, 1, false);
+  return l_shape.to_mesh("<l-shape>");
+}
+
+std::vector<std::string> builtin_object_names() { return {"peg", "block", "cube", "l-shape"}; }
+
+Mesh builtin_mesh(const std::string& name) {
+  if (name == "peg") return peg_mesh();
+  if (name == "block") return block_mesh();
+  if (name == "cube") return make_box({1, 1, 1});
+  if (name == "l-shape") return l_shape_mesh();
+  std::string known;
+  for (const auto& n : builtin_object_names()) known += (known.empty() ? "" : ", ") + n;
+  throw GeometryError("no built-in object '" + name + "' (known: " + known + ")");
+}
+
+ObjectModel make_builtin_object(const std::string& name) {
+  return ObjectModel(name, builtin_mesh(name));
+}
+
+std::string builtin_description(const std::string& name) {
+  if (name == "peg")
+    return "spar built-in object 'peg' (the seed's peg-and-block task), inches.\n"
+           "Base 3 x 3 x 1.5, origin at the centre of its bottom face, with a 0.5 x 0.5 square\n"
+           "cross hole along x through the base (centre z = 0.75). Shaft along +z: 1.5 across "
+           "flats,\n"
+           "3.5 long. Simplifications: the cylindrical shaft is an octagonal prism and the round\n"
+           "cross hole is square. Faces are named in the trailing comments.";
+  if (name == "block")
+    return "spar built-in object 'block' (the seed's peg-and-block task), inches.\n"
+           "3.5 x 3 x 3 (x, y, z), origin at the centre of its bottom face. A blind 1.6 x 1.6 "
+           "square\n"
+           "hole for the peg, 2 deep, opens on the top (+z) face; a 0.5 x 0.5 square cross hole\n"
+           "along y at z = 2 crosses it. Simplification: both round holes are square.\n"
+           "Faces are named in the trailing comments.";
+  if (name == "cube") return "spar built-in object 'cube': the unit cube [0,1]^3.";
+  if (name == "l-shape")
+    return "spar built-in object 'l-shape': an L profile in xz (a 1 x 5 upright, a 3 x 1 foot),\n"
+           "1 deep in y. Two of its seven hull facets are not stable.";
+  return name;
+}
+
+}  // namespace spar::geometry

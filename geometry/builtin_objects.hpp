@@ -1,0 +1,37 @@
+// The seed's two objects (SPAR's peg-and-block task) and a few test shapes, built in code, in
+// inches. Each also ships as an OFF file under examples/objects/ (written from these builders by
+// `spar object NAME --write-off FILE`), so a file and its built-in give the same face ids.
+//
+// peg:   a 3 x 3 x 1.5 base, origin at the centre of its bottom, with a 0.5 x 0.5 square cross
+//        hole along x through the base (centre at z = 0.75); a shaft of 1.5 in across flats as an
+//        octagonal prism, 3.5 long, standing on the base along +z. Simplifications: the cylinder is
+//        an octagon, the round cross hole is square.
+// block: 3.5 x 3 x 3 (x, y, z), origin at the centre of its bottom; a blind 1.6 x 1.6 square hole
+//        for the peg, 2 deep, opening on the top (+z) face; a 0.5 x 0.5 square cross hole along y
+//        through the block at z = 2, crossing the peg hole. Simplification: both holes are square.
+// cube:  a unit cube; l-shape: the L of the stable-pose tests.
+//
+// Example:
+//   ObjectModel peg = make_builtin_object("peg");
+//   for (const std::string& name : builtin_object_names()) ...
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "geometry/mesh.hpp"
+#include "geometry/object.hpp"
+
+namespace spar::geometry {
+
+[[nodiscard]] Mesh peg_mesh();
+[[nodiscard]] Mesh block_mesh();
+[[nodiscard]] Mesh l_shape_mesh();
+[[nodiscard]] std::vector<std::string> builtin_object_names();
+// Throws GeometryError for an unknown name (the message lists the known ones).
+[[nodiscard]] Mesh builtin_mesh(const std::string& name);
+[[nodiscard]] ObjectModel make_builtin_object(const std::string& name);
+// The header comment written at the top of the object's OFF file.
+[[nodiscard]] std::string builtin_description(const std::string& name);
+
+}  // namespace spar::geometry

@@ -1,0 +1,318 @@
+#include "geometry/grasps.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+
+#include "geometry/internal/polygon2d.hpp"
+
+namespace spar::geometry {
+namespace {
+
+using internal::Polygon2;
+
+// Möller–Trumbore: does the segment from p to q cross the triangle (a, b, c) strictly inside
+// the segment (beyond `slack` of parameter at either end)?
+bool segment_hits_triangle(const Eigen::Vector3d& p, const Eigen::Vector3d& q,
+                           const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                           const Eigen::Vector3d& c, double slack) {
+  const Eigen::Vector3d direction = q - p, ab = b - a, ac = c - a;
+  const Eigen::Vector3d h = direction.cross(ac);
+  const double det = ab.dot(h);
+  if (std::abs(det) < 1e-300) return false;
+  const Eigen::Vector3d s = p - a;
+  const double u = s.dot(h) / det;
+  if (u < 0 || u > 1) return false;
+  const Eigen::Vector3d k = s.cross(ab);
+  const double v = direction.dot(k) / det;
+  if (v < 0 || u + v > 1) return false;
+  const double t = ac.dot(k) / det;
+  return t > slack && t < 1 - slack;
+}
+
+// A finger can touch `point` on a face only from outside: the ray along the face's outward normal
+// must leave the object without crossing it (rules out faces inside holes).
+bool exposed(const ObjectModel& object, const Eigen::Vector3d& point,
+             const Eigen::Vector3d& normal) {
+  const double diagonal = object.tolerance() / 1e-9;
+  const Eigen::Vector3d far = point + 1e3 * diagonal * normal;  // well past the object
+  const auto& mesh = object.mesh();
+  // Hits within 1e-6 diagonals of the start are the face itself or its neighbours' edges.
+  for (const auto& t : mesh.triangles)
+    if (segment_hits_triangle(point, far, mesh.vertices[t[0]], mesh.vertices[t[1]],
+                              mesh.vertices[t[2]], 1e-9))
+      return false;
+  return true;
+}
+
+struct Box {
+  Eigen::Vector3d low, high;
+};
+
+// The gripper's solid parts in its own frame with the fingers closed to `width`, shrunk by
+// `shrink` so the finger pads resting on the contact faces do not count as collisions.
+std::vector<Box> gripper_boxes(const GripperSpec& gripper, double width, double shrink) {
+  const double tip = gripper.tip_beyond_contact, palm = tip - gripper.finger_length;
+  const double fx = gripper.finger_width / 2, px = gripper.palm_width / 2;
+  const double inner = width / 2, outer = width / 2 + gripper.finger_thickness;
+  std::vector<Box> boxes{{{-fx, inner, palm}, {fx, outer, tip}},
+                         {{-fx, -outer, palm}, {fx, -inner, tip}},
+                         {{-px, -outer, palm - gripper.palm_height}, {px, outer, palm}}};
+  for (Box& box : boxes) {
+    box.low.array() += shrink;
+    box.high.array() -= shrink;
+  }
+  return boxes;
+}
+
+// Does segment p-q meet the open box? (slab clipping)
+bool segment_hits_box(const Eigen::Vector3d& p, const Eigen::Vector3d& q, const Box& box) {
+  double enter = 0, leave = 1;
+  for (int axis = 0; axis < 3; ++axis) {
+    const double d = q[axis] - p[axis];
+    if (std::abs(d) < 1e-300) {
+      if (p[axis] <= box.low[axis] || p[axis] >= box.high[axis]) return false;
+      continue;
+    }
+    double t0 = (box.low[axis] - p[axis]) / d, t1 = (box.high[axis] - p[axis]) / d;
+    if (t0 > t1) std::swap(t0, t1);
+    enter = std::max(enter, t0);
+    leave = std::min(leave, t1);
+    if (enter >= leave) return false;
+  }
+  return true;
+}
+
+// Does the gripper, closed on the object at T_G, overlap the object? A box meets the surface iff
+// a mesh edge enters it or a box edge crosses a triangle. Not detected: a box wholly inside the
+// solid; the fingers start at exposed contacts and join the palm, so a gripper that reaches into
+// the solid also has a box crossing the surface.
+bool gripper_hits_object(const ObjectModel& object, const Eigen::Isometry3d& object_to_gripper,
+                         const GripperSpec& gripper, double width) {
+  const auto& mesh = object.mesh();
+  std::vector<Eigen::Vector3d> local(mesh.vertices.size());
+  for (std::size_t v = 0; v < local.size(); ++v) local[v] = object_to_gripper * mesh.vertices[v];
+  const double shrink = 1e-6 * (1 + object.tolerance() / 1e-9);
+  for (const Box& box : gripper_boxes(gripper, width, shrink)) {
+    for (const auto& t : mesh.triangles)
+      for (int c = 0; c < 3; ++c)
+        if (segment_hits_box(local[t[c]], local[t[(c + 1) % 3]], box)) return true;
+    for (int edge = 0; edge < 12; ++edge) {
+      const int axis = edge / 4, others = edge % 4;
+      Eigen::Vector3d p, q;
+      for (int a = 0, bit = 0; a < 3; ++a) {
+        if (a == axis) {
+          p[a] = box.low[a];
+          q[a] = box.high[a];
+        } else {
+          p[a] = q[a] = ((others >> bit++) & 1) ? box.high[a] : box.low[a];
+        }
+      }
+      for (const auto& t : mesh.triangles)
+        if (segment_hits_triangle(p, q, local[t[0]], local[t[1]], local[t[2]], 0)) return true;
+    }
+  }
+  return false;
+}
+
+// Contact positions of a pair (mid-plane points, object frame), per the header's quantization.
+std::vector<Eigen::Vector3d> contact_positions(const ObjectModel& object, const FacePair& pair,
+                                               int per_axis) {
+  const Eigen::Vector3d normal = object.face(pair.face_a).normal;
+  const internal::PlaneBasis basis = internal::plane_basis(normal);
+  const double mid_offset = normal.dot(pair.overlap.front().front());
+  std::vector<Polygon2> pieces;
+  Eigen::Vector2d low = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
+  Eigen::Vector2d high = -low;
+  Eigen::Vector2d centroid = Eigen::Vector2d::Zero();
+  for (const auto& piece3 : pair.overlap) {
+    Polygon2 piece;
+    for (const auto& p : piece3) {
+      piece.push_back(internal::project(basis, p));
+      low = low.cwiseMin(piece.back());
+      high = high.cwiseMax(piece.back());
+    }
+    centroid += internal::signed_area(piece) * internal::area_centroid(piece);
+    pieces.push_back(std::move(piece));
+  }
+  centroid /= pair.overlap_area;
+  const double tolerance = object.tolerance();
+  const Face& face_a = object.face(pair.face_a);
+  // In the closed overlap (a point on an edge shared by two pieces is inside), and both contact
+  // points reachable from outside.
+  const auto inside = [&](const Eigen::Vector2d& q) {
+    if (std::none_of(pieces.begin(), pieces.end(), [&](const Polygon2& piece) {
+          return internal::inset_distance(piece, q) >= -tolerance;
+        }))
+      return false;
+    const Eigen::Vector3d mid = basis.u * q.x() + basis.v * q.y() + normal * mid_offset;
+    return exposed(object, mid + (face_a.offset - mid_offset) * normal, normal) &&
+           exposed(object, mid - (pair.width - (face_a.offset - mid_offset)) * normal, -normal);
+  };
+  // Candidate points: a 41 x 41 grid over the bounding box, keeping those inside the overlap.
+  constexpr int kGrid = 41;
+  std::vector<Eigen::Vector2d> candidates;
+  for (int i = 0; i < kGrid; ++i)
+    for (int j = 0; j < kGrid; ++j) {
+      const Eigen::Vector2d q(low.x() + (high.x() - low.x()) * (i + 0.5) / kGrid,
+                              low.y() + (high.y() - low.y()) * (j + 0.5) / kGrid);
+      if (inside(q)) candidates.push_back(q);
+    }
+  std::vector<Eigen::Vector2d> targets;
+  if (per_axis == 1) {
+    targets.push_back(centroid);
+  } else {
+    for (int i = 0; i < per_axis; ++i)
+      for (int j = 0; j < per_axis; ++j)
+        targets.emplace_back(low.x() + (high.x() - low.x()) * (i + 0.5) / per_axis,
+                             low.y() + (high.y() - low.y()) * (j + 0.5) / per_axis);
+  }
+  std::vector<Eigen::Vector2d> chosen;
+  for (const auto& target : targets) {
+    Eigen::Vector2d best = target;
+    if (!inside(target)) {
+      if (candidates.empty()) continue;
+      best = *std::min_element(candidates.begin(), candidates.end(),
+                               [&](const auto& a, const auto& b) {
+                                 return (a - target).squaredNorm() < (b - target).squaredNorm();
+                               });
+    }
+    const bool repeated = std::any_of(chosen.begin(), chosen.end(), [&](const auto& c) {
+      return (c - best).norm() <= tolerance;
+    });
+    if (!repeated) chosen.push_back(best);
+  }
+  std::vector<Eigen::Vector3d> positions;
+  for (const auto& q : chosen)
+    positions.push_back(basis.u * q.x() + basis.v * q.y() + normal * mid_offset);
+  return positions;
+}
+
+Eigen::Vector3d approach_reference(const Eigen::Vector3d& closing_axis) {
+  for (const Eigen::Vector3d& candidate :
+       {Eigen::Vector3d(0, 0, -1), Eigen::Vector3d(-1, 0, 0), Eigen::Vector3d(0, -1, 0)}) {
+    const Eigen::Vector3d projected = candidate - candidate.dot(closing_axis) * closing_axis;
+    if (projected.norm() >= 0.5) return projected.normalized();
+  }
+  return {};  // unreachable: -x, -y, -z cannot all be within 60° of one axis
+}
+
+// Does the face's projection along the gripper's z meet the footprint rectangle?
+bool face_meets_footprint(const ObjectModel& object, const Face& face,
+                          const Eigen::Isometry3d& object_to_gripper, double half_x,
+                          double half_y) {
+  const Polygon2 footprint{
+      {-half_x, -half_y}, {half_x, -half_y}, {half_x, half_y}, {-half_x, half_y}};
+  const double tolerance = object.tolerance();
+  for (const int t : face.triangles) {
+    Polygon2 flat;
+    for (const int v : object.mesh().triangles[t])
+      flat.push_back((object_to_gripper * object.mesh().vertices[v]).head<2>());
+    if (internal::signed_area(flat) < 0) std::reverse(flat.begin(), flat.end());
+    const Polygon2 common = internal::clip_convex(flat, footprint);
+    if (common.size() >= 3 && internal::signed_area(common) > tolerance * tolerance) return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+std::vector<Grasp> compute_grasps(const ObjectModel& object, const GripperSpec& gripper,
+                                  const GraspQuantization& quantization) {
+  if (!(quantization.approach_step_deg > 0 && quantization.approach_step_deg <= 360))
+    throw GeometryError("grasp quantization: the approach step must be in (0, 360] degrees");
+  if (quantization.positions_per_axis < 1)
+    throw GeometryError("grasp quantization: positions per axis must be at least 1");
+  std::vector<Grasp> grasps;
+  const double half_x = gripper.palm_width / 2;
+  const double half_y = gripper.max_opening / 2 + gripper.finger_thickness;
+  for (const FacePair& pair : object.face_pairs()) {
+    if (pair.width < gripper.min_opening || pair.width >= gripper.max_opening) continue;
+    const Eigen::Vector3d y = object.face(pair.face_a).normal;
+    const Eigen::Vector3d reference = approach_reference(y);
+    const auto positions = contact_positions(object, pair, quantization.positions_per_axis);
+    for (std::size_t position = 0; position < positions.size(); ++position)
+      for (int step = 0; step * quantization.approach_step_deg < 360 - 1e-9; ++step) {
+        const double angle = step * quantization.approach_step_deg;
+        const Eigen::Vector3d z = Eigen::AngleAxisd(angle * std::numbers::pi / 180, y) * reference;
+        Grasp grasp;
+        grasp.face_plus_y = pair.face_a;
+        grasp.face_minus_y = pair.face_b;
+        grasp.width = pair.width;
+        grasp.approach_deg = angle;
+        grasp.position = static_cast<int>(position);
+        grasp.gripper_in_object = Eigen::Isometry3d::Identity();
+        grasp.gripper_in_object.linear() << y.cross(z), y, z;
+        grasp.gripper_in_object.translation() = positions[position];
+        const Eigen::Isometry3d object_to_gripper =
+            grasp.gripper_in_object.inverse(Eigen::Isometry);
+        if (gripper_hits_object(object, object_to_gripper, gripper, pair.width)) continue;
+        for (const Face& face : object.faces()) {
+          const bool contact = face.id == pair.face_a || face.id == pair.face_b;
+          if (contact || (face.normal.dot(z) <= -quantization.obscure_facing_cosine &&
+                          face_meets_footprint(object, face, object_to_gripper, half_x, half_y)))
+            grasp.obscured_faces.push_back(face.id);
+        }
+        grasp.id = static_cast<int>(grasps.size()) + 1;
+        grasp.label = "G" + std::to_string(grasp.id);
+        grasps.push_back(std::move(grasp));
+      }
+  }
+  return grasps;
+}
+
+std::string_view to_string(GraspUsability usability) {
+  switch (usability) {
+    case GraspUsability::usable:
+      return "usable";
+    case GraspUsability::contact_face_on_table:
+      return "a contact face is on the table";
+    case GraspUsability::approach_outside_cone:
+      return "the approach is too far from straight down";
+    case GraspUsability::gripper_below_table:
+      return "the gripper would go through the table";
+  }
+  return "?";
+}
+
+GraspUsability grasp_usability(const Grasp& grasp, const StablePose& pose,
+                               const GripperSpec& gripper) {
+  for (const int face : {grasp.face_plus_y, grasp.face_minus_y})
+    if (!pose_leaves_free(pose, std::span<const int>(&face, 1)))
+      return GraspUsability::contact_face_on_table;
+  const Eigen::Isometry3d gripper_to_world = pose.object_to_world * grasp.gripper_in_object;
+  const Eigen::Vector3d approach = gripper_to_world.linear().col(2);
+  if (approach.dot(-Eigen::Vector3d::UnitZ()) < std::cos(gripper.max_approach_tilt) - 1e-12)
+    return GraspUsability::approach_outside_cone;
+  // The fingers (closed on the object and fully open) and the palm are boxes; a box is above the
+  // table when its eight corners are.
+  const double tip = gripper.tip_beyond_contact;
+  const double palm = tip - gripper.finger_length;
+  const double fx = gripper.finger_width / 2;
+  const double px = gripper.palm_width / 2;
+  const double py = gripper.max_opening / 2 + gripper.finger_thickness;
+  std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> boxes;  // low, high corners
+  for (const double opening : {grasp.width, gripper.max_opening}) {
+    const double inner = opening / 2, outer = opening / 2 + gripper.finger_thickness;
+    boxes.push_back({{-fx, inner, palm}, {fx, outer, tip}});
+    boxes.push_back({{-fx, -outer, palm}, {fx, -inner, tip}});
+  }
+  boxes.push_back({{-px, -py, palm - gripper.palm_height}, {px, py, palm}});
+  const double tolerance = 1e-9 * (1 + gripper.finger_length + gripper.max_opening);
+  for (const auto& [low, high] : boxes)
+    for (int corner = 0; corner < 8; ++corner) {
+      const Eigen::Vector3d p((corner & 1) ? high.x() : low.x(), (corner & 2) ? high.y() : low.y(),
+                              (corner & 4) ? high.z() : low.z());
+      if ((gripper_to_world * p).z() < -tolerance) return GraspUsability::gripper_below_table;
+    }
+  return GraspUsability::usable;
+}
+
+bool grasp_leaves_free(const Grasp& grasp, std::span<const int> faces) {
+  return std::none_of(faces.begin(), faces.end(), [&](int face) {
+    return std::binary_search(grasp.obscured_faces.begin(), grasp.obscured_faces.end(), face);
+  });
+}
+
+}  // namespace spar::geometry

@@ -1,0 +1,102 @@
+#include "geometry/internal/polygon2d.hpp"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace spar::geometry::internal {
+namespace {
+
+double cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+  return a.x() * b.y() - a.y() * b.x();
+}
+
+}  // namespace
+
+PlaneBasis plane_basis(const Eigen::Vector3d& unit_normal) {
+  // Pick the world axis least aligned with the normal so the basis is well conditioned.
+  Eigen::Index smallest = 0;
+  unit_normal.cwiseAbs().minCoeff(&smallest);
+  const Eigen::Vector3d axis = Eigen::Vector3d::Unit(smallest);
+  const Eigen::Vector3d u = (axis - axis.dot(unit_normal) * unit_normal).normalized();
+  return {u, unit_normal.cross(u)};
+}
+
+Eigen::Vector2d project(const PlaneBasis& basis, const Eigen::Vector3d& point) {
+  return {basis.u.dot(point), basis.v.dot(point)};
+}
+
+Polygon2 convex_hull_2d(std::vector<Eigen::Vector2d> points) {
+  std::sort(points.begin(), points.end(), [](const auto& a, const auto& b) {
+    return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y());
+  });
+  if (points.size() < 3) return points;
+  Polygon2 hull(2 * points.size());
+  std::size_t k = 0;
+  for (std::size_t i = 0; i < points.size(); ++i) {  // lower chain
+    while (k >= 2 && cross(hull[k - 1] - hull[k - 2], points[i] - hull[k - 2]) <= 0) --k;
+    hull[k++] = points[i];
+  }
+  for (std::size_t i = points.size() - 1, lower = k + 1; i-- > 0;) {  // upper chain
+    while (k >= lower && cross(hull[k - 1] - hull[k - 2], points[i] - hull[k - 2]) <= 0) --k;
+    hull[k++] = points[i];
+  }
+  hull.resize(k - 1);
+  return hull;
+}
+
+Polygon2 clip_convex(const Polygon2& subject, const Polygon2& clip) {
+  Polygon2 output = subject;
+  for (std::size_t e = 0; e < clip.size() && !output.empty(); ++e) {
+    const Eigen::Vector2d a = clip[e];
+    const Eigen::Vector2d edge = clip[(e + 1) % clip.size()] - a;
+    const auto side = [&](const Eigen::Vector2d& p) { return cross(edge, p - a); };
+    Polygon2 input;
+    input.swap(output);
+    for (std::size_t i = 0; i < input.size(); ++i) {
+      const Eigen::Vector2d& current = input[i];
+      const Eigen::Vector2d& previous = input[(i + input.size() - 1) % input.size()];
+      const double s_current = side(current);
+      const double s_previous = side(previous);
+      if ((s_current >= 0) != (s_previous >= 0)) {
+        const double t = s_previous / (s_previous - s_current);
+        output.push_back(previous + t * (current - previous));
+      }
+      if (s_current >= 0) output.push_back(current);
+    }
+  }
+  return output;
+}
+
+double signed_area(const Polygon2& polygon) {
+  double twice_area = 0;
+  for (std::size_t i = 0; i < polygon.size(); ++i)
+    twice_area += cross(polygon[i], polygon[(i + 1) % polygon.size()]);
+  return twice_area / 2;
+}
+
+Eigen::Vector2d area_centroid(const Polygon2& polygon) {
+  Eigen::Vector2d sum = Eigen::Vector2d::Zero();
+  double twice_area = 0;
+  for (std::size_t i = 0; i < polygon.size(); ++i) {
+    const auto& p = polygon[i];
+    const auto& q = polygon[(i + 1) % polygon.size()];
+    const double w = cross(p, q);
+    twice_area += w;
+    sum += w * (p + q);
+  }
+  return sum / (3 * twice_area);
+}
+
+double inset_distance(const Polygon2& convex_polygon, const Eigen::Vector2d& point) {
+  double smallest = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < convex_polygon.size(); ++i) {
+    const Eigen::Vector2d a = convex_polygon[i];
+    const Eigen::Vector2d edge = convex_polygon[(i + 1) % convex_polygon.size()] - a;
+    smallest = std::min(smallest, cross(edge, point - a) / edge.norm());
+  }
+  return smallest;
+}
+
+}  // namespace spar::geometry::internal

@@ -1,0 +1,31 @@
+// Reading and writing object meshes: OFF and Wavefront OBJ.
+//
+// OFF: an optional `OFF` header, the counts `vertices faces edges`, vertex lines `x y z`, then
+// polygon lines `n i1 ... in` (0-based indices, counter-clockwise seen from outside, convex;
+// colours after the indices are ignored). A comment after a polygon (`4 0 1 2 3 # top`) names it;
+// other `#` comments are ignored. OBJ: `v x y z`, `f a b c ...` (1-based or negative indices,
+// `a/t/n` forms accepted), and `g name` / `o name` name the polygons that follow; other statements
+// (vt, vn, s, usemtl, mtllib) are ignored. Both are validated as closed meshes (mesh.hpp): any
+// mistake throws GeometryError with "file:line: what is wrong".
+//
+// Example:
+//   Mesh mesh = read_mesh_file("examples/objects/block.off");
+//   write_off(mesh, std::cout, "a block");
+#pragma once
+
+#include <iosfwd>
+#include <string>
+
+#include "geometry/mesh.hpp"
+
+namespace spar::geometry {
+
+// By extension (.off or .obj, any case).
+[[nodiscard]] Mesh read_mesh_file(const std::string& path);
+// `source` names the text in error messages (normally the file name).
+[[nodiscard]] Mesh parse_off(const std::string& text, const std::string& source);
+[[nodiscard]] Mesh parse_obj(const std::string& text, const std::string& source);
+// Writes triangles with their names as comments; `header` lines become leading `#` comments.
+void write_off(const Mesh& mesh, std::ostream& out, const std::string& header);
+
+}  // namespace spar::geometry

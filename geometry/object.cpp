@@ -1,0 +1,195 @@
+#include "geometry/object.hpp"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <limits>
+#include <map>
+#include <numeric>
+
+#include "geometry/internal/convex_hull.hpp"
+#include "geometry/internal/polygon2d.hpp"
+
+namespace spar::geometry {
+namespace {
+
+constexpr double kParallelCosine = 1 - 1e-9;  // unit normals this close are the same direction
+
+Eigen::Vector3d scaled_normal(const Mesh& mesh, const std::array<int, 3>& t) {
+  const auto& v = mesh.vertices;
+  return (v[t[1]] - v[t[0]]).cross(v[t[2]] - v[t[0]]);
+}
+
+int find_root(std::vector<int>& parent, int i) {
+  while (parent[i] != i) i = parent[i] = parent[parent[i]];
+  return i;
+}
+
+std::vector<Face> merge_faces(const Mesh& mesh, double tolerance) {
+  const int count = static_cast<int>(mesh.triangles.size());
+  std::vector<Eigen::Vector3d> unit(count);
+  for (int t = 0; t < count; ++t) unit[t] = scaled_normal(mesh, mesh.triangles[t]).normalized();
+  std::vector<int> parent(count);
+  std::iota(parent.begin(), parent.end(), 0);
+  std::map<std::pair<int, int>, int> edge_triangle;  // directed edge -> triangle
+  for (int t = 0; t < count; ++t)
+    for (int c = 0; c < 3; ++c)
+      edge_triangle[{mesh.triangles[t][c], mesh.triangles[t][(c + 1) % 3]}] = t;
+  for (const auto& [edge, t] : edge_triangle) {
+    const int other = edge_triangle.at({edge.second, edge.first});
+    const auto& near = mesh.vertices[mesh.triangles[t][0]];
+    // The other triangle's normal at an angle, but also all its corners in this plane.
+    bool coplanar = unit[t].dot(unit[other]) > kParallelCosine;
+    for (const int v : mesh.triangles[other])
+      coplanar = coplanar && std::abs(unit[t].dot(mesh.vertices[v] - near)) <= tolerance;
+    if (coplanar) parent[find_root(parent, t)] = find_root(parent, other);
+  }
+  std::map<int, int> face_of_root;  // in order of first triangle, which gives the ids
+  std::vector<Face> faces;
+  for (int t = 0; t < count; ++t) {
+    const int root = find_root(parent, t);
+    auto [it, inserted] = face_of_root.emplace(root, static_cast<int>(faces.size()));
+    if (inserted) {
+      faces.emplace_back();
+      faces.back().id = static_cast<int>(faces.size());
+      faces.back().normal = Eigen::Vector3d::Zero();
+      faces.back().centroid = Eigen::Vector3d::Zero();
+    }
+    Face& face = faces[it->second];
+    if (face.name.empty()) face.name = mesh.triangle_names[t];
+    face.triangles.push_back(t);
+    const Eigen::Vector3d n = scaled_normal(mesh, mesh.triangles[t]);
+    const double area = n.norm() / 2;
+    face.normal += n;
+    face.area += area;
+    const auto& tri = mesh.triangles[t];
+    face.centroid +=
+        area * (mesh.vertices[tri[0]] + mesh.vertices[tri[1]] + mesh.vertices[tri[2]]) / 3;
+  }
+  for (Face& face : faces) {
+    face.normal.normalize();
+    face.centroid /= face.area;
+    face.offset = face.normal.dot(face.centroid);
+  }
+  return faces;
+}
+
+std::vector<HullFacet> compute_hull_facets(const Mesh& mesh, const std::vector<Face>& faces,
+                                           const Eigen::Vector3d& com, double tolerance) {
+  std::vector<Eigen::Vector3d> points;
+  {
+    std::vector<char> used(mesh.vertices.size(), 0);
+    for (const auto& t : mesh.triangles)
+      for (const int v : t) used[v] = 1;
+    for (std::size_t v = 0; v < used.size(); ++v)
+      if (used[v]) points.push_back(mesh.vertices[v]);
+  }
+  // Group the hull's triangles by outward normal: on a convex hull, one normal is one facet.
+  std::vector<HullFacet> facets;
+  std::vector<std::vector<Eigen::Vector3d>> facet_points;
+  for (const auto& t : internal::convex_hull_triangles(points)) {
+    const Eigen::Vector3d n = (points[t[1]] - points[t[0]]).cross(points[t[2]] - points[t[0]]);
+    if (n.norm() == 0) continue;  // a sliver CGAL kept for exactness; its neighbours cover it
+    const Eigen::Vector3d unit = n.normalized();
+    // Same outward normal and all three corners on the facet's plane.
+    auto it = std::find_if(facets.begin(), facets.end(), [&](const HullFacet& f) {
+      return f.normal.dot(unit) > kParallelCosine && std::all_of(t.begin(), t.end(), [&](int v) {
+               return std::abs(f.normal.dot(points[v]) - f.offset) <= 10 * tolerance;
+             });
+    });
+    if (it == facets.end()) {
+      facets.push_back({unit, unit.dot(points[t[0]]), {}, 0, 0, {}});
+      facet_points.emplace_back();
+      it = facets.end() - 1;
+    }
+    for (const int v : t) facet_points[it - facets.begin()].push_back(points[v]);
+  }
+  for (std::size_t f = 0; f < facets.size(); ++f) {
+    HullFacet& facet = facets[f];
+    const internal::PlaneBasis basis = internal::plane_basis(facet.normal);
+    std::vector<Eigen::Vector2d> flat;
+    for (const auto& p : facet_points[f]) flat.push_back(internal::project(basis, p));
+    const internal::Polygon2 polygon = internal::convex_hull_2d(flat);
+    for (const auto& q : polygon)
+      facet.polygon.push_back(basis.u * q.x() + basis.v * q.y() + facet.normal * facet.offset);
+    facet.com_inset = internal::inset_distance(polygon, internal::project(basis, com));
+    facet.com_height = facet.offset - facet.normal.dot(com);
+    for (const Face& face : faces)
+      if (face.normal.dot(facet.normal) > kParallelCosine &&
+          std::abs(face.offset - facet.offset) <= 10 * tolerance)
+        facet.table_faces.push_back(face.id);
+  }
+  return facets;
+}
+
+// Common region of faces a and b seen along a's normal, as convex pieces in the mid-plane.
+FacePair make_pair(const Mesh& mesh, const Face& a, const Face& b, double tolerance) {
+  FacePair pair;
+  pair.face_a = a.id;
+  pair.face_b = b.id;
+  pair.width = a.offset + b.offset;
+  const double mid_offset = (a.offset - b.offset) / 2;
+  const internal::PlaneBasis basis = internal::plane_basis(a.normal);
+  const auto flat_triangle = [&](int t, bool reverse) {
+    internal::Polygon2 polygon;
+    for (const int v : mesh.triangles[t])
+      polygon.push_back(internal::project(basis, mesh.vertices[v]));
+    if (reverse) std::reverse(polygon.begin(), polygon.end());
+    return polygon;
+  };
+  for (const int ta : a.triangles) {
+    const internal::Polygon2 clip = flat_triangle(ta, false);
+    for (const int tb : b.triangles) {
+      const internal::Polygon2 piece = internal::clip_convex(flat_triangle(tb, true), clip);
+      const double area = piece.size() >= 3 ? internal::signed_area(piece) : 0;
+      if (area <= tolerance * tolerance) continue;
+      pair.overlap_area += area;
+      std::vector<Eigen::Vector3d> lifted;
+      for (const auto& q : piece)
+        lifted.push_back(basis.u * q.x() + basis.v * q.y() + a.normal * mid_offset);
+      pair.overlap.push_back(std::move(lifted));
+    }
+  }
+  return pair;
+}
+
+}  // namespace
+
+ObjectModel::ObjectModel(std::string name, Mesh mesh, std::optional<Eigen::Vector3d> center_of_mass)
+    : name_(std::move(name)), mesh_(std::move(mesh)) {
+  validate_closed_mesh(mesh_);
+  Eigen::Vector3d low = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
+  Eigen::Vector3d high = -low;
+  for (const auto& t : mesh_.triangles)
+    for (const int v : t) {
+      low = low.cwiseMin(mesh_.vertices[v]);
+      high = high.cwiseMax(mesh_.vertices[v]);
+    }
+  tolerance_ = 1e-9 * (high - low).norm();
+  const VolumeProperties properties = volume_properties(mesh_);
+  volume_ = properties.volume;
+  center_of_mass_ = center_of_mass.value_or(properties.centroid);
+  faces_ = merge_faces(mesh_, tolerance_);
+  hull_facets_ = compute_hull_facets(mesh_, faces_, center_of_mass_, tolerance_);
+  if (center_of_mass)
+    for (const HullFacet& facet : hull_facets_)
+      if (facet.com_height <= tolerance_)
+        throw GeometryError(mesh_.source +
+                            ": the given centre of mass lies outside the object's "
+                            "convex hull");
+  for (const Face& a : faces_)
+    for (const Face& b : faces_)
+      if (a.id < b.id && a.normal.dot(b.normal) < -kParallelCosine &&
+          a.offset + b.offset > tolerance_) {
+        FacePair pair = make_pair(mesh_, a, b, tolerance_);
+        if (pair.overlap_area > 0) face_pairs_.push_back(std::move(pair));
+      }
+}
+
+const Face& ObjectModel::face(int id) const {
+  if (id < 1 || id > static_cast<int>(faces_.size()))
+    throw GeometryError(name_ + ": no face " + std::to_string(id) + " (faces are 1.." +
+                        std::to_string(faces_.size()) + ")");
+  return faces_[id - 1];
+}
+
+}  // namespace spar::geometry

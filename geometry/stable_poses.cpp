@@ -1,0 +1,58 @@
+#include "geometry/stable_poses.hpp"
+
+#include <algorithm>
+#include <climits>
+#include <cmath>
+
+namespace spar::geometry {
+
+std::vector<StablePose> stable_poses(const ObjectModel& object) {
+  std::vector<StablePose> poses;
+  const auto& facets = object.hull_facets();
+  for (std::size_t f = 0; f < facets.size(); ++f) {
+    const HullFacet& facet = facets[f];
+    if (facet.com_inset <= object.tolerance()) continue;
+    StablePose pose;
+    pose.hull_facet = static_cast<int>(f);
+    pose.facet_normal = facet.normal;
+    pose.margin = facet.com_inset;
+    pose.com_height = facet.com_height;
+    pose.tipping_angle = std::atan2(facet.com_inset, facet.com_height);
+    pose.table_faces = facet.table_faces;
+    const Eigen::Matrix3d rotation =
+        Eigen::Quaterniond::FromTwoVectors(facet.normal, -Eigen::Vector3d::UnitZ())
+            .toRotationMatrix();
+    const Eigen::Vector3d com = object.center_of_mass();
+    const Eigen::Vector3d foot = com + facet.com_height * facet.normal;  // on the facet plane
+    pose.object_to_world = Eigen::Isometry3d::Identity();
+    pose.object_to_world.linear() = rotation;
+    pose.object_to_world.translation() = -(rotation * foot);
+    poses.push_back(std::move(pose));
+  }
+  const auto key = [](const StablePose& p) {
+    return std::pair{p.table_faces.empty() ? INT_MAX : p.table_faces.front(), p.hull_facet};
+  };
+  std::sort(poses.begin(), poses.end(),
+            [&](const StablePose& a, const StablePose& b) { return key(a) < key(b); });
+  for (std::size_t i = 0; i < poses.size(); ++i) {
+    poses[i].id = static_cast<int>(i) + 1;
+    poses[i].label = "P" + std::to_string(i + 1);
+  }
+  return poses;
+}
+
+bool pose_leaves_free(const StablePose& pose, std::span<const int> faces) {
+  return std::none_of(faces.begin(), faces.end(), [&](int face) {
+    return std::binary_search(pose.table_faces.begin(), pose.table_faces.end(), face);
+  });
+}
+
+std::optional<int> classify_orientation(const std::vector<StablePose>& poses,
+                                        const Eigen::Matrix3d& rotation, double angle_tolerance) {
+  const Eigen::Vector3d down_in_object = rotation.transpose() * -Eigen::Vector3d::UnitZ();
+  for (const StablePose& pose : poses)
+    if (pose.facet_normal.dot(down_in_object) >= std::cos(angle_tolerance)) return pose.id;
+  return std::nullopt;
+}
+
+}  // namespace spar::geometry

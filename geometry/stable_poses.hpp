@@ -1,0 +1,55 @@
+// Stable poses: the orientations in which an object rests on the table by itself (SPAR's position
+// classes; a cube has six). A hull facet is a stable pose when the centre of mass projects
+// strictly inside it (further than ObjectModel::tolerance() from its boundary).
+//
+// Each pose carries the rigid transform that rests the object on the table: its facet normal
+// turned to world -z, the facet in the plane z = 0, the centre of mass above the world origin.
+// The rotation is the smallest one taking the normal to -z; any further turn about world z is the
+// same position class. `margin` is the distance of the projected centre of mass to the facet's
+// boundary and `tipping_angle` = atan(margin / com_height), the tilt about the nearest edge that
+// topples the object. Poses are ordered by their smallest table face id (poses resting on no face,
+// only on edges and corners, come last), labelled "P1", "P2", ...
+//
+// Example:
+//   ObjectModel cube("cube", make_box({1, 1, 1}));
+//   std::vector<StablePose> poses = stable_poses(cube);       // 6 poses
+//   poses[0].table_faces;                                      // {1}
+//   pose_leaves_free(poses[0], std::vector<int>{2, 3});        // true: faces 2, 3 stay free
+//   classify_orientation(poses, Eigen::Matrix3d::Identity());  // the pose resting on "-z"
+#pragma once
+
+#include <Eigen/Geometry>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "geometry/object.hpp"
+
+namespace spar::geometry {
+
+struct StablePose {
+  int id{0};                          // 1-based
+  std::string label;                  // "P" + id
+  int hull_facet{0};                  // index into ObjectModel::hull_facets()
+  Eigen::Vector3d facet_normal;       // object frame, outward
+  Eigen::Isometry3d object_to_world;  // world = object_to_world * object point
+  double margin{0};
+  double tipping_angle{0};  // radians
+  double com_height{0};
+  std::vector<int> table_faces;  // faces touching the table (ids, ascending)
+};
+
+[[nodiscard]] std::vector<StablePose> stable_poses(const ObjectModel& object);
+
+// True when none of `faces` touches the table in `pose` (SPAR: mating features not obscured).
+[[nodiscard]] bool pose_leaves_free(const StablePose& pose, std::span<const int> faces);
+
+// The stable pose whose resting orientation matches `rotation` (object to world) within
+// `angle_tolerance` radians of its facet normal pointing down, if any (in_position_class for a
+// sensed position).
+[[nodiscard]] std::optional<int> classify_orientation(const std::vector<StablePose>& poses,
+                                                      const Eigen::Matrix3d& rotation,
+                                                      double angle_tolerance = 0.05);
+
+}  // namespace spar::geometry

@@ -1,0 +1,85 @@
+#include "geometry/builtin_objects.hpp"
+
+#include <gtest/gtest.h>
+
+#include "geometry/grasps.hpp"
+#include "geometry/mesh_io.hpp"
+#include "geometry/stable_poses.hpp"
+
+namespace spar::geometry {
+namespace {
+
+std::vector<int> faces_named_prefix(const ObjectModel& object, const std::string& prefix) {
+  std::vector<int> ids;
+  for (const Face& face : object.faces())
+    if (face.name.rfind(prefix, 0) == 0) ids.push_back(face.id);
+  return ids;
+}
+
+TEST(BuiltinObjects, ExampleFilesMatchTheBuiltins) {
+  for (const std::string name : {"peg", "block"}) {
+    const ObjectModel built = make_builtin_object(name);
+    const ObjectModel loaded(
+        name, read_mesh_file(std::string(SPAR_SOURCE_DIR) + "/examples/objects/" + name + ".off"));
+    ASSERT_EQ(loaded.faces().size(), built.faces().size()) << name;
+    for (const Face& face : built.faces()) {
+      EXPECT_EQ(loaded.face(face.id).name, face.name);
+      EXPECT_TRUE(loaded.face(face.id).normal.isApprox(face.normal, 1e-12));
+      EXPECT_NEAR(loaded.face(face.id).area, face.area, 1e-9);
+    }
+    EXPECT_EQ(stable_poses(loaded).size(), stable_poses(built).size()) << name;
+    EXPECT_EQ(compute_grasps(loaded, GripperSpec{}, GraspQuantization{}).size(),
+              compute_grasps(built, GripperSpec{}, GraspQuantization{}).size())
+        << name;
+  }
+}
+
+TEST(BuiltinObjects, UnknownNameListsTheKnownOnes) {
+  try {
+    (void)make_builtin_object("sphere");
+    ADD_FAILURE();
+  } catch (const GeometryError& error) {
+    EXPECT_NE(std::string(error.what()).find("known: peg, block"), std::string::npos);
+  }
+}
+
+TEST(BuiltinObjects, BlockHasOnePoseForInsertingThePegFromAbove) {
+  // SPAR's BP5: the block's mating faces (the peg hole's opening ring and floor) must be off the
+  // table and the mating vector (-z in the block frame, into the hole) must point down.
+  const ObjectModel block = make_builtin_object("block");
+  EXPECT_NEAR(block.volume(), 3.5 * 3 * 3 - 1.6 * 1.6 * 2 - 0.5 * 0.5 * (3 - 1.6), 1e-9);
+  const auto poses = stable_poses(block);
+  EXPECT_EQ(poses.size(), 6u);
+  const std::vector<int> top = faces_named_prefix(block, "top");
+  ASSERT_EQ(top.size(), 1u);
+  int permitted = 0;
+  for (const StablePose& pose : poses) {
+    const double down = (pose.object_to_world.linear() * Eigen::Vector3d(0, 0, -1)).z();
+    if (pose_leaves_free(pose, top) && down < -0.5) ++permitted;
+  }
+  EXPECT_EQ(permitted, 1);
+}
+
+TEST(BuiltinObjects, PegStandsOnBaseOrShaftButNotOnTheBaseSides) {
+  const ObjectModel peg = make_builtin_object("peg");
+  const auto poses = stable_poses(peg);
+  // The centre of mass is above the 1.5-high base, so the base's vertical sides are not stable.
+  EXPECT_GT(peg.center_of_mass().z(), 1.5);
+  for (const StablePose& pose : poses)
+    EXPECT_GT(std::abs(pose.facet_normal.z()), 1e-6) << pose.label;
+  bool on_base = false, on_shaft = false;
+  for (const StablePose& pose : poses) {
+    on_base = on_base || pose.facet_normal.isApprox(Eigen::Vector3d(0, 0, -1));
+    on_shaft = on_shaft || pose.facet_normal.isApprox(Eigen::Vector3d(0, 0, 1));
+  }
+  EXPECT_TRUE(on_base && on_shaft);
+  // Grasps across the 3-inch base (W_p = 3 in the seed) exist and fit the 4-inch opening.
+  const auto grasps = compute_grasps(peg, GripperSpec{}, GraspQuantization{});
+  EXPECT_TRUE(std::any_of(grasps.begin(), grasps.end(),
+                          [](const Grasp& g) { return std::abs(g.width - 3) < 1e-9; }));
+  EXPECT_TRUE(std::any_of(grasps.begin(), grasps.end(),
+                          [](const Grasp& g) { return std::abs(g.width - 1.5) < 1e-9; }));
+}
+
+}  // namespace
+}  // namespace spar::geometry

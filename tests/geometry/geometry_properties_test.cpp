@@ -1,0 +1,93 @@
+// Properties over random boxes and random convex polyhedra (RapidCheck): every stable pose rests
+// its facet on the table with the whole object above it and the centre of mass over the facet;
+// every grasp squeezes two parallel opposite faces exactly its width apart.
+#include <gtest/gtest.h>
+#include <rapidcheck/gtest.h>
+
+#include "geometry/grasps.hpp"
+#include "geometry/stable_poses.hpp"
+
+namespace spar::geometry {
+namespace {
+
+double random_length(double low, double high) {
+  return low + (high - low) * *rc::gen::inRange(0, 10001) / 10000.0;
+}
+
+void check_stable_poses(const ObjectModel& object) {
+  const double tolerance = 1e3 * object.tolerance();
+  const auto poses = stable_poses(object);
+  RC_ASSERT(!poses.empty());
+  for (const StablePose& pose : poses) {
+    for (const auto& triangle : object.mesh().triangles)
+      for (const int v : triangle)
+        RC_ASSERT((pose.object_to_world * object.mesh().vertices[v]).z() >= -tolerance);
+    const HullFacet& facet = object.hull_facets()[pose.hull_facet];
+    std::vector<Eigen::Vector2d> footprint;
+    for (const auto& corner : facet.polygon) {
+      const Eigen::Vector3d world = pose.object_to_world * corner;
+      RC_ASSERT(std::abs(world.z()) <= tolerance);
+      footprint.push_back(world.head<2>());
+    }
+    // The centre of mass must be strictly on one side (inside) of every edge of the footprint.
+    // Seen from above the facet (its outward normal now points down) the footprint is clockwise.
+    const Eigen::Vector2d com = (pose.object_to_world * object.center_of_mass()).head<2>();
+    double nearest_edge = std::numeric_limits<double>::infinity();
+    for (std::size_t i = 0; i < footprint.size(); ++i) {
+      const Eigen::Vector2d a = footprint[i], edge = footprint[(i + 1) % footprint.size()] - a;
+      const Eigen::Vector2d to_com = com - a;
+      nearest_edge =
+          std::min(nearest_edge, (to_com.x() * edge.y() - to_com.y() * edge.x()) / edge.norm());
+    }
+    RC_ASSERT(nearest_edge > 0);
+    RC_ASSERT(std::abs(nearest_edge - pose.margin) <= tolerance);
+    for (const int face : pose.table_faces)
+      RC_ASSERT(std::abs((pose.object_to_world * object.face(face).centroid).z()) <= tolerance);
+  }
+}
+
+void check_grasps(const ObjectModel& object) {
+  GripperSpec gripper;
+  gripper.max_opening = 1e6;  // every pair, so random shapes exercise the grasp code
+  for (const Grasp& grasp : compute_grasps(object, gripper, GraspQuantization{})) {
+    const Face& a = object.face(grasp.face_plus_y);
+    const Face& b = object.face(grasp.face_minus_y);
+    RC_ASSERT(a.normal.dot(b.normal) < -1 + 1e-9);
+    RC_ASSERT(std::abs(a.offset + b.offset - grasp.width) <= 1e3 * object.tolerance());
+    const Eigen::Vector3d plus = grasp.gripper_in_object * Eigen::Vector3d(0, grasp.width / 2, 0);
+    const Eigen::Vector3d minus = grasp.gripper_in_object * Eigen::Vector3d(0, -grasp.width / 2, 0);
+    RC_ASSERT(std::abs(a.normal.dot(plus) - a.offset) <= 1e3 * object.tolerance());
+    RC_ASSERT(std::abs(b.normal.dot(minus) - b.offset) <= 1e3 * object.tolerance());
+  }
+}
+
+RC_GTEST_PROP(GeometryProperties, RandomBoxesRestOnTheirFacetsAndGraspAcrossWidths, ()) {
+  const Eigen::Vector3d size(random_length(0.1, 5), random_length(0.1, 5), random_length(0.1, 5));
+  const ObjectModel box("box", make_box(size));
+  RC_ASSERT(stable_poses(box).size() == 6u);
+  check_stable_poses(box);
+  check_grasps(box);
+  // With fingers longer than the box, no grasp is dropped for a collision: 3 pairs x 4 approaches.
+  RC_ASSERT(
+      compute_grasps(box, GripperSpec{.max_opening = 1e6, .finger_length = 20}, GraspQuantization{})
+          .size() == 12u);
+}
+
+RC_GTEST_PROP(GeometryProperties, RandomConvexPolyhedraRestOnTheirFacets, ()) {
+  const int count = *rc::gen::inRange(4, 25);
+  std::vector<Eigen::Vector3d> points;
+  for (int i = 0; i < count; ++i)
+    points.emplace_back(random_length(-5, 5), random_length(-5, 5), random_length(-5, 5));
+  Mesh mesh;
+  try {
+    mesh = make_convex_hull(points);
+  } catch (const GeometryError&) {
+    RC_DISCARD("the points are (nearly) coplanar");
+  }
+  const ObjectModel object("hull", mesh);
+  check_stable_poses(object);
+  check_grasps(object);
+}
+
+}  // namespace
+}  // namespace spar::geometry

@@ -1,0 +1,158 @@
+#include "geometry/stable_poses.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "geometry/builtin_objects.hpp"
+
+namespace spar::geometry {
+namespace {
+
+const StablePose* pose_resting_on(const std::vector<StablePose>& poses,
+                                  const Eigen::Vector3d& normal) {
+  for (const StablePose& pose : poses)
+    if (pose.facet_normal.isApprox(normal, 1e-9)) return &pose;
+  return nullptr;
+}
+
+TEST(StablePoses, CubeHasSixEachOnOneFace) {
+  const ObjectModel cube("cube", make_box({1, 1, 1}));
+  const auto poses = stable_poses(cube);
+  ASSERT_EQ(poses.size(), 6u);
+  std::vector<int> table_faces;
+  for (const StablePose& pose : poses) {
+    ASSERT_EQ(pose.table_faces.size(), 1u) << pose.label;
+    table_faces.push_back(pose.table_faces.front());
+    EXPECT_NEAR(pose.margin, 0.5, 1e-12);
+    EXPECT_NEAR(pose.tipping_angle, std::numbers::pi / 4, 1e-12);
+    EXPECT_TRUE(cube.face(pose.table_faces.front()).normal.isApprox(pose.facet_normal));
+  }
+  EXPECT_EQ(table_faces, (std::vector<int>{1, 2, 3, 4, 5, 6}));  // ordered by table face
+  EXPECT_EQ(poses[0].label, "P1");
+}
+
+TEST(StablePoses, TallThinBoxMarginsOrderByRestingFace) {
+  // 1 x 2 x 6: lying flat on a 2 x 6 face is most stable, standing on the 1 x 2 end least.
+  const ObjectModel box("box", make_box({1, 2, 6}));
+  const auto poses = stable_poses(box);
+  ASSERT_EQ(poses.size(), 6u);
+  for (const double sign : {-1.0, 1.0}) {
+    const StablePose* flat = pose_resting_on(poses, {sign, 0, 0});
+    const StablePose* side = pose_resting_on(poses, {0, sign, 0});
+    const StablePose* end = pose_resting_on(poses, {0, 0, sign});
+    ASSERT_TRUE(flat && side && end);
+    EXPECT_NEAR(flat->margin, 1.0, 1e-12);
+    EXPECT_NEAR(side->margin, 0.5, 1e-12);
+    EXPECT_NEAR(end->margin, 0.5, 1e-12);
+    EXPECT_NEAR(end->com_height, 3.0, 1e-12);
+    EXPECT_GT(flat->tipping_angle, side->tipping_angle);
+    EXPECT_GT(side->tipping_angle, end->tipping_angle);
+    EXPECT_NEAR(end->tipping_angle, std::atan2(0.5, 3.0), 1e-12);
+  }
+}
+
+TEST(StablePoses, TriangularPrismHasFive) {
+  const std::vector<Eigen::Vector2d> triangle{{0, 0}, {2, 0}, {1, std::sqrt(3.0)}};
+  const ObjectModel prism("prism", make_prism(triangle, 3));
+  EXPECT_EQ(prism.hull_facets().size(), 5u);
+  EXPECT_EQ(stable_poses(prism).size(), 5u);
+}
+
+// Independent check: the centre of mass projects inside a triangle iff all its barycentric
+// coordinates in the triangle's plane are positive.
+bool projects_inside(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c,
+                     const Eigen::Vector3d& point) {
+  const Eigen::Vector3d n = (b - a).cross(c - a);
+  const Eigen::Vector3d p = point - n.dot(point - a) / n.squaredNorm() * n;
+  const double wa = (b - p).cross(c - p).dot(n), wb = (c - p).cross(a - p).dot(n),
+               wc = (a - p).cross(b - p).dot(n);
+  return wa > 0 && wb > 0 && wc > 0;
+}
+
+TEST(StablePoses, TetrahedronWithOffCentreMassLosesPoses) {
+  // Every pose is stable with uniform density; a mass pulled towards edge AB leaves the face ACD.
+  const std::vector<Eigen::Vector3d> corners{{0, 0, 0}, {4, 0, 0}, {0, 4, 0}, {1, 1, 1}};
+  const Eigen::Vector3d heavy = 0.4 * (corners[0] + corners[1]) + 0.1 * (corners[2] + corners[3]);
+  const ObjectModel uniform("tet", make_convex_hull(corners));
+  const ObjectModel loaded("tet", make_convex_hull(corners), heavy);
+  const auto uniform_poses = stable_poses(uniform);
+  const auto loaded_poses = stable_poses(loaded);
+  ASSERT_EQ(loaded.hull_facets().size(), 4u);
+  int expected_loaded = 0, expected_uniform = 0;
+  for (int skip = 0; skip < 4; ++skip) {
+    std::vector<Eigen::Vector3d> face;
+    for (int k = 0; k < 4; ++k)
+      if (k != skip) face.push_back(corners[k]);
+    const Eigen::Vector3d outward =
+        ((face[1] - face[0]).cross(face[2] - face[0]) *
+         ((face[1] - face[0]).cross(face[2] - face[0]).dot(face[0] - corners[skip]) > 0 ? 1 : -1))
+            .normalized();
+    const bool loaded_stable = projects_inside(face[0], face[1], face[2], heavy);
+    const bool uniform_stable =
+        projects_inside(face[0], face[1], face[2], uniform.center_of_mass());
+    expected_loaded += loaded_stable;
+    expected_uniform += uniform_stable;
+    EXPECT_EQ(pose_resting_on(loaded_poses, outward) != nullptr, loaded_stable) << "face " << skip;
+    EXPECT_EQ(pose_resting_on(uniform_poses, outward) != nullptr, uniform_stable)
+        << "face " << skip;
+  }
+  EXPECT_EQ(expected_uniform, 4);
+  EXPECT_EQ(expected_loaded, 3);
+  EXPECT_EQ(uniform_poses.size(), 4u);
+  EXPECT_EQ(loaded_poses.size(), 3u);
+  EXPECT_EQ(pose_resting_on(loaded_poses, Eigen::Vector3d(-1, 0, 1).normalized()), nullptr);  // ACD
+}
+
+TEST(StablePoses, CentreOfMassOutsideTheHullIsAnError) {
+  EXPECT_THROW(ObjectModel("cube", make_box({1, 1, 1}), Eigen::Vector3d(2, 0.5, 0.5)),
+               GeometryError);
+}
+
+TEST(StablePoses, LShapeRejectsUnstableHullFacets) {
+  const ObjectModel l_shape("l", l_shape_mesh());
+  ASSERT_EQ(l_shape.hull_facets().size(), 7u);
+  const auto poses = stable_poses(l_shape);
+  EXPECT_EQ(poses.size(), 5u);
+  // The centre of mass (1.25, 0.5, 1.75) is above the 1-high foot end and beside the 1-wide top.
+  EXPECT_EQ(pose_resting_on(poses, {1, 0, 0}), nullptr);
+  EXPECT_EQ(pose_resting_on(poses, {0, 0, 1}), nullptr);
+  // The facet across the notch is stable but touches the table only along two edges.
+  const StablePose* notch = pose_resting_on(poses, Eigen::Vector3d(4, 0, 3).normalized());
+  ASSERT_NE(notch, nullptr);
+  EXPECT_TRUE(notch->table_faces.empty());
+  EXPECT_EQ(poses.back().id, notch->id);  // poses on no face come last
+}
+
+TEST(StablePoses, PoseRestsTheFacetOnTheTable) {
+  const ObjectModel box("box", make_box({1, 2, 3}));
+  for (const StablePose& pose : stable_poses(box)) {
+    const Eigen::Vector3d com = pose.object_to_world * box.center_of_mass();
+    EXPECT_NEAR(com.head<2>().norm(), 0, 1e-12);
+    EXPECT_NEAR(com.z(), pose.com_height, 1e-12);
+    for (const int face : pose.table_faces)
+      EXPECT_NEAR((pose.object_to_world * box.face(face).centroid).z(), 0, 1e-12);
+  }
+}
+
+TEST(StablePoses, QueriesLeaveFreeAndClassify) {
+  const ObjectModel cube("cube", make_box({1, 1, 1}));
+  const auto poses = stable_poses(cube);
+  const int bottom = poses[0].table_faces.front();
+  EXPECT_FALSE(pose_leaves_free(poses[0], std::vector<int>{bottom}));
+  EXPECT_TRUE(pose_leaves_free(poses[0], std::vector<int>{bottom % 6 + 1}));
+  // Sensed orientation: each pose's own rotation, turned about world z, is still that pose.
+  for (const StablePose& pose : poses) {
+    const Eigen::Matrix3d turned =
+        Eigen::AngleAxisd(0.7, Eigen::Vector3d::UnitZ()).toRotationMatrix() *
+        pose.object_to_world.linear();
+    EXPECT_EQ(classify_orientation(poses, turned), pose.id);
+  }
+  const Eigen::Matrix3d tilted =
+      Eigen::AngleAxisd(0.5, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  EXPECT_EQ(classify_orientation(poses, tilted), std::nullopt);
+}
+
+}  // namespace
+}  // namespace spar::geometry
