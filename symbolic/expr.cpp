@@ -1,0 +1,591 @@
+#include "symbolic/expr.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+#include <unordered_map>
+
+namespace spar::symbolic {
+namespace {
+
+constexpr std::uint32_t kEmptySlot = 0xFFFFFFFFu;
+
+// A sum or product with more operands than this is not flattened into its parent: it stays one
+// opaque operand. Without the cap, building a deep chain one operation at a time (or
+// differentiating one: d sin(u) = cos(u)·du nests products n deep) copies O(n) operands per
+// step, O(n²) in all. Below the cap, canonical forms are exactly as documented in expr.hpp.
+constexpr std::uint32_t kFlattenLimit = 64;
+
+std::size_t mix(std::size_t h, std::size_t v) {
+  return (h ^ (v + 0x9E3779B97F4A7C15ull + (h << 6) + (h >> 2))) * 0xBF58476D1CE4E5B9ull;
+}
+
+bool is_identifier_start(unsigned char c) { return std::isalpha(c) || c == '_' || c >= 0x80; }
+bool is_identifier_char(unsigned char c) { return std::isalnum(c) || c == '_' || c >= 0x80; }
+
+// Exact square root of a non-negative 64-bit integer, if it is a perfect square.
+std::optional<std::int64_t> exact_isqrt(std::int64_t v) {
+  if (v < 0) return std::nullopt;
+  auto r = static_cast<std::int64_t>(std::sqrt(static_cast<double>(v)));
+  while (r > 0 && static_cast<__int128>(r) * r > v) --r;
+  while (static_cast<__int128>(r + 1) * (r + 1) <= v) ++r;
+  if (static_cast<__int128>(r) * r != v) return std::nullopt;
+  return r;
+}
+
+}  // namespace
+
+std::string_view function_name(Op op) {
+  switch (op) {
+    case Op::kSin:
+      return "sin";
+    case Op::kCos:
+      return "cos";
+    case Op::kTan:
+      return "tan";
+    case Op::kSqrt:
+      return "sqrt";
+    case Op::kExp:
+      return "exp";
+    case Op::kLog:
+      return "log";
+    case Op::kAbs:
+      return "abs";
+    case Op::kAtan:
+      return "atan";
+    case Op::kAsin:
+      return "asin";
+    case Op::kAcos:
+      return "acos";
+    case Op::kAtan2:
+      return "atan2";
+    case Op::kMin:
+      return "min";
+    case Op::kMax:
+      return "max";
+    default:
+      return "";
+  }
+}
+
+bool is_unary_function(Op op) { return op >= Op::kSin && op <= Op::kAcos; }
+bool is_binary_function(Op op) { return op >= Op::kAtan2 && op <= Op::kMax; }
+
+// Node layout. Invariants (checked by ExprPool::check_invariants):
+//  * operands of node n are operand_ids[begin, begin + count) with parallel factors; every operand
+//    id is smaller than n (the arena is topologically ordered: children are built first);
+//  * Constant: count == 0, number is the value. Variable: count == 0, begin is the index into
+//    names. Add/Mul: the canonical forms of expr.hpp (operands sorted strictly by id, no zero
+//    coefficient / exponent). Functions and Pow: factors are all one;
+//  * the hash table holds every node id exactly once, at the probe sequence of its hash.
+struct Node {
+  Op op;
+  std::uint32_t begin;
+  std::uint32_t count;
+  Number number;
+  std::size_t hash;
+};
+
+struct ExprPool::Impl {
+  std::vector<Node> nodes;
+  std::vector<std::uint32_t> operand_ids;
+  std::vector<Number> factors;
+  std::vector<std::string> names;
+  std::unordered_map<std::string, std::uint32_t> variable_by_name;
+  std::vector<std::uint32_t> table = std::vector<std::uint32_t>(1024, kEmptySlot);
+  // Traversal marks: node n is visited in the current traversal iff marks[n] == epoch.
+  std::vector<std::uint32_t> marks;
+  std::uint32_t epoch = 0;
+
+  bool same_node(std::uint32_t a, std::uint32_t b) const {
+    const Node& x = nodes[a];
+    const Node& y = nodes[b];
+    if (x.hash != y.hash || x.op != y.op || x.count != y.count || !(x.number == y.number)) {
+      return false;
+    }
+    if (x.op == Op::kVariable) return x.begin == y.begin;
+    for (std::uint32_t i = 0; i < x.count; ++i) {
+      if (operand_ids[x.begin + i] != operand_ids[y.begin + i] ||
+          !(factors[x.begin + i] == factors[y.begin + i])) {
+        return false;
+      }
+    }
+    return true;
+  }
+
+  std::size_t slot_of(std::size_t hash) const { return hash & (table.size() - 1); }
+
+  void grow_table() {
+    std::vector<std::uint32_t> old(table.size() * 2, kEmptySlot);
+    old.swap(table);
+    for (std::uint32_t id : old) {
+      if (id == kEmptySlot) continue;
+      std::size_t s = slot_of(nodes[id].hash);
+      while (table[s] != kEmptySlot) s = (s + 1) & (table.size() - 1);
+      table[s] = id;
+    }
+  }
+
+  // Returns the id of the node (op, number, operands...), creating it if no equal node exists.
+  // `begin` marks where its operands were appended to operand_ids/factors; a duplicate's operands
+  // are popped again.
+  std::uint32_t intern(Op op, const Number& number, std::uint32_t begin, std::uint32_t var_index) {
+    const auto count = static_cast<std::uint32_t>(operand_ids.size() - begin);
+    std::size_t h = mix(static_cast<std::size_t>(op), number.hash());
+    if (op == Op::kVariable) h = mix(h, var_index);
+    for (std::uint32_t i = begin; i < begin + count; ++i) {
+      h = mix(mix(h, operand_ids[i]), factors[i].hash());
+    }
+    if (nodes.size() >= 0xFFFFFFF0u) throw SymbolicError("expression pool is full (2^32 nodes)");
+    const auto candidate = static_cast<std::uint32_t>(nodes.size());
+    nodes.push_back(Node{op, op == Op::kVariable ? var_index : begin, count, number, h});
+    std::size_t s = slot_of(h);
+    while (table[s] != kEmptySlot) {
+      if (same_node(table[s], candidate)) {
+        const std::uint32_t existing = table[s];
+        nodes.pop_back();
+        operand_ids.resize(begin);
+        factors.resize(begin);
+        return existing;
+      }
+      s = (s + 1) & (table.size() - 1);
+    }
+    table[s] = candidate;
+    if (nodes.size() * 2 > table.size()) grow_table();
+    return candidate;
+  }
+
+  std::uint32_t intern_leaf(Op op, const Number& number, std::uint32_t var_index = 0) {
+    return intern(op, number, static_cast<std::uint32_t>(operand_ids.size()), var_index);
+  }
+};
+
+// ---------------------------------------------------------------------------------------------
+// Expr accessors
+
+Op Expr::op() const { return pool_->impl_->nodes[id_].op; }
+const Number& Expr::constant() const { return pool_->impl_->nodes[id_].number; }
+const std::string& Expr::name() const {
+  const Node& n = pool_->impl_->nodes[id_];
+  if (n.op != Op::kVariable) throw std::logic_error("Expr::name() of a non-variable");
+  return pool_->impl_->names[n.begin];
+}
+std::size_t Expr::operand_count() const { return pool_->impl_->nodes[id_].count; }
+Expr Expr::operand(std::size_t i) const {
+  return Expr(pool_, pool_->impl_->operand_ids[pool_->impl_->nodes[id_].begin + i]);
+}
+const Number& Expr::factor(std::size_t i) const {
+  return pool_->impl_->factors[pool_->impl_->nodes[id_].begin + i];
+}
+
+// ---------------------------------------------------------------------------------------------
+// ExprPool
+
+ExprPool::ExprPool() : impl_(std::make_unique<Impl>()) {}
+ExprPool::~ExprPool() = default;
+
+std::size_t ExprPool::size() const { return impl_->nodes.size(); }
+
+Expr ExprPool::constant(const Number& value) {
+  return Expr(this, impl_->intern_leaf(Op::kConstant, value));
+}
+
+Expr ExprPool::variable(std::string_view name) {
+  if (name.empty() || !is_identifier_start(static_cast<unsigned char>(name[0])) ||
+      !std::all_of(name.begin(), name.end(),
+                   [](char c) { return is_identifier_char(static_cast<unsigned char>(c)); })) {
+    throw SymbolicError("invalid variable name '" + std::string(name) +
+                        "': use a letter or '_' followed by letters, digits or '_'");
+  }
+  const std::string key(name);
+  auto it = impl_->variable_by_name.find(key);
+  if (it == impl_->variable_by_name.end()) {
+    const auto index = static_cast<std::uint32_t>(impl_->names.size());
+    impl_->names.push_back(key);
+    it = impl_->variable_by_name.emplace(key, index).first;
+  }
+  return Expr(this, impl_->intern_leaf(Op::kVariable, Number(), it->second));
+}
+
+std::vector<Expr> ExprPool::variables() const {
+  std::vector<Expr> result;
+  for (std::uint32_t id = 0; id < impl_->nodes.size(); ++id) {
+    if (impl_->nodes[id].op == Op::kVariable) {
+      result.push_back(Expr(const_cast<ExprPool*>(this), id));
+    }
+  }
+  std::sort(result.begin(), result.end(), [this](Expr a, Expr b) {
+    return impl_->nodes[a.id()].begin < impl_->nodes[b.id()].begin;
+  });
+  return result;
+}
+
+namespace {
+
+using Entry = std::pair<std::uint32_t, Number>;
+
+// Sorts entries by id and merges equal ids by adding their numbers; drops zero numbers.
+void sort_and_merge(std::vector<Entry>& entries) {
+  std::sort(entries.begin(), entries.end(),
+            [](const Entry& a, const Entry& b) { return a.first < b.first; });
+  std::size_t out = 0;
+  for (std::size_t i = 0; i < entries.size();) {
+    Number total = entries[i].second;
+    std::size_t j = i + 1;
+    for (; j < entries.size() && entries[j].first == entries[i].first; ++j) {
+      total = total + entries[j].second;
+    }
+    if (!total.is_zero()) entries[out++] = {entries[i].first, total};
+    i = j;
+  }
+  entries.resize(out);
+}
+
+}  // namespace
+
+Expr ExprPool::sum(const Number& constant, std::span<const Term> terms) {
+  Number c0 = constant;
+  std::vector<Entry> entries;
+  entries.reserve(terms.size());
+  for (const Term& term : terms) {
+    if (term.expr.pool_ != this) throw SymbolicError("expressions from different pools mixed");
+    if (term.factor.is_zero()) continue;
+    const Node& node = impl_->nodes[term.expr.id_];
+    switch (node.op) {
+      case Op::kConstant:
+        c0 = c0 + term.factor * node.number;
+        break;
+      case Op::kAdd:
+        if (node.count > kFlattenLimit) {
+          entries.emplace_back(term.expr.id_, term.factor);
+          break;
+        }
+        c0 = c0 + term.factor * node.number;
+        for (std::uint32_t i = node.begin; i < node.begin + node.count; ++i) {
+          entries.emplace_back(impl_->operand_ids[i], term.factor * impl_->factors[i]);
+        }
+        break;
+      case Op::kMul:
+        if (!node.number.is_one()) {
+          // c·Π b^e as a term: the coefficient moves into the term's factor.
+          const Number coefficient = node.number;
+          std::vector<Term> bases;
+          bases.reserve(node.count);
+          for (std::uint32_t i = node.begin; i < node.begin + node.count; ++i) {
+            bases.push_back({Expr(this, impl_->operand_ids[i]), impl_->factors[i]});
+          }
+          const Expr unit = product(Number::integer(1), bases);
+          entries.emplace_back(unit.id_, term.factor * coefficient);
+          break;
+        }
+        [[fallthrough]];
+      default:
+        entries.emplace_back(term.expr.id_, term.factor);
+    }
+  }
+  sort_and_merge(entries);
+  if (entries.empty()) return this->constant(c0);
+  if (c0.is_zero() && entries.size() == 1) {
+    const Expr only(this, entries[0].first);
+    if (entries[0].second.is_one()) return only;
+    const Term scaled[] = {{only, Number::integer(1)}};
+    return product(entries[0].second, scaled);
+  }
+  const auto begin = static_cast<std::uint32_t>(impl_->operand_ids.size());
+  for (const Entry& e : entries) {
+    impl_->operand_ids.push_back(e.first);
+    impl_->factors.push_back(e.second);
+  }
+  return Expr(this, impl_->intern(Op::kAdd, c0, begin, 0));
+}
+
+Expr ExprPool::product(const Number& coefficient, std::span<const Term> factors) {
+  Number c = coefficient;
+  std::vector<Entry> entries;
+  entries.reserve(factors.size());
+  for (const Term& factor : factors) {
+    if (factor.expr.pool_ != this) throw SymbolicError("expressions from different pools mixed");
+    const Number& e = factor.factor;
+    if (e.is_zero()) continue;  // b^0 = 1
+    const Node& node = impl_->nodes[factor.expr.id_];
+    if (node.op == Op::kConstant && e.is_integer()) {
+      c = c * node.number.pow(e.numerator());
+    } else if (node.op == Op::kConstant && node.number.is_one()) {
+      continue;
+    } else if (node.op == Op::kMul && e.is_integer() && node.count <= kFlattenLimit) {
+      c = c * node.number.pow(e.numerator());
+      for (std::uint32_t i = node.begin; i < node.begin + node.count; ++i) {
+        entries.emplace_back(impl_->operand_ids[i], e * impl_->factors[i]);
+      }
+    } else {
+      entries.emplace_back(factor.expr.id_, e);
+    }
+  }
+  if (c.is_zero()) return constant(Number());
+  sort_and_merge(entries);
+  // Merging may give a constant base an integer exponent (2^(1/2)·2^(1/2) = 2): fold it.
+  std::erase_if(entries, [&](const Entry& entry) {
+    const Node& node = impl_->nodes[entry.first];
+    if (node.op != Op::kConstant || !entry.second.is_integer()) return false;
+    c = c * node.number.pow(entry.second.numerator());
+    return true;
+  });
+  if (c.is_zero()) return constant(Number());
+  if (entries.empty()) return constant(c);
+  if (entries.size() == 1 && entries[0].second.is_one()) {
+    const Expr only(this, entries[0].first);
+    if (c.is_one()) return only;
+    if (only.op() == Op::kAdd) {  // distribute the coefficient: 2·(x + y) -> 2x + 2y
+      const Term scaled[] = {{only, c}};
+      return sum(Number(), scaled);
+    }
+  }
+  const auto begin = static_cast<std::uint32_t>(impl_->operand_ids.size());
+  for (const Entry& e : entries) {
+    impl_->operand_ids.push_back(e.first);
+    impl_->factors.push_back(e.second);
+  }
+  return Expr(this, impl_->intern(Op::kMul, c, begin, 0));
+}
+
+Expr ExprPool::sum(std::span<const Expr> terms) {
+  std::vector<Term> t;
+  t.reserve(terms.size());
+  for (Expr e : terms) t.push_back({e, Number::integer(1)});
+  return sum(Number(), t);
+}
+
+Expr ExprPool::product(std::span<const Expr> factors) {
+  std::vector<Term> t;
+  t.reserve(factors.size());
+  for (Expr e : factors) t.push_back({e, Number::integer(1)});
+  return product(Number::integer(1), t);
+}
+
+Expr ExprPool::power(Expr base, const Number& exponent) {
+  const Term factor[] = {{base, exponent}};
+  return product(Number::integer(1), factor);
+}
+
+Expr ExprPool::power(Expr base, Expr exponent) {
+  if (base.pool_ != this || exponent.pool_ != this) {
+    throw SymbolicError("expressions from different pools mixed");
+  }
+  if (exponent.is_constant()) return power(base, exponent.constant());
+  if (base.is_constant() && base.constant().is_one()) return base;
+  const auto begin = static_cast<std::uint32_t>(impl_->operand_ids.size());
+  impl_->operand_ids.push_back(base.id_);
+  impl_->factors.push_back(Number::integer(1));
+  impl_->operand_ids.push_back(exponent.id_);
+  impl_->factors.push_back(Number::integer(1));
+  return Expr(this, impl_->intern(Op::kPow, Number(), begin, 0));
+}
+
+Expr ExprPool::function(Op op, Expr argument) {
+  if (!is_unary_function(op)) throw std::logic_error("ExprPool::function: not a unary function");
+  if (argument.pool_ != this) throw SymbolicError("expressions from different pools mixed");
+  if (argument.is_constant()) {
+    const Number& v = argument.constant();
+    const bool zero = v.is_zero(), one = v.is_one();
+    switch (op) {
+      case Op::kSin:
+      case Op::kTan:
+      case Op::kAtan:
+      case Op::kAsin:
+        if (zero) return argument;
+        break;
+      case Op::kCos:
+      case Op::kExp:
+        if (zero) return integer(1);
+        break;
+      case Op::kLog:
+      case Op::kAcos:
+        if (one) return integer(0);
+        break;
+      case Op::kAbs:
+        if (v.sign() != 0 || zero) return constant(v.sign() < 0 ? -v : v);
+        break;
+      case Op::kSqrt:
+        if (v.is_rational()) {
+          const auto n = exact_isqrt(v.numerator()), d = exact_isqrt(v.denominator());
+          if (n && d) return constant(Number::rational(*n, *d));
+        }
+        break;
+      default:
+        break;
+    }
+  }
+  const auto begin = static_cast<std::uint32_t>(impl_->operand_ids.size());
+  impl_->operand_ids.push_back(argument.id_);
+  impl_->factors.push_back(Number::integer(1));
+  return Expr(this, impl_->intern(op, Number(), begin, 0));
+}
+
+Expr ExprPool::function(Op op, Expr first, Expr second) {
+  if (!is_binary_function(op)) throw std::logic_error("ExprPool::function: not a binary function");
+  if (first.pool_ != this || second.pool_ != this) {
+    throw SymbolicError("expressions from different pools mixed");
+  }
+  if (op == Op::kMin || op == Op::kMax) {
+    if (first == second) return first;
+    if (first.is_constant() && second.is_constant()) {
+      const Number &a = first.constant(), &b = second.constant();
+      // Fold only when the enclosures are ordered, so the choice is certain.
+      if (a.upper() <= b.lower()) return op == Op::kMin ? first : second;
+      if (b.upper() <= a.lower()) return op == Op::kMin ? second : first;
+    }
+    if (second.id_ < first.id_) std::swap(first, second);  // commutative: canonical order
+  }
+  const auto begin = static_cast<std::uint32_t>(impl_->operand_ids.size());
+  for (Expr e : {first, second}) {
+    impl_->operand_ids.push_back(e.id_);
+    impl_->factors.push_back(Number::integer(1));
+  }
+  return Expr(this, impl_->intern(op, Number(), begin, 0));
+}
+
+void ExprPool::check_invariants() const {
+  const Impl& m = *impl_;
+  auto fail = [](std::uint32_t id, const std::string& what) {
+    throw std::logic_error("expression node " + std::to_string(id) + ": " + what);
+  };
+  for (std::uint32_t id = 0; id < m.nodes.size(); ++id) {
+    const Node& n = m.nodes[id];
+    if (n.op == Op::kVariable || n.op == Op::kConstant) {
+      if (n.count != 0) fail(id, "leaf with operands");
+    } else {
+      for (std::uint32_t i = n.begin; i < n.begin + n.count; ++i) {
+        if (m.operand_ids[i] >= id) fail(id, "operand built after its parent");
+        if (i > n.begin && (n.op == Op::kAdd || n.op == Op::kMul) &&
+            m.operand_ids[i] <= m.operand_ids[i - 1]) {
+          fail(id, "operands not strictly sorted by id");
+        }
+        if (m.factors[i].is_zero()) fail(id, "zero coefficient or exponent");
+        const Node& child = m.nodes[m.operand_ids[i]];
+        if (n.op == Op::kAdd) {
+          if (child.op == Op::kConstant) fail(id, "constant sum term");
+          if (child.op == Op::kAdd && child.count <= kFlattenLimit)
+            fail(id, "unflattened sum term");
+          if (child.op == Op::kMul && !child.number.is_one()) fail(id, "sum term with coefficient");
+        }
+        if (n.op == Op::kMul) {
+          if (child.op == Op::kConstant && m.factors[i].is_integer()) fail(id, "unfolded constant");
+          if (child.op == Op::kMul && m.factors[i].is_integer() && child.count <= kFlattenLimit) {
+            fail(id, "unflattened product");
+          }
+        }
+      }
+    }
+    if (n.op == Op::kAdd && (n.count == 0 || (n.count == 1 && n.number.is_zero()))) {
+      fail(id, "degenerate sum");
+    }
+    if (n.op == Op::kMul) {
+      if (n.count == 0 || n.number.is_zero()) fail(id, "degenerate product");
+      if (n.count == 1 && n.number.is_one() && m.factors[n.begin].is_one())
+        fail(id, "trivial product");
+    }
+    std::size_t s = m.slot_of(n.hash);
+    while (m.table[s] != id) {
+      if (m.table[s] == kEmptySlot) fail(id, "missing from the hash-consing table");
+      if (m.same_node(m.table[s], id)) fail(id, "duplicate of node " + std::to_string(m.table[s]));
+      s = (s + 1) & (m.table.size() - 1);
+    }
+  }
+}
+
+std::vector<Expr> topological_order(std::span<const Expr> roots) {
+  std::vector<Expr> order;
+  if (roots.empty()) return order;
+  ExprPool* pool = &roots[0].pool();
+  ExprPool::Impl& m = *pool->impl_;
+  m.marks.resize(m.nodes.size(), 0);
+  if (++m.epoch == 0) {  // wrapped: reset all marks
+    std::fill(m.marks.begin(), m.marks.end(), 0);
+    m.epoch = 1;
+  }
+  // Explicit stack of (node, next operand to visit): no recursion, any depth.
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> stack;
+  for (Expr root : roots) {
+    if (&root.pool() != pool) throw SymbolicError("expressions from different pools mixed");
+    if (m.marks[root.id()] == m.epoch) continue;
+    m.marks[root.id()] = m.epoch;
+    stack.emplace_back(root.id(), 0);
+    while (!stack.empty()) {
+      auto& [id, next] = stack.back();
+      const Node& node = m.nodes[id];
+      if (next < node.count) {
+        const std::uint32_t child = m.operand_ids[node.begin + next++];
+        if (m.marks[child] != m.epoch) {
+          m.marks[child] = m.epoch;
+          stack.emplace_back(child, 0);
+        }
+      } else {
+        order.push_back(Expr(pool, id));
+        stack.pop_back();
+      }
+    }
+  }
+  return order;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Operators and functions
+
+namespace {
+const Number kOne = Number::integer(1);
+const Number kMinusOne = Number::integer(-1);
+}  // namespace
+
+Expr operator+(Expr a, Expr b) {
+  const Term terms[] = {{a, kOne}, {b, kOne}};
+  return a.pool().sum(Number(), terms);
+}
+Expr operator-(Expr a, Expr b) {
+  const Term terms[] = {{a, kOne}, {b, kMinusOne}};
+  return a.pool().sum(Number(), terms);
+}
+Expr operator*(Expr a, Expr b) {
+  const Term factors[] = {{a, kOne}, {b, kOne}};
+  return a.pool().product(kOne, factors);
+}
+Expr operator/(Expr a, Expr b) {
+  const Term factors[] = {{a, kOne}, {b, kMinusOne}};
+  return a.pool().product(kOne, factors);
+}
+Expr operator-(Expr a) {
+  const Term factors[] = {{a, kOne}};
+  return a.pool().product(kMinusOne, factors);
+}
+Expr operator+(Expr a, double b) { return a + a.pool().constant(b); }
+Expr operator+(double a, Expr b) { return b.pool().constant(a) + b; }
+Expr operator-(Expr a, double b) { return a - a.pool().constant(b); }
+Expr operator-(double a, Expr b) { return b.pool().constant(a) - b; }
+Expr operator*(Expr a, double b) { return a * a.pool().constant(b); }
+Expr operator*(double a, Expr b) { return b.pool().constant(a) * b; }
+Expr operator/(Expr a, double b) { return a / a.pool().constant(b); }
+Expr operator/(double a, Expr b) { return b.pool().constant(a) / b; }
+Expr& operator+=(Expr& a, Expr b) { return a = a + b; }
+Expr& operator-=(Expr& a, Expr b) { return a = a - b; }
+Expr& operator*=(Expr& a, Expr b) { return a = a * b; }
+
+Expr pow(Expr base, Expr exponent) { return base.pool().power(base, exponent); }
+Expr pow(Expr base, const Number& exponent) { return base.pool().power(base, exponent); }
+Expr pow(Expr base, std::int64_t exponent) {
+  return base.pool().power(base, Number::integer(exponent));
+}
+Expr sin(Expr a) { return a.pool().function(Op::kSin, a); }
+Expr cos(Expr a) { return a.pool().function(Op::kCos, a); }
+Expr tan(Expr a) { return a.pool().function(Op::kTan, a); }
+Expr sqrt(Expr a) { return a.pool().function(Op::kSqrt, a); }
+Expr exp(Expr a) { return a.pool().function(Op::kExp, a); }
+Expr log(Expr a) { return a.pool().function(Op::kLog, a); }
+Expr abs(Expr a) { return a.pool().function(Op::kAbs, a); }
+Expr atan(Expr a) { return a.pool().function(Op::kAtan, a); }
+Expr asin(Expr a) { return a.pool().function(Op::kAsin, a); }
+Expr acos(Expr a) { return a.pool().function(Op::kAcos, a); }
+Expr atan2(Expr y, Expr x) { return y.pool().function(Op::kAtan2, y, x); }
+Expr min(Expr a, Expr b) { return a.pool().function(Op::kMin, a, b); }
+Expr max(Expr a, Expr b) { return a.pool().function(Op::kMax, a, b); }
+
+}  // namespace spar::symbolic

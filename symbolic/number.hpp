@@ -1,0 +1,113 @@
+// Number: the constants of spar's expressions.
+//
+// A Number is either
+//   * an exact rational `numerator / denominator` (64-bit, denominator > 0, lowest terms): every
+//     constant that came from an integer or a short decimal literal ("0.1" is exactly 1/10), and
+//     every sum, product or integer power of such constants that does not overflow; or
+//   * a real: a double `value` together with a guaranteed enclosure `[lower, upper]` of the true
+//     quantity. A double handed in by a caller (measured data) is exact: lower = value = upper.
+//     A decimal literal too long to be a 64-bit rational, and any arithmetic on reals, widens the
+//     enclosure outward by one ulp per rounded operation, so the enclosure stays sound.
+// NaN and infinities are never Numbers: constructing one throws SymbolicError.
+//
+// The bounds engine turns a Number into an interval with `lower()`/`upper()`, which are outward
+// rounded for rationals that are not exactly representable (1/10, 1/3), so constants are enclosed,
+// never rounded.
+//
+// Example:
+//   Number tenth = Number::rational(1, 10);            // exact
+//   Number sum = tenth + tenth + tenth;                  // exactly 3/10
+//   assert(sum == Number::rational(3, 10));
+//   Number measured = Number::real(0.254);               // the double itself, exactly
+//   double lo = sum.lower(), hi = sum.upper();           // lo < 0.3 < hi: both enclose 3/10
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+
+namespace spar::symbolic {
+
+// A user's mistake in building, parsing or evaluating an expression. The message names the
+// problem (and the offending token or column for parse errors).
+class SymbolicError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+class Number {
+ public:
+  // Zero.
+  constexpr Number() = default;
+
+  [[nodiscard]] static Number integer(std::int64_t value);
+  // Throws SymbolicError if denominator == 0.
+  [[nodiscard]] static Number rational(std::int64_t numerator, std::int64_t denominator);
+  // An exact double (measured data). Integers of magnitude below 2^53 become exact rationals, so
+  // 2.0 and 2 are the same constant. Throws SymbolicError for NaN or infinity.
+  [[nodiscard]] static Number real(double value);
+  // Parses a decimal literal such as "12", "0.25", "4.27e-05". Returns an exact rational when it
+  // fits in 64 bits, else a one-ulp enclosure of the nearest double. nullopt if not a literal.
+  [[nodiscard]] static std::optional<Number> parse_decimal(std::string_view text);
+
+  [[nodiscard]] bool is_rational() const { return kind_ == Kind::kRational; }
+  [[nodiscard]] bool is_zero() const { return is_rational() && numerator_ == 0; }
+  [[nodiscard]] bool is_one() const {
+    return is_rational() && numerator_ == 1 && denominator_ == 1;
+  }
+  [[nodiscard]] bool is_minus_one() const {
+    return is_rational() && numerator_ == -1 && denominator_ == 1;
+  }
+  [[nodiscard]] bool is_integer() const { return is_rational() && denominator_ == 1; }
+  // Sign of the true value: -1, 0, +1, or 0 for a real enclosure that straddles zero.
+  [[nodiscard]] int sign() const;
+  [[nodiscard]] bool is_negative() const { return sign() < 0; }
+
+  // Only meaningful when is_rational().
+  [[nodiscard]] std::int64_t numerator() const { return numerator_; }
+  [[nodiscard]] std::int64_t denominator() const { return denominator_; }
+
+  // Nearest double to the value.
+  [[nodiscard]] double value() const { return value_; }
+  // A double interval guaranteed to contain the true value.
+  [[nodiscard]] double lower() const { return lower_; }
+  [[nodiscard]] double upper() const { return upper_; }
+
+  friend Number operator+(const Number& a, const Number& b);
+  friend Number operator-(const Number& a, const Number& b);
+  friend Number operator*(const Number& a, const Number& b);
+  // Throws SymbolicError on division by an exact zero or by a real enclosure containing zero.
+  friend Number operator/(const Number& a, const Number& b);
+  friend Number operator-(const Number& a);
+  // a^n for an integer n; throws SymbolicError for 0^negative.
+  [[nodiscard]] Number pow(std::int64_t exponent) const;
+
+  // Structural equality: same kind and same representation. A rational never equals a real
+  // (Number::real turns integers into rationals, so 2.0 == 2, but 0.5 stays a real).
+  friend bool operator==(const Number& a, const Number& b);
+  // Total order used to sort: by value, then kind, then bits. Consistent with ==.
+  friend bool operator<(const Number& a, const Number& b);
+  [[nodiscard]] std::size_t hash() const;
+
+  // "3", "-1/2", "0.1" (rationals whose denominator is 2^a 5^b print as exact decimals when short),
+  // reals with 17 significant digits. parse_decimal / the expression parser read every form back.
+  [[nodiscard]] std::string to_string() const;
+
+ private:
+  enum class Kind : std::uint8_t { kRational, kReal };
+  static Number from_rational128(__int128 numerator, __int128 denominator);
+  static Number from_enclosure(double value, double lower, double upper);
+  void set_rational_enclosure();
+
+  Kind kind_{Kind::kRational};
+  std::int64_t numerator_{0};    // rational only; sign carried here
+  std::int64_t denominator_{1};  // rational only; > 0, gcd(numerator, denominator) == 1
+  double value_{0.0};            // nearest double to the value (rational: numerator/denominator)
+  double lower_{0.0};            // lower_ <= true value <= upper_, always
+  double upper_{0.0};
+};
+
+}  // namespace spar::symbolic

@@ -1,0 +1,201 @@
+#include "symbolic/operations.hpp"
+
+#include <algorithm>
+#include <unordered_map>
+
+#include "symbolic/tape.hpp"
+
+namespace spar::symbolic {
+namespace {
+
+const Number kOne = Number::integer(1);
+
+bool is_zero(Expr e) { return e.is_constant() && e.constant().is_zero(); }
+
+// d e given the derivatives of its operands (`d(operand)`), for every op.
+template <class Derivative>
+Expr derivative_of_node(Expr e, Expr variable, Derivative&& d) {
+  ExprPool& pool = e.pool();
+  switch (e.op()) {
+    case Op::kConstant:
+      return pool.integer(0);
+    case Op::kVariable:
+      return pool.integer(e == variable ? 1 : 0);
+    case Op::kAdd: {
+      std::vector<Term> terms;
+      for (std::size_t i = 0; i < e.operand_count(); ++i) {
+        const Expr di = d(e.operand(i));
+        if (!is_zero(di)) terms.push_back({di, e.factor(i)});
+      }
+      return pool.sum(Number(), terms);
+    }
+    case Op::kMul: {
+      // d(c Π bi^ei) = Σi c·ei·bi^(ei-1)·Π_{j≠i} bj^ej · d bi
+      std::vector<Expr> terms;
+      std::vector<Term> factors;
+      for (std::size_t i = 0; i < e.operand_count(); ++i) {
+        const Expr di = d(e.operand(i));
+        if (is_zero(di)) continue;
+        factors.clear();
+        for (std::size_t j = 0; j < e.operand_count(); ++j) {
+          factors.push_back({e.operand(j), j == i ? e.factor(j) - kOne : e.factor(j)});
+        }
+        factors.push_back({di, kOne});
+        terms.push_back(pool.product(e.constant() * e.factor(i), factors));
+      }
+      return pool.sum(terms);
+    }
+    case Op::kPow: {  // d a^b = a^b (db log a + b da / a)
+      const Expr a = e.operand(0), b = e.operand(1);
+      return e * (d(b) * log(a) + b * d(a) / a);
+    }
+    case Op::kAtan2: {  // d atan2(y, x) = (x dy - y dx) / (x^2 + y^2)
+      const Expr y = e.operand(0), x = e.operand(1);
+      return (x * d(y) - y * d(x)) / (pow(x, 2) + pow(y, 2));
+    }
+    case Op::kMin:
+    case Op::kMax: {  // min/max(a, b) = (a + b)/2 ∓ |a - b|/2
+      const Expr a = e.operand(0), b = e.operand(1);
+      const Expr da = d(a), db = d(b);
+      const Expr half_spread = (a - b) * (da - db) / (2 * abs(a - b));
+      return (da + db) / 2 + (e.op() == Op::kMax ? half_spread : -half_spread);
+    }
+    default:
+      break;
+  }
+  const Expr a = e.operand(0);
+  const Expr da = d(a);
+  if (is_zero(da)) return pool.integer(0);
+  switch (e.op()) {
+    case Op::kSin:
+      return cos(a) * da;
+    case Op::kCos:
+      return -sin(a) * da;
+    case Op::kTan:
+      return (1 + pow(e, 2)) * da;
+    case Op::kSqrt:
+      return da / (2 * e);
+    case Op::kExp:
+      return e * da;
+    case Op::kLog:
+      return da / a;
+    case Op::kAbs:
+      return a / e * da;
+    case Op::kAtan:
+      return da / (1 + pow(a, 2));
+    case Op::kAsin:
+      return da / sqrt(1 - pow(a, 2));
+    default:
+      return -da / sqrt(1 - pow(a, 2));  // acos
+  }
+}
+
+// Differentiates every root with one memo table: each node's derivative is built once.
+std::vector<Expr> differentiate_all(std::span<const Expr> roots, Expr variable) {
+  if (!variable.is_variable()) throw SymbolicError("differentiate: not a variable");
+  std::unordered_map<std::uint32_t, Expr> memo;
+  auto d = [&](Expr child) { return memo.at(child.id()); };
+  for (Expr e : topological_order(roots)) memo.emplace(e.id(), derivative_of_node(e, variable, d));
+  std::vector<Expr> result;
+  for (Expr r : roots) result.push_back(memo.at(r.id()));
+  return result;
+}
+
+}  // namespace
+
+Expr differentiate(Expr f, Expr variable) {
+  return differentiate_all(std::span<const Expr>(&f, 1), variable)[0];
+}
+
+std::vector<std::vector<Expr>> jacobian(std::span<const Expr> outputs,
+                                        std::span<const Expr> variables) {
+  std::vector<std::vector<Expr>> j(outputs.size(), std::vector<Expr>(variables.size()));
+  for (std::size_t v = 0; v < variables.size(); ++v) {
+    const std::vector<Expr> column = differentiate_all(outputs, variables[v]);
+    for (std::size_t i = 0; i < outputs.size(); ++i) j[i][v] = column[i];
+  }
+  return j;
+}
+
+Expr rebuild(Expr e, std::span<const Expr> operands) {
+  ExprPool& pool = e.pool();
+  switch (e.op()) {
+    case Op::kConstant:
+    case Op::kVariable:
+      return e;
+    case Op::kAdd:
+    case Op::kMul: {
+      std::vector<Term> terms;
+      for (std::size_t i = 0; i < operands.size(); ++i) terms.push_back({operands[i], e.factor(i)});
+      return e.op() == Op::kAdd ? pool.sum(e.constant(), terms) : pool.product(e.constant(), terms);
+    }
+    case Op::kPow:
+      return pool.power(operands[0], operands[1]);
+    default:
+      return operands.size() == 2 ? pool.function(e.op(), operands[0], operands[1])
+                                  : pool.function(e.op(), operands[0]);
+  }
+}
+
+Expr substitute(Expr f, const std::vector<std::pair<Expr, Expr>>& replacements) {
+  std::unordered_map<std::uint32_t, Expr> image;
+  for (const auto& [from, to] : replacements) {
+    if (!from.is_variable()) throw SymbolicError("substitute: only variables can be replaced");
+    image.emplace(from.id(), to);
+  }
+  std::vector<Expr> operands;
+  for (Expr e : topological_order(std::span<const Expr>(&f, 1))) {
+    if (image.contains(e.id())) continue;
+    operands.clear();
+    bool changed = false;
+    for (std::size_t i = 0; i < e.operand_count(); ++i) {
+      const Expr old = e.operand(i);
+      const Expr now = image.at(old.id());
+      changed |= !(now == old);
+      operands.push_back(now);
+    }
+    image.emplace(e.id(), changed ? rebuild(e, operands) : e);
+  }
+  return image.at(f.id());
+}
+
+std::vector<Expr> free_variables(std::span<const Expr> roots) {
+  std::vector<Expr> vars;
+  for (Expr e : topological_order(roots)) {
+    if (e.is_variable()) vars.push_back(e);
+  }
+  std::sort(vars.begin(), vars.end(), [](Expr a, Expr b) { return a.name() < b.name(); });
+  return vars;
+}
+
+std::vector<Expr> free_variables(Expr f) { return free_variables(std::span<const Expr>(&f, 1)); }
+
+double evaluate(Expr f, const std::map<std::string, double>& values) {
+  const std::vector<Expr> vars = free_variables(f);
+  std::vector<double> point;
+  for (Expr v : vars) {
+    const auto it = values.find(v.name());
+    if (it == values.end()) throw SymbolicError("variable '" + v.name() + "' has no value");
+    point.push_back(it->second);
+  }
+  const Tape tape = Tape::compile(std::span<const Expr>(&f, 1), vars);
+  TapeEvaluator<double> evaluator(tape);
+  double out = 0;
+  evaluator.evaluate(point, std::span<double>(&out, 1));
+  return out;
+}
+
+std::size_t dag_size(std::span<const Expr> roots) { return topological_order(roots).size(); }
+std::size_t dag_size(Expr f) { return dag_size(std::span<const Expr>(&f, 1)); }
+
+double tree_size(Expr f) {
+  std::unordered_map<std::uint32_t, double> size;
+  for (Expr e : topological_order(std::span<const Expr>(&f, 1))) {
+    double s = 1;
+    for (std::size_t i = 0; i < e.operand_count(); ++i) s += size.at(e.operand(i).id());
+    size.emplace(e.id(), s);
+  }
+  return size.at(f.id());
+}
+
+}  // namespace spar::symbolic

@@ -1,0 +1,41 @@
+// Infix syntax: parsing and printing.
+//
+// Grammar (the syntax of ../shared/corpus/fpbench.jsonl and of the `spar` command):
+//   expr    := term (('+' | '-') term)*
+//   term    := unary (('*' | '/') unary)*
+//   unary   := ('-' | '+') unary | power
+//   power   := primary (('^' | '**') unary)?        right-associative: a^b^c = a^(b^c)
+//   primary := number | name | name '(' expr (',' expr)* ')' | '(' expr ')'
+//   number  := digits ['.' digits] [('e'|'E') ['+'|'-'] digits]
+// Functions: sin cos tan sqrt exp log abs atan asin acos (one argument), atan2 min max pow (two);
+// fabs, fmin, fmax are accepted as aliases. The name `pi` is the constant π, enclosed to one ulp.
+// Decimal literals are exact rationals where they fit (see Number::parse_decimal).
+//
+// `to_string(parse(pool, s))` re-parses to the same node. Parsing is recursive descent with a
+// nesting limit (kMaxParseDepth): deeper input fails with a clear SymbolicError, never a crash.
+// Printing is iterative and works at any depth.
+//
+// Example:
+//   ExprPool pool;
+//   Expr f = parse(pool, "sin(x)^2 + 2*x*y");
+//   std::string text = to_string(f);   // e.g. "2*x*y + sin(x)^2"
+//   parse(pool, "sin(x");              // throws: "expected ')' at column 6 in 'sin(x'"
+#pragma once
+
+#include <string>
+#include <string_view>
+
+#include "symbolic/expr.hpp"
+
+namespace spar::symbolic {
+
+inline constexpr int kMaxParseDepth = 1000;
+
+// Throws SymbolicError naming the offending token and its column.
+[[nodiscard]] Expr parse(ExprPool& pool, std::string_view text);
+
+// Infix text of the expression as a tree. Throws SymbolicError if the tree form would exceed
+// `max_tree_nodes` nodes (a DAG with heavy sharing can be exponentially large as text).
+[[nodiscard]] std::string to_string(Expr e, double max_tree_nodes = 1e7);
+
+}  // namespace spar::symbolic

@@ -1,0 +1,319 @@
+#include "symbolic/tape.hpp"
+
+#include <algorithm>
+#include <stdexcept>
+#include <string>
+#include <unordered_map>
+
+namespace spar::symbolic {
+namespace {
+
+// Compilation emits instructions over virtual registers, each written exactly once (SSA);
+// registers [0, input_count) are the inputs and [input_count, input_count + constants) the
+// constants. A second pass maps the remaining virtual registers to reusable slots by liveness.
+class Compiler {
+ public:
+  Compiler(std::span<const Expr> inputs) : input_count_(inputs.size()) {
+    for (std::size_t i = 0; i < inputs.size(); ++i) {
+      if (!inputs[i].is_variable()) throw SymbolicError("tape input is not a variable");
+      if (!register_of_.emplace(inputs[i].id(), static_cast<std::uint32_t>(i)).second) {
+        throw SymbolicError("tape input '" + inputs[i].name() + "' listed twice");
+      }
+    }
+  }
+
+  void compile_node(Expr e) {
+    std::uint32_t result = 0;
+    switch (e.op()) {
+      case Op::kConstant:
+        result = constant(e.constant());
+        break;
+      case Op::kVariable:
+        throw SymbolicError("variable '" + e.name() + "' is not an input of the tape");
+      case Op::kAdd:
+        result = compile_sum(e);
+        break;
+      case Op::kMul:
+        result = compile_product(e);
+        break;
+      case Op::kPow:
+        result = emit(TapeOp::kPow, of(e.operand(0)), of(e.operand(1)));
+        break;
+      default:
+        result = e.operand_count() == 2
+                     ? emit(binary_op(e.op()), of(e.operand(0)), of(e.operand(1)))
+                     : emit(unary_op(e.op()), of(e.operand(0)));
+    }
+    register_of_.emplace(e.id(), result);
+  }
+
+  bool compiled(Expr e) const { return register_of_.contains(e.id()); }
+  std::uint32_t of(Expr e) const { return register_of_.at(e.id()); }
+
+  static TapeOp unary_op(Op op) {
+    switch (op) {
+      case Op::kSin:
+        return TapeOp::kSin;
+      case Op::kCos:
+        return TapeOp::kCos;
+      case Op::kTan:
+        return TapeOp::kTan;
+      case Op::kSqrt:
+        return TapeOp::kSqrt;
+      case Op::kExp:
+        return TapeOp::kExp;
+      case Op::kLog:
+        return TapeOp::kLog;
+      case Op::kAbs:
+        return TapeOp::kAbs;
+      case Op::kAtan:
+        return TapeOp::kAtan;
+      case Op::kAsin:
+        return TapeOp::kAsin;
+      default:
+        return TapeOp::kAcos;
+    }
+  }
+  static TapeOp binary_op(Op op) {
+    switch (op) {
+      case Op::kAtan2:
+        return TapeOp::kAtan2;
+      case Op::kMin:
+        return TapeOp::kMin;
+      default:
+        return TapeOp::kMax;
+    }
+  }
+
+  std::uint32_t constant(const Number& n) {
+    for (std::size_t i = 0; i < constants_.size(); ++i) {
+      if (constants_[i] == n) return static_cast<std::uint32_t>(input_count_ + i);
+    }
+    constants_.push_back(n);
+    return static_cast<std::uint32_t>(input_count_ + constants_.size() - 1);
+  }
+
+  std::uint32_t emit(TapeOp op, std::uint32_t a, std::uint32_t b = 0, std::int32_t power = 0) {
+    code_.push_back(Instruction{op, power, next_virtual_, a, b});
+    return next_virtual_++;
+  }
+
+  // c0 + Σ ci·ti as a chain of Add/Sub, scaling by |ci| where it is not one.
+  std::uint32_t compile_sum(Expr e) {
+    std::int64_t accumulator = -1;
+    auto add = [&](std::uint32_t value, bool negative) {
+      if (accumulator < 0) {
+        accumulator = negative ? emit(TapeOp::kNeg, value) : value;
+      } else {
+        accumulator = emit(negative ? TapeOp::kSub : TapeOp::kAdd,
+                           static_cast<std::uint32_t>(accumulator), value);
+      }
+    };
+    for (std::size_t i = 0; i < e.operand_count(); ++i) {
+      const Number& c = e.factor(i);
+      const Number magnitude = c.is_negative() ? -c : c;
+      std::uint32_t term = of(e.operand(i));
+      if (!magnitude.is_one()) term = emit(TapeOp::kMul, term, constant(magnitude));
+      add(term, c.is_negative());
+    }
+    const Number& c0 = e.constant();
+    if (!c0.is_zero()) add(constant(c0.is_negative() ? -c0 : c0), c0.is_negative());
+    return static_cast<std::uint32_t>(accumulator);
+  }
+
+  // c · Π bi^ei as numerator / denominator chains; negative exponents go to the denominator.
+  std::uint32_t compile_product(Expr e) {
+    std::int64_t numerator = -1, denominator = -1;
+    auto multiply_into = [&](std::int64_t& chain, std::uint32_t value) {
+      chain = chain < 0 ? value : emit(TapeOp::kMul, static_cast<std::uint32_t>(chain), value);
+    };
+    for (std::size_t i = 0; i < e.operand_count(); ++i) {
+      const Number& exponent = e.factor(i);
+      const std::uint32_t base = of(e.operand(i));
+      const bool inverse = exponent.is_negative();
+      const Number magnitude = inverse ? -exponent : exponent;
+      std::uint32_t power;
+      if (magnitude.is_one()) {
+        power = base;
+      } else if (magnitude == Number::integer(2)) {
+        power = emit(TapeOp::kSquare, base);
+      } else if (magnitude.is_integer() && magnitude.numerator() <= (1 << 30)) {
+        power = emit(TapeOp::kPowInt, base, 0, static_cast<std::int32_t>(magnitude.numerator()));
+      } else if (magnitude == Number::rational(1, 2)) {
+        power = emit(TapeOp::kSqrt, base);
+      } else {
+        power = emit(TapeOp::kPow, base, constant(magnitude));
+      }
+      multiply_into(inverse ? denominator : numerator, power);
+    }
+    const Number& c = e.constant();
+    const Number magnitude = c.is_negative() ? -c : c;
+    std::uint32_t result;
+    if (denominator >= 0) {
+      const std::uint32_t top =
+          numerator >= 0 ? static_cast<std::uint32_t>(numerator) : constant(Number::integer(1));
+      result = emit(TapeOp::kDiv, top, static_cast<std::uint32_t>(denominator));
+    } else {
+      result = static_cast<std::uint32_t>(numerator);
+    }
+    if (!magnitude.is_one()) result = emit(TapeOp::kMul, result, constant(magnitude));
+    if (c.is_negative()) result = emit(TapeOp::kNeg, result);
+    return result;
+  }
+
+  std::size_t input_count_;
+  std::uint32_t next_virtual_ = 0x80000000u;  // virtual registers of instructions start here
+  std::unordered_map<std::uint32_t, std::uint32_t> register_of_;  // node id -> register
+  std::vector<Instruction> code_;
+  std::vector<Number> constants_;
+};
+
+bool is_binary(TapeOp op) {
+  switch (op) {
+    case TapeOp::kAdd:
+    case TapeOp::kSub:
+    case TapeOp::kMul:
+    case TapeOp::kDiv:
+    case TapeOp::kPow:
+    case TapeOp::kAtan2:
+    case TapeOp::kMin:
+    case TapeOp::kMax:
+      return true;
+    default:
+      return false;
+  }
+}
+
+}  // namespace
+
+Tape Tape::compile(std::span<const Expr> outputs, std::span<const Expr> inputs) {
+  Compiler compiler(inputs);
+  for (Expr e : topological_order(outputs)) {
+    if (!compiler.compiled(e)) compiler.compile_node(e);
+  }
+
+  // Register allocation. Virtual registers >= 0x80000000 are instruction results; everything
+  // below is a fixed input or constant slot. A result's slot is freed after its last read,
+  // unless it is an output (outputs must survive to the end).
+  constexpr std::uint32_t kFirstVirtual = 0x80000000u;
+  const std::uint32_t fixed =
+      static_cast<std::uint32_t>(inputs.size() + compiler.constants_.size());
+  std::vector<Instruction>& code = compiler.code_;
+  std::vector<std::size_t> last_read(code.size(), 0);
+  auto index_of = [&](std::uint32_t reg) { return reg - kFirstVirtual; };
+  for (std::size_t k = 0; k < code.size(); ++k) {
+    if (code[k].a >= kFirstVirtual) last_read[index_of(code[k].a)] = k;
+    if (is_binary(code[k].op) && code[k].b >= kFirstVirtual) last_read[index_of(code[k].b)] = k;
+  }
+  std::vector<bool> is_output(code.size(), false);
+  for (Expr e : outputs) {
+    const std::uint32_t reg = compiler.of(e);
+    if (reg >= kFirstVirtual) is_output[index_of(reg)] = true;
+  }
+  std::vector<std::uint32_t> slot_of(code.size());
+  std::vector<std::uint32_t> free_slots;
+  std::uint32_t next_slot = fixed;
+  auto physical = [&](std::uint32_t reg) {
+    return reg >= kFirstVirtual ? slot_of[index_of(reg)] : reg;
+  };
+  for (std::size_t k = 0; k < code.size(); ++k) {
+    Instruction& in = code[k];
+    const std::uint32_t a = in.a, b = in.b;
+    in.a = physical(a);
+    if (is_binary(in.op)) in.b = physical(b);
+    // Operands whose last read is this instruction are dead: their slots may take the result.
+    for (std::uint32_t reg : {a, is_binary(in.op) ? b : a}) {
+      if (reg >= kFirstVirtual && last_read[index_of(reg)] == k && !is_output[index_of(reg)]) {
+        free_slots.push_back(slot_of[index_of(reg)]);
+        last_read[index_of(reg)] = code.size();  // freed once even if read twice (a == b)
+      }
+    }
+    std::uint32_t slot;
+    if (free_slots.empty()) {
+      slot = next_slot++;
+    } else {
+      slot = free_slots.back();
+      free_slots.pop_back();
+    }
+    slot_of[k] = slot;
+    in.dst = slot;
+    // A result nobody reads (possible only for outputs) keeps its slot; others are freed above.
+  }
+
+  Tape tape;
+  tape.input_count_ = inputs.size();
+  tape.slot_count_ = next_slot;
+  tape.constants_ = std::move(compiler.constants_);
+  tape.instructions_ = std::move(code);
+  for (Expr e : outputs) tape.output_slots_.push_back(physical(compiler.of(e)));
+  return tape;
+}
+
+void Tape::check_invariants() const {
+  const std::size_t fixed = input_count_ + constants_.size();
+  std::vector<bool> written(slot_count_, false);
+  for (std::size_t i = 0; i < fixed; ++i) written[i] = true;
+  for (std::size_t k = 0; k < instructions_.size(); ++k) {
+    const Instruction& in = instructions_[k];
+    const auto where = " (instruction " + std::to_string(k) + ")";
+    if (in.dst < fixed || in.dst >= slot_count_) throw std::logic_error("bad destination" + where);
+    if (in.a >= slot_count_ || !written[in.a] ||
+        (is_binary(in.op) && (in.b >= slot_count_ || !written[in.b]))) {
+      throw std::logic_error("reads a slot before it is written" + where);
+    }
+    written[in.dst] = true;
+  }
+  for (std::uint32_t s : output_slots_) {
+    if (s >= slot_count_ || !written[s]) throw std::logic_error("output slot never written");
+  }
+}
+
+namespace {
+// Applies one instruction to a block of n points: the loop the compiler vectorises.
+struct BlockVisitor {
+  double* dst;
+  const double* a;
+  const double* b;
+  std::size_t n;
+  template <class F>
+  void unary(F f) {
+    for (std::size_t p = 0; p < n; ++p) dst[p] = f(a[p]);
+  }
+  template <class F>
+  void binary(F f) {
+    for (std::size_t p = 0; p < n; ++p) dst[p] = f(a[p], b[p]);
+  }
+};
+}  // namespace
+
+void evaluate_batch(const Tape& tape, std::span<const double> inputs, std::span<double> outputs,
+                    std::size_t points) {
+  constexpr std::size_t kBlock = 256;
+  using D = TapeDomain<double>;
+  if (inputs.size() < tape.input_count() * points ||
+      outputs.size() < tape.output_slots().size() * points) {
+    throw SymbolicError("evaluate_batch: input or output array too small");
+  }
+  std::vector<double> slots(tape.slot_count() * kBlock);
+  const auto constants = tape.constants();
+  for (std::size_t i = 0; i < constants.size(); ++i) {
+    std::fill_n(&slots[(tape.input_count() + i) * kBlock], kBlock, D::constant(constants[i]));
+  }
+  for (std::size_t start = 0; start < points; start += kBlock) {
+    const std::size_t n = std::min(kBlock, points - start);
+    for (std::size_t i = 0; i < tape.input_count(); ++i) {
+      std::copy_n(&inputs[i * points + start], n, &slots[i * kBlock]);
+    }
+    double* s = slots.data();
+    for (const Instruction& in : tape.instructions()) {
+      dispatch_instruction<D>(
+          in, BlockVisitor{s + in.dst * kBlock, s + in.a * kBlock, s + in.b * kBlock, n});
+    }
+    const auto out = tape.output_slots();
+    for (std::size_t o = 0; o < out.size(); ++o) {
+      std::copy_n(&slots[out[o] * kBlock], n, &outputs[o * points + start]);
+    }
+  }
+}
+
+}  // namespace spar::symbolic

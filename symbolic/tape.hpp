@@ -1,0 +1,243 @@
+// Tape: expressions compiled to a flat instruction array, evaluated in any number domain.
+//
+// `Tape::compile(outputs, inputs)` turns one or many expressions (sharing subexpressions) into a
+// topologically ordered list of three-address instructions over numbered slots:
+//   slots [0, input_count)                       the inputs, in the order given to compile
+//   slots [input_count, input_count + |consts|)  the constants (constants()[i] lives in slot
+//                                                input_count + i); loaded once per evaluator
+//   the rest                                      work slots, reused once their value is dead
+// Invariants: every instruction reads only slots written earlier (or inputs/constants) and writes
+// a work slot (checked by check_invariants()); an output's slot is never reused after the output
+// is computed (guaranteed by the allocator, which never frees output registers).
+// An n-ary sum or product becomes a chain of binary instructions; coefficients and exponents
+// become constant slots, integer powers PowInt, x^2 Square, x^(1/2) Sqrt.
+//
+// A number domain T plugs in through `TapeDomain<T>` (specialise it): T needs + - * / and unary
+// -, and TapeDomain<T> provides `constant(const Number&)` (for intervals: the enclosure
+// [lower, upper]), square, pow_int(T, int), pow(T, T), sqrt, sin, cos, tan, exp, log, abs, atan,
+// asin, acos, atan2, min, max. double is built in; bounds/ adds Interval.
+//
+// Example:
+//   Expr f = parse(pool, "x*sin(y) + y^2");
+//   Tape tape = Tape::compile({f}, {x, y});
+//   TapeEvaluator<double> eval(tape);
+//   double point[] = {0.5, 2.0}, out[1];
+//   eval.evaluate(point, out);                       // out[0] = f(0.5, 2)
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "symbolic/expr.hpp"
+
+namespace spar::symbolic {
+
+enum class TapeOp : std::uint8_t {
+  kAdd,
+  kSub,
+  kMul,
+  kDiv,
+  kNeg,
+  kSquare,
+  kPowInt,
+  kPow,
+  kSqrt,
+  kSin,
+  kCos,
+  kTan,
+  kExp,
+  kLog,
+  kAbs,
+  kAtan,
+  kAsin,
+  kAcos,
+  kAtan2,
+  kMin,
+  kMax,
+};
+
+// dst = op(a[, b]); `power` is the exponent of PowInt. Slots index the evaluator's array.
+struct Instruction {
+  TapeOp op;
+  std::int32_t power;
+  std::uint32_t dst;
+  std::uint32_t a;
+  std::uint32_t b;
+};
+
+class Tape {
+ public:
+  // Throws SymbolicError if an output uses a variable that is not among `inputs`, or if an input
+  // is not a Variable.
+  [[nodiscard]] static Tape compile(std::span<const Expr> outputs, std::span<const Expr> inputs);
+
+  [[nodiscard]] std::size_t input_count() const { return input_count_; }
+  [[nodiscard]] std::size_t slot_count() const { return slot_count_; }
+  [[nodiscard]] std::span<const Instruction> instructions() const { return instructions_; }
+  [[nodiscard]] std::span<const Number> constants() const { return constants_; }
+  [[nodiscard]] std::span<const std::uint32_t> output_slots() const { return output_slots_; }
+  // Throws std::logic_error naming the first broken invariant (see the header comment).
+  void check_invariants() const;
+
+ private:
+  std::size_t input_count_{0};
+  std::size_t slot_count_{0};
+  std::vector<Instruction> instructions_;
+  std::vector<Number> constants_;
+  std::vector<std::uint32_t> output_slots_;
+};
+
+template <class T>
+struct TapeDomain;
+
+template <>
+struct TapeDomain<double> {
+  static double constant(const Number& n) { return n.value(); }
+  static double square(double x) { return x * x; }
+  static double pow_int(double x, int n) {
+    double result = 1.0, base = n < 0 ? 1.0 / x : x;
+    for (unsigned k = n < 0 ? -static_cast<unsigned>(n) : n; k; k >>= 1, base *= base) {
+      if (k & 1) result *= base;
+    }
+    return result;
+  }
+  static double pow(double x, double y) { return std::pow(x, y); }
+  static double sqrt(double x) { return std::sqrt(x); }
+  static double sin(double x) { return std::sin(x); }
+  static double cos(double x) { return std::cos(x); }
+  static double tan(double x) { return std::tan(x); }
+  static double exp(double x) { return std::exp(x); }
+  static double log(double x) { return std::log(x); }
+  static double abs(double x) { return std::fabs(x); }
+  static double atan(double x) { return std::atan(x); }
+  static double asin(double x) { return std::asin(x); }
+  static double acos(double x) { return std::acos(x); }
+  static double atan2(double y, double x) { return std::atan2(y, x); }
+  static double min(double a, double b) { return std::fmin(a, b); }
+  static double max(double a, double b) { return std::fmax(a, b); }
+};
+
+// Calls visitor.unary(f) or visitor.binary(f) with the instruction's operation as a generic
+// callable over domain values. The one place that maps TapeOp to arithmetic, shared by every
+// evaluator (scalar, batch, and bounds/'s interval and gradient evaluators).
+template <class D, class Visitor>
+inline void dispatch_instruction(const Instruction& in, Visitor&& visitor) {
+  switch (in.op) {
+    case TapeOp::kAdd:
+      visitor.binary([](const auto& a, const auto& b) { return a + b; });
+      break;
+    case TapeOp::kSub:
+      visitor.binary([](const auto& a, const auto& b) { return a - b; });
+      break;
+    case TapeOp::kMul:
+      visitor.binary([](const auto& a, const auto& b) { return a * b; });
+      break;
+    case TapeOp::kDiv:
+      visitor.binary([](const auto& a, const auto& b) { return a / b; });
+      break;
+    case TapeOp::kNeg:
+      visitor.unary([](const auto& a) { return -a; });
+      break;
+    case TapeOp::kSquare:
+      visitor.unary([](const auto& a) { return D::square(a); });
+      break;
+    case TapeOp::kPowInt:
+      visitor.unary([n = in.power](const auto& a) { return D::pow_int(a, n); });
+      break;
+    case TapeOp::kPow:
+      visitor.binary([](const auto& a, const auto& b) { return D::pow(a, b); });
+      break;
+    case TapeOp::kSqrt:
+      visitor.unary([](const auto& a) { return D::sqrt(a); });
+      break;
+    case TapeOp::kSin:
+      visitor.unary([](const auto& a) { return D::sin(a); });
+      break;
+    case TapeOp::kCos:
+      visitor.unary([](const auto& a) { return D::cos(a); });
+      break;
+    case TapeOp::kTan:
+      visitor.unary([](const auto& a) { return D::tan(a); });
+      break;
+    case TapeOp::kExp:
+      visitor.unary([](const auto& a) { return D::exp(a); });
+      break;
+    case TapeOp::kLog:
+      visitor.unary([](const auto& a) { return D::log(a); });
+      break;
+    case TapeOp::kAbs:
+      visitor.unary([](const auto& a) { return D::abs(a); });
+      break;
+    case TapeOp::kAtan:
+      visitor.unary([](const auto& a) { return D::atan(a); });
+      break;
+    case TapeOp::kAsin:
+      visitor.unary([](const auto& a) { return D::asin(a); });
+      break;
+    case TapeOp::kAcos:
+      visitor.unary([](const auto& a) { return D::acos(a); });
+      break;
+    case TapeOp::kAtan2:
+      visitor.binary([](const auto& y, const auto& x) { return D::atan2(y, x); });
+      break;
+    case TapeOp::kMin:
+      visitor.binary([](const auto& a, const auto& b) { return D::min(a, b); });
+      break;
+    case TapeOp::kMax:
+      visitor.binary([](const auto& a, const auto& b) { return D::max(a, b); });
+      break;
+  }
+}
+
+// Evaluates a tape at single points in domain T. Holds the slot array, with the constants loaded
+// once at construction. The tape must outlive the evaluator.
+template <class T, class D = TapeDomain<T>>
+class TapeEvaluator {
+ public:
+  explicit TapeEvaluator(const Tape& tape) : tape_(&tape), slots_(tape.slot_count()) {
+    const auto constants = tape.constants();
+    for (std::size_t i = 0; i < constants.size(); ++i) {
+      slots_[tape.input_count() + i] = D::constant(constants[i]);
+    }
+  }
+
+  // inputs.size() == input_count(); outputs.size() == output_slots().size().
+  void evaluate(std::span<const T> inputs, std::span<T> outputs) {
+    for (std::size_t i = 0; i < tape_->input_count(); ++i) slots_[i] = inputs[i];
+    for (const Instruction& in : tape_->instructions()) {
+      dispatch_instruction<D>(in, SlotVisitor{slots_.data(), in});
+    }
+    const auto out = tape_->output_slots();
+    for (std::size_t i = 0; i < out.size(); ++i) outputs[i] = slots_[out[i]];
+  }
+
+  // The slot array after the last evaluate(): intermediate values, for reverse-mode passes.
+  [[nodiscard]] std::span<const T> slots() const { return slots_; }
+
+ private:
+  struct SlotVisitor {
+    T* s;
+    const Instruction& in;
+    template <class F>
+    void unary(F f) {
+      s[in.dst] = f(s[in.a]);
+    }
+    template <class F>
+    void binary(F f) {
+      s[in.dst] = f(s[in.a], s[in.b]);
+    }
+  };
+
+  const Tape* tape_;
+  std::vector<T> slots_;
+};
+
+// Evaluates a tape in double at `points` points at once. inputs[i * points + p] is input i at
+// point p; outputs[o * points + p] receives output o. Instructions run in the outer loop over
+// blocks of points, so the inner loop is a tight, vectorisable loop over points.
+void evaluate_batch(const Tape& tape, std::span<const double> inputs, std::span<double> outputs,
+                    std::size_t points);
+
+}  // namespace spar::symbolic
