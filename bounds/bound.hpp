@@ -1,0 +1,90 @@
+// bound(): sound SUP/INF of an expression over a box, with inner bounds that prove how tight it is.
+//
+// Given f, a box of variable ranges and optional constraints `g rel 0`, bound() returns
+//   lo <= inner_lo <= inner_hi <= hi   with   [inner_lo, inner_hi] ⊆ f(feasible box) ⊆ [lo, hi].
+// [lo, hi] is always sound (outward-rounded interval arithmetic, every method intersected):
+// natural interval extension on the tape, monotonicity from interval gradients (a variable is
+// fixed at an end point), the mean-value (centred) form, and best-first branch and bound that
+// bisects the variable with the largest |gradient| x width until `hi - inner_hi` and
+// `inner_lo - lo` are both <= tolerance x (inner_hi - inner_lo), or the effort limit is reached.
+// Linear constraints contract every box; any constraint discards boxes where it certainly fails.
+// inner_lo / inner_hi are values f attains at the witness points argmin / argmax (each
+// checked feasible with interval arithmetic), found from box midpoints, corners and NLopt
+// (a global search, then a local one with tape gradients). NLopt never decides [lo, hi].
+//
+// Example:
+//   symbolic::ExprPool pool;
+//   Expr x = pool.variable("x"), y = pool.variable("y");
+//   Box box;  box.add(x, -5, 5);  box.add(y, -5, 5);
+//   BoundResult r = bound(sin(x) - cos(y) - sin(x) * cos(x), box, {.tolerance = 1e-4});
+//   // r.lo <= -2.29904 and r.hi >= 2.29904, r.hi - r.inner_hi <= 1e-4 * (r.inner_hi - r.inner_lo)
+#pragma once
+
+#include <cstddef>
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "bounds/interval.hpp"
+#include "symbolic/expr.hpp"
+
+namespace spar::bounds {
+
+// A caller's mistake (bad box, unknown variable, malformed constraint); the message says which.
+class BoundsError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// Variables with their closed ranges; variables[i] ranges over ranges[i].
+struct Box {
+  std::vector<symbolic::Expr> variables;
+  std::vector<Interval> ranges;
+  // Throws BoundsError for NaN, lo > hi, or a variable already in the box.
+  void add(symbolic::Expr variable, double lo, double hi);
+};
+
+enum class Relation { kLess, kLessEqual, kGreater, kGreaterEqual };
+
+// g rel 0. Strict relations are bounded as their closure (sound); witnesses satisfy them exactly.
+struct Constraint {
+  symbolic::Expr g;
+  Relation relation{Relation::kLessEqual};
+};
+
+// Which stages run (all on by default; the benchmark switches them to compare).
+struct BoundOptions {
+  double tolerance{1e-3};                    // relative to the attained width inner_hi - inner_lo
+  std::size_t max_box_evaluations{200'000};  // per bound() call, both directions together
+  double max_seconds{2.0};                   // per bound() call
+  bool inner{true};                          // NLopt inner search (midpoints/corners always)
+  bool monotonicity{true};
+  bool centred_form{true};
+  bool branch_and_bound{true};
+};
+
+enum class BoundStatus {
+  kConverged,    // both gaps within tolerance
+  kEffortLimit,  // sound but not within tolerance (max_box_evaluations or max_seconds hit)
+  kUnbounded,    // lo = -inf or hi = +inf: the range is (or could not be shown not to be) unbounded
+  kInfeasible,   // no point of the box satisfies the constraints: lo = +inf, hi = -inf
+};
+[[nodiscard]] const char* to_string(BoundStatus status);
+
+struct BoundResult {
+  double lo{0.0}, hi{0.0};              // sound: lo <= f <= hi on the feasible box
+  double inner_lo{0.0}, inner_hi{0.0};  // attained: f(argmin) <= inner_lo, f(argmax) >= inner_hi
+  std::vector<double> argmin, argmax;   // witness points in Box::variables order (empty if none)
+  BoundStatus status{BoundStatus::kConverged};
+  bool possibly_undefined{false};  // f may be undefined somewhere in the box (domain error)
+  std::size_t evaluations{0};      // boxes evaluated
+  // Measured tightness: max(hi - inner_hi, inner_lo - lo) / (inner_hi - inner_lo).
+  [[nodiscard]] double relative_gap() const;
+};
+
+// Throws BoundsError if f or a constraint uses a variable that is not in the box.
+[[nodiscard]] BoundResult bound(symbolic::Expr f, const Box& box, const BoundOptions& options = {},
+                                std::span<const Constraint> constraints = {});
+
+}  // namespace spar::bounds

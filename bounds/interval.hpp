@@ -1,0 +1,112 @@
+// Interval: a closed real interval [lo, hi] of doubles with outward rounding and a domain flag.
+//
+// Contract: for every operation op and every real x in X (y in Y), op(x, y) lies in op(X, Y)
+// whenever op(x, y) is defined. Rounding is outward without touching the FPU mode: + - * / and
+// sqrt use error-free transformations (two-sum, fma residuals) and move a bound by one ulp only
+// when the double result is not exact; libm functions (sin, exp, ...) are widened by two ulps.
+// Periodic functions find their extrema (sin, cos) and poles (tan) over any width.
+//
+// Invariants: lo <= hi, or the interval is empty (lo = +inf, hi = -inf). Bounds may be infinite.
+// `possibly_undefined` is set when some point of the arguments is outside an operation's domain
+// (log of a non-positive part, sqrt below zero, asin outside [-1, 1], division by an interval
+// containing 0, a pole of tan, ...); the result then encloses the operation on the defined part
+// (empty when no point is defined) and the flag propagates through every later operation.
+// Nothing here throws: hot loops read the flag.
+//
+// Example:
+//   Interval x{-1.0, 2.0};
+//   Interval y = sin(x) * x + 1.0;               // encloses every sin(t)*t+1, t in [-1, 2]
+//   Interval z = log(x);                         // [-inf, log 2], possibly_undefined = true
+//   assert(y.contains(std::sin(0.5) * 0.5 + 1));
+//   using Eval = symbolic::TapeEvaluator<Interval>;   // plugs into compiled tapes
+#pragma once
+
+#include <limits>
+
+#include "symbolic/number.hpp"
+#include "symbolic/tape.hpp"
+
+namespace spar::bounds {
+
+struct Interval {
+  double lo{0.0};                  // lower bound; +inf for the empty interval
+  double hi{0.0};                  // upper bound; -inf for the empty interval
+  bool possibly_undefined{false};  // some point met a domain error on the way here
+
+  constexpr Interval() = default;
+  constexpr Interval(double value) : lo(value), hi(value) {}  // NOLINT: a point is an interval
+  constexpr Interval(double lower, double upper, bool undefined = false)
+      : lo(lower), hi(upper), possibly_undefined(undefined) {}
+
+  [[nodiscard]] static constexpr Interval empty(bool undefined = false) {
+    return {std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity(),
+            undefined};
+  }
+  [[nodiscard]] static constexpr Interval entire(bool undefined = false) {
+    return {-std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
+            undefined};
+  }
+  [[nodiscard]] constexpr bool is_empty() const { return !(lo <= hi); }
+  [[nodiscard]] constexpr bool contains(double x) const { return lo <= x && x <= hi; }
+  [[nodiscard]] constexpr bool is_bounded() const {
+    return lo > -std::numeric_limits<double>::infinity() &&
+           hi < std::numeric_limits<double>::infinity();
+  }
+  // hi - lo rounded up (0 for empty).
+  [[nodiscard]] double width() const;
+  // A point inside (the midpoint when bounded).
+  [[nodiscard]] double mid() const;
+};
+
+// The enclosure [lower(), upper()] of an expression constant.
+[[nodiscard]] Interval enclose(const symbolic::Number& number);
+
+[[nodiscard]] Interval hull(const Interval& a, const Interval& b);
+[[nodiscard]] Interval intersect(const Interval& a, const Interval& b);
+
+Interval operator+(const Interval& a, const Interval& b);
+Interval operator-(const Interval& a, const Interval& b);
+Interval operator*(const Interval& a, const Interval& b);
+Interval operator/(const Interval& a, const Interval& b);
+Interval operator-(const Interval& a);
+
+[[nodiscard]] Interval square(const Interval& a);
+[[nodiscard]] Interval pow_int(const Interval& a, int exponent);
+[[nodiscard]] Interval pow(const Interval& base, const Interval& exponent);  // base >= 0 domain
+[[nodiscard]] Interval sqrt(const Interval& a);
+[[nodiscard]] Interval sin(const Interval& a);
+[[nodiscard]] Interval cos(const Interval& a);
+[[nodiscard]] Interval tan(const Interval& a);
+[[nodiscard]] Interval exp(const Interval& a);
+[[nodiscard]] Interval log(const Interval& a);
+[[nodiscard]] Interval abs(const Interval& a);
+[[nodiscard]] Interval atan(const Interval& a);
+[[nodiscard]] Interval asin(const Interval& a);
+[[nodiscard]] Interval acos(const Interval& a);
+[[nodiscard]] Interval atan2(const Interval& y, const Interval& x);
+[[nodiscard]] Interval min(const Interval& a, const Interval& b);
+[[nodiscard]] Interval max(const Interval& a, const Interval& b);
+
+}  // namespace spar::bounds
+
+template <>
+struct spar::symbolic::TapeDomain<spar::bounds::Interval> {
+  using I = spar::bounds::Interval;
+  static I constant(const Number& n) { return spar::bounds::enclose(n); }
+  static I square(const I& x) { return spar::bounds::square(x); }
+  static I pow_int(const I& x, int n) { return spar::bounds::pow_int(x, n); }
+  static I pow(const I& x, const I& y) { return spar::bounds::pow(x, y); }
+  static I sqrt(const I& x) { return spar::bounds::sqrt(x); }
+  static I sin(const I& x) { return spar::bounds::sin(x); }
+  static I cos(const I& x) { return spar::bounds::cos(x); }
+  static I tan(const I& x) { return spar::bounds::tan(x); }
+  static I exp(const I& x) { return spar::bounds::exp(x); }
+  static I log(const I& x) { return spar::bounds::log(x); }
+  static I abs(const I& x) { return spar::bounds::abs(x); }
+  static I atan(const I& x) { return spar::bounds::atan(x); }
+  static I asin(const I& x) { return spar::bounds::asin(x); }
+  static I acos(const I& x) { return spar::bounds::acos(x); }
+  static I atan2(const I& y, const I& x) { return spar::bounds::atan2(y, x); }
+  static I min(const I& a, const I& b) { return spar::bounds::min(a, b); }
+  static I max(const I& a, const I& b) { return spar::bounds::max(a, b); }
+};
