@@ -1,0 +1,58 @@
+#include "kinematics/pickup.hpp"
+
+#include "symbolic/operations.hpp"
+
+namespace spar::kinematics {
+
+using symbolic::Expr;
+using symbolic::ExprPool;
+
+bool PickupCondition::holds_at(const std::map<std::string, double>& values) const {
+  const double value = symbolic::evaluate(expression, values);
+  return positive ? value > 0.0 : value < 0.0;
+}
+
+PickupPreconditions pickup_preconditions(const PickupGeometry& geometry,
+                                         const UncertainManipulator& gripper,
+                                         const UncertainObject& object) {
+  if (!(geometry.finger_opening > 0.0) || !(geometry.object_width > 0.0)) {
+    throw KinematicsError("pickup: finger opening and object width must be > 0 (got " +
+                          std::to_string(geometry.finger_opening) + " and " +
+                          std::to_string(geometry.object_width) + ")");
+  }
+  ExprPool& pool = gripper.dx().pool();
+  if (&object.dx().pool() != &pool) {
+    throw KinematicsError("pickup: gripper and object uncertainties use different pools");
+  }
+  const SymbolicTransform object_pose = SymbolicTransform::from_numeric(pool, geometry.object_pose);
+  const SymbolicTransform grasp = SymbolicTransform::from_numeric(pool, geometry.grasp);
+  const SymbolicTransform ideal_gripper = object_pose * grasp;  // constants: folds to numbers
+
+  const double half_opening = geometry.finger_opening / 2, half_width = geometry.object_width / 2;
+  const SymbolicPoint contacts[2] = {
+      object.possible_point(geometry.object_pose,
+                            grasp.apply(constant_point(pool, 0, +half_width, 0))),
+      object.possible_point(geometry.object_pose,
+                            grasp.apply(constant_point(pool, 0, -half_width, 0)))};
+  const SymbolicTransform finger_offsets[2] = {trans(pool, 0, -half_opening, 0),
+                                               trans(pool, 0, +half_opening, 0)};
+
+  PickupPreconditions result;
+  for (int finger = 0; finger < 2; ++finger) {
+    for (int contact = 0; contact < 2; ++contact) {
+      const SymbolicPoint in_gripper = ideal_gripper.apply_inverse(contacts[contact]);
+      const SymbolicPoint in_finger =
+          finger_offsets[finger].apply_inverse(gripper.error().apply_inverse(in_gripper));
+      const bool positive = finger == 0;
+      result.conditions[finger * 2 + contact] = {std::string(positive ? "0 < " : "0 > ") +
+                                                     "[0,1,0,0] P" + std::to_string(finger + 1) +
+                                                     "^-1 C" + std::to_string(contact + 1),
+                                                 in_finger[1], positive};
+    }
+  }
+  for (const UncertaintyVariable& v : gripper.variables()) result.variables.push_back(v);
+  for (const UncertaintyVariable& v : object.variables()) result.variables.push_back(v);
+  return result;
+}
+
+}  // namespace spar::kinematics

@@ -1,0 +1,62 @@
+// SPAR's uncertainty-reduction preconditions of the pickup action: both contact points lie between
+// the fingers for every value of the uncertainty variables.
+//
+// With the ideal object pose T_O, the grasp T_G (gripper frame in the object frame, fingers
+// opening along its y axis), the finger opening W_m and the object's width at the grasp W_g:
+//   finger frames   P1,2 = T_O T_G T_ΔM trans(0, ∓W_m/2, 0)                       (eq. 1)
+//   contact points  C1,2 = Tr_ΔO Tr_O R_ΔO R_O T_G trans(0, ±W_g/2, 0) [0,0,0,1]^T   (eq. 2)
+//   conditions      0 < [0,1,0,0] P1^-1 C1,   0 < [0,1,0,0] P1^-1 C2,
+//                   0 > [0,1,0,0] P2^-1 C1,   0 > [0,1,0,0] P2^-1 C2.
+// P^-1 C is formed right to left as rigid inverses applied to the point:
+//   trans(0, ∓W_m/2, 0)^-1 (T_ΔM^-1 ((T_O T_G)^-1 C)),
+// so the numeric T_O T_G folds to constants, (T_O T_G)^-1 C is a flat sum linear in Δx_o, Δy_o,
+// Δz_o, cos Δθ_o, sin Δθ_o, and each expression reads
+//   ±W_m/2 + cos Δθ_g (q_y - Δy_g) - sin Δθ_g (q_x - Δx_g)
+// with Δθ_g occurring twice and R_ΔO entering once, through q (never as R_ΔO^T R_ΔO).
+//
+// Example:
+//   ExprPool pool;
+//   const UncertainManipulator gripper(pool, {0.001, 0.001, 0.001, 0.001});
+//   const UncertainObject peg(pool, {0.11, 0.11, 0.11, 5.5 * kDegree});
+//   const PickupPreconditions pre = pickup_preconditions(
+//       {.object_pose = t_o, .grasp = t_g, .finger_opening = 4, .object_width = 3}, gripper, peg);
+//   for (const PickupCondition& c : pre.conditions) std::cout << c.name << ' ' << c.positive;
+#pragma once
+
+#include <array>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "kinematics/uncertain_pose.hpp"
+
+namespace spar::kinematics {
+
+struct PickupGeometry {
+  Transform object_pose{Transform::Identity()};  // T_O, ideal
+  Transform grasp{Transform::Identity()};        // T_G, gripper frame relative to the object frame
+  double finger_opening{0.0};                    // W_m, distance between the open fingers
+  double object_width{0.0};                      // W_g, object width between the contact points
+};
+
+// One inequality: `expression` > 0 when `positive`, else `expression` < 0.
+struct PickupCondition {
+  std::string name;  // e.g. "0 < [0,1,0,0] P1^-1 C1"
+  symbolic::Expr expression;
+  bool positive{true};
+  // Whether the inequality holds at one point (every variable of the expression needs a value).
+  [[nodiscard]] bool holds_at(const std::map<std::string, double>& values) const;
+};
+
+struct PickupPreconditions {
+  std::array<PickupCondition, 4> conditions;   // P1·C1, P1·C2, P2·C1, P2·C2 as in the header
+  std::vector<UncertaintyVariable> variables;  // gripper's four, then the object's four
+};
+
+// Throws KinematicsError unless 0 < object_width and 0 < finger_opening. Both uncertainties must
+// use the same pool.
+[[nodiscard]] PickupPreconditions pickup_preconditions(const PickupGeometry& geometry,
+                                                       const UncertainManipulator& gripper,
+                                                       const UncertainObject& object);
+
+}  // namespace spar::kinematics

@@ -1,0 +1,229 @@
+// Symbolic half of kinematics/: transforms over expressions, uncertain poses, symbolic DH forward
+// kinematics and SPAR's pickup preconditions, checked against the numeric (Eigen) side.
+#include <gtest/gtest.h>
+#include <rapidcheck/gtest.h>
+
+#include <cmath>
+#include <map>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include "kinematics/pickup.hpp"
+#include "kinematics/puma.hpp"
+#include "kinematics/symbolic_dh.hpp"
+#include "kinematics/symbolic_transform.hpp"
+#include "kinematics/uncertain_pose.hpp"
+#include "symbolic/operations.hpp"
+#include "tests/kinematics/expect_message.hpp"
+
+namespace spar::kinematics {
+namespace {
+
+using symbolic::Expr;
+using symbolic::ExprPool;
+
+constexpr double kDegree = std::numbers::pi / 180;
+
+double max_difference(const Transform& a, const Transform& b) {
+  return (a.matrix() - b.matrix()).cwiseAbs().maxCoeff();
+}
+
+// A double in [-limit, limit] with 1e-6 resolution.
+rc::Gen<double> coordinate(double limit) {
+  const int steps = static_cast<int>(limit * 1e6);
+  return rc::gen::map(rc::gen::inRange(-steps, steps + 1),
+                      [](int k) { return static_cast<double>(k) * 1e-6; });
+}
+
+Transform numeric_rotz(double theta) {
+  return Transform(Eigen::AngleAxisd(theta, Eigen::Vector3d::UnitZ()));
+}
+
+TEST(SymbolicTransform, ElementaryTransformsMatchEigen) {
+  ExprPool pool;
+  const Expr x = pool.variable("x"), a = pool.variable("a"), b = pool.variable("b");
+  const SymbolicTransform chain =
+      trans(x, pool.integer(2), x * 3) * rotx(a) * roty(b) * rotz(a + b);
+  const Transform expected = Eigen::Translation3d(0.7, 2, 2.1) *
+                             Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitX()) *
+                             Eigen::AngleAxisd(-1.2, Eigen::Vector3d::UnitY()) *
+                             Eigen::AngleAxisd(-0.9, Eigen::Vector3d::UnitZ());
+  EXPECT_LT(max_difference(chain.evaluate({{"x", 0.7}, {"a", 0.3}, {"b", -1.2}}), expected), 1e-14);
+}
+
+TEST(SymbolicTransform, IdentityFactorsBuildNoNode) {
+  ExprPool pool;
+  const SymbolicTransform frame =
+      trans(pool.variable("x"), pool.variable("y"), pool.integer(1)) * rotz(pool.variable("t"));
+  const SymbolicTransform identity(pool);
+  const std::size_t before = pool.size();
+  const SymbolicTransform left = identity * frame, right = frame * identity;
+  EXPECT_EQ(pool.size(), before);
+  for (int row = 0; row < 4; ++row) {
+    for (int column = 0; column < 4; ++column) {
+      EXPECT_EQ(left.entry(row, column), frame.entry(row, column));
+      EXPECT_EQ(right.entry(row, column), frame.entry(row, column));
+    }
+  }
+}
+
+TEST(SymbolicTransform, ConstantZerosCostNoWork) {
+  // rotz(t) * rotz(u): each of the 4 in-plane entries is a sum of two products; the 5 others are
+  // exact 0 / 1 and the translation stays exactly 0.
+  ExprPool pool;
+  const SymbolicTransform product = rotz(pool.variable("t")) * rotz(pool.variable("u"));
+  EXPECT_EQ(product.entry(2, 2), pool.integer(1));
+  EXPECT_EQ(product.entry(0, 2), pool.integer(0));
+  EXPECT_EQ(product.entry(2, 0), pool.integer(0));
+  EXPECT_EQ(product.translation()[0], pool.integer(0));
+  EXPECT_EQ(symbolic::dag_size(product.entry(0, 0)), 9u);  // c_t c_u - s_t s_u over t, u
+}
+
+// rigid_inverse(T) * T is the identity at every point (T built from every elementary transform).
+RC_GTEST_PROP(SymbolicTransform, RigidInverseTimesTransformIsIdentity, ()) {
+  ExprPool pool;
+  const Expr x = pool.variable("x"), y = pool.variable("y"), a = pool.variable("a"),
+             b = pool.variable("b"), c = pool.variable("c");
+  const SymbolicTransform frame = trans(x, y, x * y) * rotz(a) * roty(b) * trans(pool, 1, 2, 3) *
+                                  rotx(c) * trans(y, pool.integer(0), x);
+  const SymbolicTransform both = rigid_inverse(frame) * frame;
+  const std::map<std::string, double> point = {{"x", *coordinate(10)},
+                                               {"y", *coordinate(10)},
+                                               {"a", *coordinate(4)},
+                                               {"b", *coordinate(4)},
+                                               {"c", *coordinate(4)}};
+  RC_ASSERT(max_difference(both.evaluate(point), Transform::Identity()) < 1e-12);
+  RC_ASSERT(max_difference((frame * rigid_inverse(frame)).evaluate(point), Transform::Identity()) <
+            1e-12);
+}
+
+// Symbolic FK of the Puma 560 with joint-offset variables, at (q, δq), equals numeric FK at q + δq.
+RC_GTEST_PROP(SymbolicDh, ForwardAtAPointEqualsNumericForward, ()) {
+  const DhChain& robot = puma560();
+  std::vector<double> q(6), shifted(6);
+  std::map<std::string, double> offsets;
+  for (int i = 0; i < 6; ++i) {
+    q[i] = *coordinate(3);
+    const double delta = *coordinate(0.01);
+    offsets["dq" + std::to_string(i + 1)] = delta;
+    shifted[i] = q[i] + delta;
+  }
+  ExprPool pool;
+  const std::vector<double> widths(6, 0.01);
+  const UncertainChainPose flange = uncertain_forward(pool, robot, q, widths);
+  RC_ASSERT(flange.variables.size() == 6u);
+  RC_ASSERT(max_difference(flange.pose.evaluate(offsets), robot.forward(shifted)) < 1e-12);
+}
+
+TEST(SymbolicDh, RejectsWrongCountsWithAMessage) {
+  ExprPool pool;
+  const std::vector<double> q(5, 0.0), widths(6, 0.0);
+  EXPECT_THROW_MESSAGE(uncertain_forward(pool, puma560(), q, widths), "got 5 joint values");
+}
+
+TEST(UncertainPose, ManipulatorIsIdealTimesErrorOfEquationOne) {
+  ExprPool pool;
+  const UncertainManipulator gripper(pool, {0.1, 0.2, 0.3, 0.4});
+  EXPECT_EQ(gripper.variables()[3].name, "dtheta_g");
+  EXPECT_EQ(gripper.variables()[1].lower, -0.2);
+  const Transform ideal = Eigen::Translation3d(1, 2, 3) * numeric_rotz(0.5);
+  const std::map<std::string, double> point = {
+      {"dx_g", 0.05}, {"dy_g", -0.1}, {"dz_g", 0.2}, {"dtheta_g", 0.3}};
+  const Transform expected = ideal * Eigen::Translation3d(0.05, -0.1, 0.2) * numeric_rotz(0.3);
+  EXPECT_LT(max_difference(gripper.possible_pose(ideal).evaluate(point), expected), 1e-14);
+}
+
+TEST(UncertainPose, ObjectRotatesAboutWorldZThroughItsOrigin) {
+  // Eq. 2: the object's origin moves only by the displacement error, whatever Δθ_o is, and its
+  // rotation error is about the world z axis even when R_O tips the object over.
+  ExprPool pool;
+  const UncertainObject object(pool, {0.1, 0.1, 0.1, 0.1});
+  const Transform ideal = Eigen::Translation3d(5, 6, 1) *
+                          Eigen::AngleAxisd(std::numbers::pi / 2, Eigen::Vector3d::UnitX());
+  const std::map<std::string, double> point = {
+      {"dx_o", 0.01}, {"dy_o", 0.02}, {"dz_o", -0.03}, {"dtheta_o", 0.07}};
+  Transform expected = Eigen::Translation3d(5.01, 6.02, 0.97) * numeric_rotz(0.07);
+  expected.linear() = expected.linear() * ideal.linear();
+  EXPECT_LT(max_difference(object.possible_pose(ideal).evaluate(point), expected), 1e-14);
+  const SymbolicPoint p = object.possible_point(ideal, constant_point(pool, 1, 2, 3));
+  const Eigen::Vector3d expected_point = expected * Eigen::Vector3d(1, 2, 3);
+  for (int k = 0; k < 3; ++k)
+    EXPECT_NEAR(symbolic::evaluate(p[k], point), expected_point[k], 1e-14);
+}
+
+TEST(UncertainPose, RejectsANegativeBoundWithAMessage) {
+  ExprPool pool;
+  EXPECT_THROW_MESSAGE(UncertainObject(pool, {0.1, -0.1, 0.1, 0.1}), "dy_o must be >= 0");
+}
+
+// The peg of SPAR's example lying on the table; the gripper comes from above 1 in along the peg
+// from its origin, fingers (gripper y) across the peg's 3 in width; fingers open 4 in.
+PickupGeometry paper_geometry() {
+  PickupGeometry geometry;
+  geometry.object_pose = Eigen::Translation3d(20, 10, 0.75) * numeric_rotz(30 * kDegree);
+  geometry.grasp = Eigen::Translation3d(1, 0, 1.5) *
+                   Eigen::AngleAxisd(std::numbers::pi, Eigen::Vector3d::UnitX());
+  geometry.finger_opening = 4;
+  geometry.object_width = 3;
+  return geometry;
+}
+
+// [0,1,0,0] P^-1 C computed numerically with Eigen from the header's definitions.
+double numeric_condition(const PickupGeometry& g, const std::map<std::string, double>& v,
+                         int finger, int contact) {
+  const Transform gripper_error = Eigen::Translation3d(v.at("dx_g"), v.at("dy_g"), v.at("dz_g")) *
+                                  numeric_rotz(v.at("dtheta_g"));
+  const Transform finger_frame = g.object_pose * g.grasp * gripper_error *
+                                 Eigen::Translation3d(0, finger == 0 ? -2.0 : 2.0, 0);
+  Transform ideal_rotation = Transform::Identity();
+  ideal_rotation.linear() = g.object_pose.linear();
+  const Transform object = Eigen::Translation3d(v.at("dx_o"), v.at("dy_o"), v.at("dz_o")) *
+                           Eigen::Translation3d(g.object_pose.translation()) *
+                           numeric_rotz(v.at("dtheta_o")) * ideal_rotation;
+  const Eigen::Vector3d c = object * g.grasp * Eigen::Vector3d(0, contact == 0 ? 1.5 : -1.5, 0);
+  return (finger_frame.inverse(Eigen::Isometry) * c).y();
+}
+
+RC_GTEST_PROP(Pickup, ConditionsEqualTheNumericFingerFrameProducts, ()) {
+  ExprPool pool;
+  const UncertainManipulator gripper(pool, {0.001, 0.001, 0.001, 0.001});
+  const UncertainObject object(pool, {0.11, 0.11, 0.11, 5.5 * kDegree});
+  const PickupGeometry geometry = paper_geometry();
+  const PickupPreconditions pre = pickup_preconditions(geometry, gripper, object);
+  std::map<std::string, double> point;
+  for (const UncertaintyVariable& v : pre.variables) point[v.name] = *coordinate(v.upper);
+  for (int finger = 0; finger < 2; ++finger) {
+    for (int contact = 0; contact < 2; ++contact) {
+      const double value =
+          symbolic::evaluate(pre.conditions[finger * 2 + contact].expression, point);
+      RC_ASSERT(std::abs(value - numeric_condition(geometry, point, finger, contact)) < 1e-12);
+    }
+  }
+}
+
+TEST(Pickup, ExpressionsStaySmall) {
+  // Each condition is W_m/2-shifted cos/sin(Δθ_g) times flat sums: a few dozen nodes, Δθ_g twice.
+  ExprPool pool;
+  const UncertainManipulator gripper(pool, {0.001, 0.001, 0.001, 0.001});
+  const UncertainObject object(pool, {0.11, 0.11, 0.11, 5.5 * kDegree});
+  const PickupPreconditions pre = pickup_preconditions(paper_geometry(), gripper, object);
+  for (const PickupCondition& condition : pre.conditions) {
+    EXPECT_LE(symbolic::dag_size(condition.expression), 40u) << condition.name;
+    EXPECT_EQ(symbolic::free_variables(condition.expression).size(), 7u) << condition.name;
+  }
+  EXPECT_EQ(pre.conditions[2].name, "0 > [0,1,0,0] P2^-1 C1");
+  EXPECT_EQ(pre.variables.size(), 8u);
+}
+
+TEST(Pickup, RejectsAZeroOpeningWithAMessage) {
+  ExprPool pool;
+  const UncertainManipulator gripper(pool, {});
+  const UncertainObject object(pool, {});
+  PickupGeometry geometry = paper_geometry();
+  geometry.finger_opening = 0;
+  EXPECT_THROW_MESSAGE(pickup_preconditions(geometry, gripper, object), "must be > 0");
+}
+
+}  // namespace
+}  // namespace spar::kinematics
