@@ -1,0 +1,205 @@
+// Reverse-mode gradients of a one-output tape in any domain with a TapeDomain (double for NLopt,
+// Interval for enclosures of the gradient over a box).
+//
+// The forward pass records, per instruction, its operand values and result; the reverse pass walks
+// the instructions backwards with one adjoint per slot. Work slots are reused by the tape's
+// allocator, so an instruction's adjoint is read from its destination slot and that slot's
+// adjoint is reset to zero before the operands receive their share: earlier values living in the
+// same slot are different quantities.
+#pragma once
+
+#include <cmath>
+#include <span>
+#include <vector>
+
+#include "bounds/interval.hpp"
+#include "symbolic/tape.hpp"
+
+namespace spar::bounds::internal {
+
+// Partial derivatives of non-smooth operations: a generalized (Clarke) derivative enclosure.
+inline double sign_partial(double x) { return x > 0 ? 1.0 : (x < 0 ? -1.0 : 0.0); }
+inline Interval sign_partial(const Interval& x) {
+  if (x.lo > 0) return Interval{1.0};
+  if (x.hi < 0) return Interval{-1.0};
+  return Interval{-1.0, 1.0};
+}
+// d min(a, b) / d a: 1 where a is the minimum.
+inline double min_partial(double a, double b) { return a < b ? 1.0 : 0.0; }
+inline Interval min_partial(const Interval& a, const Interval& b) {
+  if (a.hi < b.lo) return Interval{1.0};
+  if (b.hi < a.lo) return Interval{0.0};
+  return Interval{0.0, 1.0};
+}
+
+template <class T>
+class GradientEvaluator {
+ public:
+  using D = symbolic::TapeDomain<T>;
+
+  // The tape must have exactly one output and outlive the evaluator.
+  explicit GradientEvaluator(const symbolic::Tape& tape)
+      : tape_(&tape),
+        slots_(tape.slot_count()),
+        adjoints_(tape.slot_count()),
+        first_(tape.instructions().size()),
+        second_(tape.instructions().size()) {
+    const auto constants = tape.constants();
+    for (std::size_t i = 0; i < constants.size(); ++i) {
+      slots_[tape.input_count() + i] = D::constant(constants[i]);
+    }
+  }
+
+  // f(x) only.
+  T value(std::span<const T> x) {
+    load(x);
+    for (const symbolic::Instruction& in : tape_->instructions()) {
+      symbolic::dispatch_instruction<D>(in, Forward{slots_.data(), in, nullptr, nullptr});
+    }
+    return slots_[tape_->output_slots()[0]];
+  }
+
+  // f(x), and df/dx_i in gradient[i].
+  T value_and_gradient(std::span<const T> x, std::span<T> gradient) {
+    load(x);
+    const auto instructions = tape_->instructions();
+    for (std::size_t k = 0; k < instructions.size(); ++k) {
+      symbolic::dispatch_instruction<D>(
+          instructions[k], Forward{slots_.data(), instructions[k], &first_[k], &second_[k]});
+    }
+    const std::uint32_t output = tape_->output_slots()[0];
+    const T result = slots_[output];
+    std::fill(adjoints_.begin(), adjoints_.end(), T{0.0});
+    adjoints_[output] = T{1.0};
+    for (std::size_t k = instructions.size(); k-- > 0;) {
+      const symbolic::Instruction& in = instructions[k];
+      const T adjoint = adjoints_[in.dst];
+      adjoints_[in.dst] = T{0.0};
+      T partial_a{0.0}, partial_b{0.0};
+      partials(in, first_[k], second_[k], partial_a, partial_b);
+      adjoints_[in.a] = adjoints_[in.a] + adjoint * partial_a;
+      if (is_binary(in.op)) adjoints_[in.b] = adjoints_[in.b] + adjoint * partial_b;
+    }
+    for (std::size_t i = 0; i < gradient.size(); ++i) gradient[i] = adjoints_[i];
+    return result;
+  }
+
+ private:
+  struct Forward {
+    T* s;
+    const symbolic::Instruction& in;
+    T* first;
+    T* second;
+    template <class F>
+    void unary(F f) {
+      if (first) *first = s[in.a];
+      s[in.dst] = f(s[in.a]);
+    }
+    template <class F>
+    void binary(F f) {
+      if (first) {
+        *first = s[in.a];
+        *second = s[in.b];
+      }
+      s[in.dst] = f(s[in.a], s[in.b]);
+    }
+  };
+
+  static bool is_binary(symbolic::TapeOp op) {
+    using symbolic::TapeOp;
+    return op == TapeOp::kAdd || op == TapeOp::kSub || op == TapeOp::kMul || op == TapeOp::kDiv ||
+           op == TapeOp::kPow || op == TapeOp::kAtan2 || op == TapeOp::kMin || op == TapeOp::kMax;
+  }
+
+  static void partials(const symbolic::Instruction& in, const T& a, const T& b, T& da, T& db) {
+    using symbolic::TapeOp;
+    const T one{1.0};
+    switch (in.op) {
+      case TapeOp::kAdd:
+        da = one;
+        db = one;
+        break;
+      case TapeOp::kSub:
+        da = one;
+        db = T{-1.0};
+        break;
+      case TapeOp::kMul:
+        da = b;
+        db = a;
+        break;
+      case TapeOp::kDiv:
+        da = one / b;
+        db = -(a / D::square(b));
+        break;
+      case TapeOp::kNeg:
+        da = T{-1.0};
+        break;
+      case TapeOp::kSquare:
+        da = T{2.0} * a;
+        break;
+      case TapeOp::kPowInt:
+        da = T{static_cast<double>(in.power)} * D::pow_int(a, in.power - 1);
+        break;
+      case TapeOp::kPow:
+        da = b * D::pow(a, b - one);
+        db = D::pow(a, b) * D::log(a);
+        break;
+      case TapeOp::kSqrt:
+        da = T{0.5} / D::sqrt(a);
+        break;
+      case TapeOp::kSin:
+        da = D::cos(a);
+        break;
+      case TapeOp::kCos:
+        da = -D::sin(a);
+        break;
+      case TapeOp::kTan:
+        da = one + D::square(D::tan(a));
+        break;
+      case TapeOp::kExp:
+        da = D::exp(a);
+        break;
+      case TapeOp::kLog:
+        da = one / a;
+        break;
+      case TapeOp::kAbs:
+        da = sign_partial(a);
+        break;
+      case TapeOp::kAtan:
+        da = one / (one + D::square(a));
+        break;
+      case TapeOp::kAsin:
+        da = one / D::sqrt(one - D::square(a));
+        break;
+      case TapeOp::kAcos:
+        da = -(one / D::sqrt(one - D::square(a)));
+        break;
+      case TapeOp::kAtan2: {
+        const T norm = D::square(a) + D::square(b);
+        da = b / norm;
+        db = -(a / norm);
+        break;
+      }
+      case TapeOp::kMin:
+        da = min_partial(a, b);
+        db = min_partial(b, a);
+        break;
+      case TapeOp::kMax:
+        da = min_partial(b, a);
+        db = min_partial(a, b);
+        break;
+    }
+  }
+
+  void load(std::span<const T> x) {
+    for (std::size_t i = 0; i < tape_->input_count(); ++i) slots_[i] = x[i];
+  }
+
+  const symbolic::Tape* tape_;
+  std::vector<T> slots_;
+  std::vector<T> adjoints_;
+  std::vector<T> first_;   // operand a of instruction k during the last value_and_gradient
+  std::vector<T> second_;  // operand b (binary instructions)
+};
+
+}  // namespace spar::bounds::internal

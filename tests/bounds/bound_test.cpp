@@ -1,0 +1,234 @@
+// bound(): regressions, constraints, unbounded results, bad input, and RapidCheck soundness of
+// every method on random expressions over random boxes.
+#include "bounds/bound.hpp"
+
+#include <gtest/gtest.h>
+#include <rapidcheck/gtest.h>
+
+#include <cmath>
+#include <string>
+
+#include "symbolic/operations.hpp"
+#include "symbolic/parse.hpp"
+#include "symbolic/tape.hpp"
+
+namespace spar::bounds {
+namespace {
+
+using symbolic::Expr;
+using symbolic::ExprPool;
+
+TEST(Bound, SinCosRegressionContainsExtremes) {
+  ExprPool pool;
+  Box box;
+  box.add(pool.variable("x1"), -5, 5);
+  box.add(pool.variable("x2"), -5, 5);
+  const Expr f = symbolic::parse(pool, "sin(x1) - cos(x2) - sin(x1)*cos(x1)");
+  const BoundResult r = bound(f, box, {.tolerance = 1e-4});
+  EXPECT_LE(r.lo, -2.29904);
+  EXPECT_GE(r.hi, 2.29904);
+  EXPECT_EQ(r.status, BoundStatus::kConverged);
+  EXPECT_LT(r.hi, 2.29904 + 1e-3);
+  EXPECT_GT(r.inner_hi, 2.2990);
+  ASSERT_EQ(r.argmax.size(), 2u);
+}
+
+TEST(Bound, LinearConstraintContractsBox) {
+  ExprPool pool;
+  Box box;
+  box.add(pool.variable("x"), 0, 2);
+  box.add(pool.variable("y"), 0, 3);
+  const Constraint c{symbolic::parse(pool, "x + y - 2"), Relation::kLessEqual};
+  const BoundResult r = bound(symbolic::parse(pool, "x + y"), box, {}, std::span(&c, 1));
+  EXPECT_LE(r.hi, 2.0 + 1e-3 * 2.0);  // within the tolerance of the attained width
+  EXPECT_GE(r.hi, 2.0);
+  EXPECT_LE(r.inner_hi, 2.0);
+  EXPECT_LE(r.argmax[0] + r.argmax[1], 2.0);  // the witness is feasible
+}
+
+TEST(Bound, NonlinearConstraintDiscardsBoxes) {
+  ExprPool pool;
+  Box box;
+  box.add(pool.variable("x"), -2, 2);
+  // x^2 >= 1 removes (-1, 1); x itself still spans [-2, 2], but x^2 - |x| ranges over [0, 2].
+  const Constraint c{symbolic::parse(pool, "x^2 - 1"), Relation::kGreaterEqual};
+  const BoundResult r = bound(symbolic::parse(pool, "x^2 - abs(x)"), box, {}, std::span(&c, 1));
+  EXPECT_LE(r.lo, 0.0);
+  EXPECT_GT(r.lo, -0.01);  // without the constraint the minimum is -1/4
+  EXPECT_GE(r.hi, 2.0);
+}
+
+TEST(Bound, InfeasibleConstraintsAreReported) {
+  ExprPool pool;
+  Box box;
+  box.add(pool.variable("x"), 0, 1);
+  const Constraint c{symbolic::parse(pool, "x - 2"), Relation::kGreaterEqual};
+  const BoundResult r = bound(symbolic::parse(pool, "x"), box, {}, std::span(&c, 1));
+  EXPECT_EQ(r.status, BoundStatus::kInfeasible);
+}
+
+TEST(Bound, PoleInsideBoxIsUnbounded) {
+  ExprPool pool;
+  Box box;
+  box.add(pool.variable("x"), -1, 1);
+  const BoundResult r = bound(symbolic::parse(pool, "1/x"), box);
+  EXPECT_EQ(r.status, BoundStatus::kUnbounded);
+  EXPECT_TRUE(std::isinf(r.hi));
+  EXPECT_TRUE(r.possibly_undefined);
+}
+
+TEST(Bound, LogNearZeroIsUnbounded) {
+  ExprPool pool;
+  Box box;
+  box.add(pool.variable("x"), 0, 1);
+  const BoundResult r = bound(symbolic::parse(pool, "log(x)"), box);
+  EXPECT_EQ(r.status, BoundStatus::kUnbounded);
+  EXPECT_EQ(r.lo, -std::numeric_limits<double>::infinity());
+}
+
+TEST(Bound, UnknownVariableIsAClearError) {
+  ExprPool pool;
+  Box box;
+  box.add(pool.variable("x"), 0, 1);
+  try {
+    (void)bound(symbolic::parse(pool, "x + z"), box);
+    FAIL() << "expected BoundsError";
+  } catch (const BoundsError& e) {
+    EXPECT_NE(std::string(e.what()).find("unknown variable 'z'"), std::string::npos) << e.what();
+  }
+}
+
+TEST(Bound, EmptyOrNanRangeIsRejected) {
+  ExprPool pool;
+  Box box;
+  EXPECT_THROW(box.add(pool.variable("x"), 2, 1), BoundsError);
+  EXPECT_THROW(box.add(pool.variable("y"), std::nan(""), 1), BoundsError);
+}
+
+// ---- random expressions -------------------------------------------------------------------
+
+// Builds an expression bottom-up from random choices (no recursion): nodes 0, 1 are x, y, node 2
+// a constant; each new node applies one operation to earlier nodes.
+Expr random_expression(ExprPool& pool) {
+  std::vector<Expr> nodes = {
+      pool.variable("x"), pool.variable("y"),
+      pool.constant(symbolic::Number::rational(*rc::gen::inRange(-9, 10), 4))};
+  const int steps = *rc::gen::inRange(1, 7);
+  for (int step = 0; step < steps; ++step) {
+    const int n = static_cast<int>(nodes.size());
+    const Expr a = nodes[*rc::gen::inRange(0, n)];
+    const Expr b = nodes[*rc::gen::inRange(0, n)];
+    Expr e;
+    switch (*rc::gen::inRange(0, 21)) {
+      case 0:
+        e = a + b;
+        break;
+      case 1:
+        e = a - b;
+        break;
+      case 2:
+        e = a * b;
+        break;
+      case 3:
+        e = a / b;
+        break;
+      case 4:
+        e = symbolic::pow(a, *rc::gen::inRange(-3, 5));
+        break;
+      case 5:
+        e = symbolic::sin(a);
+        break;
+      case 6:
+        e = symbolic::cos(a);
+        break;
+      case 7:
+        e = symbolic::tan(a);
+        break;
+      case 8:
+        e = symbolic::sqrt(a);
+        break;
+      case 9:
+        e = symbolic::exp(symbolic::sin(a));
+        break;
+      case 10:
+        e = symbolic::log(a);
+        break;
+      case 11:
+        e = symbolic::abs(a);
+        break;
+      case 12:
+        e = symbolic::atan(a);
+        break;
+      case 13:
+        e = symbolic::asin(symbolic::sin(a));
+        break;
+      case 14:
+        e = symbolic::acos(symbolic::cos(a));
+        break;
+      case 15:
+        e = symbolic::atan2(a, b);
+        break;
+      case 16:
+        e = symbolic::min(a, b);
+        break;
+      case 17:
+        e = symbolic::max(a, b);
+        break;
+      case 18:
+        e = symbolic::pow(symbolic::abs(a) + 1, symbolic::sin(b));
+        break;
+      case 19:
+        e = a * a - b;
+        break;
+      default:
+        e = symbolic::sin(a) * symbolic::cos(b);
+        break;
+    }
+    nodes.push_back(e);
+  }
+  return nodes.back();
+}
+
+// Property: for every stage combination, every point of the box where f is defined (double
+// evaluation is finite) has a value inside [lo, hi], up to the double evaluation's own rounding
+// (checked with an interval evaluation at the point, which encloses the true value).
+RC_GTEST_PROP(Bound, EveryMethodContainsValuesAtRandomPoints, ()) {
+  ExprPool pool;
+  const Expr f = random_expression(pool);
+  Box box;
+  std::vector<Interval> ranges;
+  for (const char* name : {"x", "y"}) {
+    const double lo = *rc::gen::inRange(-3000, 3000) / 1000.0;
+    const double width = std::pow(10.0, *rc::gen::inRange(-900, 300) / 100.0);
+    box.add(pool.variable(name), lo, lo + width);
+  }
+  const std::vector<BoundOptions> methods = {
+      {.inner = false, .monotonicity = false, .centred_form = false, .branch_and_bound = false},
+      {.inner = false, .monotonicity = true, .centred_form = false, .branch_and_bound = false},
+      {.inner = false, .monotonicity = false, .centred_form = true, .branch_and_bound = false},
+      {.max_box_evaluations = 2000, .max_seconds = 0.05},
+  };
+  const symbolic::Tape tape = symbolic::Tape::compile(std::array{f}, box.variables);
+  symbolic::TapeEvaluator<Interval> evaluator(tape);
+  for (const BoundOptions& options : methods) {
+    const BoundResult r = bound(f, box, options);
+    if (r.status == BoundStatus::kInfeasible) continue;
+    for (int k = 0; k < 8; ++k) {
+      Interval p[2], out[1];
+      for (int i = 0; i < 2; ++i) {
+        const Interval range = box.ranges[i];
+        p[i] = Interval{range.lo + (range.hi - range.lo) * (*rc::gen::inRange(0, 1001) / 1000.0)};
+        p[i] = Interval{std::min(p[i].lo, range.hi)};
+      }
+      evaluator.evaluate(p, out);
+      if (out[0].is_empty() || out[0].possibly_undefined) continue;
+      RC_ASSERT(out[0].hi >= r.lo);
+      RC_ASSERT(out[0].lo <= r.hi);
+    }
+    RC_ASSERT(r.lo <= r.inner_lo || r.argmin.empty());
+    RC_ASSERT(r.inner_hi <= r.hi || r.argmax.empty());
+  }
+}
+
+}  // namespace
+}  // namespace spar::bounds
