@@ -1,5 +1,7 @@
 #include "kinematics/pickup.hpp"
 
+#include <numbers>
+
 #include "symbolic/operations.hpp"
 
 namespace spar::kinematics {
@@ -53,6 +55,17 @@ PickupPreconditions pickup_preconditions(const PickupGeometry& geometry,
   for (const UncertaintyVariable& v : gripper.variables()) result.variables.push_back(v);
   for (const UncertaintyVariable& v : object.variables()) result.variables.push_back(v);
   return result;
+}
+
+PickupGeometry peg_pickup_example() {
+  PickupGeometry geometry;
+  geometry.object_pose = Eigen::Translation3d(20, 10, 0.75) *
+                         Eigen::AngleAxisd(std::numbers::pi / 6, Eigen::Vector3d::UnitZ());
+  geometry.grasp = Eigen::Translation3d(1, 0, 1.5) *
+                   Eigen::AngleAxisd(std::numbers::pi, Eigen::Vector3d::UnitX());
+  geometry.finger_opening = 4;
+  geometry.object_width = 3;
+  return geometry;
 }
 
 }  // namespace spar::kinematics

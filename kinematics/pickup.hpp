@@ -25,6 +25,7 @@
 
 #include <array>
 #include <map>
+#include <numbers>
 #include <string>
 #include <vector>
 
@@ -58,5 +59,14 @@ struct PickupPreconditions {
 [[nodiscard]] PickupPreconditions pickup_preconditions(const PickupGeometry& geometry,
                                                        const UncertainManipulator& gripper,
                                                        const UncertainObject& object);
+
+// The worked example of SPAR's paper (peg and block), used by `spar demo`, the tests and the
+// benchmark. Table 2's bounds: gripper Δx, Δy, Δz ±0.001 in and Δθ_g ±0.001 rad; object Δx, Δy,
+// Δz ±0.11 in and Δθ_o ±5.5 degrees. The paper gives W_p = 3 in and W_m = 4 in but not the poses;
+// ours: the peg lies at (20, 10, 0.75) in, turned 30 degrees about z, and the gripper comes from
+// above (z down) 1 in along the peg from its origin, fingers across the peg's width.
+inline constexpr PoseUncertainty kTable2Gripper{0.001, 0.001, 0.001, 0.001};
+inline constexpr PoseUncertainty kTable2Object{0.11, 0.11, 0.11, 5.5 * std::numbers::pi / 180};
+[[nodiscard]] PickupGeometry peg_pickup_example();
 
 }  // namespace spar::kinematics
