@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "kinematics/pickup.hpp"
+#include "kinematics/pickup_check.hpp"
 #include "kinematics/puma.hpp"
 #include "kinematics/symbolic_dh.hpp"
 #include "kinematics/symbolic_transform.hpp"
@@ -22,8 +23,6 @@ namespace {
 
 using symbolic::Expr;
 using symbolic::ExprPool;
-
-constexpr double kDegree = std::numbers::pi / 180;
 
 double max_difference(const Transform& a, const Transform& b) {
   return (a.matrix() - b.matrix()).cwiseAbs().maxCoeff();
@@ -157,39 +156,29 @@ TEST(UncertainPose, RejectsANegativeBoundWithAMessage) {
   EXPECT_THROW_MESSAGE(UncertainObject(pool, {0.1, -0.1, 0.1, 0.1}), "dy_o must be >= 0");
 }
 
-// The peg of SPAR's example lying on the table; the gripper comes from above 1 in along the peg
-// from its origin, fingers (gripper y) across the peg's 3 in width; fingers open 4 in.
-PickupGeometry paper_geometry() {
-  PickupGeometry geometry;
-  geometry.object_pose = Eigen::Translation3d(20, 10, 0.75) * numeric_rotz(30 * kDegree);
-  geometry.grasp = Eigen::Translation3d(1, 0, 1.5) *
-                   Eigen::AngleAxisd(std::numbers::pi, Eigen::Vector3d::UnitX());
-  geometry.finger_opening = 4;
-  geometry.object_width = 3;
-  return geometry;
-}
-
 // [0,1,0,0] P^-1 C computed numerically with Eigen from the header's definitions.
 double numeric_condition(const PickupGeometry& g, const std::map<std::string, double>& v,
                          int finger, int contact) {
   const Transform gripper_error = Eigen::Translation3d(v.at("dx_g"), v.at("dy_g"), v.at("dz_g")) *
                                   numeric_rotz(v.at("dtheta_g"));
-  const Transform finger_frame = g.object_pose * g.grasp * gripper_error *
-                                 Eigen::Translation3d(0, finger == 0 ? -2.0 : 2.0, 0);
+  const Transform finger_frame =
+      g.object_pose * g.grasp * gripper_error *
+      Eigen::Translation3d(0, (finger == 0 ? -0.5 : 0.5) * g.finger_opening, 0);
   Transform ideal_rotation = Transform::Identity();
   ideal_rotation.linear() = g.object_pose.linear();
   const Transform object = Eigen::Translation3d(v.at("dx_o"), v.at("dy_o"), v.at("dz_o")) *
                            Eigen::Translation3d(g.object_pose.translation()) *
                            numeric_rotz(v.at("dtheta_o")) * ideal_rotation;
-  const Eigen::Vector3d c = object * g.grasp * Eigen::Vector3d(0, contact == 0 ? 1.5 : -1.5, 0);
+  const Eigen::Vector3d c =
+      object * g.grasp * Eigen::Vector3d(0, (contact == 0 ? 0.5 : -0.5) * g.object_width, 0);
   return (finger_frame.inverse(Eigen::Isometry) * c).y();
 }
 
 RC_GTEST_PROP(Pickup, ConditionsEqualTheNumericFingerFrameProducts, ()) {
   ExprPool pool;
-  const UncertainManipulator gripper(pool, {0.001, 0.001, 0.001, 0.001});
-  const UncertainObject object(pool, {0.11, 0.11, 0.11, 5.5 * kDegree});
-  const PickupGeometry geometry = paper_geometry();
+  const UncertainManipulator gripper(pool, kTable2Gripper);
+  const UncertainObject object(pool, kTable2Object);
+  const PickupGeometry geometry = peg_pickup_example();
   const PickupPreconditions pre = pickup_preconditions(geometry, gripper, object);
   std::map<std::string, double> point;
   for (const UncertaintyVariable& v : pre.variables) point[v.name] = *coordinate(v.upper);
@@ -205,9 +194,9 @@ RC_GTEST_PROP(Pickup, ConditionsEqualTheNumericFingerFrameProducts, ()) {
 TEST(Pickup, ExpressionsStaySmall) {
   // Each condition is W_m/2-shifted cos/sin(Δθ_g) times flat sums: a few dozen nodes, Δθ_g twice.
   ExprPool pool;
-  const UncertainManipulator gripper(pool, {0.001, 0.001, 0.001, 0.001});
-  const UncertainObject object(pool, {0.11, 0.11, 0.11, 5.5 * kDegree});
-  const PickupPreconditions pre = pickup_preconditions(paper_geometry(), gripper, object);
+  const UncertainManipulator gripper(pool, kTable2Gripper);
+  const UncertainObject object(pool, kTable2Object);
+  const PickupPreconditions pre = pickup_preconditions(peg_pickup_example(), gripper, object);
   for (const PickupCondition& condition : pre.conditions) {
     EXPECT_LE(symbolic::dag_size(condition.expression), 40u) << condition.name;
     EXPECT_EQ(symbolic::free_variables(condition.expression).size(), 7u) << condition.name;
@@ -216,11 +205,49 @@ TEST(Pickup, ExpressionsStaySmall) {
   EXPECT_EQ(pre.variables.size(), 8u);
 }
 
+std::array<PickupCheck, 4> check_example(const PoseUncertainty& object_bounds) {
+  ExprPool pool;
+  const UncertainManipulator gripper(pool, kTable2Gripper);
+  const UncertainObject object(pool, object_bounds);
+  return check_pickup(pickup_preconditions(peg_pickup_example(), gripper, object));
+}
+
+TEST(Pickup, PaperExampleIsSatisfiedUnderTable2) {
+  // The tightest pair (P1·C2 and P2·C1) has 0.5 in of nominal clearance; Table 2's worst case
+  // eats about 0.27 in of it, so all four are proved.
+  for (const PickupCheck& check : check_example(kTable2Object)) {
+    EXPECT_EQ(check.verdict, Verdict::kSatisfied) << check.condition.name;
+    EXPECT_LE(check.bound.lo, check.bound.hi);
+  }
+}
+
+TEST(Pickup, WidenedObjectUncertaintyIsDetectedAsViolated) {
+  // +-0.4 in of object displacement moves a contact by up to 0.4 (|cos 30| + |sin 30|) = 0.55 in
+  // across the fingers: past the 0.5 in clearance, so the two inner conditions fail at a witness.
+  PoseUncertainty wide = kTable2Object;
+  wide.dx = wide.dy = wide.dz = 0.4;
+  const std::array<PickupCheck, 4> checks = check_example(wide);
+  EXPECT_EQ(checks[0].verdict, Verdict::kSatisfied) << checks[0].condition.name;
+  EXPECT_EQ(checks[1].verdict, Verdict::kViolated) << checks[1].condition.name;
+  EXPECT_EQ(checks[2].verdict, Verdict::kViolated) << checks[2].condition.name;
+  EXPECT_EQ(checks[3].verdict, Verdict::kSatisfied) << checks[3].condition.name;
+  // The witness really violates the inequality.
+  std::map<std::string, double> witness;
+  ExprPool pool;
+  const UncertainManipulator gripper(pool, kTable2Gripper);
+  const UncertainObject object(pool, wide);
+  const PickupPreconditions pre = pickup_preconditions(peg_pickup_example(), gripper, object);
+  for (std::size_t i = 0; i < pre.variables.size(); ++i) {
+    witness[pre.variables[i].name] = checks[1].bound.argmin.at(i);
+  }
+  EXPECT_FALSE(pre.conditions[1].holds_at(witness));
+}
+
 TEST(Pickup, RejectsAZeroOpeningWithAMessage) {
   ExprPool pool;
   const UncertainManipulator gripper(pool, {});
   const UncertainObject object(pool, {});
-  PickupGeometry geometry = paper_geometry();
+  PickupGeometry geometry = peg_pickup_example();
   geometry.finger_opening = 0;
   EXPECT_THROW_MESSAGE(pickup_preconditions(geometry, gripper, object), "must be > 0");
 }
