@@ -211,23 +211,28 @@ Interval pow_int(const Interval& a, int exponent) {
   }
   if (exponent == 1) return a;
   if (exponent == 2) return square(a);
-  // |x|^n: std::pow, widened like a libm call; even powers are monotone in |x|.
+  // |x|^n by binary powering with directed products (monotone for |x| >= 0, exact when the
+  // products are); odd powers of negative numbers are -(|x|^n).
+  const auto magnitude_power = [&](double m, bool up) {
+    double result = 1.0, base = m;
+    for (int k = exponent; k; k >>= 1) {
+      if (k & 1) result = up ? mul_up(result, base) : mul_down(result, base);
+      if (k > 1) base = up ? mul_up(base, base) : mul_down(base, base);
+    }
+    return result;
+  };
   const auto power_down = [&](double x) {
-    const double p = std::pow(x, exponent);
-    return std::isinf(p) && std::isfinite(x) ? (p > 0 ? std::numeric_limits<double>::max() : p)
-                                             : libm_down(p);
+    return x >= 0 ? magnitude_power(x, false) : -magnitude_power(-x, true);
   };
   const auto power_up = [&](double x) {
-    const double p = std::pow(x, exponent);
-    return std::isinf(p) && std::isfinite(x) ? (p < 0 ? -std::numeric_limits<double>::max() : p)
-                                             : libm_up(p);
+    return x >= 0 ? magnitude_power(x, true) : -magnitude_power(-x, false);
   };
   if (exponent % 2 == 1) {
     return make(power_down(a.lo), power_up(a.hi), a.possibly_undefined);
   }
   const double m = (a.lo <= 0 && a.hi >= 0) ? 0.0 : std::min(std::fabs(a.lo), std::fabs(a.hi));
   const double big = std::max(std::fabs(a.lo), std::fabs(a.hi));
-  return make(m == 0 ? 0.0 : std::max(0.0, power_down(m)), power_up(big), a.possibly_undefined);
+  return make(power_down(m), power_up(big), a.possibly_undefined);
 }
 
 Interval pow(const Interval& base, const Interval& exponent) {
