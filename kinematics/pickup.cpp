@@ -3,6 +3,7 @@
 #include <numbers>
 
 #include "symbolic/operations.hpp"
+#include "symbolic/smp.hpp"
 
 namespace spar::kinematics {
 
@@ -16,7 +17,8 @@ bool PickupCondition::holds_at(const std::map<std::string, double>& values) cons
 
 PickupPreconditions pickup_preconditions(const PickupGeometry& geometry,
                                          const UncertainManipulator& gripper,
-                                         const UncertainObject& object) {
+                                         const UncertainObject& object,
+                                         const PickupOptions& options) {
   if (!(geometry.finger_opening > 0.0) || !(geometry.object_width > 0.0)) {
     throw KinematicsError("pickup: finger opening and object width must be > 0 (got " +
                           std::to_string(geometry.finger_opening) + " and " +
@@ -40,20 +42,25 @@ PickupPreconditions pickup_preconditions(const PickupGeometry& geometry,
                                                trans(pool, 0, +half_opening, 0)};
 
   PickupPreconditions result;
+  for (const UncertaintyVariable& v : gripper.variables()) result.variables.push_back(v);
+  for (const UncertaintyVariable& v : object.variables()) result.variables.push_back(v);
+  symbolic::SimplifyOptions simplify_options;
+  for (const UncertaintyVariable& v : result.variables) {
+    simplify_options.widths[v.name] = v.upper - v.lower;
+  }
   for (int finger = 0; finger < 2; ++finger) {
     for (int contact = 0; contact < 2; ++contact) {
       const SymbolicPoint in_gripper = ideal_gripper.apply_inverse(contacts[contact]);
       const SymbolicPoint in_finger =
           finger_offsets[finger].apply_inverse(gripper.error().apply_inverse(in_gripper));
       const bool positive = finger == 0;
-      result.conditions[finger * 2 + contact] = {std::string(positive ? "0 < " : "0 > ") +
-                                                     "[0,1,0,0] P" + std::to_string(finger + 1) +
-                                                     "^-1 C" + std::to_string(contact + 1),
-                                                 in_finger[1], positive};
+      result.conditions[finger * 2 + contact] = {
+          std::string(positive ? "0 < " : "0 > ") + "[0,1,0,0] P" + std::to_string(finger + 1) +
+              "^-1 C" + std::to_string(contact + 1),
+          options.simplify ? symbolic::simplify(in_finger[1], simplify_options) : in_finger[1],
+          positive};
     }
   }
-  for (const UncertaintyVariable& v : gripper.variables()) result.variables.push_back(v);
-  for (const UncertaintyVariable& v : object.variables()) result.variables.push_back(v);
   return result;
 }
 

@@ -54,11 +54,19 @@ struct PickupPreconditions {
   std::vector<UncertaintyVariable> variables;  // gripper's four, then the object's four
 };
 
+struct PickupOptions {
+  // Run SMP (symbolic/smp.hpp) on each expression with the box widths. Off by default: on these
+  // expressions it currently finds nothing to improve (occurrence cost unchanged, measured),
+  // because the constant-times-sum terms with real coefficients stay nested sums.
+  bool simplify{false};
+};
+
 // Throws KinematicsError unless 0 < object_width and 0 < finger_opening. Both uncertainties must
 // use the same pool.
 [[nodiscard]] PickupPreconditions pickup_preconditions(const PickupGeometry& geometry,
                                                        const UncertainManipulator& gripper,
-                                                       const UncertainObject& object);
+                                                       const UncertainObject& object,
+                                                       const PickupOptions& options = {});
 
 // The worked example of SPAR's paper (peg and block), used by `spar demo`, the tests and the
 // benchmark. Table 2's bounds: gripper Δx, Δy, Δz ±0.001 in and Δθ_g ±0.001 rad; object Δx, Δy,

@@ -16,6 +16,7 @@
 #include "kinematics/symbolic_transform.hpp"
 #include "kinematics/uncertain_pose.hpp"
 #include "symbolic/operations.hpp"
+#include "symbolic/smp.hpp"
 #include "tests/kinematics/expect_message.hpp"
 
 namespace spar::kinematics {
@@ -95,6 +96,21 @@ RC_GTEST_PROP(SymbolicTransform, RigidInverseTimesTransformIsIdentity, ()) {
   RC_ASSERT(max_difference(both.evaluate(point), Transform::Identity()) < 1e-12);
   RC_ASSERT(max_difference((frame * rigid_inverse(frame)).evaluate(point), Transform::Identity()) <
             1e-12);
+}
+
+TEST(SymbolicTransform, RigidInverseTimesTransformSimplifiesToTheIdentity) {
+  // After SMP (sin^2 + cos^2 = 1 and cancellation) the product is the identity exactly, not just
+  // numerically.
+  ExprPool pool;
+  const Expr x = pool.variable("x"), y = pool.variable("y"), a = pool.variable("a");
+  const SymbolicTransform frame = trans(x, y, pool.integer(3)) * rotz(a);
+  const SymbolicTransform both = rigid_inverse(frame) * frame;
+  for (int row = 0; row < 4; ++row) {
+    for (int column = 0; column < 4; ++column) {
+      EXPECT_EQ(symbolic::simplify(both.entry(row, column)), pool.integer(row == column ? 1 : 0))
+          << row << ", " << column;
+    }
+  }
 }
 
 // Symbolic FK of the Puma 560 with joint-offset variables, at (q, δq), equals numeric FK at q + δq.
