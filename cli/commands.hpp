@@ -16,5 +16,6 @@ void add_fk_command(CLI::App& app);
 void add_ik_command(CLI::App& app);
 void add_qr_command(CLI::App& app);
 void add_object_command(CLI::App& app);
+void add_bound_command(CLI::App& app);
 
 }  // namespace spar::cli

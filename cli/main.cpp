@@ -12,6 +12,7 @@ int main(int argc, char** argv) {
   spar::cli::add_ik_command(app);
   spar::cli::add_qr_command(app);
   spar::cli::add_object_command(app);
+  spar::cli::add_bound_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& error) {

@@ -1,0 +1,241 @@
+// spar bound: sound SUP/INF of an expression over a box, with witnesses and the measured gap.
+//   spar bound "EXPR" --var x=LO:HI [--var ...] [--constraint "x+y<=2"] [--tol 1e-3] [--json]
+//   spar bound --jsonl FILE [--tol T]     one JSON result per line of an FPBench-style corpus
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <iostream>
+#include <limits>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "bounds/bound.hpp"
+#include "cli/commands.hpp"
+#include "symbolic/parse.hpp"
+
+namespace spar::cli {
+namespace {
+
+using bounds::BoundsError;
+using symbolic::Expr;
+
+struct BoundArguments {
+  std::string expression;
+  std::vector<std::string> variables;
+  std::vector<std::string> constraints;
+  std::string jsonl;
+  double tolerance{1e-3};
+  std::size_t max_evaluations{200'000};
+  bool json{false};
+};
+
+double parse_double(const std::string& text, const std::string& what) {
+  std::size_t used = 0;
+  double value = 0;
+  try {
+    value = std::stod(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != text.size() || text.empty()) {
+    throw BoundsError("cannot read " + what + " '" + text + "' as a number");
+  }
+  return value;
+}
+
+// "x=LO:HI".
+void add_variable(symbolic::ExprPool& pool, bounds::Box& box, const std::string& text) {
+  const auto equals = text.find('='), colon = text.rfind(':');
+  if (equals == std::string::npos || colon == std::string::npos || colon < equals) {
+    throw BoundsError("--var '" + text + "' must look like name=LO:HI");
+  }
+  const std::string name = text.substr(0, equals);
+  box.add(pool.variable(name),
+          parse_double(text.substr(equals + 1, colon - equals - 1), "lower bound of " + name),
+          parse_double(text.substr(colon + 1), "upper bound of " + name));
+}
+
+bounds::Relation relation_named(const std::string& text) {
+  if (text == "<") return bounds::Relation::kLess;
+  if (text == "<=") return bounds::Relation::kLessEqual;
+  if (text == ">") return bounds::Relation::kGreater;
+  if (text == ">=") return bounds::Relation::kGreaterEqual;
+  throw BoundsError("unknown relation '" + text + "' (use <, <=, >, >=)");
+}
+
+// "lhs REL rhs" -> (lhs - rhs) REL 0.
+bounds::Constraint parse_constraint(symbolic::ExprPool& pool, const std::string& text) {
+  const auto at = text.find_first_of("<>");
+  if (at == std::string::npos || text.find_first_of("<>", at + 2) != std::string::npos) {
+    throw BoundsError("constraint '" + text + "' needs exactly one of <, <=, >, >=");
+  }
+  const std::size_t length = at + 1 < text.size() && text[at + 1] == '=' ? 2 : 1;
+  const Expr lhs = symbolic::parse(pool, text.substr(0, at));
+  const Expr rhs = symbolic::parse(pool, text.substr(at + length));
+  return {lhs - rhs, relation_named(text.substr(at, length))};
+}
+
+nlohmann::json number(double value) {
+  if (std::isfinite(value)) return value;
+  if (std::isnan(value)) return "nan";
+  return value > 0 ? "inf" : "-inf";
+}
+
+nlohmann::json point(const bounds::Box& box, const std::vector<double>& values) {
+  nlohmann::json object = nlohmann::json::object();
+  for (std::size_t i = 0; i < values.size(); ++i) object[box.variables[i].name()] = values[i];
+  return object;
+}
+
+struct Timed {
+  bounds::BoundResult result;
+  double microseconds;
+};
+
+Timed run(Expr f, const bounds::Box& box, const BoundArguments& arguments,
+          const std::vector<bounds::Constraint>& constraints) {
+  const auto start = std::chrono::steady_clock::now();
+  bounds::BoundOptions options;
+  options.tolerance = arguments.tolerance;
+  options.max_box_evaluations = arguments.max_evaluations;
+  bounds::BoundResult result = bounds::bound(f, box, options, constraints);
+  const auto end = std::chrono::steady_clock::now();
+  return {std::move(result), std::chrono::duration<double, std::micro>(end - start).count()};
+}
+
+nlohmann::json to_json(const std::string& name, const bounds::Box& box, const Timed& timed) {
+  const bounds::BoundResult& r = timed.result;
+  nlohmann::json out;
+  if (!name.empty()) out["name"] = name;
+  out["lo"] = number(r.lo);
+  out["hi"] = number(r.hi);
+  out["inner_lo"] = number(r.inner_lo);
+  out["inner_hi"] = number(r.inner_hi);
+  out["argmin"] = point(box, r.argmin);
+  out["argmax"] = point(box, r.argmax);
+  out["status"] = bounds::to_string(r.status);
+  out["possibly_undefined"] = r.possibly_undefined;
+  out["relative_gap"] = number(r.relative_gap());
+  out["evals"] = r.evaluations;
+  out["time_us"] = std::round(timed.microseconds);
+  return out;
+}
+
+// One corpus line -> one result object (or {"name", "error"}).
+nlohmann::json bound_record(const std::string& line, const BoundArguments& arguments, bool& ok) {
+  std::string name;
+  try {
+    const auto record = nlohmann::json::parse(line);
+    name = record.value("name", "");
+    symbolic::ExprPool pool;
+    bounds::Box box;
+    if (!record.contains("vars") || !record["vars"].is_object()) {
+      throw BoundsError("missing \"vars\" object");
+    }
+    for (const auto& [var, range] : record["vars"].items()) {
+      if (!range.is_array() || range.size() != 2 || !range[0].is_number() ||
+          !range[1].is_number()) {
+        throw BoundsError("range of '" + var + "' must be [lo, hi]");
+      }
+      box.add(pool.variable(var), range[0].get<double>(), range[1].get<double>());
+    }
+    if (!record.contains("expr") || !record["expr"].is_string()) {
+      throw BoundsError("missing \"expr\" string");
+    }
+    const Expr f = symbolic::parse(pool, record["expr"].get<std::string>());
+    std::vector<bounds::Constraint> constraints;
+    for (const auto& c : record.value("constraints", nlohmann::json::array())) {
+      constraints.push_back({symbolic::parse(pool, c.at("g").get<std::string>()),
+                             relation_named(c.at("rel").get<std::string>())});
+    }
+    return to_json(name, box, run(f, box, arguments, constraints));
+  } catch (const std::exception& error) {
+    ok = false;
+    nlohmann::json out;
+    out["name"] = name;
+    out["error"] = error.what();
+    return out;
+  }
+}
+
+void run_jsonl(const BoundArguments& arguments) {
+  std::ifstream in(arguments.jsonl);
+  if (!in) throw BoundsError("cannot open '" + arguments.jsonl + "'");
+  std::string line;
+  std::size_t failures = 0;
+  while (std::getline(in, line)) {
+    if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
+    bool ok = true;
+    std::cout << bound_record(line, arguments, ok).dump() << '\n';
+    failures += ok ? 0 : 1;
+  }
+  if (failures > 0) {
+    throw BoundsError(std::to_string(failures) + " line(s) of '" + arguments.jsonl +
+                      "' could not be bounded (see their \"error\")");
+  }
+}
+
+void run_single(const BoundArguments& arguments) {
+  if (arguments.expression.empty()) throw BoundsError("give an expression or --jsonl FILE");
+  symbolic::ExprPool pool;
+  bounds::Box box;
+  for (const std::string& v : arguments.variables) add_variable(pool, box, v);
+  const Expr f = symbolic::parse(pool, arguments.expression);
+  std::vector<bounds::Constraint> constraints;
+  for (const std::string& c : arguments.constraints) {
+    constraints.push_back(parse_constraint(pool, c));
+  }
+  const Timed timed = run(f, box, arguments, constraints);
+  if (arguments.json) {
+    std::cout << to_json("", box, timed).dump(2) << '\n';
+    return;
+  }
+  const bounds::BoundResult& r = timed.result;
+  std::cout.precision(17);
+  std::cout << "range    [" << r.lo << ", " << r.hi << "]   (sound)\n"
+            << "attained [" << r.inner_lo << ", " << r.inner_hi << "]\n"
+            << "status   " << bounds::to_string(r.status)
+            << (r.possibly_undefined ? " (possibly undefined somewhere in the box)" : "") << '\n';
+  std::cout.precision(6);
+  std::cout << "gap      " << r.relative_gap() << " of the attained width, " << r.evaluations
+            << " boxes, " << std::round(timed.microseconds) << " us\n";
+  const auto print_point = [&](const char* label, const std::vector<double>& x) {
+    if (x.empty()) return;
+    std::cout << label;
+    for (std::size_t i = 0; i < x.size(); ++i) {
+      std::cout << ' ' << box.variables[i].name() << '=' << x[i];
+    }
+    std::cout << '\n';
+  };
+  print_point("argmin  ", r.argmin);
+  print_point("argmax  ", r.argmax);
+}
+
+}  // namespace
+
+void add_bound_command(CLI::App& app) {
+  auto* command = app.add_subcommand(
+      "bound", "Sound SUP/INF of an expression over a box, with witnesses and the tightness gap");
+  auto arguments = std::make_shared<BoundArguments>();
+  command->add_option("expression", arguments->expression, "Infix expression, e.g. \"x*sin(y)\"");
+  command->add_option("--var", arguments->variables, "Variable range name=LO:HI (repeatable)");
+  command->add_option("--constraint", arguments->constraints,
+                      "Constraint such as \"x+y<=2\" (repeatable)");
+  command->add_option("--jsonl", arguments->jsonl,
+                      "Bound every line of an FPBench-style JSONL corpus");
+  command->add_option("--tol", arguments->tolerance, "Relative tolerance (default 1e-3)");
+  command->add_option("--max-evals", arguments->max_evaluations, "Box evaluation limit");
+  command->add_flag("--json", arguments->json, "Print the result as JSON");
+  command->callback([arguments] {
+    if (!(arguments->tolerance >= 0)) throw BoundsError("--tol must be a number >= 0");
+    if (!arguments->jsonl.empty()) {
+      run_jsonl(*arguments);
+    } else {
+      run_single(*arguments);
+    }
+  });
+}
+
+}  // namespace spar::cli
