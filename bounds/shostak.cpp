@@ -1,7 +1,9 @@
 #include "bounds/shostak.hpp"
 
 #include <algorithm>
+#include <map>
 #include <string>
+#include <tuple>
 #include <unordered_map>
 #include <utility>
 
@@ -120,25 +122,6 @@ bool is_constant(const Linear& form) {
                      [](const Number& c) { return c.is_zero(); });
 }
 
-// result := min(result, other).
-void take_min(MinBound& result, MinBound other) {
-  if (result.minus_infinity) return;
-  if (other.minus_infinity) {
-    result = std::move(other);
-    return;
-  }
-  for (Linear& piece : other.pieces) {
-    const auto same =
-        std::find_if(result.pieces.begin(), result.pieces.end(),
-                     [&](const Linear& p) { return p.coefficients == piece.coefficients; });
-    if (same == result.pieces.end()) {
-      result.pieces.push_back(std::move(piece));
-    } else if ((piece.constant - same->constant).is_negative()) {
-      same->constant = piece.constant;
-    }
-  }
-}
-
 class Engine {
  public:
   // Each constraint form is `form <= 0`.
@@ -147,12 +130,7 @@ class Engine {
 
   // SUP(j, S) with S = {i : kept[i]}: the min of pieces that are forms in S only.
   MinBound sup(const Linear& j, const std::vector<bool>& kept) {
-    if (++steps_ > max_steps_) {
-      throw ShostakError(ShostakFailure::kEffortExceeded,
-                         "SUP-INF gave up after " + std::to_string(max_steps_) +
-                             " steps (ShostakOptions::max_steps); raise the limit or bound fewer "
-                             "variables at once");
-    }
+    spend(1);
     std::vector<std::size_t> eliminated;
     for (std::size_t i = 0; i < j.coefficients.size(); ++i) {
       if (!j.coefficients[i].is_zero() && !kept[i]) eliminated.push_back(i);
@@ -164,8 +142,9 @@ class Engine {
     rest.coefficients[v] = Number();
     if (eliminated.size() == 1) {
       // SUP(K + r·v) = K + |r|·SUP(sign(r)·v); for r < 0, SUP(-v) = -INF(v).
-      MinBound extreme = r.is_negative() ? minus_inf_variable(v, kept) : sup_variable(v, kept);
+      MinBound extreme = extreme_of_variable(v, kept, /*upper=*/!r.is_negative());
       const Number magnitude = r.is_negative() ? -r : r;
+      spend(extreme.pieces.size());
       for (Linear& piece : extreme.pieces) piece = add_scaled(rest, piece, magnitude);
       return extreme;
     }
@@ -183,6 +162,47 @@ class Engine {
   }
 
  private:
+  // Charges `work` steps against the effort limit.
+  void spend(std::size_t work) {
+    steps_ += work;
+    if (steps_ > max_steps_) {
+      throw ShostakError(ShostakFailure::kEffortExceeded,
+                         "SUP-INF gave up after " + std::to_string(max_steps_) +
+                             " steps (ShostakOptions::max_steps); raise the limit or bound fewer "
+                             "variables at once");
+    }
+  }
+
+  // result := min(result, other).
+  void take_min(MinBound& result, MinBound other) {
+    if (result.minus_infinity) return;
+    spend(other.pieces.size() * (result.pieces.size() + 1));
+    if (other.minus_infinity) {
+      result = std::move(other);
+      return;
+    }
+    for (Linear& piece : other.pieces) {
+      const auto same =
+          std::find_if(result.pieces.begin(), result.pieces.end(),
+                       [&](const Linear& p) { return p.coefficients == piece.coefficients; });
+      if (same == result.pieces.end()) {
+        result.pieces.push_back(std::move(piece));
+      } else if ((piece.constant - same->constant).is_negative()) {
+        same->constant = piece.constant;
+      }
+    }
+  }
+
+  // SUP(v, S) when upper, else -INF(v, S); memoized, since they depend on (v, S) only and the
+  // recursion asks for the same ones many times.
+  MinBound extreme_of_variable(std::size_t v, const std::vector<bool>& kept, bool upper) {
+    auto key = std::make_tuple(v, upper, kept);
+    if (const auto found = memo_.find(key); found != memo_.end()) return found->second;
+    MinBound result = upper ? sup_variable(v, kept) : minus_inf_variable(v, kept);
+    memo_.emplace(std::move(key), result);
+    return result;
+  }
+
   // SUP(v, S) = SUPP(v, min over upper bounds u of v of SUP(u, S ∪ {v})).
   MinBound sup_variable(std::size_t v, const std::vector<bool>& kept) {
     const MinBound bound = bound_of_bounds(v, kept, /*upper=*/true);
@@ -248,6 +268,7 @@ class Engine {
   std::vector<Linear> constraints_;
   std::size_t max_steps_;
   std::size_t steps_{0};
+  std::map<std::tuple<std::size_t, bool, std::vector<bool>>, MinBound> memo_;
 };
 
 enum class Direction { kSup, kInf };

@@ -44,8 +44,8 @@ enum class ShostakFailure {
   kNotLinear,       // a constraint, or the target in an eliminated variable, is not linear
   kMalformed,       // constraint text that does not parse or has no relation
   kInexact,         // a coefficient is a real enclosure, not an exact rational
-  kUnbounded,       // SUP is +∞ (INF is -∞)
-  kInfeasible,      // the algorithm found the constraints contradictory
+  kUnbounded,       // SUP is +∞ (INF is -∞); also possible on infeasible constraints
+  kInfeasible,      // the algorithm found the constraints contradictory (not always detected)
   kEffortExceeded,  // more than ShostakOptions::max_steps recursive steps
   kOverflow,        // a rational left 64 bits
 };
@@ -83,8 +83,9 @@ struct LinearConstraint {
                                                        std::string_view text);
 
 struct ShostakOptions {
-  // Effort limit: recursive SUP/INF steps before giving up with kEffortExceeded. SUP-INF always
-  // terminates, but may take exponentially many steps in the number of variables.
+  // Effort limit: recursive SUP/INF steps (plus piece comparisons) before giving up with
+  // kEffortExceeded. SUP-INF always terminates, but may take exponentially many steps in the number
+  // of variables.
   std::size_t max_steps{1'000'000};
   // Bound a target that is not a single variable as a fresh variable z with z = target (exact for
   // linear targets, see above). Off: apply the rules to the target directly (sound, maybe looser).
