@@ -4,7 +4,6 @@
 #include <rapidcheck/gtest.h>
 
 #include <array>
-#include <cstdlib>
 #include <map>
 #include <optional>
 #include <random>
@@ -21,9 +20,6 @@ using symbolic::Expr;
 using symbolic::ExprPool;
 using symbolic::Number;
 using symbolic::Term;
-
-// Deterministic runs: a fixed RapidCheck seed unless the caller set RC_PARAMS (e.g. to reproduce).
-[[maybe_unused]] const int kFixedSeed = setenv("RC_PARAMS", "seed=20261123", /*overwrite=*/0);
 
 std::vector<LinearConstraint> parse_all(ExprPool& pool, std::initializer_list<const char*> texts) {
   std::vector<LinearConstraint> constraints;
