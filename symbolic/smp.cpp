@@ -481,7 +481,8 @@ class Simplifier {
 
   std::vector<Expr> candidates_for(Expr e) {
     std::vector<Expr> candidates;
-    work_ += e.operand_count();
+    // The rules match terms pairwise: quadratic in the operand count.
+    work_ += e.operand_count() * e.operand_count();
     try {
       if (e.op() == Op::kMul) {
         if (auto d = distribute(e, kMaxDistributeTerms)) candidates.push_back(*d);

@@ -22,9 +22,10 @@
 //   distribution   c·(s1 + s2)·P -> c·s1·P + c·s2·P when it cancels: w·(a/w + b) -> a + b·w;
 //                  w·(a/w)² -> a²/w is done by construction, which merges equal bases
 // A rewrite other than parity is kept only if it strictly lowers (cost, size) of the node it
-// rewrites; a final check returns the input if the whole result is not cheaper or equal. Passes
-// run bottom-up over the DAG (iteratively: any depth) until nothing changes or the budget, a
-// count of nodes visited while pricing candidates, runs out. So simplify always terminates.
+// rewrites, and a final check returns the input if the whole result's occurrence cost is higher.
+// Passes run bottom-up over the DAG (iteratively: any depth) until nothing changes or the budget
+// runs out (work units: nodes visited while pricing candidates, plus the pairwise term matching),
+// and there are at most 16 passes and 16 rewrites per node per pass: simplify always terminates.
 //
 // On request only, not applied by `simplify`:
 //   expand         distributes products and positive integer powers of sums, everywhere

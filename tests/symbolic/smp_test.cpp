@@ -171,6 +171,19 @@ TEST_F(SmpTest, DeepChainIsProcessedWithoutRecursion) {
   EXPECT_LE(occurrence_cost(g), occurrence_cost(f));
 }
 
+// Every level offers a factoring (x·f + x·y -> x·(f + y)): the budget, not the input, bounds the
+// work, and the result keeps the value.
+TEST_F(SmpTest, BudgetBoundsWorkOnADeepChainOfRewritableNodes) {
+  Expr f = y;
+  for (int i = 0; i < 20000; ++i) f = sin(x * f + x * y);
+  SimplifyOptions small;
+  small.budget = 200000;
+  const Expr g = simplify(f, small);
+  EXPECT_NE(g, f);
+  expect_same_value(f, g);
+  EXPECT_LE(occurrence_cost(g), occurrence_cost(f));
+}
+
 // A random expression; a recipe whose construction itself fails (it divides by an exact zero,
 // as 0^-3) is discarded.
 testing::BuiltExpr build_random_expr(ExprPool& pool, const std::vector<int>& recipe,
