@@ -245,15 +245,32 @@ void sort_and_merge(std::vector<Entry>& entries) {
 }  // namespace
 
 Expr ExprPool::sum(const Number& constant, std::span<const Term> terms) {
+  // Real (inexact) numbers are never folded: a real constant term or coefficient stays a
+  // Constant operand, so construction never rounds; the bounds engine encloses it instead.
+  if (!constant.is_rational()) {
+    std::vector<Term> all(terms.begin(), terms.end());
+    all.push_back({this->constant(constant), Number::integer(1)});
+    return sum(Number(), all);
+  }
   Number c0 = constant;
   std::vector<Entry> entries;
   entries.reserve(terms.size());
-  for (const Term& term : terms) {
-    if (term.expr.pool_ != this) throw SymbolicError("expressions from different pools mixed");
-    if (term.factor.is_zero()) continue;
+  for (const Term& original : terms) {
+    if (original.expr.pool_ != this) throw SymbolicError("expressions from different pools mixed");
+    if (original.factor.is_zero()) continue;
+    Term term = original;
+    if (!term.factor.is_rational()) {
+      const Term scaled[] = {{this->constant(term.factor), Number::integer(1)},
+                             {term.expr, Number::integer(1)}};
+      term = {product(Number::integer(1), scaled), Number::integer(1)};
+    }
     const Node& node = impl_->nodes[term.expr.id_];
     switch (node.op) {
       case Op::kConstant:
+        if (!node.number.is_rational()) {
+          entries.emplace_back(term.expr.id_, term.factor);
+          break;
+        }
         c0 = c0 + term.factor * node.number;
         break;
       case Op::kAdd:
@@ -301,6 +318,11 @@ Expr ExprPool::sum(const Number& constant, std::span<const Term> terms) {
 }
 
 Expr ExprPool::product(const Number& coefficient, std::span<const Term> factors) {
+  if (!coefficient.is_rational()) {  // never folded: see sum()
+    std::vector<Term> all(factors.begin(), factors.end());
+    all.push_back({constant(coefficient), Number::integer(1)});
+    return product(Number::integer(1), all);
+  }
   Number c = coefficient;
   std::vector<Entry> entries;
   entries.reserve(factors.size());
@@ -309,9 +331,10 @@ Expr ExprPool::product(const Number& coefficient, std::span<const Term> factors)
     const Number& e = factor.factor;
     if (e.is_zero()) continue;  // b^0 = 1
     const Node& node = impl_->nodes[factor.expr.id_];
-    if (node.op == Op::kConstant && e.is_integer()) {
+    const bool rational_constant = node.op == Op::kConstant && node.number.is_rational();
+    if (rational_constant && e.is_integer()) {
       c = c * node.number.pow(e.numerator());
-    } else if (node.op == Op::kConstant && node.number.is_one()) {
+    } else if (rational_constant && node.number.is_one()) {
       continue;
     } else if (node.op == Op::kMul && e.is_integer() && node.count <= kFlattenLimit) {
       c = c * node.number.pow(e.numerator());
@@ -327,7 +350,9 @@ Expr ExprPool::product(const Number& coefficient, std::span<const Term> factors)
   // Merging may give a constant base an integer exponent (2^(1/2)·2^(1/2) = 2): fold it.
   std::erase_if(entries, [&](const Entry& entry) {
     const Node& node = impl_->nodes[entry.first];
-    if (node.op != Op::kConstant || !entry.second.is_integer()) return false;
+    if (node.op != Op::kConstant || !node.number.is_rational() || !entry.second.is_integer()) {
+      return false;
+    }
     c = c * node.number.pow(entry.second.numerator());
     return true;
   });
@@ -464,18 +489,23 @@ void ExprPool::check_invariants() const {
         if (m.factors[i].is_zero()) fail(id, "zero coefficient or exponent");
         const Node& child = m.nodes[m.operand_ids[i]];
         if (n.op == Op::kAdd) {
-          if (child.op == Op::kConstant) fail(id, "constant sum term");
+          if (child.op == Op::kConstant && child.number.is_rational()) fail(id, "constant sum term");
           if (child.op == Op::kAdd && child.count <= kFlattenLimit)
             fail(id, "unflattened sum term");
           if (child.op == Op::kMul && !child.number.is_one()) fail(id, "sum term with coefficient");
         }
         if (n.op == Op::kMul) {
-          if (child.op == Op::kConstant && m.factors[i].is_integer()) fail(id, "unfolded constant");
+          if (child.op == Op::kConstant && child.number.is_rational() && m.factors[i].is_integer()) {
+            fail(id, "unfolded constant");
+          }
           if (child.op == Op::kMul && m.factors[i].is_integer() && child.count <= kFlattenLimit) {
             fail(id, "unflattened product");
           }
         }
       }
+    }
+    if ((n.op == Op::kAdd || n.op == Op::kMul) && !n.number.is_rational()) {
+      fail(id, "real constant folded into a sum or product");
     }
     if (n.op == Op::kAdd && (n.count == 0 || (n.count == 1 && n.number.is_zero()))) {
       fail(id, "degenerate sum");

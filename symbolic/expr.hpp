@@ -18,15 +18,22 @@
 // Automatic simplifications at construction (everything else is the simplifier's, see smp.hpp):
 //   * Add: nested sums flattened; constants folded into c0; like terms collected (x + 2x -> 3x);
 //     terms with coefficient 0 dropped (x - x -> 0); c0 + 1·t with c0 = 0 is t; a lone scaled
-//     term c·t is the Mul c·t. Each term ti is neither a Constant, an Add, nor a Mul whose
-//     coefficient is not 1 (that coefficient moves into ci).
+//     term c·t is the Mul c·t. Each term ti is neither a rational Constant, an Add, nor a Mul
+//     whose coefficient is not 1 (that coefficient moves into ci).
 //   * Mul: nested products flattened (for integer outer exponents); numeric factors folded into c;
 //     equal bases merged by adding exponents (x·x -> x^2, x^2/x -> x); exponent 0 dropped (x^0 ->
 //     1); c = 0 gives 0; 1·b^1 is b; a constant coefficient times a sum is distributed (2·(x + y)
-//     -> 2x + 2y). A base is a Constant only under a non-integer exponent (2^(1/2)).
+//     -> 2x + 2y). A base is a rational Constant only under a non-integer exponent (2^(1/2));
+//     real Constants may be bases with any exponent.
 //   * Flattening stops at 64 operands: a larger sum or product stays one operand of its parent,
 //     so deep chains build in linear time (canonical forms above hold below that size).
-//   * Operands of Add and Mul are sorted by node id, so the order of construction never matters.
+//   * Operands of Add and Mul are sorted by node id, so the order of operands never matters. (One
+//     exception to order-independence: distribution applies when a coefficient meets a lone sum,
+//     so 3·(a/b) is the product 3·a·b^-1 while (3·a)/b is (3a)·b^-1 with 3 distributed into a.)
+//   * Only exact rationals fold. A real constant (measured data, or a decimal too long to be a
+//     64-bit rational) is never combined with another number: it stays a Constant operand (a sum
+//     term, or a product base), so construction never rounds; bounds/ encloses it instead.
+//     Hence c0, the Add coefficients and the Mul coefficient c are always rational.
 //   * Functions fold only exact special values: sin(0) = 0, cos(0) = 1, exp(0) = 1, log(1) = 0,
 //     sqrt of a perfect-square rational, abs of a constant, min/max of constants or of equal
 //     arguments. No libm call is ever folded into a constant (that would round it).

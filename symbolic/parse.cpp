@@ -238,6 +238,10 @@ Precedence number_precedence(const Number& n) {
 struct Printed {
   std::string text;
   Precedence precedence;
+  // The text is a product whose first factor is a parenthesised sum. A coefficient printed in
+  // front of it ("3*" or a unary "-") must group the whole product, or re-parsing would
+  // distribute the coefficient into that sum and build a different node.
+  bool starts_with_sum = false;
 };
 
 std::string wrap(const Printed& p, Precedence needed) {
@@ -272,14 +276,17 @@ std::string to_string(Expr root, double max_tree_nodes) {
           const Printed& term = get(e.operand(i));
           const bool negative = c.is_negative();
           const Number magnitude = negative ? -c : c;
-          if (i > 0)
+          if (i > 0) {
             s += negative ? " - " : " + ";
-          else if (negative)
+          } else if (negative) {
             s += "-";
+          }
+          // After "c*" or a leading unary "-", a product starting with a sum must be grouped.
+          const bool prefixed = !magnitude.is_one() || (i == 0 && negative);
           if (!magnitude.is_one()) {
             s += wrap({magnitude.to_string(), number_precedence(magnitude)}, kProduct) + "*";
           }
-          s += wrap(term, kProduct);
+          s += prefixed && term.starts_with_sum ? "(" + term.text + ")" : wrap(term, kProduct);
         }
         const Number& c0 = e.constant();
         if (!c0.is_zero())
@@ -289,6 +296,7 @@ std::string to_string(Expr root, double max_tree_nodes) {
       }
       case Op::kMul: {
         std::vector<std::string> numerator, denominator;
+        std::size_t first_numerator = e.operand_count();
         for (std::size_t i = 0; i < e.operand_count(); ++i) {
           const Number& exponent = e.factor(i);
           const Printed& base = get(e.operand(i));
@@ -299,26 +307,32 @@ std::string to_string(Expr root, double max_tree_nodes) {
                   ? wrap(base, kProduct)
                   : wrap(base, kAtom) + "^" +
                         wrap({magnitude.to_string(), number_precedence(magnitude)}, kAtom);
+          if (!inverse && numerator.empty()) first_numerator = i;
           (inverse ? denominator : numerator).push_back(factor);
         }
-        std::string s;
+        std::string rest;
+        for (std::size_t i = 0; i < numerator.size(); ++i) rest += (i ? "*" : "") + numerator[i];
+        if (!denominator.empty()) {
+          std::string d;
+          for (std::size_t i = 0; i < denominator.size(); ++i) d += (i ? "*" : "") + denominator[i];
+          rest += "/" + (denominator.size() > 1 ? "(" + d + ")" : d);
+        }
+        const bool starts_with_sum =
+            !numerator.empty() && e.operand(first_numerator).op() == Op::kAdd;
         const Number& c = e.constant();
         const bool negative = c.is_negative();
         const Number magnitude = negative ? -c : c;
-        if (negative) s += "-";
+        std::string s = negative ? "-" : "";
         if (!magnitude.is_one() || numerator.empty()) {
           s += wrap({magnitude.to_string(), number_precedence(magnitude)}, kProduct);
           if (!numerator.empty()) s += "*";
         }
-        for (std::size_t i = 0; i < numerator.size(); ++i) s += (i ? "*" : "") + numerator[i];
-        if (!denominator.empty()) {
-          std::string d;
-          for (std::size_t i = 0; i < denominator.size(); ++i) d += (i ? "*" : "") + denominator[i];
-          s += "/" + (denominator.size() > 1 ? "(" + d + ")" : d);
-        }
+        const bool grouped = (negative || !magnitude.is_one()) && starts_with_sum;
+        s += grouped ? "(" + rest + ")" : rest;
         const bool single_power =
             !negative && magnitude.is_one() && numerator.size() == 1 && denominator.empty();
-        out = {s, negative ? kSum : (single_power ? kPower : kProduct)};
+        out = {s, negative ? kSum : (single_power ? kPower : kProduct),
+               !negative && magnitude.is_one() && starts_with_sum};
         break;
       }
       case Op::kPow:

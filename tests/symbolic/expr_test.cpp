@@ -1,0 +1,149 @@
+#include "symbolic/expr.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <random>
+
+#include "symbolic/parse.hpp"
+
+namespace spar::symbolic {
+namespace {
+
+TEST(Number, DecimalLiteralsAreExactRationals) {
+  const Number tenth = *Number::parse_decimal("0.1");
+  EXPECT_TRUE(tenth.is_rational());
+  EXPECT_EQ(tenth + tenth + tenth, Number::rational(3, 10));
+  // The enclosure contains 1/10 although 0.1 is not a double: lower < value < upper.
+  EXPECT_LT(tenth.lower(), tenth.upper());
+  EXPECT_LE(tenth.lower(), 0.1);
+  EXPECT_GE(tenth.upper(), 0.1);
+}
+
+TEST(Number, ExactDyadicRationalHasPointEnclosure) {
+  const Number quarter = Number::rational(1, 4);
+  EXPECT_EQ(quarter.lower(), 0.25);
+  EXPECT_EQ(quarter.upper(), 0.25);
+}
+
+TEST(Number, OverflowFallsBackToSoundEnclosure) {
+  const Number big = Number::integer(std::int64_t{1} << 62);
+  const Number square = big * big;  // 2^124 does not fit in 64 bits
+  EXPECT_FALSE(square.is_rational());
+  EXPECT_LE(square.lower(), std::ldexp(1.0, 124));
+  EXPECT_GE(square.upper(), std::ldexp(1.0, 124));
+}
+
+TEST(Number, RealArithmeticWidensOutward) {
+  const Number a = Number::real(0.1), b = Number::real(0.2);
+  const Number sum = a + b;  // 0.1 + 0.2 rounds in double
+  EXPECT_LT(sum.lower(), sum.upper());
+  EXPECT_LE(sum.lower(), 0.1 + 0.2);
+  EXPECT_GE(sum.upper(), 0.1 + 0.2);
+}
+
+TEST(Number, NaNAndInfinityAreRejected) {
+  EXPECT_THROW((void)Number::real(std::nan("")), SymbolicError);
+  EXPECT_THROW((void)Number::real(HUGE_VAL), SymbolicError);
+  EXPECT_THROW((void)Number::rational(1, 0), SymbolicError);
+  EXPECT_THROW((void)(Number::integer(1) / Number::integer(0)), SymbolicError);
+}
+
+TEST(Number, PrintsTerminatingFractionsAsDecimals) {
+  EXPECT_EQ(Number::rational(1, 10).to_string(), "0.1");
+  EXPECT_EQ(Number::rational(-3, 8).to_string(), "-0.375");
+  EXPECT_EQ(Number::rational(1, 3).to_string(), "1/3");
+  EXPECT_EQ(Number::integer(-7).to_string(), "-7");
+}
+
+class ExprTest : public ::testing::Test {
+ protected:
+  ExprPool pool;
+  Expr x = pool.variable("x"), y = pool.variable("y"), z = pool.variable("z");
+};
+
+TEST_F(ExprTest, StructurallyEqualBuildsShareOneNode) {
+  const Expr a = sin(x) * (y + 2) - x / y;
+  const Expr b = -(x / y) + (2 + y) * sin(x);
+  EXPECT_EQ(a, b);
+  EXPECT_EQ(a.id(), b.id());
+}
+
+TEST_F(ExprTest, CanonicalFormsAtConstruction) {
+  EXPECT_EQ(x - x, pool.integer(0));
+  EXPECT_EQ(x * 1.0, x);
+  EXPECT_EQ(x + 0.0, x);
+  EXPECT_EQ(x * x, pow(x, 2));
+  EXPECT_EQ(pow(x, 2) / x, x);
+  EXPECT_EQ(x + 2 * x, 3 * x);
+  EXPECT_EQ(pow(x, 0), pool.integer(1));
+  EXPECT_EQ(2 * (x + y), 2 * x + 2 * y);
+  EXPECT_EQ((x + y) + z, x + (y + z));
+  EXPECT_EQ((x * y) * z, x * (y * z));
+  EXPECT_EQ(x * 0.0, pool.integer(0));
+}
+
+TEST_F(ExprTest, SumStoresConstantAndSortedTerms) {
+  const Expr e = 3 * y + 5 + x;
+  ASSERT_EQ(e.op(), Op::kAdd);
+  EXPECT_EQ(e.constant(), Number::integer(5));
+  ASSERT_EQ(e.operand_count(), 2u);
+  EXPECT_LT(e.operand(0).id(), e.operand(1).id());
+  EXPECT_EQ(e.factor(e.operand(0) == y ? 0 : 1), Number::integer(3));
+}
+
+TEST_F(ExprTest, ProductStoresCoefficientAndExponents) {
+  const Expr e = -2 * x * x * x / y;
+  ASSERT_EQ(e.op(), Op::kMul);
+  EXPECT_EQ(e.constant(), Number::integer(-2));
+  ASSERT_EQ(e.operand_count(), 2u);
+  EXPECT_EQ(e.factor(e.operand(0) == x ? 0 : 1), Number::integer(3));
+  EXPECT_EQ(e.factor(e.operand(0) == y ? 0 : 1), Number::integer(-1));
+}
+
+TEST_F(ExprTest, FunctionsFoldOnlyExactSpecialValues) {
+  EXPECT_EQ(sin(pool.integer(0)), pool.integer(0));
+  EXPECT_EQ(cos(pool.integer(0)), pool.integer(1));
+  EXPECT_EQ(log(pool.integer(1)), pool.integer(0));
+  EXPECT_EQ(sqrt(pool.constant(Number::rational(9, 4))), pool.constant(Number::rational(3, 2)));
+  EXPECT_EQ(sin(pool.integer(1)).op(), Op::kSin);  // sin(1) is not rounded into a double
+  EXPECT_EQ(sqrt(pool.integer(2)).op(), Op::kSqrt);
+}
+
+TEST_F(ExprTest, MinMaxAreCommutative) {
+  EXPECT_EQ(min(x, y), min(y, x));
+  EXPECT_EQ(max(x, x), x);
+  EXPECT_EQ(min(pool.integer(2), pool.integer(3)), pool.integer(2));
+}
+
+TEST_F(ExprTest, InvalidVariableNamesAreRejected) {
+  EXPECT_THROW((void)pool.variable("2x"), SymbolicError);
+  EXPECT_THROW((void)pool.variable(""), SymbolicError);
+  EXPECT_THROW((void)pool.variable("a b"), SymbolicError);
+}
+
+TEST_F(ExprTest, MixingPoolsIsAnError) {
+  ExprPool other;
+  const Expr w = other.variable("x");
+  EXPECT_THROW((void)(x + w), SymbolicError);
+}
+
+TEST_F(ExprTest, LargeSumInAnyOrderIsOneNode) {
+  std::vector<Expr> terms;
+  for (int i = 0; i < 40; ++i) terms.push_back(pool.variable("v" + std::to_string(i)) * (i + 1));
+  const Expr forward = pool.sum(terms);
+  std::mt19937 rng(7);
+  std::shuffle(terms.begin(), terms.end(), rng);
+  EXPECT_EQ(pool.sum(terms), forward);
+  pool.check_invariants();
+}
+
+TEST_F(ExprTest, DeepChainBuildsInLinearSpace) {
+  Expr chain = x;
+  for (int i = 0; i < 100000; ++i) chain = chain * sin(chain) + 1;
+  EXPECT_LT(pool.size(), 500000u);
+  pool.check_invariants();
+}
+
+}  // namespace
+}  // namespace spar::symbolic

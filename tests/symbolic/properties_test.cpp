@@ -1,0 +1,186 @@
+// Property tests of the symbolic core over random expressions (see random_expr.hpp).
+#include <gtest/gtest.h>
+#include <rapidcheck/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <unordered_map>
+
+#include "random_expr.hpp"
+#include "symbolic/operations.hpp"
+#include "symbolic/parse.hpp"
+#include "symbolic/tape.hpp"
+
+namespace spar::symbolic {
+namespace {
+
+using testing::build_random_expr;
+using testing::random_point;
+using testing::random_recipe;
+
+bool close(double a, double b, double scale, double rel = 1e-9) {
+  return std::fabs(a - b) <= rel * std::max({1.0, std::fabs(a), std::fabs(b), scale});
+}
+
+// Oracle: evaluates the DAG node by node from its public accessors, in plain double arithmetic
+// with std::pow for every exponent. Shares no code with the tape.
+double evaluate_by_nodes(Expr root, const std::map<std::string, double>& point) {
+  std::unordered_map<std::uint32_t, double> value;
+  for (Expr e : topological_order(std::span<const Expr>(&root, 1))) {
+    auto arg = [&](std::size_t i) { return value.at(e.operand(i).id()); };
+    double r = 0;
+    switch (e.op()) {
+      case Op::kConstant: r = e.constant().value(); break;
+      case Op::kVariable: r = point.at(e.name()); break;
+      case Op::kAdd:
+        r = e.constant().value();
+        for (std::size_t i = 0; i < e.operand_count(); ++i) r += e.factor(i).value() * arg(i);
+        break;
+      case Op::kMul:
+        r = e.constant().value();
+        for (std::size_t i = 0; i < e.operand_count(); ++i) r *= std::pow(arg(i), e.factor(i).value());
+        break;
+      case Op::kPow: r = std::pow(arg(0), arg(1)); break;
+      case Op::kSin: r = std::sin(arg(0)); break;
+      case Op::kCos: r = std::cos(arg(0)); break;
+      case Op::kTan: r = std::tan(arg(0)); break;
+      case Op::kSqrt: r = std::sqrt(arg(0)); break;
+      case Op::kExp: r = std::exp(arg(0)); break;
+      case Op::kLog: r = std::log(arg(0)); break;
+      case Op::kAbs: r = std::fabs(arg(0)); break;
+      case Op::kAtan: r = std::atan(arg(0)); break;
+      case Op::kAsin: r = std::asin(arg(0)); break;
+      case Op::kAcos: r = std::acos(arg(0)); break;
+      case Op::kAtan2: r = std::atan2(arg(0), arg(1)); break;
+      case Op::kMin: r = std::fmin(arg(0), arg(1)); break;
+      case Op::kMax: r = std::fmax(arg(0), arg(1)); break;
+    }
+    value[e.id()] = r;
+  }
+  return value.at(root.id());
+}
+
+// Canonicalisation at construction keeps the value of the recipe wherever it is defined.
+RC_GTEST_PROP(SymbolicProperty, CanonicalFormPreservesValue, ()) {
+  const auto recipe = *random_recipe();
+  const auto point = *random_point();
+  ExprPool pool;
+  const auto built = build_random_expr(pool, recipe, point);
+  RC_PRE(std::isfinite(built.reference) && built.magnitude < 1e6);
+  const double value = evaluate_by_nodes(built.expr, point);
+  RC_ASSERT(close(value, built.reference, built.magnitude));
+  pool.check_invariants();
+}
+
+// The tape computes exactly what the node-by-node oracle computes (up to rounding).
+RC_GTEST_PROP(SymbolicProperty, TapeEqualsDirectEvaluation, ()) {
+  const auto recipe = *random_recipe();
+  const auto point = *random_point();
+  ExprPool pool;
+  const auto built = build_random_expr(pool, recipe, point);
+  const double direct = evaluate_by_nodes(built.expr, point);
+  RC_PRE(std::isfinite(direct) && built.magnitude < 1e6);
+  const std::vector<Expr> inputs{pool.variable("x"), pool.variable("y"), pool.variable("z")};
+  const Tape tape = Tape::compile(std::span<const Expr>(&built.expr, 1), inputs);
+  tape.check_invariants();
+  TapeEvaluator<double> evaluator(tape);
+  const double in[] = {point.at("x"), point.at("y"), point.at("z")};
+  double out = 0;
+  evaluator.evaluate(in, std::span<double>(&out, 1));
+  RC_ASSERT(close(out, direct, built.magnitude));
+  // The batch evaluator agrees too, at 300 copies of the point (more than one block).
+  std::vector<double> batch_in(3 * 300), batch_out(300);
+  for (int i = 0; i < 3; ++i) std::fill_n(&batch_in[i * 300], 300, in[i]);
+  evaluate_batch(tape, batch_in, batch_out, 300);
+  RC_ASSERT(batch_out[0] == out && batch_out[299] == out);
+}
+
+// Several outputs share one tape; each equals its own evaluation.
+RC_GTEST_PROP(SymbolicProperty, MultiOutputTapeSharesWork, ()) {
+  const auto point = *random_point();
+  ExprPool pool;
+  const auto a = build_random_expr(pool, *random_recipe(), point);
+  const auto b = build_random_expr(pool, *random_recipe(), point);
+  const double da = evaluate_by_nodes(a.expr, point), db = evaluate_by_nodes(b.expr, point);
+  RC_PRE(std::isfinite(da) && std::isfinite(db) && a.magnitude < 1e6 && b.magnitude < 1e6);
+  const Expr outputs[] = {a.expr, b.expr, a.expr * b.expr};
+  const std::vector<Expr> inputs{pool.variable("x"), pool.variable("y"), pool.variable("z")};
+  const Tape tape = Tape::compile(outputs, inputs);
+  tape.check_invariants();
+  TapeEvaluator<double> evaluator(tape);
+  const double in[] = {point.at("x"), point.at("y"), point.at("z")};
+  double out[3];
+  evaluator.evaluate(in, out);
+  RC_ASSERT(close(out[0], da, a.magnitude));
+  RC_ASSERT(close(out[1], db, b.magnitude));
+}
+
+// print then parse gives back the same node.
+RC_GTEST_PROP(SymbolicProperty, PrintParseRoundTrip, ()) {
+  const auto recipe = *random_recipe();
+  ExprPool pool;
+  const auto built = build_random_expr(pool, recipe, {{"x", 0.5}, {"y", 0.25}, {"z", 2.0}});
+  const std::string text = to_string(built.expr);
+  RC_ASSERT(parse(pool, text) == built.expr);
+}
+
+// Building the same recipe in a second pool, with the variables created in the opposite order,
+// gives an expression that prints identically up to operand order: compare by value and size,
+// and in the same pool a rebuild returns the very same id.
+RC_GTEST_PROP(SymbolicProperty, HashConsingGivesEqualIds, ()) {
+  const auto recipe = *random_recipe();
+  const std::map<std::string, double> point{{"x", 0.5}, {"y", 0.25}, {"z", 2.0}};
+  ExprPool pool;
+  const auto first = build_random_expr(pool, recipe, point);
+  const std::size_t size_after_first = pool.size();
+  const auto second = build_random_expr(pool, recipe, point);
+  RC_ASSERT(first.expr == second.expr);
+  RC_ASSERT(pool.size() == size_after_first);  // nothing new was created
+  ExprPool reversed;
+  for (auto it = testing::random_variable_names().rbegin(); it != testing::random_variable_names().rend(); ++it) {
+    (void)reversed.variable(*it);
+  }
+  const auto third = build_random_expr(reversed, recipe, point);
+  RC_ASSERT(dag_size(third.expr) == dag_size(first.expr));
+}
+
+// Shuffled sums and products of random terms are one node.
+RC_GTEST_PROP(SymbolicProperty, OperandOrderNeverMatters, ()) {
+  const auto point = *random_point();
+  ExprPool pool;
+  std::vector<Expr> terms;
+  const int n = *rc::gen::inRange(2, 7);
+  for (int i = 0; i < n; ++i) terms.push_back(build_random_expr(pool, *random_recipe(4), point).expr);
+  std::vector<Expr> shuffled = *rc::gen::just(terms);
+  std::reverse(shuffled.begin(), shuffled.end());
+  std::rotate(shuffled.begin(), shuffled.begin() + *rc::gen::inRange(0, n), shuffled.end());
+  RC_ASSERT(pool.sum(terms) == pool.sum(shuffled));
+  RC_ASSERT(pool.product(terms) == pool.product(shuffled));
+}
+
+// The derivative agrees with central finite differences (smooth operations only).
+RC_GTEST_PROP(SymbolicProperty, DerivativeMatchesFiniteDifferences, ()) {
+  const auto recipe = *random_recipe(8);
+  const auto point = *random_point();
+  ExprPool pool;
+  const auto built = build_random_expr(pool, recipe, point, /*smooth_only=*/true);
+  RC_PRE(std::isfinite(built.reference) && built.magnitude < 1e4);
+  const Expr x = pool.variable("x");
+  const double derivative = evaluate_by_nodes(differentiate(built.expr, x), point);
+  const double h = 1e-6;
+  auto at = [&](double dx) {
+    auto p = point;
+    p["x"] += dx;
+    return evaluate_by_nodes(built.expr, p);
+  };
+  const double f1 = at(h), f_1 = at(-h), f2 = at(2 * h), f_2 = at(-2 * h);
+  RC_PRE(std::isfinite(derivative) && std::isfinite(f2) && std::isfinite(f_2));
+  // Five-point stencil; compare with the step-halved estimate to skip points near a kink or pole.
+  const double fd = (8 * (f1 - f_1) - (f2 - f_2)) / (12 * h);
+  const double fd_coarse = (f2 - f_2) / (4 * h);
+  RC_PRE(std::fabs(fd - fd_coarse) <= 1e-3 * std::max(1.0, std::fabs(fd)));
+  RC_ASSERT(std::fabs(derivative - fd) <= 1e-5 * std::max({1.0, std::fabs(fd), built.magnitude}));
+}
+
+}  // namespace
+}  // namespace spar::symbolic
