@@ -489,13 +489,15 @@ void ExprPool::check_invariants() const {
         if (m.factors[i].is_zero()) fail(id, "zero coefficient or exponent");
         const Node& child = m.nodes[m.operand_ids[i]];
         if (n.op == Op::kAdd) {
-          if (child.op == Op::kConstant && child.number.is_rational()) fail(id, "constant sum term");
+          if (child.op == Op::kConstant && child.number.is_rational())
+            fail(id, "constant sum term");
           if (child.op == Op::kAdd && child.count <= kFlattenLimit)
             fail(id, "unflattened sum term");
           if (child.op == Op::kMul && !child.number.is_one()) fail(id, "sum term with coefficient");
         }
         if (n.op == Op::kMul) {
-          if (child.op == Op::kConstant && child.number.is_rational() && m.factors[i].is_integer()) {
+          if (child.op == Op::kConstant && child.number.is_rational() &&
+              m.factors[i].is_integer()) {
             fail(id, "unfolded constant");
           }
           if (child.op == Op::kMul && m.factors[i].is_integer() && child.count <= kFlattenLimit) {

@@ -30,30 +30,63 @@ double evaluate_by_nodes(Expr root, const std::map<std::string, double>& point) 
     auto arg = [&](std::size_t i) { return value.at(e.operand(i).id()); };
     double r = 0;
     switch (e.op()) {
-      case Op::kConstant: r = e.constant().value(); break;
-      case Op::kVariable: r = point.at(e.name()); break;
+      case Op::kConstant:
+        r = e.constant().value();
+        break;
+      case Op::kVariable:
+        r = point.at(e.name());
+        break;
       case Op::kAdd:
         r = e.constant().value();
         for (std::size_t i = 0; i < e.operand_count(); ++i) r += e.factor(i).value() * arg(i);
         break;
       case Op::kMul:
         r = e.constant().value();
-        for (std::size_t i = 0; i < e.operand_count(); ++i) r *= std::pow(arg(i), e.factor(i).value());
+        for (std::size_t i = 0; i < e.operand_count(); ++i)
+          r *= std::pow(arg(i), e.factor(i).value());
         break;
-      case Op::kPow: r = std::pow(arg(0), arg(1)); break;
-      case Op::kSin: r = std::sin(arg(0)); break;
-      case Op::kCos: r = std::cos(arg(0)); break;
-      case Op::kTan: r = std::tan(arg(0)); break;
-      case Op::kSqrt: r = std::sqrt(arg(0)); break;
-      case Op::kExp: r = std::exp(arg(0)); break;
-      case Op::kLog: r = std::log(arg(0)); break;
-      case Op::kAbs: r = std::fabs(arg(0)); break;
-      case Op::kAtan: r = std::atan(arg(0)); break;
-      case Op::kAsin: r = std::asin(arg(0)); break;
-      case Op::kAcos: r = std::acos(arg(0)); break;
-      case Op::kAtan2: r = std::atan2(arg(0), arg(1)); break;
-      case Op::kMin: r = std::fmin(arg(0), arg(1)); break;
-      case Op::kMax: r = std::fmax(arg(0), arg(1)); break;
+      case Op::kPow:
+        r = std::pow(arg(0), arg(1));
+        break;
+      case Op::kSin:
+        r = std::sin(arg(0));
+        break;
+      case Op::kCos:
+        r = std::cos(arg(0));
+        break;
+      case Op::kTan:
+        r = std::tan(arg(0));
+        break;
+      case Op::kSqrt:
+        r = std::sqrt(arg(0));
+        break;
+      case Op::kExp:
+        r = std::exp(arg(0));
+        break;
+      case Op::kLog:
+        r = std::log(arg(0));
+        break;
+      case Op::kAbs:
+        r = std::fabs(arg(0));
+        break;
+      case Op::kAtan:
+        r = std::atan(arg(0));
+        break;
+      case Op::kAsin:
+        r = std::asin(arg(0));
+        break;
+      case Op::kAcos:
+        r = std::acos(arg(0));
+        break;
+      case Op::kAtan2:
+        r = std::atan2(arg(0), arg(1));
+        break;
+      case Op::kMin:
+        r = std::fmin(arg(0), arg(1));
+        break;
+      case Op::kMax:
+        r = std::fmax(arg(0), arg(1));
+        break;
     }
     value[e.id()] = r;
   }
@@ -137,7 +170,8 @@ RC_GTEST_PROP(SymbolicProperty, HashConsingGivesEqualIds, ()) {
   RC_ASSERT(first.expr == second.expr);
   RC_ASSERT(pool.size() == size_after_first);  // nothing new was created
   ExprPool reversed;
-  for (auto it = testing::random_variable_names().rbegin(); it != testing::random_variable_names().rend(); ++it) {
+  for (auto it = testing::random_variable_names().rbegin();
+       it != testing::random_variable_names().rend(); ++it) {
     (void)reversed.variable(*it);
   }
   const auto third = build_random_expr(reversed, recipe, point);
@@ -150,7 +184,8 @@ RC_GTEST_PROP(SymbolicProperty, OperandOrderNeverMatters, ()) {
   ExprPool pool;
   std::vector<Expr> terms;
   const int n = *rc::gen::inRange(2, 7);
-  for (int i = 0; i < n; ++i) terms.push_back(build_random_expr(pool, *random_recipe(4), point).expr);
+  for (int i = 0; i < n; ++i)
+    terms.push_back(build_random_expr(pool, *random_recipe(4), point).expr);
   std::vector<Expr> shuffled = *rc::gen::just(terms);
   std::reverse(shuffled.begin(), shuffled.end());
   std::rotate(shuffled.begin(), shuffled.begin() + *rc::gen::inRange(0, n), shuffled.end());

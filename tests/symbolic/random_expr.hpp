@@ -57,26 +57,79 @@ inline BuiltExpr build_random_expr(ExprPool& pool, const std::vector<int>& recip
     Expr e;
     double r;
     switch (op) {
-      case 0: e = a + b; r = u + v; break;
-      case 1: e = a - b; r = u - v; break;
-      case 2: e = a * b; r = u * v; break;
-      case 3: e = a / b; r = u / v; break;
+      case 0:
+        e = a + b;
+        r = u + v;
+        break;
+      case 1:
+        e = a - b;
+        r = u - v;
+        break;
+      case 2:
+        e = a * b;
+        r = u * v;
+        break;
+      case 3:
+        e = a / b;
+        r = u / v;
+        break;
       case 4:
         if (n == 0 && u == 0) continue;
-        e = pow(a, static_cast<std::int64_t>(n)); r = std::pow(u, n); break;
-      case 5: e = sin(a); r = std::sin(u); break;
-      case 6: e = cos(a); r = std::cos(u); break;
-      case 7: e = exp(a); r = std::exp(u); break;
-      case 8: e = log(a); r = std::log(u); break;
-      case 9: e = sqrt(a); r = std::sqrt(u); break;
-      case 10: e = atan(a); r = std::atan(u); break;
-      case 11: e = tan(a); r = std::tan(u); break;
-      case 12: e = a * pool.constant(Number::rational(recipe[k + 3] % 11 - 5, 4)); r = u * ((recipe[k + 3] % 11 - 5) / 4.0); break;
-      case 13: e = abs(a); r = std::fabs(u); break;
-      case 14: e = min(a, b); r = std::fmin(u, v); break;
-      case 15: e = max(a, b); r = std::fmax(u, v); break;
-      case 16: e = atan2(a, b); r = std::atan2(u, v); break;
-      default: e = asin(a) + acos(b); r = std::asin(u) + std::acos(v); break;
+        e = pow(a, static_cast<std::int64_t>(n));
+        r = std::pow(u, n);
+        break;
+      case 5:
+        e = sin(a);
+        r = std::sin(u);
+        break;
+      case 6:
+        e = cos(a);
+        r = std::cos(u);
+        break;
+      case 7:
+        e = exp(a);
+        r = std::exp(u);
+        break;
+      case 8:
+        e = log(a);
+        r = std::log(u);
+        break;
+      case 9:
+        e = sqrt(a);
+        r = std::sqrt(u);
+        break;
+      case 10:
+        e = atan(a);
+        r = std::atan(u);
+        break;
+      case 11:
+        e = tan(a);
+        r = std::tan(u);
+        break;
+      case 12:
+        e = a * pool.constant(Number::rational(recipe[k + 3] % 11 - 5, 4));
+        r = u * ((recipe[k + 3] % 11 - 5) / 4.0);
+        break;
+      case 13:
+        e = abs(a);
+        r = std::fabs(u);
+        break;
+      case 14:
+        e = min(a, b);
+        r = std::fmin(u, v);
+        break;
+      case 15:
+        e = max(a, b);
+        r = std::fmax(u, v);
+        break;
+      case 16:
+        e = atan2(a, b);
+        r = std::atan2(u, v);
+        break;
+      default:
+        e = asin(a) + acos(b);
+        r = std::asin(u) + std::acos(v);
+        break;
     }
     exprs.push_back(e);
     values.push_back(r);
@@ -86,16 +139,18 @@ inline BuiltExpr build_random_expr(ExprPool& pool, const std::vector<int>& recip
 }
 
 inline rc::Gen<std::vector<int>> random_recipe(int max_steps = 12) {
-  return rc::gen::suchThat(
-      rc::gen::container<std::vector<int>>(rc::gen::inRange(0, 1 << 16)),
-      [max_steps](const std::vector<int>& r) { return r.size() >= 4 && r.size() <= 4u * max_steps; });
+  return rc::gen::suchThat(rc::gen::container<std::vector<int>>(rc::gen::inRange(0, 1 << 16)),
+                           [max_steps](const std::vector<int>& r) {
+                             return r.size() >= 4 && r.size() <= 4u * max_steps;
+                           });
 }
 
 inline rc::Gen<std::map<std::string, double>> random_point() {
   return rc::gen::map(rc::gen::container<std::vector<int>>(3, rc::gen::inRange(-3000, 3000)),
                       [](const std::vector<int>& v) {
-                        return std::map<std::string, double>{
-                            {"x", v[0] / 1000.0 + 1e-3}, {"y", v[1] / 1000.0 - 2e-3}, {"z", v[2] / 1000.0}};
+                        return std::map<std::string, double>{{"x", v[0] / 1000.0 + 1e-3},
+                                                             {"y", v[1] / 1000.0 - 2e-3},
+                                                             {"z", v[2] / 1000.0}};
                       });
 }
 
