@@ -12,6 +12,7 @@
 #include <set>
 
 #include "bounds/internal/gradient.hpp"
+#include "bounds/internal/linear_enclosure.hpp"
 #include "symbolic/operations.hpp"
 #include "symbolic/tape.hpp"
 
@@ -22,11 +23,7 @@ using symbolic::Expr;
 using symbolic::Tape;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-// A constraint sum_i coefficient_i x_i + constant <= 0 with enclosed coefficients.
-struct LinearForm {
-  std::vector<Interval> coefficients;  // one per box variable
-  Interval constant;
-};
+using internal::LinearForm;
 
 // g = c0 + Σ ci·vi (or a lone c·v, or v) as a linear form; nullopt otherwise.
 std::optional<LinearForm> linear_form(Expr g, const std::vector<Expr>& variables) {
@@ -117,6 +114,10 @@ class Bounder {
         linear_.push_back(std::move(*form));
       }
     }
+    if (!linear_.empty()) {
+      f_interval_.set_enclosures(
+          internal::linear_enclosures(internal::affine_forms(f_tape_), linear_, root_));
+    }
     for (const Tape& tape : g_tapes_) {
       g_interval_.emplace_back(tape);
       g_double_.emplace_back(tape);
@@ -193,10 +194,28 @@ class Bounder {
     return true;
   }
 
-  // Discards the box if some constraint certainly fails on it.
+  // Discards the box if some constraint certainly fails on it: natural extension, then (for
+  // boxes it cannot decide) the mean-value form g(c) + G(X)·(X - c), whose overestimation
+  // shrinks with the square of the width, so boxes along a curved constraint get decided.
   bool may_be_feasible(std::span<const Interval> box) {
+    const std::size_t n = box.size();
     for (std::size_t c = 0; c < g_interval_.size(); ++c) {
       if (certainly_fails(g_interval_[c].value(box), relations_[c])) return false;
+      if (!options_.centred_form) continue;
+      const Interval g = g_interval_[c].value_and_gradient(box, gradient_);
+      bool gradient_ok = !g.possibly_undefined;
+      for (const Interval& partial : gradient_) {
+        gradient_ok = gradient_ok && partial.is_bounded() && !partial.possibly_undefined;
+      }
+      if (!gradient_ok) continue;
+      centre_.resize(n);
+      for (std::size_t i = 0; i < n; ++i) centre_[i] = Interval{box[i].mid()};
+      Interval centred = g_interval_[c].value(centre_);
+      if (centred.is_empty() || centred.possibly_undefined) continue;
+      for (std::size_t i = 0; i < n; ++i) {
+        if (box[i].width() > 0) centred = centred + gradient_[i] * (box[i] - centre_[i]);
+      }
+      if (certainly_fails(centred, relations_[c])) return false;
     }
     return true;
   }
@@ -238,55 +257,61 @@ class Bounder {
     std::size_t constraint;  // for constraint callbacks
   };
 
-  // Minimises -sign·f: a global stage (DIRECT-L, or ISRES with constraints), then SLSQP with
-  // tape gradients from the best point. Witnesses are re-checked by offer().
+  // Minimises -sign·f: a global stage (DIRECT-L, or ISRES with constraints), then a local one
+  // from the best point. Witnesses are re-checked by offer().
   void nlopt_search(std::span<const Interval> box, int sign) {
     const unsigned n = static_cast<unsigned>(box.size());
     if (n == 0) return;
-    std::vector<double> lower(n), upper(n), x(n);
-    for (unsigned i = 0; i < n; ++i) {
-      lower[i] = box[i].lo;
-      upper[i] = box[i].hi;
-    }
     const std::vector<double>& start = sign > 0 ? result_->argmax : result_->argmin;
+    std::vector<double> x(n);
     for (unsigned i = 0; i < n; ++i) x[i] = start.empty() ? box[i].mid() : start[i];
     const bool constrained = !g_tapes_.empty();
-    Objective objective{this, sign, 0};
-    std::vector<Objective> constraint_data;
-    for (std::size_t c = 0; c < g_tapes_.size(); ++c) constraint_data.push_back({this, 0, c});
-    const auto configure = [&](nlopt::opt& opt) {
-      opt.set_lower_bounds(lower);
-      opt.set_upper_bounds(upper);
-      opt.set_min_objective(&Bounder::nlopt_objective, &objective);
-      if (opt.get_algorithm() != nlopt::GN_DIRECT_L) {
-        for (Objective& data : constraint_data) {
-          opt.add_inequality_constraint(&Bounder::nlopt_constraint, &data, 0.0);
-        }
-      }
-    };
     try {
       nlopt::srand(20261123);
       nlopt::opt global(constrained ? nlopt::GN_ISRES : nlopt::GN_DIRECT_L, n);
-      configure(global);
+      configure(global, box, sign);
       global.set_maxeval(constrained ? 300 * (n + 1) : 60 * (n + 1));
-      std::vector<double> trial = x;
       double value = 0;
-      global.optimize(trial, value);
-      offer(trial);
-      const std::vector<double>& best = sign > 0 ? result_->argmax : result_->argmin;
-      if (!best.empty()) x = best;
+      global.optimize(x, value);
+      offer(x);
     } catch (const std::exception&) {
       // NLopt only tightens inner bounds; a failed stage leaves them as they are.
     }
+    const std::vector<double>& best = sign > 0 ? result_->argmax : result_->argmin;
+    if (!best.empty()) x = best;
+    local_search(box, x, sign);
+  }
+
+  // SLSQP with tape gradients from `x`, within `box`; offers the point it ends at.
+  void local_search(std::span<const Interval> box, std::vector<double> x, int sign) {
     try {
-      nlopt::opt local(nlopt::LD_SLSQP, n);
-      configure(local);
+      nlopt::opt local(nlopt::LD_SLSQP, static_cast<unsigned>(x.size()));
+      configure(local, box, sign);
       local.set_maxeval(200);
       local.set_xtol_rel(1e-12);
       double value = 0;
       local.optimize(x, value);
-      offer(x);
     } catch (const std::exception&) {
+      // x is the last point NLopt reached (or the start); offering it is still safe.
+    }
+    offer(x);
+  }
+
+  void configure(nlopt::opt& opt, std::span<const Interval> box, int sign) {
+    std::vector<double> lower(box.size()), upper(box.size());
+    for (std::size_t i = 0; i < box.size(); ++i) {
+      lower[i] = box[i].lo;
+      upper[i] = box[i].hi;
+    }
+    opt.set_lower_bounds(lower);
+    opt.set_upper_bounds(upper);
+    objective_ = {this, sign, 0};
+    opt.set_min_objective(&Bounder::nlopt_objective, &objective_);
+    if (opt.get_algorithm() == nlopt::GN_DIRECT_L) return;
+    constraint_data_.clear();
+    for (std::size_t c = 0; c < g_tapes_.size(); ++c) constraint_data_.push_back({this, 0, c});
+    for (Objective& data : constraint_data_) {
+      opt.add_inequality_constraint(&Bounder::nlopt_constraint, &data, 0.0);
     }
   }
 
@@ -324,7 +349,10 @@ class Bounder {
     } else {
       value = evaluator.value(point);
     }
-    return std::isfinite(value) ? flip * value : 1e300;
+    // The margin keeps NLopt strictly inside: a point on the boundary would fail offer()'s
+    // rigorous check half of the time, and strict relations exclude it anyway.
+    constexpr double kMargin = 1e-9;
+    return std::isfinite(value) ? flip * value + kMargin : 1e300;
   }
 
   // An upper bound of sign·f over the box (after contraction), or -inf if the box is discarded.
@@ -344,6 +372,13 @@ class Bounder {
       }
     } else {
       value = f_interval_.value(box);
+    }
+    if (f_interval_.has_enclosures()) {
+      // Tighter on the feasible points; the gradient (above) stays valid on the whole box.
+      const Interval feasible = f_interval_.feasible_value(box);
+      if (feasible.is_empty()) return -kInf;  // the linear constraints exclude the whole box
+      value = Interval{std::max(value.lo, feasible.lo), std::min(value.hi, feasible.hi),
+                       feasible.possibly_undefined};
     }
     undefined_ = undefined_ || value.possibly_undefined;
     if (value.is_empty()) return -kInf;  // f is defined nowhere in this box
@@ -430,6 +465,7 @@ class Bounder {
     const double root_bound = evaluate_box(box, sign, split);
     if (root_bound > -kInf) queue.push({root_bound, box, split});
     const std::size_t budget = options_.max_box_evaluations / 2 * (direction + 1);
+    std::size_t pops = 0, next_polish = 64;
     while (!queue.empty()) {
       const double top = std::max(queue.top().bound, settled);
       if (top - inner() <= target_gap()) break;
@@ -439,6 +475,14 @@ class Bounder {
       }
       Node node = queue.top();
       queue.pop();
+      // The best box is where the extremum most likely is: polish the inner bound from its
+      // centre now and then (a loose inner bound stops convergence as surely as a loose outer).
+      if (options_.inner && ++pops >= next_polish) {
+        next_polish *= 2;
+        std::vector<double> centre(node.box.size());
+        for (std::size_t i = 0; i < centre.size(); ++i) centre[i] = node.box[i].mid();
+        local_search(root, std::move(centre), sign);
+      }
       const Interval range = node.box[node.split];
       const double middle = range.mid();
       if (!(middle > range.lo && middle < range.hi)) {
@@ -469,6 +513,8 @@ class Bounder {
   std::vector<internal::GradientEvaluator<Interval>> g_interval_;
   std::vector<internal::GradientEvaluator<double>> g_double_;
   std::vector<LinearForm> linear_;
+  Objective objective_{};  // NLopt callback data: stable addresses while an optimiser runs
+  std::vector<Objective> constraint_data_;
   std::vector<Interval> gradient_, face_, centre_;
   std::vector<double> point_;
   BoundResult* result_{nullptr};

@@ -10,8 +10,10 @@
 
 #include <cmath>
 #include <span>
+#include <type_traits>
 #include <vector>
 
+#include "bounds/internal/linear_enclosure.hpp"
 #include "bounds/interval.hpp"
 #include "symbolic/tape.hpp"
 
@@ -50,14 +52,21 @@ class GradientEvaluator {
     }
   }
 
-  // f(x) only.
-  T value(std::span<const T> x) {
-    load(x);
-    for (const symbolic::Instruction& in : tape_->instructions()) {
-      symbolic::dispatch_instruction<D>(in, Forward{slots_.data(), in, nullptr, nullptr});
-    }
-    return slots_[tape_->output_slots()[0]];
+  // Enclosures of intermediate values valid on the feasible points only (sorted by instruction);
+  // Interval only. Used by feasible_value(), never by value() or value_and_gradient(): a
+  // gradient or a value at a centre or a face must hold at infeasible points too.
+  void set_enclosures(std::vector<NodeEnclosure> enclosures) {
+    static_assert(std::is_same_v<T, Interval>, "enclosures apply to interval evaluation");
+    enclosures_ = std::move(enclosures);
   }
+  [[nodiscard]] bool has_enclosures() const { return !enclosures_.empty(); }
+
+  // f(x) only.
+  T value(std::span<const T> x) { return forward(x, false); }
+
+  // Encloses f over the feasible points of the box x, intersecting the enclosures into the
+  // forward pass; empty if the enclosures show that x holds no feasible point.
+  T feasible_value(std::span<const T> x) { return forward(x, true); }
 
   // f(x), and df/dx_i in gradient[i].
   T value_and_gradient(std::span<const T> x, std::span<T> gradient) {
@@ -191,6 +200,24 @@ class GradientEvaluator {
     }
   }
 
+  T forward(std::span<const T> x, bool refine) {
+    load(x);
+    const auto instructions = tape_->instructions();
+    std::size_t next = 0;  // walks enclosures_ in step with k
+    for (std::size_t k = 0; k < instructions.size(); ++k) {
+      const symbolic::Instruction& in = instructions[k];
+      symbolic::dispatch_instruction<D>(in, Forward{slots_.data(), in, nullptr, nullptr});
+      if constexpr (std::is_same_v<T, Interval>) {
+        for (; refine && next < enclosures_.size() && enclosures_[next].instruction == k; ++next) {
+          const NodeEnclosure& e = enclosures_[next];
+          slots_[in.dst] =
+              intersect(slots_[in.dst], Interval{e.lower.over(x).lo, e.upper.over(x).hi});
+        }
+      }
+    }
+    return slots_[tape_->output_slots()[0]];
+  }
+
   void load(std::span<const T> x) {
     for (std::size_t i = 0; i < tape_->input_count(); ++i) slots_[i] = x[i];
   }
@@ -200,6 +227,7 @@ class GradientEvaluator {
   std::vector<T> adjoints_;
   std::vector<T> first_;   // operand a of instruction k during the last value_and_gradient
   std::vector<T> second_;  // operand b (binary instructions)
+  std::vector<NodeEnclosure> enclosures_;  // sorted by instruction; empty unless set
 };
 
 }  // namespace spar::bounds::internal

@@ -58,6 +58,45 @@ TEST(Bound, NonlinearConstraintDiscardsBoxes) {
   EXPECT_GE(r.hi, 2.0);
 }
 
+// Heron's formula under strict triangle inequalities (FPBench triangle2): the minimum 0.0994 sits
+// where a + b - c = 0.01; the box alone lets (a + b - c) / 2 go negative, so only the enclosure of
+// that affine value by the constraint lifts the lower bound off 0.
+TEST(Bound, LinearConstraintsTightenAffineSubexpressions) {
+  ExprPool pool;
+  Box box;
+  for (const char* name : {"a", "b", "c"}) box.add(pool.variable(name), 1, 9);
+  const Expr f = symbolic::parse(
+      pool, "sqrt((a+b+c)/2 * ((a+b+c)/2 - a) * ((a+b+c)/2 - b) * ((a+b+c)/2 - c))");
+  const std::vector<Constraint> constraints = {
+      {symbolic::parse(pool, "a + b - (c + 0.01)"), Relation::kGreater},
+      {symbolic::parse(pool, "a + c - (b + 0.01)"), Relation::kGreater},
+      {symbolic::parse(pool, "b + c - (a + 0.01)"), Relation::kGreater}};
+  const BoundResult r = bound(f, box, {.tolerance = 1e-3}, constraints);
+  EXPECT_EQ(r.status, BoundStatus::kConverged);
+  EXPECT_LE(r.lo, 0.099375);  // attained at a = b = 1, c = 1.99
+  EXPECT_GT(r.lo, 0.099375 - 1e-3 * 35.08);
+  EXPECT_GT(r.inner_lo, 0.0993);
+}
+
+// FPBench floudas2: maximise x1 + x2 under two quartic constraints. The maximiser is where both
+// constraints are active; NLopt must end strictly inside them for the witness to count, and boxes
+// along the curved boundary are decided by the mean-value form of the constraints.
+TEST(Bound, CurvedConstraintsConverge) {
+  ExprPool pool;
+  Box box;
+  box.add(pool.variable("x1"), 0, 3);
+  box.add(pool.variable("x2"), 0, 4);
+  const std::vector<Constraint> constraints = {
+      {symbolic::parse(pool, "2*x1^4 - 8*x1^3 + 8*x1^2 - x2"), Relation::kGreaterEqual},
+      {symbolic::parse(pool, "4*x1^4 - 32*x1^3 + 88*x1^2 - 96*x1 + 36 - x2"),
+       Relation::kGreaterEqual}};
+  const BoundResult r = bound(symbolic::parse(pool, "-x1 - x2"), box, {}, constraints);
+  EXPECT_EQ(r.status, BoundStatus::kConverged);
+  EXPECT_LE(r.lo, -4.9652207);
+  EXPECT_GT(r.lo, -4.9652207 - 1e-3 * 4.97);
+  EXPECT_LT(r.inner_lo, -4.965);
+}
+
 TEST(Bound, InfeasibleConstraintsAreReported) {
   ExprPool pool;
   Box box;
@@ -228,6 +267,51 @@ RC_GTEST_PROP(Bound, EveryMethodContainsValuesAtRandomPoints, ()) {
     RC_ASSERT(r.lo <= r.inner_lo || r.argmin.empty());
     RC_ASSERT(r.inner_hi <= r.hi || r.argmax.empty());
   }
+}
+
+// Property: with a random constraint (linear in x, y, or with an x·y term) every feasible point
+// where f is defined has its value inside [lo, hi]. Exercises the enclosure of affine
+// subexpressions by linear constraints and the mean-value test of constraints.
+RC_GTEST_PROP(Bound, ConstrainedBoundContainsFeasibleValues, ()) {
+  ExprPool pool;
+  const Expr f = random_expression(pool);
+  const Expr x = pool.variable("x"), y = pool.variable("y");
+  Box box;
+  for (const Expr v : {x, y}) {
+    const double lo = *rc::gen::inRange(-3000, 3000) / 1000.0;
+    box.add(v, lo, lo + std::pow(10.0, *rc::gen::inRange(-300, 150) / 100.0));
+  }
+  const auto coefficient = [&] {
+    return pool.constant(symbolic::Number::rational(*rc::gen::inRange(-12, 13), 4));
+  };
+  Expr g = coefficient() * x + coefficient() * y + coefficient();
+  if (*rc::gen::inRange(0, 3) == 0) g = g + coefficient() * x * y;
+  const Constraint constraint{g, *rc::gen::element(Relation::kLessEqual, Relation::kGreater)};
+  const BoundResult r =
+      bound(f, box, {.max_box_evaluations = 4000, .max_seconds = 0.05}, std::span(&constraint, 1));
+  const symbolic::Tape f_tape = symbolic::Tape::compile(std::array{f}, box.variables);
+  const symbolic::Tape g_tape = symbolic::Tape::compile(std::array{g}, box.variables);
+  symbolic::TapeEvaluator<Interval> f_at(f_tape), g_at(g_tape);
+  int feasible = 0;
+  for (int k = 0; k < 40; ++k) {
+    Interval p[2], value[1], slack[1];
+    for (int i = 0; i < 2; ++i) {
+      const Interval range = box.ranges[i];
+      p[i] = Interval{std::min(
+          range.hi, range.lo + (range.hi - range.lo) * (*rc::gen::inRange(0, 1001) / 1000.0))};
+    }
+    g_at.evaluate(p, slack);
+    const bool holds =
+        constraint.relation == Relation::kLessEqual ? slack[0].hi <= 0 : slack[0].lo > 0;
+    if (!holds) continue;
+    ++feasible;
+    f_at.evaluate(p, value);
+    if (value[0].is_empty() || value[0].possibly_undefined) continue;
+    RC_ASSERT(r.status != BoundStatus::kInfeasible);
+    RC_ASSERT(value[0].hi >= r.lo);
+    RC_ASSERT(value[0].lo <= r.hi);
+  }
+  RC_CLASSIFY(feasible > 0, "some feasible sample");
 }
 
 }  // namespace

@@ -79,7 +79,9 @@ TEST(Corpus, EveryRecordIsSoundAndNearlyAllConverge) {
   }
   EXPECT_EQ(unbounded_records, 2);
   std::cout << "converged " << converged << " of " << bounded << " bounded records\n";
-  EXPECT_GE(converged, bounded - 3);
+  // 74 of 75: instantaneousCurrent (5 variables, cos over ~30000 periods) still stops at the
+  // effort limit; see bench/RESULTS.md.
+  EXPECT_GE(converged, bounded - 1);
 }
 
 }  // namespace
