@@ -244,6 +244,13 @@ void sort_and_merge(std::vector<Entry>& entries) {
 
 }  // namespace
 
+std::vector<Term> ExprPool::terms_of(std::span<const std::pair<std::uint32_t, Number>> entries) {
+  std::vector<Term> terms;
+  terms.reserve(entries.size());
+  for (const auto& [id, factor] : entries) terms.push_back({Expr(this, id), factor});
+  return terms;
+}
+
 Expr ExprPool::sum(const Number& constant, std::span<const Term> terms) {
   // Real (inexact) numbers are never folded: a real constant term or coefficient stays a
   // Constant operand, so construction never rounds; the bounds engine encloses it instead.
@@ -302,6 +309,12 @@ Expr ExprPool::sum(const Number& constant, std::span<const Term> terms) {
     }
   }
   sort_and_merge(entries);
+  // Folding rationals can overflow 64 bits into a real; build again so the entry point above
+  // turns that real into an operand (Add factors stay rational).
+  if (!c0.is_rational() || std::any_of(entries.begin(), entries.end(),
+                                       [](const Entry& e) { return !e.second.is_rational(); })) {
+    return sum(c0, terms_of(entries));
+  }
   if (entries.empty()) return this->constant(c0);
   if (c0.is_zero() && entries.size() == 1) {
     const Expr only(this, entries[0].first);
@@ -357,6 +370,14 @@ Expr ExprPool::product(const Number& coefficient, std::span<const Term> factors)
     return true;
   });
   if (c.is_zero()) return constant(Number());
+  for (const Entry& entry : entries) {
+    if (!entry.second.is_rational()) {
+      throw SymbolicError("exponent too large to represent exactly (64-bit rational overflow)");
+    }
+  }
+  if (!c.is_rational()) {  // the coefficient overflowed 64 bits: it becomes an operand
+    return product(c, terms_of(entries));
+  }
   if (entries.empty()) return constant(c);
   if (entries.size() == 1 && entries[0].second.is_one()) {
     const Expr only(this, entries[0].first);

@@ -33,7 +33,9 @@
 //   * Only exact rationals fold. A real constant (measured data, or a decimal too long to be a
 //     64-bit rational) is never combined with another number: it stays a Constant operand (a sum
 //     term, or a product base), so construction never rounds; bounds/ encloses it instead.
-//     Hence c0, the Add coefficients and the Mul coefficient c are always rational.
+//     Hence c0, the Add coefficients and the Mul coefficient c are always rational. A fold whose
+//     result overflows 64 bits gives a real (see number.hpp), which becomes a Constant operand
+//     in the same way; from there on, as with floating point, grouping may change the result.
 //   * Functions fold only exact special values: sin(0) = 0, cos(0) = 1, exp(0) = 1, log(1) = 0,
 //     sqrt of a perfect-square rational, abs of a constant, min/max of constants or of equal
 //     arguments. No libm call is ever folded into a constant (that would round it).
@@ -173,6 +175,9 @@ class ExprPool {
  private:
   friend class Expr;
   friend std::vector<Expr> topological_order(std::span<const Expr> roots);
+  // (node id, factor) pairs of a sum or product under construction, as terms of this pool.
+  [[nodiscard]] std::vector<Term> terms_of(
+      std::span<const std::pair<std::uint32_t, Number>> entries);
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

@@ -95,10 +95,14 @@ Number Number::from_rational128(__int128 numerator, __int128 denominator) {
     n.set_rational_enclosure();
     return n;
   }
-  // Overflow: keep a sound enclosure. Each int128 -> double conversion and the division round
-  // once (relative error 2^-53 each), so four ulps each way cover them.
-  const double value = static_cast<double>(numerator) / static_cast<double>(denominator);
-  return from_enclosure(value, widen_down(value, 4), widen_up(value, 4));
+  // Overflow: keep a sound enclosure, the same one parse_decimal gives the 17-digit printout of
+  // the value, so an overflowed constant survives print and parse. In long double (>= 64-bit
+  // mantissa) the quotient is within 3 * 2^-64 relative of the true value; rounding it to double
+  // adds at most half an ulp, so the true value lies strictly between the value's neighbours.
+  static_assert(std::numeric_limits<long double>::digits >= 64);
+  const double value = static_cast<double>(static_cast<long double>(numerator) /
+                                           static_cast<long double>(denominator));
+  return from_enclosure(value, next_down(value), next_up(value));
 }
 
 void Number::set_rational_enclosure() {
@@ -148,15 +152,20 @@ std::optional<Number> Number::parse_decimal(std::string_view text) {
   if (i != text.size()) return std::nullopt;
 
   // Significant digits: strip leading zeros, then trailing zeros (moving them into the exponent).
+  // Trailing zeros written after the point still count as written precision: "2.5000000000000000"
+  // (17 digits) is the printout of a real and re-parses as one, while "1e20" or "2.5" are exact.
   const std::size_t first = digits.find_first_not_of('0');
   if (first == std::string::npos) return Number();
   std::string significant = digits.substr(first);
+  const bool written_as_real =
+      fraction_digits > 0 && static_cast<int>(significant.size()) > kMaxExactDecimalDigits;
   long scale = exponent - fraction_digits;
   while (significant.size() > 1 && significant.back() == '0') {
     significant.pop_back();
     ++scale;
   }
-  if (static_cast<int>(significant.size()) <= kMaxExactDecimalDigits && std::labs(scale) <= 18) {
+  if (!written_as_real && static_cast<int>(significant.size()) <= kMaxExactDecimalDigits &&
+      std::labs(scale) <= 18) {
     __int128 mantissa = std::stoll(significant);
     __int128 power = 1;
     for (long k = 0; k < std::labs(scale); ++k) power *= 10;
@@ -285,13 +294,16 @@ std::string Number::to_string() const {
       if (static_cast<int>(digits.size()) <= places) {
         digits.insert(0, places - digits.size() + 1, '0');
       }
-      digits.insert(digits.size() - places, ".");
-      return (negative ? "-" : "") + digits;
+      const std::size_t point = digits.size() - static_cast<std::size_t>(places);
+      std::string text(negative ? "-" : "");
+      text.append(digits, 0, point).append(1, '.').append(digits, point);
+      return text;
     }
     return std::to_string(numerator_) + "/" + std::to_string(denominator_);
   }
   char buffer[40];
-  std::snprintf(buffer, sizeof buffer, "%.17g", value_);
+  // 17 significant digits, trailing zeros kept ('#'), so that the text reads back as a real.
+  std::snprintf(buffer, sizeof buffer, "%#.17g", value_);
   return buffer;
 }
 

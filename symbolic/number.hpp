@@ -6,8 +6,10 @@
 //     every sum, product or integer power of such constants that does not overflow; or
 //   * a real: a double `value` together with a guaranteed enclosure `[lower, upper]` of the true
 //     quantity. A double handed in by a caller (measured data) is exact: lower = value = upper.
-//     A decimal literal too long to be a 64-bit rational, and any arithmetic on reals, widens the
-//     enclosure outward by one ulp per rounded operation, so the enclosure stays sound.
+//     A decimal literal written with more than 16 significant digits (zeros after the point
+//     count), and a rational result that overflows 64 bits, become the nearest double enclosed by
+//     its two neighbours; any arithmetic on reals widens the enclosure outward by one ulp per
+//     rounded operation, so the enclosure stays sound.
 // NaN and infinities are never Numbers: constructing one throws SymbolicError.
 //
 // The bounds engine turns a Number into an interval with `lower()`/`upper()`, which are outward
@@ -50,7 +52,8 @@ class Number {
   // 2.0 and 2 are the same constant. Throws SymbolicError for NaN or infinity.
   [[nodiscard]] static Number real(double value);
   // Parses a decimal literal such as "12", "0.25", "4.27e-05". Returns an exact rational when it
-  // fits in 64 bits, else a one-ulp enclosure of the nearest double. nullopt if not a literal.
+  // has at most 16 significant digits and fits in 64 bits, else a one-ulp enclosure of the
+  // nearest double. nullopt if not a literal.
   [[nodiscard]] static std::optional<Number> parse_decimal(std::string_view text);
 
   [[nodiscard]] bool is_rational() const { return kind_ == Kind::kRational; }
@@ -93,7 +96,9 @@ class Number {
   [[nodiscard]] std::size_t hash() const;
 
   // "3", "-1/2", "0.1" (rationals whose denominator is 2^a 5^b print as exact decimals when short),
-  // reals with 17 significant digits. parse_decimal / the expression parser read every form back.
+  // reals with 17 significant digits, trailing zeros kept. parse_decimal reads every form back; a
+  // real read back is the one-ulp enclosure of its value (identical for parsed or overflowed
+  // reals).
   [[nodiscard]] std::string to_string() const;
 
  private:

@@ -235,17 +235,68 @@ Precedence number_precedence(const Number& n) {
   return kAtom;
 }
 
-struct Printed {
-  std::string text;
-  Precedence precedence;
-  // The text is a product whose first factor is a parenthesised sum. A coefficient printed in
-  // front of it ("3*" or a unary "-") must group the whole product, or re-parsing would
-  // distribute the coefficient into that sum and build a different node.
-  bool starts_with_sum = false;
+// How a node prints, as a layout: literal text interleaved with references to its operands'
+// layouts. Storing layouts instead of finished strings keeps printing linear in the output: a
+// chain n deep would otherwise hold n strings of growing length (quadratic memory).
+struct Piece {
+  std::string text;        // literal text (when !is_child)
+  std::uint32_t child{0};  // operand id (when is_child)
+  bool is_child{false};
+  bool parens{false};  // wrap the child's text in parentheses
 };
 
-std::string wrap(const Printed& p, Precedence needed) {
-  return p.precedence < needed ? "(" + p.text + ")" : p.text;
+struct Layout {
+  std::vector<Piece> pieces;
+  Precedence precedence{kAtom};
+  // The layout is a product whose first factor is a parenthesised sum. A coefficient printed in
+  // front of it ("3*" or a unary "-") must group the whole product, or re-parsing would
+  // distribute the coefficient into that sum and build a different node.
+  bool starts_with_sum{false};
+
+  void text(std::string s) {
+    if (!pieces.empty() && !pieces.back().is_child) {
+      pieces.back().text += s;
+    } else {
+      pieces.push_back({std::move(s), 0, false, false});
+    }
+  }
+  void child(Expr e, bool parens) { pieces.push_back({{}, e.id(), true, parens}); }
+  void append(const Layout& other) {
+    for (const Piece& p : other.pieces) p.is_child ? pieces.push_back(p) : text(p.text);
+  }
+};
+
+std::string number_text(const Number& n, Precedence needed) {
+  std::string text = n.to_string();
+  if (number_precedence(n) < needed) text.insert(0, 1, '(').push_back(')');
+  return text;
+}
+
+// Writes the tree text of `root` from the layouts with an explicit stack (any depth).
+std::string emit(Expr root, const std::unordered_map<std::uint32_t, Layout>& layouts) {
+  struct Frame {
+    const Layout* layout;
+    std::size_t next;
+    bool close;  // write ")" when done
+  };
+  std::string out;
+  std::vector<Frame> stack{{&layouts.at(root.id()), 0, false}};
+  while (!stack.empty()) {
+    Frame& top = stack.back();
+    if (top.next == top.layout->pieces.size()) {
+      if (top.close) out += ')';
+      stack.pop_back();
+      continue;
+    }
+    const Piece& piece = top.layout->pieces[top.next++];
+    if (!piece.is_child) {
+      out += piece.text;
+      continue;
+    }
+    if (piece.parens) out += '(';
+    stack.push_back({&layouts.at(piece.child), 0, piece.parens});
+  }
+  return out;
 }
 
 }  // namespace
@@ -258,95 +309,106 @@ std::string to_string(Expr root, double max_tree_nodes) {
     throw SymbolicError("expression too large to print as text: " + std::to_string(size) +
                         " nodes as a tree (" + std::to_string(dag_size(root)) + " as a DAG)");
   }
-  std::unordered_map<std::uint32_t, Printed> printed;
-  auto get = [&](Expr e) -> const Printed& { return printed.at(e.id()); };
+  std::unordered_map<std::uint32_t, Layout> layouts;
+  auto get = [&](Expr e) -> const Layout& { return layouts.at(e.id()); };
   for (Expr e : topological_order(std::span<const Expr>(&root, 1))) {
-    Printed out;
+    Layout out;
     switch (e.op()) {
       case Op::kConstant:
-        out = {e.constant().to_string(), number_precedence(e.constant())};
+        out.text(e.constant().to_string());
+        out.precedence = number_precedence(e.constant());
         break;
       case Op::kVariable:
-        out = {e.name(), kAtom};
+        out.text(e.name());
         break;
       case Op::kAdd: {
-        std::string s;
         for (std::size_t i = 0; i < e.operand_count(); ++i) {
           const Number& c = e.factor(i);
-          const Printed& term = get(e.operand(i));
+          const Layout& term = get(e.operand(i));
           const bool negative = c.is_negative();
           const Number magnitude = negative ? -c : c;
           if (i > 0) {
-            s += negative ? " - " : " + ";
+            out.text(negative ? " - " : " + ");
           } else if (negative) {
-            s += "-";
+            out.text("-");
           }
           // After "c*" or a leading unary "-", a product starting with a sum must be grouped.
           const bool prefixed = !magnitude.is_one() || (i == 0 && negative);
-          if (!magnitude.is_one()) {
-            s += wrap({magnitude.to_string(), number_precedence(magnitude)}, kProduct) + "*";
-          }
-          s += prefixed && term.starts_with_sum ? "(" + term.text + ")" : wrap(term, kProduct);
+          if (!magnitude.is_one()) out.text(number_text(magnitude, kProduct) + "*");
+          out.child(e.operand(i), (prefixed && term.starts_with_sum) || term.precedence < kProduct);
         }
         const Number& c0 = e.constant();
         if (!c0.is_zero())
-          s += (c0.is_negative() ? " - " : " + ") + (c0.is_negative() ? -c0 : c0).to_string();
-        out = {s, kSum};
+          out.text((c0.is_negative() ? " - " : " + ") + (c0.is_negative() ? -c0 : c0).to_string());
+        out.precedence = kSum;
         break;
       }
       case Op::kMul: {
-        std::vector<std::string> numerator, denominator;
+        Layout numerator, denominator;
+        std::size_t numerator_count = 0, denominator_count = 0;
         std::size_t first_numerator = e.operand_count();
         for (std::size_t i = 0; i < e.operand_count(); ++i) {
           const Number& exponent = e.factor(i);
-          const Printed& base = get(e.operand(i));
+          const Layout& base = get(e.operand(i));
           const bool inverse = exponent.is_negative();
           const Number magnitude = inverse ? -exponent : exponent;
-          std::string factor =
-              magnitude.is_one()
-                  ? wrap(base, kProduct)
-                  : wrap(base, kAtom) + "^" +
-                        wrap({magnitude.to_string(), number_precedence(magnitude)}, kAtom);
-          if (!inverse && numerator.empty()) first_numerator = i;
-          (inverse ? denominator : numerator).push_back(factor);
+          Layout& side = inverse ? denominator : numerator;
+          std::size_t& count = inverse ? denominator_count : numerator_count;
+          if (!inverse && count == 0) first_numerator = i;
+          if (count++ > 0) side.text("*");
+          if (magnitude.is_one()) {
+            side.child(e.operand(i), base.precedence < kProduct);
+          } else {
+            side.child(e.operand(i), base.precedence < kAtom);
+            side.text("^");
+            side.text(number_text(magnitude, kAtom));
+          }
         }
-        std::string rest;
-        for (std::size_t i = 0; i < numerator.size(); ++i) rest += (i ? "*" : "") + numerator[i];
-        if (!denominator.empty()) {
-          std::string d;
-          for (std::size_t i = 0; i < denominator.size(); ++i) d += (i ? "*" : "") + denominator[i];
-          rest += "/" + (denominator.size() > 1 ? "(" + d + ")" : d);
+        Layout rest = numerator;
+        if (denominator_count > 0) {
+          rest.text("/");
+          if (denominator_count > 1) rest.text("(");
+          rest.append(denominator);
+          if (denominator_count > 1) rest.text(")");
         }
         const bool starts_with_sum =
-            !numerator.empty() && e.operand(first_numerator).op() == Op::kAdd;
+            numerator_count > 0 && e.operand(first_numerator).op() == Op::kAdd;
         const Number& c = e.constant();
         const bool negative = c.is_negative();
         const Number magnitude = negative ? -c : c;
-        std::string s = negative ? "-" : "";
-        if (!magnitude.is_one() || numerator.empty()) {
-          s += wrap({magnitude.to_string(), number_precedence(magnitude)}, kProduct);
-          if (!numerator.empty()) s += "*";
+        if (negative) out.text("-");
+        if (!magnitude.is_one() || numerator_count == 0) {
+          out.text(number_text(magnitude, kProduct));
+          if (numerator_count > 0) out.text("*");
         }
         const bool grouped = (negative || !magnitude.is_one()) && starts_with_sum;
-        s += grouped ? "(" + rest + ")" : rest;
+        if (grouped) out.text("(");
+        out.append(rest);
+        if (grouped) out.text(")");
         const bool single_power =
-            !negative && magnitude.is_one() && numerator.size() == 1 && denominator.empty();
-        out = {s, negative ? kSum : (single_power ? kPower : kProduct),
-               !negative && magnitude.is_one() && starts_with_sum};
+            !negative && magnitude.is_one() && numerator_count == 1 && denominator_count == 0;
+        out.precedence = negative ? kSum : (single_power ? kPower : kProduct);
+        out.starts_with_sum = !negative && magnitude.is_one() && starts_with_sum;
         break;
       }
       case Op::kPow:
-        out = {wrap(get(e.operand(0)), kAtom) + "^" + wrap(get(e.operand(1)), kAtom), kPower};
+        out.child(e.operand(0), get(e.operand(0)).precedence < kAtom);
+        out.text("^");
+        out.child(e.operand(1), get(e.operand(1)).precedence < kAtom);
+        out.precedence = kPower;
         break;
-      default: {
-        std::string s = std::string(function_name(e.op())) + "(" + get(e.operand(0)).text;
-        if (e.operand_count() == 2) s += ", " + get(e.operand(1)).text;
-        out = {s + ")", kAtom};
-      }
+      default:
+        out.text(std::string(function_name(e.op())) + "(");
+        out.child(e.operand(0), false);
+        if (e.operand_count() == 2) {
+          out.text(", ");
+          out.child(e.operand(1), false);
+        }
+        out.text(")");
     }
-    printed.emplace(e.id(), std::move(out));
+    layouts.emplace(e.id(), std::move(out));
   }
-  return printed.at(root.id()).text;
+  return emit(root, layouts);
 }
 
 }  // namespace spar::symbolic

@@ -34,6 +34,27 @@ TEST(Number, OverflowFallsBackToSoundEnclosure) {
   EXPECT_GE(square.upper(), std::ldexp(1.0, 124));
 }
 
+// Regression (corpus record instantaneousCurrent): (2*3.14159265359)^2 overflows 64 bits. The
+// enclosure must contain the exact value and survive print and parse unchanged.
+TEST(Number, OverflowedConstantRoundTripsThroughText) {
+  const Number two_pi = Number::rational(314159265359, 50000000000);
+  const Number square = two_pi * two_pi;
+  ASSERT_FALSE(square.is_rational());
+  const long double exact = 6.28318530718L * 6.28318530718L;
+  EXPECT_LE(static_cast<long double>(square.lower()), exact);
+  EXPECT_GE(static_cast<long double>(square.upper()), exact);
+  EXPECT_EQ(*Number::parse_decimal(square.to_string()), square);
+}
+
+TEST(Number, TrailingZerosAfterThePointAreWrittenPrecision) {
+  EXPECT_TRUE(Number::parse_decimal("2.5")->is_rational());
+  EXPECT_TRUE(Number::parse_decimal("1000000000000000000")->is_rational());  // 1e18 exactly
+  const Number printed = *Number::parse_decimal("2.5000000000000000");       // 17 digits
+  EXPECT_FALSE(printed.is_rational());
+  EXPECT_LT(printed.lower(), 2.5);
+  EXPECT_GT(printed.upper(), 2.5);
+}
+
 TEST(Number, RealArithmeticWidensOutward) {
   const Number a = Number::real(0.1), b = Number::real(0.2);
   const Number sum = a + b;  // 0.1 + 0.2 rounds in double
@@ -128,9 +149,23 @@ TEST_F(ExprTest, MixingPoolsIsAnError) {
   EXPECT_THROW((void)(x + w), SymbolicError);
 }
 
+// Regression: a product whose rational coefficient overflows keeps it as a constant operand, so
+// Add and Mul factors stay exact rationals (a checked invariant) and the text re-parses.
+TEST_F(ExprTest, OverflowingCoefficientBecomesAConstantOperand) {
+  const Expr two_pi_x = pool.constant(Number::rational(314159265359, 50000000000)) * x;
+  const Expr square = two_pi_x * two_pi_x;
+  ASSERT_EQ(square.op(), Op::kMul);
+  EXPECT_TRUE(square.constant().is_one());
+  EXPECT_EQ(square.operand_count(), 2u);  // x^2 and the overflowed constant
+  const Expr sum = square + y * 3;
+  pool.check_invariants();
+  EXPECT_EQ(parse(pool, to_string(sum)), sum);
+}
+
 TEST_F(ExprTest, LargeSumInAnyOrderIsOneNode) {
   std::vector<Expr> terms;
-  for (int i = 0; i < 40; ++i) terms.push_back(pool.variable("v" + std::to_string(i)) * (i + 1));
+  for (int i = 0; i < 40; ++i)
+    terms.push_back(pool.variable(std::string("v").append(std::to_string(i))) * (i + 1));
   const Expr forward = pool.sum(terms);
   std::mt19937 rng(7);
   std::shuffle(terms.begin(), terms.end(), rng);

@@ -76,9 +76,7 @@ TEST(Print, RoundTripsThroughParse) {
   }
 }
 
-// Known failure: real constants folded by sqrt-of-square patterns in one corpus record do not
-// round-trip yet (see the closing note); re-enable once fixed.
-TEST(Print, DISABLED_EveryCorpusExpressionRoundTrips) {
+TEST(Print, EveryCorpusExpressionRoundTrips) {
   std::ifstream corpus(std::string(SPAR_CORPUS_DIR) + "/fpbench.jsonl");
   ASSERT_TRUE(corpus) << "corpus not found";
   std::string line;
