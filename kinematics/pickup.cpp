@@ -33,11 +33,8 @@ PickupPreconditions pickup_preconditions(const PickupGeometry& geometry,
   const SymbolicTransform ideal_gripper = object_pose * grasp;  // constants: folds to numbers
 
   const double half_opening = geometry.finger_opening / 2, half_width = geometry.object_width / 2;
-  const SymbolicPoint contacts[2] = {
-      object.possible_point(geometry.object_pose,
-                            grasp.apply(constant_point(pool, 0, +half_width, 0))),
-      object.possible_point(geometry.object_pose,
-                            grasp.apply(constant_point(pool, 0, -half_width, 0)))};
+  const SymbolicPoint contacts[2] = {grasp.apply(constant_point(pool, 0, +half_width, 0)),
+                                     grasp.apply(constant_point(pool, 0, -half_width, 0))};
   const SymbolicTransform finger_offsets[2] = {trans(pool, 0, -half_opening, 0),
                                                trans(pool, 0, +half_opening, 0)};
 
@@ -48,17 +45,25 @@ PickupPreconditions pickup_preconditions(const PickupGeometry& geometry,
   for (const UncertaintyVariable& v : result.variables) {
     simplify_options.widths[v.name] = v.upper - v.lower;
   }
+  // T_ΔM^-1 (T_O T_G)^-1 C per contact, C in object-frame coordinates until then; the finger
+  // offsets only shift its y coordinate, so x and y are all that is built of it.
+  std::array<SymbolicPoint, 2> in_gripper;
+  for (int contact = 0; contact < 2; ++contact) {
+    const SymbolicPoint in_ideal =
+        object.possible_point_in(ideal_gripper, geometry.object_pose, contacts[contact]);
+    for (int row = 0; row < 2; ++row) {
+      in_gripper[contact][row] = gripper.error().apply_inverse_coordinate(in_ideal, row);
+    }
+    in_gripper[contact][2] = pool.integer(0);  // z: not needed for [0,1,0,0]
+  }
   for (int finger = 0; finger < 2; ++finger) {
     for (int contact = 0; contact < 2; ++contact) {
-      const SymbolicPoint in_gripper = ideal_gripper.apply_inverse(contacts[contact]);
-      const SymbolicPoint in_finger =
-          finger_offsets[finger].apply_inverse(gripper.error().apply_inverse(in_gripper));
+      const Expr y = finger_offsets[finger].apply_inverse_coordinate(in_gripper[contact], 1);
       const bool positive = finger == 0;
       result.conditions[finger * 2 + contact] = {
           std::string(positive ? "0 < " : "0 > ") + "[0,1,0,0] P" + std::to_string(finger + 1) +
               "^-1 C" + std::to_string(contact + 1),
-          options.simplify ? symbolic::simplify(in_finger[1], simplify_options) : in_finger[1],
-          positive};
+          options.simplify ? symbolic::simplify(y, simplify_options) : y, positive};
     }
   }
   return result;

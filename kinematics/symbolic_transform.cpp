@@ -108,16 +108,18 @@ SymbolicPoint SymbolicTransform::apply(const SymbolicPoint& point) const {
 }
 
 SymbolicPoint SymbolicTransform::apply_inverse(const SymbolicPoint& point) const {
-  SymbolicPoint difference;
-  for (int k = 0; k < 3; ++k) difference[k] = point[k] - translation_[k];
-  SymbolicPoint result;
-  for (int row = 0; row < 3; ++row) {
-    const std::pair<Expr, Expr> products[] = {{rotation(0, row), difference[0]},
-                                              {rotation(1, row), difference[1]},
-                                              {rotation(2, row), difference[2]}};
-    result[row] = sum_of_products(*pool_, products, Expr());
+  return {apply_inverse_coordinate(point, 0), apply_inverse_coordinate(point, 1),
+          apply_inverse_coordinate(point, 2)};
+}
+
+Expr SymbolicTransform::apply_inverse_coordinate(const SymbolicPoint& point, int row) const {
+  // Entries of p - t are built only where column `row` of R is not a constant 0.
+  std::pair<Expr, Expr> products[3];
+  for (int k = 0; k < 3; ++k) {
+    const Expr r = rotation(k, row);
+    products[k] = {r, is_constant_zero(r) ? r : point[k] - translation_[k]};
   }
-  return result;
+  return sum_of_products(*pool_, products, Expr());
 }
 
 Transform SymbolicTransform::evaluate(const std::map<std::string, double>& values) const {

@@ -53,6 +53,8 @@ class SymbolicTransform {
   [[nodiscard]] SymbolicPoint apply(const SymbolicPoint& point) const;
   // R^T (p - t): the parent-frame point p expressed in this frame (rigid inverse, applied).
   [[nodiscard]] SymbolicPoint apply_inverse(const SymbolicPoint& point) const;
+  // Coordinate `row` (0, 1, 2) of apply_inverse(point) alone: (R^T)_row · (p - t).
+  [[nodiscard]] symbolic::Expr apply_inverse_coordinate(const SymbolicPoint& point, int row) const;
   // The numeric pose at a point (every variable of every entry needs a value; throws
   // symbolic::SymbolicError otherwise).
   [[nodiscard]] Transform evaluate(const std::map<std::string, double>& values) const;

@@ -1,6 +1,7 @@
 #include "kinematics/uncertain_pose.hpp"
 
 #include <cctype>
+#include <vector>
 
 namespace spar::kinematics {
 
@@ -64,6 +65,46 @@ SymbolicPoint UncertainObject::possible_point(const Transform& ideal,
   const SymbolicPoint turned = rotz(dtheta()).apply(
       SymbolicTransform::from_numeric(pool, rotation_part(ideal)).apply(local_point));
   return trans(dx() + t.x(), dy() + t.y(), dz() + t.z()).apply(turned);
+}
+
+SymbolicPoint UncertainObject::possible_point_in(const SymbolicTransform& frame,
+                                                 const Transform& ideal,
+                                                 const SymbolicPoint& local_point) const {
+  using symbolic::Number;
+  ExprPool& pool = dx().pool();
+  const auto constant_of = [](Expr e, const char* what) -> const Number& {
+    if (!e.is_constant()) {
+      throw KinematicsError(std::string("possible_point_in: ") + what +
+                            " must have constant entries");
+    }
+    return e.constant();
+  };
+  // p = R_O local_point and the translations, as Numbers.
+  std::array<Number, 3> p, offset;
+  for (int row = 0; row < 3; ++row) {
+    for (int k = 0; k < 3; ++k) {
+      p[row] = p[row] + Number::real(ideal.linear()(row, k)) *
+                            constant_of(local_point[k], "the local point");
+    }
+    offset[row] =
+        Number::real(ideal.translation()(row)) - constant_of(frame.translation()[row], "the frame");
+  }
+  // C = (Δx + c p_x - s p_y, Δy + s p_x + c p_y, Δz + p_z) + t_O;  result = R_F^T (C - t_F).
+  const Expr atoms[5] = {dx(), dy(), dz(), cos(dtheta()), sin(dtheta())};
+  SymbolicPoint result;
+  for (int row = 0; row < 3; ++row) {
+    std::array<Number, 3> a;  // column `row` of R_F
+    for (int k = 0; k < 3; ++k) a[k] = constant_of(frame.rotation(k, row), "the frame");
+    const Number coefficients[5] = {a[0], a[1], a[2], a[0] * p[0] + a[1] * p[1],
+                                    a[1] * p[0] - a[0] * p[1]};
+    std::vector<Expr> terms;
+    terms.push_back(pool.constant(a[0] * offset[0] + a[1] * offset[1] + a[2] * (offset[2] + p[2])));
+    for (int k = 0; k < 5; ++k) {
+      if (!coefficients[k].is_zero()) terms.push_back(pool.constant(coefficients[k]) * atoms[k]);
+    }
+    result[row] = pool.sum(terms);
+  }
+  return result;
 }
 
 UncertainObject::UncertainObject(ExprPool& pool, const PoseUncertainty& bounds,

@@ -86,6 +86,18 @@ class UncertainObject : public PoseUncertaintyVariables {
   // a flat sum linear in cos Δθ, sin Δθ, Δx, Δy, Δz.
   [[nodiscard]] SymbolicPoint possible_point(const Transform& ideal,
                                              const SymbolicPoint& local_point) const;
+  // frame^-1 Tr_ΔO Tr_O R_ΔO R_O p: the possible point expressed in a known frame (the ideal
+  // gripper T_O T_G for the pickup conditions). `frame` and `local_point` must have constant
+  // entries (throws KinematicsError otherwise). Each coordinate is built as ONE flat sum
+  //   a·Δx + b·Δy + c·Δz + d·cos Δθ + e·sin Δθ + f,
+  // the numeric parts (R_F^T, R_O p, t_O - t_F) folded into a..f with Number arithmetic (sound
+  // enclosures, as SymbolicTransform folds constants). Expression construction never combines
+  // real constants, so composing the same thing as transforms leaves real-coefficient-times-sum
+  // terms nested and every object variable repeated; here each occurs once per coordinate, and
+  // R_ΔO meets no transpose of itself.
+  [[nodiscard]] SymbolicPoint possible_point_in(const SymbolicTransform& frame,
+                                                const Transform& ideal,
+                                                const SymbolicPoint& local_point) const;
 };
 
 }  // namespace spar::kinematics

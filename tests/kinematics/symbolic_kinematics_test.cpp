@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <rapidcheck/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <numbers>
@@ -172,6 +173,54 @@ TEST(UncertainPose, RejectsANegativeBoundWithAMessage) {
   EXPECT_THROW_MESSAGE(UncertainObject(pool, {0.1, -0.1, 0.1, 0.1}), "dy_o must be >= 0");
 }
 
+// A tipped-over object seen from a frame that is neither the world nor the object's.
+struct PointInFrameCase {
+  Transform ideal = Eigen::Translation3d(5, 6, 1) *
+                    Eigen::AngleAxisd(std::numbers::pi / 2, Eigen::Vector3d::UnitX());
+  Transform frame =
+      Eigen::Translation3d(4, 7, 2) * Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized());
+};
+
+RC_GTEST_PROP(UncertainPose, PointInFrameIsInverseFrameTimesPossiblePose, ()) {
+  const PointInFrameCase c;
+  ExprPool pool;
+  const UncertainObject object(pool, {0.1, 0.1, 0.1, 0.1});
+  const SymbolicPoint q = object.possible_point_in(SymbolicTransform::from_numeric(pool, c.frame),
+                                                   c.ideal, constant_point(pool, 1, -2, 0.5));
+  std::map<std::string, double> point;
+  for (const UncertaintyVariable& v : object.variables()) point[v.name] = *coordinate(v.upper);
+  const Eigen::Vector3d expected = c.frame.inverse(Eigen::Isometry) *
+                                   object.possible_pose(c.ideal).evaluate(point) *
+                                   Eigen::Vector3d(1, -2, 0.5);
+  for (int k = 0; k < 3; ++k)
+    RC_ASSERT(std::abs(symbolic::evaluate(q[k], point) - expected[k]) < 1e-12);
+}
+
+TEST(UncertainPose, PointInFrameHasEachObjectVariableOncePerCoordinate) {
+  // One flat sum per coordinate: Δx, Δy, Δz once, Δθ twice (in cos Δθ and sin Δθ): occurrence
+  // cost 1 with unit widths. Composing the same product as transforms repeats cos Δθ, sin Δθ.
+  const PointInFrameCase c;
+  ExprPool pool;
+  const UncertainObject object(pool, {0.1, 0.1, 0.1, 0.1});
+  const SymbolicTransform frame = SymbolicTransform::from_numeric(pool, c.frame);
+  const SymbolicPoint local = constant_point(pool, 1, -2, 0.5);
+  const SymbolicPoint flat = object.possible_point_in(frame, c.ideal, local);
+  const SymbolicPoint composed = frame.apply_inverse(object.possible_point(c.ideal, local));
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_EQ(symbolic::occurrence_cost(flat[k]), 1.0) << k;
+    EXPECT_GT(symbolic::occurrence_cost(composed[k]), 1.0) << k;
+    EXPECT_LT(symbolic::dag_size(flat[k]), symbolic::dag_size(composed[k])) << k;
+  }
+}
+
+TEST(UncertainPose, PointInFrameRejectsASymbolicFrameWithAMessage) {
+  ExprPool pool;
+  const UncertainObject object(pool, {0.1, 0.1, 0.1, 0.1});
+  EXPECT_THROW_MESSAGE(object.possible_point_in(rotz(pool.variable("t")), Transform::Identity(),
+                                                constant_point(pool, 1, 0, 0)),
+                       "the frame must have constant entries");
+}
+
 // [0,1,0,0] P^-1 C computed numerically with Eigen from the header's definitions.
 double numeric_condition(const PickupGeometry& g, const std::map<std::string, double>& v,
                          int finger, int contact) {
@@ -207,16 +256,55 @@ RC_GTEST_PROP(Pickup, ConditionsEqualTheNumericFingerFrameProducts, ()) {
   }
 }
 
-TEST(Pickup, ExpressionsStaySmall) {
-  // Each condition is W_m/2-shifted cos/sin(Δθ_g) times flat sums: a few dozen nodes, Δθ_g twice.
+// The same four conditions composed the plain way: full 4x4 products left to right,
+// [0,1,0,0] (P^-1 · T_O+Δ T_G trans(0, ±W_g/2, 0)) [0,0,0,1]^T.
+std::array<Expr, 4> transform_product_conditions(ExprPool& pool, const PickupGeometry& geometry,
+                                                 const UncertainManipulator& gripper,
+                                                 const UncertainObject& object) {
+  const SymbolicTransform grasp = SymbolicTransform::from_numeric(pool, geometry.grasp);
+  const SymbolicTransform fingers =
+      SymbolicTransform::from_numeric(pool, geometry.object_pose) * grasp * gripper.error();
+  const SymbolicTransform contacts = object.possible_pose(geometry.object_pose) * grasp;
+  std::array<Expr, 4> conditions;
+  for (int finger = 0; finger < 2; ++finger) {
+    const SymbolicTransform inverse = rigid_inverse(
+        fingers * trans(pool, 0, (finger == 0 ? -0.5 : 0.5) * geometry.finger_opening, 0));
+    for (int contact = 0; contact < 2; ++contact) {
+      conditions[finger * 2 + contact] =
+          (inverse * contacts *
+           trans(pool, 0, (contact == 0 ? 0.5 : -0.5) * geometry.object_width, 0))
+              .translation()[1];
+    }
+  }
+  return conditions;
+}
+
+TEST(Pickup, ExpressionsAreSmallerThanTransformProducts) {
+  // Each condition is ±W_m/2 + cos Δθ_g (q_y - Δy_g) - sin Δθ_g (q_x - Δx_g) with q_x, q_y flat
+  // sums in the object's variables (UncertainObject::possible_point_in). Measured: 34 nodes
+  // each, 48 for all four (shared); the transform products give 67 each, 78 for all four, and
+  // repeat the variables more (occurrence cost, widths of Table 2: 1.02 vs 1.39).
   ExprPool pool;
   const UncertainManipulator gripper(pool, kTable2Gripper);
   const UncertainObject object(pool, kTable2Object);
-  const PickupPreconditions pre = pickup_preconditions(peg_pickup_example(), gripper, object);
-  for (const PickupCondition& condition : pre.conditions) {
-    EXPECT_LE(symbolic::dag_size(condition.expression), 40u) << condition.name;
-    EXPECT_EQ(symbolic::free_variables(condition.expression).size(), 7u) << condition.name;
+  const PickupGeometry geometry = peg_pickup_example();
+  const PickupPreconditions pre = pickup_preconditions(geometry, gripper, object);
+  const std::array<Expr, 4> products =
+      transform_product_conditions(pool, geometry, gripper, object);
+  std::map<std::string, double> widths;
+  for (const UncertaintyVariable& v : pre.variables) widths[v.name] = v.upper - v.lower;
+  std::vector<Expr> ours;
+  for (int i = 0; i < 4; ++i) {
+    const Expr e = pre.conditions[i].expression;
+    ours.push_back(e);
+    EXPECT_LE(symbolic::dag_size(e), 34u) << pre.conditions[i].name;
+    EXPECT_LT(symbolic::dag_size(e), symbolic::dag_size(products[i])) << pre.conditions[i].name;
+    EXPECT_LT(symbolic::occurrence_cost(e, widths), symbolic::occurrence_cost(products[i], widths))
+        << pre.conditions[i].name;
+    EXPECT_EQ(symbolic::free_variables(e).size(), 7u) << pre.conditions[i].name;
   }
+  EXPECT_LE(symbolic::dag_size(ours), 48u);
+  EXPECT_LT(symbolic::dag_size(ours), symbolic::dag_size(products));
   EXPECT_EQ(pre.conditions[2].name, "0 > [0,1,0,0] P2^-1 C1");
   EXPECT_EQ(pre.variables.size(), 8u);
 }
@@ -257,6 +345,59 @@ TEST(Pickup, WidenedObjectUncertaintyIsDetectedAsViolated) {
     witness[pre.variables[i].name] = checks[1].bound.argmin.at(i);
   }
   EXPECT_FALSE(pre.conditions[1].holds_at(witness));
+}
+
+TEST(PickupChecker, RecheckOverAWiderBoxMatchesAFreshCheck) {
+  // One compiled checker, three boxes: Table 2, widened (two conditions fail), Table 2 again.
+  ExprPool pool;
+  const UncertainManipulator gripper(pool, kTable2Gripper);
+  const UncertainObject object(pool, kTable2Object);
+  const PickupPreconditions pre = pickup_preconditions(peg_pickup_example(), gripper, object);
+  PickupChecker checker(pre);
+  PoseUncertainty wide = kTable2Object;
+  wide.dx = wide.dy = wide.dz = 0.4;
+  const UncertainObject wide_object(pool, wide);
+  std::vector<UncertaintyVariable> wide_variables = pre.variables;
+  std::copy(wide_object.variables().begin(), wide_object.variables().end(),
+            wide_variables.begin() + 4);
+  const std::array<PickupCheck, 4> fresh = check_example(wide);
+  const std::array<PickupCheck, 4> rechecked = checker.check(wide_variables);
+  for (int i = 0; i < 4; ++i) {
+    EXPECT_EQ(rechecked[i].verdict, fresh[i].verdict) << fresh[i].condition.name;
+  }
+  EXPECT_EQ(rechecked[1].verdict, Verdict::kViolated);
+  for (const PickupCheck& check : checker.check(pre.variables)) {
+    EXPECT_EQ(check.verdict, Verdict::kSatisfied) << check.condition.name;
+  }
+}
+
+RC_GTEST_PROP(PickupChecker, NaturalBoundsEncloseEveryPointOfTheBox, ()) {
+  ExprPool pool;
+  const UncertainManipulator gripper(pool, kTable2Gripper);
+  const UncertainObject object(pool, kTable2Object);
+  const PickupPreconditions pre = pickup_preconditions(peg_pickup_example(), gripper, object);
+  const std::array<PickupCheck, 4> checks = check_pickup(pre);
+  std::map<std::string, double> point;
+  for (const UncertaintyVariable& v : pre.variables) point[v.name] = *coordinate(v.upper);
+  for (const PickupCheck& check : checks) {
+    RC_ASSERT(check.bound.evaluations == 1u);  // decided by the natural extension alone
+    const double value = symbolic::evaluate(check.condition.expression, point);
+    RC_ASSERT(check.bound.lo <= value);
+    RC_ASSERT(value <= check.bound.hi);
+  }
+}
+
+TEST(PickupChecker, RejectsVariablesInAnotherOrderWithAMessage) {
+  ExprPool pool;
+  const UncertainManipulator gripper(pool, kTable2Gripper);
+  const UncertainObject object(pool, kTable2Object);
+  const PickupPreconditions pre = pickup_preconditions(peg_pickup_example(), gripper, object);
+  PickupChecker checker(pre);
+  std::vector<UncertaintyVariable> swapped = pre.variables;
+  std::swap(swapped[0], swapped[4]);
+  EXPECT_THROW_MESSAGE(checker.check(swapped), "variable 0 is 'dx_o', expected 'dx_g'");
+  swapped.pop_back();
+  EXPECT_THROW_MESSAGE(checker.check(swapped), "expected 8 uncertainty variables, got 7");
 }
 
 TEST(Pickup, RejectsAZeroOpeningWithAMessage) {
