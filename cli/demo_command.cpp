@@ -1,10 +1,14 @@
 // `spar demo`: SPAR's pickup example (the peg of the peg-and-block task). Builds the uncertain
 // poses of eq. 1 and 2, the four pickup inequalities, bounds each over Table 2's box and prints a
-// verdict; then repeats with the object's displacement uncertainty widened until it fails.
+// verdict; then repeats with the object's displacement uncertainty widened (--widen), and searches
+// for the smallest widening that is no longer proved (--step).
+#include <algorithm>
+#include <array>
 #include <cstdio>
 #include <memory>
 #include <numbers>
 #include <string>
+#include <vector>
 
 #include "cli/commands.hpp"
 #include "kinematics/pickup_check.hpp"
@@ -42,6 +46,42 @@ void run_case(const char* title, const PoseUncertainty& object_bounds, bool show
   }
 }
 
+// Grows the object's displacement half-width from Table 2's in steps of `step` until some
+// condition is no longer proved; one PickupChecker (one compiled tape) serves every step.
+void widen_until_failure(double step) {
+  symbolic::ExprPool pool;
+  const kinematics::UncertainManipulator gripper(pool, kinematics::kTable2Gripper);
+  const kinematics::UncertainObject peg(pool, kinematics::kTable2Object);
+  const kinematics::PickupPreconditions preconditions =
+      kinematics::pickup_preconditions(kinematics::peg_pickup_example(), gripper, peg);
+  kinematics::PickupChecker checker(preconditions);
+  std::vector<kinematics::UncertaintyVariable> variables = preconditions.variables;
+  const double start = kinematics::kTable2Object.dx;
+  std::printf("\nWidening until failure: object dx, dy, dz from +-%.3g in in steps of %.3g in\n",
+              start, step);
+  for (int k = 0; start + k * step <= 10.0; ++k) {
+    const double half_width = start + k * step;
+    for (std::size_t i = 4; i < 7; ++i) {  // dx_o, dy_o, dz_o
+      variables[i].lower = -half_width;
+      variables[i].upper = half_width;
+    }
+    const std::array<kinematics::PickupCheck, 4> checks = checker.check(variables);
+    const bool all_proved = std::all_of(checks.begin(), checks.end(), [](const auto& check) {
+      return check.verdict == kinematics::Verdict::kSatisfied;
+    });
+    if (all_proved) continue;
+    std::printf(
+        "  all four proved up to +-%.3g in; at +-%.3g in (%d checks of one compiled tape):\n",
+        half_width - step, half_width, k + 1);
+    for (const kinematics::PickupCheck& check : checks) {
+      std::printf("  %-24s %10.4f %10.4f  %s\n", check.condition.name.c_str(), check.bound.lo,
+                  check.bound.hi, kinematics::to_string(check.verdict));
+    }
+    return;
+  }
+  std::printf("  all four proved up to +-10 in\n");
+}
+
 }  // namespace
 
 void add_demo_command(CLI::App& app) {
@@ -49,12 +89,15 @@ void add_demo_command(CLI::App& app) {
       "demo", "SPAR's pickup example: uncertain poses, the four pickup inequalities, bounds");
   auto widened = std::make_shared<double>(0.4);
   auto show = std::make_shared<bool>(false);
+  auto step = std::make_shared<double>(0.01);
   command
       ->add_option("--widen", *widened,
                    "object dx, dy, dz half-width (in) of the second, widened run")
       ->check(CLI::PositiveNumber);
+  command->add_option("--step", *step, "step (in) of the widening-until-failure search")
+      ->check(CLI::PositiveNumber);
   command->add_flag("--show-expression", *show, "print the first inequality's expression");
-  command->callback([widened, show] {
+  command->callback([widened, show, step] {
     std::printf(
         "SPAR pickup preconditions (the peg of the peg-and-block task): a 3 in wide peg at\n"
         "(20, 10, 0.75) in, "
@@ -64,6 +107,7 @@ void add_demo_command(CLI::App& app) {
     PoseUncertainty wide = kinematics::kTable2Object;
     wide.dx = wide.dy = wide.dz = *widened;
     run_case("Widened", wide, false);
+    widen_until_failure(*step);
   });
 }
 
