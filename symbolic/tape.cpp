@@ -288,30 +288,34 @@ struct BlockVisitor {
 
 void evaluate_batch(const Tape& tape, std::span<const double> inputs, std::span<double> outputs,
                     std::size_t points) {
-  constexpr std::size_t kBlock = 256;
+  // Points per block: up to 256, but few enough that the whole slot array (slots x block
+  // doubles) stays within about 256 KiB, so a tape with many live slots still runs from cache.
+  constexpr std::size_t kSlotArrayBudget = 32768;
+  const std::size_t block = std::clamp<std::size_t>(
+      kSlotArrayBudget / std::max<std::size_t>(tape.slot_count(), 1), 8, 256);
   using D = TapeDomain<double>;
   if (inputs.size() < tape.input_count() * points ||
       outputs.size() < tape.output_slots().size() * points) {
     throw SymbolicError("evaluate_batch: input or output array too small");
   }
-  std::vector<double> slots(tape.slot_count() * kBlock);
+  std::vector<double> slots(tape.slot_count() * block);
   const auto constants = tape.constants();
   for (std::size_t i = 0; i < constants.size(); ++i) {
-    std::fill_n(&slots[(tape.input_count() + i) * kBlock], kBlock, D::constant(constants[i]));
+    std::fill_n(&slots[(tape.input_count() + i) * block], block, D::constant(constants[i]));
   }
-  for (std::size_t start = 0; start < points; start += kBlock) {
-    const std::size_t n = std::min(kBlock, points - start);
+  for (std::size_t start = 0; start < points; start += block) {
+    const std::size_t n = std::min(block, points - start);
     for (std::size_t i = 0; i < tape.input_count(); ++i) {
-      std::copy_n(&inputs[i * points + start], n, &slots[i * kBlock]);
+      std::copy_n(&inputs[i * points + start], n, &slots[i * block]);
     }
     double* s = slots.data();
     for (const Instruction& in : tape.instructions()) {
       dispatch_instruction<D>(
-          in, BlockVisitor{s + in.dst * kBlock, s + in.a * kBlock, s + in.b * kBlock, n});
+          in, BlockVisitor{s + in.dst * block, s + in.a * block, s + in.b * block, n});
     }
     const auto out = tape.output_slots();
     for (std::size_t o = 0; o < out.size(); ++o) {
-      std::copy_n(&slots[out[o] * kBlock], n, &outputs[o * points + start]);
+      std::copy_n(&slots[out[o] * block], n, &outputs[o * points + start]);
     }
   }
 }
