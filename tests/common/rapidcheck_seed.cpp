@@ -1,7 +1,10 @@
-// Fixes RapidCheck's seed for every test binary unless RC_PARAMS is already set, so that runs are
-// reproducible; RapidCheck prints the seed of a failing run so it can be replayed with RC_PARAMS.
+// Fixes RapidCheck's parameters for a test binary unless RC_PARAMS is already set, so that runs
+// are reproducible; RapidCheck prints the parameters of a failing run so it can be replayed with
+// RC_PARAMS. SPAR_RAPIDCHECK_PARAMS comes from spar_add_test (tests/CMakeLists.txt).
 #include <cstdlib>
 
 namespace {
-const bool kSeedFixed = [] { return setenv("RC_PARAMS", "seed=20261123", /*overwrite=*/0) == 0; }();
+const bool kParametersFixed = [] {
+  return setenv("RC_PARAMS", SPAR_RAPIDCHECK_PARAMS, /*overwrite=*/0) == 0;
+}();
 }  // namespace

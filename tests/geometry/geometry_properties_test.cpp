@@ -4,16 +4,11 @@
 #include <gtest/gtest.h>
 #include <rapidcheck/gtest.h>
 
-#include <cstdlib>
-
 #include "geometry/grasps.hpp"
 #include "geometry/stable_poses.hpp"
 
 namespace spar::geometry {
 namespace {
-
-// Deterministic runs: a fixed RapidCheck seed unless the caller set RC_PARAMS (e.g. to reproduce).
-[[maybe_unused]] const int kFixedSeed = setenv("RC_PARAMS", "seed=20261123", /*overwrite=*/0);
 
 double random_length(double low, double high) {
   return low + (high - low) * *rc::gen::inRange(0, 10001) / 10000.0;
