@@ -83,10 +83,21 @@ Number Number::from_rational128(__int128 numerator, __int128 denominator) {
     numerator = -numerator;
     denominator = -denominator;
   }
-  const __int128 g = gcd128(numerator, denominator);
-  if (g > 1) {
-    numerator /= g;
-    denominator /= g;
+  // Most operands are small: reduce in 64 bits where both parts fit (128-bit division is a
+  // library call, several times slower). INT64_MIN is excluded: std::gcd needs |numerator|.
+  if (fits_int64(numerator) && fits_int64(denominator) &&
+      numerator != std::numeric_limits<std::int64_t>::min()) {
+    const auto n = static_cast<std::int64_t>(numerator);
+    const auto d = static_cast<std::int64_t>(denominator);
+    const std::int64_t g = d == 1 ? 1 : std::gcd(n, d);
+    numerator = n / g;
+    denominator = d / g;
+  } else {
+    const __int128 g = gcd128(numerator, denominator);
+    if (g > 1) {
+      numerator /= g;
+      denominator /= g;
+    }
   }
   if (fits_int64(numerator) && fits_int64(denominator)) {
     Number n;
