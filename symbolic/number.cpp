@@ -1,5 +1,6 @@
 #include "symbolic/number.hpp"
 
+#include <bit>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -15,8 +16,16 @@ constexpr double kTwoPow53 = 9007199254740992.0;
 constexpr int kMaxExactDecimalDigits = 16;  // longer literals become one-ulp enclosures, so that
                                             // a 17-digit printout of such a real re-parses to it
 
-double next_down(double x) { return std::nextafter(x, -std::numeric_limits<double>::infinity()); }
-double next_up(double x) { return std::nextafter(x, std::numeric_limits<double>::infinity()); }
+// The neighbours of a finite double, by stepping its bit pattern (the libm call costs more than
+// the rest of a small rational's construction). Positive doubles order like their bit patterns,
+// negative ones in reverse; from a zero of either sign the neighbours are ±denorm_min.
+double next_up(double x) {
+  if (x == 0.0) return std::numeric_limits<double>::denorm_min();
+  auto bits = std::bit_cast<std::uint64_t>(x);
+  bits = x > 0.0 ? bits + 1 : bits - 1;
+  return std::bit_cast<double>(bits);
+}
+double next_down(double x) { return -next_up(-x); }
 
 double widen_down(double x, int ulps) {
   for (int i = 0; i < ulps; ++i) x = next_down(x);

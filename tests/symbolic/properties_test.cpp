@@ -3,7 +3,9 @@
 #include <rapidcheck/gtest.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdio>
 #include <unordered_map>
 
 #include "random_expr.hpp"
@@ -188,6 +190,20 @@ RC_GTEST_PROP(SymbolicProperty, HashConsingGivesEqualIds, ()) {
   }
   const auto third = build_random_expr(reversed, recipe, point);
   RC_ASSERT(dag_size(third.expr) == dag_size(first.expr));
+}
+
+// A 17-digit literal is enclosed by exactly the two neighbours of its double, at every magnitude
+// from subnormal to huge (checks the bit-stepping neighbours against libm's nextafter).
+RC_GTEST_PROP(SymbolicProperty, LongLiteralIsEnclosedByItsNeighbours, ()) {
+  const auto bits = *rc::gen::inRange<std::uint64_t>(1, 0x7fefffffffffffffULL);
+  const double value = std::bit_cast<double>(bits);
+  char text[40];
+  std::snprintf(text, sizeof text, "%.16e", value);
+  const Number n = *Number::parse_decimal(text);
+  RC_ASSERT(!n.is_rational());
+  RC_ASSERT(n.value() == value);
+  RC_ASSERT(n.lower() == std::nextafter(value, -HUGE_VAL));
+  RC_ASSERT(n.upper() == std::nextafter(value, HUGE_VAL));
 }
 
 // Shuffled sums and products of random terms are one node.
