@@ -34,6 +34,8 @@
 
 namespace spar::symbolic {
 
+// The instruction set. It is not Op: n-ary Add/Mul with coefficients and exponents lower to
+// binary Add/Sub/Mul/Div, Neg, Square and integer powers; only the functions are shared.
 enum class TapeOp : std::uint8_t {
   kAdd,
   kSub,
