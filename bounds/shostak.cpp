@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <map>
+#include <optional>
 #include <string>
 #include <tuple>
 #include <unordered_map>
@@ -125,8 +126,69 @@ bool is_constant(const Linear& form) {
 class Engine {
  public:
   // Each constraint form is `form <= 0`.
+  // Variables pinned by their own rows (lo <= v <= hi with lo == hi) are replaced by their value
+  // everywhere: an equivalent system, so exactness is kept, and SUP-INF no longer multiplies
+  // pieces through variables that cannot move (it hit the effort limit on such systems).
   Engine(std::vector<Linear> constraints, std::size_t max_steps)
-      : constraints_(std::move(constraints)), max_steps_(max_steps) {}
+      : constraints_(std::move(constraints)), max_steps_(max_steps) {
+    const std::size_t n = constraints_.empty() ? 0 : constraints_.front().coefficients.size();
+    std::vector<std::optional<Number>>& lower = lower_;
+    std::vector<std::optional<Number>>& upper = upper_;
+    lower.resize(n);
+    upper.resize(n);
+    for (const Linear& form : constraints_) {
+      std::size_t count = 0, v = 0;
+      for (std::size_t i = 0; i < n; ++i) {
+        if (!form.coefficients[i].is_zero()) ++count, v = i;
+      }
+      if (count != 1) continue;
+      // a·v + c <= 0: v <= -c/a for a > 0, v >= -c/a for a < 0.
+      const Number a = form.coefficients[v];
+      const Number limit = exact(-form.constant / a);
+      std::optional<Number>& side = a.is_negative() ? lower[v] : upper[v];
+      if (!side || (a.is_negative() ? *side < limit : limit < *side)) side = limit;
+    }
+    pinned_.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      if (lower[i] && upper[i] && (*lower[i] - *upper[i]).is_zero()) pinned_[i] = lower[i];
+    }
+    for (Linear& form : constraints_) {
+      form = substitute_pinned(form);
+      if (is_constant(form) && !form.constant.is_negative() && !form.constant.is_zero()) {
+        throw ShostakError(ShostakFailure::kInfeasible,
+                           "SUP-INF: the constraints have no solution (a row is false once the "
+                           "variables fixed by their ranges are substituted)");
+      }
+    }
+  }
+
+  // The target with pinned variables replaced by their values; call before sup().
+  [[nodiscard]] Linear substitute_pinned(Linear form) const {
+    for (std::size_t i = 0; i < pinned_.size(); ++i) {
+      if (!pinned_[i] || form.coefficients[i].is_zero()) continue;
+      form.constant = exact(form.constant + exact(form.coefficients[i] * *pinned_[i]));
+      form.coefficients[i] = Number();
+    }
+    return form;
+  }
+
+  // The final min without pieces that are >= another piece on the whole variable box (so on
+  // every feasible point): `min(y, 5)` under y <= 5 becomes `y`. Only for the final answer:
+  // inside the recursion SUPP needs the pieces as they are.
+  [[nodiscard]] MinBound without_dominated(MinBound bound) const {
+    std::vector<Linear> kept;
+    for (std::size_t k = 0; k < bound.pieces.size(); ++k) {
+      bool dominated = false;
+      for (std::size_t other = 0; other < bound.pieces.size() && !dominated; ++other) {
+        // Of two pieces equal on the box, the later one goes.
+        dominated = other != k && at_least(bound.pieces[k], bound.pieces[other]) &&
+                    (other < k || !at_least(bound.pieces[other], bound.pieces[k]));
+      }
+      if (!dominated) kept.push_back(bound.pieces[k]);
+    }
+    bound.pieces = std::move(kept);
+    return bound;
+  }
 
   // SUP(j, S) with S = {i : kept[i]}: the min of pieces that are forms in S only.
   MinBound sup(const Linear& j, const std::vector<bool>& kept) {
@@ -162,6 +224,20 @@ class Engine {
   }
 
  private:
+  // True if p >= q at every point of the variable box: the minimum of p - q over the box
+  // (exact; a variable without a bound on the needed side makes it false) is >= 0.
+  [[nodiscard]] bool at_least(const Linear& p, const Linear& q) const {
+    Number least = exact(p.constant - q.constant);
+    for (std::size_t i = 0; i < p.coefficients.size(); ++i) {
+      const Number d = exact(p.coefficients[i] - q.coefficients[i]);
+      if (d.is_zero()) continue;
+      const std::optional<Number>& end = d.is_negative() ? upper_[i] : lower_[i];
+      if (!end) return false;
+      least = exact(least + exact(d * *end));
+    }
+    return !least.is_negative();
+  }
+
   // Charges `work` steps against the effort limit.
   void spend(std::size_t work) {
     steps_ += work;
@@ -266,6 +342,8 @@ class Engine {
   }
 
   std::vector<Linear> constraints_;
+  std::vector<std::optional<Number>> lower_, upper_;  // per variable, from one-variable rows
+  std::vector<std::optional<Number>> pinned_;         // per variable: its value if the rows fix it
   std::size_t max_steps_;
   std::size_t steps_{0};
   std::map<std::tuple<std::size_t, bool, std::vector<bool>>, MinBound> memo_;
@@ -360,8 +438,8 @@ Expr bound(Expr target, std::span<const LinearConstraint> constraints, std::span
   }
   const bool is_sup = direction == Direction::kSup;
   Engine engine(std::move(forms), options.max_steps);
-  const MinBound result =
-      engine.sup(is_sup ? objective : scaled(objective, Number::integer(-1)), kept);
+  const MinBound result = engine.without_dominated(engine.sup(
+      engine.substitute_pinned(is_sup ? objective : scaled(objective, Number::integer(-1))), kept));
   if (result.minus_infinity) {
     throw ShostakError(ShostakFailure::kInfeasible,
                        "SUP-INF: the constraints have no solution (found while bounding '" +

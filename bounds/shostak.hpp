@@ -16,6 +16,9 @@
 // single variable z over a feasible polyhedron, so a target that is not a single variable is
 // wrapped in a fresh variable z = J first (ShostakOptions::wrap_target); then keep = {} gives the
 // exact LP optimum. All arithmetic is exact over 64-bit rationals (an overflow throws).
+// Variables fixed by their own rows (lo = hi) are substituted before the recursion (an equivalent
+// system), and the final min (max) drops pieces that are dominated on the variable box, so
+// SUP(x) under 0 <= x <= 5, 0 <= y <= 5, x <= y keeping y is `y`, not `min(5, y)`.
 //
 // Strict inequalities are read as non-strict (the bounds of the closure are sound bounds). The
 // target may be non-linear in kept variables (sin(y) + x keeping y), never in eliminated ones.

@@ -1,6 +1,9 @@
 // spar bound: sound SUP/INF of an expression over a box, with witnesses and the measured gap.
 //   spar bound "EXPR" --var x=LO:HI [--var ...] [--constraint "x+y<=2"] [--tol 1e-3] [--json]
+//   spar bound "EXPR" --var ... [--constraint ...] --keep y [--keep ...]   symbolic SUP/INF in the
+//       kept variables (Shostak; linear constraints, target linear in the other variables)
 //   spar bound --jsonl FILE [--tol T]     one JSON result per line of an FPBench-style corpus
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <fstream>
@@ -12,7 +15,9 @@
 #include <vector>
 
 #include "bounds/bound.hpp"
+#include "bounds/shostak.hpp"
 #include "cli/commands.hpp"
+#include "symbolic/operations.hpp"
 #include "symbolic/parse.hpp"
 
 namespace spar::cli {
@@ -25,6 +30,7 @@ struct BoundArguments {
   std::string expression;
   std::vector<std::string> variables;
   std::vector<std::string> constraints;
+  std::vector<std::string> keep;
   std::string jsonl;
   double tolerance{1e-3};
   std::size_t max_evaluations{200'000};
@@ -45,16 +51,24 @@ double parse_double(const std::string& text, const std::string& what) {
   return value;
 }
 
-// "x=LO:HI".
-void add_variable(symbolic::ExprPool& pool, bounds::Box& box, const std::string& text) {
+struct VariableRange {
+  std::string name, lo, hi;  // the text of "name=LO:HI"
+};
+
+VariableRange split_variable(const std::string& text) {
   const auto equals = text.find('='), colon = text.rfind(':');
   if (equals == std::string::npos || colon == std::string::npos || colon < equals) {
     throw BoundsError("--var '" + text + "' must look like name=LO:HI");
   }
-  const std::string name = text.substr(0, equals);
-  box.add(pool.variable(name),
-          parse_double(text.substr(equals + 1, colon - equals - 1), "lower bound of " + name),
-          parse_double(text.substr(colon + 1), "upper bound of " + name));
+  return {text.substr(0, equals), text.substr(equals + 1, colon - equals - 1),
+          text.substr(colon + 1)};
+}
+
+// "x=LO:HI".
+void add_variable(symbolic::ExprPool& pool, bounds::Box& box, const std::string& text) {
+  const VariableRange range = split_variable(text);
+  box.add(pool.variable(range.name), parse_double(range.lo, "lower bound of " + range.name),
+          parse_double(range.hi, "upper bound of " + range.name));
 }
 
 bounds::Relation relation_named(const std::string& text) {
@@ -177,8 +191,71 @@ void run_jsonl(const BoundArguments& arguments) {
   }
 }
 
+// --keep: Shostak's SUP/INF as expressions in the kept variables. The box ranges become the linear
+// constraints LO <= x <= HI (read exactly from their text); every --constraint must be linear.
+void run_symbolic(const BoundArguments& arguments) {
+  symbolic::ExprPool pool;
+  bounds::Box box;  // checks the ranges (NaN, LO > HI, a variable twice)
+  std::vector<bounds::LinearConstraint> constraints;
+  const auto shostak_error = [](const std::string& what, const bounds::ShostakError& error) {
+    return BoundsError("--keep (symbolic SUP/INF) " + what + ": " + error.what());
+  };
+  for (const std::string& text : arguments.variables) {
+    add_variable(pool, box, text);
+    const VariableRange range = split_variable(text);
+    try {
+      for (auto& c : bounds::parse_linear_constraints(
+               pool, range.lo + " <= " + range.name + " <= " + range.hi)) {
+        constraints.push_back(std::move(c));
+      }
+    } catch (const bounds::ShostakError& error) {
+      throw shostak_error("cannot use the range of '" + range.name + "'", error);
+    }
+  }
+  for (const std::string& text : arguments.constraints) {
+    try {
+      for (auto& c : bounds::parse_linear_constraints(pool, text)) constraints.push_back(c);
+    } catch (const bounds::ShostakError& error) {
+      throw shostak_error("needs linear constraints with exact coefficients, not '" + text + "'",
+                          error);
+    }
+  }
+  std::vector<Expr> keep;
+  for (const std::string& name : arguments.keep) {
+    const Expr v = pool.variable(name);
+    if (std::find(box.variables.begin(), box.variables.end(), v) == box.variables.end()) {
+      throw BoundsError("--keep '" + name + "' is not a variable given with --var");
+    }
+    keep.push_back(v);
+  }
+  const Expr f = symbolic::parse(pool, arguments.expression);
+  for (Expr v : symbolic::free_variables(f)) {
+    if (std::find(box.variables.begin(), box.variables.end(), v) == box.variables.end()) {
+      throw BoundsError("unknown variable '" + v.name() + "' in the expression: give it a range");
+    }
+  }
+  Expr upper, lower;
+  try {
+    upper = bounds::sup(f, constraints, keep);
+    lower = bounds::inf(f, constraints, keep);
+  } catch (const bounds::ShostakError& error) {
+    throw shostak_error("cannot bound '" + arguments.expression + "'", error);
+  }
+  if (arguments.json) {
+    nlohmann::json out;
+    out["sup"] = symbolic::to_string(upper);
+    out["inf"] = symbolic::to_string(lower);
+    out["keep"] = arguments.keep;
+    std::cout << out.dump(2) << '\n';
+    return;
+  }
+  std::cout << "SUP = " << symbolic::to_string(upper) << "\n"
+            << "INF = " << symbolic::to_string(lower) << "\n";
+}
+
 void run_single(const BoundArguments& arguments) {
   if (arguments.expression.empty()) throw BoundsError("give an expression or --jsonl FILE");
+  if (!arguments.keep.empty()) return run_symbolic(arguments);
   symbolic::ExprPool pool;
   bounds::Box box;
   for (const std::string& v : arguments.variables) add_variable(pool, box, v);
@@ -223,6 +300,9 @@ void add_bound_command(CLI::App& app) {
   command->add_option("--var", arguments->variables, "Variable range name=LO:HI (repeatable)");
   command->add_option("--constraint", arguments->constraints,
                       "Constraint such as \"x+y<=2\" (repeatable)");
+  command->add_option("--keep", arguments->keep,
+                      "Keep this variable: print SUP/INF as expressions in the kept variables "
+                      "(Shostak; linear constraints only; repeatable)");
   command->add_option("--jsonl", arguments->jsonl,
                       "Bound every line of an FPBench-style JSONL corpus");
   command->add_option("--tol", arguments->tolerance, "Relative tolerance (default 1e-3)");
@@ -231,6 +311,7 @@ void add_bound_command(CLI::App& app) {
   command->callback([arguments] {
     if (!(arguments->tolerance >= 0)) throw BoundsError("--tol must be a number >= 0");
     if (!arguments->jsonl.empty()) {
+      if (!arguments->keep.empty()) throw BoundsError("--keep cannot be used with --jsonl");
       run_jsonl(*arguments);
     } else {
       run_single(*arguments);
