@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <nlopt.hpp>
 #include <optional>
 #include <queue>
@@ -14,6 +15,7 @@
 #include "bounds/internal/gradient.hpp"
 #include "bounds/internal/linear_enclosure.hpp"
 #include "symbolic/operations.hpp"
+#include "symbolic/smp.hpp"
 #include "symbolic/tape.hpp"
 
 namespace spar::bounds {
@@ -581,8 +583,45 @@ BoundResult bound(Expr f, const Box& box, const BoundOptions& options,
   check(f, "expression");
   for (const Constraint& c : constraints) check(c.g, "constraint");
   if (!(options.tolerance >= 0)) throw BoundsError("tolerance must be >= 0");
-  Bounder bounder(f, box, options, constraints);
-  return bounder.run();
+  BoundResult result = Bounder(f, box, options, constraints).run();
+  if (result.status != BoundStatus::kEffortLimit || !options.simplify) return result;
+  std::map<std::string, double> widths;
+  for (std::size_t i = 0; i < box.variables.size(); ++i) {
+    widths[box.variables[i].name()] = box.ranges[i].width();
+  }
+  const Expr rewritten = symbolic::simplify(f, {.widths = widths});
+  if (rewritten == f) return result;
+  const BoundResult other = Bounder(rewritten, box, options, constraints).run();
+  result.evaluations += other.evaluations;
+  // The rewrite's witnesses are feasible points (checked by its search): f's value there, if f
+  // is defined, is a value f attains.
+  const Tape tape = Tape::compile(std::array{f}, box.variables);
+  symbolic::TapeEvaluator<Interval> evaluator(tape);
+  for (const std::vector<double>* point : {&other.argmin, &other.argmax}) {
+    if (point->empty()) continue;
+    const std::vector<Interval> x(point->begin(), point->end());
+    Interval value[1];
+    evaluator.evaluate(x, value);
+    if (value[0].is_empty() || value[0].possibly_undefined) continue;
+    if (value[0].hi < result.inner_lo) {
+      result.inner_lo = value[0].hi;
+      result.argmin = *point;
+    }
+    if (value[0].lo > result.inner_hi) {
+      result.inner_hi = value[0].lo;
+      result.argmax = *point;
+    }
+  }
+  // rewritten = f wherever f is defined, so its bounds hold for f. Values f attains outside
+  // them would mean the rewrite is wrong: then it is not used.
+  if (other.status == BoundStatus::kInfeasible || other.lo > result.inner_lo ||
+      other.hi < result.inner_hi) {
+    return result;
+  }
+  result.lo = std::max(result.lo, other.lo);
+  result.hi = std::min(result.hi, other.hi);
+  if (result.relative_gap() <= options.tolerance) result.status = BoundStatus::kConverged;
+  return result;
 }
 
 }  // namespace spar::bounds

@@ -8,6 +8,8 @@
 // bisects the variable with the largest |gradient| x width until `hi - inner_hi` and
 // `inner_lo - lo` are both <= tolerance x (inner_hi - inner_lo), or the effort limit is reached.
 // Linear constraints contract every box; any constraint discards boxes where it certainly fails.
+// If that stops at the effort limit, SMP's rewrite of f (symbolic/smp.hpp, an identity wherever
+// f is defined) is bounded the same way and the outer bounds are intersected.
 // inner_lo / inner_hi are values f attains at the witness points argmin / argmax (each
 // checked feasible with interval arithmetic), found from box midpoints, corners and NLopt
 // (a global search, then a local one with tape gradients). NLopt never decides [lo, hi].
@@ -62,6 +64,9 @@ struct BoundOptions {
   bool monotonicity{true};
   bool centred_form{true};
   bool branch_and_bound{true};
+  // If the bound stops at the effort limit, bound SMP's rewrite of f (fewer repeated variables,
+  // equal to f wherever f is defined) too and intersect the outer bounds.
+  bool simplify{true};
 };
 
 enum class BoundStatus {
