@@ -182,16 +182,32 @@ int main(int argc, char** argv) {
     quick = quick || std::strcmp(argv[i], "--quick") == 0;
     per_record = per_record || std::strcmp(argv[i], "--per-record") == 0;
   }
+  // Each stage alone (no SMP rewrite, which `bound` otherwise tries after an effort limit), then
+  // the full pipeline with the defaults.
   const std::vector<Method> methods = {
       {"naive",
-       {.inner = false, .monotonicity = false, .centred_form = false, .branch_and_bound = false}},
+       {.inner = false,
+        .monotonicity = false,
+        .centred_form = false,
+        .branch_and_bound = false,
+        .simplify = false}},
       {"monotone",
-       {.inner = false, .monotonicity = true, .centred_form = false, .branch_and_bound = false}},
+       {.inner = false,
+        .monotonicity = true,
+        .centred_form = false,
+        .branch_and_bound = false,
+        .simplify = false}},
       {"centred",
-       {.inner = false, .monotonicity = false, .centred_form = true, .branch_and_bound = false}},
-      {"bb_natural", {.inner = true, .monotonicity = false, .centred_form = false}},
+       {.inner = false,
+        .monotonicity = false,
+        .centred_form = true,
+        .branch_and_bound = false,
+        .simplify = false}},
+      {"bb_natural",
+       {.inner = true, .monotonicity = false, .centred_form = false, .simplify = false}},
       {"full", {}},
   };
+
   std::ifstream in(std::string(SPAR_CORPUS_DIR) + "/fpbench.jsonl");
   if (!in) {
     std::fprintf(stderr, "cannot open corpus\n");
