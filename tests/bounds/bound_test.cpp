@@ -8,6 +8,8 @@
 #include <cmath>
 #include <string>
 
+#include "bounds/internal/gradient.hpp"
+#include "bounds/internal/linear_enclosure.hpp"
 #include "symbolic/operations.hpp"
 #include "symbolic/parse.hpp"
 #include "symbolic/tape.hpp"
@@ -274,7 +276,7 @@ RC_GTEST_PROP(Bound, EveryMethodContainsValuesAtRandomPoints, ()) {
 // subexpressions by linear constraints and the mean-value test of constraints.
 RC_GTEST_PROP(Bound, ConstrainedBoundContainsFeasibleValues, ()) {
   ExprPool pool;
-  const Expr f = random_expression(pool);
+  Expr f = random_expression(pool);
   const Expr x = pool.variable("x"), y = pool.variable("y");
   Box box;
   for (const Expr v : {x, y}) {
@@ -284,8 +286,30 @@ RC_GTEST_PROP(Bound, ConstrainedBoundContainsFeasibleValues, ()) {
   const auto coefficient = [&] {
     return pool.constant(symbolic::Number::rational(*rc::gen::inRange(-12, 13), 4));
   };
-  Expr g = coefficient() * x + coefficient() * y + coefficient();
+  const Expr a = coefficient(), b = coefficient();
+  Expr g = a * x + b * y + coefficient();
   if (*rc::gen::inRange(0, 3) == 0) g = g + coefficient() * x * y;
+  // Half of the time f also depends on a shift of the constraint's linear part (the affine
+  // subexpression the constraint encloses), under a function whose domain or slope is sensitive.
+  const bool linear_part = a != pool.integer(0) || b != pool.integer(0);
+  if (linear_part && *rc::gen::inRange(0, 2) == 0) {
+    const Expr scale = pool.constant(symbolic::Number::rational(*rc::gen::inRange(1, 13), 4));
+    const Expr shifted = scale * (a * x + b * y + coefficient());
+    switch (*rc::gen::inRange(0, 4)) {
+      case 0:
+        f = f + symbolic::sqrt(shifted);
+        break;
+      case 1:
+        f = f * symbolic::log(shifted);
+        break;
+      case 2:
+        f = f - 1 / shifted;
+        break;
+      default:
+        f = symbolic::exp(shifted);
+        break;
+    }
+  }
   const Constraint constraint{g, *rc::gen::element(Relation::kLessEqual, Relation::kGreater)};
   const BoundResult r =
       bound(f, box, {.max_box_evaluations = 4000, .max_seconds = 0.05}, std::span(&constraint, 1));
@@ -312,6 +336,57 @@ RC_GTEST_PROP(Bound, ConstrainedBoundContainsFeasibleValues, ()) {
     RC_ASSERT(value[0].lo <= r.hi);
   }
   RC_CLASSIFY(feasible > 0, "some feasible sample");
+}
+
+// Property: the kernel behind constrained bounds. For an affine L (alone or under sqrt) and a
+// linear constraint C <= 0, feasible_value() over any sub-box contains L's value (and the
+// sqrt's) at every feasible point of that sub-box; bound() could otherwise hide an unsound
+// enclosure behind its witnesses, which always lie inside [lo, hi].
+RC_GTEST_PROP(LinearEnclosure, FeasibleValueContainsFeasiblePoints, ()) {
+  ExprPool pool;
+  const Expr x = pool.variable("x"), y = pool.variable("y");
+  const auto coefficient = [&] {
+    return symbolic::Number::rational(*rc::gen::inRange(-12, 13), 4);
+  };
+  const symbolic::Number a = coefficient(), b = coefficient(), c = coefficient();
+  const Expr scale = pool.constant(symbolic::Number::rational(*rc::gen::inRange(-8, 9), 4));
+  const Expr linear = pool.constant(a) * x + pool.constant(b) * y;
+  const Expr l = scale * linear + pool.constant(coefficient());
+  const Expr f = *rc::gen::inRange(0, 2) == 0 ? l : symbolic::sqrt(l) + x;
+  const std::vector<Expr> variables = {x, y};
+  const symbolic::Tape tape = symbolic::Tape::compile(std::array{f}, variables);
+  std::vector<Interval> root;
+  for (int i = 0; i < 2; ++i) {
+    const double lo = *rc::gen::inRange(-3000, 3000) / 1000.0;
+    root.emplace_back(lo, lo + *rc::gen::inRange(1, 5000) / 1000.0);
+  }
+  // C = a·x + b·y + c <= 0 as an exact linear form.
+  const internal::LinearForm constraint{{enclose(a), enclose(b)}, enclose(c)};
+  internal::GradientEvaluator<Interval> evaluator(tape);
+  evaluator.set_enclosures(
+      internal::linear_enclosures(internal::affine_forms(tape), std::span(&constraint, 1), root));
+  symbolic::TapeEvaluator<Interval> at_point(tape);
+  std::vector<Interval> sub(2);
+  for (int i = 0; i < 2; ++i) {
+    const double u = *rc::gen::inRange(0, 1001) / 1000.0, v = *rc::gen::inRange(0, 1001) / 1000.0;
+    const double p = root[i].lo + std::min(u, v) * root[i].width();
+    const double q = root[i].lo + std::max(u, v) * root[i].width();
+    sub[i] = Interval{p, std::min(q, root[i].hi)};
+  }
+  const Interval enclosure = evaluator.feasible_value(sub);
+  for (int k = 0; k < 30; ++k) {
+    Interval point[2], value[1];
+    for (int i = 0; i < 2; ++i) {
+      point[i] = Interval{
+          std::min(sub[i].hi, sub[i].lo + sub[i].width() * (*rc::gen::inRange(0, 1001) / 1000.0))};
+    }
+    const Interval slack = enclose(a) * point[0] + enclose(b) * point[1] + enclose(c);
+    if (!(slack.hi <= 0)) continue;  // not certainly feasible
+    at_point.evaluate(point, value);
+    if (value[0].is_empty() || value[0].possibly_undefined) continue;
+    RC_ASSERT(enclosure.lo <= value[0].hi);
+    RC_ASSERT(value[0].lo <= enclosure.hi);
+  }
 }
 
 }  // namespace
