@@ -187,6 +187,11 @@ class GradientEvaluator {
         const T norm = D::square(a) + D::square(b);
         da = b / norm;
         db = -(a / norm);
+        if constexpr (std::is_same_v<T, Interval>) {
+          // atan2(a, b) jumps by 2π where b < 0 and a crosses 0 (the branch cut): no derivative
+          // bounds the change there, so monotonicity and the centred form must not be used.
+          if (b.lo < 0 && a.lo <= 0 && a.hi >= 0) da = db = Interval::entire();
+        }
         break;
       }
       case TapeOp::kMin:
