@@ -34,7 +34,7 @@ Interval at_point(Expr f, const Box& box, const nlohmann::json& point) {
   return out[0];
 }
 
-TEST(Corpus, EveryRecordIsSoundAndNearlyAllConverge) {
+TEST(Corpus, EveryRecordIsSoundAndConverges) {
   std::ifstream in(std::string(SPAR_CORPUS_DIR) + "/fpbench.jsonl");
   ASSERT_TRUE(in) << "cannot open the corpus";
   std::string line;
@@ -55,7 +55,9 @@ TEST(Corpus, EveryRecordIsSoundAndNearlyAllConverge) {
                                relation_of(c.at("rel").get<std::string>())});
       }
     }
-    const BoundResult r = bound(f, box, {.tolerance = 1e-3}, constraints);
+    // Only the box budget may stop a bound here, never the clock, so the count cannot depend on
+    // how loaded the machine running the tests is.
+    const BoundResult r = bound(f, box, {.tolerance = 1e-3, .max_seconds = 1e9}, constraints);
     if (record.value("range_unbounded", false)) {
       ++unbounded_records;
       EXPECT_EQ(r.status, BoundStatus::kUnbounded) << name;
@@ -99,7 +101,7 @@ TEST(Corpus, SimplifiedRewriteBoundsInstantaneousCurrent) {
     box.add(pool.variable(var), range[0].get<double>(), range[1].get<double>());
   }
   const Expr f = symbolic::parse(pool, record.at("expr").get<std::string>());
-  const BoundOptions small{.max_box_evaluations = 2000, .max_seconds = 0.5};
+  const BoundOptions small{.max_box_evaluations = 2000, .max_seconds = 1e9};  // budget, not clock
   BoundOptions direct_only = small;
   direct_only.simplify = false;
   EXPECT_EQ(bound(f, box, direct_only).status, BoundStatus::kEffortLimit);

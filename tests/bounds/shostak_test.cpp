@@ -242,7 +242,8 @@ RC_GTEST_PROP(ShostakProperty, BoundsRandomLinearSystemsExactly, ()) {
   ExprPool pool;
   const int n = *rc::gen::inRange(2, 5);
   std::vector<Expr> variables;
-  for (int i = 0; i < n; ++i) variables.push_back(pool.variable("x" + std::to_string(i)));
+  for (int i = 0; i < n; ++i)
+    variables.push_back(pool.variable(std::string("x").append(std::to_string(i))));
   std::vector<Row> rows;
   std::vector<LinearConstraint> constraints;
   const auto add_row = [&](std::vector<Number> a, Number b) {
