@@ -3,6 +3,8 @@
 //   spar bound "EXPR" --var ... [--constraint ...] --keep y [--keep ...]   symbolic SUP/INF in the
 //       kept variables (Shostak; linear constraints, target linear in the other variables)
 //   spar bound --jsonl FILE [--tol T]     one JSON result per line of an FPBench-style corpus
+#include <unistd.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -177,14 +179,19 @@ nlohmann::json bound_record(const std::string& line, const BoundArguments& argum
 void run_jsonl(const BoundArguments& arguments) {
   std::ifstream in(arguments.jsonl);
   if (!in) throw BoundsError("cannot open '" + arguments.jsonl + "'");
+  // Progress goes to a terminal only, so redirected stderr stays clean; each result line is
+  // flushed as it is done, so an interrupted run keeps every answer it had.
+  const bool show_progress = isatty(STDERR_FILENO) != 0;
   std::string line;
-  std::size_t failures = 0;
+  std::size_t failures = 0, done = 0;
   while (std::getline(in, line)) {
     if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
     bool ok = true;
-    std::cout << bound_record(line, arguments, ok).dump() << '\n';
+    std::cout << bound_record(line, arguments, ok).dump() << std::endl;
     failures += ok ? 0 : 1;
+    if (show_progress) std::cerr << "\rspar bound: " << ++done << " records bounded" << std::flush;
   }
+  if (show_progress && done > 0) std::cerr << '\n';
   if (failures > 0) {
     throw BoundsError(std::to_string(failures) + " line(s) of '" + arguments.jsonl +
                       "' could not be bounded (see their \"error\")");
