@@ -277,14 +277,25 @@ void run_single(const BoundArguments& arguments) {
     return;
   }
   const bounds::BoundResult& r = timed.result;
+  if (r.status == bounds::BoundStatus::kInfeasible) {
+    std::cout << "status   infeasible: no point of the box satisfies the constraints and gives the "
+                 "expression a defined value\n";
+    return;
+  }
   std::cout.precision(17);
   std::cout << "range    [" << r.lo << ", " << r.hi << "]   (sound)\n"
             << "attained [" << r.inner_lo << ", " << r.inner_hi << "]\n"
             << "status   " << bounds::to_string(r.status)
             << (r.possibly_undefined ? " (possibly undefined somewhere in the box)" : "") << '\n';
   std::cout.precision(6);
-  std::cout << "gap      " << r.relative_gap() << " of the attained width, " << r.evaluations
-            << " boxes, " << std::round(timed.microseconds) << " us\n";
+  const double gap = r.relative_gap();
+  std::cout << "gap      ";
+  if (std::isfinite(gap)) {
+    std::cout << gap << " of the attained width";
+  } else {
+    std::cout << "none measurable (unbounded or a single attained value)";
+  }
+  std::cout << ", " << r.evaluations << " boxes, " << std::round(timed.microseconds) << " us\n";
   const auto print_point = [&](const char* label, const std::vector<double>& x) {
     if (x.empty()) return;
     std::cout << label;

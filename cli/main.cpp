@@ -16,7 +16,9 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& error) {
-    return app.exit(error);
+    if (error.get_exit_code() == 0) return app.exit(error);  // --help
+    std::cerr << "spar: error: " << error.what() << " (see spar --help)\n";
+    return 1;
   } catch (const std::exception& error) {
     std::cerr << "spar: error: " << error.what() << '\n';
     return 1;
