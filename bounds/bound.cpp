@@ -569,32 +569,13 @@ double BoundResult::relative_gap() const {
   return width > 0 ? gap / width : kInf;
 }
 
-BoundResult bound(Expr f, const Box& box, const BoundOptions& options,
-                  std::span<const Constraint> constraints) {
-  if (f.is_null()) throw BoundsError("no expression to bound");
-  const auto check = [&](Expr e, const char* what) {
-    for (Expr v : symbolic::free_variables(e)) {
-      if (std::find(box.variables.begin(), box.variables.end(), v) == box.variables.end()) {
-        throw BoundsError(std::string("unknown variable '") + v.name() + "' in the " + what +
-                          ": give it a range");
-      }
-    }
-  };
-  check(f, "expression");
-  for (const Constraint& c : constraints) check(c.g, "constraint");
-  if (!(options.tolerance >= 0)) throw BoundsError("tolerance must be >= 0");
-  BoundResult result = Bounder(f, box, options, constraints).run();
-  if (result.status != BoundStatus::kEffortLimit || !options.simplify) return result;
-  std::map<std::string, double> widths;
-  for (std::size_t i = 0; i < box.variables.size(); ++i) {
-    widths[box.variables[i].name()] = box.ranges[i].width();
-  }
-  const Expr rewritten = symbolic::simplify(f, {.widths = widths});
-  if (rewritten == f) return result;
-  const BoundResult other = Bounder(rewritten, box, options, constraints).run();
-  result.evaluations += other.evaluations;
-  // The rewrite's witnesses are feasible points (checked by its search): f's value there, if f
-  // is defined, is a value f attains.
+namespace {
+
+// Tightens `result` (a bound of f) with `other`, a bound of SMP's rewrite of f. The rewrite's
+// witnesses are feasible points (checked by its search): f's value there, where f is defined, is
+// a value f attains, so it may improve the inner bounds.
+void refine_with_rewrite(BoundResult& result, const BoundResult& other, Expr f, const Box& box,
+                         double tolerance) {
   const Tape tape = Tape::compile(std::array{f}, box.variables);
   symbolic::TapeEvaluator<Interval> evaluator(tape);
   for (const std::vector<double>* point : {&other.argmin, &other.argmax}) {
@@ -616,11 +597,54 @@ BoundResult bound(Expr f, const Box& box, const BoundOptions& options,
   // them would mean the rewrite is wrong: then it is not used.
   if (other.status == BoundStatus::kInfeasible || other.lo > result.inner_lo ||
       other.hi < result.inner_hi) {
-    return result;
+    return;
   }
   result.lo = std::max(result.lo, other.lo);
   result.hi = std::min(result.hi, other.hi);
-  if (result.relative_gap() <= options.tolerance) result.status = BoundStatus::kConverged;
+  if (result.relative_gap() <= tolerance) result.status = BoundStatus::kConverged;
+}
+
+}  // namespace
+
+BoundResult bound(Expr f, const Box& box, const BoundOptions& options,
+                  std::span<const Constraint> constraints) {
+  if (f.is_null()) throw BoundsError("no expression to bound");
+  const auto check = [&](Expr e, const char* what) {
+    for (Expr v : symbolic::free_variables(e)) {
+      if (std::find(box.variables.begin(), box.variables.end(), v) == box.variables.end()) {
+        throw BoundsError(std::string("unknown variable '") + v.name() + "' in the " + what +
+                          ": give it a range");
+      }
+    }
+  };
+  check(f, "expression");
+  for (const Constraint& c : constraints) check(c.g, "constraint");
+  if (!(options.tolerance >= 0)) throw BoundsError("tolerance must be >= 0");
+  if (!options.simplify) return Bounder(f, box, options, constraints).run();
+  // Staged effort: f gets an eighth of the budget first; if that stops short, SMP's rewrite gets
+  // the same share (it often converges at once where f's repeated variables defeat bisection),
+  // and only then does f get the whole budget. The rewrite's bounds are intersected either way.
+  BoundOptions first = options;
+  first.max_box_evaluations = std::max<std::size_t>(1, options.max_box_evaluations / 8);
+  first.max_seconds = options.max_seconds / 8;
+  BoundResult result = Bounder(f, box, first, constraints).run();
+  if (result.status != BoundStatus::kEffortLimit) return result;
+  std::map<std::string, double> widths;
+  for (std::size_t i = 0; i < box.variables.size(); ++i) {
+    widths[box.variables[i].name()] = box.ranges[i].width();
+  }
+  const Expr rewritten = symbolic::simplify(f, {.widths = widths});
+  std::optional<BoundResult> other;
+  if (rewritten != f) {
+    other = Bounder(rewritten, box, first, constraints).run();
+    result.evaluations += other->evaluations;
+    refine_with_rewrite(result, *other, f, box, options.tolerance);
+    if (result.status != BoundStatus::kEffortLimit) return result;
+  }
+  const std::size_t spent = result.evaluations;
+  result = Bounder(f, box, options, constraints).run();
+  result.evaluations += spent;
+  if (other) refine_with_rewrite(result, *other, f, box, options.tolerance);
   return result;
 }
 
