@@ -64,8 +64,9 @@ struct BoundOptions {
   bool monotonicity{true};
   bool centred_form{true};
   bool branch_and_bound{true};
-  // If the bound stops at the effort limit, bound SMP's rewrite of f (fewer repeated variables,
-  // equal to f wherever f is defined) too and intersect the outer bounds.
+  // If f does not converge within 1/8 of the budget, bound SMP's rewrite of f (fewer repeated
+  // variables, equal to f wherever f is defined) with another 1/8 and intersect the outer bounds;
+  // only if that does not settle it does f get the whole budget.
   bool simplify{true};
 };
 
