@@ -309,11 +309,20 @@ TEST(Pickup, ExpressionsAreSmallerThanTransformProducts) {
   EXPECT_EQ(pre.variables.size(), 8u);
 }
 
-std::array<PickupCheck, 4> check_example(const PoseUncertainty& object_bounds) {
+// The paper's peg pickup with Table 2's gripper bounds and the given object bounds.
+struct PegPickup {
+  explicit PegPickup(const PoseUncertainty& object_bounds = kTable2Object)
+      : gripper(pool, kTable2Gripper),
+        object(pool, object_bounds),
+        pre(pickup_preconditions(peg_pickup_example(), gripper, object)) {}
   ExprPool pool;
-  const UncertainManipulator gripper(pool, kTable2Gripper);
-  const UncertainObject object(pool, object_bounds);
-  return check_pickup(pickup_preconditions(peg_pickup_example(), gripper, object));
+  UncertainManipulator gripper;
+  UncertainObject object;
+  PickupPreconditions pre;
+};
+
+std::array<PickupCheck, 4> check_example(const PoseUncertainty& object_bounds) {
+  return check_pickup(PegPickup(object_bounds).pre);
 }
 
 TEST(Pickup, PaperExampleIsSatisfiedUnderTable2) {
@@ -337,10 +346,8 @@ TEST(Pickup, WidenedObjectUncertaintyIsDetectedAsViolated) {
   EXPECT_EQ(checks[3].verdict, Verdict::kSatisfied) << checks[3].condition.name;
   // The witness really violates the inequality.
   std::map<std::string, double> witness;
-  ExprPool pool;
-  const UncertainManipulator gripper(pool, kTable2Gripper);
-  const UncertainObject object(pool, wide);
-  const PickupPreconditions pre = pickup_preconditions(peg_pickup_example(), gripper, object);
+  const PegPickup example(wide);
+  const PickupPreconditions& pre = example.pre;
   for (std::size_t i = 0; i < pre.variables.size(); ++i) {
     witness[pre.variables[i].name] = checks[1].bound.argmin.at(i);
   }
@@ -349,10 +356,9 @@ TEST(Pickup, WidenedObjectUncertaintyIsDetectedAsViolated) {
 
 TEST(PickupChecker, RecheckOverAWiderBoxMatchesAFreshCheck) {
   // One compiled checker, three boxes: Table 2, widened (two conditions fail), Table 2 again.
-  ExprPool pool;
-  const UncertainManipulator gripper(pool, kTable2Gripper);
-  const UncertainObject object(pool, kTable2Object);
-  const PickupPreconditions pre = pickup_preconditions(peg_pickup_example(), gripper, object);
+  PegPickup example;
+  ExprPool& pool = example.pool;
+  const PickupPreconditions& pre = example.pre;
   PickupChecker checker(pre);
   PoseUncertainty wide = kTable2Object;
   wide.dx = wide.dy = wide.dz = 0.4;
@@ -372,10 +378,8 @@ TEST(PickupChecker, RecheckOverAWiderBoxMatchesAFreshCheck) {
 }
 
 RC_GTEST_PROP(PickupChecker, NaturalBoundsEncloseEveryPointOfTheBox, ()) {
-  ExprPool pool;
-  const UncertainManipulator gripper(pool, kTable2Gripper);
-  const UncertainObject object(pool, kTable2Object);
-  const PickupPreconditions pre = pickup_preconditions(peg_pickup_example(), gripper, object);
+  PegPickup example;
+  const PickupPreconditions& pre = example.pre;
   const std::array<PickupCheck, 4> checks = check_pickup(pre);
   std::map<std::string, double> point;
   for (const UncertaintyVariable& v : pre.variables) point[v.name] = *coordinate(v.upper);
@@ -388,10 +392,8 @@ RC_GTEST_PROP(PickupChecker, NaturalBoundsEncloseEveryPointOfTheBox, ()) {
 }
 
 TEST(PickupChecker, RejectsVariablesInAnotherOrderWithAMessage) {
-  ExprPool pool;
-  const UncertainManipulator gripper(pool, kTable2Gripper);
-  const UncertainObject object(pool, kTable2Object);
-  const PickupPreconditions pre = pickup_preconditions(peg_pickup_example(), gripper, object);
+  PegPickup example;
+  const PickupPreconditions& pre = example.pre;
   PickupChecker checker(pre);
   std::vector<UncertaintyVariable> swapped = pre.variables;
   std::swap(swapped[0], swapped[4]);
