@@ -571,11 +571,11 @@ double BoundResult::relative_gap() const {
 
 namespace {
 
-// Tightens `result` (a bound of f) with `other`, a bound of SMP's rewrite of f. The rewrite's
-// witnesses are feasible points (checked by its search): f's value there, where f is defined, is
-// a value f attains, so it may improve the inner bounds.
-void refine_with_rewrite(BoundResult& result, const BoundResult& other, Expr f, const Box& box,
-                         double tolerance) {
+// Tightens `result` (a bound of f) with `other`, an earlier bound of f or a bound of SMP's rewrite
+// of f. Its witnesses are feasible points (checked by its search): f's value there, where f is
+// defined, is a value f attains, so it may improve the inner bounds.
+void refine_with(BoundResult& result, const BoundResult& other, Expr f, const Box& box,
+                 double tolerance) {
   const Tape tape = Tape::compile(std::array{f}, box.variables);
   symbolic::TapeEvaluator<Interval> evaluator(tape);
   for (const std::vector<double>* point : {&other.argmin, &other.argmax}) {
@@ -593,7 +593,7 @@ void refine_with_rewrite(BoundResult& result, const BoundResult& other, Expr f, 
       result.argmax = *point;
     }
   }
-  // rewritten = f wherever f is defined, so its bounds hold for f. Values f attains outside
+  // A rewrite equals f wherever f is defined, so its bounds hold for f. Values f attains outside
   // them would mean the rewrite is wrong: then it is not used.
   if (other.status == BoundStatus::kInfeasible || other.lo > result.inner_lo ||
       other.hi < result.inner_hi) {
@@ -623,7 +623,8 @@ BoundResult bound(Expr f, const Box& box, const BoundOptions& options,
   if (!options.simplify) return Bounder(f, box, options, constraints).run();
   // Staged effort: f gets an eighth of the budget first; if that stops short, SMP's rewrite gets
   // the same share (it often converges at once where f's repeated variables defeat bisection),
-  // and only then does f get the whole budget. The rewrite's bounds are intersected either way.
+  // and then f starts again with the whole budget (so a call may spend up to 1.25 budgets). The
+  // earlier stages' bounds are intersected with the last.
   BoundOptions first = options;
   first.max_box_evaluations = std::max<std::size_t>(1, options.max_box_evaluations / 8);
   first.max_seconds = options.max_seconds / 8;
@@ -634,17 +635,16 @@ BoundResult bound(Expr f, const Box& box, const BoundOptions& options,
     widths[box.variables[i].name()] = box.ranges[i].width();
   }
   const Expr rewritten = symbolic::simplify(f, {.widths = widths});
-  std::optional<BoundResult> other;
   if (rewritten != f) {
-    other = Bounder(rewritten, box, first, constraints).run();
-    result.evaluations += other->evaluations;
-    refine_with_rewrite(result, *other, f, box, options.tolerance);
+    const BoundResult other = Bounder(rewritten, box, first, constraints).run();
+    result.evaluations += other.evaluations;
+    refine_with(result, other, f, box, options.tolerance);
     if (result.status != BoundStatus::kEffortLimit) return result;
   }
-  const std::size_t spent = result.evaluations;
+  const BoundResult earlier = result;
   result = Bounder(f, box, options, constraints).run();
-  result.evaluations += spent;
-  if (other) refine_with_rewrite(result, *other, f, box, options.tolerance);
+  result.evaluations += earlier.evaluations;
+  refine_with(result, earlier, f, box, options.tolerance);
   return result;
 }
 

@@ -58,15 +58,15 @@ struct Constraint {
 // Which stages run (all on by default; the benchmark switches them to compare).
 struct BoundOptions {
   double tolerance{1e-3};                    // relative to the attained width inner_hi - inner_lo
-  std::size_t max_box_evaluations{200'000};  // per bound() call, both directions together
-  double max_seconds{2.0};                   // per bound() call
+  std::size_t max_box_evaluations{200'000};  // both directions together (see simplify)
+  double max_seconds{2.0};                   // likewise
   bool inner{true};                          // NLopt inner search (midpoints/corners always)
   bool monotonicity{true};
   bool centred_form{true};
   bool branch_and_bound{true};
   // If f does not converge within 1/8 of the budget, bound SMP's rewrite of f (fewer repeated
   // variables, equal to f wherever f is defined) with another 1/8 and intersect the outer bounds;
-  // only if that does not settle it does f get the whole budget.
+  // only if that does not settle it does f get the whole budget (at most 1.25 budgets in all).
   bool simplify{true};
 };
 

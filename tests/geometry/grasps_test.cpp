@@ -102,8 +102,9 @@ TEST(Grasps, UsabilityInAPoseGivesTheReason) {
     ++count[usability];
     const Eigen::Vector3d approach =
         (on_bottom.object_to_world * grasp.gripper_in_object).linear().col(2);
-    if (usability == GraspUsability::usable)
+    if (usability == GraspUsability::usable) {
       EXPECT_TRUE(approach.isApprox(Eigen::Vector3d(0, 0, -1)));
+    }
   }
   // 4 grasps on the vertical pair (top/bottom) touch the table; of the 8 others, 2 come from
   // above (usable), 2 from below, and 4 from the side, where the 1.5-wide palm hits the table.
