@@ -1,0 +1,153 @@
+// Scenario: the work cell and the task, as a plain value read from a YAML file (docs/scenario.md).
+//
+// A scenario names the robot (a built-in Puma or a DH table, its base pose in the world, the tool
+// transform from flange to gripper frame, the gripper, the manipulator's uncertainty), the objects
+// (shape, named features, initial pose, pose uncertainty), the free places on the table where
+// objects may be put down, the sensors, and the goals. SPAR's assembled(held, fixed, mating faces,
+// Ta, mating vector) is the goal type today.
+//
+// Units: inside a Scenario every length is in metres and every angle in radians (REP 103),
+// whatever the file said; `units` remembers the file's choice so output can be shown in it.
+// World frame: z up, the table top is the plane z = 0. An object's frame is its mesh's frame.
+//
+// Invariants the loader guarantees (load_scenario throws ScenarioError otherwise, with
+// `file:line:col: what is wrong`):
+//   * object names are unique identifiers; every name a goal uses is an object;
+//   * every face id (features, goals) exists in its object's model;
+//   * every pose is rigid; every half-width of an uncertainty is finite and >= 0;
+//   * `places` have unique names; the robot's DH table is a valid chain for the Puma IK.
+//
+// Example:
+//   const Scenario scenario = load_scenario("examples/peg_block_face_down.yaml");
+//   const ObjectSpec& block = scenario.object("block");
+//   block.initial_pose.translation();                      // metres, world frame
+//   scenario.units.to_file_length(0.0254);                 // 1.0 when the file is in inches
+#pragma once
+
+#include <Eigen/Geometry>
+#include <filesystem>
+#include <map>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <variant>
+#include <vector>
+
+#include "geometry/grasps.hpp"
+#include "geometry/object.hpp"
+#include "kinematics/dh.hpp"
+#include "kinematics/puma.hpp"
+#include "kinematics/uncertain_pose.hpp"
+
+namespace spar::planner {
+
+enum class LengthUnit { kMetre, kMillimetre, kInch };
+enum class AngleUnit { kRadian, kDegree };
+
+// The units a scenario file was written in; conversions to and from the internal m / rad.
+struct Units {
+  LengthUnit length{LengthUnit::kMetre};
+  AngleUnit angle{AngleUnit::kRadian};
+
+  [[nodiscard]] double metres_per_length_unit() const;  // 1, 0.001, 0.0254
+  [[nodiscard]] double radians_per_angle_unit() const;  // 1, pi / 180
+  [[nodiscard]] double to_file_length(double metres) const {
+    return metres / metres_per_length_unit();
+  }
+  [[nodiscard]] double to_file_angle(double radians) const {
+    return radians / radians_per_angle_unit();
+  }
+  [[nodiscard]] std::string_view length_name() const;  // "m", "mm", "in"
+  [[nodiscard]] std::string_view angle_name() const;   // "rad", "deg"
+};
+
+// Where something was declared in a scenario file, for messages about it after loading.
+struct SourceLocation {
+  std::string file;
+  int line{0};    // 1-based; 0 when unknown
+  int column{0};  // 1-based
+  [[nodiscard]] std::string str() const;  // "file:line:col"
+};
+
+struct RobotSpec {
+  std::string model{"puma560"};  // "puma560", "puma762", or "dh" for a table given in the file
+  kinematics::DhChain chain{kinematics::puma560()};
+  kinematics::Transform base{kinematics::Transform::Identity()};  // robot base frame in the world
+  kinematics::Transform tool{kinematics::Transform::Identity()};  // gripper frame in the flange
+  geometry::GripperSpec gripper{};
+  // Half-angle of the cone about world -z the gripper's approach (z) axis must lie in when it
+  // reaches a grasp (SPAR: never reach up through the table).
+  double max_tool_tilt{1.0471975511965976};  // 60 degrees
+  kinematics::PoseUncertainty uncertainty{};  // Δx_g, Δy_g, Δz_g, Δθ_g of eq. 1
+};
+
+struct ObjectSpec {
+  std::string name;
+  std::string shape;  // as written: "builtin: peg" or "mesh: meshes/part.off"
+  geometry::ObjectModel model;
+  std::vector<geometry::StablePose> stable_poses;      // of `model`, labels "P1", "P2", ...
+  std::map<std::string, std::vector<int>> features;    // named feature -> face ids (ascending)
+  kinematics::Transform initial_pose{kinematics::Transform::Identity()};  // object frame in world
+  // The stable pose the object initially rests in: given (`pose: {stable: P3, ...}`) or found by
+  // classify_orientation for an `xyz/rpy` pose resting on the table; nullopt if neither.
+  std::optional<int> initial_stable_pose;  // index into stable_poses
+  kinematics::PoseUncertainty uncertainty{};  // Δx_o, Δy_o, Δz_o, Δθ_o of eq. 2
+  SourceLocation location;                    // of the object's entry
+};
+
+// A free spot on the table where an object may be put down: the object's frame origin goes above
+// (x, y), turned by `yaw` about world z, resting in whichever stable pose the plan chooses.
+struct Place {
+  std::string name;
+  double x{0.0};
+  double y{0.0};
+  double yaw{0.0};
+};
+
+// range-scan: sensing an object replaces its pose uncertainty by this residual (fresh variables).
+struct RangeScanSensor {
+  kinematics::PoseUncertainty residual{};
+};
+
+// SPAR's assembled(held, fixed, [held faces, fixed faces], Ta, mating vector).
+struct AssembledGoal {
+  std::string held;              // the object the robot holds and moves
+  std::string fixed;             // the object that stays on the table
+  std::vector<int> held_faces;   // mating faces of `held` (ids, ascending)
+  std::vector<int> fixed_faces;  // mating faces of `fixed`
+  // Ta: the held object's frame in the fixed object's frame once assembled.
+  kinematics::Transform relative{kinematics::Transform::Identity()};
+  // Direction of the mating motion in the fixed object's frame (unit length).
+  Eigen::Vector3d mating_vector{0.0, 0.0, -1.0};
+  // Largest admissible error of the insertion: offset perpendicular to the mating vector
+  // (metres) and misalignment (radians) between the held and the fixed mating features.
+  double clearance{0.0};
+  double angular_clearance{0.0};
+  SourceLocation location;
+};
+
+using Goal = std::variant<AssembledGoal>;
+
+struct Scenario {
+  std::string name;         // `name:` or the file's stem
+  std::string description;  // optional free text
+  std::filesystem::path path;  // the file it was read from ("" if parsed from text)
+  Units units{};
+  RobotSpec robot{};
+  std::vector<ObjectSpec> objects;  // in file order
+  std::vector<Place> places;        // in file order
+  std::optional<RangeScanSensor> range_scan;
+  geometry::GraspQuantization grasping{};  // how grasps are quantized (SPAR's grasp labels)
+  std::vector<Goal> goals;                  // in file order
+
+  // Throws ScenarioError naming the known objects when there is none called `name`.
+  [[nodiscard]] const ObjectSpec& object(std::string_view name) const;
+};
+
+// Reads and validates a scenario file; mesh paths are relative to the file's folder.
+[[nodiscard]] Scenario load_scenario(const std::filesystem::path& path);
+// The same from text: `source` names it in messages, `base_dir` resolves mesh paths.
+[[nodiscard]] Scenario parse_scenario(std::string_view text, const std::string& source,
+                                      const std::filesystem::path& base_dir);
+
+}  // namespace spar::planner
