@@ -1,0 +1,107 @@
+#include "planner/instances.hpp"
+
+#include "planner/error.hpp"
+
+namespace spar::planner {
+
+InstanceEnumerator::InstanceEnumerator(const PlanFamily& family, const WorldModel& world,
+                                       const Domain& domain)
+    : family_(family), world_(world), domain_(domain), labelings_(family.network) {
+  if (family.status != PostingStatus::kPlanned)
+    throw PlanError("no plan instances: the plan family is not complete (" +
+                    std::string(to_string(family.status)) + ")");
+}
+
+std::optional<PlanInstance> InstanceEnumerator::next() {
+  while (true) {
+    if (orders_) {
+      if (std::optional<std::vector<int>> order = orders_->next()) {
+        std::vector<int> actions;
+        for (const int step : *order)
+          if (family_.steps[step].action >= 0) actions.push_back(step);
+        PlanInstance instance = build(*labeling_, actions);
+        instance.index = count_++;
+        return instance;
+      }
+    }
+    labeling_ = labelings_.next();
+    if (!labeling_) return std::nullopt;
+    orders_.emplace(family_.ordering);
+  }
+}
+
+PlanInstance InstanceEnumerator::build(const std::vector<int>& labeling,
+                                       const std::vector<int>& order) const {
+  PlanInstance instance;
+  instance.labeling = labeling;
+  instance.order = order;
+  const auto label = [&](const Term& term) {
+    return labeling[family_.network.representative(term.index)];
+  };
+  for (const int id : order) {
+    const FamilyStep& family_step = family_.steps[id];
+    const ActionTemplate& action = domain_.actions[family_step.action];
+    InstanceStep step;
+    step.step = id;
+    step.action = family_step.action;
+    step.action_name = action.name;
+    int position_object = -1;
+    for (std::size_t p = 0; p < action.parameters.size(); ++p) {
+      const Parameter& parameter = action.parameters[p];
+      const Term& term = family_step.args[p];
+      const int owner = parameter.type == ParameterType::kObject
+                            ? -1
+                            : family_step.args[action.parameter_index(parameter.of)].index;
+      if (parameter.type == ParameterType::kGrasp && step.grasp < 0) {
+        step.object = owner;
+        step.grasp = label(term);
+      } else if ((parameter.type == ParameterType::kPosition ||
+                  parameter.type == ParameterType::kPlacement) &&
+                 step.position < 0) {
+        position_object = owner;
+        step.position = label(term);
+      }
+    }
+    if (step.object < 0) step.object = position_object;
+    if (step.position >= 0) {
+      const PositionLabel& where = world_.object(position_object).positions[step.position];
+      if (position_object == step.object) {
+        step.object_pose = where.pose;
+        step.stable_pose = where.stable_pose;
+      } else {  // an assembly: the position is the fixed object's, the held one goes to T_f Ta
+        const GoalWorld* goal = world_.goal(step.object, position_object);
+        if (goal == nullptr)
+          throw PlanError("internal: step " + std::to_string(id) + " joins objects no goal names");
+        const auto& assembled =
+            std::get<AssembledGoal>(world_.scenario().goals[goal - world_.goals().data()]);
+        step.fixed_object = position_object;
+        step.fixed_pose = where.pose;
+        step.held_pose = where.pose * assembled.relative;
+        step.object_pose = step.held_pose;
+      }
+    }
+    if (step.grasp >= 0) {
+      step.gripper_pose =
+          step.object_pose * world_.object(step.object).grasps[step.grasp].gripper_in_object;
+      step.reach = world_.reach(step.gripper_pose);
+    }
+    instance.steps.push_back(std::move(step));
+  }
+  return instance;
+}
+
+InstanceList enumerate_instances(const PlanFamily& family, const WorldModel& world,
+                                 const Domain& domain, std::size_t limit) {
+  InstanceList list;
+  InstanceEnumerator enumerator(family, world, domain);
+  while (std::optional<PlanInstance> instance = enumerator.next()) {
+    if (list.instances.size() == limit) {
+      list.limit_reached = true;
+      break;
+    }
+    list.instances.push_back(std::move(*instance));
+  }
+  return list;
+}
+
+}  // namespace spar::planner

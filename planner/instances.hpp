@@ -1,0 +1,86 @@
+// Plan instances: a plan family made concrete (seed 001, "Representation of Plans"). An instance is
+// one consistent labeling of the constraint network (a grasp label for every grasp variable, a
+// position label for every position variable) together with one linearization of the ordering
+// graph; it fixes every pose, grasp transform and joint configuration of the plan.
+//
+// Enumeration is lazy and deterministic: labelings in the network's lexicographic order (outer),
+// for each the linearizations lexicographically smallest first (inner), up to a limit. Phase 2
+// examines instances in this order; until it has chosen, the first one is the plan.
+//
+// Per step (in execution order), for manipulations: the grasp (object's grasp label), the object's
+// world pose when the step starts (for a putdown and an assembly: where the step puts it), the
+// gripper frame's world pose at the grasp, T = T_O T_G (assembly: T = T_fixed Ta T_G), and the first
+// in-limit IK solution reaching it (kinematics/ik.hpp's order: lun, luf, ...).
+//
+// Example:
+//   const PlanFamily family = post_plan(world, domain);
+//   InstanceEnumerator instances(family, world, domain);
+//   while (std::optional<PlanInstance> instance = instances.next())
+//     for (const InstanceStep& step : instance->steps) std::cout << step.action_name << '\n';
+#pragma once
+
+#include <cstddef>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "planner/posting.hpp"
+
+namespace spar::planner {
+
+struct InstanceStep {
+  int step{0};  // family step id
+  int action{0};  // index into Domain::actions
+  std::string action_name;
+  int object{-1};    // the object the step handles (the held one for an assembly)
+  int grasp{-1};     // grasp label of `object`, -1 for steps without a grasp
+  int position{-1};  // position label of the step's position parameter
+  int stable_pose{-1};  // of the object at `object_pose`, -1 if none
+  kinematics::Transform object_pose{kinematics::Transform::Identity()};
+  kinematics::Transform gripper_pose{kinematics::Transform::Identity()};  // valid if grasp >= 0
+  Reach reach;  // of gripper_pose
+  // Assembly steps (the position belongs to another object than the grasp):
+  int fixed_object{-1};
+  kinematics::Transform fixed_pose{kinematics::Transform::Identity()};
+  kinematics::Transform held_pose{kinematics::Transform::Identity()};  // T_fixed Ta
+  [[nodiscard]] bool is_assembly() const { return fixed_object >= 0; }
+};
+
+struct PlanInstance {
+  std::size_t index{0};        // position in the enumeration
+  std::vector<int> labeling;   // label of every network variable id
+  std::vector<int> order;      // family step ids of the actions, in execution order
+  std::vector<InstanceStep> steps;
+};
+
+class InstanceEnumerator {
+ public:
+  // The family, world and domain must outlive the enumerator. Throws PlanError unless the family
+  // is planned.
+  InstanceEnumerator(const PlanFamily& family, const WorldModel& world, const Domain& domain);
+
+  // The next instance, or nullopt when every labeling x linearization has been returned.
+  [[nodiscard]] std::optional<PlanInstance> next();
+
+ private:
+  [[nodiscard]] PlanInstance build(const std::vector<int>& labeling,
+                                   const std::vector<int>& order) const;
+
+  const PlanFamily& family_;
+  const WorldModel& world_;
+  const Domain& domain_;
+  cms::Labelings labelings_;
+  std::optional<std::vector<int>> labeling_;  // the current labeling
+  std::optional<cms::Linearizations> orders_;  // of the current labeling
+  std::size_t count_{0};
+};
+
+struct InstanceList {
+  std::vector<PlanInstance> instances;
+  bool limit_reached{false};  // more instances exist than `limit`
+};
+
+[[nodiscard]] InstanceList enumerate_instances(const PlanFamily& family, const WorldModel& world,
+                                               const Domain& domain, std::size_t limit);
+
+}  // namespace spar::planner

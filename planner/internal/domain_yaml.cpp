@@ -1,0 +1,326 @@
+// Reads a domain file (planner/domain.yaml's format) into a Domain; every mistake is a DomainError
+// with `file:line:col`.
+#include <yaml-cpp/yaml.h>
+
+#include <algorithm>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include "planner/domain.hpp"
+#include "planner/error.hpp"
+
+namespace spar::planner {
+namespace {
+
+// Constants an atom may use besides parameter names.
+const std::set<std::string, std::less<>> kConstants = {"empty"};
+
+class DomainReader {
+ public:
+  explicit DomainReader(std::string source) : source_(std::move(source)) {}
+
+  [[noreturn]] void fail(const YAML::Mark& mark, const std::string& what) const {
+    std::ostringstream out;
+    out << source_;
+    if (!mark.is_null()) out << ':' << mark.line + 1 << ':' << mark.column + 1;
+    out << ": " << what;
+    throw DomainError(out.str());
+  }
+
+  // Checks that `node` is a map whose keys are all in `allowed`.
+  void expect_map(const YAML::Node& node, const std::string& what,
+                  std::initializer_list<std::string_view> allowed) const {
+    if (!node.IsMap()) fail(node.Mark(), what + " must be a map");
+    for (const auto& entry : node) {
+      const std::string key = entry.first.as<std::string>();
+      if (std::find(allowed.begin(), allowed.end(), key) == allowed.end()) {
+        std::string known;
+        for (std::string_view k : allowed) known += (known.empty() ? "" : ", ") + std::string(k);
+        fail(entry.first.Mark(), "unknown key '" + key + "' in " + what + " (known: " + known + ")");
+      }
+    }
+  }
+
+  std::string scalar(const YAML::Node& node, const std::string& what) const {
+    if (!node.IsScalar()) fail(node.Mark(), what + " must be a text");
+    return node.as<std::string>();
+  }
+
+  std::vector<std::string> scalars(const YAML::Node& node, const std::string& what) const {
+    std::vector<std::string> out;
+    if (!node) return out;
+    if (!node.IsSequence()) fail(node.Mark(), what + " must be a list");
+    for (const auto& item : node) out.push_back(scalar(item, what + " entry"));
+    return out;
+  }
+
+  // "name(a, b)" -> {name, {a, b}}; `name` alone has no arguments.
+  Atom parse_atom(const YAML::Node& node, const std::string& what) const {
+    const std::string text = scalar(node, what);
+    Atom atom;
+    const auto open = text.find('(');
+    auto trim = [](std::string s) {
+      const auto first = s.find_first_not_of(" \t");
+      if (first == std::string::npos) return std::string();
+      return s.substr(first, s.find_last_not_of(" \t") - first + 1);
+    };
+    atom.predicate = trim(text.substr(0, open));
+    if (open != std::string::npos) {
+      if (text.back() != ')') fail(node.Mark(), what + " '" + text + "' lacks its closing ')'");
+      std::stringstream args(text.substr(open + 1, text.size() - open - 2));
+      std::string arg;
+      while (std::getline(args, arg, ',')) atom.args.push_back(trim(arg));
+    }
+    const auto is_name = [](const std::string& s) {
+      return !s.empty() && std::all_of(s.begin(), s.end(), [](char c) {
+        return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-';
+      });
+    };
+    if (!is_name(atom.predicate)) fail(node.Mark(), what + " '" + text + "' is not name(args)");
+    for (const std::string& arg : atom.args)
+      if (!is_name(arg)) fail(node.Mark(), what + " '" + text + "' has an empty or bad argument");
+    return atom;
+  }
+
+  Parameter parse_parameter(const std::string& name, const YAML::Node& type_node) const {
+    const Atom type = parse_atom(type_node, "parameter type");
+    Parameter parameter{.name = name, .type = ParameterType::kObject, .of = {}};
+    if (type.predicate == "object" && type.args.empty()) return parameter;
+    static const std::pair<std::string_view, ParameterType> kTyped[] = {
+        {"grasp", ParameterType::kGrasp},
+        {"position", ParameterType::kPosition},
+        {"placement", ParameterType::kPlacement}};
+    for (const auto& [type_name, type_kind] : kTyped) {
+      if (type.predicate == type_name && type.args.size() == 1) {
+        parameter.type = type_kind;
+        parameter.of = type.args[0];
+        return parameter;
+      }
+    }
+    fail(type_node.Mark(), "parameter '" + name + "' has unknown type '" + type.str() +
+                               "' (known: object, grasp(P), position(P), placement(P))");
+  }
+
+  // Every argument of `atom` must be a parameter or a constant.
+  void check_arguments(const ActionTemplate& action, const Atom& atom, const YAML::Node& node) const {
+    for (const std::string& arg : atom.args)
+      if (action.parameter_index(arg) < 0 && !kConstants.contains(arg))
+        fail(node.Mark(), "'" + arg + "' in " + atom.str() + " is not a parameter of action '" +
+                              action.name + "'");
+  }
+
+  void check_type(const ActionTemplate& action, const std::string& arg, ParameterType wanted,
+                  const std::string& constraint, const YAML::Node& node) const {
+    const int index = action.parameter_index(arg);
+    if (index < 0) fail(node.Mark(), "'" + arg + "' in " + constraint + " is not a parameter");
+    const ParameterType type = action.parameters[index].type;
+    const bool position_like = type == ParameterType::kPosition || type == ParameterType::kPlacement;
+    const bool ok = wanted == ParameterType::kPosition ? position_like : type == wanted;
+    if (!ok)
+      fail(node.Mark(), "'" + arg + "' in " + constraint + " must be a " +
+                            (wanted == ParameterType::kGrasp ? "grasp" : "position"));
+  }
+
+  GeometricPrecondition parse_geometric(const ActionTemplate& action,
+                                        const YAML::Node& node) const {
+    expect_map(node, "geometric precondition", {"constraint", "for"});
+    if (!node["constraint"] || !node["for"])
+      fail(node.Mark(), "a geometric precondition needs 'constraint' and 'for'");
+    const Atom constraint = parse_atom(node["constraint"], "constraint");
+    GeometricPrecondition geometric;
+    geometric.establishes = parse_atom(node["for"], "'for' goal");
+    check_arguments(action, geometric.establishes, node["for"]);
+    const std::string text = constraint.str();
+    const auto expect_arguments = [&](std::size_t count) {
+      if (constraint.args.size() != count)
+        fail(node["constraint"].Mark(), text + " takes " + std::to_string(count) + " arguments");
+    };
+    if (constraint.predicate == "reachable" || constraint.predicate == "mate_reachable") {
+      expect_arguments(2);
+      geometric.kind = constraint.predicate == "reachable"
+                           ? GeometricConstraintKind::kReachable
+                           : GeometricConstraintKind::kMateReachable;
+      check_type(action, constraint.args[0], ParameterType::kGrasp, text, node["constraint"]);
+      check_type(action, constraint.args[1], ParameterType::kPosition, text, node["constraint"]);
+      geometric.args = constraint.args;
+    } else if (constraint.predicate == "member") {
+      expect_arguments(2);
+      if (constraint.args[1] != "grasps_leaving_mating_faces_free")
+        fail(node["constraint"].Mark(),
+             "member() knows the label set grasps_leaving_mating_faces_free, not '" +
+                 constraint.args[1] + "'");
+      check_type(action, constraint.args[0], ParameterType::kGrasp, text, node["constraint"]);
+      geometric.kind = GeometricConstraintKind::kMemberMatingFree;
+      geometric.args = {constraint.args[0]};
+    } else if (constraint.predicate == "in_position_class") {
+      expect_arguments(2);
+      if (constraint.args[1] != "mating_poses")
+        fail(node["constraint"].Mark(), "in_position_class() knows the pose class mating_poses, not '" +
+                                            constraint.args[1] + "'");
+      check_type(action, constraint.args[0], ParameterType::kPosition, text, node["constraint"]);
+      geometric.kind = GeometricConstraintKind::kMatingPoses;
+      geometric.args = {constraint.args[0]};
+    } else {
+      fail(node["constraint"].Mark(),
+           "unknown constraint '" + constraint.predicate +
+               "' (known: reachable, mate_reachable, member, in_position_class)");
+    }
+    return geometric;
+  }
+
+  std::vector<Atom> parse_atoms(const ActionTemplate& action, const YAML::Node& node,
+                                const std::string& what) const {
+    std::vector<Atom> atoms;
+    if (!node) return atoms;
+    if (!node.IsSequence()) fail(node.Mark(), what + " must be a list of atoms");
+    for (const auto& item : node) {
+      atoms.push_back(parse_atom(item, what + " atom"));
+      check_arguments(action, atoms.back(), item);
+    }
+    return atoms;
+  }
+
+  ActionTemplate parse_action(const YAML::Node& node) const {
+    expect_map(node, "action", {"name", "kind", "parameters", "operational", "geometric",
+                                "uncertainty", "add", "delete", "verification"});
+    if (!node["name"]) fail(node.Mark(), "an action needs a 'name'");
+    ActionTemplate action;
+    action.name = scalar(node["name"], "action name");
+    if (const YAML::Node kind = node["kind"]) {
+      const std::string text = scalar(kind, "kind");
+      if (text == "manipulation") action.kind = ActionKind::kManipulation;
+      else if (text == "sensing") action.kind = ActionKind::kSensing;
+      else if (text == "reduction") action.kind = ActionKind::kReduction;
+      else fail(kind.Mark(), "unknown kind '" + text + "' (known: manipulation, sensing, reduction)");
+    }
+    const YAML::Node parameters = node["parameters"];
+    if (!parameters || !parameters.IsMap())
+      fail(parameters ? parameters.Mark() : node.Mark(),
+           "action '" + action.name + "' needs 'parameters' as a map name: type");
+    for (const auto& entry : parameters) {
+      const std::string name = entry.first.as<std::string>();
+      if (action.parameter_index(name) >= 0)
+        fail(entry.first.Mark(), "parameter '" + name + "' appears twice");
+      action.parameters.push_back(parse_parameter(name, entry.second));
+    }
+    for (const auto& entry : parameters) {
+      const Parameter& parameter = action.parameters[action.parameter_index(entry.first.as<std::string>())];
+      if (parameter.type == ParameterType::kObject) continue;
+      const int owner = action.parameter_index(parameter.of);
+      if (owner < 0 || action.parameters[owner].type != ParameterType::kObject)
+        fail(entry.second.Mark(), "'" + parameter.of + "' in the type of '" + parameter.name +
+                                      "' is not an object parameter");
+    }
+    action.operational = parse_atoms(action, node["operational"], "operational");
+    if (const YAML::Node geometric = node["geometric"]) {
+      if (!geometric.IsSequence()) fail(geometric.Mark(), "'geometric' must be a list");
+      for (const auto& item : geometric) action.geometric.push_back(parse_geometric(action, item));
+    }
+    action.uncertainty = scalars(node["uncertainty"], "uncertainty");
+    for (std::size_t i = 0; i < action.uncertainty.size(); ++i) {
+      const std::string& builder = action.uncertainty[i];
+      if (builder != "pickup" && builder != "squeeze" && builder != "assemble")
+        fail(node["uncertainty"][i].Mark(), "unknown uncertainty builder '" + builder +
+                                                "' (known: pickup, squeeze, assemble)");
+    }
+    action.add = parse_atoms(action, node["add"], "add");
+    action.del = parse_atoms(action, node["delete"], "delete");
+    action.verification = scalars(node["verification"], "verification");
+    return action;
+  }
+
+  VerificationTemplate parse_verification(const YAML::Node& node) const {
+    expect_map(node, "verification", {"name", "sense", "expect", "outcomes"});
+    VerificationTemplate verification;
+    if (!node["name"] || !node["sense"]) fail(node.Mark(), "a verification needs 'name' and 'sense'");
+    verification.name = scalar(node["name"], "verification name");
+    verification.sense = scalar(node["sense"], "sense");
+    if (node["expect"]) verification.expect = scalar(node["expect"], "expect");
+    if (const YAML::Node outcomes = node["outcomes"]) {
+      if (!outcomes.IsSequence()) fail(outcomes.Mark(), "'outcomes' must be a list");
+      for (const auto& item : outcomes) {
+        expect_map(item, "outcome", {"when", "error", "recovery"});
+        if (!item["when"] || !item["error"] || !item["recovery"])
+          fail(item.Mark(), "an outcome needs 'when', 'error' and 'recovery'");
+        verification.outcomes.push_back({scalar(item["when"], "when"),
+                                         scalar(item["error"], "error"),
+                                         scalar(item["recovery"], "recovery")});
+      }
+    }
+    return verification;
+  }
+
+  Domain parse(std::string_view text) const {
+    YAML::Node root;
+    try {
+      root = YAML::Load(std::string(text));
+    } catch (const YAML::Exception& error) {
+      fail(error.mark, error.msg);
+    }
+    Domain domain;
+    domain.source = source_;
+    expect_map(root, "the domain file", {"actions", "verifications", "recoveries"});
+    const auto list = [&](const char* key) {
+      const YAML::Node node = root[key];
+      if (node && !node.IsSequence()) fail(node.Mark(), std::string("'") + key + "' must be a list");
+      return node;
+    };
+    std::map<std::string, YAML::Mark> verification_uses;
+    for (const auto& item : list("actions")) {
+      domain.actions.push_back(parse_action(item));
+      for (std::size_t i = 0; i < domain.actions.back().verification.size(); ++i)
+        verification_uses.emplace(domain.actions.back().verification[i],
+                                  item["verification"][i].Mark());
+      if (std::count_if(domain.actions.begin(), domain.actions.end(), [&](const auto& a) {
+            return a.name == domain.actions.back().name;
+          }) > 1)
+        fail(item.Mark(), "action '" + domain.actions.back().name + "' is defined twice");
+    }
+    if (domain.actions.empty()) fail(root.Mark(), "the domain has no actions");
+    std::map<std::string, YAML::Mark> recovery_uses;
+    for (const auto& item : list("verifications")) {
+      domain.verifications.push_back(parse_verification(item));
+      const auto& outcomes = domain.verifications.back().outcomes;
+      for (std::size_t i = 0; i < outcomes.size(); ++i)
+        recovery_uses.emplace(outcomes[i].recovery, item["outcomes"][i].Mark());
+    }
+    for (const auto& item : list("recoveries")) {
+      expect_map(item, "recovery", {"name", "steps"});
+      if (!item["name"]) fail(item.Mark(), "a recovery needs a 'name'");
+      domain.recoveries.push_back(
+          {scalar(item["name"], "recovery name"), scalars(item["steps"], "steps")});
+    }
+    for (const auto& [name, mark] : verification_uses)
+      if (std::none_of(domain.verifications.begin(), domain.verifications.end(),
+                       [&](const auto& v) { return v.name == name; }))
+        fail(mark, "verification '" + name + "' is not defined under 'verifications'");
+    for (const auto& [name, mark] : recovery_uses)
+      if (std::none_of(domain.recoveries.begin(), domain.recoveries.end(),
+                       [&](const auto& r) { return r.name == name; }))
+        fail(mark, "recovery '" + name + "' is not defined under 'recoveries'");
+    return domain;
+  }
+
+ private:
+  std::string source_;
+};
+
+}  // namespace
+
+Domain parse_domain(std::string_view text, const std::string& source) {
+  return DomainReader(source).parse(text);
+}
+
+Domain load_domain(const std::filesystem::path& path) {
+  std::error_code error;
+  if (std::filesystem::is_directory(path, error))
+    throw DomainError(path.string() + ": is a directory, not a domain file");
+  std::ifstream in(path);
+  if (!in) throw DomainError(path.string() + ": cannot open the domain file");
+  std::ostringstream text;
+  text << in.rdbuf();
+  return parse_domain(text.str(), path.string());
+}
+
+}  // namespace spar::planner

@@ -1,0 +1,45 @@
+// plan(): the planner's one entry point. From a scenario and a domain to a plan family (phase 1:
+// constraint posting, planner/posting.hpp) and its plan instances (planner/instances.hpp); phase 2
+// (uncertainty) examines the instances and chooses one.
+//
+// Example:
+//   const PlanResult result = plan(load_scenario("examples/peg_block_face_down.yaml"),
+//                                  builtin_domain());
+//   if (result.planned())
+//     for (const InstanceStep& step : result.chosen().steps) std::cout << step.action_name << '\n';
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+#include "planner/domain.hpp"
+#include "planner/instances.hpp"
+#include "planner/posting.hpp"
+#include "planner/scenario.hpp"
+#include "planner/world.hpp"
+
+namespace spar::planner {
+
+struct PlanOptions {
+  PostingOptions posting{};
+  std::size_t max_instances{16};  // plan instances enumerated (labelings x linearizations)
+};
+
+struct PlanResult {
+  WorldModel world;
+  Domain domain;
+  PlanFamily family;
+  InstanceList instances;  // empty unless the family is planned
+  std::size_t chosen_index{0};  // into instances.instances
+
+  [[nodiscard]] bool planned() const { return family.status == PostingStatus::kPlanned; }
+  // Throws PlanError when there is no instance.
+  [[nodiscard]] const PlanInstance& chosen() const;
+};
+
+// Throws ScenarioError/PlanError for a scenario that cannot be planned at all (no goals, an object
+// without grasps); a search that finds no plan is a result with family.status != kPlanned.
+[[nodiscard]] PlanResult plan(Scenario scenario, const Domain& domain,
+                              const PlanOptions& options = {});
+
+}  // namespace spar::planner

@@ -1,0 +1,601 @@
+#include "planner/posting.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <queue>
+
+#include "planner/error.hpp"
+
+namespace spar::planner {
+namespace {
+
+constexpr int kInitialStep = 0;
+constexpr int kFinishStep = 1;
+
+// An atom with its arguments resolved to terms of one partial plan.
+struct GroundAtom {
+  std::string predicate;
+  std::vector<Term> args;
+};
+
+// An operational goal on the stack: `atom` must hold just before `consumer`; when `after` >= 0 the
+// establishing step must also come after that step (re-establishment past a clobberer).
+struct OpenGoal {
+  GroundAtom atom;
+  int consumer{0};
+  int after{-1};
+};
+
+struct Threat {
+  std::size_t link{0};
+  int clobberer{0};
+};
+
+struct PartialPlan {
+  PlanFamily plan;
+  std::vector<OpenGoal> open;  // the operational goal stack: back() is the top
+  std::vector<Threat> threats;
+  int actions{0};
+  int grasp_names{0};     // grasp_1, grasp_2, ... in order of creation (SPAR's naming)
+  int position_names{0};  // pos_1, pos_2, ...
+};
+
+class Planner {
+ public:
+  Planner(const WorldModel& world, const Domain& domain, const PostingOptions& options)
+      : world_(world), domain_(domain), options_(options) {}
+
+  PlanFamily run();
+
+ private:
+  // --- terms and atoms ---
+  // Interns a constant of the domain (e.g. `empty`) and returns its index.
+  int constant(PartialPlan& node, const std::string& name) const {
+    auto& constants = node.plan.constants;
+    const auto found = std::find(constants.begin(), constants.end(), name);
+    if (found != constants.end()) return static_cast<int>(found - constants.begin());
+    constants.push_back(name);
+    return static_cast<int>(constants.size() - 1);
+  }
+  [[nodiscard]] bool possibly_equal(const PartialPlan& node, const Term& a, const Term& b) const;
+  [[nodiscard]] bool possibly_unify(const PartialPlan& node, const GroundAtom& a,
+                                    const GroundAtom& b) const;
+  [[nodiscard]] bool unify(PartialPlan& node, const GroundAtom& a, const GroundAtom& b) const;
+  [[nodiscard]] GroundAtom ground(const PartialPlan& node, const Atom& atom,
+                                  const FamilyStep& step) const;
+  [[nodiscard]] std::vector<GroundAtom> adds(const PartialPlan& node, int step) const;
+  [[nodiscard]] std::vector<GroundAtom> deletes(const PartialPlan& node, int step) const;
+
+  [[nodiscard]] cms::SearchBudget budget() const { return {options_.network_budget}; }
+  // Posts the binary constraint whose allowed pairs are table[label of a][label of b].
+  [[nodiscard]] bool post_table(cms::ConstraintNetwork& network, int a, int b,
+                                const std::vector<std::vector<char>>& table) const {
+    return network.post(a, b, [&](int la, int lb) { return table[la][lb] != 0; }, budget()) ==
+           cms::Consistency::kConsistent;
+  }
+
+  // --- refinements ---
+  int add_variable(PartialPlan& node, ParameterType type, int object, std::string name) const;
+  [[nodiscard]] bool post_geometric(PartialPlan& node, const FamilyStep& step,
+                                    const GeometricPrecondition& geometric) const;
+  [[nodiscard]] bool separate_places(PartialPlan& node, int variable) const;
+  [[nodiscard]] bool add_link(PartialPlan& node, int producer, const OpenGoal& goal) const;
+  void find_threats_to_link(PartialPlan& node, std::size_t link) const;
+  void find_threats_by_step(PartialPlan& node, int step) const;
+  [[nodiscard]] bool is_threat(const PartialPlan& node, const Threat& threat) const;
+  void establish(const PartialPlan& node, std::vector<PartialPlan>& children) const;
+  [[nodiscard]] std::optional<PartialPlan> establish_by_new_step(const PartialPlan& node,
+                                                                 const OpenGoal& goal,
+                                                                 std::size_t action,
+                                                                 const Atom& add) const;
+  void resolve(const PartialPlan& node, const Threat& threat,
+               std::vector<PartialPlan>& children) const;
+  [[nodiscard]] int unestablishable(const PartialPlan& node) const;
+  [[nodiscard]] PartialPlan initial_plan() const;
+
+  const WorldModel& world_;
+  const Domain& domain_;
+  const PostingOptions& options_;
+};
+
+bool Planner::possibly_equal(const PartialPlan& node, const Term& a, const Term& b) const {
+  if (a.kind != b.kind) return false;
+  if (a.kind != Term::Kind::kVariable) return a.index == b.index;
+  const PlanVariable& va = node.plan.variables[a.index];
+  const PlanVariable& vb = node.plan.variables[b.index];
+  const bool grasp_a = va.type == ParameterType::kGrasp, grasp_b = vb.type == ParameterType::kGrasp;
+  if (grasp_a != grasp_b || va.object != vb.object) return false;
+  const cms::ConstraintNetwork& network = node.plan.network;
+  if (network.representative(a.index) == network.representative(b.index)) return true;
+  for (const int label : network.labels(a.index))
+    if (network.has_label(b.index, label)) return true;
+  return false;
+}
+
+bool Planner::possibly_unify(const PartialPlan& node, const GroundAtom& a,
+                             const GroundAtom& b) const {
+  if (a.predicate != b.predicate || a.args.size() != b.args.size()) return false;
+  for (std::size_t i = 0; i < a.args.size(); ++i)
+    if (!possibly_equal(node, a.args[i], b.args[i])) return false;
+  return true;
+}
+
+bool Planner::unify(PartialPlan& node, const GroundAtom& a, const GroundAtom& b) const {
+  if (!possibly_unify(node, a, b)) return false;
+  for (std::size_t i = 0; i < a.args.size(); ++i)
+    if (a.args[i].kind == Term::Kind::kVariable &&
+        node.plan.network.unify(a.args[i].index, b.args[i].index, budget()) !=
+            cms::Consistency::kConsistent)
+      return false;
+  return true;
+}
+
+GroundAtom Planner::ground(const PartialPlan& node, const Atom& atom,
+                           const FamilyStep& step) const {
+  const ActionTemplate& action = domain_.actions[step.action];
+  GroundAtom ground{.predicate = atom.predicate, .args = {}};
+  for (const std::string& arg : atom.args) {
+    const int parameter = action.parameter_index(arg);
+    if (parameter >= 0) {
+      ground.args.push_back(step.args[parameter]);
+    } else {
+      const auto& constants = node.plan.constants;
+      const auto found = std::find(constants.begin(), constants.end(), arg);
+      // Constants are interned when a step is added, so every one of a step's atoms is there.
+      ground.args.push_back({Term::Kind::kConstant, static_cast<int>(found - constants.begin())});
+    }
+  }
+  return ground;
+}
+
+std::vector<GroundAtom> Planner::adds(const PartialPlan& node, int step) const {
+  std::vector<GroundAtom> atoms;
+  if (step == kInitialStep) {
+    const int empty = static_cast<int>(
+        std::find(node.plan.constants.begin(), node.plan.constants.end(), "empty") -
+        node.plan.constants.begin());
+    atoms.push_back({"gripper", {{Term::Kind::kConstant, empty}}});
+    for (std::size_t o = 0; o < world_.object_count(); ++o)
+      atoms.push_back({"at",
+                       {{Term::Kind::kObject, static_cast<int>(o)},
+                        {Term::Kind::kVariable, static_cast<int>(o)}}});  // initial_<o> is var o
+    return atoms;
+  }
+  if (step == kFinishStep) return atoms;
+  const FamilyStep& family_step = node.plan.steps[step];
+  for (const Atom& atom : domain_.actions[family_step.action].add)
+    atoms.push_back(ground(node, atom, family_step));
+  return atoms;
+}
+
+std::vector<GroundAtom> Planner::deletes(const PartialPlan& node, int step) const {
+  std::vector<GroundAtom> atoms;
+  if (step == kInitialStep || step == kFinishStep) return atoms;
+  const FamilyStep& family_step = node.plan.steps[step];
+  for (const Atom& atom : domain_.actions[family_step.action].del)
+    atoms.push_back(ground(node, atom, family_step));
+  return atoms;
+}
+
+int Planner::add_variable(PartialPlan& node, ParameterType type, int object,
+                          std::string name) const {
+  const ObjectWorld& labels = world_.object(object);
+  const int domain_size = static_cast<int>(type == ParameterType::kGrasp ? labels.grasps.size()
+                                                                         : labels.positions.size());
+  std::vector<int> initial;
+  for (int label = type == ParameterType::kPlacement ? 1 : 0; label < domain_size; ++label)
+    initial.push_back(label);
+  const int id = node.plan.network.add_variable(name, domain_size, initial);
+  node.plan.variables.push_back({std::move(name), type, object});
+  return id;
+}
+
+bool Planner::post_geometric(PartialPlan& node, const FamilyStep& step,
+                             const GeometricPrecondition& geometric) const {
+  const ActionTemplate& action = domain_.actions[step.action];
+  const auto variable = [&](std::size_t i) {
+    return step.args[action.parameter_index(geometric.args[i])].index;
+  };
+  const auto object_of = [&](int var) { return node.plan.variables[var].object; };
+  // The assembled goal this step serves: the one whose held and fixed objects are both arguments.
+  const auto goal_tables = [&]() -> const GoalWorld* {
+    for (const GoalWorld& tables : world_.goals()) {
+      bool held = false, fixed = false;
+      for (const Term& term : step.args)
+        if (term.kind == Term::Kind::kObject) {
+          held |= term.index == tables.held;
+          fixed |= term.index == tables.fixed;
+        }
+      if (held && fixed) return &tables;
+    }
+    return nullptr;
+  };
+  cms::ConstraintNetwork& network = node.plan.network;
+  bool ok = false;
+  switch (geometric.kind) {
+    case GeometricConstraintKind::kReachable: {
+      const int grasp = variable(0), position = variable(1);
+      ok = post_table(network, grasp, position, world_.object(object_of(grasp)).reachable);
+      break;
+    }
+    case GeometricConstraintKind::kMateReachable: {
+      const GoalWorld* tables = goal_tables();
+      ok = tables != nullptr &&
+           post_table(network, variable(0), variable(1), tables->mate_reachable);
+      break;
+    }
+    case GeometricConstraintKind::kMemberMatingFree:
+    case GeometricConstraintKind::kMatingPoses: {
+      const GoalWorld* tables = goal_tables();
+      if (tables == nullptr) return false;
+      const std::vector<char>& members =
+          geometric.kind == GeometricConstraintKind::kMatingPoses ? tables->mating_pose
+                                                                  : tables->grasp_leaves_mating_free;
+      std::vector<int> labels;
+      for (std::size_t label = 0; label < members.size(); ++label)
+        if (members[label]) labels.push_back(static_cast<int>(label));
+      ok = network.restrict(variable(0), labels, budget()) == cms::Consistency::kConsistent;
+      break;
+    }
+  }
+  if (!ok) return false;
+  std::string condition = geometric.str();
+  for (std::size_t i = 0; i < geometric.args.size(); ++i) {
+    const std::string& from = geometric.args[i];
+    const std::string& to = node.plan.variables[variable(i)].name;
+    condition.replace(condition.find(from), from.size(), to);
+  }
+  node.plan.satisfied.push_back({SatisfiedGoal::Level::kGeometric, condition, step.id,
+                                 "constraint posted"});
+  return true;
+}
+
+bool Planner::separate_places(PartialPlan& node, int variable) const {
+  const PlanVariable& mine = node.plan.variables[variable];
+  for (std::size_t other = 0; other < node.plan.variables.size(); ++other) {
+    const PlanVariable& theirs = node.plan.variables[other];
+    if (static_cast<int>(other) == variable || theirs.type != ParameterType::kPlacement ||
+        theirs.object == mine.object)
+      continue;
+    const auto& a = world_.object(mine.object).positions;
+    const auto& b = world_.object(theirs.object).positions;
+    std::vector<std::vector<char>> allowed(a.size(), std::vector<char>(b.size(), 1));
+    for (std::size_t i = 0; i < a.size(); ++i)
+      for (std::size_t j = 0; j < b.size(); ++j)
+        allowed[i][j] = a[i].place < 0 || a[i].place != b[j].place;
+    if (!post_table(node.plan.network, variable, static_cast<int>(other), allowed)) return false;
+  }
+  return true;
+}
+
+bool Planner::add_link(PartialPlan& node, int producer, const OpenGoal& goal) const {
+  if (!node.plan.ordering.add_before(producer, goal.consumer)) return false;
+  if (goal.after >= 0 && !node.plan.ordering.add_before(goal.after, producer)) return false;
+  node.plan.links.push_back({producer, goal.consumer, goal.atom.predicate, goal.atom.args});
+  find_threats_to_link(node, node.plan.links.size() - 1);
+  return true;
+}
+
+bool Planner::is_threat(const PartialPlan& node, const Threat& threat) const {
+  const CausalLink& link = node.plan.links[threat.link];
+  if (threat.clobberer == link.producer || threat.clobberer == link.consumer) return false;
+  if (!node.plan.ordering.possibly_between(threat.clobberer, link.producer, link.consumer))
+    return false;
+  const GroundAtom atom{link.predicate, link.args};
+  for (const GroundAtom& removed : deletes(node, threat.clobberer))
+    if (possibly_unify(node, removed, atom)) return true;
+  return false;
+}
+
+void Planner::find_threats_to_link(PartialPlan& node, std::size_t link) const {
+  for (int step = 0; step < static_cast<int>(node.plan.steps.size()); ++step)
+    if (is_threat(node, {link, step})) node.threats.push_back({link, step});
+}
+
+void Planner::find_threats_by_step(PartialPlan& node, int step) const {
+  for (std::size_t link = 0; link < node.plan.links.size(); ++link)
+    if (is_threat(node, {link, step})) node.threats.push_back({link, step});
+}
+
+std::optional<PartialPlan> Planner::establish_by_new_step(const PartialPlan& node,
+                                                          const OpenGoal& goal,
+                                                          std::size_t action_index,
+                                                          const Atom& add) const {
+  const ActionTemplate& action = domain_.actions[action_index];
+  if (node.actions + 1 > options_.max_steps) return std::nullopt;
+  PartialPlan child = node;
+  FamilyStep step{.id = child.plan.ordering.add_step(), .action = static_cast<int>(action_index), .args = {}};
+  step.args.resize(action.parameters.size(), {Term::Kind::kObject, -1});
+  for (const Atom& atom : action.operational)
+    for (const std::string& arg : atom.args)
+      if (action.parameter_index(arg) < 0) constant(child, arg);
+  for (const Atom& atom : action.add)
+    for (const std::string& arg : atom.args)
+      if (action.parameter_index(arg) < 0) constant(child, arg);
+  for (const Atom& atom : action.del)
+    for (const std::string& arg : atom.args)
+      if (action.parameter_index(arg) < 0) constant(child, arg);
+  // Bind the parameters of the matching add atom to the goal's terms.
+  for (std::size_t i = 0; i < add.args.size(); ++i) {
+    const int parameter = action.parameter_index(add.args[i]);
+    const Term& term = goal.atom.args[i];
+    if (parameter < 0) {
+      if (term.kind != Term::Kind::kConstant || child.plan.constants[term.index] != add.args[i])
+        return std::nullopt;
+      continue;
+    }
+    const Parameter& declared = action.parameters[parameter];
+    const bool wants_object = declared.type == ParameterType::kObject;
+    if (wants_object != (term.kind == Term::Kind::kObject)) return std::nullopt;
+    if (!wants_object && (declared.type == ParameterType::kGrasp) !=
+                             (child.plan.variables[term.index].type == ParameterType::kGrasp))
+      return std::nullopt;
+    if (step.args[parameter].index >= 0 && !(step.args[parameter] == term)) return std::nullopt;
+    step.args[parameter] = term;
+  }
+  // Every object parameter must now be bound; typed parameters get fresh variables or are checked.
+  for (std::size_t p = 0; p < action.parameters.size(); ++p)
+    if (action.parameters[p].type == ParameterType::kObject && step.args[p].index < 0)
+      return std::nullopt;
+  for (std::size_t p = 0; p < action.parameters.size(); ++p) {
+    const Parameter& declared = action.parameters[p];
+    if (declared.type == ParameterType::kObject) continue;
+    const int object = step.args[action.parameter_index(declared.of)].index;
+    if (step.args[p].index >= 0) {
+      PlanVariable& bound = child.plan.variables[step.args[p].index];
+      if (bound.object != object) return std::nullopt;
+      if (declared.type == ParameterType::kPlacement) {
+        std::vector<int> placements;
+        for (int label = 1; label < static_cast<int>(world_.object(object).positions.size());
+             ++label)
+          placements.push_back(label);
+        if (child.plan.network.restrict(step.args[p].index, placements, budget()) !=
+            cms::Consistency::kConsistent)
+          return std::nullopt;
+      }
+      continue;
+    }
+    const bool grasp = declared.type == ParameterType::kGrasp;
+    int& counter = grasp ? child.grasp_names : child.position_names;
+    const std::string name = (grasp ? "grasp_" : "pos_") + std::to_string(++counter);
+    step.args[p] = {Term::Kind::kVariable, add_variable(child, declared.type, object, name)};
+  }
+  child.plan.steps.push_back(step);
+  child.actions += 1;
+  auto& ordering = child.plan.ordering;
+  if (!ordering.add_before(kInitialStep, step.id) || !ordering.add_before(step.id, kFinishStep))
+    return std::nullopt;
+  for (std::size_t p = 0; p < action.parameters.size(); ++p)
+    if (action.parameters[p].type == ParameterType::kPlacement &&
+        !separate_places(child, step.args[p].index))
+      return std::nullopt;
+  for (const GeometricPrecondition& geometric : action.geometric)
+    if (!post_geometric(child, step, geometric)) return std::nullopt;
+  if (!add_link(child, step.id, goal)) return std::nullopt;
+  find_threats_by_step(child, step.id);
+  // Push the new step's operational preconditions so that the first one is on top.
+  for (auto atom = action.operational.rbegin(); atom != action.operational.rend(); ++atom)
+    child.open.push_back({ground(child, *atom, step), step.id, -1});
+  return child;
+}
+
+void Planner::establish(const PartialPlan& node, std::vector<PartialPlan>& children) const {
+  const OpenGoal goal = node.open.back();
+  // By a step already in the plan (the initial state first), constrained to precede the consumer.
+  for (int step = 0; step < static_cast<int>(node.plan.steps.size()); ++step) {
+    if (step == goal.consumer || step == kFinishStep ||
+        !node.plan.ordering.possibly_before(step, goal.consumer))
+      continue;
+    if (goal.after >= 0 && (step == goal.after || !node.plan.ordering.possibly_before(goal.after, step)))
+      continue;
+    for (const GroundAtom& atom : adds(node, step)) {
+      if (!possibly_unify(node, atom, goal.atom)) continue;
+      PartialPlan child = node;
+      child.open.pop_back();
+      if (!unify(child, atom, goal.atom) || !add_link(child, step, goal)) continue;
+      children.push_back(std::move(child));
+    }
+  }
+  // By a new step from every manipulation template whose add list has the predicate.
+  for (std::size_t a = 0; a < domain_.actions.size(); ++a) {
+    const ActionTemplate& action = domain_.actions[a];
+    if (action.kind != ActionKind::kManipulation) continue;
+    for (const Atom& add : action.add) {
+      if (add.predicate != goal.atom.predicate || add.args.size() != goal.atom.args.size())
+        continue;
+      PartialPlan parent = node;
+      parent.open.pop_back();
+      if (std::optional<PartialPlan> child = establish_by_new_step(parent, goal, a, add))
+        children.push_back(std::move(*child));
+    }
+  }
+}
+
+void Planner::resolve(const PartialPlan& node, const Threat& threat,
+                      std::vector<PartialPlan>& children) const {
+  const CausalLink link = node.plan.links[threat.link];
+  const auto without_threat = [&] {
+    PartialPlan child = node;
+    child.threats.erase(std::find_if(child.threats.begin(), child.threats.end(), [&](const Threat& t) {
+      return t.link == threat.link && t.clobberer == threat.clobberer;
+    }));
+    return child;
+  };
+  // Promotion: the clobberer after the consumer.
+  if (PartialPlan child = without_threat(); child.plan.ordering.add_before(link.consumer, threat.clobberer))
+    children.push_back(std::move(child));
+  // Demotion: the clobberer before the producer.
+  if (PartialPlan child = without_threat(); child.plan.ordering.add_before(threat.clobberer, link.producer))
+    children.push_back(std::move(child));
+  // Re-establishment (ground atoms only: dropping a link cannot undo a codesignation).
+  const bool ground = std::none_of(link.args.begin(), link.args.end(), [](const Term& term) {
+    return term.kind == Term::Kind::kVariable;
+  });
+  if (ground) {
+    PartialPlan child = without_threat();
+    if (child.plan.ordering.add_before(threat.clobberer, link.consumer)) {
+      child.plan.links.erase(child.plan.links.begin() + static_cast<std::ptrdiff_t>(threat.link));
+      std::erase_if(child.threats, [&](const Threat& t) { return t.link == threat.link; });
+      for (Threat& t : child.threats)
+        if (t.link > threat.link) --t.link;
+      child.open.push_back({{link.predicate, link.args}, link.consumer, threat.clobberer});
+      children.push_back(std::move(child));
+    }
+  }
+}
+
+int Planner::unestablishable(const PartialPlan& node) const {
+  int count = 0;
+  for (const OpenGoal& goal : node.open) {
+    bool possible = false;
+    for (int step = 0; step < static_cast<int>(node.plan.steps.size()) && !possible; ++step) {
+      if (step == goal.consumer || !node.plan.ordering.possibly_before(step, goal.consumer))
+        continue;
+      for (const GroundAtom& atom : adds(node, step))
+        if (possibly_unify(node, atom, goal.atom)) {
+          possible = true;
+          break;
+        }
+    }
+    count += possible ? 0 : 1;
+  }
+  return count;
+}
+
+PartialPlan Planner::initial_plan() const {
+  PartialPlan node;
+  PlanFamily& plan = node.plan;
+  constant(node, "empty");
+  for (std::size_t o = 0; o < world_.object_count(); ++o) {
+    const std::string name = "initial_" + world_.scenario().objects[o].name;
+    add_variable(node, ParameterType::kPosition, static_cast<int>(o), name);
+    if (plan.network.restrict(static_cast<int>(o), {0}, budget()) != cms::Consistency::kConsistent)
+      throw PlanError("internal: cannot pin the initial position of " + name);
+  }
+  plan.steps.push_back({.id = plan.ordering.add_step(), .action = -1, .args = {}});  // initial
+  plan.steps.push_back({.id = plan.ordering.add_step(), .action = -1, .args = {}});  // finish
+  plan.ordering.add_before(kInitialStep, kFinishStep);
+  for (const GoalWorld& goal : world_.goals())
+    node.open.push_back({{"assembled",
+                          {{Term::Kind::kObject, goal.held}, {Term::Kind::kObject, goal.fixed}}},
+                         kFinishStep,
+                         -1});
+  std::reverse(node.open.begin(), node.open.end());  // the first goal on top
+  return node;
+}
+
+PlanFamily Planner::run() {
+  const auto start = std::chrono::steady_clock::now();
+  struct Entry {
+    int priority;
+    std::size_t sequence;
+    std::size_t index;
+    bool operator<(const Entry& other) const {  // std::priority_queue pops the largest
+      if (priority != other.priority) return priority > other.priority;
+      return sequence < other.sequence;  // newest first among equals
+    }
+  };
+  std::vector<PartialPlan> store;
+  std::vector<std::size_t> free_slots;
+  std::priority_queue<Entry> queue;
+  PostingStats stats;
+  const auto push = [&](PartialPlan&& node) {
+    const int priority = node.actions + unestablishable(node);
+    std::size_t slot;
+    if (free_slots.empty()) {
+      slot = store.size();
+      store.push_back(std::move(node));
+    } else {
+      slot = free_slots.back();
+      free_slots.pop_back();
+      store[slot] = std::move(node);
+    }
+    queue.push({priority, stats.generated++, slot});
+  };
+  push(initial_plan());
+  const auto finish = [&](PlanFamily plan, PostingStatus status, std::string reason) {
+    plan.status = status;
+    plan.reason = std::move(reason);
+    stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    plan.stats = stats;
+    return plan;
+  };
+  std::vector<PartialPlan> children;
+  while (!queue.empty()) {
+    if (stats.expanded >= options_.max_nodes)
+      return finish(std::move(store[queue.top().index].plan), PostingStatus::kNodeLimit,
+                    "stopped after " + std::to_string(options_.max_nodes) +
+                        " partial plans (max_nodes) without a complete plan");
+    const Entry entry = queue.top();
+    queue.pop();
+    PartialPlan node = std::move(store[entry.index]);
+    free_slots.push_back(entry.index);
+    ++stats.expanded;
+    std::erase_if(node.threats, [&](const Threat& t) { return !is_threat(node, t); });
+    children.clear();
+    if (!node.threats.empty()) {
+      resolve(node, node.threats.front(), children);
+    } else if (!node.open.empty()) {
+      establish(node, children);
+    } else {
+      for (const CausalLink& link : node.plan.links) {
+        std::string condition = link.predicate + "(";
+        for (std::size_t i = 0; i < link.args.size(); ++i)
+          condition += (i ? ", " : "") + node.plan.term_name(link.args[i], world_);
+        node.plan.satisfied.push_back({SatisfiedGoal::Level::kOperational, condition + ")",
+                                       link.consumer,
+                                       link.producer == kInitialStep
+                                           ? std::string("initial state")
+                                           : "step " + std::to_string(link.producer)});
+      }
+      return finish(std::move(node.plan), PostingStatus::kPlanned, "");
+    }
+    for (PartialPlan& child : children) push(std::move(child));
+  }
+  return finish(PlanFamily{}, PostingStatus::kNoPlan,
+                "no plan with at most " + std::to_string(options_.max_steps) +
+                    " actions reaches the goals (every refinement was inconsistent)");
+}
+
+}  // namespace
+
+const char* to_string(PostingStatus status) {
+  switch (status) {
+    case PostingStatus::kPlanned:
+      return "planned";
+    case PostingStatus::kNoPlan:
+      return "no_plan";
+    case PostingStatus::kNodeLimit:
+      return "node_limit";
+  }
+  return "?";
+}
+
+std::string PlanFamily::term_name(const Term& term, const WorldModel& world) const {
+  switch (term.kind) {
+    case Term::Kind::kObject:
+      return world.scenario().objects.at(term.index).name;
+    case Term::Kind::kVariable:
+      return variables.at(network.representative(term.index)).name;
+    case Term::Kind::kConstant:
+      return constants.at(term.index);
+  }
+  return "?";
+}
+
+std::string PlanFamily::describe(const FamilyStep& step, const WorldModel& world,
+                                 const Domain& domain) const {
+  if (step.action < 0) return step.id == kInitialStep ? "initial state" : "finish";
+  std::string text = domain.actions[step.action].name + "(";
+  for (std::size_t i = 0; i < step.args.size(); ++i)
+    text += (i ? ", " : "") + term_name(step.args[i], world);
+  return text + ")";
+}
+
+PlanFamily post_plan(const WorldModel& world, const Domain& domain,
+                     const PostingOptions& options) {
+  if (world.goals().empty()) throw PlanError("the scenario has no goals: nothing to plan");
+  return Planner(world, domain, options).run();
+}
+
+}  // namespace spar::planner
