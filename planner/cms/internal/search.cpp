@@ -1,0 +1,93 @@
+#include "planner/cms/internal/search.hpp"
+
+#include <utility>
+
+namespace spar::planner::cms::internal {
+
+ForwardChecking::ForwardChecking(std::vector<Bitset> domains,
+                                 std::vector<std::vector<Neighbor>> neighbors, Order order)
+    : order_{order},
+      neighbors_{std::move(neighbors)},
+      domains_{std::move(domains)},
+      assigned_(domains_.size(), 0),
+      frames_(domains_.size()),
+      assignment_(domains_.size(), -1) {}
+
+int ForwardChecking::choose_variable(int depth) const {
+  if (order_ == Order::kAsGiven) return depth;
+  int best = -1;
+  int best_count = 0;
+  for (int variable = 0; variable < static_cast<int>(domains_.size()); ++variable) {
+    if (assigned_[static_cast<std::size_t>(variable)] != 0) continue;
+    const int count = domains_[static_cast<std::size_t>(variable)].count();
+    if (best < 0 || count < best_count) {
+      best = variable;
+      best_count = count;
+    }
+  }
+  return best;
+}
+
+ForwardChecking::Outcome ForwardChecking::next(std::span<const Arc> arcs,
+                                               std::uint64_t& nodes_left) {
+  if (state_ == State::kNoMore) return Outcome::kNoMore;
+  if (state_ == State::kOutOfBudget) return Outcome::kOutOfBudget;
+  // Fresh: open the first level. Running: the last call stopped at a solution; retry its
+  // deepest level with the next label.
+  bool descend = state_ == State::kFresh;
+  state_ = State::kRunning;
+  const int size = static_cast<int>(domains_.size());
+  while (true) {
+    if (descend) {
+      if (depth_ == size) {
+        for (int level = 0; level < size; ++level) {
+          const Frame& frame = frames_[static_cast<std::size_t>(level)];
+          assignment_[static_cast<std::size_t>(frame.variable)] = frame.label;
+        }
+        return Outcome::kFound;
+      }
+      Frame& frame = frames_[static_cast<std::size_t>(depth_)];
+      frame.variable = choose_variable(depth_);
+      frame.label = -1;
+      frame.saved = domains_;
+      ++depth_;
+    }
+    if (depth_ == 0) {
+      state_ = State::kNoMore;
+      return Outcome::kNoMore;
+    }
+    Frame& frame = frames_[static_cast<std::size_t>(depth_ - 1)];
+    const auto variable = static_cast<std::size_t>(frame.variable);
+    domains_ = frame.saved;
+    assigned_[variable] = 0;
+    const int label = frame.saved[variable].find_next(frame.label + 1);
+    if (label < 0) {  // level exhausted: back to the one above
+      --depth_;
+      descend = false;
+      continue;
+    }
+    if (nodes_left == 0) {
+      state_ = State::kOutOfBudget;
+      return Outcome::kOutOfBudget;
+    }
+    --nodes_left;
+    frame.label = label;
+    assigned_[variable] = 1;
+    Bitset& own = domains_[variable];
+    own.clear();
+    own.set(label);
+    descend = true;
+    for (const Neighbor& neighbor : neighbors_[variable]) {
+      const auto other = static_cast<std::size_t>(neighbor.variable);
+      if (assigned_[other] != 0) continue;
+      domains_[other].intersect_with(
+          arcs[static_cast<std::size_t>(neighbor.arc)].row(neighbor.from_first, label));
+      if (domains_[other].none()) {
+        descend = false;  // wiped out: try the next label at this level
+        break;
+      }
+    }
+  }
+}
+
+}  // namespace spar::planner::cms::internal

@@ -1,0 +1,70 @@
+// The binary constraint network's arcs and its backtracking search with forward checking
+// (Dechter & Pearl 1987), over a subset of the network's variables renumbered 0..k-1.
+// Private to planner/cms/: ConstraintNetwork and Labelings drive it.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "planner/cms/internal/bitset.hpp"
+
+namespace spar::planner::cms::internal {
+
+// One arc of the network: the allowed label pairs between two representative variables.
+struct Arc {
+  int first{0};        // the smaller variable id
+  int second{0};       // the larger variable id
+  BitMatrix forward;   // domain(first) × domain(second): bit (l, m) set iff (l, m) is allowed
+  BitMatrix backward;  // the transpose of forward, so both directions read rows
+
+  // The row of labels of the other end allowed with `label` at end `from_first ? first : second`.
+  [[nodiscard]] std::span<const std::uint64_t> row(bool from_first, int label) const {
+    return from_first ? forward.row(label) : backward.row(label);
+  }
+  friend bool operator==(const Arc&, const Arc&) = default;
+};
+
+// Resumable depth-first search over label assignments with forward checking: assigning a label
+// removes, from every unassigned neighbour's domain, the labels the arc does not allow with it; a
+// neighbour left empty rejects the label. Labels are tried in ascending order; the variable
+// order is fixed (the order given: solutions come out lexicographically) or dynamic (fewest
+// remaining labels first, for a quick yes/no). Every label tried costs one node of the budget.
+class ForwardChecking {
+ public:
+  struct Neighbor {
+    int variable{0};        // local index of the other end
+    int arc{0};             // index into the arcs passed to next()
+    bool from_first{true};  // this variable is the arc's `first`
+  };
+  enum class Order { kAsGiven, kFewestLabelsFirst };
+  enum class Outcome { kFound, kNoMore, kOutOfBudget };
+
+  ForwardChecking(std::vector<Bitset> domains, std::vector<std::vector<Neighbor>> neighbors,
+                  Order order);
+
+  // Advances to the next solution. kFound: assignment() holds it (a label per local variable);
+  // kNoMore: all solutions have been produced; kOutOfBudget: nodes_left reached zero (every
+  // later call says so too). `arcs` must be the same arcs on every call.
+  [[nodiscard]] Outcome next(std::span<const Arc> arcs, std::uint64_t& nodes_left);
+  [[nodiscard]] const std::vector<int>& assignment() const { return assignment_; }
+
+ private:
+  struct Frame {
+    int variable{0};
+    int label{-1};              // the label tried last at this level (-1: none yet)
+    std::vector<Bitset> saved;  // the domains before this level's assignment
+  };
+  [[nodiscard]] int choose_variable(int depth) const;
+
+  Order order_;
+  std::vector<std::vector<Neighbor>> neighbors_;
+  std::vector<Bitset> domains_;  // current domains; an assigned variable's holds its one label
+  std::vector<char> assigned_;
+  std::vector<Frame> frames_;  // one per variable; the first depth_ are the active levels
+  int depth_{0};
+  std::vector<int> assignment_;
+  enum class State { kFresh, kRunning, kNoMore, kOutOfBudget } state_{State::kFresh};
+};
+
+}  // namespace spar::planner::cms::internal

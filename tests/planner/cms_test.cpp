@@ -1,0 +1,646 @@
+// Tests of planner/cms/: the ordering graph (acyclic, transitive closure, linearizations) and the
+// binary constraint network (arc consistency, search within a budget, codesignation, labelings),
+// each against brute force on small random instances.
+#include <gtest/gtest.h>
+#include <rapidcheck/gtest.h>
+
+#include <algorithm>
+#include <functional>
+#include <numeric>
+#include <optional>
+#include <utility>
+#include <vector>
+
+#include "planner/cms/constraint_network.hpp"
+#include "planner/cms/error.hpp"
+#include "planner/cms/ordering_graph.hpp"
+
+namespace spar::planner::cms {
+namespace {
+
+using Arcs = std::vector<std::pair<int, int>>;
+using Orders = std::vector<std::vector<int>>;
+
+OrderingGraph graph_with(int steps, const Arcs& arcs) {
+  OrderingGraph graph;
+  for (int step = 0; step < steps; ++step) graph.add_step();
+  for (const auto& [a, b] : arcs) EXPECT_TRUE(graph.add_before(a, b));
+  return graph;
+}
+
+Orders all_orders(const OrderingGraph& graph) {
+  Linearizations orders(graph);
+  Orders result;
+  while (std::optional<std::vector<int>> order = orders.next()) result.push_back(*order);
+  return result;
+}
+
+// ---------------------------------------------------------------------------------------------
+// OrderingGraph
+
+TEST(OrderingGraph, AddStepReturnsConsecutiveIds) {
+  OrderingGraph graph;
+  EXPECT_EQ(graph.add_step(), 0);
+  EXPECT_EQ(graph.add_step(), 1);
+  EXPECT_EQ(graph.add_step(), 2);
+  EXPECT_EQ(graph.step_count(), 3);
+  EXPECT_FALSE(graph.precedes(0, 1));
+}
+
+TEST(OrderingGraph, PrecedesIsTransitiveAndStrict) {
+  const OrderingGraph graph = graph_with(4, {{0, 1}, {1, 2}});
+  EXPECT_TRUE(graph.precedes(0, 2));
+  EXPECT_FALSE(graph.precedes(2, 0));
+  EXPECT_FALSE(graph.precedes(1, 1));
+  EXPECT_FALSE(graph.precedes(0, 3));
+  EXPECT_EQ(graph.successors(0), (std::vector<int>{1, 2}));
+  EXPECT_EQ(graph.predecessors(2), (std::vector<int>{0, 1}));
+  graph.check_invariants();
+}
+
+TEST(OrderingGraph, CycleAndSelfLoopAreRefusedLeavingGraphUnchanged) {
+  OrderingGraph graph = graph_with(3, {{0, 1}, {1, 2}});
+  const OrderingGraph before = graph;
+  EXPECT_FALSE(graph.add_before(2, 0));
+  EXPECT_FALSE(graph.add_before(1, 1));
+  EXPECT_EQ(graph, before);
+}
+
+TEST(OrderingGraph, ArcsAreKeptAsPostedOnceEachEvenWhenImplied) {
+  OrderingGraph graph = graph_with(3, {{0, 1}, {1, 2}});
+  EXPECT_TRUE(graph.add_before(0, 2));  // implied, still recorded
+  EXPECT_TRUE(graph.add_before(0, 1));  // duplicate, recorded once
+  EXPECT_EQ(graph.arcs(), (Arcs{{0, 1}, {1, 2}, {0, 2}}));
+  EXPECT_EQ(graph.transitive_reduction(), (Arcs{{0, 1}, {1, 2}}));
+  graph.check_invariants();
+}
+
+TEST(OrderingGraph, PossiblyBetweenIsTheThreatTest) {
+  // 0 -> 1 -> 3, 2 unordered.
+  const OrderingGraph graph = graph_with(4, {{0, 1}, {1, 3}});
+  EXPECT_TRUE(graph.possibly_between(2, 0, 3));
+  EXPECT_TRUE(graph.possibly_between(1, 0, 3));
+  EXPECT_FALSE(graph.possibly_between(3, 0, 1));  // 3 is after 1
+  EXPECT_FALSE(graph.possibly_between(0, 1, 3));  // 0 is before 1
+  EXPECT_FALSE(graph.possibly_between(2, 3, 0));  // 3 cannot come before 0
+  EXPECT_FALSE(graph.possibly_between(0, 0, 3));  // a step is not between itself and another
+}
+
+TEST(OrderingGraph, UnknownStepThrowsNamingIt) {
+  OrderingGraph graph = graph_with(2, {});
+  try {
+    (void)graph.add_before(0, 5);
+    FAIL() << "no exception";
+  } catch (const CmsError& error) {
+    EXPECT_STREQ(error.what(), "ordering graph: step 5 does not exist (the graph has 2 steps)");
+  }
+  EXPECT_THROW((void)graph.precedes(-1, 0), spar::Error);
+}
+
+TEST(Linearizations, ChainHasOneOrder) {
+  EXPECT_EQ(all_orders(graph_with(3, {{2, 1}, {1, 0}})), (Orders{{2, 1, 0}}));
+}
+
+TEST(Linearizations, UnorderedStepsGiveAllPermutationsInLexicographicOrder) {
+  EXPECT_EQ(all_orders(graph_with(3, {})),
+            (Orders{{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}}));
+}
+
+TEST(Linearizations, EmptyGraphHasTheEmptyOrder) {
+  EXPECT_EQ(all_orders(OrderingGraph{}), (Orders{{}}));
+}
+
+TEST(Linearizations, EnumeratorIsIndependentOfLaterChangesAndStaysDone) {
+  OrderingGraph graph = graph_with(2, {});
+  Linearizations orders(graph);
+  EXPECT_TRUE(graph.add_before(1, 0));
+  EXPECT_EQ(orders.next(), (std::vector<int>{0, 1}));
+  EXPECT_EQ(orders.next(), (std::vector<int>{1, 0}));
+  EXPECT_EQ(orders.next(), std::nullopt);
+  EXPECT_EQ(orders.next(), std::nullopt);
+}
+
+TEST(Linearizations, CountStopsAtTheLimit) {
+  const OrderingGraph graph = graph_with(4, {{0, 1}});  // 4!/2 = 12 orders
+  const LinearizationCount all = count_linearizations(graph, 100);
+  EXPECT_EQ(all.count, 12U);
+  EXPECT_FALSE(all.limit_reached);
+  const LinearizationCount exact = count_linearizations(graph, 12);
+  EXPECT_EQ(exact.count, 12U);
+  EXPECT_FALSE(exact.limit_reached);
+  const LinearizationCount limited = count_linearizations(graph, 5);
+  EXPECT_EQ(limited.count, 5U);
+  EXPECT_TRUE(limited.limit_reached);
+}
+
+// Random prior_to requests on up to 7 steps, checked against a reachability search over the
+// accepted arcs after every request.
+RC_GTEST_PROP(OrderingGraph, MatchesReachabilityAndStaysAcyclic, ()) {
+  const int n = *rc::gen::inRange(1, 8);
+  OrderingGraph graph;
+  for (int step = 0; step < n; ++step) graph.add_step();
+  Arcs accepted;
+  const auto reaches = [&](int from, int to) {  // path of length >= 1 over accepted arcs
+    std::vector<bool> seen(static_cast<std::size_t>(n), false);
+    std::vector<int> stack{from};
+    while (!stack.empty()) {
+      const int x = stack.back();
+      stack.pop_back();
+      for (const auto& [a, b] : accepted) {
+        if (a == x && !seen[static_cast<std::size_t>(b)]) {
+          seen[static_cast<std::size_t>(b)] = true;
+          stack.push_back(b);
+        }
+      }
+    }
+    return static_cast<bool>(seen[static_cast<std::size_t>(to)]);
+  };
+  const int requests = *rc::gen::inRange(0, 16);
+  for (int request = 0; request < requests; ++request) {
+    const int a = *rc::gen::inRange(0, n);
+    const int b = *rc::gen::inRange(0, n);
+    const bool cycle = a == b || reaches(b, a);
+    const OrderingGraph before = graph;
+    RC_ASSERT(graph.add_before(a, b) == !cycle);
+    if (cycle) {
+      RC_ASSERT(graph == before);
+    } else {
+      accepted.emplace_back(a, b);
+    }
+    graph.check_invariants();
+    for (int x = 0; x < n; ++x) {
+      for (int y = 0; y < n; ++y) RC_ASSERT(graph.precedes(x, y) == reaches(x, y));
+    }
+  }
+  // possibly_between(c, a, b) says exactly whether prior_to(a, c) and prior_to(c, b) both fit.
+  for (int c = 0; c < n; ++c) {
+    for (int a = 0; a < n; ++a) {
+      for (int b = 0; b < n; ++b) {
+        OrderingGraph trial = graph;
+        const bool fits = trial.add_before(a, c) && trial.add_before(c, b);
+        RC_ASSERT(graph.possibly_between(c, a, b) == fits);
+      }
+    }
+  }
+  // The transitive reduction has the same closure, and every arc of it is needed.
+  const Arcs reduction = graph.transitive_reduction();
+  for (std::size_t skip = 0; skip <= reduction.size(); ++skip) {
+    OrderingGraph rebuilt;
+    for (int step = 0; step < n; ++step) rebuilt.add_step();
+    for (std::size_t i = 0; i < reduction.size(); ++i) {
+      if (i != skip) RC_ASSERT(rebuilt.add_before(reduction[i].first, reduction[i].second));
+    }
+    bool same = true;
+    for (int x = 0; x < n; ++x) {
+      for (int y = 0; y < n; ++y) same = same && rebuilt.precedes(x, y) == graph.precedes(x, y);
+    }
+    RC_ASSERT(same == (skip == reduction.size()));
+  }
+}
+
+// On up to 6 steps, the enumerator yields exactly the permutations that respect every arc, in
+// lexicographic order (std::next_permutation's order, filtered).
+RC_GTEST_PROP(Linearizations, AreExactlyTheTopologicalOrdersInLexicographicOrder, ()) {
+  const int n = *rc::gen::inRange(0, 7);
+  OrderingGraph graph;
+  for (int step = 0; step < n; ++step) graph.add_step();
+  const int requests = n == 0 ? 0 : *rc::gen::inRange(0, 10);
+  for (int request = 0; request < requests; ++request) {
+    (void)graph.add_before(*rc::gen::inRange(0, n), *rc::gen::inRange(0, n));
+  }
+  Orders expected;
+  std::vector<int> permutation(static_cast<std::size_t>(n));
+  std::iota(permutation.begin(), permutation.end(), 0);
+  do {
+    bool respects = true;
+    for (const auto& [a, b] : graph.arcs()) {
+      respects = respects && std::find(permutation.begin(), permutation.end(), a) <
+                                 std::find(permutation.begin(), permutation.end(), b);
+    }
+    if (respects) expected.push_back(permutation);
+  } while (std::next_permutation(permutation.begin(), permutation.end()));
+  RC_ASSERT(all_orders(graph) == expected);
+  const LinearizationCount count = count_linearizations(graph, 10);
+  RC_ASSERT(count.count == std::min<std::size_t>(expected.size(), 10));
+  RC_ASSERT(count.limit_reached == (expected.size() > 10));
+}
+
+// ---------------------------------------------------------------------------------------------
+// ConstraintNetwork
+
+AllowedPairs pairs_of(int rows, int columns, const Arcs& allowed) {
+  AllowedPairs pairs(rows, columns);
+  for (const auto& [row, column] : allowed) pairs.allow(row, column);
+  return pairs;
+}
+
+AllowedPairs different(int domain) {
+  AllowedPairs pairs(domain, domain);
+  for (int x = 0; x < domain; ++x) {
+    for (int y = 0; y < domain; ++y) {
+      if (x != y) pairs.allow(x, y);
+    }
+  }
+  return pairs;
+}
+
+// `count` variables over `domain` labels, pairwise different except the pair (count-2, count-1):
+// arc consistent, and consistent iff count <= domain.
+ConstraintNetwork nearly_all_different(int count, int domain) {
+  ConstraintNetwork network;
+  std::vector<int> all(static_cast<std::size_t>(domain));
+  std::iota(all.begin(), all.end(), 0);
+  for (int var = 0; var < count; ++var) network.add_variable("v", domain, all);
+  for (int x = 0; x < count; ++x) {
+    for (int y = x + 1; y < count; ++y) {
+      if (x == count - 2 && y == count - 1) continue;
+      EXPECT_EQ(network.post(x, y, different(domain)), Consistency::kConsistent);
+    }
+  }
+  return network;
+}
+
+TEST(ConstraintNetwork, AddVariableKeepsItsInitialLabels) {
+  ConstraintNetwork network;
+  EXPECT_EQ(network.add_variable("?grasp", 5, {4, 1, 1}), 0);
+  EXPECT_EQ(network.add_variable("?pose", 2, {0}), 1);
+  EXPECT_EQ(network.labels(0), (std::vector<int>{1, 4}));
+  EXPECT_EQ(network.name(1), "?pose");
+  EXPECT_EQ(network.domain_size(0), 5);
+  EXPECT_EQ(network.representative(1), 1);
+  EXPECT_TRUE(network.has_label(0, 4));
+  EXPECT_FALSE(network.has_label(0, 0));
+  EXPECT_FALSE(network.has_label(0, 7));
+  network.check_invariants();
+}
+
+TEST(ConstraintNetwork, MalformedRequestsThrowWithMessages) {
+  ConstraintNetwork network;
+  EXPECT_THROW(network.add_variable("?g", 0, {}), CmsError);
+  try {
+    network.add_variable("?g", 3, {3});
+    FAIL() << "no exception";
+  } catch (const CmsError& error) {
+    EXPECT_STREQ(error.what(), "variable ?g: initial label 3 is outside its domain 0..2");
+  }
+  EXPECT_THROW(network.add_variable("?g", 3, {}), CmsError);
+  const int grasp = network.add_variable("?grasp", 3, {0, 1, 2});
+  const int pose = network.add_variable("?pose", 2, {0, 1});
+  try {
+    (void)network.post(grasp, pose, AllowedPairs(2, 3));
+    FAIL() << "no exception";
+  } catch (const CmsError& error) {
+    EXPECT_STREQ(error.what(),
+                 "post ?grasp, ?pose: allowed pairs are 2 x 3, the domains are 3 x 2");
+  }
+  try {
+    (void)network.unify(grasp, pose);
+    FAIL() << "no exception";
+  } catch (const CmsError& error) {
+    EXPECT_STREQ(error.what(), "unify ?grasp with ?pose: their domains differ (3 and 2 labels)");
+  }
+  EXPECT_THROW((void)network.restrict(pose, {2}), CmsError);
+  EXPECT_THROW((void)network.labels(9), CmsError);
+  EXPECT_THROW(AllowedPairs(2, 2).allow(2, 0), CmsError);
+}
+
+TEST(ConstraintNetwork, RestrictIntersectsTheLabelSet) {
+  ConstraintNetwork network;
+  const int pose = network.add_variable("?pose", 6, {0, 1, 2, 3});
+  EXPECT_EQ(network.restrict(pose, {1, 3, 5}), Consistency::kConsistent);
+  EXPECT_EQ(network.labels(pose), (std::vector<int>{1, 3}));
+  network.check_invariants();
+}
+
+TEST(ConstraintNetwork, RestrictToNothingIsRefusedLeavingNetworkUnchanged) {
+  ConstraintNetwork network;
+  const int pose = network.add_variable("?pose", 6, {0, 1});
+  const ConstraintNetwork before = network;
+  EXPECT_EQ(network.restrict(pose, {4, 5}), Consistency::kInconsistent);
+  EXPECT_EQ(network, before);
+}
+
+TEST(ConstraintNetwork, PostPrunesBothEndsByArcConsistency) {
+  ConstraintNetwork network;
+  const int grasp = network.add_variable("?grasp", 4, {0, 1, 2, 3});
+  const int pose = network.add_variable("?pose", 3, {0, 1, 2});
+  EXPECT_EQ(network.post(grasp, pose, pairs_of(4, 3, {{1, 2}, {3, 2}})), Consistency::kConsistent);
+  EXPECT_EQ(network.labels(grasp), (std::vector<int>{1, 3}));
+  EXPECT_EQ(network.labels(pose), (std::vector<int>{2}));
+  network.check_invariants();
+}
+
+TEST(ConstraintNetwork, RestrictPropagatesAlongAChainAndPrunesArcPairs) {
+  // x - y - z with equality arcs: restricting x reaches z.
+  ConstraintNetwork network;
+  for (int var = 0; var < 3; ++var) network.add_variable("v", 3, {0, 1, 2});
+  const AllowedPairs equal = pairs_of(3, 3, {{0, 0}, {1, 1}, {2, 2}});
+  EXPECT_EQ(network.post(0, 1, equal), Consistency::kConsistent);
+  EXPECT_EQ(network.post(2, 1, equal), Consistency::kConsistent);
+  EXPECT_EQ(network.restrict(0, {1, 2}), Consistency::kConsistent);
+  EXPECT_EQ(network.labels(2), (std::vector<int>{1, 2}));
+  const std::vector<ArcPairs> arcs = network.arcs();
+  ASSERT_EQ(arcs.size(), 2U);
+  EXPECT_EQ(arcs[0], (ArcPairs{0, 1, {{1, 1}, {2, 2}}}));
+  EXPECT_EQ(arcs[1], (ArcPairs{1, 2, {{1, 1}, {2, 2}}}));
+  network.check_invariants();
+}
+
+TEST(ConstraintNetwork, SecondArcBetweenTheSameVariablesIntersects) {
+  ConstraintNetwork network;
+  const int a = network.add_variable("a", 2, {0, 1});
+  const int b = network.add_variable("b", 3, {0, 1, 2});
+  EXPECT_EQ(network.post(a, b, pairs_of(2, 3, {{0, 0}, {0, 1}, {1, 2}})), Consistency::kConsistent);
+  // Posted the other way round: (b, a).
+  EXPECT_EQ(network.post(b, a, pairs_of(3, 2, {{1, 0}, {2, 1}, {2, 0}})), Consistency::kConsistent);
+  const std::vector<ArcPairs> arcs = network.arcs();
+  ASSERT_EQ(arcs.size(), 1U);
+  EXPECT_EQ(arcs[0], (ArcPairs{a, b, {{0, 1}, {1, 2}}}));
+  EXPECT_EQ(network.labels(b), (std::vector<int>{1, 2}));
+  network.check_invariants();
+}
+
+TEST(ConstraintNetwork, InconsistentPostIsRefusedLeavingNetworkUnchanged) {
+  ConstraintNetwork network;
+  const int a = network.add_variable("a", 2, {0, 1});
+  const int b = network.add_variable("b", 2, {0, 1});
+  EXPECT_EQ(network.post(a, b, pairs_of(2, 2, {{0, 0}, {1, 1}})), Consistency::kConsistent);
+  EXPECT_EQ(network.restrict(a, {0}), Consistency::kConsistent);
+  const ConstraintNetwork before = network;
+  EXPECT_EQ(network.post(a, b, pairs_of(2, 2, {{0, 1}, {1, 0}})), Consistency::kInconsistent);
+  EXPECT_EQ(network, before);
+  // A refused new arc leaves no trace either.
+  const int c = network.add_variable("c", 2, {1});
+  const ConstraintNetwork with_c = network;
+  EXPECT_EQ(network.post(c, b, pairs_of(2, 2, {{1, 1}})), Consistency::kInconsistent);
+  EXPECT_EQ(network, with_c);
+}
+
+TEST(ConstraintNetwork, SearchFindsWhatArcConsistencyCannotSee) {
+  // Three variables over two labels, pairwise different: every arc is consistent on its own.
+  ConstraintNetwork network = nearly_all_different(3, 2);
+  const ConstraintNetwork before = network;
+  EXPECT_EQ(network.post(1, 2, different(2)), Consistency::kInconsistent);
+  EXPECT_EQ(network, before);
+}
+
+TEST(ConstraintNetwork, BudgetExhaustionIsItsOwnVerdictAndChangesNothing) {
+  // Pigeonhole: 7 variables, 6 labels; proving it needs far more than 10 nodes.
+  ConstraintNetwork network = nearly_all_different(7, 6);
+  const ConstraintNetwork before = network;
+  EXPECT_EQ(network.post(5, 6, different(6), SearchBudget{10}), Consistency::kBudgetExhausted);
+  EXPECT_EQ(network, before);
+  EXPECT_EQ(network.post(5, 6, different(6), SearchBudget{1'000'000}), Consistency::kInconsistent);
+  EXPECT_EQ(network, before);
+  EXPECT_EQ(network.consistent(SearchBudget{1'000'000}), Consistency::kConsistent);
+  EXPECT_EQ(network.consistent(SearchBudget{0}), Consistency::kBudgetExhausted);
+}
+
+TEST(ConstraintNetwork, PredicateIsAskedOnlyForPairsOfCurrentLabels) {
+  ConstraintNetwork network;
+  const int grasp = network.add_variable("?grasp", 5, {0, 2, 4});
+  const int pose = network.add_variable("?pose", 4, {1, 3});
+  int calls = 0;
+  const auto reachable = [&calls](int g, int p) {
+    ++calls;
+    return g + p == 5;
+  };
+  EXPECT_EQ(network.post(grasp, pose, reachable), Consistency::kConsistent);
+  EXPECT_EQ(calls, 6);
+  EXPECT_EQ(network.labels(grasp), (std::vector<int>{2, 4}));
+  EXPECT_EQ(network.labels(pose), (std::vector<int>{1, 3}));
+}
+
+TEST(ConstraintNetwork, UnifyIntersectsLabelsAndMergesArcs) {
+  ConstraintNetwork network;
+  const int put_position = network.add_variable("?put", 3, {0, 1, 2});
+  const int grasp = network.add_variable("?grasp", 2, {0, 1});
+  const int pick_position = network.add_variable("?pick", 3, {1, 2});
+  // grasp 0 works only in position 2, grasp 1 only in position 0.
+  EXPECT_EQ(network.post(grasp, pick_position, pairs_of(2, 3, {{0, 2}, {1, 0}, {1, 1}})),
+            Consistency::kConsistent);
+  EXPECT_EQ(network.labels(grasp), (std::vector<int>{0, 1}));
+  EXPECT_EQ(network.unify(pick_position, put_position), Consistency::kConsistent);
+  EXPECT_EQ(network.representative(pick_position), put_position);
+  EXPECT_EQ(network.representative(put_position), put_position);
+  EXPECT_EQ(network.labels(pick_position), (std::vector<int>{1, 2}));
+  EXPECT_EQ(network.labels(put_position), (std::vector<int>{1, 2}));
+  // Restricting through either id acts on the merged variable, and its arc moved along.
+  EXPECT_EQ(network.restrict(put_position, {2}), Consistency::kConsistent);
+  EXPECT_EQ(network.labels(grasp), (std::vector<int>{0}));
+  const std::vector<ArcPairs> arcs = network.arcs();
+  ASSERT_EQ(arcs.size(), 1U);
+  EXPECT_EQ(arcs[0], (ArcPairs{put_position, grasp, {{2, 0}}}));
+  network.check_invariants();
+  EXPECT_EQ(first_labelings(network, 10).labelings, (std::vector<Labeling>{{2, 0, 2}}));
+}
+
+TEST(ConstraintNetwork, UnifyMergesParallelArcsByIntersection) {
+  ConstraintNetwork network;
+  const int a = network.add_variable("a", 2, {0, 1});
+  const int b = network.add_variable("b", 2, {0, 1});
+  const int c = network.add_variable("c", 3, {0, 1, 2});
+  EXPECT_EQ(network.post(a, c, pairs_of(2, 3, {{0, 0}, {0, 1}, {1, 2}})), Consistency::kConsistent);
+  EXPECT_EQ(network.post(b, c, pairs_of(2, 3, {{0, 1}, {1, 0}, {1, 2}})), Consistency::kConsistent);
+  EXPECT_EQ(network.unify(b, a), Consistency::kConsistent);
+  const std::vector<ArcPairs> arcs = network.arcs();
+  ASSERT_EQ(arcs.size(), 1U);
+  EXPECT_EQ(arcs[0], (ArcPairs{a, c, {{0, 1}, {1, 2}}}));
+  EXPECT_EQ(network.labels(c), (std::vector<int>{1, 2}));
+  network.check_invariants();
+}
+
+TEST(ConstraintNetwork, ArcBetweenUnifiedVariablesKeepsOnlyItsDiagonal) {
+  ConstraintNetwork network;
+  const int a = network.add_variable("a", 3, {0, 1, 2});
+  const int b = network.add_variable("b", 3, {0, 1, 2});
+  EXPECT_EQ(network.post(a, b, pairs_of(3, 3, {{0, 0}, {1, 2}, {2, 2}})), Consistency::kConsistent);
+  EXPECT_EQ(network.unify(a, b), Consistency::kConsistent);
+  EXPECT_EQ(network.labels(b), (std::vector<int>{0, 2}));
+  EXPECT_TRUE(network.arcs().empty());
+  // A post between codesignated ids is the same diagonal restriction.
+  EXPECT_EQ(network.post(b, a, pairs_of(3, 3, {{2, 2}, {0, 1}})), Consistency::kConsistent);
+  EXPECT_EQ(network.labels(a), (std::vector<int>{2}));
+  network.check_invariants();
+}
+
+TEST(ConstraintNetwork, InconsistentUnifyIsRefusedLeavingNetworkUnchanged) {
+  ConstraintNetwork network;
+  const int a = network.add_variable("a", 3, {0, 1});
+  const int b = network.add_variable("b", 3, {1, 2});
+  const int c = network.add_variable("c", 2, {0, 1});
+  EXPECT_EQ(network.post(a, c, pairs_of(3, 2, {{0, 0}, {1, 1}})), Consistency::kConsistent);
+  EXPECT_EQ(network.post(b, c, pairs_of(3, 2, {{1, 0}, {2, 1}})), Consistency::kConsistent);
+  const ConstraintNetwork before = network;
+  // Shared label 1 needs c = 1 through a and c = 0 through b.
+  EXPECT_EQ(network.unify(a, b), Consistency::kInconsistent);
+  EXPECT_EQ(network, before);
+  EXPECT_EQ(network.representative(b), b);
+}
+
+TEST(Labelings, AreEnumeratedLexicographicallyWithCodesignatedIdsFilledIn) {
+  ConstraintNetwork network;
+  const int a = network.add_variable("a", 3, {0, 1, 2});
+  const int b = network.add_variable("b", 2, {0, 1});
+  const int c = network.add_variable("c", 3, {0, 2});
+  EXPECT_EQ(network.post(b, a, pairs_of(2, 3, {{0, 1}, {1, 0}, {1, 2}})), Consistency::kConsistent);
+  EXPECT_EQ(network.unify(c, a), Consistency::kConsistent);
+  const std::vector<Labeling> expected{{0, 1, 0}, {2, 1, 2}};
+  EXPECT_EQ(first_labelings(network, 10).labelings, expected);
+  EXPECT_EQ(first_labelings(network, 10).stop, LabelingBatch::Stop::kAll);
+  const LabelingBatch one = first_labelings(network, 1);
+  EXPECT_EQ(one.labelings, (std::vector<Labeling>{{0, 1, 0}}));
+  EXPECT_EQ(one.stop, LabelingBatch::Stop::kLimitReached);
+  EXPECT_EQ(first_labelings(network, 2).stop, LabelingBatch::Stop::kAll);
+  const LabelingBatch starved = first_labelings(network, 10, SearchBudget{1});
+  EXPECT_EQ(starved.stop, LabelingBatch::Stop::kBudgetExhausted);
+  EXPECT_TRUE(starved.labelings.empty());
+}
+
+TEST(Labelings, EmptyNetworkHasTheEmptyLabeling) {
+  EXPECT_EQ(first_labelings(ConstraintNetwork{}, 5).labelings, (std::vector<Labeling>{{}}));
+  EXPECT_EQ(ConstraintNetwork{}.consistent(), Consistency::kConsistent);
+}
+
+// The brute-force model of a network: every variable id with its domain and the constraints
+// accepted so far, solved by enumerating all assignments of all ids.
+struct Model {
+  std::vector<int> domains;
+  std::vector<std::vector<int>> allowed_labels;  // per id: initial labels ∩ restrictions
+  struct Binary {
+    int a, b;
+    AllowedPairs pairs;
+  };
+  std::vector<Binary> binaries;
+  std::vector<std::pair<int, int>> equal;  // unified ids
+
+  [[nodiscard]] bool satisfies(const Labeling& labeling) const {
+    for (std::size_t var = 0; var < domains.size(); ++var) {
+      const std::vector<int>& labels = allowed_labels[var];
+      if (std::find(labels.begin(), labels.end(), labeling[var]) == labels.end()) return false;
+    }
+    for (const Binary& binary : binaries) {
+      if (!binary.pairs.allowed(labeling[static_cast<std::size_t>(binary.a)],
+                                labeling[static_cast<std::size_t>(binary.b)])) {
+        return false;
+      }
+    }
+    for (const auto& [a, b] : equal) {
+      if (labeling[static_cast<std::size_t>(a)] != labeling[static_cast<std::size_t>(b)]) {
+        return false;
+      }
+    }
+    return true;
+  }
+  // All solutions, lexicographically (odometer with the last id fastest).
+  [[nodiscard]] std::vector<Labeling> solutions() const {
+    std::vector<Labeling> result;
+    Labeling labeling(domains.size(), 0);
+    while (true) {
+      if (satisfies(labeling)) result.push_back(labeling);
+      int position = static_cast<int>(domains.size()) - 1;
+      while (position >= 0 && ++labeling[static_cast<std::size_t>(position)] ==
+                                  domains[static_cast<std::size_t>(position)]) {
+        labeling[static_cast<std::size_t>(position)] = 0;
+        --position;
+      }
+      if (position < 0) return result;
+    }
+  }
+};
+
+std::vector<int> random_labels(int domain) {
+  std::vector<int> labels;
+  for (int label = 0; label < domain; ++label) {
+    if (*rc::gen::inRange(0, 3) != 0) labels.push_back(label);
+  }
+  return labels;
+}
+
+AllowedPairs random_pairs(int rows, int columns) {
+  AllowedPairs pairs(rows, columns);
+  for (int row = 0; row < rows; ++row) {
+    for (int column = 0; column < columns; ++column) {
+      if (*rc::gen::inRange(0, 3) != 0) pairs.allow(row, column);
+    }
+  }
+  return pairs;
+}
+
+// Random networks of 3-6 variables over domains of 1-5 labels, grown by random restricts, posts
+// and unifies (some with a starvation budget). After every operation: its verdict agrees with
+// brute force on the network with the operation applied (kBudgetExhausted is allowed only to
+// refuse), a refused operation leaves the network equal to before, the invariants hold, and no
+// label of any solution was pruned. At the end the labelings are exactly brute force's, in order.
+RC_GTEST_PROP(ConstraintNetwork, AgreesWithBruteForce, ()) {
+  const int variables = *rc::gen::inRange(3, 7);
+  ConstraintNetwork network;
+  Model model;
+  for (int var = 0; var < variables; ++var) {
+    const int domain = *rc::gen::inRange(1, 6);
+    std::vector<int> labels = random_labels(domain);
+    if (labels.empty()) labels.push_back(*rc::gen::inRange(0, domain));
+    RC_ASSERT(network.add_variable("v" + std::to_string(var), domain, labels) == var);
+    model.domains.push_back(domain);
+    model.allowed_labels.push_back(labels);
+  }
+  const int operations = *rc::gen::inRange(1, 10);
+  for (int operation = 0; operation < operations; ++operation) {
+    const SearchBudget budget{*rc::gen::element<std::uint64_t>(0, 2, 100'000)};
+    const int a = *rc::gen::inRange(0, variables);
+    const int b = *rc::gen::inRange(0, variables);
+    Model next = model;
+    const ConstraintNetwork before = network;
+    Consistency verdict = Consistency::kInconsistent;
+    switch (*rc::gen::inRange(0, 3)) {
+      case 0: {
+        const std::vector<int> labels = random_labels(model.domains[static_cast<std::size_t>(a)]);
+        std::vector<int>& kept = next.allowed_labels[static_cast<std::size_t>(a)];
+        std::erase_if(kept, [&](int label) {
+          return std::find(labels.begin(), labels.end(), label) == labels.end();
+        });
+        verdict = network.restrict(a, labels, budget);
+        break;
+      }
+      case 1: {
+        AllowedPairs pairs = random_pairs(model.domains[static_cast<std::size_t>(a)],
+                                          model.domains[static_cast<std::size_t>(b)]);
+        verdict = network.post(a, b, pairs, budget);
+        next.binaries.push_back({a, b, std::move(pairs)});
+        break;
+      }
+      default: {
+        if (model.domains[static_cast<std::size_t>(a)] !=
+            model.domains[static_cast<std::size_t>(b)]) {
+          RC_ASSERT_THROWS_AS((void)network.unify(a, b), CmsError);
+          continue;
+        }
+        verdict = network.unify(a, b, budget);
+        next.equal.emplace_back(a, b);
+        break;
+      }
+    }
+    const bool solvable = !next.solutions().empty();
+    if (verdict == Consistency::kConsistent) {
+      RC_ASSERT(solvable);
+      model = std::move(next);
+    } else {
+      RC_ASSERT(network == before);
+      RC_ASSERT(verdict == Consistency::kBudgetExhausted || !solvable);
+      RC_ASSERT(verdict == Consistency::kInconsistent || budget.nodes < 100'000);
+    }
+    network.check_invariants();
+    for (const Labeling& solution : model.solutions()) {
+      for (int var = 0; var < variables; ++var) {
+        RC_ASSERT(network.has_label(var, solution[static_cast<std::size_t>(var)]));
+      }
+    }
+  }
+  RC_ASSERT(network.consistent() == Consistency::kConsistent);
+  const LabelingBatch batch = first_labelings(network, 100'000);
+  RC_ASSERT(batch.stop == LabelingBatch::Stop::kAll);
+  RC_ASSERT(batch.labelings == model.solutions());
+}
+
+}  // namespace
+}  // namespace spar::planner::cms
