@@ -258,6 +258,45 @@ Consistency ConstraintNetwork::search_components(const std::vector<std::vector<i
   return Consistency::kConsistent;
 }
 
+// The cheap first try when the witness no longer fits: gives each misfit, in turn, the first
+// current label (its old one first) that every arc at it allows with the neighbours' witness
+// labels (neighbours still to be repaired are skipped; they check against it in their turn).
+// True if every misfit got one: the witness is then consistent again. False says nothing about
+// consistency; settle() then searches.
+bool ConstraintNetwork::repair(const LabelSets& labels, const std::vector<int>& misfits,
+                               std::vector<int>& witness) const {
+  const auto fits = [&](int var, int label) {
+    for (const int index : incident_[static_cast<std::size_t>(var)]) {
+      const Arc& arc = arcs_[static_cast<std::size_t>(index)];
+      const int other = other_end(arc, var);
+      const int other_label = witness[static_cast<std::size_t>(other)];
+      if (other_label < 0 || !labels[static_cast<std::size_t>(other)].test(other_label)) continue;
+      const auto row = arc.row(arc.first == var, label);
+      if (((row[static_cast<std::size_t>(other_label / internal::kWordBits)] >>
+            (other_label % internal::kWordBits)) &
+           1U) == 0) {
+        return false;
+      }
+    }
+    return true;
+  };
+  for (const int var : misfits) {
+    const Bitset& own = labels[static_cast<std::size_t>(var)];
+    int& label = witness[static_cast<std::size_t>(var)];
+    if (label >= 0 && own.test(label) && fits(var, label)) continue;
+    label = -1;
+    for (int candidate = own.find_first(); candidate >= 0;
+         candidate = own.find_next(candidate + 1)) {
+      if (fits(var, candidate)) {
+        label = candidate;
+        break;
+      }
+    }
+    if (label < 0) return false;
+  }
+  return true;
+}
+
 void ConstraintNetwork::mask_arc(Arc& arc) const {
   const Bitset& first = labels_[static_cast<std::size_t>(arc.first)];
   const Bitset& second = labels_[static_cast<std::size_t>(arc.second)];
@@ -265,10 +304,10 @@ void ConstraintNetwork::mask_arc(Arc& arc) const {
   keep_current_pairs(arc.backward, second, first);
 }
 
-// Arc consistency from `queue`, then a consistent labeling (the witness where it still fits, a
-// search in the components where it does not). On kConsistent commits the labels and the
-// witness and drops pruned pairs from the arcs at changed variables and from `touched_arcs`;
-// otherwise changes nothing.
+// Arc consistency from `queue`, then a consistent labeling (the witness where it still fits,
+// else the witness repaired, else a search in the components where it does not fit). On kConsistent
+// commits the labels and the witness and drops pruned pairs from the arcs at changed variables and
+// from `touched_arcs`; otherwise changes nothing.
 Consistency ConstraintNetwork::settle(LabelSets labels, std::vector<Revision> queue,
                                       SearchBudget budget, const std::vector<int>& touched_arcs) {
   if (!propagate(labels, std::move(queue))) return Consistency::kInconsistent;
@@ -280,10 +319,15 @@ Consistency ConstraintNetwork::settle(LabelSets labels, std::vector<Revision> qu
   for (const Arc& arc : arcs_) {
     const int first = witness_[static_cast<std::size_t>(arc.first)];
     const int second = witness_[static_cast<std::size_t>(arc.second)];
-    if (first >= 0 && second >= 0 && !arc.forward.test(first, second)) misfits.push_back(arc.first);
+    if (first >= 0 && second >= 0 && !arc.forward.test(first, second)) {
+      misfits.push_back(arc.first);
+      misfits.push_back(arc.second);
+    }
   }
+  std::sort(misfits.begin(), misfits.end());
+  misfits.erase(std::unique(misfits.begin(), misfits.end()), misfits.end());
   std::vector<int> witness = witness_;
-  if (!misfits.empty()) {
+  if (!misfits.empty() && !repair(labels, misfits, witness)) {
     const Consistency verdict = search_components(components_of(misfits), labels, budget, witness);
     if (verdict != Consistency::kConsistent) return verdict;
   }

@@ -8,8 +8,9 @@
 // Every operation that adds a constraint (restrict = SPAR's member / in_position_class, post =
 // reachable / mate_reachable, unify = codesignation) first prunes the label sets to arc
 // consistency (AC-3), then makes sure a consistent full labeling still exists: the network keeps
-// one such labeling (its witness) and searches (backtracking with forward checking, within the
-// explicit SearchBudget) only in the connected components where the witness no longer fits. The
+// one such labeling (its witness); where the change breaks it, it first tries to repair it one
+// variable at a time (no backtracking), and only if that fails searches (backtracking with
+// forward checking, within the explicit SearchBudget) the connected components concerned. The
 // operation returns kConsistent and keeps the change, or returns kInconsistent / kBudgetExhausted
 // and leaves the network exactly as it was (operator== holds). Hence every network a caller
 // can observe is arc consistent and has a consistent labeling.
@@ -150,6 +151,8 @@ class ConstraintNetwork {
   [[nodiscard]] Consistency search_components(const std::vector<std::vector<int>>& components,
                                               const LabelSets& labels, SearchBudget budget,
                                               std::vector<int>& witness) const;
+  [[nodiscard]] bool repair(const LabelSets& labels, const std::vector<int>& misfits,
+                            std::vector<int>& witness) const;
   [[nodiscard]] Consistency settle(LabelSets labels, std::vector<Revision> queue,
                                    SearchBudget budget, const std::vector<int>& touched_arcs);
   void mask_arc(internal::Arc& arc) const;
