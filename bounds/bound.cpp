@@ -3,15 +3,18 @@
 
 #include <algorithm>
 #include <array>
+#include <charconv>
 #include <chrono>
 #include <cmath>
 #include <limits>
 #include <map>
+#include <memory>
 #include <nlopt.hpp>
 #include <optional>
 #include <queue>
 #include <set>
 
+#include "bounds/internal/checks.hpp"
 #include "bounds/internal/gradient.hpp"
 #include "bounds/internal/linear_enclosure.hpp"
 #include "symbolic/operations.hpp"
@@ -93,39 +96,61 @@ struct Node {
   bool operator<(const Node& other) const { return bound < other.bound; }
 };
 
+// One expression compiled over the problem's variables: its tape and the evaluators on it. Pinned
+// (the evaluators point into the tape), so it lives behind a unique_ptr.
+struct CompiledFunction {
+  CompiledFunction(Expr f, std::span<const Expr> variables)
+      : tape(Tape::compile(std::array{f}, variables)), interval(tape), real(tape) {}
+  CompiledFunction(const CompiledFunction&) = delete;
+  CompiledFunction& operator=(const CompiledFunction&) = delete;
+
+  // Affine forms of the tape's values, computed on first use (only linear constraints need them).
+  const std::vector<std::optional<LinearForm>>& affine() {
+    if (!affine_forms) affine_forms = internal::affine_forms(tape);
+    return *affine_forms;
+  }
+
+  Tape tape;
+  internal::GradientEvaluator<Interval> interval;  // on tape
+  internal::GradientEvaluator<double> real;        // on tape
+  std::optional<std::vector<std::optional<LinearForm>>> affine_forms;
+};
+
+// A constraint `g relation 0` compiled over the problem's variables.
+struct CompiledConstraint {
+  CompiledConstraint(const Constraint& c, std::span<const Expr> variables)
+      : relation(c.relation), function(c.g, variables) {}
+  Relation relation;
+  CompiledFunction function;
+};
+
+// The constraints of a problem, compiled once; `linear` holds the linear ones as forms `L <= 0`.
+struct CompiledConstraints {
+  std::vector<std::unique_ptr<CompiledConstraint>> all;
+  std::vector<LinearForm> linear;
+};
+
+// One bounding run of a compiled function over one root box. Holds only per-run state: the
+// compiled parts are borrowed, and every value they keep between runs (slot scratch, the linear
+// enclosures, which are set afresh here) is overwritten before it is read, so a run's result does
+// not depend on earlier runs.
 class Bounder {
  public:
-  Bounder(Expr f, const Box& box, const BoundOptions& options,
-          std::span<const Constraint> constraints)
+  Bounder(CompiledFunction& f, CompiledConstraints& constraints, std::span<const Interval> root,
+          const BoundOptions& options)
       : options_(options),
-        variables_(box.variables),
-        root_(box.ranges),
-        f_tape_(Tape::compile(std::array{f}, variables_)),
-        f_interval_(f_tape_),
-        f_double_(f_tape_),
+        root_(root.begin(), root.end()),
+        f_(f),
+        f_interval_(f.interval),
+        f_double_(f.real),
+        constraints_(constraints.all),
+        linear_(constraints.linear),
         start_(std::chrono::steady_clock::now()) {
-    for (const Constraint& c : constraints) {
-      relations_.push_back(c.relation);
-      g_tapes_.push_back(Tape::compile(std::array{c.g}, variables_));
-      if (auto form = linear_form(c.g, variables_)) {
-        // g >= 0  <=>  -g <= 0.
-        if (c.relation == Relation::kGreater || c.relation == Relation::kGreaterEqual) {
-          for (Interval& a : form->coefficients) a = -a;
-          form->constant = -form->constant;
-        }
-        linear_.push_back(std::move(*form));
-      }
-    }
     if (!linear_.empty()) {
-      f_interval_.set_enclosures(
-          internal::linear_enclosures(internal::affine_forms(f_tape_), linear_, root_));
+      f_interval_.set_enclosures(internal::linear_enclosures(f_.affine(), linear_, root_));
     }
-    for (const Tape& tape : g_tapes_) {
-      g_interval_.emplace_back(tape);
-      g_double_.emplace_back(tape);
-    }
-    gradient_.resize(variables_.size());
-    point_.resize(variables_.size());
+    gradient_.resize(root_.size());
+    point_.resize(root_.size());
   }
 
   BoundResult run() {
@@ -201,10 +226,12 @@ class Bounder {
   // shrinks with the square of the width, so boxes along a curved constraint get decided.
   bool may_be_feasible(std::span<const Interval> box) {
     const std::size_t n = box.size();
-    for (std::size_t c = 0; c < g_interval_.size(); ++c) {
-      if (certainly_fails(g_interval_[c].value(box), relations_[c])) return false;
+    for (const auto& constraint : constraints_) {
+      auto& g_interval = constraint->function.interval;
+      const Relation relation = constraint->relation;
+      if (certainly_fails(g_interval.value(box), relation)) return false;
       if (!options_.centred_form) continue;
-      const Interval g = g_interval_[c].value_and_gradient(box, gradient_);
+      const Interval g = g_interval.value_and_gradient(box, gradient_);
       bool gradient_ok = !g.possibly_undefined;
       for (const Interval& partial : gradient_) {
         gradient_ok = gradient_ok && partial.is_bounded() && !partial.possibly_undefined;
@@ -212,12 +239,12 @@ class Bounder {
       if (!gradient_ok) continue;
       centre_.resize(n);
       for (std::size_t i = 0; i < n; ++i) centre_[i] = Interval{box[i].mid()};
-      Interval centred = g_interval_[c].value(centre_);
+      Interval centred = g_interval.value(centre_);
       if (centred.is_empty() || centred.possibly_undefined) continue;
       for (std::size_t i = 0; i < n; ++i) {
         if (box[i].width() > 0) centred = centred + gradient_[i] * (box[i] - centre_[i]);
       }
-      if (certainly_fails(centred, relations_[c])) return false;
+      if (certainly_fails(centred, relation)) return false;
     }
     return true;
   }
@@ -226,8 +253,8 @@ class Bounder {
   // defined there; inner bounds use the rigorous enclosure of f at the point.
   void offer(std::span<const double> x) {
     std::vector<Interval> p(x.begin(), x.end());
-    for (std::size_t c = 0; c < g_interval_.size(); ++c) {
-      if (!certainly_holds(g_interval_[c].value(p), relations_[c])) return;
+    for (const auto& constraint : constraints_) {
+      if (!certainly_holds(constraint->function.interval.value(p), constraint->relation)) return;
     }
     const Interval v = f_interval_.value(p);
     if (v.is_empty() || v.possibly_undefined) return;
@@ -259,18 +286,18 @@ class Bounder {
     std::size_t constraint;  // for constraint callbacks
   };
 
-  // Minimises -sign·f: a global stage (DIRECT-L, or ISRES with constraints), then a local one
-  // from the best point. Witnesses are re-checked by offer().
+  // Minimises -sign·f: a global stage (DIRECT-L, or with constraints the original DIRECT-L, which
+  // takes inequality constraints; both deterministic, no random numbers), then a local one from
+  // the best point. Witnesses are re-checked by offer().
   void nlopt_search(std::span<const Interval> box, int sign) {
     const unsigned n = static_cast<unsigned>(box.size());
     if (n == 0) return;
     const std::vector<double>& start = sign > 0 ? result_->argmax : result_->argmin;
     std::vector<double> x(n);
     for (unsigned i = 0; i < n; ++i) x[i] = start.empty() ? box[i].mid() : start[i];
-    const bool constrained = !g_tapes_.empty();
+    const bool constrained = !constraints_.empty();
     try {
-      nlopt::srand(20261123);
-      nlopt::opt global(constrained ? nlopt::GN_ISRES : nlopt::GN_DIRECT_L, n);
+      nlopt::opt global(constrained ? nlopt::GN_ORIG_DIRECT_L : nlopt::GN_DIRECT_L, n);
       configure(global, box, sign);
       global.set_maxeval(constrained ? 300 * (n + 1) : 60 * (n + 1));
       double value = 0;
@@ -311,7 +338,7 @@ class Bounder {
     opt.set_min_objective(&Bounder::nlopt_objective, &objective_);
     if (opt.get_algorithm() == nlopt::GN_DIRECT_L) return;
     constraint_data_.clear();
-    for (std::size_t c = 0; c < g_tapes_.size(); ++c) constraint_data_.push_back({this, 0, c});
+    for (std::size_t c = 0; c < constraints_.size(); ++c) constraint_data_.push_back({this, 0, c});
     for (Objective& data : constraint_data_) {
       opt.add_inequality_constraint(&Bounder::nlopt_constraint, &data, 0.0);
     }
@@ -337,10 +364,11 @@ class Bounder {
   static double nlopt_constraint(unsigned n, const double* x, double* gradient, void* data) {
     auto& objective = *static_cast<Objective*>(data);
     Bounder& self = *objective.self;
-    const Relation relation = self.relations_[objective.constraint];
+    CompiledConstraint& constraint = *self.constraints_[objective.constraint];
+    const Relation relation = constraint.relation;
     const double flip =
         (relation == Relation::kGreater || relation == Relation::kGreaterEqual) ? -1.0 : 1.0;
-    auto& evaluator = self.g_double_[objective.constraint];
+    auto& evaluator = constraint.function.real;
     const std::span<const double> point(x, n);
     double value = 0;
     if (gradient) {
@@ -505,16 +533,12 @@ class Bounder {
   }
 
   const BoundOptions& options_;
-  std::vector<Expr> variables_;
   std::vector<Interval> root_;
-  Tape f_tape_;
-  internal::GradientEvaluator<Interval> f_interval_;
-  internal::GradientEvaluator<double> f_double_;
-  std::vector<Tape> g_tapes_;  // one per constraint; complete before the evaluators point at it
-  std::vector<Relation> relations_;
-  std::vector<internal::GradientEvaluator<Interval>> g_interval_;
-  std::vector<internal::GradientEvaluator<double>> g_double_;
-  std::vector<LinearForm> linear_;
+  CompiledFunction& f_;
+  internal::GradientEvaluator<Interval>& f_interval_;  // f_.interval
+  internal::GradientEvaluator<double>& f_double_;      // f_.real
+  std::span<const std::unique_ptr<CompiledConstraint>> constraints_;
+  std::span<const LinearForm> linear_;
   Objective objective_{};  // NLopt callback data: stable addresses while an optimiser runs
   std::vector<Objective> constraint_data_;
   std::vector<Interval> gradient_, face_, centre_;
@@ -526,24 +550,90 @@ class Bounder {
   std::chrono::steady_clock::time_point start_;
 };
 
+// Shortest decimal that reads back as the same double ("1e-09", not "0.000000").
+std::string format_number(double value) {
+  char buffer[32];
+  const auto end = std::to_chars(buffer, buffer + sizeof buffer, value).ptr;
+  return std::string(buffer, end);
+}
+
+// Tightens `result` (a bound of f) with `other`, an earlier bound of f or a bound of SMP's rewrite
+// of f. Its witnesses are feasible points (checked by its search): f's value there, where f is
+// defined, is a value f attains, so it may improve the inner bounds.
+void refine_with(BoundResult& result, const BoundResult& other,
+                 internal::GradientEvaluator<Interval>& f, double tolerance) {
+  for (const std::vector<double>* point : {&other.argmin, &other.argmax}) {
+    if (point->empty()) continue;
+    const std::vector<Interval> x(point->begin(), point->end());
+    const Interval value = f.value(x);
+    if (value.is_empty() || value.possibly_undefined) continue;
+    if (value.hi < result.inner_lo) {
+      result.inner_lo = value.hi;
+      result.argmin = *point;
+    }
+    if (value.lo > result.inner_hi) {
+      result.inner_hi = value.lo;
+      result.argmax = *point;
+    }
+  }
+  // A rewrite equals f wherever f is defined, so its bounds hold for f. Values f attains outside
+  // them would mean the rewrite is wrong: then it is not used.
+  if (other.status == BoundStatus::kInfeasible || other.lo > result.inner_lo ||
+      other.hi < result.inner_hi) {
+    return;
+  }
+  result.lo = std::max(result.lo, other.lo);
+  result.hi = std::min(result.hi, other.hi);
+  if (result.relative_gap() <= tolerance) result.status = BoundStatus::kConverged;
+}
+
 }  // namespace
 
-void Box::add(Expr variable, double lo, double hi) {
-  if (variable.is_null() || !variable.is_variable()) {
-    throw BoundsError("a box entry must be a variable");
-  }
-  const std::string& name = variable.name();
+namespace internal {
+
+void check_range(const std::string& name, double lo, double hi) {
   if (std::isnan(lo) || std::isnan(hi)) throw BoundsError("range of '" + name + "' is NaN");
   if (!std::isfinite(lo) || !std::isfinite(hi)) {
     throw BoundsError("range of '" + name + "' must be finite");
   }
   if (lo > hi) {
-    throw BoundsError("range of '" + name + "' is empty: lower bound " + std::to_string(lo) +
-                      " > upper bound " + std::to_string(hi));
+    throw BoundsError("range of '" + name + "' is empty: lower bound " + format_number(lo) +
+                      " > upper bound " + format_number(hi));
   }
-  if (std::find(variables.begin(), variables.end(), variable) != variables.end()) {
-    throw BoundsError("variable '" + name + "' is in the box twice");
+}
+
+void check_variable(Expr variable, std::span<const Expr> earlier) {
+  if (variable.is_null() || !variable.is_variable()) {
+    throw BoundsError("a box entry must be a variable");
   }
+  if (std::find(earlier.begin(), earlier.end(), variable) != earlier.end()) {
+    throw BoundsError("variable '" + variable.name() + "' is in the box twice");
+  }
+}
+
+void check_ranges(std::span<const Expr> variables, std::span<const Interval> ranges) {
+  if (ranges.size() != variables.size()) {
+    throw BoundsError("expected " + std::to_string(variables.size()) + " ranges, got " +
+                      std::to_string(ranges.size()));
+  }
+  for (std::size_t i = 0; i < ranges.size(); ++i) {
+    check_range(variables[i].name(), ranges[i].lo, ranges[i].hi);
+  }
+}
+
+void check_uses_only(Expr expression, std::span<const Expr> variables, const std::string& what) {
+  for (Expr v : symbolic::free_variables(expression)) {
+    if (std::find(variables.begin(), variables.end(), v) == variables.end()) {
+      throw BoundsError("unknown variable '" + v.name() + "' in " + what + ": give it a range");
+    }
+  }
+}
+
+}  // namespace internal
+
+void Box::add(Expr variable, double lo, double hi) {
+  internal::check_variable(variable, variables);
+  internal::check_range(variable.name(), lo, hi);
   variables.push_back(variable);
   ranges.push_back(Interval{lo, hi});
 }
@@ -569,58 +659,88 @@ double BoundResult::relative_gap() const {
   return width > 0 ? gap / width : kInf;
 }
 
-namespace {
+struct BoundProblem::Impl {
+  // SMP's rewrite of f compiled for one set of box widths (the rewrite depends on them); null
+  // when SMP leaves f as it is.
+  struct Rewrite {
+    std::vector<double> widths;
+    std::unique_ptr<CompiledFunction> function;
+  };
+  static constexpr std::size_t kRewriteCacheSize = 4;
 
-// Tightens `result` (a bound of f) with `other`, an earlier bound of f or a bound of SMP's rewrite
-// of f. Its witnesses are feasible points (checked by its search): f's value there, where f is
-// defined, is a value f attains, so it may improve the inner bounds.
-void refine_with(BoundResult& result, const BoundResult& other, Expr f, const Box& box,
-                 double tolerance) {
-  const Tape tape = Tape::compile(std::array{f}, box.variables);
-  symbolic::TapeEvaluator<Interval> evaluator(tape);
-  for (const std::vector<double>* point : {&other.argmin, &other.argmax}) {
-    if (point->empty()) continue;
-    const std::vector<Interval> x(point->begin(), point->end());
-    Interval value[1];
-    evaluator.evaluate(x, value);
-    if (value[0].is_empty() || value[0].possibly_undefined) continue;
-    if (value[0].hi < result.inner_lo) {
-      result.inner_lo = value[0].hi;
-      result.argmin = *point;
+  Expr f;
+  std::vector<Expr> variables;
+  std::unique_ptr<CompiledFunction> compiled;
+  CompiledConstraints constraints;
+  std::vector<Rewrite> rewrites;  // most recently used first, at most kRewriteCacheSize
+
+  BoundResult run(CompiledFunction& function, std::span<const Interval> ranges,
+                  const BoundOptions& options) {
+    return Bounder(function, constraints, ranges, options).run();
+  }
+
+  // The compiled rewrite for these ranges' widths (null if SMP does not change f), from the cache
+  // or built now. Equal widths give the same rewrite, so caching never changes a result.
+  CompiledFunction* rewrite(std::span<const Interval> ranges) {
+    std::vector<double> widths(ranges.size());
+    for (std::size_t i = 0; i < ranges.size(); ++i) widths[i] = ranges[i].width();
+    const auto cached = std::find_if(rewrites.begin(), rewrites.end(),
+                                     [&](const Rewrite& r) { return r.widths == widths; });
+    if (cached != rewrites.end()) {
+      std::rotate(rewrites.begin(), cached, cached + 1);
+      return rewrites.front().function.get();
     }
-    if (value[0].lo > result.inner_hi) {
-      result.inner_hi = value[0].lo;
-      result.argmax = *point;
+    std::map<std::string, double> by_name;
+    for (std::size_t i = 0; i < variables.size(); ++i) by_name[variables[i].name()] = widths[i];
+    const Expr rewritten = symbolic::simplify(f, {.widths = by_name});
+    Rewrite entry{
+        std::move(widths),
+        rewritten == f ? nullptr : std::make_unique<CompiledFunction>(rewritten, variables)};
+    if (rewrites.size() == kRewriteCacheSize) rewrites.pop_back();
+    rewrites.insert(rewrites.begin(), std::move(entry));
+    return rewrites.front().function.get();
+  }
+};
+
+BoundProblem::BoundProblem(Expr f, std::span<const Expr> variables,
+                           std::span<const Constraint> constraints)
+    : impl_(std::make_unique<Impl>()) {
+  if (f.is_null()) throw BoundsError("no expression to bound");
+  for (std::size_t i = 0; i < variables.size(); ++i) {
+    internal::check_variable(variables[i], variables.first(i));
+  }
+  internal::check_uses_only(f, variables, "the expression");
+  for (const Constraint& c : constraints) {
+    if (c.g.is_null()) throw BoundsError("a constraint has no expression");
+    internal::check_uses_only(c.g, variables, "the constraint");
+  }
+  impl_->f = f;
+  impl_->variables.assign(variables.begin(), variables.end());
+  impl_->compiled = std::make_unique<CompiledFunction>(f, variables);
+  for (const Constraint& c : constraints) {
+    impl_->constraints.all.push_back(std::make_unique<CompiledConstraint>(c, variables));
+    if (auto form = linear_form(c.g, impl_->variables)) {
+      // g >= 0  <=>  -g <= 0.
+      if (c.relation == Relation::kGreater || c.relation == Relation::kGreaterEqual) {
+        for (Interval& a : form->coefficients) a = -a;
+        form->constant = -form->constant;
+      }
+      impl_->constraints.linear.push_back(std::move(*form));
     }
   }
-  // A rewrite equals f wherever f is defined, so its bounds hold for f. Values f attains outside
-  // them would mean the rewrite is wrong: then it is not used.
-  if (other.status == BoundStatus::kInfeasible || other.lo > result.inner_lo ||
-      other.hi < result.inner_hi) {
-    return;
-  }
-  result.lo = std::max(result.lo, other.lo);
-  result.hi = std::min(result.hi, other.hi);
-  if (result.relative_gap() <= tolerance) result.status = BoundStatus::kConverged;
 }
 
-}  // namespace
+BoundProblem::BoundProblem(BoundProblem&&) noexcept = default;
+BoundProblem& BoundProblem::operator=(BoundProblem&&) noexcept = default;
+BoundProblem::~BoundProblem() = default;
 
-BoundResult bound(Expr f, const Box& box, const BoundOptions& options,
-                  std::span<const Constraint> constraints) {
-  if (f.is_null()) throw BoundsError("no expression to bound");
-  const auto check = [&](Expr e, const char* what) {
-    for (Expr v : symbolic::free_variables(e)) {
-      if (std::find(box.variables.begin(), box.variables.end(), v) == box.variables.end()) {
-        throw BoundsError(std::string("unknown variable '") + v.name() + "' in the " + what +
-                          ": give it a range");
-      }
-    }
-  };
-  check(f, "expression");
-  for (const Constraint& c : constraints) check(c.g, "constraint");
+const std::vector<Expr>& BoundProblem::variables() const { return impl_->variables; }
+
+BoundResult BoundProblem::bound(std::span<const Interval> ranges, const BoundOptions& options) {
+  internal::check_ranges(impl_->variables, ranges);
   if (!(options.tolerance >= 0)) throw BoundsError("tolerance must be >= 0");
-  if (!options.simplify) return Bounder(f, box, options, constraints).run();
+  CompiledFunction& f = *impl_->compiled;
+  if (!options.simplify) return impl_->run(f, ranges, options);
   // Staged effort: f gets an eighth of the budget first; if that stops short, SMP's rewrite gets
   // the same share (it often converges at once where f's repeated variables defeat bisection),
   // and then f starts again with the whole budget (so a call may spend up to 1.25 budgets). The
@@ -628,24 +748,25 @@ BoundResult bound(Expr f, const Box& box, const BoundOptions& options,
   BoundOptions first = options;
   first.max_box_evaluations = std::max<std::size_t>(1, options.max_box_evaluations / 8);
   first.max_seconds = options.max_seconds / 8;
-  BoundResult result = Bounder(f, box, first, constraints).run();
+  BoundResult result = impl_->run(f, ranges, first);
   if (result.status != BoundStatus::kEffortLimit) return result;
-  std::map<std::string, double> widths;
-  for (std::size_t i = 0; i < box.variables.size(); ++i) {
-    widths[box.variables[i].name()] = box.ranges[i].width();
-  }
-  const Expr rewritten = symbolic::simplify(f, {.widths = widths});
-  if (rewritten != f) {
-    const BoundResult other = Bounder(rewritten, box, first, constraints).run();
+  if (CompiledFunction* rewritten = impl_->rewrite(ranges)) {
+    const BoundResult other = impl_->run(*rewritten, ranges, first);
     result.evaluations += other.evaluations;
-    refine_with(result, other, f, box, options.tolerance);
+    refine_with(result, other, f.interval, options.tolerance);
     if (result.status != BoundStatus::kEffortLimit) return result;
   }
   const BoundResult earlier = result;
-  result = Bounder(f, box, options, constraints).run();
+  result = impl_->run(f, ranges, options);
   result.evaluations += earlier.evaluations;
-  refine_with(result, earlier, f, box, options.tolerance);
+  refine_with(result, earlier, f.interval, options.tolerance);
   return result;
+}
+
+BoundResult bound(Expr f, const Box& box, const BoundOptions& options,
+                  std::span<const Constraint> constraints) {
+  if (f.is_null()) throw BoundsError("no expression to bound");
+  return BoundProblem(f, box.variables, constraints).bound(box.ranges, options);
 }
 
 }  // namespace spar::bounds

@@ -23,21 +23,16 @@
 #pragma once
 
 #include <cstddef>
+#include <memory>
 #include <span>
-#include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "bounds/error.hpp"
 #include "bounds/interval.hpp"
 #include "symbolic/expr.hpp"
 
 namespace spar::bounds {
-
-// A caller's mistake (bad box, unknown variable, malformed constraint); the message says which.
-class BoundsError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
 
 // Variables with their closed ranges; variables[i] ranges over ranges[i].
 struct Box {
@@ -89,6 +84,42 @@ struct BoundResult {
   [[nodiscard]] double relative_gap() const;
 };
 
+// f and its constraints compiled once over an ordered list of variables, bounded over any number
+// of boxes: the tapes, their evaluators, the linear constraints' forms and (lazily, per box widths)
+// SMP's rewrite of f are built once and reused. bound(ranges) gives exactly what the free bound()
+// gives for the same box: nothing carried from one call to the next changes a result, so results
+// do not depend on the order of calls. No random numbers are used (NLopt's global stages are
+// DIRECT-L and, with constraints, the original DIRECT-L, both deterministic), so no RNG is seeded.
+// The expressions' pool must outlive the problem. Not thread-safe: one problem per thread.
+//
+// Example:
+//   BoundProblem problem(f, std::vector{x, y});
+//   for (double w : {0.1, 0.2, 0.4}) {
+//     const std::vector<Interval> ranges{{-w, w}, {-w, w}};
+//     if (problem.bound(ranges).hi < 1) std::cout << "holds up to " << w << '\n';
+//   }
+class BoundProblem {
+ public:
+  // Throws BoundsError if a variable is not a variable or repeats, or if f or a constraint uses a
+  // variable that is not among `variables`.
+  BoundProblem(symbolic::Expr f, std::span<const symbolic::Expr> variables,
+               std::span<const Constraint> constraints = {});
+  BoundProblem(BoundProblem&&) noexcept;
+  BoundProblem& operator=(BoundProblem&&) noexcept;
+  ~BoundProblem();
+
+  [[nodiscard]] const std::vector<symbolic::Expr>& variables() const;
+  // ranges[i] is the range of variables()[i]. Throws BoundsError for a wrong count, a NaN,
+  // infinite or empty range, or a negative tolerance.
+  [[nodiscard]] BoundResult bound(std::span<const Interval> ranges,
+                                  const BoundOptions& options = {});
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// BoundProblem(f, box.variables, constraints).bound(box.ranges, options).
 // Throws BoundsError if f or a constraint uses a variable that is not in the box.
 [[nodiscard]] BoundResult bound(symbolic::Expr f, const Box& box, const BoundOptions& options = {},
                                 std::span<const Constraint> constraints = {});

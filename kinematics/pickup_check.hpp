@@ -1,18 +1,15 @@
-// Deciding SPAR's pickup preconditions: bound each inequality over the uncertainty box.
+// Deciding SPAR's pickup preconditions: the four inequalities as a bounds::ConditionSet.
 //
-// For `expression > 0` the verdict is
-//   satisfied  the sound lower bound lo > 0 (holds for every value of the variables),
-//   violated   a witness point attains a value <= 0 (inner_lo <= 0, argmin given),
-//   undecided  neither (lo <= 0 < inner_lo: the bound is not tight enough to tell);
-// and symmetrically with hi, inner_hi and argmax for `expression < 0`.
-//
-// PickupChecker compiles the four expressions once into one tape (they share the contact points'
-// subexpressions) and keeps an interval evaluator on it. check() then costs one natural interval
-// evaluation of that tape for the usual well-satisfied case, plus one evaluation at the box
-// centre for the inner value; only a condition the natural extension leaves undecided goes to the
-// full bounds::bound() (monotonicity, centred form, branch and bound, NLopt witnesses). Checking
-// the same conditions over several boxes (widening the uncertainty, sensing that shrinks it)
-// reuses the tape. The checker copies the preconditions; their pool must outlive it.
+// Each PickupCondition `expression > 0` (positive) or `expression < 0` becomes the
+// bounds::Inequality with relation kGreater / kLess and threshold 0, and the verdicts are
+// bounds::decide's (bounds/inequality.hpp: satisfied by a sound bound, violated at a witness,
+// else undecided). PickupChecker compiles the four expressions once into one tape (they share the
+// contact points' subexpressions): check() costs one natural interval evaluation of that tape and
+// one at the box centre; a condition that is not proved goes on to a full bound (monotonicity,
+// centred form, branch and bound, NLopt witnesses) so a violation is reported with its tight
+// bound and worst witness. Checking over several boxes (widening the uncertainty, sensing that
+// shrinks it) reuses the tape and the full bounds' compiled problems. The checker copies the
+// preconditions; their pool must outlive it.
 //
 // Example:
 //   const PickupPreconditions pre = pickup_preconditions(geometry, gripper, peg);
@@ -26,18 +23,20 @@
 #include <vector>
 
 #include "bounds/bound.hpp"
+#include "bounds/condition_set.hpp"
+#include "bounds/inequality.hpp"
 #include "kinematics/pickup.hpp"
-#include "symbolic/tape.hpp"
 
 namespace spar::kinematics {
 
-enum class Verdict { kSatisfied, kViolated, kUndecided };
-[[nodiscard]] const char* to_string(Verdict verdict);
+// The verdict vocabulary is bounds' (one enum, one decide); named here for the pickup's callers.
+using bounds::to_string;
+using bounds::Verdict;
 
 struct PickupCheck {
   PickupCondition condition;
-  // Decided by the natural extension: [lo, hi] is that enclosure, argmin = argmax = the box
-  // centre, status kEffortLimit (no tightening was attempted). Otherwise bounds::bound()'s result.
+  // bounds::ConditionCheck::bound: the natural enclosure (evaluations 1) when that proves the
+  // condition, else the full bound.
   bounds::BoundResult bound;
   Verdict verdict{Verdict::kUndecided};
 };
@@ -46,27 +45,22 @@ struct PickupCheck {
 [[nodiscard]] bounds::Box uncertainty_box(symbolic::ExprPool& pool,
                                           std::span<const UncertaintyVariable> variables);
 
-[[nodiscard]] Verdict decide(const PickupCondition& condition, const bounds::BoundResult& bound);
+// `expression > 0` (positive) or `expression < 0` as an inequality.
+[[nodiscard]] bounds::Inequality as_inequality(const PickupCondition& condition);
 
 class PickupChecker {
  public:
   explicit PickupChecker(const PickupPreconditions& preconditions);
-  // The evaluator points into tape_: neither copied nor moved.
-  PickupChecker(const PickupChecker&) = delete;
-  PickupChecker& operator=(const PickupChecker&) = delete;
 
   // `variables` must name the preconditions' variables in the same order (their bounds may
   // differ); throws KinematicsError otherwise. `full` is used for conditions the natural
-  // extension leaves undecided.
+  // extension does not prove.
   [[nodiscard]] std::array<PickupCheck, 4> check(std::span<const UncertaintyVariable> variables,
                                                  const bounds::BoundOptions& full = {});
 
  private:
   PickupPreconditions preconditions_;
-  std::vector<symbolic::Expr> inputs_;  // preconditions_.variables as expressions, same order
-  symbolic::Tape tape_;                 // outputs: the four conditions' expressions, in order
-  symbolic::TapeEvaluator<bounds::Interval> evaluator_;  // on tape_
-  std::vector<bounds::Interval> box_, centre_;           // scratch, one entry per input
+  bounds::ConditionSet conditions_;  // the four conditions, in order, over preconditions_.variables
 };
 
 // PickupChecker(preconditions).check(preconditions.variables, full).

@@ -1,0 +1,118 @@
+#include "bounds/condition_set.hpp"
+
+#include <cmath>
+#include <string>
+
+#include "bounds/internal/checks.hpp"
+#include "symbolic/tape.hpp"
+
+namespace spar::bounds {
+namespace {
+
+std::vector<symbolic::Expr> expressions_of(const std::vector<Inequality>& inequalities) {
+  std::vector<symbolic::Expr> expressions;
+  expressions.reserve(inequalities.size());
+  for (const Inequality& inequality : inequalities) expressions.push_back(inequality.expression);
+  return expressions;
+}
+
+// Throws BoundsError for the first malformed inequality or variable list; returns them unchanged.
+const std::vector<Inequality>& validated(const std::vector<Inequality>& inequalities,
+                                         std::span<const symbolic::Expr> variables) {
+  for (std::size_t i = 0; i < variables.size(); ++i) {
+    internal::check_variable(variables[i], variables.first(i));
+  }
+  for (const Inequality& inequality : inequalities) {
+    const std::string what = "inequality '" + inequality.name + "'";
+    if (inequality.expression.is_null()) throw BoundsError(what + " has no expression");
+    if (!std::isfinite(inequality.threshold)) {
+      throw BoundsError(what + ": the threshold must be a finite number");
+    }
+    internal::check_uses_only(inequality.expression, variables, what);
+  }
+  return inequalities;
+}
+
+}  // namespace
+
+struct ConditionSet::Impl {
+  Impl(std::vector<Inequality> inequalities_in, std::vector<symbolic::Expr> variables_in)
+      : inequalities(validated(inequalities_in, variables_in)),
+        variables(std::move(variables_in)),
+        tape(symbolic::Tape::compile(expressions_of(inequalities), variables)),
+        evaluator(tape),
+        problems(inequalities.size()) {}
+
+  std::vector<Inequality> inequalities;
+  std::vector<symbolic::Expr> variables;
+  symbolic::Tape tape;                                  // output i is inequalities[i].expression
+  symbolic::TapeEvaluator<Interval> evaluator;          // on tape
+  std::vector<std::unique_ptr<BoundProblem>> problems;  // problems[i] built on first escalation
+  std::vector<Interval> natural, at_centre, centre;     // scratch
+};
+
+ConditionSet::ConditionSet(std::vector<Inequality> inequalities,
+                           std::vector<symbolic::Expr> variables)
+    : impl_(std::make_unique<Impl>(std::move(inequalities), std::move(variables))) {}
+
+ConditionSet::ConditionSet(ConditionSet&&) noexcept = default;
+ConditionSet& ConditionSet::operator=(ConditionSet&&) noexcept = default;
+ConditionSet::~ConditionSet() = default;
+
+const std::vector<Inequality>& ConditionSet::inequalities() const { return impl_->inequalities; }
+const std::vector<symbolic::Expr>& ConditionSet::variables() const { return impl_->variables; }
+
+std::vector<ConditionCheck> ConditionSet::check(std::span<const Interval> ranges,
+                                                const BoundOptions& full, Escalation escalation) {
+  Impl& set = *impl_;
+  internal::check_ranges(set.variables, ranges);
+  const std::size_t count = set.inequalities.size();
+  std::vector<double> centre_point(ranges.size());
+  set.centre.resize(ranges.size());
+  for (std::size_t i = 0; i < ranges.size(); ++i) {
+    centre_point[i] = ranges[i].mid();
+    set.centre[i] = Interval{centre_point[i]};
+  }
+  set.natural.resize(count);
+  set.at_centre.resize(count);
+  set.evaluator.evaluate(ranges, set.natural);
+  set.evaluator.evaluate(set.centre, set.at_centre);
+
+  std::vector<ConditionCheck> checks(count);
+  for (std::size_t k = 0; k < count; ++k) {
+    const Inequality& inequality = set.inequalities[k];
+    ConditionCheck& check = checks[k];
+    BoundResult& bound = check.bound;
+    const Interval& natural = set.natural[k];
+    const Interval& centre = set.at_centre[k];
+    bound.lo = natural.lo;
+    bound.hi = natural.hi;
+    bound.possibly_undefined = natural.possibly_undefined;
+    bound.status = BoundStatus::kEffortLimit;
+    bound.evaluations = 1;
+    if (!centre.is_empty() && !centre.possibly_undefined) {
+      // f(centre) lies in `centre`: the centre attains a value <= its hi and one >= its lo.
+      bound.inner_lo = centre.hi;
+      bound.inner_hi = centre.lo;
+      bound.argmin = bound.argmax = centre_point;
+    } else {  // no attained value: the inner interval is empty (inner_lo > inner_hi)
+      bound.inner_lo = natural.hi;
+      bound.inner_hi = natural.lo;
+    }
+    check.verdict = natural.is_empty() ? Verdict::kUndecided : decide(inequality, bound);
+    const bool escalate =
+        check.verdict == Verdict::kUndecided ||
+        (check.verdict == Verdict::kViolated && escalation == Escalation::kNotSatisfied);
+    if (escalate) {
+      std::unique_ptr<BoundProblem>& problem = set.problems[k];
+      if (!problem) problem = std::make_unique<BoundProblem>(inequality.expression, set.variables);
+      bound = problem->bound(ranges, full);
+      check.verdict = decide(inequality, bound);
+      check.escalated = true;
+    }
+    check.witness = witness(inequality, bound);
+  }
+  return checks;
+}
+
+}  // namespace spar::bounds
