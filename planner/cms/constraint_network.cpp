@@ -111,6 +111,14 @@ bool ConstraintNetwork::has_label(int var, int label) const {
   return label >= 0 && label < set.size() && set.test(label);
 }
 
+bool ConstraintNetwork::could_unify(int a, int b) const {
+  const int first = representative(a);
+  const int second = representative(b);
+  return first == second ||
+         (domain_size(a) == domain_size(b) && labels_[static_cast<std::size_t>(first)].intersects(
+                                                  labels_[static_cast<std::size_t>(second)]));
+}
+
 std::vector<ArcPairs> ConstraintNetwork::arcs() const {
   std::vector<ArcPairs> result;
   for (const Arc& arc : arcs_) {

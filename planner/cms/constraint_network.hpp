@@ -110,6 +110,9 @@ class ConstraintNetwork {
   // The current label set of var (of its representative), ascending.
   [[nodiscard]] std::vector<int> labels(int var) const;
   [[nodiscard]] bool has_label(int var, int label) const;
+  // A cheap necessary (not sufficient) condition for unify(a, b) to succeed: a and b are
+  // codesignated, or have the same domain and share a current label. Only unify decides.
+  [[nodiscard]] bool could_unify(int a, int b) const;
   // The arcs between representatives, sorted by (first, second).
   [[nodiscard]] std::vector<ArcPairs> arcs() const;
 

@@ -464,6 +464,45 @@ TEST(ConstraintNetwork, ArcBetweenUnifiedVariablesKeepsOnlyItsDiagonal) {
   network.check_invariants();
 }
 
+TEST(ConstraintNetwork, ChainedUnifiesKeepTheSmallestIdAsTheOneRepresentative) {
+  ConstraintNetwork network;
+  for (int var = 0; var < 5; ++var)
+    network.add_variable("p" + std::to_string(var), 4, {0, 1, 2, 3});
+  EXPECT_EQ(network.unify(4, 3), Consistency::kConsistent);
+  EXPECT_EQ(network.unify(2, 1), Consistency::kConsistent);
+  EXPECT_EQ(network.restrict(4, {1, 2, 3}), Consistency::kConsistent);  // through a member id
+  EXPECT_EQ(network.restrict(1, {0, 1, 2}), Consistency::kConsistent);
+  EXPECT_EQ(network.unify(4, 2), Consistency::kConsistent);  // merges the classes {3, 4}, {1, 2}
+  for (const int var : {1, 2, 3, 4}) {
+    EXPECT_EQ(network.representative(var), 1);
+    EXPECT_EQ(network.labels(var), (std::vector<int>{1, 2}));
+  }
+  EXPECT_EQ(network.representative(0), 0);
+  network.check_invariants();
+  EXPECT_EQ(first_labelings(network, 10).labelings, (std::vector<Labeling>{{0, 1, 1, 1, 1},
+                                                                           {0, 2, 2, 2, 2},
+                                                                           {1, 1, 1, 1, 1},
+                                                                           {1, 2, 2, 2, 2},
+                                                                           {2, 1, 1, 1, 1},
+                                                                           {2, 2, 2, 2, 2},
+                                                                           {3, 1, 1, 1, 1},
+                                                                           {3, 2, 2, 2, 2}}));
+}
+
+TEST(ConstraintNetwork, CouldUnifyNeedsASharedLabelOfTheSameDomain) {
+  ConstraintNetwork network;
+  const int a = network.add_variable("a", 4, {0, 1});
+  const int b = network.add_variable("b", 4, {1, 2});
+  const int c = network.add_variable("c", 4, {2, 3});
+  const int d = network.add_variable("d", 3, {1});
+  EXPECT_TRUE(network.could_unify(a, b));
+  EXPECT_FALSE(network.could_unify(a, c));
+  EXPECT_FALSE(network.could_unify(a, d));  // different domains
+  EXPECT_EQ(network.unify(b, c), Consistency::kConsistent);
+  EXPECT_FALSE(network.could_unify(a, c));  // c is now b's class, label 2 only
+  EXPECT_TRUE(network.could_unify(c, b));
+}
+
 TEST(ConstraintNetwork, InconsistentUnifyIsRefusedLeavingNetworkUnchanged) {
   ConstraintNetwork network;
   const int a = network.add_variable("a", 3, {0, 1});
@@ -495,6 +534,23 @@ TEST(Labelings, AreEnumeratedLexicographicallyWithCodesignatedIdsFilledIn) {
   const LabelingBatch starved = first_labelings(network, 10, SearchBudget{1});
   EXPECT_EQ(starved.stop, LabelingBatch::Stop::kBudgetExhausted);
   EXPECT_TRUE(starved.labelings.empty());
+}
+
+TEST(Labelings, BudgetCanRunOutMidwayAndStaysOut) {
+  // Three free variables of two labels: eight labelings, a search tree of 2 + 4 + 8 = 14 nodes.
+  // The first three labelings cost 3, 1 and 2 nodes.
+  ConstraintNetwork network;
+  for (int var = 0; var < 3; ++var) network.add_variable("v", 2, {0, 1});
+  Labelings enumeration(network, SearchBudget{6});
+  std::vector<Labeling> seen;
+  while (std::optional<Labeling> labeling = enumeration.next()) seen.push_back(*labeling);
+  EXPECT_TRUE(enumeration.budget_exhausted());
+  EXPECT_EQ(seen, (std::vector<Labeling>{{0, 0, 0}, {0, 0, 1}, {0, 1, 0}}));
+  EXPECT_EQ(enumeration.next(), std::nullopt);
+  EXPECT_EQ(first_labelings(network, 100, SearchBudget{14}).stop, LabelingBatch::Stop::kAll);
+  const LabelingBatch short_one = first_labelings(network, 100, SearchBudget{13});
+  EXPECT_EQ(short_one.stop, LabelingBatch::Stop::kBudgetExhausted);
+  EXPECT_EQ(short_one.labelings.size(), 7U);
 }
 
 TEST(Labelings, EmptyNetworkHasTheEmptyLabeling) {
