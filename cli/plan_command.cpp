@@ -71,13 +71,21 @@ void print_text(const planner::PlanResult& result, std::ostream& out) {
   out << "\ninstances: " << result.instances.instances.size()
       << (result.instances.limit_reached ? " (limit reached; more exist)" : "") << '\n';
   const planner::PlanInstance& chosen = result.chosen();
-  out << "\nchosen instance " << chosen.index + 1 << ", in execution order:\n";
-  int number = 0;
-  for (const planner::InstanceStep& step : chosen.steps) {
+  const planner::InstanceAnalysis* analysis = result.chosen_analysis();
+  out << "\nchosen instance " << chosen.index + 1;
+  if (analysis != nullptr) {
+    out << " (" << analysis->errors << " error" << (analysis->errors == 1 ? "" : "s")
+        << "; examined:";
+    for (const planner::InstanceAnalysis& examined : result.examined)
+      out << " #" << examined.instance + 1 << "=" << examined.errors;
+    out << ")";
+  }
+  out << ", in execution order:\n";
+  const auto print_step = [&](int number, const planner::InstanceStep& step, bool inserted) {
     const planner::ObjectSpec& object = scenario.objects[step.object];
-    out << "  " << ++number << ". " << step.action_name << ' ' << object.name;
+    out << "  " << number << ". " << step.action_name << ' ' << object.name;
     if (step.is_assembly()) out << " into " << scenario.objects[step.fixed_object].name;
-    out << '\n';
+    out << (inserted ? "   [inserted by phase 2]" : "") << '\n';
     if (step.grasp >= 0) {
       const geometry::Grasp& grasp = result.world.object(step.object).grasps[step.grasp];
       out << "       grasp " << grasp.label << " (faces " << grasp.face_plus_y << "/"
@@ -104,7 +112,41 @@ void print_text(const planner::PlanResult& result, std::ostream& out) {
       }
       out << '\n';
     }
+  };
+  if (analysis == nullptr) {
+    int number = 0;
+    for (const planner::InstanceStep& step : chosen.steps) print_step(++number, step, false);
+    return;
   }
+  int number = 0;
+  for (const planner::AnalysedStep& analysed : analysis->steps) {
+    planner::InstanceStep step;
+    if (analysed.inserted) {
+      step.action_name = analysed.action;
+      step.object = analysed.step.object;
+      step.grasp = -1;
+      step.object_pose = analysed.step.object_pose;
+    } else {
+      step = chosen.steps[analysed.step.instance_step];
+    }
+    print_step(++number, step, analysed.inserted);
+    for (const planner::PreconditionResult& p : analysed.preconditions) {
+      out << "       " << std::left << std::setw(10) << bounds::to_string(p.verdict) << std::right
+          << p.kind << "  " << p.inequality.name << "   bound [" << std::setprecision(6)
+          << p.bound.lo << ", " << p.bound.hi << "] m";
+      if (p.holds_up_to_scale) out << "   holds up to x" << fixed(*p.holds_up_to_scale, 2);
+      out << '\n';
+    }
+    for (const planner::VerificationPlan& plan : analysed.verification) {
+      out << "       verify: " << plan.sense << " (expect " << plan.expect << ")\n";
+      for (const auto& outcome : plan.outcomes)
+        out << "         if " << outcome.when << " -> " << outcome.error << ": recover by "
+            << outcome.recovery << '\n';
+    }
+  }
+  for (const planner::RepairAttempt& attempt : analysis->repairs)
+    out << "  repair tried: " << attempt.action << ' ' << scenario.objects[attempt.object].name
+        << (attempt.helped ? " (made the step's preconditions hold)" : " (did not help)") << '\n';
 }
 
 void run_plan(const PlanArguments& arguments) {

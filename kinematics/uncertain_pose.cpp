@@ -43,18 +43,14 @@ PoseUncertaintyVariables::PoseUncertaintyVariables(ExprPool& pool, const PoseUnc
 
 UncertainManipulator::UncertainManipulator(ExprPool& pool, const PoseUncertainty& bounds,
                                            std::string_view tag)
-    : PoseUncertaintyVariables(pool, bounds, tag),
-      error_(trans(dx(), dy(), dz()) * rotz(dtheta())) {}
+    : PoseUncertaintyVariables(pool, bounds, tag), error_(manipulator_error_transform(pose_error())) {}
 
 SymbolicTransform UncertainManipulator::possible_pose(const Transform& ideal) const {
   return SymbolicTransform::from_numeric(error_.pool(), ideal) * error_;
 }
 
 SymbolicTransform UncertainObject::possible_pose(const Transform& ideal) const {
-  ExprPool& pool = dx().pool();
-  const Eigen::Vector3d& t = ideal.translation();
-  return trans(dx(), dy(), dz()) * trans(pool, t.x(), t.y(), t.z()) * rotz(dtheta()) *
-         SymbolicTransform::from_numeric(pool, rotation_part(ideal));
+  return possible_object_pose(ideal, pose_error());
 }
 
 SymbolicPoint UncertainObject::possible_point(const Transform& ideal,
@@ -70,8 +66,24 @@ SymbolicPoint UncertainObject::possible_point(const Transform& ideal,
 SymbolicPoint UncertainObject::possible_point_in(const SymbolicTransform& frame,
                                                  const Transform& ideal,
                                                  const SymbolicPoint& local_point) const {
+  return possible_object_point_in(frame, ideal, local_point, pose_error());
+}
+
+SymbolicTransform manipulator_error_transform(const PoseError& error) {
+  return trans(error.dx, error.dy, error.dz) * rotz(error.dtheta);
+}
+
+SymbolicTransform possible_object_pose(const Transform& ideal, const PoseError& error) {
+  ExprPool& pool = error.dx.pool();
+  const Eigen::Vector3d& t = ideal.translation();
+  return trans(error.dx, error.dy, error.dz) * trans(pool, t.x(), t.y(), t.z()) *
+         rotz(error.dtheta) * SymbolicTransform::from_numeric(pool, rotation_part(ideal));
+}
+
+SymbolicPoint possible_object_point_in(const SymbolicTransform& frame, const Transform& ideal,
+                                       const SymbolicPoint& local_point, const PoseError& error) {
   using symbolic::Number;
-  ExprPool& pool = dx().pool();
+  ExprPool& pool = error.dx.pool();
   const auto constant_of = [](Expr e, const char* what) -> const Number& {
     if (!e.is_constant()) {
       throw KinematicsError(std::string("possible_point_in: ") + what +
@@ -90,7 +102,7 @@ SymbolicPoint UncertainObject::possible_point_in(const SymbolicTransform& frame,
         Number::real(ideal.translation()(row)) - constant_of(frame.translation()[row], "the frame");
   }
   // C = (Δx + c p_x - s p_y, Δy + s p_x + c p_y, Δz + p_z) + t_O;  result = R_F^T (C - t_F).
-  const Expr atoms[5] = {dx(), dy(), dz(), cos(dtheta()), sin(dtheta())};
+  const Expr atoms[5] = {error.dx, error.dy, error.dz, cos(error.dtheta), sin(error.dtheta)};
   SymbolicPoint result;
   for (int row = 0; row < 3; ++row) {
     std::array<Number, 3> a;  // column `row` of R_F

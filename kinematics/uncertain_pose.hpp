@@ -40,6 +40,15 @@ struct PoseUncertainty {
   double dtheta{0.0};
 };
 
+// A pose error as a value: four expressions over any uncertainty variables (a planner's space
+// allocates them, and propagation through actions makes them expressions of earlier ones).
+//   manipulator (eq. 1): T_ΔM = trans(dx, dy, dz) rotz(dtheta), in the manipulator's own frame;
+//   object (eq. 2): displacement (dx, dy, dz) in world coordinates and dtheta about world z
+//   through the object's origin: T_O+Δ = trans(dx, dy, dz) Tr_O rotz(dtheta) R_O.
+struct PoseError {
+  symbolic::Expr dx, dy, dz, dtheta;
+};
+
 // The four variables Δx, Δy, Δz, Δθ of one pose, named dx_<tag>, dy_<tag>, dz_<tag>,
 // dtheta_<tag> (SPAR's dxgr / dx_o); throws KinematicsError on a negative half-width or a tag
 // that does not make an identifier.
@@ -53,12 +62,26 @@ class PoseUncertaintyVariables {
   [[nodiscard]] symbolic::Expr dz() const { return symbols_[2]; }
   [[nodiscard]] symbolic::Expr dtheta() const { return symbols_[3]; }
   [[nodiscard]] const std::array<UncertaintyVariable, 4>& variables() const { return variables_; }
+  [[nodiscard]] PoseError pose_error() const { return {dx(), dy(), dz(), dtheta()}; }
 
  private:
   std::array<symbolic::Expr, 4>
       symbols_;  // dx, dy, dz, dtheta; variables_[i] describes symbols_[i]
   std::array<UncertaintyVariable, 4> variables_;
 };
+
+
+// trans(dx, dy, dz) rotz(dtheta).
+[[nodiscard]] SymbolicTransform manipulator_error_transform(const PoseError& error);
+// trans(dx, dy, dz) Tr_O rotz(dtheta) R_O for the ideal pose T_O = Tr_O R_O.
+[[nodiscard]] SymbolicTransform possible_object_pose(const Transform& ideal,
+                                                     const PoseError& error);
+// frame^-1 T_O+Δ p as ONE flat sum per coordinate (see UncertainObject::possible_point_in); `frame`
+// and `local_point` must have constant entries (throws KinematicsError otherwise).
+[[nodiscard]] SymbolicPoint possible_object_point_in(const SymbolicTransform& frame,
+                                                     const Transform& ideal,
+                                                     const SymbolicPoint& local_point,
+                                                     const PoseError& error);
 
 // Manipulator uncertainty, eq. 1.
 class UncertainManipulator : public PoseUncertaintyVariables {

@@ -10,14 +10,25 @@ const PlanInstance& PlanResult::chosen() const {
   return instances.instances.at(chosen_index);
 }
 
+const InstanceAnalysis* PlanResult::chosen_analysis() const {
+  for (const InstanceAnalysis& analysis : examined)
+    if (analysis.instance == chosen_index) return &analysis;
+  return nullptr;
+}
+
 PlanResult plan(Scenario scenario, const Domain& domain, const PlanOptions& options) {
   if (options.max_instances == 0) throw PlanError("max_instances must be at least 1");
   PlanResult result{.world = WorldModel(std::move(scenario)), .domain = domain, .family = {},
-                    .instances = {}, .chosen_index = 0};
+                    .instances = {}, .examined = {}, .chosen_index = 0};
   result.family = post_plan(result.world, result.domain, options.posting);
-  if (result.planned())
-    result.instances =
-        enumerate_instances(result.family, result.world, result.domain, options.max_instances);
+  if (!result.planned()) return result;
+  result.instances =
+      enumerate_instances(result.family, result.world, result.domain, options.max_instances);
+  if (options.uncertainty && !result.instances.instances.empty()) {
+    result.examined = analyse_instances(result.world, result.domain, result.instances.instances,
+                                        options.analysis);
+    result.chosen_index = result.examined[choose_instance(result.examined)].instance;
+  }
   return result;
 }
 

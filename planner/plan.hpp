@@ -1,6 +1,7 @@
 // plan(): the planner's one entry point. From a scenario and a domain to a plan family (phase 1:
 // constraint posting, planner/posting.hpp) and its plan instances (planner/instances.hpp); phase 2
-// (uncertainty) examines the instances and chooses one.
+// (planner/uncertainty/analysis.hpp) examines the instances in order and chooses the first without
+// errors, else the one with the fewest.
 //
 // Example:
 //   const PlanResult result = plan(load_scenario("examples/peg_block_face_down.yaml"),
@@ -16,6 +17,7 @@
 #include "planner/instances.hpp"
 #include "planner/posting.hpp"
 #include "planner/scenario.hpp"
+#include "planner/uncertainty/analysis.hpp"
 #include "planner/world.hpp"
 
 namespace spar::planner {
@@ -23,6 +25,8 @@ namespace spar::planner {
 struct PlanOptions {
   PostingOptions posting{};
   std::size_t max_instances{16};  // plan instances enumerated (labelings x linearizations)
+  bool uncertainty{true};         // run phase 2 (else the first instance is chosen)
+  AnalysisOptions analysis{};
 };
 
 struct PlanResult {
@@ -30,7 +34,11 @@ struct PlanResult {
   Domain domain;
   PlanFamily family;
   InstanceList instances;  // empty unless the family is planned
+  // Phase 2: the instances examined, in order (it stops at the first without errors).
+  std::vector<InstanceAnalysis> examined;
   std::size_t chosen_index{0};  // into instances.instances
+  // The chosen instance's analysis, or nullptr when phase 2 did not run.
+  [[nodiscard]] const InstanceAnalysis* chosen_analysis() const;
 
   [[nodiscard]] bool planned() const { return family.status == PostingStatus::kPlanned; }
   // Throws PlanError when there is no instance.

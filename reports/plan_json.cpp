@@ -125,6 +125,155 @@ ordered_json step_json(const planner::PlanResult& result, const planner::Instanc
   return out;
 }
 
+ordered_json precondition_json(const planner::PreconditionResult& result) {
+  ordered_json witness = ordered_json::object();
+  for (std::size_t v = 0; v < result.witness.size() && v < result.variables.size(); ++v)
+    witness[result.variables[v]] = number_json(result.witness[v]);
+  ordered_json box = ordered_json::object();
+  for (std::size_t v = 0; v < result.variables.size(); ++v)
+    box[result.variables[v]] = {number_json(result.box[v].lo), number_json(result.box[v].hi)};
+  ordered_json out = {{"name", result.inequality.name},
+                      {"kind", result.kind},
+                      {"relation", bounds::to_string(result.inequality.relation)},
+                      {"threshold", number_json(result.inequality.threshold)},
+                      {"expression", result.expression},
+                      {"nodes", result.nodes},
+                      {"lo", number_json(result.bound.lo)},
+                      {"hi", number_json(result.bound.hi)},
+                      {"inner_lo", number_json(result.bound.inner_lo)},
+                      {"inner_hi", number_json(result.bound.inner_hi)},
+                      {"verdict", bounds::to_string(result.verdict)},
+                      {"witness", witness},
+                      {"box", box}};
+  if (!result.blame.empty()) {
+    ordered_json blame = ordered_json::array();
+    for (const auto& entry : result.blame)
+      blame.push_back({{"variable", entry.variable}, {"share", number_json(entry.share)}});
+    out["blame"] = blame;
+  }
+  if (result.holds_up_to_scale) out["holds_up_to_scale"] = number_json(*result.holds_up_to_scale);
+  if (result.monte_carlo_violation)
+    out["monte_carlo_violation"] = number_json(*result.monte_carlo_violation);
+  return out;
+}
+
+ordered_json verification_json(const std::vector<planner::VerificationPlan>& plans,
+                               ordered_json& recovery) {
+  ordered_json verification = ordered_json::array();
+  for (const planner::VerificationPlan& plan : plans) {
+    ordered_json outcomes = ordered_json::array();
+    for (const auto& outcome : plan.outcomes) {
+      outcomes.push_back(
+          {{"when", outcome.when}, {"error", outcome.error}, {"recovery", outcome.recovery}});
+      recovery.push_back({{"error", outcome.error},
+                          {"plan", outcome.recovery},
+                          {"steps", outcome.recovery_steps}});
+    }
+    verification.push_back({{"name", plan.name},
+                            {"sense", plan.sense},
+                            {"expect", plan.expect},
+                            {"outcomes", outcomes}});
+  }
+  return verification;
+}
+
+// A step phase 2 inserted (range-scan, squeeze): what the instance step would say.
+planner::InstanceStep inserted_step(const planner::PlanResult& result,
+                                    const planner::AnalysedStep& analysed) {
+  planner::InstanceStep step;
+  step.step = -1;
+  step.action = analysed.step.action;
+  step.action_name = analysed.action;
+  step.object = analysed.step.object;
+  step.grasp = analysed.step.grasp;
+  step.object_pose = analysed.step.object_pose;
+  step.position = 0;
+  if (step.grasp >= 0) {
+    step.gripper_pose =
+        step.object_pose * result.world.object(step.object).grasps[step.grasp].gripper_in_object;
+    step.reach = result.world.reach(step.gripper_pose);
+  }
+  return step;
+}
+
+ordered_json chosen_steps_json(const planner::PlanResult& result) {
+  const planner::PlanInstance& instance = result.chosen();
+  const planner::InstanceAnalysis* analysis = result.chosen_analysis();
+  ordered_json steps = ordered_json::array();
+  if (analysis == nullptr) {
+    for (const planner::InstanceStep& step : instance.steps) steps.push_back(step_json(result, step));
+    return steps;
+  }
+  int next_id = static_cast<int>(result.family.steps.size());
+  for (const planner::AnalysedStep& analysed : analysis->steps) {
+    ordered_json out;
+    if (analysed.inserted) {
+      out = step_json(result, inserted_step(result, analysed));
+      out["id"] = next_id++;
+      out["stable_pose"] = nullptr;
+    } else {
+      out = step_json(result, instance.steps[analysed.step.instance_step]);
+    }
+    out["inserted"] = analysed.inserted;
+    if (analysed.step.grasp >= 0 && (analysed.step.effect == planner::StepEffect::kGrasp ||
+                                     analysed.step.effect == planner::StepEffect::kSqueeze))
+      out["finger_opening"] = result.world.gripper().max_opening /
+                              result.world.scenario().units.metres_per_length_unit();
+    ordered_json preconditions = ordered_json::array();
+    for (const planner::PreconditionResult& precondition : analysed.preconditions)
+      preconditions.push_back(precondition_json(precondition));
+    out["preconditions"] = preconditions;
+    out["failed"] = analysed.failed;
+    if (analysed.failed) {
+      ordered_json recovery = ordered_json::array();
+      out["verification"] = verification_json(analysed.verification, recovery);
+      out["recovery"] = recovery;
+    }
+    steps.push_back(std::move(out));
+  }
+  return steps;
+}
+
+ordered_json repairs_json(const planner::PlanResult& result,
+                          const planner::InstanceAnalysis& analysis) {
+  ordered_json repairs = ordered_json::array();
+  for (const planner::RepairAttempt& attempt : analysis.repairs) {
+    ordered_json before = ordered_json::array(), after = ordered_json::array();
+    for (std::size_t i = 0; i < attempt.before.size(); ++i)
+      before.push_back({{"lo", number_json(attempt.before[i].lo)},
+                        {"hi", number_json(attempt.before[i].hi)},
+                        {"verdict", bounds::to_string(attempt.verdicts_before[i])}});
+    for (std::size_t i = 0; i < attempt.after.size(); ++i)
+      after.push_back({{"lo", number_json(attempt.after[i].lo)},
+                       {"hi", number_json(attempt.after[i].hi)},
+                       {"verdict", bounds::to_string(attempt.verdicts_after[i])}});
+    repairs.push_back({{"action", attempt.action},
+                       {"object", result.world.scenario().objects.at(attempt.object).name},
+                       {"for_step", result.chosen().steps.at(attempt.for_instance_step).step},
+                       {"helped", attempt.helped},
+                       {"before", before},
+                       {"after", after}});
+  }
+  return repairs;
+}
+
+ordered_json variables_json(const planner::PlanResult& result,
+                            const planner::InstanceAnalysis& analysis) {
+  ordered_json variables = ordered_json::array();
+  for (const planner::SpaceVariable& v : analysis.variables)
+    variables.push_back(
+        {{"name", v.name},
+         {"lo", number_json(v.lower)},
+         {"hi", number_json(v.upper)},
+         {"unit", v.component == 't' ? "rad" : "m"},
+         {"source", planner::to_string(v.provenance.source)},
+         {"object", v.provenance.object >= 0
+                        ? ordered_json(result.world.scenario().objects[v.provenance.object].name)
+                        : ordered_json(nullptr)},
+         {"step", v.provenance.step >= 0 ? ordered_json(v.provenance.step) : ordered_json(nullptr)}});
+  return variables;
+}
+
 }  // namespace
 
 ordered_json plan_json(const planner::PlanResult& result) {
@@ -140,13 +289,19 @@ ordered_json plan_json(const planner::PlanResult& result) {
                   {"base", matrix_json(scenario.robot.base, scale)},
                   {"tool", matrix_json(scenario.robot.tool, scale)}};
   out["family"] = family_json(result);
+  ordered_json examined = ordered_json::array();
+  for (const planner::InstanceAnalysis& analysis : result.examined)
+    examined.push_back({{"index", analysis.instance}, {"errors", analysis.errors}});
   out["instances"] = {{"count", result.instances.instances.size()},
-                      {"limit_reached", result.instances.limit_reached}};
+                      {"limit_reached", result.instances.limit_reached},
+                      {"examined", examined}};
   if (result.planned() && !result.instances.instances.empty()) {
-    ordered_json steps = ordered_json::array();
-    for (const planner::InstanceStep& step : result.chosen().steps)
-      steps.push_back(step_json(result, step));
-    out["chosen"] = {{"index", result.chosen_index}, {"steps", steps}};
+    out["chosen"] = {{"index", result.chosen_index}, {"steps", chosen_steps_json(result)}};
+    if (const planner::InstanceAnalysis* analysis = result.chosen_analysis()) {
+      out["chosen"]["errors"] = analysis->errors;
+      out["chosen"]["repairs"] = repairs_json(result, *analysis);
+      out["chosen"]["uncertainty_variables"] = variables_json(result, *analysis);
+    }
   } else {
     out["chosen"] = nullptr;
   }

@@ -1,0 +1,436 @@
+#include "planner/uncertainty/analysis.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <random>
+#include <set>
+
+#include "bounds/interval.hpp"
+#include "planner/error.hpp"
+#include "symbolic/operations.hpp"
+#include "symbolic/parse.hpp"
+#include "symbolic/tape.hpp"
+
+namespace spar::planner {
+namespace {
+
+using bounds::Interval;
+using bounds::Verdict;
+using symbolic::Expr;
+
+int find_action(const Domain& domain, ActionKind kind) {
+  for (std::size_t a = 0; a < domain.actions.size(); ++a)
+    if (domain.actions[a].kind == kind) return static_cast<int>(a);
+  return -1;
+}
+
+std::vector<Phase2Step> phase2_steps(const Domain& domain, const PlanInstance& instance) {
+  std::vector<Phase2Step> steps;
+  for (std::size_t i = 0; i < instance.steps.size(); ++i) {
+    const InstanceStep& source = instance.steps[i];
+    Phase2Step step;
+    step.action = source.action;
+    step.effect = step_effect(domain.actions[source.action]);
+    step.object = source.object;
+    step.grasp = source.grasp;
+    step.fixed_object = source.fixed_object;
+    step.object_pose = source.object_pose;
+    step.fixed_pose = source.fixed_pose;
+    step.instance_step = static_cast<int>(i);
+    steps.push_back(step);
+  }
+  return steps;
+}
+
+// Decides `preconditions` over the space's current ranges.
+std::vector<PreconditionResult> decide(const std::vector<Precondition>& preconditions,
+                                       const UncertaintySpace& space,
+                                       const bounds::BoundOptions& options) {
+  std::vector<PreconditionResult> results;
+  if (preconditions.empty()) return results;
+  std::vector<Expr> expressions;
+  std::vector<bounds::Inequality> inequalities;
+  for (const Precondition& p : preconditions) {
+    expressions.push_back(p.inequality.expression);
+    inequalities.push_back(p.inequality);
+  }
+  std::vector<Expr> variables = symbolic::free_variables(expressions);
+  std::sort(variables.begin(), variables.end(),
+            [&](Expr a, Expr b) { return space.index_of(a) < space.index_of(b); });
+  const std::vector<Interval> box = space.ranges(variables);
+  bounds::ConditionSet set(inequalities, variables);
+  const std::vector<bounds::ConditionCheck> checks =
+      set.check(box, options, bounds::Escalation::kNotSatisfied);
+  for (std::size_t i = 0; i < preconditions.size(); ++i) {
+    PreconditionResult result;
+    result.kind = preconditions[i].kind;
+    result.inequality = preconditions[i].inequality;
+    result.verdict = checks[i].verdict;
+    result.bound = checks[i].bound;
+    result.witness = checks[i].witness;
+    result.box = box;
+    for (const Expr v : variables) result.variables.push_back(v.name());
+    results.push_back(std::move(result));
+  }
+  return results;
+}
+
+bool all_hold(const std::vector<PreconditionResult>& results) {
+  return std::all_of(results.begin(), results.end(), [](const PreconditionResult& r) {
+    return r.verdict == Verdict::kSatisfied;
+  });
+}
+
+// held_before[i]: the object held just before step i, or -1 (gripper empty).
+std::vector<int> held_before(const std::vector<Phase2Step>& steps) {
+  std::vector<int> held(steps.size() + 1, -1);
+  for (std::size_t i = 0; i < steps.size(); ++i) {
+    held[i + 1] = held[i];
+    if (steps[i].effect == StepEffect::kGrasp) held[i + 1] = steps[i].object;
+    if (steps[i].effect == StepEffect::kRelease || steps[i].effect == StepEffect::kInsert)
+      held[i + 1] = -1;
+  }
+  return held;
+}
+
+bool moves(const Phase2Step& step, int object) {
+  return step.object == object &&
+         (step.effect == StepEffect::kGrasp || step.effect == StepEffect::kRelease ||
+          step.effect == StepEffect::kSqueeze || step.effect == StepEffect::kInsert);
+}
+
+// The latest position <= until where a range-scan of `object` fits: the gripper is empty and the
+// object is not moved between there and `until`. -1 if none.
+int scan_position(const std::vector<Phase2Step>& steps, int until, int object) {
+  const std::vector<int> held = held_before(steps);
+  for (int i = until; i >= 0; --i) {
+    if (i < until && moves(steps[i], object)) return -1;
+    if (held[i] == -1) return i;
+  }
+  return -1;
+}
+
+// The last grasp of `object` before `until`, or -1.
+int grasp_position(const std::vector<Phase2Step>& steps, int until, int object) {
+  for (int i = until; i >= 0; --i)
+    if (steps[i].effect == StepEffect::kGrasp && steps[i].object == object) return i;
+  return -1;
+}
+
+std::string replace_all(std::string text, const std::string& from, const std::string& to) {
+  for (std::size_t at = text.find(from); at != std::string::npos; at = text.find(from, at + to.size()))
+    text.replace(at, from.size(), to);
+  return text;
+}
+
+std::string length_text(const Units& units, double metres) {
+  char buffer[64];
+  std::snprintf(buffer, sizeof buffer, "%.4g %s", units.to_file_length(metres),
+                std::string(units.length_name()).c_str());
+  return buffer;
+}
+
+std::vector<VerificationPlan> verification_plans(const WorldModel& world, const Domain& domain,
+                                                 const Phase2Step& step) {
+  const Scenario& scenario = world.scenario();
+  std::map<std::string, std::string> values;
+  if (step.object >= 0) values["{object}"] = scenario.objects[step.object].name;
+  if (step.fixed_object >= 0) values["{fixed}"] = scenario.objects[step.fixed_object].name;
+  if (step.grasp >= 0) {
+    const geometry::Grasp& grasp = world.object(step.object).grasps[step.grasp];
+    values["{grasp}"] = grasp.label;
+    values["{width}"] = length_text(scenario.units, grasp.width);
+    values["{height}"] =
+        length_text(scenario.units, (step.object_pose * grasp.gripper_in_object).translation().z());
+  }
+  const auto fill = [&](std::string text) {
+    for (const auto& [key, value] : values) text = replace_all(text, key, value);
+    return text;
+  };
+  std::vector<VerificationPlan> plans;
+  for (const std::string& name : domain.actions[step.action].verification) {
+    const VerificationTemplate& verification = domain.verification(name);
+    VerificationPlan plan{name, fill(verification.sense), fill(verification.expect), {}};
+    for (const VerificationOutcome& outcome : verification.outcomes) {
+      VerificationPlan::Outcome out{fill(outcome.when), outcome.error, outcome.recovery, {}};
+      for (const std::string& line : domain.recovery(outcome.recovery).steps)
+        out.recovery_steps.push_back(fill(line));
+      plan.outcomes.push_back(std::move(out));
+    }
+    plans.push_back(std::move(plan));
+  }
+  return plans;
+}
+
+class InstanceAnalyser {
+ public:
+  InstanceAnalyser(const WorldModel& world, const Domain& domain, const AnalysisOptions& options,
+                   symbolic::ExprPool& pool)
+      : world_(world), domain_(domain), options_(options), pool_(pool) {}
+
+  void run(std::vector<Phase2Step> steps, InstanceAnalysis& out);
+
+ private:
+  // Re-propagates from `snapshot` over steps[from..] and returns the decided preconditions of
+  // the steps at positions in `watch` (others are propagated but not decided).
+  std::map<int, std::vector<PreconditionResult>> replay(Propagation snapshot,
+                                                        const std::vector<Phase2Step>& steps,
+                                                        int from, int through,
+                                                        const std::set<int>& watch) const;
+  // Tries the repairs for the failing step at `k`; on success replaces `steps` and returns the
+  // position from which to resume; -1 if nothing helped.
+  int repair(std::vector<Phase2Step>& steps, const std::vector<Propagation>& snapshots, int k,
+             const std::vector<PreconditionResult>& failing, InstanceAnalysis& out) const;
+
+  const WorldModel& world_;
+  const Domain& domain_;
+  const AnalysisOptions& options_;
+  symbolic::ExprPool& pool_;
+};
+
+std::map<int, std::vector<PreconditionResult>> InstanceAnalyser::replay(
+    Propagation state, const std::vector<Phase2Step>& steps, int from, int through,
+    const std::set<int>& watch) const {
+  std::map<int, std::vector<PreconditionResult>> decided;
+  for (int i = from; i <= through; ++i) {
+    const std::vector<Precondition> preconditions = state.step(steps[i], i + 1);
+    if (watch.contains(i)) decided[i] = decide(preconditions, state.space(), options_.bound);
+  }
+  return decided;
+}
+
+int InstanceAnalyser::repair(std::vector<Phase2Step>& steps,
+                             const std::vector<Propagation>& snapshots, int k,
+                             const std::vector<PreconditionResult>& failing,
+                             InstanceAnalysis& out) const {
+  const Phase2Step& failed = steps[k];
+  struct Candidate {
+    int action;
+    int position;
+    Phase2Step step;
+  };
+  std::vector<Candidate> candidates;
+  const int scan = find_action(domain_, ActionKind::kSensing);
+  const int squeeze = find_action(domain_, ActionKind::kReduction);
+  const bool insertion = failed.effect == StepEffect::kInsert;
+  const int grasp_at = insertion ? grasp_position(steps, k, failed.object) : k;
+  if (scan >= 0 && world_.scenario().range_scan) {
+    std::vector<std::pair<int, int>> targets;  // (object, until)
+    if (insertion) {
+      targets = {{failed.fixed_object, k}, {failed.object, grasp_at}};
+    } else {
+      targets = {{failed.object, k}};
+    }
+    for (const auto& [object, until] : targets) {
+      if (until < 0) continue;
+      const int position = scan_position(steps, until, object);
+      if (position < 0) continue;
+      Phase2Step step;
+      step.action = scan;
+      step.effect = StepEffect::kRangeScan;
+      step.object = object;
+      candidates.push_back({scan, position, step});
+    }
+  }
+  if (squeeze >= 0 && grasp_at >= 0) {
+    Phase2Step step = steps[grasp_at];
+    step.action = squeeze;
+    step.effect = StepEffect::kSqueeze;
+    step.instance_step = -1;
+    candidates.push_back({squeeze, grasp_at, step});
+  }
+  for (const Candidate& candidate : candidates) {
+    std::vector<Phase2Step> trial = steps;
+    trial.insert(trial.begin() + candidate.position, candidate.step);
+    const int moved = k + 1;  // the failing step's position in `trial`
+    std::set<int> watch = {moved};
+    if (candidate.step.effect == StepEffect::kSqueeze) watch.insert(candidate.position);
+    const auto decided = replay(snapshots[candidate.position], trial, candidate.position, moved, watch);
+    bool helped = true;
+    for (const auto& [position, results] : decided) helped = helped && all_hold(results);
+    RepairAttempt attempt;
+    attempt.action = domain_.actions[candidate.action].name;
+    attempt.object = candidate.step.object;
+    attempt.for_instance_step = failed.instance_step;
+    attempt.helped = helped;
+    for (const PreconditionResult& r : failing) {
+      attempt.before.push_back(r.bound);
+      attempt.verdicts_before.push_back(r.verdict);
+    }
+    for (const PreconditionResult& r : decided.at(moved)) {
+      attempt.after.push_back(r.bound);
+      attempt.verdicts_after.push_back(r.verdict);
+    }
+    out.repairs.push_back(std::move(attempt));
+    if (helped) {
+      steps = std::move(trial);
+      return candidate.position;
+    }
+  }
+  return -1;
+}
+
+void InstanceAnalyser::run(std::vector<Phase2Step> steps, InstanceAnalysis& out) {
+  std::vector<Propagation> snapshots = {Propagation(world_, pool_)};
+  std::vector<AnalysedStep> analysed;
+  std::set<int> attempted;  // instance steps whose repair was tried (once each)
+  int k = 0;
+  while (k < static_cast<int>(steps.size())) {
+    Propagation state = snapshots[k];
+    const std::vector<Precondition> preconditions = state.step(steps[k], k + 1);
+    AnalysedStep step{.step = steps[k],
+                      .action = domain_.actions[steps[k].action].name,
+                      .inserted = steps[k].instance_step < 0,
+                      .preconditions = decide(preconditions, state.space(), options_.bound),
+                      .failed = false,
+                      .verification = {}};
+    if (!all_hold(step.preconditions) && options_.repair && !step.inserted &&
+        !attempted.contains(steps[k].instance_step)) {
+      attempted.insert(steps[k].instance_step);
+      const int resume = repair(steps, snapshots, k, step.preconditions, out);
+      if (resume >= 0) {
+        snapshots.erase(snapshots.begin() + resume + 1, snapshots.end());
+        analysed.erase(analysed.begin() + resume, analysed.end());
+        k = resume;
+        continue;
+      }
+    }
+    if (!all_hold(step.preconditions)) {
+      step.failed = true;
+      step.verification = verification_plans(world_, domain_, steps[k]);
+      ++out.errors;
+    }
+    analysed.push_back(std::move(step));
+    snapshots.erase(snapshots.begin() + k + 1, snapshots.end());
+    snapshots.push_back(std::move(state));
+    ++k;
+  }
+  out.steps = std::move(analysed);
+  out.variables = snapshots.back().space().variables();
+}
+
+// The natural interval enclosure width of `expression` over `box` (variables in `inputs` order).
+double natural_width(const symbolic::Tape& tape, std::span<const Interval> box) {
+  symbolic::TapeEvaluator<Interval> evaluator(tape);
+  Interval out[1];
+  evaluator.evaluate(box, out);
+  return out[0].hi - out[0].lo;
+}
+
+bool holds(const bounds::Inequality& inequality, double value) {
+  switch (inequality.relation) {
+    case bounds::Relation::kLess:
+      return value < inequality.threshold;
+    case bounds::Relation::kLessEqual:
+      return value <= inequality.threshold;
+    case bounds::Relation::kGreater:
+      return value > inequality.threshold;
+    case bounds::Relation::kGreaterEqual:
+      return value >= inequality.threshold;
+  }
+  return false;
+}
+
+}  // namespace
+
+InstanceAnalysis analyse_instance(const WorldModel& world, const Domain& domain,
+                                  const PlanInstance& instance, const AnalysisOptions& options) {
+  InstanceAnalysis analysis;
+  analysis.instance = instance.index;
+  analysis.pool = std::make_unique<symbolic::ExprPool>();
+  InstanceAnalyser(world, domain, options, *analysis.pool)
+      .run(phase2_steps(domain, instance), analysis);
+  for (AnalysedStep& step : analysis.steps)
+    for (PreconditionResult& result : step.preconditions) {
+      result.expression = symbolic::to_string(result.inequality.expression);
+      result.nodes = symbolic::dag_size(result.inequality.expression);
+    }
+  return analysis;
+}
+
+void add_margins(InstanceAnalysis& analysis, const WorldModel& world,
+                 const AnalysisOptions& options) {
+  (void)world;
+  std::map<std::string, const SpaceVariable*> by_name;
+  for (const SpaceVariable& v : analysis.variables) by_name[v.name] = &v;
+  std::mt19937_64 random(20261201);
+  for (AnalysedStep& step : analysis.steps) {
+    for (PreconditionResult& result : step.preconditions) {
+      std::vector<Expr> inputs;
+      for (const std::string& name : result.variables) inputs.push_back(analysis.pool->variable(name));
+      const symbolic::Tape tape = symbolic::Tape::compile({&result.inequality.expression, 1}, inputs);
+      if (options.blame) {
+        const double width = natural_width(tape, result.box);
+        result.blame.clear();
+        for (std::size_t v = 0; v < inputs.size(); ++v) {
+          std::vector<Interval> pinned = result.box;
+          pinned[v] = Interval(0.0);
+          const double share = width > 0 ? (width - natural_width(tape, pinned)) / width : 0.0;
+          result.blame.push_back({result.variables[v], std::max(0.0, share)});
+        }
+        std::stable_sort(result.blame.begin(), result.blame.end(),
+                         [](const auto& a, const auto& b) { return a.share > b.share; });
+      }
+      if (options.samples > 0) {
+        symbolic::TapeEvaluator<double> evaluator(tape);
+        std::size_t violations = 0;
+        std::vector<double> point(inputs.size());
+        double value[1];
+        for (std::size_t s = 0; s < options.samples; ++s) {
+          for (std::size_t v = 0; v < inputs.size(); ++v)
+            point[v] = std::uniform_real_distribution<double>(result.box[v].lo, result.box[v].hi)(random);
+          evaluator.evaluate(point, value);
+          if (!holds(result.inequality, value[0])) ++violations;
+        }
+        result.monte_carlo_violation = static_cast<double>(violations) / options.samples;
+      }
+      if (options.reverse) {
+        // Scale the ranges of the object variables (and the arm's if asked) by s.
+        bounds::ConditionSet set({result.inequality}, inputs);
+        const auto proved_at = [&](double scale) {
+          std::vector<Interval> box = result.box;
+          for (std::size_t v = 0; v < inputs.size(); ++v) {
+            const SpaceVariable& meta = *by_name.at(result.variables[v]);
+            if (meta.provenance.source == UncertaintySource::kManipulator && !options.scale_manipulator)
+              continue;
+            box[v] = Interval(meta.lower * scale, meta.upper * scale);
+          }
+          return set.check(box, options.bound)[0].verdict == Verdict::kSatisfied;
+        };
+        double good = 0.0, bad = options.max_scale;
+        if (proved_at(bad)) {
+          good = bad;
+        } else if (proved_at(0.0)) {
+          for (int i = 0; i < options.reverse_iterations; ++i) {
+            const double mid = 0.5 * (good + bad);
+            (proved_at(mid) ? good : bad) = mid;
+          }
+        }
+        result.holds_up_to_scale = proved_at(0.0) ? std::optional<double>(good) : std::nullopt;
+      }
+    }
+  }
+}
+
+std::size_t choose_instance(const std::vector<InstanceAnalysis>& examined) {
+  if (examined.empty()) throw PlanError("no plan instance was examined");
+  std::size_t best = 0;
+  for (std::size_t i = 1; i < examined.size(); ++i)
+    if (examined[i].errors < examined[best].errors) best = i;
+  return best;
+}
+
+std::vector<InstanceAnalysis> analyse_instances(const WorldModel& world, const Domain& domain,
+                                                const std::vector<PlanInstance>& instances,
+                                                const AnalysisOptions& options) {
+  std::vector<InstanceAnalysis> examined;
+  for (const PlanInstance& instance : instances) {
+    examined.push_back(analyse_instance(world, domain, instance, options));
+    if (examined.back().errors == 0) break;
+  }
+  if (!examined.empty()) add_margins(examined[choose_instance(examined)], world, options);
+  return examined;
+}
+
+}  // namespace spar::planner

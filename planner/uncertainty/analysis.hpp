@@ -1,0 +1,147 @@
+// Phase 2 of SPAR on one plan instance (seed 001, "Satisfying Uncertainty-Reduction Goals"; survey
+// text around fig. 8): propagate the uncertain poses through the steps, decide every uncertainty
+// precondition by bounding, repair failures by sensing or squeezing, otherwise post verification
+// and recovery and count the error. choose_instance() examines instances in order and keeps the
+// first with no error, else the one with the fewest (the earliest among equals).
+//
+// For each step in execution order (planner/uncertainty/propagation.hpp builds the preconditions
+// from the state just before it):
+//   1. decide its preconditions together (bounds/condition_set.hpp: one tape, natural interval
+//      first, bound() where that cannot tell); a precondition fails unless it is satisfied
+//      (violated and undecided both fail; undecided is reported as such);
+//   2. if one fails, try in order (each attempt re-propagates from where it is spliced in and
+//      re-decides the failing step; it is kept only if every precondition of that step then
+//      holds, and a squeeze only if its own pickup preconditions hold too):
+//        a range-scan of each object the failing preconditions concern, placed at the latest point
+//        before the step where the gripper is empty and the object rests where the step finds it
+//        (for an insertion: the fixed object, then the held object before its pickup);
+//        a squeeze just before the pickup (of the held object, for an insertion);
+//      each attempt is recorded with the bounds before and after;
+//   3. if none helps: the error count goes up by one, and the step gets the verification
+//      templates its action names and, per outcome, the recovery plan, instantiated with the
+//      plan's values.
+// Then, on the chosen instance only (options permitting):
+//   reverse analysis  per precondition, the largest uniform scale s in [0, max_scale] of the
+//                     uncertainty of the objects it depends on (their initial / sensed variables,
+//                     the arm's too when `scale_manipulator`) for which it is PROVED to hold: a
+//                     bisection in which every accepted scale is a satisfied verdict;
+//   blame             per precondition and variable, the share of the bound's width that goes
+//                     when that variable is pinned to its nominal value 0 (natural enclosure);
+//   Monte Carlo       the fraction of `samples` uniform points of the box where the inequality
+//                     is false (on the same tape); a violation sampled for a precondition
+//                     reported satisfied would be a soundness bug.
+//
+// Example:
+//   const std::vector<InstanceAnalysis> examined = analyse_instances(world, domain, instances);
+//   const InstanceAnalysis& best = examined[choose_instance(examined)];
+//   std::cout << best.errors << " errors\n";
+#pragma once
+
+#include <cstddef>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "bounds/condition_set.hpp"
+#include "planner/instances.hpp"
+#include "planner/uncertainty/propagation.hpp"
+
+namespace spar::planner {
+
+struct PreconditionResult {
+  std::string kind;  // pickup, squeeze, assemble
+  bounds::Inequality inequality;
+  std::string expression;  // spar's infix syntax (parseable by `spar bound`)
+  std::size_t nodes{0};    // DAG nodes of the expression
+  bounds::Verdict verdict{bounds::Verdict::kUndecided};
+  bounds::BoundResult bound;
+  std::vector<std::string> variables;      // the expression's variables, in box order
+  std::vector<bounds::Interval> box;       // their ranges
+  std::vector<double> witness;             // the worst point found (variables order)
+  // Beyond SPAR (chosen instance only; empty / nullopt otherwise):
+  struct Blame {
+    std::string variable;
+    double share{0.0};  // fraction of the natural enclosure's width removed by pinning it
+  };
+  std::vector<Blame> blame;        // largest share first
+  std::optional<double> holds_up_to_scale;  // reverse analysis: proved for scales <= this
+  std::optional<double> monte_carlo_violation;  // fraction of samples violating
+};
+
+struct VerificationPlan {
+  std::string name;    // the verification template
+  std::string sense;   // instantiated text
+  std::string expect;
+  struct Outcome {
+    std::string when;
+    std::string error;
+    std::string recovery;               // the recovery template's name
+    std::vector<std::string> recovery_steps;  // instantiated
+  };
+  std::vector<Outcome> outcomes;
+};
+
+// One examined step (execution order), original or inserted by phase 2.
+struct AnalysedStep {
+  Phase2Step step;
+  std::string action;  // template name
+  bool inserted{false};
+  std::vector<PreconditionResult> preconditions;
+  bool failed{false};  // some precondition does not hold (after repair attempts)
+  std::vector<VerificationPlan> verification;
+};
+
+// A repair phase 2 tried: a range-scan or squeeze spliced in before `before` (index into the
+// final step list, or into the step list at the time when it did not help).
+struct RepairAttempt {
+  std::string action;  // range-scan or squeeze
+  int object{-1};
+  int for_instance_step{-1};  // the instance step (PlanInstance::steps index) that failed
+  bool helped{false};
+  // Bounds of the failing step's preconditions before and after the insertion.
+  std::vector<bounds::BoundResult> before, after;
+  std::vector<bounds::Verdict> verdicts_before, verdicts_after;
+};
+
+struct InstanceAnalysis {
+  std::size_t instance{0};  // index into the instance list
+  std::vector<AnalysedStep> steps;
+  std::vector<RepairAttempt> repairs;
+  std::vector<SpaceVariable> variables;  // the final space: every variable with provenance
+  int errors{0};
+  std::unique_ptr<symbolic::ExprPool> pool;  // owns every expression above
+};
+
+struct AnalysisOptions {
+  bounds::BoundOptions bound{.tolerance = 1e-3, .max_box_evaluations = 20'000};
+  bool repair{true};        // try range-scans and squeezes
+  // Chosen-instance extras:
+  bool reverse{true};
+  double max_scale{8.0};          // reverse analysis searches scales in [0, max_scale]
+  int reverse_iterations{20};     // bisection steps
+  bool scale_manipulator{false};  // also scale the arm's variables
+  bool blame{true};
+  std::size_t samples{2000};      // Monte Carlo samples per precondition (0: off)
+};
+
+// Phase 2 on one instance. Throws PlanError if the instance does not fit its world.
+[[nodiscard]] InstanceAnalysis analyse_instance(const WorldModel& world, const Domain& domain,
+                                                const PlanInstance& instance,
+                                                const AnalysisOptions& options = {});
+
+// The instance SPAR would choose: the first with no error, else the fewest (earliest on ties).
+[[nodiscard]] std::size_t choose_instance(const std::vector<InstanceAnalysis>& examined);
+
+// Examines `instances` in order until one has no error; returns every examined analysis. The
+// extras (reverse, blame, Monte Carlo) run on the chosen one only.
+[[nodiscard]] std::vector<InstanceAnalysis> analyse_instances(
+    const WorldModel& world, const Domain& domain, const std::vector<PlanInstance>& instances,
+    const AnalysisOptions& options = {});
+
+// Adds the chosen-instance extras to an analysis.
+void add_margins(InstanceAnalysis& analysis, const WorldModel& world,
+                 const AnalysisOptions& options);
+
+}  // namespace spar::planner
