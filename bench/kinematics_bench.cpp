@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "bounds/interval.hpp"
+#include "common/units.hpp"
 #include "kinematics/ik.hpp"
 #include "kinematics/pickup_check.hpp"
 #include "kinematics/puma.hpp"
@@ -169,7 +170,8 @@ void run_numeric_kinematics(const BenchOptions& options) {
   std::printf("(checksum %.6g)\n", checksum);
 }
 
-// SPAR's pickup preconditions (the peg example, Table 2 bounds), decided per plan instance.
+// SPAR's pickup preconditions (the peg example, Table 2 bounds), decided per plan instance. The
+// example is in metres; widths are printed in inches, like the paper's.
 //   ours, fresh: a fresh pool, the uncertain poses, the four inequalities built right to left
 //          (kinematics/pickup.hpp), one tape compiled for all four (PickupChecker) and checked
 //          (one natural interval evaluation + one at the centre; bound() only if undecided)
@@ -272,7 +274,8 @@ void run_pickup_preconditions(const BenchOptions& options) {
   std::printf("\npickup preconditions, one plan instance = build + decide 4 inequalities\n");
   std::snprintf(note, sizeof note, "proved %.2f/4, full bound() on %.2f/4, mean width %.4f in",
                 static_cast<double>(proved) / repetitions,
-                static_cast<double>(full_bounds) / repetitions, our_width / (4.0 * repetitions));
+                static_cast<double>(full_bounds) / repetitions,
+                our_width / (4.0 * repetitions) / spar::units::kInch);
   print_row("pickup", "spar fresh: build + compile + check", ours, note);
   print_row("pickup", "  phase: build poses + 4 expressions", build_only, "");
   print_row("pickup", "  phase: build + compile 1 tape", build_compile, "");
@@ -280,7 +283,8 @@ void run_pickup_preconditions(const BenchOptions& options) {
                 static_cast<double>(reuse_proved) / reuse_repetitions);
   print_row("pickup", "spar reused checker: check only", reused, note);
   std::snprintf(note, sizeof note, "proved %.2f/4, mean width %.4f in",
-                static_cast<double>(naive_proved) / repetitions, naive_width / (4.0 * repetitions));
+                static_cast<double>(naive_proved) / repetitions,
+                naive_width / (4.0 * repetitions) / spar::units::kInch);
   print_row("pickup", "naive 4x4 products + interval tape", naive, note);
   std::printf(
       "per inequality: spar fresh %.3f us, spar reused %.3f us, naive %.3f us "

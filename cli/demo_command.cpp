@@ -1,16 +1,17 @@
 // `spar demo`: SPAR's pickup example (the peg of the peg-and-block task). Builds the uncertain
 // poses of eq. 1 and 2, the four pickup inequalities, bounds each over Table 2's box and prints a
 // verdict; then repeats with the object's displacement uncertainty widened (--widen), and searches
-// for the smallest widening that is no longer proved (--step).
+// for the smallest widening that is no longer proved (--step). The example is in metres inside;
+// options and output are in inches, as in the paper and examples/pickup.md.
 #include <algorithm>
 #include <array>
 #include <cstdio>
 #include <memory>
-#include <numbers>
 #include <string>
 #include <vector>
 
 #include "cli/commands.hpp"
+#include "common/units.hpp"
 #include "kinematics/pickup_check.hpp"
 #include "symbolic/operations.hpp"
 #include "symbolic/parse.hpp"
@@ -26,14 +27,14 @@ void run_case(const char* title, const PoseUncertainty& object_bounds, bool show
   const kinematics::UncertainObject peg(pool, object_bounds);
   const kinematics::PickupPreconditions preconditions =
       kinematics::pickup_preconditions(kinematics::peg_pickup_example(), gripper, peg);
-  std::printf("\n%s: object dx, dy, dz +-%.3g in, dtheta +-%.3g deg\n", title, object_bounds.dx,
-              object_bounds.dtheta * 180 / std::numbers::pi);
+  std::printf("\n%s: object dx, dy, dz +-%.3g in, dtheta +-%.3g deg\n", title,
+              object_bounds.dx / units::kInch, object_bounds.dtheta / units::kDegree);
   std::printf("  %-24s %5s %10s %10s  %s\n", "condition", "nodes", "lo", "hi", "verdict");
   int satisfied = 0;
   for (const kinematics::PickupCheck& check : kinematics::check_pickup(preconditions)) {
     std::printf("  %-24s %5zu %10.4f %10.4f  %s\n", check.condition.name.c_str(),
-                symbolic::dag_size(check.condition.expression), check.bound.lo, check.bound.hi,
-                kinematics::to_string(check.verdict));
+                symbolic::dag_size(check.condition.expression), check.bound.lo / units::kInch,
+                check.bound.hi / units::kInch, kinematics::to_string(check.verdict));
     satisfied += check.verdict == kinematics::Verdict::kSatisfied ? 1 : 0;
   }
   std::printf("  => %s (%d/4 proved)\n",
@@ -48,7 +49,8 @@ void run_case(const char* title, const PoseUncertainty& object_bounds, bool show
 
 // Grows the object's displacement half-width from Table 2's in steps of `step` until some
 // condition is no longer proved; one PickupChecker (one compiled tape) serves every step.
-void widen_until_failure(double step) {
+// `step_in` is in inches.
+void widen_until_failure(double step_in) {
   symbolic::ExprPool pool;
   const kinematics::UncertainManipulator gripper(pool, kinematics::kTable2Gripper);
   const kinematics::UncertainObject peg(pool, kinematics::kTable2Object);
@@ -56,14 +58,14 @@ void widen_until_failure(double step) {
       kinematics::pickup_preconditions(kinematics::peg_pickup_example(), gripper, peg);
   kinematics::PickupChecker checker(preconditions);
   std::vector<kinematics::UncertaintyVariable> variables = preconditions.variables;
-  const double start = kinematics::kTable2Object.dx;
+  const double start = kinematics::kTable2Object.dx / units::kInch;  // inches from here on
   std::printf("\nWidening until failure: object dx, dy, dz from +-%.3g in in steps of %.3g in\n",
-              start, step);
-  for (int k = 0; start + k * step <= 10.0; ++k) {
-    const double half_width = start + k * step;
+              start, step_in);
+  for (int k = 0; start + k * step_in <= 10.0; ++k) {
+    const double half_width = start + k * step_in;
     for (std::size_t i = 4; i < 7; ++i) {  // dx_o, dy_o, dz_o
-      variables[i].lower = -half_width;
-      variables[i].upper = half_width;
+      variables[i].lower = -half_width * units::kInch;
+      variables[i].upper = half_width * units::kInch;
     }
     const std::array<kinematics::PickupCheck, 4> checks = checker.check(variables);
     const bool all_proved = std::all_of(checks.begin(), checks.end(), [](const auto& check) {
@@ -72,10 +74,11 @@ void widen_until_failure(double step) {
     if (all_proved) continue;
     std::printf(
         "  all four proved up to +-%.3g in; at +-%.3g in (%d checks of one compiled tape):\n",
-        half_width - step, half_width, k + 1);
+        half_width - step_in, half_width, k + 1);
     for (const kinematics::PickupCheck& check : checks) {
-      std::printf("  %-24s %10.4f %10.4f  %s\n", check.condition.name.c_str(), check.bound.lo,
-                  check.bound.hi, kinematics::to_string(check.verdict));
+      std::printf("  %-24s %10.4f %10.4f  %s\n", check.condition.name.c_str(),
+                  check.bound.lo / units::kInch, check.bound.hi / units::kInch,
+                  kinematics::to_string(check.verdict));
     }
     return;
   }
@@ -105,7 +108,7 @@ void add_demo_command(CLI::App& app) {
         "Gripper uncertainty (Table 2): dx, dy, dz +-0.001 in, dtheta +-0.001 rad.\n");
     run_case("Table 2", kinematics::kTable2Object, *show);
     PoseUncertainty wide = kinematics::kTable2Object;
-    wide.dx = wide.dy = wide.dz = *widened;
+    wide.dx = wide.dy = wide.dz = *widened * units::kInch;
     run_case("Widened", wide, false);
     widen_until_failure(*step);
   });

@@ -1,7 +1,10 @@
 // `spar object FILE|NAME`: an object's faces, stable poses (margins, table faces) and quantized
 // grasps (T_G, contact faces, obscured faces, the poses each grasp is usable in), as text or JSON.
 // NAME is a built-in object (peg, block, cube, l-shape); FILE is an .off or .obj mesh.
-// `--write-off FILE` saves the mesh (how examples/objects/*.off were made from the built-ins).
+// `--units m|mm|in` (default m) is the length unit of FILE's coordinates, of --max-opening and of
+// everything printed; spar works in metres inside. `--approach-step` is in degrees.
+// `--write-off FILE` saves the mesh in metres (how examples/objects/*.off were made from the
+// built-ins).
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cmath>
@@ -11,10 +14,11 @@
 #include <iostream>
 #include <memory>
 #include <nlohmann/json.hpp>
-#include <numbers>
+#include <optional>
 #include <sstream>
 
 #include "cli/commands.hpp"
+#include "common/units.hpp"
 #include "geometry/builtin_objects.hpp"
 #include "geometry/grasps.hpp"
 #include "geometry/mesh_io.hpp"
@@ -29,9 +33,15 @@ struct ObjectOptions {
   std::string object;
   bool json{false};
   std::string write_off;
-  geometry::GripperSpec gripper;
-  geometry::GraspQuantization quantization;
+  std::string units{"m"};
+  std::optional<double> max_opening;  // in `units`; GripperSpec's default (4 in) without it
+  double approach_step_degrees{90};
+  int positions_per_axis{1};
 };
+
+double metres_per_unit(const std::string& name) {
+  return name == "mm" ? units::kMillimetre : name == "in" ? units::kInch : units::kMetre;
+}
 
 std::string text(const Eigen::Vector3d& v) {
   std::ostringstream out;
@@ -43,11 +53,13 @@ std::string text(const Eigen::Vector3d& v) {
 
 nlohmann::json vector_json(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
 
-nlohmann::json matrix_json(const Eigen::Isometry3d& transform) {
+// Rows of the 4x4 matrix, its translation divided by `unit` (metres per output unit).
+nlohmann::json matrix_json(const Eigen::Isometry3d& transform, double unit) {
   nlohmann::json rows = nlohmann::json::array();
   for (int r = 0; r < 4; ++r) {
     nlohmann::json row = nlohmann::json::array();
-    for (int c = 0; c < 4; ++c) row.push_back(transform.matrix()(r, c));
+    for (int c = 0; c < 4; ++c)
+      row.push_back(transform.matrix()(r, c) / (c == 3 && r < 3 ? unit : 1));
     rows.push_back(row);
   }
   return rows;
@@ -59,10 +71,13 @@ std::string id_list(const std::vector<int>& ids) {
   return out + "]";
 }
 
-geometry::ObjectModel load_object(const std::string& argument, std::string& builtin_name) {
+// A FILE's coordinates are in `unit` (metres per unit); built-ins are in metres.
+geometry::ObjectModel load_object(const std::string& argument, double unit,
+                                  std::string& builtin_name) {
   if (std::filesystem::exists(argument)) {
     const std::string name = std::filesystem::path(argument).stem().string();
-    return geometry::ObjectModel(name, geometry::read_mesh_file(argument));
+    return geometry::ObjectModel(name,
+                                 geometry::scale_mesh(geometry::read_mesh_file(argument), unit));
   }
   const auto names = geometry::builtin_object_names();
   if (std::find(names.begin(), names.end(), argument) != names.end()) {
@@ -75,8 +90,19 @@ geometry::ObjectModel load_object(const std::string& argument, std::string& buil
 }
 
 void run(const ObjectOptions& options) {
+  const double unit = metres_per_unit(options.units);
+  geometry::GripperSpec gripper;
+  if (options.max_opening) gripper.max_opening = *options.max_opening * unit;
+  geometry::GraspQuantization quantization;
+  quantization.approach_step = options.approach_step_degrees * units::kDegree;
+  quantization.positions_per_axis = options.positions_per_axis;
+  // Output in `options.units`: lengths, areas and volumes divided by unit, unit^2, unit^3.
+  const auto length = [unit](double metres) { return metres / unit; };
+  const auto point = [unit](const Eigen::Vector3d& metres) -> Eigen::Vector3d {
+    return metres / unit;
+  };
   std::string builtin_name;
-  const geometry::ObjectModel object = load_object(options.object, builtin_name);
+  const geometry::ObjectModel object = load_object(options.object, unit, builtin_name);
   if (!options.write_off.empty()) {
     std::ofstream file(options.write_off);
     if (!file) throw GeometryError(options.write_off + ": cannot write the file");
@@ -85,82 +111,84 @@ void run(const ObjectOptions& options) {
                                              : geometry::builtin_description(builtin_name));
   }
   const auto poses = geometry::stable_poses(object);
-  const auto grasps = geometry::compute_grasps(object, options.gripper, options.quantization);
+  const auto grasps = geometry::compute_grasps(object, gripper, quantization);
   const auto usable_in = [&](const geometry::Grasp& grasp) {
     std::vector<std::string> labels;
     for (const auto& pose : poses)
-      if (geometry::grasp_usable(grasp, pose, options.gripper)) labels.push_back(pose.label);
+      if (geometry::grasp_usable(grasp, pose, gripper)) labels.push_back(pose.label);
     return labels;
   };
 
   if (options.json) {
     nlohmann::json out;
     out["object"] = object.name();
-    out["volume"] = object.volume();
-    out["center_of_mass"] = vector_json(object.center_of_mass());
+    out["units"] = options.units;
+    out["volume"] = object.volume() / (unit * unit * unit);
+    out["center_of_mass"] = vector_json(point(object.center_of_mass()));
     for (const auto& face : object.faces())
       out["faces"].push_back({{"id", face.id},
                               {"name", face.name},
                               {"normal", vector_json(face.normal)},
-                              {"offset", face.offset},
-                              {"area", face.area}});
+                              {"offset", length(face.offset)},
+                              {"area", face.area / (unit * unit)}});
     for (const auto& pair : object.face_pairs())
       out["face_pairs"].push_back({{"faces", {pair.face_a, pair.face_b}},
-                                   {"width", pair.width},
-                                   {"overlap_area", pair.overlap_area}});
+                                   {"width", length(pair.width)},
+                                   {"overlap_area", pair.overlap_area / (unit * unit)}});
     out["hull_facets"] = object.hull_facets().size();
     out["stable_poses"] = nlohmann::json::array();
     for (const auto& pose : poses)
       out["stable_poses"].push_back({{"label", pose.label},
                                      {"facet_normal", vector_json(pose.facet_normal)},
-                                     {"margin", pose.margin},
+                                     {"margin", length(pose.margin)},
                                      {"tipping_angle", pose.tipping_angle},
-                                     {"com_height", pose.com_height},
+                                     {"com_height", length(pose.com_height)},
                                      {"table_faces", pose.table_faces},
-                                     {"object_to_world", matrix_json(pose.object_to_world)}});
+                                     {"object_to_world", matrix_json(pose.object_to_world, unit)}});
     out["grasps"] = nlohmann::json::array();
     for (const auto& grasp : grasps)
       out["grasps"].push_back({{"label", grasp.label},
                                {"contact_faces", {grasp.face_plus_y, grasp.face_minus_y}},
-                               {"width", grasp.width},
-                               {"approach_deg", grasp.approach_deg},
+                               {"width", length(grasp.width)},
+                               {"approach_deg", grasp.approach / units::kDegree},
                                {"position", grasp.position},
                                {"obscured_faces", grasp.obscured_faces},
-                               {"T_G", matrix_json(grasp.gripper_in_object)},
+                               {"T_G", matrix_json(grasp.gripper_in_object, unit)},
                                {"usable_in", usable_in(grasp)}});
     std::cout << out.dump(2) << '\n';
     return;
   }
   std::cout << std::setprecision(4) << "object " << object.name() << " (" << object.mesh().source
-            << "): " << object.faces().size() << " faces, volume " << object.volume()
-            << ", centre of mass " << text(object.center_of_mass()) << "\n\nfaces:\n";
+            << "), lengths in " << options.units << ": " << object.faces().size()
+            << " faces, volume " << object.volume() / (unit * unit * unit) << ", centre of mass "
+            << text(point(object.center_of_mass())) << "\n\nfaces:\n";
   for (const auto& face : object.faces())
     std::cout << "  " << std::setw(3) << face.id << "  " << std::left << std::setw(22) << face.name
-              << std::right << " normal " << text(face.normal) << "  area " << face.area << '\n';
+              << std::right << " normal " << text(face.normal) << "  area "
+              << face.area / (unit * unit) << '\n';
   std::cout << "\nparallel opposite face pairs:\n";
   for (const auto& pair : object.face_pairs())
-    std::cout << "  " << pair.face_a << " & " << pair.face_b << "  width " << pair.width
-              << "  overlap area " << pair.overlap_area << '\n';
+    std::cout << "  " << pair.face_a << " & " << pair.face_b << "  width " << length(pair.width)
+              << "  overlap area " << pair.overlap_area / (unit * unit) << '\n';
   std::cout << "\nstable poses: " << poses.size() << " of " << object.hull_facets().size()
             << " hull facets\n";
   for (const auto& pose : poses)
     std::cout << "  " << pose.label << "  facet normal " << text(pose.facet_normal) << "  margin "
-              << pose.margin << "  tipping " << pose.tipping_angle * 180 / std::numbers::pi
+              << length(pose.margin) << "  tipping " << pose.tipping_angle / units::kDegree
               << " deg  table faces " << id_list(pose.table_faces) << '\n';
   for (const auto& facet : object.hull_facets())
     if (facet.com_inset <= object.tolerance())
       std::cout << "  (unstable facet normal " << text(facet.normal) << ": centre of mass projects "
-                << -facet.com_inset << " outside)\n";
-  std::cout << "\ngrasps: " << grasps.size() << " (approach every "
-            << options.quantization.approach_step_deg << " deg, "
-            << options.quantization.positions_per_axis << " position(s) per axis, opening "
-            << options.gripper.max_opening << ")\n";
+                << length(-facet.com_inset) << " outside)\n";
+  std::cout << "\ngrasps: " << grasps.size() << " (approach every " << options.approach_step_degrees
+            << " deg, " << quantization.positions_per_axis << " position(s) per axis, opening "
+            << length(gripper.max_opening) << ")\n";
   for (const auto& grasp : grasps) {
     std::cout << "  " << std::left << std::setw(5) << grasp.label << std::right << "faces +y "
-              << grasp.face_plus_y << " -y " << grasp.face_minus_y << "  W " << grasp.width
-              << "  approach " << std::setw(3) << grasp.approach_deg << " deg  z "
+              << grasp.face_plus_y << " -y " << grasp.face_minus_y << "  W " << length(grasp.width)
+              << "  approach " << std::setw(3) << grasp.approach / units::kDegree << " deg  z "
               << text(grasp.gripper_in_object.linear().col(2)) << "  at "
-              << text(grasp.gripper_in_object.translation()) << "  obscures "
+              << text(point(grasp.gripper_in_object.translation())) << "  obscures "
               << id_list(grasp.obscured_faces) << "  usable in";
     const auto labels = usable_in(grasp);
     if (labels.empty()) std::cout << " none";
@@ -179,10 +207,14 @@ void add_object_command(CLI::App& app) {
   command->add_option("object", options->object, "an .off/.obj file, or peg, block, cube, l-shape")
       ->required();
   command->add_flag("--json", options->json, "print JSON");
-  command->add_option("--max-opening", options->gripper.max_opening, "gripper opening (default 4)");
-  command->add_option("--approach-step", options->quantization.approach_step_deg,
+  command
+      ->add_option("--units", options->units, "length unit of FILE and of the output (default m)")
+      ->check(CLI::IsMember({"m", "mm", "in"}));
+  command->add_option("--max-opening", options->max_opening,
+                      "gripper opening in --units (default 4 in)");
+  command->add_option("--approach-step", options->approach_step_degrees,
                       "approach quantization step in degrees about the closing axis (default 90)");
-  command->add_option("--positions", options->quantization.positions_per_axis,
+  command->add_option("--positions", options->positions_per_axis,
                       "contact positions per axis of each face pair's overlap (default 1)");
   command->add_option("--write-off", options->write_off, "also write the mesh as an OFF file");
   command->callback([options] { run(*options); });

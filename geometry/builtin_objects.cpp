@@ -2,6 +2,9 @@
 
 #include <cmath>
 #include <numbers>
+#include <regex>
+
+#include "common/units.hpp"
 
 namespace spar::geometry {
 namespace {
@@ -11,6 +14,16 @@ void rename(Mesh& mesh, const std::vector<std::pair<std::string, std::string>>& 
   for (std::string& name : mesh.triangle_names)
     for (const auto& [from, to] : names)
       if (name == from) name = to;
+}
+
+// The seed gives its objects in inches and so do the builders below; spar works in metres. Every
+// vertex is multiplied by 0.0254 (vertices that shared a coordinate still share it, so faces stay
+// exactly planar), and the plane coordinates left in face names ("+z (z=1)") are marked as inches.
+Mesh inches_to_metres(Mesh mesh) {
+  static const std::regex plane(R"(^([+-][xyz]) \(([xyz])=([^)]*)\)$)");
+  for (std::string& name : mesh.triangle_names)
+    name = std::regex_replace(name, plane, "$1 ($2=$3 in)");
+  return scale_mesh(std::move(mesh), units::kInch);
 }
 
 }  // namespace
@@ -31,7 +44,7 @@ Mesh peg_mesh() {
                 {"+z (z=0.5)", "cross hole floor"},
                 {"-y (y=0.25)", "cross hole wall +y"},
                 {"+y (y=-0.25)", "cross hole wall -y"}});
-  return mesh;
+  return inches_to_metres(std::move(mesh));
 }
 
 Mesh block_mesh() {
@@ -55,14 +68,14 @@ Mesh block_mesh() {
                 {"+z (z=1.75)", "cross hole floor"},
                 {"+x (x=-0.25)", "cross hole wall -x"},
                 {"-x (x=0.25)", "cross hole wall +x"}});
-  return mesh;
+  return inches_to_metres(std::move(mesh));
 }
 
 Mesh l_shape_mesh() {
   // Profile in xz: a 1 x 5 upright at x in [0, 1] and a 3 x 1 foot at x in [1, 4]; 1 deep in y.
   RectilinearSolid l_shape({0, 1, 4}, {0, 1}, {0, 1, 5});
   l_shape.set_filled(1, 0, 1, false);
-  return l_shape.to_mesh("<l-shape>");
+  return inches_to_metres(l_shape.to_mesh("<l-shape>"));
 }
 
 std::vector<std::string> builtin_object_names() { return {"peg", "block", "cube", "l-shape"}; }
@@ -70,7 +83,7 @@ std::vector<std::string> builtin_object_names() { return {"peg", "block", "cube"
 Mesh builtin_mesh(const std::string& name) {
   if (name == "peg") return peg_mesh();
   if (name == "block") return block_mesh();
-  if (name == "cube") return make_box({1, 1, 1});
+  if (name == "cube") return inches_to_metres(make_box({1, 1, 1}));
   if (name == "l-shape") return l_shape_mesh();
   std::string known;
   for (const auto& n : builtin_object_names()) known += (known.empty() ? "" : ", ") + n;
@@ -83,23 +96,24 @@ ObjectModel make_builtin_object(const std::string& name) {
 
 std::string builtin_description(const std::string& name) {
   if (name == "peg")
-    return "spar built-in object 'peg' (the seed's peg-and-block task), inches.\n"
-           "Base 3 x 3 x 1.5, origin at the centre of its bottom face, with a 0.5 x 0.5 square\n"
-           "cross hole along x through the base (centre z = 0.75). Shaft along +z: 1.5 across "
-           "flats,\n"
-           "3.5 long. Simplifications: the cylindrical shaft is an octagonal prism and the round\n"
-           "cross hole is square. Faces are named in the trailing comments.";
+    return "spar built-in object 'peg' (the seed's peg-and-block task). Coordinates in\n"
+           "metres; the dimensions below are inches (1 in = 0.0254 m). Base 3 x 3 x 1.5, origin\n"
+           "at the centre of its bottom face, with a 0.5 x 0.5 square cross hole along x through\n"
+           "the base (centre z = 0.75). Shaft along +z: 1.5 across flats, 3.5 long.\n"
+           "Simplifications: the cylindrical shaft is an octagonal prism and the round cross\n"
+           "hole is square. Faces are named in the trailing comments.";
   if (name == "block")
-    return "spar built-in object 'block' (the seed's peg-and-block task), inches.\n"
-           "3.5 x 3 x 3 (x, y, z), origin at the centre of its bottom face. A blind 1.6 x 1.6 "
-           "square\n"
-           "hole for the peg, 2 deep, opens on the top (+z) face; a 0.5 x 0.5 square cross hole\n"
-           "along y at z = 2 crosses it. Simplification: both round holes are square.\n"
-           "Faces are named in the trailing comments.";
-  if (name == "cube") return "spar built-in object 'cube': the unit cube [0,1]^3.";
+    return "spar built-in object 'block' (the seed's peg-and-block task). Coordinates in\n"
+           "metres; the dimensions below are inches (1 in = 0.0254 m). 3.5 x 3 x 3 (x, y, z),\n"
+           "origin at the centre of its bottom face. A blind 1.6 x 1.6 square hole for the peg,\n"
+           "2 deep, opens on the top (+z) face; a 0.5 x 0.5 square cross hole along y at z = 2\n"
+           "crosses it. Simplification: both round holes are square. Faces are named in the\n"
+           "trailing comments.";
+  if (name == "cube") return "spar built-in object 'cube': a 1 in cube, [0, 0.0254]^3 in metres.";
   if (name == "l-shape")
-    return "spar built-in object 'l-shape': an L profile in xz (a 1 x 5 upright, a 3 x 1 foot),\n"
-           "1 deep in y. Two of its seven hull facets are not stable.";
+    return "spar built-in object 'l-shape': an L profile in xz (a 1 x 5 in upright, a 3 x 1 in\n"
+           "foot), 1 in deep in y; coordinates in metres. Two of its seven hull facets are not\n"
+           "stable.";
   return name;
 }
 

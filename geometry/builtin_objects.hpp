@@ -1,6 +1,8 @@
-// The seed's two objects (SPAR's peg-and-block task) and a few test shapes, built in code, in
-// inches. Each also ships as an OFF file under examples/objects/ (written from these builders by
-// `spar object NAME --write-off FILE`), so a file and its built-in give the same face ids.
+// The seed's two objects (SPAR's peg-and-block task) and a few test shapes, built in code from
+// the seed's inch dimensions (given below in inches) and returned in metres, like everything inside
+// spar: each builder works in inches and scales the finished mesh by exactly 0.0254. Each also
+// ships as an OFF file under examples/objects/ (written from these builders by `spar object NAME
+// --write-off FILE`), so a file and its built-in give the same face ids.
 //
 // peg:   a 3 x 3 x 1.5 base, origin at the centre of its bottom, with a 0.5 x 0.5 square cross
 //        hole along x through the base (centre at z = 0.75); a shaft of 1.5 in across flats as an
@@ -9,11 +11,15 @@
 // block: 3.5 x 3 x 3 (x, y, z), origin at the centre of its bottom; a blind 1.6 x 1.6 square hole
 //        for the peg, 2 deep, opening on the top (+z) face; a 0.5 x 0.5 square cross hole along y
 //        through the block at z = 2, crossing the peg hole. Simplification: both holes are square.
-// cube:  a unit cube; l-shape: the L of the stable-pose tests.
+// cube:  a 1 in cube; l-shape: the L of the stable-pose tests (1 in units). Faces still named by
+//        their plane carry its inch coordinate: "+z (z=1 in)".
 //
 // Example:
-//   ObjectModel peg = make_builtin_object("peg");
+//   ObjectModel peg = make_builtin_object("peg");    // metres
+//   peg.face(7).name;                                 // "base bottom"
+//   peg.face_pairs()[0].width / units::kInch;         // 3: the base is 3 in across
 //   for (const std::string& name : builtin_object_names()) ...
+//   std::string header = builtin_description("peg");  // the OFF file's comment
 #pragma once
 
 #include <string>

@@ -93,7 +93,7 @@ bool gripper_hits_object(const ObjectModel& object, const Eigen::Isometry3d& obj
   const auto& mesh = object.mesh();
   std::vector<Eigen::Vector3d> local(mesh.vertices.size());
   for (std::size_t v = 0; v < local.size(); ++v) local[v] = object_to_gripper * mesh.vertices[v];
-  const double shrink = 1e-6 * (1 + object.tolerance() / 1e-9);
+  const double shrink = 1e-6 * object.tolerance() / 1e-9;  // 1e-6 of the bounding-box diagonal
   for (const Box& box : gripper_boxes(gripper, width, shrink)) {
     for (const auto& t : mesh.triangles)
       for (int c = 0; c < 3; ++c)
@@ -220,8 +220,10 @@ bool face_meets_footprint(const ObjectModel& object, const Face& face,
 
 std::vector<Grasp> compute_grasps(const ObjectModel& object, const GripperSpec& gripper,
                                   const GraspQuantization& quantization) {
-  if (!(quantization.approach_step_deg > 0 && quantization.approach_step_deg <= 360))
-    throw GeometryError("grasp quantization: the approach step must be in (0, 360] degrees");
+  constexpr double kTurn = 2 * std::numbers::pi;
+  if (!(quantization.approach_step > 0 && quantization.approach_step <= kTurn * (1 + 1e-12)))
+    throw GeometryError("grasp quantization: the approach step must be in (0, 2 pi] radians, got " +
+                        std::to_string(quantization.approach_step));
   if (quantization.positions_per_axis < 1)
     throw GeometryError("grasp quantization: positions per axis must be at least 1");
   std::vector<Grasp> grasps;
@@ -233,14 +235,14 @@ std::vector<Grasp> compute_grasps(const ObjectModel& object, const GripperSpec& 
     const Eigen::Vector3d reference = approach_reference(y);
     const auto positions = contact_positions(object, pair, quantization.positions_per_axis);
     for (std::size_t position = 0; position < positions.size(); ++position)
-      for (int step = 0; step * quantization.approach_step_deg < 360 - 1e-9; ++step) {
-        const double angle = step * quantization.approach_step_deg;
-        const Eigen::Vector3d z = Eigen::AngleAxisd(angle * std::numbers::pi / 180, y) * reference;
+      for (int step = 0; step * quantization.approach_step < kTurn * (1 - 1e-11); ++step) {
+        const double angle = step * quantization.approach_step;
+        const Eigen::Vector3d z = Eigen::AngleAxisd(angle, y) * reference;
         Grasp grasp;
         grasp.face_plus_y = pair.face_a;
         grasp.face_minus_y = pair.face_b;
         grasp.width = pair.width;
-        grasp.approach_deg = angle;
+        grasp.approach = angle;
         grasp.position = static_cast<int>(position);
         grasp.gripper_in_object = Eigen::Isometry3d::Identity();
         grasp.gripper_in_object.linear() << y.cross(z), y, z;
@@ -299,7 +301,7 @@ GraspUsability grasp_usability(const Grasp& grasp, const StablePose& pose,
     boxes.push_back({{-fx, -outer, palm}, {fx, -inner, tip}});
   }
   boxes.push_back({{-px, -py, palm - gripper.palm_height}, {px, py, palm}});
-  const double tolerance = 1e-9 * (1 + gripper.finger_length + gripper.max_opening);
+  const double tolerance = 1e-9 * (gripper.finger_length + gripper.max_opening);
   for (const auto& [low, high] : boxes)
     for (int corner = 0; corner < 8; ++corner) {
       const Eigen::Vector3d p((corner & 1) ? high.x() : low.x(), (corner & 2) ? high.y() : low.y(),

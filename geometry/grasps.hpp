@@ -9,9 +9,9 @@
 //
 // Quantization (GraspQuantization, all configurable):
 //  - face pairs: every FacePair of the object whose width lies in [min_opening, max_opening);
-//  - approach: z turns about the closing axis y in steps of `approach_step_deg` (default 90°, so
-//    4 approaches) from a reference: the object's -z projected onto the plane normal to y (or -x,
-//    then -y, when -z is nearly along y);
+//  - approach: z turns about the closing axis y in steps of `approach_step` (radians; default
+//    π/2, so 4 approaches) from a reference: the object's -z projected onto the plane normal to y
+//    (or -x, then -y, when -z is nearly along y);
 //  - contact position: `positions_per_axis` = 1 (default) puts the grasp centre at the area
 //    centroid of the pair's overlap, or the overlap point nearest it when the centroid falls in a
 //    hole; n > 1 aims at the centres of an n × n split of the overlap's bounding box (in its own
@@ -44,27 +44,28 @@
 #include <string_view>
 #include <vector>
 
+#include "common/units.hpp"
 #include "geometry/object.hpp"
 #include "geometry/stable_poses.hpp"
 
 namespace spar::geometry {
 
-// A parallel-jaw gripper, lengths in the object's units (the built-ins use inches; the seed's
-// gripper opens to W_m = 4 in).
+// A parallel-jaw gripper, lengths in metres (the defaults are the seed's gripper in round inches:
+// it opens to W_m = 4 in).
 struct GripperSpec {
-  double max_opening{4.0};
-  double min_opening{0.05};
-  double finger_length{2.0};        // along z, palm to fingertip
-  double finger_width{0.75};        // along x
-  double finger_thickness{0.25};    // along y, outside the pad
-  double tip_beyond_contact{0.25};  // fingertips reach this far past the contact point along z
-  double palm_width{1.5};           // along x
-  double palm_height{1.0};          // along z, behind the fingers
-  double max_approach_tilt{1.5707963267948966};  // radians between z and world -z
+  double max_opening{4 * units::kInch};
+  double min_opening{0.05 * units::kInch};
+  double finger_length{2 * units::kInch};          // along z, palm to fingertip
+  double finger_width{0.75 * units::kInch};        // along x
+  double finger_thickness{0.25 * units::kInch};    // along y, outside the pad
+  double tip_beyond_contact{0.25 * units::kInch};  // fingertips reach this far past the contact
+  double palm_width{1.5 * units::kInch};           // along x
+  double palm_height{1 * units::kInch};            // along z, behind the fingers
+  double max_approach_tilt{90 * units::kDegree};   // between z and world -z
 };
 
 struct GraspQuantization {
-  double approach_step_deg{90};
+  double approach_step{90 * units::kDegree};  // radians, in (0, 2π]
   int positions_per_axis{1};
   double obscure_facing_cosine{0.5};  // faces within 60° of facing the gripper count
 };
@@ -76,12 +77,12 @@ struct Grasp {
   int face_minus_y{0};                  // contact face at y = -W/2
   double width{0};                      // W_g
   Eigen::Isometry3d gripper_in_object;  // T_G
-  double approach_deg{0};               // turn of z about y from the reference
+  double approach{0};                   // turn of z about y from the reference, radians
   int position{0};                      // index of the contact position within the pair
   std::vector<int> obscured_faces;      // ascending, includes both contact faces
 };
 
-// Throws GeometryError if the quantization is invalid (step not in (0, 360], positions < 1).
+// Throws GeometryError if the quantization is invalid (step not in (0, 2π], positions < 1).
 [[nodiscard]] std::vector<Grasp> compute_grasps(const ObjectModel& object,
                                                 const GripperSpec& gripper,
                                                 const GraspQuantization& quantization);

@@ -151,6 +151,14 @@ VolumeProperties volume_properties(const Mesh& mesh) {
   return properties;
 }
 
+Mesh scale_mesh(Mesh mesh, double factor) {
+  if (!(factor > 0 && std::isfinite(factor)))
+    throw GeometryError(mesh.source + ": scale factor must be finite and > 0, got " +
+                        std::to_string(factor));
+  for (Eigen::Vector3d& vertex : mesh.vertices) vertex *= factor;
+  return mesh;
+}
+
 Mesh make_box(const Eigen::Vector3d& size) {
   if ((size.array() <= 0).any()) throw GeometryError("make_box: every side must be positive");
   return RectilinearSolid({0, size.x()}, {0, size.y()}, {0, size.z()}).to_mesh("<box>");

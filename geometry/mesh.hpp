@@ -74,6 +74,10 @@ struct VolumeProperties {
 };
 [[nodiscard]] VolumeProperties volume_properties(const Mesh& mesh);
 
+// The mesh with every vertex multiplied by `factor` (> 0; throws GeometryError otherwise): from a
+// file's length unit to metres. Vertices that share a coordinate still do, so faces stay planar.
+[[nodiscard]] Mesh scale_mesh(Mesh mesh, double factor);
+
 // Box [0,sx] x [0,sy] x [0,sz]; faces named as RectilinearSolid's, "-x (x=0)" ... "+z (z=sz)".
 [[nodiscard]] Mesh make_box(const Eigen::Vector3d& size);
 // Counter-clockwise convex polygon in the xy-plane, radius to the vertices.

@@ -70,13 +70,14 @@ PickupPreconditions pickup_preconditions(const PickupGeometry& geometry,
 }
 
 PickupGeometry peg_pickup_example() {
+  constexpr double in = units::kInch;
   PickupGeometry geometry;
-  geometry.object_pose = Eigen::Translation3d(20, 10, 0.75) *
-                         Eigen::AngleAxisd(std::numbers::pi / 6, Eigen::Vector3d::UnitZ());
-  geometry.grasp = Eigen::Translation3d(1, 0, 1.5) *
+  geometry.object_pose = Eigen::Translation3d(20 * in, 10 * in, 0.75 * in) *
+                         Eigen::AngleAxisd(30 * units::kDegree, Eigen::Vector3d::UnitZ());
+  geometry.grasp = Eigen::Translation3d(1 * in, 0, 1.5 * in) *
                    Eigen::AngleAxisd(std::numbers::pi, Eigen::Vector3d::UnitX());
-  geometry.finger_opening = 4;
-  geometry.object_width = 3;
+  geometry.finger_opening = 4 * in;
+  geometry.object_width = 3 * in;
   return geometry;
 }
 

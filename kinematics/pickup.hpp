@@ -13,24 +13,26 @@
 // q = a·Δx_o + b·Δy_o + c·Δz_o + d·cos Δθ_o + e·sin Δθ_o + f, the numbers folded soundly. R_ΔO
 // enters once, through q, never as R_ΔO^T R_ΔO. Only the y row of the last two inverses is built:
 //   ±W_m/2 + cos Δθ_g (q_y - Δy_g) - sin Δθ_g (q_x - Δx_g)
-// (34 nodes for the paper's example, 48 for all four together; Δθ_g occurs twice, the object's
-// variables once in each of q_x, q_y).
+// (35 nodes for the paper's example, 50 for all four together; Δθ_g occurs twice, the object's
+// variables once in each of q_x, q_y. In inches q_y's constant happened to cancel to an exact 0,
+// 34 / 48 nodes; in metres it keeps a rounding residue of 3e-17 m, one more node each).
 //
 // Example:
 //   ExprPool pool;
-//   const UncertainManipulator gripper(pool, {0.001, 0.001, 0.001, 0.001});
-//   const UncertainObject peg(pool, {0.11, 0.11, 0.11, 5.5 * kDegree});
+//   const UncertainManipulator gripper(pool, kTable2Gripper);  // metres, radians
+//   const UncertainObject peg(pool, kTable2Object);
 //   const PickupPreconditions pre = pickup_preconditions(
-//       {.object_pose = t_o, .grasp = t_g, .finger_opening = 4, .object_width = 3}, gripper, peg);
+//       {.object_pose = t_o, .grasp = t_g, .finger_opening = 0.1016, .object_width = 0.0762},
+//       gripper, peg);
 //   for (const PickupCondition& c : pre.conditions) std::cout << c.name << ' ' << c.positive;
 #pragma once
 
 #include <array>
 #include <map>
-#include <numbers>
 #include <string>
 #include <vector>
 
+#include "common/units.hpp"
 #include "kinematics/uncertain_pose.hpp"
 
 namespace spar::kinematics {
@@ -58,7 +60,7 @@ struct PickupPreconditions {
 
 struct PickupOptions {
   // Run SMP (symbolic/smp.hpp) on each expression with the box widths. Off by default: on these
-  // expressions it finds nothing to improve (same 34 nodes, same occurrence cost, measured): the
+  // expressions it finds nothing to improve (same 35 nodes, same occurrence cost, measured): the
   // remaining repeats (q_x and q_y both hold the object's variables) are those of the function.
   bool simplify{false};
 };
@@ -71,12 +73,15 @@ struct PickupOptions {
                                                        const PickupOptions& options = {});
 
 // The worked example of SPAR's paper (peg and block), used by `spar demo`, the tests and the
-// benchmark. Table 2's bounds: gripper Δx, Δy, Δz ±0.001 in and Δθ_g ±0.001 rad; object Δx, Δy,
-// Δz ±0.11 in and Δθ_o ±5.5 degrees. The paper gives W_p = 3 in and W_m = 4 in but not the poses;
-// ours: the peg lies at (20, 10, 0.75) in, turned 30 degrees about z, and the gripper comes from
-// above (z down) 1 in along the peg from its origin, fingers across the peg's width.
-inline constexpr PoseUncertainty kTable2Gripper{0.001, 0.001, 0.001, 0.001};
-inline constexpr PoseUncertainty kTable2Object{0.11, 0.11, 0.11, 5.5 * std::numbers::pi / 180};
+// benchmark, in metres and radians (the paper's inch and degree values converted exactly).
+// Table 2's bounds: gripper Δx, Δy, Δz ±0.001 in and Δθ_g ±0.001 rad; object Δx, Δy, Δz ±0.11 in
+// and Δθ_o ±5.5 degrees. The paper gives W_p = 3 in and W_m = 4 in but not the poses; ours: the
+// peg lies at (20, 10, 0.75) in, turned 30 degrees about z, and the gripper comes from above
+// (z down) 1 in along the peg from its origin, fingers across the peg's width.
+inline constexpr PoseUncertainty kTable2Gripper{0.001 * units::kInch, 0.001 * units::kInch,
+                                                0.001 * units::kInch, 0.001};
+inline constexpr PoseUncertainty kTable2Object{0.11 * units::kInch, 0.11 * units::kInch,
+                                               0.11 * units::kInch, 5.5 * units::kDegree};
 [[nodiscard]] PickupGeometry peg_pickup_example();
 
 }  // namespace spar::kinematics

@@ -2,12 +2,15 @@
 
 #include <gtest/gtest.h>
 
+#include "common/units.hpp"
 #include "geometry/grasps.hpp"
 #include "geometry/mesh_io.hpp"
 #include "geometry/stable_poses.hpp"
 
 namespace spar::geometry {
 namespace {
+
+constexpr double in = units::kInch;  // the built-ins are the seed's inch shapes, in metres
 
 std::vector<int> faces_named_prefix(const ObjectModel& object, const std::string& prefix) {
   std::vector<int> ids;
@@ -25,7 +28,7 @@ TEST(BuiltinObjects, ExampleFilesMatchTheBuiltins) {
     for (const Face& face : built.faces()) {
       EXPECT_EQ(loaded.face(face.id).name, face.name);
       EXPECT_TRUE(loaded.face(face.id).normal.isApprox(face.normal, 1e-12));
-      EXPECT_NEAR(loaded.face(face.id).area, face.area, 1e-9);
+      EXPECT_NEAR(loaded.face(face.id).area, face.area, 1e-9 * in * in);
     }
     EXPECT_EQ(stable_poses(loaded).size(), stable_poses(built).size()) << name;
     EXPECT_EQ(compute_grasps(loaded, GripperSpec{}, GraspQuantization{}).size(),
@@ -47,7 +50,8 @@ TEST(BuiltinObjects, BlockHasOnePoseForInsertingThePegFromAbove) {
   // SPAR's BP5: the block's mating faces (the peg hole's opening ring and floor) must be off the
   // table and the mating vector (-z in the block frame, into the hole) must point down.
   const ObjectModel block = make_builtin_object("block");
-  EXPECT_NEAR(block.volume(), 3.5 * 3 * 3 - 1.6 * 1.6 * 2 - 0.5 * 0.5 * (3 - 1.6), 1e-9);
+  EXPECT_NEAR(block.volume(), (3.5 * 3 * 3 - 1.6 * 1.6 * 2 - 0.5 * 0.5 * (3 - 1.6)) * in * in * in,
+              1e-9 * in * in * in);
   const auto poses = stable_poses(block);
   EXPECT_EQ(poses.size(), 6u);
   const std::vector<int> top = faces_named_prefix(block, "top");
@@ -63,8 +67,8 @@ TEST(BuiltinObjects, BlockHasOnePoseForInsertingThePegFromAbove) {
 TEST(BuiltinObjects, PegStandsOnBaseOrShaftButNotOnTheBaseSides) {
   const ObjectModel peg = make_builtin_object("peg");
   const auto poses = stable_poses(peg);
-  // The centre of mass is above the 1.5-high base, so the base's vertical sides are not stable.
-  EXPECT_GT(peg.center_of_mass().z(), 1.5);
+  // The centre of mass is above the 1.5 in high base, so the base's vertical sides are not stable.
+  EXPECT_GT(peg.center_of_mass().z(), 1.5 * in);
   for (const StablePose& pose : poses)
     EXPECT_GT(std::abs(pose.facet_normal.z()), 1e-6) << pose.label;
   bool on_base = false, on_shaft = false;
@@ -76,9 +80,27 @@ TEST(BuiltinObjects, PegStandsOnBaseOrShaftButNotOnTheBaseSides) {
   // Grasps across the 3-inch base (W_p = 3 in the seed) exist and fit the 4-inch opening.
   const auto grasps = compute_grasps(peg, GripperSpec{}, GraspQuantization{});
   EXPECT_TRUE(std::any_of(grasps.begin(), grasps.end(),
-                          [](const Grasp& g) { return std::abs(g.width - 3) < 1e-9; }));
+                          [](const Grasp& g) { return std::abs(g.width - 3 * in) < 1e-9 * in; }));
   EXPECT_TRUE(std::any_of(grasps.begin(), grasps.end(),
-                          [](const Grasp& g) { return std::abs(g.width - 1.5) < 1e-9; }));
+                          [](const Grasp& g) { return std::abs(g.width - 1.5 * in) < 1e-9 * in; }));
+}
+
+TEST(BuiltinObjects, AreBuiltInMetresFromInchDimensions) {
+  const ObjectModel cube = make_builtin_object("cube");
+  double largest = 0;
+  for (const Eigen::Vector3d& v : cube.mesh().vertices) largest = std::max(largest, v.maxCoeff());
+  EXPECT_EQ(largest, 0.0254);  // exactly 1 in
+  EXPECT_NEAR(cube.volume(), in * in * in, 1e-12 * in * in * in);
+  bool named_in_inches = false;
+  for (const Face& face : cube.faces()) named_in_inches |= face.name == "+z (z=1 in)";
+  EXPECT_TRUE(named_in_inches);
+  // The block is 3.5 in along x: its left and right faces are 0.0889 m apart.
+  const ObjectModel block = make_builtin_object("block");
+  const auto left = faces_named_prefix(block, "left -x"),
+             right = faces_named_prefix(block, "right +x");
+  ASSERT_EQ(left.size(), 1u);
+  ASSERT_EQ(right.size(), 1u);
+  EXPECT_NEAR(block.face(left[0]).offset + block.face(right[0]).offset, 3.5 * in, 1e-15);
 }
 
 }  // namespace

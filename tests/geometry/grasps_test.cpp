@@ -5,22 +5,27 @@
 #include <map>
 #include <set>
 
+#include "common/units.hpp"
 #include "geometry/builtin_objects.hpp"
 
 namespace spar::geometry {
 namespace {
 
+// Lengths are in metres; the test shapes are sized in inches, like the default gripper.
+constexpr double in = units::kInch;
+
 // Is `point` on face `id`: in its plane and inside one of its triangles?
 bool on_face(const ObjectModel& object, int id, const Eigen::Vector3d& point) {
   const Face& face = object.face(id);
-  if (std::abs(face.normal.dot(point) - face.offset) > 1e-9) return false;
+  if (std::abs(face.normal.dot(point) - face.offset) > object.tolerance()) return false;
   for (const int t : face.triangles) {
     const auto& tri = object.mesh().triangles[t];
     const Eigen::Vector3d a = object.mesh().vertices[tri[0]], b = object.mesh().vertices[tri[1]],
                           c = object.mesh().vertices[tri[2]];
-    if ((b - a).cross(point - a).dot(face.normal) >= -1e-12 &&
-        (c - b).cross(point - b).dot(face.normal) >= -1e-12 &&
-        (a - c).cross(point - c).dot(face.normal) >= -1e-12)
+    const double area_tolerance = -1e-12 * in * in;
+    if ((b - a).cross(point - a).dot(face.normal) >= area_tolerance &&
+        (c - b).cross(point - b).dot(face.normal) >= area_tolerance &&
+        (a - c).cross(point - c).dot(face.normal) >= area_tolerance)
       return true;
   }
   return false;
@@ -33,17 +38,18 @@ int face_named(const ObjectModel& object, const std::string& name) {
 }
 
 TEST(Grasps, CubeHasFourApproachesForEachOfThreePairs) {
-  const ObjectModel cube("cube", make_box({1, 1, 1}));
+  const ObjectModel cube = make_builtin_object("cube");  // 1 in
   const auto grasps = compute_grasps(cube, GripperSpec{}, GraspQuantization{});
   ASSERT_EQ(grasps.size(), 12u);
   std::set<std::pair<int, int>> pairs;
   for (const Grasp& grasp : grasps) {
     pairs.insert({grasp.face_plus_y, grasp.face_minus_y});
-    EXPECT_NEAR(grasp.width, 1.0, 1e-12);
-    EXPECT_TRUE(grasp.gripper_in_object.translation().isApprox(Eigen::Vector3d(0.5, 0.5, 0.5)));
+    EXPECT_NEAR(grasp.width, 1 * in, 1e-12 * in);
+    EXPECT_TRUE(
+        grasp.gripper_in_object.translation().isApprox(Eigen::Vector3d(0.5, 0.5, 0.5) * in));
   }
   EXPECT_EQ(pairs.size(), 3u);
-  EXPECT_EQ(grasps[3].approach_deg, 270);
+  EXPECT_NEAR(grasps[3].approach, 270 * units::kDegree, 1e-12);
   EXPECT_EQ(grasps[11].label, "G12");
 }
 
@@ -72,14 +78,16 @@ TEST(Grasps, CentroidInAHoleMovesTheContactOntoTheFaces) {
     if (grasp.face_plus_y == top || grasp.face_minus_y == top) {
       found = true;
       const Eigen::Vector3d centre = grasp.gripper_in_object.translation();
-      EXPECT_GT(std::max(std::abs(centre.x()), std::abs(centre.y())), 0.8 - 1e-9) << grasp.label;
+      EXPECT_GT(std::max(std::abs(centre.x()), std::abs(centre.y())), (0.8 - 1e-9) * in)
+          << grasp.label;
     }
   EXPECT_TRUE(found);
 }
 
 TEST(Grasps, TopApproachObscuresTheTopFace) {
-  const ObjectModel cube("cube", make_box({1, 1, 1}));
-  const int top = face_named(cube, "+z (z=1)");
+  const ObjectModel cube = make_builtin_object("cube");
+  const int top = face_named(cube, "+z (z=1 in)");
+  ASSERT_NE(top, 0);
   for (const Grasp& grasp : compute_grasps(cube, GripperSpec{}, GraspQuantization{})) {
     const bool from_above =
         grasp.gripper_in_object.linear().col(2).isApprox(Eigen::Vector3d(0, 0, -1));
@@ -91,10 +99,10 @@ TEST(Grasps, TopApproachObscuresTheTopFace) {
 }
 
 TEST(Grasps, UsabilityInAPoseGivesTheReason) {
-  const ObjectModel cube("cube", make_box({1, 1, 1}));
+  const ObjectModel cube = make_builtin_object("cube");
   const auto poses = stable_poses(cube);
-  const StablePose& on_bottom = poses[face_named(cube, "-z (z=0)") - 1];
-  ASSERT_EQ(on_bottom.table_faces, std::vector<int>{face_named(cube, "-z (z=0)")});
+  const StablePose& on_bottom = poses[face_named(cube, "-z (z=0 in)") - 1];
+  ASSERT_EQ(on_bottom.table_faces, std::vector<int>{face_named(cube, "-z (z=0 in)")});
   const GripperSpec gripper;
   std::map<GraspUsability, int> count;
   for (const Grasp& grasp : compute_grasps(cube, gripper, GraspQuantization{})) {
@@ -107,14 +115,15 @@ TEST(Grasps, UsabilityInAPoseGivesTheReason) {
     }
   }
   // 4 grasps on the vertical pair (top/bottom) touch the table; of the 8 others, 2 come from
-  // above (usable), 2 from below, and 4 from the side, where the 1.5-wide palm hits the table.
+  // above (usable), 2 from below, and 4 from the side, where the 1.5 in wide palm hits the
+  // table.
   EXPECT_EQ(count[GraspUsability::contact_face_on_table], 4);
   EXPECT_EQ(count[GraspUsability::usable], 2);
   EXPECT_EQ(count[GraspUsability::approach_outside_cone], 2);
   EXPECT_EQ(count[GraspUsability::gripper_below_table], 4);
   GripperSpec narrow = gripper;
-  narrow.palm_width = 0.5;
-  narrow.finger_width = 0.5;
+  narrow.palm_width = 0.5 * in;
+  narrow.finger_width = 0.5 * in;
   int usable_narrow = 0;
   for (const Grasp& grasp : compute_grasps(cube, narrow, GraspQuantization{}))
     usable_narrow += grasp_usable(grasp, on_bottom, narrow);
@@ -122,35 +131,39 @@ TEST(Grasps, UsabilityInAPoseGivesTheReason) {
 }
 
 TEST(Grasps, QuantizationIsConfigurable) {
-  const ObjectModel cube("cube", make_box({1, 1, 1}));
+  const ObjectModel cube = make_builtin_object("cube");
   GraspQuantization fine;
-  fine.approach_step_deg = 45;
+  fine.approach_step = 45 * units::kDegree;
   EXPECT_EQ(compute_grasps(cube, GripperSpec{}, fine).size(), 24u);
   fine.positions_per_axis = 2;
   const auto grasps = compute_grasps(cube, GripperSpec{}, fine);
   EXPECT_EQ(grasps.size(), 96u);  // 3 pairs x 4 positions x 8 approaches
   for (const Grasp& grasp : grasps)
-    EXPECT_NEAR((grasp.gripper_in_object.translation() - Eigen::Vector3d(0.5, 0.5, 0.5)).norm(),
-                std::sqrt(2.0) / 4, 1e-9);
-  fine.approach_step_deg = 0;
+    EXPECT_NEAR(
+        (grasp.gripper_in_object.translation() - Eigen::Vector3d(0.5, 0.5, 0.5) * in).norm(),
+        std::sqrt(2.0) / 4 * in, 1e-9 * in);
+  fine.approach_step = 0;
+  EXPECT_THROW((void)compute_grasps(cube, GripperSpec{}, fine), GeometryError);
+  fine.approach_step = 360;  // degrees where radians are due
   EXPECT_THROW((void)compute_grasps(cube, GripperSpec{}, fine), GeometryError);
 }
 
 TEST(Grasps, PairsWiderThanTheOpeningAreSkipped) {
-  const ObjectModel bar("bar", make_box({5, 1, 2}));
+  const ObjectModel bar("bar", make_box(Eigen::Vector3d(5, 1, 2) * in));
   GripperSpec long_fingers;  // long enough that the palm never reaches the bar
-  long_fingers.finger_length = 10;
+  long_fingers.finger_length = 10 * in;
   const auto grasps = compute_grasps(bar, long_fingers, GraspQuantization{});
   EXPECT_EQ(grasps.size(), 8u);
-  for (const Grasp& grasp : grasps) EXPECT_LT(grasp.width, 4.0);
-  long_fingers.max_opening = 6;
+  for (const Grasp& grasp : grasps) EXPECT_LT(grasp.width, 4 * in);
+  long_fingers.max_opening = 6 * in;
   EXPECT_EQ(compute_grasps(bar, long_fingers, GraspQuantization{}).size(), 12u);
 }
 
 TEST(Grasps, GraspsWhoseGripperWouldEnterTheObjectAreDropped) {
-  // Pinching the bar's 1-wide faces at its middle while approaching along its 5-long x axis puts
-  // the palm (1.75 to 2.75 behind the contact) inside the bar: those two approaches are dropped.
-  const ObjectModel bar("bar", make_box({5, 1, 2}));
+  // Pinching the bar's 1 in wide faces at its middle while approaching along its 5 in long x axis
+  // puts the palm (1.75 to 2.75 in behind the contact) inside the bar: those two approaches are
+  // dropped.
+  const ObjectModel bar("bar", make_box(Eigen::Vector3d(5, 1, 2) * in));
   const auto grasps = compute_grasps(bar, GripperSpec{}, GraspQuantization{});
   EXPECT_EQ(grasps.size(), 4u);
   for (const Grasp& grasp : grasps) {
@@ -161,7 +174,7 @@ TEST(Grasps, GraspsWhoseGripperWouldEnterTheObjectAreDropped) {
 
 TEST(Grasps, FacesInsideHolesAreNotContacts) {
   // The peg's outer -y side and the cross hole's wall behind it are parallel, opposite and 1.25
-  // apart, but a finger could only reach the wall from inside the hole.
+  // in apart, but a finger could only reach the wall from inside the hole.
   const ObjectModel peg = make_builtin_object("peg");
   const int wall = face_named(peg, "cross hole wall -y");
   ASSERT_NE(wall, 0);

@@ -115,7 +115,8 @@ TEST(StablePoses, LShapeRejectsUnstableHullFacets) {
   ASSERT_EQ(l_shape.hull_facets().size(), 7u);
   const auto poses = stable_poses(l_shape);
   EXPECT_EQ(poses.size(), 5u);
-  // The centre of mass (1.25, 0.5, 1.75) is above the 1-high foot end and beside the 1-wide top.
+  // The centre of mass (1.25, 0.5, 1.75) in is above the 1 in high foot end and beside the 1 in
+  // wide top.
   EXPECT_EQ(pose_resting_on(poses, {1, 0, 0}), nullptr);
   EXPECT_EQ(pose_resting_on(poses, {0, 0, 1}), nullptr);
   // The facet across the notch is stable but touches the table only along two edges.
