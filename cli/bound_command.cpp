@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <limits>
@@ -19,6 +20,8 @@
 #include "bounds/bound.hpp"
 #include "bounds/shostak.hpp"
 #include "cli/commands.hpp"
+#include "cli/options.hpp"
+#include "common/number.hpp"
 #include "symbolic/operations.hpp"
 #include "symbolic/parse.hpp"
 
@@ -35,22 +38,19 @@ struct BoundArguments {
   std::vector<std::string> keep;
   std::string jsonl;
   double tolerance{1e-3};
-  std::size_t max_evaluations{200'000};
+  std::uint64_t max_evaluations{200'000};
   bool json{false};
 };
 
-double parse_double(const std::string& text, const std::string& what) {
-  std::size_t used = 0;
-  double value = 0;
+// At most this many boxes per bound: about a minute of work on a simple expression.
+constexpr std::uint64_t kMaxEvaluationsLimit = 100'000'000;
+
+double read_bound(const std::string& text, const std::string& what) {
   try {
-    value = std::stod(text, &used);
-  } catch (const std::exception&) {
-    used = 0;
+    return read_number(text, what);
+  } catch (const NumberError& error) {
+    throw UsageError(error.what());
   }
-  if (used != text.size() || text.empty()) {
-    throw BoundsError("cannot read " + what + " '" + text + "' as a number");
-  }
-  return value;
 }
 
 struct VariableRange {
@@ -60,7 +60,7 @@ struct VariableRange {
 VariableRange split_variable(const std::string& text) {
   const auto equals = text.find('='), colon = text.rfind(':');
   if (equals == std::string::npos || colon == std::string::npos || colon < equals) {
-    throw BoundsError("--var '" + text + "' must look like name=LO:HI");
+    throw UsageError("--var '" + text + "' must look like name=LO:HI");
   }
   return {text.substr(0, equals), text.substr(equals + 1, colon - equals - 1),
           text.substr(colon + 1)};
@@ -69,8 +69,8 @@ VariableRange split_variable(const std::string& text) {
 // "x=LO:HI".
 void add_variable(symbolic::ExprPool& pool, bounds::Box& box, const std::string& text) {
   const VariableRange range = split_variable(text);
-  box.add(pool.variable(range.name), parse_double(range.lo, "lower bound of " + range.name),
-          parse_double(range.hi, "upper bound of " + range.name));
+  box.add(pool.variable(range.name), read_bound(range.lo, "--var " + range.name + ": lower bound"),
+          read_bound(range.hi, "--var " + range.name + ": upper bound"));
 }
 
 bounds::Relation relation_named(const std::string& text) {
@@ -78,14 +78,14 @@ bounds::Relation relation_named(const std::string& text) {
   if (text == "<=") return bounds::Relation::kLessEqual;
   if (text == ">") return bounds::Relation::kGreater;
   if (text == ">=") return bounds::Relation::kGreaterEqual;
-  throw BoundsError("unknown relation '" + text + "' (use <, <=, >, >=)");
+  throw UsageError("unknown relation '" + text + "' (use <, <=, >, >=)");
 }
 
 // "lhs REL rhs" -> (lhs - rhs) REL 0.
 bounds::Constraint parse_constraint(symbolic::ExprPool& pool, const std::string& text) {
   const auto at = text.find_first_of("<>");
   if (at == std::string::npos || text.find_first_of("<>", at + 2) != std::string::npos) {
-    throw BoundsError("constraint '" + text + "' needs exactly one of <, <=, >, >=");
+    throw UsageError("constraint '" + text + "' needs exactly one of <, <=, >, >=");
   }
   const std::size_t length = at + 1 < text.size() && text[at + 1] == '=' ? 2 : 1;
   const Expr lhs = symbolic::parse(pool, text.substr(0, at));
@@ -139,37 +139,65 @@ nlohmann::json to_json(const std::string& name, const bounds::Box& box, const Ti
   return out;
 }
 
-// One corpus line -> one result object (or {"name", "error"}).
-nlohmann::json bound_record(const std::string& line, const BoundArguments& arguments, bool& ok) {
+// A record's mistake: the line's error record says it and the batch goes on.
+class RecordError : public Error {
+ public:
+  using Error::Error;
+};
+
+// A range end: a JSON number, or a string spar's number reader takes ("1e-310", "-inf" fails as
+// every range must be finite).
+double range_end(const nlohmann::json& value, const std::string& what) {
+  if (value.is_number()) return value.get<double>();
+  if (value.is_string()) return read_number(value.get<std::string>(), what);
+  throw RecordError(what + " must be a number");
+}
+
+const std::string& string_field(const nlohmann::json& object, const char* key) {
+  const auto found = object.find(key);
+  if (found == object.end()) throw RecordError(std::string("missing \"") + key + "\" string");
+  if (!found->is_string()) throw RecordError(std::string("\"") + key + "\" must be a string");
+  return found->get_ref<const std::string&>();
+}
+
+// One corpus line -> one result object, or {"line", "name", "error"} when the line is not a
+// record spar can bound (invalid JSON or UTF-8, a missing key, a wrong type) or bounding fails.
+nlohmann::json bound_record(const std::string& line, std::size_t line_number,
+                            const BoundArguments& arguments, bool& ok) {
   std::string name;
   try {
     const auto record = nlohmann::json::parse(line);
-    name = record.value("name", "");
+    if (!record.is_object()) throw RecordError("a record must be a JSON object");
+    if (record.contains("name") && record["name"].is_string()) name = record["name"];
     symbolic::ExprPool pool;
     bounds::Box box;
     if (!record.contains("vars") || !record["vars"].is_object()) {
-      throw BoundsError("missing \"vars\" object");
+      throw RecordError("missing \"vars\" object");
     }
     for (const auto& [var, range] : record["vars"].items()) {
-      if (!range.is_array() || range.size() != 2 || !range[0].is_number() ||
-          !range[1].is_number()) {
-        throw BoundsError("range of '" + var + "' must be [lo, hi]");
+      if (!range.is_array() || range.size() != 2) {
+        throw RecordError("range of '" + var + "' must be [lo, hi]");
       }
-      box.add(pool.variable(var), range[0].get<double>(), range[1].get<double>());
+      box.add(pool.variable(var), range_end(range[0], "lower bound of '" + var + "'"),
+              range_end(range[1], "upper bound of '" + var + "'"));
     }
-    if (!record.contains("expr") || !record["expr"].is_string()) {
-      throw BoundsError("missing \"expr\" string");
-    }
-    const Expr f = symbolic::parse(pool, record["expr"].get<std::string>());
+    const Expr f = symbolic::parse(pool, string_field(record, "expr"));
     std::vector<bounds::Constraint> constraints;
-    for (const auto& c : record.value("constraints", nlohmann::json::array())) {
-      constraints.push_back({symbolic::parse(pool, c.at("g").get<std::string>()),
-                             relation_named(c.at("rel").get<std::string>())});
+    if (record.contains("constraints")) {
+      if (!record["constraints"].is_array()) {
+        throw RecordError("\"constraints\" must be an array of {\"g\", \"rel\"}");
+      }
+      for (const auto& c : record["constraints"]) {
+        if (!c.is_object()) throw RecordError("a constraint must be an object {\"g\", \"rel\"}");
+        constraints.push_back(
+            {symbolic::parse(pool, string_field(c, "g")), relation_named(string_field(c, "rel"))});
+      }
     }
     return to_json(name, box, run(f, box, arguments, constraints));
   } catch (const std::exception& error) {
     ok = false;
     nlohmann::json out;
+    out["line"] = line_number;
     out["name"] = name;
     out["error"] = error.what();
     return out;
@@ -177,24 +205,32 @@ nlohmann::json bound_record(const std::string& line, const BoundArguments& argum
 }
 
 void run_jsonl(const BoundArguments& arguments) {
+  if (std::filesystem::is_directory(arguments.jsonl)) {
+    throw UsageError("--jsonl '" + arguments.jsonl + "' is a directory: give a JSONL file");
+  }
   std::ifstream in(arguments.jsonl);
-  if (!in) throw BoundsError("cannot open '" + arguments.jsonl + "'");
+  if (!in) throw UsageError("--jsonl: cannot open '" + arguments.jsonl + "'");
   // Progress goes to a terminal only, so redirected stderr stays clean; each result line is
   // flushed as it is done, so an interrupted run keeps every answer it had.
   const bool show_progress = isatty(STDERR_FILENO) != 0;
   std::string line;
   std::size_t failures = 0, done = 0;
-  while (std::getline(in, line)) {
+  for (std::size_t line_number = 1; std::getline(in, line); ++line_number) {
     if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
     bool ok = true;
-    std::cout << bound_record(line, arguments, ok).dump() << std::endl;
+    // Invalid UTF-8 (in a name or an error quoting the line) is written as U+FFFD, not thrown.
+    std::cout << bound_record(line, line_number, arguments, ok)
+                     .dump(-1, ' ', false, nlohmann::json::error_handler_t::replace)
+              << std::endl;
+    if (!std::cout) flush_standard_output();  // throws: the output is lost, stop now
     failures += ok ? 0 : 1;
     if (show_progress) std::cerr << "\rspar bound: " << ++done << " records bounded" << std::flush;
   }
   if (show_progress && done > 0) std::cerr << '\n';
+  if (in.bad()) throw Error("--jsonl: reading '" + arguments.jsonl + "' failed");
   if (failures > 0) {
-    throw BoundsError(std::to_string(failures) + " line(s) of '" + arguments.jsonl +
-                      "' could not be bounded (see their \"error\")");
+    throw Error(std::to_string(failures) + " line(s) of '" + arguments.jsonl +
+                "' could not be bounded (see their \"error\")");
   }
 }
 
@@ -231,14 +267,14 @@ void run_symbolic(const BoundArguments& arguments) {
   for (const std::string& name : arguments.keep) {
     const Expr v = pool.variable(name);
     if (std::find(box.variables.begin(), box.variables.end(), v) == box.variables.end()) {
-      throw BoundsError("--keep '" + name + "' is not a variable given with --var");
+      throw UsageError("--keep '" + name + "' is not a variable given with --var");
     }
     keep.push_back(v);
   }
   const Expr f = symbolic::parse(pool, arguments.expression);
   for (Expr v : symbolic::free_variables(f)) {
     if (std::find(box.variables.begin(), box.variables.end(), v) == box.variables.end()) {
-      throw BoundsError("unknown variable '" + v.name() + "' in the expression: give it a range");
+      throw UsageError("unknown variable '" + v.name() + "' in the expression: give it a range");
     }
   }
   Expr upper, lower;
@@ -261,7 +297,7 @@ void run_symbolic(const BoundArguments& arguments) {
 }
 
 void run_single(const BoundArguments& arguments) {
-  if (arguments.expression.empty()) throw BoundsError("give an expression or --jsonl FILE");
+  if (arguments.expression.empty()) throw UsageError("give an expression or --jsonl FILE");
   if (!arguments.keep.empty()) return run_symbolic(arguments);
   symbolic::ExprPool pool;
   bounds::Box box;
@@ -315,21 +351,33 @@ void add_bound_command(CLI::App& app) {
       "bound", "Sound SUP/INF of an expression over a box, with witnesses and the tightness gap");
   auto arguments = std::make_shared<BoundArguments>();
   command->add_option("expression", arguments->expression, "Infix expression, e.g. \"x*sin(y)\"");
-  command->add_option("--var", arguments->variables, "Variable range name=LO:HI (repeatable)");
-  command->add_option("--constraint", arguments->constraints,
-                      "Constraint such as \"x+y<=2\" (repeatable)");
-  command->add_option("--keep", arguments->keep,
-                      "Keep this variable: print SUP/INF as expressions in the kept variables "
-                      "(Shostak; linear constraints only; repeatable)");
+  // One value per occurrence, so a following expression is never taken as another range.
+  command->add_option("--var", arguments->variables, "Variable range name=LO:HI (repeatable)")
+      ->allow_extra_args(false);
+  command
+      ->add_option("--constraint", arguments->constraints,
+                   "Constraint such as \"x+y<=2\" (repeatable)")
+      ->allow_extra_args(false);
+  command
+      ->add_option("--keep", arguments->keep,
+                   "Keep this variable: print SUP/INF as expressions in the kept variables "
+                   "(Shostak; linear constraints only; repeatable)")
+      ->allow_extra_args(false);
   command->add_option("--jsonl", arguments->jsonl,
                       "Bound every line of an FPBench-style JSONL corpus");
-  command->add_option("--tol", arguments->tolerance, "Relative tolerance (default 1e-3)");
-  command->add_option("--max-evals", arguments->max_evaluations, "Box evaluation limit");
+  add_number_option(*command, "--tol", arguments->tolerance, "Relative tolerance",
+                    NumberLimits::non_negative());
+  add_count_option(*command, "--max-evals", arguments->max_evaluations, "Box evaluation limit", 1,
+                   kMaxEvaluationsLimit);
   command->add_flag("--json", arguments->json, "Print the result as JSON");
   command->callback([arguments] {
-    if (!(arguments->tolerance >= 0)) throw BoundsError("--tol must be a number >= 0");
     if (!arguments->jsonl.empty()) {
-      if (!arguments->keep.empty()) throw BoundsError("--keep cannot be used with --jsonl");
+      if (!arguments->expression.empty() || !arguments->variables.empty() ||
+          !arguments->constraints.empty() || !arguments->keep.empty() || arguments->json) {
+        throw UsageError(
+            "--jsonl bounds the records of a file (each with its own expression and ranges): it "
+            "cannot be combined with an expression, --var, --constraint, --keep or --json");
+      }
       run_jsonl(*arguments);
     } else {
       run_single(*arguments);

@@ -3,7 +3,6 @@
 //   spar fk --robot puma560 --q "0 0.785 3.14 0 0.785 0" [--json]
 //   spar ik --robot puma560 --pose "<16 numbers of the 4x4 flange pose, row-major>" [--json]
 //           [--max-tilt-deg 45]
-#include <charconv>
 #include <cmath>
 #include <iomanip>
 #include <iostream>
@@ -15,6 +14,8 @@
 #include <vector>
 
 #include "cli/commands.hpp"
+#include "cli/options.hpp"
+#include "common/number.hpp"
 #include "kinematics/ik.hpp"
 #include "kinematics/puma.hpp"
 
@@ -22,12 +23,12 @@ namespace spar::cli {
 namespace {
 
 using kinematics::DhChain;
-using kinematics::KinematicsError;
 using kinematics::Transform;
 
 constexpr double kDegree = std::numbers::pi / 180.0;
 
-// Numbers separated by spaces and/or commas; throws naming the option and the offending token.
+// Numbers separated by spaces and/or commas; throws UsageError naming the option and the
+// offending token.
 std::vector<double> parse_numbers(const std::string& text, const std::string& option) {
   std::vector<double> numbers;
   std::string token;
@@ -39,15 +40,11 @@ std::vector<double> parse_numbers(const std::string& text, const std::string& op
       const std::string piece =
           token.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
       if (!piece.empty()) {
-        double value = 0.0;
-        const char* first = piece.data();
-        const char* last = piece.data() + piece.size();
-        if (*first == '+') ++first;
-        const auto [end, error] = std::from_chars(first, last, value);
-        if (error != std::errc() || end != last || !std::isfinite(value)) {
-          throw KinematicsError(option + ": '" + piece + "' is not a finite number");
+        try {
+          numbers.push_back(read_number(piece, option));
+        } catch (const NumberError& error) {
+          throw UsageError(error.what());
         }
-        numbers.push_back(value);
       }
       if (comma == std::string::npos) break;
       start = comma + 1;
@@ -115,8 +112,8 @@ void run_fk(const CommonOptions& options, const std::string& joint_text) {
   const DhChain& robot = kinematics::builtin_robot(options.robot);
   const std::vector<double> q = parse_numbers(joint_text, "--q");
   if (q.size() != robot.size()) {
-    throw KinematicsError("--q: " + options.robot + " needs " + std::to_string(robot.size()) +
-                          " joint angles (radians), got " + std::to_string(q.size()));
+    throw UsageError("--q: " + options.robot + " needs " + std::to_string(robot.size()) +
+                     " joint angles (radians), got " + std::to_string(q.size()));
   }
   const Transform pose = robot.forward(q);
   const std::vector<int> out = joints_out_of_limits(robot, q);
@@ -222,10 +219,8 @@ void add_ik_command(CLI::App& app) {
   add_common_options(command, *options);
   command->add_option("--pose", *pose, "Flange pose: 16 numbers of the 4x4 matrix, row-major")
       ->required();
-  command
-      ->add_option("--max-tilt-deg", *max_tilt,
-                   "Cone half-angle around world -z for the tool z axis (reachability)")
-      ->check(CLI::Range(0.0, 180.0));
+  add_number_option(*command, "--max-tilt-deg", *max_tilt,
+                    "Cone half-angle around world -z for the tool z axis (reachability)", {0, 180});
   command->callback([options, pose, max_tilt] { run_ik(*options, *pose, *max_tilt); });
 }
 

@@ -2,6 +2,7 @@
 #include <iostream>
 
 #include "cli/commands.hpp"
+#include "cli/options.hpp"
 
 int main(int argc, char** argv) {
   CLI::App app{"spar: symbolic worst-case uncertainty analysis of robot task plans"};
@@ -14,7 +15,11 @@ int main(int argc, char** argv) {
   spar::cli::add_object_command(app);
   spar::cli::add_bound_command(app);
   try {
-    app.parse(argc, argv);
+    app.name("spar");
+    spar::cli::accept_leading_minus(app);  // after every add_*_command: covers all their options
+    std::vector<std::string> arguments = spar::cli::protect_leading_minus(argc, argv);
+    app.parse(arguments);
+    spar::cli::flush_standard_output();
   } catch (const CLI::ParseError& error) {
     if (error.get_exit_code() == 0) return app.exit(error);  // --help
     std::cerr << "spar: error: " << error.what() << " (see spar --help)\n";

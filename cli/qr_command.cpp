@@ -7,7 +7,6 @@
 // Prints the trial table (trial, controls, outcome, planned change, limits asserted), or with
 // --json one object {"trials": [...], "summary": {...}}. The SVG of the search in the
 // angle x digging-depth plane (the seed's Figure 8) is written only when --svg FILE is given.
-#include <fstream>
 #include <iomanip>
 #include <iostream>
 #include <memory>
@@ -16,6 +15,7 @@
 #include <string>
 
 #include "cli/commands.hpp"
+#include "cli/options.hpp"
 #include "qr/match_strike.hpp"
 
 namespace spar::cli {
@@ -27,6 +27,8 @@ using qr::Trial;
 
 const char* const kControlNames[] = {"depth", "angle", "gap"};
 const char* const kGoalNames[] = {"break_on_start", "break_on_strike", "ignition"};
+// --budget's upper limit: the search converges in tens of trials; more is a typo, not a plan.
+constexpr std::uint64_t kMaxTrials = 10'000;
 
 std::string number(double value) {
   std::ostringstream out;
@@ -161,12 +163,12 @@ void add_qr_command(CLI::App& app) {
     std::string svg;
   };
   auto options = std::make_shared<Options>();
-  match->add_option("--seed", options->seed, "Seed of the simulated world's hidden parameters");
+  add_count_option(*match, "--seed", options->seed,
+                   "Seed of the simulated world's hidden parameters", 0, UINT64_MAX);
   match->add_flag("--paper-world", options->paper_world,
                   "Use the world shaped like the seed's run instead of a random one");
   match->add_option("--start", options->start, "Start controls, e.g. depth=8,angle=20,gap=20");
-  match->add_option("--budget", options->budget, "Maximum number of trials")
-      ->check(CLI::PositiveNumber);
+  add_count_option(*match, "--budget", options->budget, "Maximum number of trials", 1, kMaxTrials);
   match->add_flag("--json", options->json, "Print the trials and a summary as one JSON object");
   match->add_option("--svg", options->svg,
                     "Write the search in the angle x depth plane to this SVG file");
@@ -178,9 +180,8 @@ void add_qr_command(CLI::App& app) {
     qr::Planner planner(model.network, model.controls, model.goals);
     const qr::RunResult run = qr::run_trials(planner, start, world.as_function(), options->budget);
     if (!options->svg.empty()) {
-      std::ofstream file(options->svg);
-      file << qr::search_svg(model, run);
-      if (!file) throw qr::QrError("cannot write the SVG to '" + options->svg + "'");
+      write_file(options->svg, "the SVG",
+                 [&](std::ostream& file) { file << qr::search_svg(model, run); });
     }
     if (!options->json) {
       print_table(model, run);

@@ -3,7 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <optional>
 #include <sstream>
+
+#include "common/number.hpp"
 
 namespace spar::qr {
 namespace {
@@ -62,16 +65,11 @@ std::vector<double> parse_match_start(const std::string& text,
     if (found == std::end(kControlKeys)) {
       throw QrError("bad --start key '" + key + "': expected depth, angle or gap");
     }
-    std::size_t used = 0;
-    double value = 0;
-    try {
-      value = std::stod(number, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used == 0 || used != number.size() || !std::isfinite(value)) {
+    const std::optional<double> parsed = parse_number(number);
+    if (!parsed || !std::isfinite(*parsed)) {
       throw QrError("bad --start value '" + number + "' for " + key + ": expected a number");
     }
+    const double value = *parsed;
     const ControlSpec& spec = model.controls[found - std::begin(kControlKeys)];
     if (value < spec.minimum || value > spec.maximum) {
       std::ostringstream message;

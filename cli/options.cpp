@@ -1,0 +1,119 @@
+#include "cli/options.hpp"
+
+#include <cctype>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <iostream>
+#include <limits>
+
+namespace spar::cli {
+namespace {
+
+// What protect_leading_minus puts before "-x": a space is never part of an option name, so CLI11
+// takes " -x" as a value; every option drops it again.
+constexpr char kValueMark = ' ';
+
+// CLI11 (2.1) reads "-c..." as the short option -c when c is alphanumeric, '_', '?' or '@';
+// "-2*x" or "-(x)" already reach the command as values unless an option -2 exists (none does).
+bool looks_like_short_option(const std::string& argument) {
+  if (argument.size() < 2 || argument[0] != '-' || argument == "-h") return false;
+  const unsigned char c = static_cast<unsigned char>(argument[1]);
+  return std::isalpha(c) || c == '_' || c == '?' || c == '@';
+}
+
+std::string system_reason() { return errno != 0 ? std::strerror(errno) : "input/output error"; }
+
+template <typename Integer>
+CLI::Option* add_whole_number_option(CLI::App& command, const std::string& name, Integer& value,
+                                     const std::string& description, std::uint64_t low,
+                                     std::uint64_t high) {
+  if (high > static_cast<std::uint64_t>(std::numeric_limits<Integer>::max())) {
+    throw std::logic_error(name + ": the upper limit does not fit the option's type");
+  }
+  CLI::Option* option = command.add_option_function<std::string>(
+      name,
+      [&value, name, low, high](const std::string& text) {
+        try {
+          value = static_cast<Integer>(read_count(text, name, low, high));
+        } catch (const NumberError& error) {
+          throw UsageError(error.what());
+        }
+      },
+      description);
+  return option->type_name("INT")->default_str(std::to_string(value));
+}
+
+}  // namespace
+
+CLI::Option* add_number_option(CLI::App& command, const std::string& name, double& value,
+                               const std::string& description, const NumberLimits& limits) {
+  CLI::Option* option = command.add_option_function<std::string>(
+      name,
+      [&value, name, limits](const std::string& text) {
+        try {
+          value = read_number(text, name, limits);
+        } catch (const NumberError& error) {
+          throw UsageError(error.what());
+        }
+      },
+      description);
+  return option->type_name("NUMBER")->default_str(format_number(value));
+}
+
+CLI::Option* add_count_option(CLI::App& command, const std::string& name, std::uint64_t& value,
+                              const std::string& description, std::uint64_t low,
+                              std::uint64_t high) {
+  return add_whole_number_option(command, name, value, description, low, high);
+}
+
+CLI::Option* add_count_option(CLI::App& command, const std::string& name, int& value,
+                              const std::string& description, std::uint64_t low,
+                              std::uint64_t high) {
+  return add_whole_number_option(command, name, value, description, low, high);
+}
+
+std::vector<std::string> protect_leading_minus(int argc, const char* const* argv) {
+  std::vector<std::string> arguments;
+  bool after_separator = false;
+  for (int i = 1; i < argc; ++i) {
+    std::string argument = argv[i];
+    if (argument == "--") after_separator = true;
+    if (!after_separator && looks_like_short_option(argument)) argument.insert(0, 1, kValueMark);
+    arguments.push_back(std::move(argument));
+  }
+  return {arguments.rbegin(), arguments.rend()};
+}
+
+void accept_leading_minus(CLI::App& app) {
+  for (CLI::Option* option : app.get_options()) {
+    if (option->get_type_size() == 0) continue;  // a flag takes no value
+    option->transform(
+        [](std::string value) {
+          if (value.starts_with(std::string{kValueMark, '-'})) value.erase(0, 1);
+          return value;
+        },
+        "", "");
+  }
+  for (CLI::App* command : app.get_subcommands({})) accept_leading_minus(*command);
+}
+
+void flush_standard_output() {
+  errno = 0;
+  std::cout.flush();
+  const bool lost = !std::cout || std::fflush(stdout) != 0 || std::ferror(stdout) != 0;
+  if (lost) throw Error("cannot write the output to standard output: " + system_reason());
+}
+
+void write_file(const std::string& path, const std::string& what,
+                const std::function<void(std::ostream&)>& write) {
+  errno = 0;
+  std::ofstream file(path);
+  if (!file) throw Error("cannot write " + what + " to '" + path + "': " + system_reason());
+  write(file);
+  file.close();
+  if (!file) throw Error("cannot write " + what + " to '" + path + "': " + system_reason());
+}
+
+}  // namespace spar::cli
