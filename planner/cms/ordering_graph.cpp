@@ -10,9 +10,13 @@ namespace spar::planner::cms {
 
 namespace {
 
-std::vector<int> members(const internal::Bitset& set) {
+using internal::span_find_next;
+
+std::vector<int> members(std::span<const std::uint64_t> row, int bits) {
   std::vector<int> result;
-  for (int bit = set.find_first(); bit >= 0; bit = set.find_next(bit + 1)) result.push_back(bit);
+  for (int bit = span_find_next(row, bits, 0); bit >= 0; bit = span_find_next(row, bits, bit + 1)) {
+    result.push_back(bit);
+  }
   return result;
 }
 
@@ -20,10 +24,8 @@ std::vector<int> members(const internal::Bitset& set) {
 
 int OrderingGraph::add_step() {
   const int step = step_count();
-  for (internal::Bitset& row : successors_) row.resize(step + 1);
-  for (internal::Bitset& row : predecessors_) row.resize(step + 1);
-  successors_.emplace_back(step + 1);
-  predecessors_.emplace_back(step + 1);
+  successors_.grow(step + 1, step + 1);
+  predecessors_.grow(step + 1, step + 1);
   return step;
 }
 
@@ -37,20 +39,21 @@ void OrderingGraph::check_step(int step) const {
 bool OrderingGraph::add_before(int a, int b) {
   check_step(a);
   check_step(b);
-  if (a == b || successors_[b].test(a)) return false;
+  if (a == b || successors_.test(b, a)) return false;
   if (std::find(arcs_.begin(), arcs_.end(), std::pair{a, b}) != arcs_.end()) return true;
   arcs_.emplace_back(a, b);
-  if (successors_[a].test(b)) return true;  // already implied: the closure is unchanged
+  if (successors_.test(a, b)) return true;  // already implied: the closure is unchanged
   // Every step up to and including a now precedes every step from b on.
-  internal::Bitset from_b = successors_[b];
+  const int n = step_count();
+  internal::Bitset from_b(n, successors_.row(b));
   from_b.set(b);
-  internal::Bitset up_to_a = predecessors_[a];
+  internal::Bitset up_to_a(n, predecessors_.row(a));
   up_to_a.set(a);
   for (int x = up_to_a.find_first(); x >= 0; x = up_to_a.find_next(x + 1)) {
-    successors_[x].unite_with(from_b);
+    internal::span_unite(successors_.row(x), from_b.words());
   }
   for (int y = from_b.find_first(); y >= 0; y = from_b.find_next(y + 1)) {
-    predecessors_[y].unite_with(up_to_a);
+    internal::span_unite(predecessors_.row(y), up_to_a.words());
   }
   return true;
 }
@@ -58,7 +61,7 @@ bool OrderingGraph::add_before(int a, int b) {
 bool OrderingGraph::precedes(int a, int b) const {
   check_step(a);
   check_step(b);
-  return successors_[a].test(b);
+  return successors_.test(a, b);
 }
 
 bool OrderingGraph::possibly_before(int a, int b) const { return a != b && !precedes(b, a); }
@@ -70,20 +73,20 @@ bool OrderingGraph::possibly_between(int c, int a, int b) const {
 
 std::vector<int> OrderingGraph::predecessors(int step) const {
   check_step(step);
-  return members(predecessors_[step]);
+  return members(predecessors_.row(step), step_count());
 }
 
 std::vector<int> OrderingGraph::successors(int step) const {
   check_step(step);
-  return members(successors_[step]);
+  return members(successors_.row(step), step_count());
 }
 
 std::vector<std::pair<int, int>> OrderingGraph::transitive_reduction() const {
   std::vector<std::pair<int, int>> result;
   for (int a = 0; a < step_count(); ++a) {
-    const internal::Bitset& after_a = successors_[a];
-    for (int b = after_a.find_first(); b >= 0; b = after_a.find_next(b + 1)) {
-      if (!after_a.intersects(predecessors_[b])) result.emplace_back(a, b);
+    const auto after_a = successors_.row(a);
+    for (const int b : members(after_a, step_count())) {
+      if (!internal::spans_intersect(after_a, predecessors_.row(b))) result.emplace_back(a, b);
     }
   }
   return result;
@@ -91,8 +94,8 @@ std::vector<std::pair<int, int>> OrderingGraph::transitive_reduction() const {
 
 void OrderingGraph::check_invariants() const {
   const int n = step_count();
-  if (predecessors_.size() != successors_.size()) {
-    throw std::logic_error("ordering graph: successor and predecessor tables differ in size");
+  if (successors_.columns() != n || predecessors_.rows() != n || predecessors_.columns() != n) {
+    throw std::logic_error("ordering graph: closure matrices are not square step_count()");
   }
   // Reachability over the posted arcs by depth-first search from every step.
   std::vector<std::vector<int>> out(static_cast<std::size_t>(n));
@@ -102,10 +105,6 @@ void OrderingGraph::check_invariants() const {
     out[static_cast<std::size_t>(a)].push_back(b);
   }
   for (int a = 0; a < n; ++a) {
-    if (successors_[a].size() != n || predecessors_[a].size() != n) {
-      throw std::logic_error("ordering graph: closure row of step " + std::to_string(a) +
-                             " has the wrong width");
-    }
     std::vector<bool> reached(static_cast<std::size_t>(n), false);
     std::vector<int> stack = out[static_cast<std::size_t>(a)];
     while (!stack.empty()) {
@@ -119,13 +118,13 @@ void OrderingGraph::check_invariants() const {
       throw std::logic_error("ordering graph: cycle through step " + std::to_string(a));
     }
     for (int b = 0; b < n; ++b) {
-      if (successors_[a].test(b) != reached[static_cast<std::size_t>(b)]) {
+      if (successors_.test(a, b) != reached[static_cast<std::size_t>(b)]) {
         throw std::logic_error(
             "ordering graph: closure says " + std::to_string(a) +
             (reached[static_cast<std::size_t>(b)] ? " does not precede " : " precedes ") +
             std::to_string(b) + ", the arcs say otherwise");
       }
-      if (successors_[a].test(b) != predecessors_[b].test(a)) {
+      if (successors_.test(a, b) != predecessors_.test(b, a)) {
         throw std::logic_error("ordering graph: predecessor rows are not the transpose");
       }
     }
@@ -136,8 +135,10 @@ Linearizations::Linearizations(const OrderingGraph& graph)
     : predecessors_{graph.predecessors_}, placed_(graph.step_count()) {}
 
 int Linearizations::next_available(int from) const {
-  for (int step = from; step < static_cast<int>(predecessors_.size()); ++step) {
-    if (!placed_.test(step) && predecessors_[step].is_subset_of(placed_)) return step;
+  for (int step = from; step < predecessors_.rows(); ++step) {
+    if (!placed_.test(step) && internal::span_is_subset(predecessors_.row(step), placed_.words())) {
+      return step;
+    }
   }
   return -1;
 }
@@ -165,7 +166,7 @@ std::optional<std::vector<int>> Linearizations::next() {
   started_ = true;
   // Complete with the smallest available step at each position: a set of placed steps closed
   // under predecessors always extends to a full order, so this never gets stuck.
-  while (order_.size() < predecessors_.size()) {
+  while (static_cast<int>(order_.size()) < predecessors_.rows()) {
     const int step = next_available(0);
     order_.push_back(step);
     placed_.set(step);

@@ -5,7 +5,8 @@
 //
 // The transitive closure is kept incrementally as bit rows (successors and predecessors of every
 // step), so precedes() is O(1) and adding an arc costs O(n²/64). The graph is a plain copyable
-// value (the planner copies it for every branch of its search).
+// value (the planner copies it for every branch of its search): two flat bit matrices and the
+// arc list, about 1 µs to copy at 100 steps.
 //
 // Linearizations enumerates the total orders compatible with the graph lazily, lexicographically
 // smallest first (comparing step ids position by position).
@@ -31,7 +32,7 @@ class OrderingGraph {
  public:
   // Adds an unordered step and returns its id (0, 1, 2, ... in order of addition).
   int add_step();
-  [[nodiscard]] int step_count() const { return static_cast<int>(successors_.size()); }
+  [[nodiscard]] int step_count() const { return successors_.rows(); }
 
   // SPAR's prior_to(a, b): a must be executed before b. Returns false and leaves the graph
   // unchanged if that would create a cycle (b already precedes a, or a == b). Posting an arc
@@ -69,11 +70,11 @@ class OrderingGraph {
 
   // arcs_: every accepted prior_to(a, b), each pair once, in posting order.
   std::vector<std::pair<int, int>> arcs_;
-  // successors_[a] holds b iff a path a -> ... -> b of arcs_ exists (length >= 1); never a itself
-  // (acyclic). predecessors_[b] holds a iff successors_[a] holds b. Every row has step_count()
-  // bits.
-  std::vector<internal::Bitset> successors_;
-  std::vector<internal::Bitset> predecessors_;
+  // Square step_count() x step_count() bit matrices (flat, so a copy is two memcpys): row a of
+  // successors_ holds b iff a path a -> ... -> b of arcs_ exists (length >= 1); never a itself
+  // (acyclic). Row b of predecessors_ holds a iff row a of successors_ holds b.
+  internal::BitMatrix successors_;
+  internal::BitMatrix predecessors_;
 };
 
 // Lazy, deterministic enumeration of the graph's topological orders (its linearizations),
@@ -91,9 +92,9 @@ class Linearizations {
   // Index of the smallest step >= from that may come next when `placed_` are already placed, or -1.
   [[nodiscard]] int next_available(int from) const;
 
-  std::vector<internal::Bitset> predecessors_;  // the graph's closure rows, copied
-  std::vector<int> order_;                      // the order returned last (empty before the first)
-  internal::Bitset placed_;                     // members of order_
+  internal::BitMatrix predecessors_;  // the graph's closure, copied
+  std::vector<int> order_;            // the order returned last (empty before the first)
+  internal::Bitset placed_;           // members of order_
   bool started_{false};
   bool finished_{false};
 };

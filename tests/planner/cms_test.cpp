@@ -86,6 +86,23 @@ TEST(OrderingGraph, PossiblyBetweenIsTheThreatTest) {
   EXPECT_FALSE(graph.possibly_between(0, 0, 3));  // a step is not between itself and another
 }
 
+TEST(OrderingGraph, ClosureSurvivesGrowingPastWordBoundaries) {
+  // A chain grown in two rounds across the 64- and 128-step row widths.
+  OrderingGraph graph;
+  for (int step = 0; step < 70; ++step) graph.add_step();
+  for (int step = 0; step + 1 < 70; ++step) EXPECT_TRUE(graph.add_before(step, step + 1));
+  for (int step = 70; step < 140; ++step) graph.add_step();
+  for (int step = 69; step + 1 < 140; ++step) EXPECT_TRUE(graph.add_before(step, step + 1));
+  EXPECT_TRUE(graph.precedes(0, 139));
+  EXPECT_TRUE(graph.precedes(63, 64));
+  EXPECT_FALSE(graph.precedes(139, 0));
+  EXPECT_EQ(graph.successors(0).size(), 139U);
+  EXPECT_EQ(graph.predecessors(139).size(), 139U);
+  EXPECT_EQ(graph.transitive_reduction().size(), 139U);
+  EXPECT_EQ(count_linearizations(graph, 5).count, 1U);
+  graph.check_invariants();
+}
+
 TEST(OrderingGraph, UnknownStepThrowsNamingIt) {
   OrderingGraph graph = graph_with(2, {});
   try {

@@ -5,10 +5,12 @@
 // intersection tests never see stray bits. Private to planner/cms/.
 #pragma once
 
+#include <algorithm>
 #include <bit>
 #include <cstddef>
 #include <cstdint>
 #include <span>
+#include <utility>
 #include <vector>
 
 namespace spar::planner::cms::internal {
@@ -42,10 +44,32 @@ inline constexpr int kWordBits = 64;
   }
 }
 
+[[nodiscard]] inline bool span_test(std::span<const std::uint64_t> words, int bit) {
+  return ((words[static_cast<std::size_t>(bit / kWordBits)] >> (bit % kWordBits)) & 1U) != 0;
+}
+
+// True if every bit set in `subset` is set in `superset` (spans of equal length).
+[[nodiscard]] inline bool span_is_subset(std::span<const std::uint64_t> subset,
+                                         std::span<const std::uint64_t> superset) {
+  for (std::size_t i = 0; i < subset.size(); ++i) {
+    if ((subset[i] & ~superset[i]) != 0) return false;
+  }
+  return true;
+}
+
+// destination |= source (spans of equal length).
+inline void span_unite(std::span<std::uint64_t> destination,
+                       std::span<const std::uint64_t> source) {
+  for (std::size_t i = 0; i < destination.size(); ++i) destination[i] |= source[i];
+}
+
 class Bitset {
  public:
   Bitset() = default;
   explicit Bitset(int size) : size_{size}, words_(static_cast<std::size_t>(words_for(size)), 0) {}
+  // A copy of words_for(size) words (a matrix row, say) as a set of `size` bits.
+  Bitset(int size, std::span<const std::uint64_t> words)
+      : size_{size}, words_(words.begin(), words.end()) {}
 
   [[nodiscard]] int size() const { return size_; }
   [[nodiscard]] bool test(int bit) const {
@@ -145,6 +169,21 @@ class BitMatrix {
   }
   void reset(int r, int c) {
     row(r)[static_cast<std::size_t>(c / kWordBits)] &= ~(std::uint64_t{1} << (c % kWordBits));
+  }
+  // Adds zero rows and columns (never shrinks); re-lays the words out when a row needs more.
+  void grow(int rows, int columns) {
+    if (words_for(columns) != row_words_) {
+      BitMatrix wider(rows, columns);
+      for (int r = 0; r < rows_; ++r) {
+        const auto from = row(r);
+        std::copy(from.begin(), from.end(), wider.row(r).begin());
+      }
+      *this = std::move(wider);
+      return;
+    }
+    rows_ = rows;
+    columns_ = columns;
+    words_.resize(static_cast<std::size_t>(rows) * static_cast<std::size_t>(row_words_), 0);
   }
   // this &= other (same shape).
   void intersect_with(const BitMatrix& other) {
