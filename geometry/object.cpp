@@ -2,9 +2,12 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <array>
+#include <cmath>
 #include <limits>
 #include <map>
 #include <numeric>
+#include <unordered_map>
 
 #include "geometry/internal/convex_hull.hpp"
 #include "geometry/internal/polygon2d.hpp"
@@ -18,6 +21,46 @@ Eigen::Vector3d scaled_normal(const Mesh& mesh, const std::array<int, 3>& t) {
   const auto& v = mesh.vertices;
   return (v[t[1]] - v[t[0]]).cross(v[t[2]] - v[t[0]]);
 }
+
+// Faces bucketed by their unit normal on a grid of cells wider than the angle kParallelCosine
+// allows (acos(1 - 1e-9) = 4.5e-5 rad), so every face whose normal is parallel to n lies in n's
+// cell or a neighbouring one: near(n) returns those (and a few more), in ascending index order.
+// It turns the all-pairs searches for parallel faces into linear ones.
+class NormalIndex {
+ public:
+  explicit NormalIndex(const std::vector<Face>& faces) {
+    for (int i = 0; i < static_cast<int>(faces.size()); ++i)
+      cells_[key(cell_of(faces[i].normal))].push_back(i);
+  }
+
+  [[nodiscard]] std::vector<int> near(const Eigen::Vector3d& normal) const {
+    const std::array<std::int64_t, 3> centre = cell_of(normal);
+    std::vector<int> found;
+    for (int dx = -1; dx <= 1; ++dx)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dz = -1; dz <= 1; ++dz) {
+          const auto it = cells_.find(key({centre[0] + dx, centre[1] + dy, centre[2] + dz}));
+          if (it != cells_.end()) found.insert(found.end(), it->second.begin(), it->second.end());
+        }
+    std::sort(found.begin(), found.end());
+    return found;
+  }
+
+ private:
+  static constexpr double kCell = 1e-4;  // > 4.5e-5: parallel normals differ by less per axis
+  static std::array<std::int64_t, 3> cell_of(const Eigen::Vector3d& normal) {
+    return {static_cast<std::int64_t>(std::floor(normal.x() / kCell)),
+            static_cast<std::int64_t>(std::floor(normal.y() / kCell)),
+            static_cast<std::int64_t>(std::floor(normal.z() / kCell))};
+  }
+  static std::uint64_t key(const std::array<std::int64_t, 3>& cell) {
+    // Cells run from -10^4 to 10^4 per axis (unit normals): offset by 2^14, 16 bits each.
+    std::uint64_t packed = 0;
+    for (const std::int64_t c : cell) packed = packed << 16 | static_cast<std::uint64_t>(c + 16384);
+    return packed;
+  }
+  std::unordered_map<std::uint64_t, std::vector<int>> cells_;
+};
 
 int find_root(std::vector<int>& parent, int i) {
   while (parent[i] != i) i = parent[i] = parent[parent[i]];
@@ -83,26 +126,62 @@ std::vector<HullFacet> compute_hull_facets(const Mesh& mesh, const std::vector<F
     for (std::size_t v = 0; v < used.size(); ++v)
       if (used[v]) points.push_back(mesh.vertices[v]);
   }
-  // Group the hull's triangles by outward normal: on a convex hull, one normal is one facet.
+  // Group the hull's triangles by plane: on a convex hull the triangles of one plane are one
+  // edge-connected facet, so each facet grows from its first triangle (the seed, in CGAL's order)
+  // across shared edges to every triangle with the seed's outward normal and all three corners on
+  // the seed's plane. Comparing with the seed, not the neighbour, keeps a finely tessellated
+  // curved surface from chaining into one facet. Linear in the hull size.
+  const std::vector<std::array<int, 3>> hull = internal::convex_hull_triangles(points);
+  const int hull_size = static_cast<int>(hull.size());
+  std::unordered_map<std::uint64_t, int> edge_triangle;  // directed edge (a, b) -> triangle
+  edge_triangle.reserve(3 * hull.size());
+  const auto edge_key = [](int a, int b) {
+    return static_cast<std::uint64_t>(a) << 32 | static_cast<std::uint32_t>(b);
+  };
+  for (int t = 0; t < hull_size; ++t)
+    for (int c = 0; c < 3; ++c) edge_triangle[edge_key(hull[t][c], hull[t][(c + 1) % 3])] = t;
   std::vector<HullFacet> facets;
   std::vector<std::vector<Eigen::Vector3d>> facet_points;
-  for (const auto& t : internal::convex_hull_triangles(points)) {
+  std::vector<char> assigned(hull.size(), 0);
+  std::vector<int> frontier;
+  for (int seed = 0; seed < hull_size; ++seed) {
+    const auto& t = hull[seed];
     const Eigen::Vector3d n = (points[t[1]] - points[t[0]]).cross(points[t[2]] - points[t[0]]);
-    if (n.norm() == 0) continue;  // a sliver CGAL kept for exactness; its neighbours cover it
+    // A sliver CGAL kept for exactness starts no facet; a facet around it takes it in below.
+    if (assigned[seed] || n.norm() == 0) continue;
     const Eigen::Vector3d unit = n.normalized();
-    // Same outward normal and all three corners on the facet's plane.
-    auto it = std::find_if(facets.begin(), facets.end(), [&](const HullFacet& f) {
-      return f.normal.dot(unit) > kParallelCosine && std::all_of(t.begin(), t.end(), [&](int v) {
-               return std::abs(f.normal.dot(points[v]) - f.offset) <= 10 * tolerance;
+    HullFacet facet{unit, unit.dot(points[t[0]]), {}, 0, 0, {}};
+    const auto in_facet = [&](int u) {
+      const auto& tri = hull[u];
+      const Eigen::Vector3d m =
+          (points[tri[1]] - points[tri[0]]).cross(points[tri[2]] - points[tri[0]]);
+      return (m.norm() == 0 || unit.dot(m.normalized()) > kParallelCosine) &&
+             std::all_of(tri.begin(), tri.end(), [&](int v) {
+               return std::abs(unit.dot(points[v]) - facet.offset) <= 10 * tolerance;
              });
-    });
-    if (it == facets.end()) {
-      facets.push_back({unit, unit.dot(points[t[0]]), {}, 0, 0, {}});
-      facet_points.emplace_back();
-      it = facets.end() - 1;
+    };
+    std::vector<Eigen::Vector3d> corners;
+    assigned[seed] = 1;
+    frontier.assign(1, seed);
+    while (!frontier.empty()) {
+      const int current = frontier.back();
+      frontier.pop_back();
+      for (int c = 0; c < 3; ++c) {
+        corners.push_back(points[hull[current][c]]);
+        const auto across =
+            edge_triangle.find(edge_key(hull[current][(c + 1) % 3], hull[current][c]));
+        if (across == edge_triangle.end()) continue;
+        const int neighbour = across->second;
+        if (!assigned[neighbour] && in_facet(neighbour)) {
+          assigned[neighbour] = 1;
+          frontier.push_back(neighbour);
+        }
+      }
     }
-    for (const int v : t) facet_points[it - facets.begin()].push_back(points[v]);
+    facets.push_back(std::move(facet));
+    facet_points.push_back(std::move(corners));
   }
+  const NormalIndex face_normals(faces);
   for (std::size_t f = 0; f < facets.size(); ++f) {
     HullFacet& facet = facets[f];
     const internal::PlaneBasis basis = internal::plane_basis(facet.normal);
@@ -113,10 +192,13 @@ std::vector<HullFacet> compute_hull_facets(const Mesh& mesh, const std::vector<F
       facet.polygon.push_back(basis.u * q.x() + basis.v * q.y() + facet.normal * facet.offset);
     facet.com_inset = internal::inset_distance(polygon, internal::project(basis, com));
     facet.com_height = facet.offset - facet.normal.dot(com);
-    for (const Face& face : faces)
+    for (const int index : face_normals.near(facet.normal)) {
+      const Face& face = faces[index];
       if (face.normal.dot(facet.normal) > kParallelCosine &&
           std::abs(face.offset - facet.offset) <= 10 * tolerance)
         facet.table_faces.push_back(face.id);
+    }
+    std::sort(facet.table_faces.begin(), facet.table_faces.end());
   }
   return facets;
 }
@@ -176,13 +258,16 @@ ObjectModel::ObjectModel(std::string name, Mesh mesh, std::optional<Eigen::Vecto
         throw GeometryError(mesh_.source +
                             ": the given centre of mass lies outside the object's "
                             "convex hull");
+  const NormalIndex normals(faces_);
   for (const Face& a : faces_)
-    for (const Face& b : faces_)
+    for (const int index : normals.near(-a.normal)) {  // ascending ids: pairs sorted by (a, b)
+      const Face& b = faces_[index];
       if (a.id < b.id && a.normal.dot(b.normal) < -kParallelCosine &&
           a.offset + b.offset > tolerance_) {
         FacePair pair = make_pair(mesh_, a, b, tolerance_);
         if (pair.overlap_area > 0) face_pairs_.push_back(std::move(pair));
       }
+    }
 }
 
 const Face& ObjectModel::face(int id) const {
