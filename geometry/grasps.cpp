@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <optional>
 
 #include "geometry/internal/polygon2d.hpp"
 
@@ -151,14 +152,22 @@ std::vector<Eigen::Vector3d> contact_positions(const ObjectModel& object, const 
            exposed(object, mid - (pair.width - (face_a.offset - mid_offset)) * normal, -normal);
   };
   // Candidate points: a 41 x 41 grid over the bounding box, keeping those inside the overlap.
+  // Built only when a target is not inside: each inside() casts rays against the whole mesh, so
+  // building it for every pair made `spar object` quadratic in the mesh size.
   constexpr int kGrid = 41;
-  std::vector<Eigen::Vector2d> candidates;
-  for (int i = 0; i < kGrid; ++i)
-    for (int j = 0; j < kGrid; ++j) {
-      const Eigen::Vector2d q(low.x() + (high.x() - low.x()) * (i + 0.5) / kGrid,
-                              low.y() + (high.y() - low.y()) * (j + 0.5) / kGrid);
-      if (inside(q)) candidates.push_back(q);
+  std::optional<std::vector<Eigen::Vector2d>> candidates;
+  const auto candidate_grid = [&]() -> const std::vector<Eigen::Vector2d>& {
+    if (!candidates) {
+      candidates.emplace();
+      for (int i = 0; i < kGrid; ++i)
+        for (int j = 0; j < kGrid; ++j) {
+          const Eigen::Vector2d q(low.x() + (high.x() - low.x()) * (i + 0.5) / kGrid,
+                                  low.y() + (high.y() - low.y()) * (j + 0.5) / kGrid);
+          if (inside(q)) candidates->push_back(q);
+        }
     }
+    return *candidates;
+  };
   std::vector<Eigen::Vector2d> targets;
   if (per_axis == 1) {
     targets.push_back(centroid);
@@ -172,11 +181,11 @@ std::vector<Eigen::Vector3d> contact_positions(const ObjectModel& object, const 
   for (const auto& target : targets) {
     Eigen::Vector2d best = target;
     if (!inside(target)) {
-      if (candidates.empty()) continue;
-      best = *std::min_element(candidates.begin(), candidates.end(),
-                               [&](const auto& a, const auto& b) {
-                                 return (a - target).squaredNorm() < (b - target).squaredNorm();
-                               });
+      const std::vector<Eigen::Vector2d>& grid = candidate_grid();
+      if (grid.empty()) continue;
+      best = *std::min_element(grid.begin(), grid.end(), [&](const auto& a, const auto& b) {
+        return (a - target).squaredNorm() < (b - target).squaredNorm();
+      });
     }
     const bool repeated = std::any_of(chosen.begin(), chosen.end(), [&](const auto& c) {
       return (c - best).norm() <= tolerance;
