@@ -305,6 +305,42 @@ bool ConstraintNetwork::repair(const LabelSets& labels, const std::vector<int>& 
   return true;
 }
 
+bool ConstraintNetwork::is_tree(const std::vector<int>& component) const {
+  std::size_t incidences = 0;
+  for (const int var : component) incidences += incident_[static_cast<std::size_t>(var)].size();
+  return incidences / 2 + 1 == component.size();  // connected with n - 1 arcs
+}
+
+// A consistent labeling of a tree-structured component whose labels are arc consistent, without
+// backtracking (Freuder 1982): the first variable takes its smallest label, and every other
+// variable, reached from the one before it in breadth-first order, the smallest label the arc
+// from there allows (arc consistency guarantees one).
+void ConstraintNetwork::label_tree(const std::vector<int>& component, const LabelSets& labels,
+                                   std::vector<int>& witness) const {
+  std::vector<char> labeled(variables_.size(), 0);
+  std::vector<int> order{component.front()};
+  witness[static_cast<std::size_t>(order.front())] =
+      labels[static_cast<std::size_t>(order.front())].find_first();
+  labeled[static_cast<std::size_t>(order.front())] = 1;
+  for (std::size_t head = 0; head < order.size(); ++head) {
+    const int parent = order[head];
+    const int parent_label = witness[static_cast<std::size_t>(parent)];
+    for (const int index : incident_[static_cast<std::size_t>(parent)]) {
+      const Arc& arc = arcs_[static_cast<std::size_t>(index)];
+      const int child = other_end(arc, parent);
+      if (labeled[static_cast<std::size_t>(child)] != 0) continue;
+      Bitset allowed = labels[static_cast<std::size_t>(child)];
+      allowed.intersect_with(arc.row(arc.first == parent, parent_label));
+      const int label = allowed.find_first();
+      if (label < 0)
+        throw std::logic_error("constraint network: tree labeling met a wiped-out arc");
+      witness[static_cast<std::size_t>(child)] = label;
+      labeled[static_cast<std::size_t>(child)] = 1;
+      order.push_back(child);
+    }
+  }
+}
+
 void ConstraintNetwork::mask_arc(Arc& arc) const {
   const Bitset& first = labels_[static_cast<std::size_t>(arc.first)];
   const Bitset& second = labels_[static_cast<std::size_t>(arc.second)];
@@ -312,8 +348,10 @@ void ConstraintNetwork::mask_arc(Arc& arc) const {
   keep_current_pairs(arc.backward, second, first);
 }
 
-// Arc consistency from `queue`, then a consistent labeling (the witness where it still fits,
-// else the witness repaired, else a search in the components where it does not fit). On kConsistent
+// Arc consistency from `queue`, then a consistent labeling: the witness where it still fits,
+// else the witness repaired, else, in each connected component where it does not fit, a
+// labeling read off the tree (arc consistency decides a tree-structured component) or found by
+// search. On kConsistent
 // commits the labels and the witness and drops pruned pairs from the arcs at changed variables and
 // from `touched_arcs`; otherwise changes nothing.
 Consistency ConstraintNetwork::settle(LabelSets labels, std::vector<Revision> queue,
@@ -336,7 +374,15 @@ Consistency ConstraintNetwork::settle(LabelSets labels, std::vector<Revision> qu
   misfits.erase(std::unique(misfits.begin(), misfits.end()), misfits.end());
   std::vector<int> witness = witness_;
   if (!misfits.empty() && !repair(labels, misfits, witness)) {
-    const Consistency verdict = search_components(components_of(misfits), labels, budget, witness);
+    std::vector<std::vector<int>> cyclic;
+    for (std::vector<int>& component : components_of(misfits)) {
+      if (is_tree(component)) {
+        label_tree(component, labels, witness);
+      } else {
+        cyclic.push_back(std::move(component));
+      }
+    }
+    const Consistency verdict = search_components(cyclic, labels, budget, witness);
     if (verdict != Consistency::kConsistent) return verdict;
   }
   std::vector<char> changed(variables_.size(), 0);

@@ -9,11 +9,14 @@
 // reachable / mate_reachable, unify = codesignation) first prunes the label sets to arc
 // consistency (AC-3), then makes sure a consistent full labeling still exists: the network keeps
 // one such labeling (its witness); where the change breaks it, it first tries to repair it one
-// variable at a time (no backtracking), and only if that fails searches (backtracking with
-// forward checking, within the explicit SearchBudget) the connected components concerned. The
-// operation returns kConsistent and keeps the change, or returns kInconsistent / kBudgetExhausted
-// and leaves the network exactly as it was (operator== holds). Hence every network a caller
-// can observe is arc consistent and has a consistent labeling.
+// variable at a time (no backtracking). If that fails, each connected component concerned gets a
+// new labeling: read off without backtracking if the component is a tree (arc consistency alone
+// decides trees, Freuder 1982), else found by search (backtracking with forward checking,
+// within the explicit SearchBudget). Tree-structured networks, SPAR's usual grasp-position
+// pairs, are therefore never refused for lack of budget. The operation returns kConsistent and
+// keeps the change, or returns kInconsistent / kBudgetExhausted and leaves the network exactly as
+// it was (operator== holds). Hence every network a caller can observe is arc consistent and has a
+// consistent labeling.
 //
 // Costs (n variables, e arcs, d labels per domain): an operation costs O(n + e) for the witness
 // check plus AC-3 on bit rows (a revision is O(d²/64); O(e·d³/64) at worst, a few revisions
@@ -161,6 +164,9 @@ class ConstraintNetwork {
   [[nodiscard]] Consistency search_components(const std::vector<std::vector<int>>& components,
                                               const LabelSets& labels, SearchBudget budget,
                                               std::vector<int>& witness) const;
+  [[nodiscard]] bool is_tree(const std::vector<int>& component) const;
+  void label_tree(const std::vector<int>& component, const LabelSets& labels,
+                  std::vector<int>& witness) const;
   [[nodiscard]] bool repair(const LabelSets& labels, const std::vector<int>& misfits,
                             std::vector<int>& witness) const;
   [[nodiscard]] Consistency settle(LabelSets labels, std::vector<Revision> queue,

@@ -413,6 +413,38 @@ TEST(ConstraintNetwork, BudgetExhaustionIsItsOwnVerdictAndChangesNothing) {
   EXPECT_EQ(network.consistent(SearchBudget{0}), Consistency::kBudgetExhausted);
 }
 
+// p - v - q, witness (0, 0, 0). The new arc v-p forbids (0, 0); v's other label 1 breaks the
+// equality with q, so no single-variable repair works, yet the network is consistent: (1, 0, 1).
+// `cycle` adds an arc p-q that allows everything.
+ConstraintNetwork unrepairable(bool cycle) {
+  ConstraintNetwork network;
+  const int v = network.add_variable("v", 2, {0, 1});
+  const int p = network.add_variable("p", 2, {0, 1});
+  const int q = network.add_variable("q", 2, {0, 1});
+  EXPECT_EQ(network.post(v, q, pairs_of(2, 2, {{0, 0}, {1, 1}})), Consistency::kConsistent);
+  if (cycle) {
+    EXPECT_EQ(network.post(p, q, pairs_of(2, 2, {{0, 0}, {0, 1}, {1, 0}, {1, 1}})),
+              Consistency::kConsistent);
+  }
+  return network;
+}
+
+TEST(ConstraintNetwork, TreesAreDecidedWithoutSearchBudget) {
+  ConstraintNetwork tree = unrepairable(false);
+  EXPECT_EQ(tree.post(0, 1, pairs_of(2, 2, {{1, 0}, {0, 1}}), SearchBudget{0}),
+            Consistency::kConsistent);
+  tree.check_invariants();
+  // With the cycle the same change needs the search.
+  ConstraintNetwork cyclic = unrepairable(true);
+  const ConstraintNetwork before = cyclic;
+  EXPECT_EQ(cyclic.post(0, 1, pairs_of(2, 2, {{1, 0}, {0, 1}}), SearchBudget{0}),
+            Consistency::kBudgetExhausted);
+  EXPECT_EQ(cyclic, before);
+  EXPECT_EQ(cyclic.post(0, 1, pairs_of(2, 2, {{1, 0}, {0, 1}}), SearchBudget{10}),
+            Consistency::kConsistent);
+  cyclic.check_invariants();
+}
+
 TEST(ConstraintNetwork, PredicateIsAskedOnlyForPairsOfCurrentLabels) {
   ConstraintNetwork network;
   const int grasp = network.add_variable("?grasp", 5, {0, 2, 4});
@@ -733,6 +765,48 @@ RC_GTEST_PROP(ConstraintNetwork, AgreesWithBruteForce, ()) {
 // witness repair leave more to the search; the first 30 labelings are compared.
 RC_GTEST_PROP(ConstraintNetwork, LargerNetworksAgreeWithBruteForce, ()) {
   check_against_model(10, 4, 20, 30);
+}
+
+// Tree-structured networks (each variable's arcs go to one earlier variable) are decided by arc
+// consistency: with no search budget at all, posts and restricts are never kBudgetExhausted, and
+// their verdicts agree with brute force.
+RC_GTEST_PROP(ConstraintNetwork, TreesNeverExhaustTheBudget, ()) {
+  const int variables = *rc::gen::inRange(2, 9);
+  ConstraintNetwork network;
+  Model model;
+  std::vector<int> parent(static_cast<std::size_t>(variables), -1);
+  for (int var = 0; var < variables; ++var) {
+    const int domain = *rc::gen::inRange(1, 5);
+    std::vector<int> labels = random_labels(domain);
+    if (labels.empty()) labels.push_back(0);
+    network.add_variable("v", domain, labels);
+    model.domains.push_back(domain);
+    model.allowed_labels.push_back(labels);
+    if (var > 0) parent[static_cast<std::size_t>(var)] = *rc::gen::inRange(0, var);
+  }
+  const int operations = *rc::gen::inRange(1, 16);
+  for (int operation = 0; operation < operations; ++operation) {
+    const int var = *rc::gen::inRange(0, variables);
+    const int domain = model.domains[static_cast<std::size_t>(var)];
+    Model next = model;
+    Consistency verdict = Consistency::kInconsistent;
+    if (var > 0 && *rc::gen::inRange(0, 3) != 0) {
+      const int up = parent[static_cast<std::size_t>(var)];
+      AllowedPairs pairs = random_pairs(domain, model.domains[static_cast<std::size_t>(up)]);
+      verdict = network.post(var, up, pairs, SearchBudget{0});
+      next.binaries.push_back({var, up, std::move(pairs)});
+    } else {
+      const std::vector<int> labels = random_labels(domain);
+      std::erase_if(next.allowed_labels[static_cast<std::size_t>(var)], [&](int label) {
+        return std::find(labels.begin(), labels.end(), label) == labels.end();
+      });
+      verdict = network.restrict(var, labels, SearchBudget{0});
+    }
+    RC_ASSERT(verdict != Consistency::kBudgetExhausted);
+    RC_ASSERT((verdict == Consistency::kConsistent) == !next.solutions(1).empty());
+    if (verdict == Consistency::kConsistent) model = std::move(next);
+    network.check_invariants();
+  }
 }
 
 }  // namespace
