@@ -776,13 +776,14 @@ RC_GTEST_PROP(ConstraintNetwork, TreesNeverExhaustTheBudget, ()) {
   Model model;
   std::vector<int> parent(static_cast<std::size_t>(variables), -1);
   for (int var = 0; var < variables; ++var) {
-    const int domain = *rc::gen::inRange(1, 5);
+    const int domain = *rc::gen::inRange(2, 4);
     std::vector<int> labels = random_labels(domain);
     if (labels.empty()) labels.push_back(0);
     network.add_variable("v", domain, labels);
     model.domains.push_back(domain);
     model.allowed_labels.push_back(labels);
-    if (var > 0) parent[static_cast<std::size_t>(var)] = *rc::gen::inRange(0, var);
+    // Few hubs, so variables have several neighbours whose labels a repair must all respect.
+    if (var > 0) parent[static_cast<std::size_t>(var)] = *rc::gen::inRange(0, std::min(var, 2));
   }
   const int operations = *rc::gen::inRange(1, 16);
   for (int operation = 0; operation < operations; ++operation) {
