@@ -1,0 +1,756 @@
+#include "planner/internal/scenario_yaml.hpp"
+
+#include <yaml-cpp/yaml.h>
+
+#include <algorithm>
+#include <cctype>
+#include <charconv>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <optional>
+#include <set>
+#include <utility>
+
+#include "common/units.hpp"
+#include "geometry/builtin_objects.hpp"
+#include "geometry/mesh_io.hpp"
+#include "geometry/stable_poses.hpp"
+#include "kinematics/ik.hpp"
+#include "planner/error.hpp"
+
+namespace spar::planner::internal {
+namespace {
+
+using kinematics::Transform;
+
+// Edit distance with adjacent transpositions (optimal string alignment), for "did you mean"
+// suggestions: "modle" is one edit from "model".
+std::size_t edit_distance(std::string_view a, std::string_view b) {
+  std::vector<std::vector<std::size_t>> d(a.size() + 1, std::vector<std::size_t>(b.size() + 1));
+  for (std::size_t i = 0; i <= a.size(); ++i) d[i][0] = i;
+  for (std::size_t j = 0; j <= b.size(); ++j) d[0][j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i)
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      d[i][j] = std::min(
+          {d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1])
+        d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
+    }
+  return d[a.size()][b.size()];
+}
+
+std::string join(const std::vector<std::string>& words) {
+  std::string out;
+  for (const std::string& word : words) out += (out.empty() ? "" : ", ") + word;
+  return out.empty() ? "none" : out;
+}
+
+// " (did you mean 'x'?)" when a known word is within a typo's distance of `word`, else "".
+std::string suggestion(std::string_view word, const std::vector<std::string>& known) {
+  const std::string* best = nullptr;
+  std::size_t best_distance = 0;
+  for (const std::string& candidate : known) {
+    const std::size_t distance = edit_distance(word, candidate);
+    if (!best || distance < best_distance) {
+      best = &candidate;
+      best_distance = distance;
+    }
+  }
+  // One edit per three letters (at least one): "ft" is not a typo of "m".
+  const std::size_t allowed = std::max<std::size_t>(1, word.size() / 3);
+  if (!best || best_distance > allowed) return "";
+  return " (did you mean '" + *best + "'?)";
+}
+
+bool is_identifier(std::string_view name) {
+  if (name.empty() || std::isdigit(static_cast<unsigned char>(name[0]))) return false;
+  return std::all_of(name.begin(), name.end(), [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) || c == '_';
+  });
+}
+
+std::string describe(const YAML::Node& node) {
+  switch (node.Type()) {
+    case YAML::NodeType::Map:
+      return "a map";
+    case YAML::NodeType::Sequence:
+      return "a list";
+    case YAML::NodeType::Scalar: {
+      std::string quoted(1, '\'');  // appended piecewise: GCC 12 warns (-Wrestrict) on "'" + s
+      return quoted.append(node.Scalar()).append(1, '\'');
+    }
+    default:
+      return "nothing";
+  }
+}
+
+// Rz(yaw) Ry(pitch) Rx(roll): URDF's and Drake's roll-pitch-yaw about fixed world axes.
+Eigen::Matrix3d rpy_rotation(double roll, double pitch, double yaw) {
+  return (Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) *
+          Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY()) *
+          Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitX()))
+      .toRotationMatrix();
+}
+
+class Reader;
+
+// A YAML map whose keys have been checked: each is a known one and none repeats. `path` names the
+// map in messages ("robot.gripper").
+class Fields {
+ public:
+  Fields(const Reader& reader, const YAML::Node& map, std::string path,
+         std::vector<std::string> known);
+
+  // The value of `key`; an undefined node when the key is absent.
+  [[nodiscard]] YAML::Node get(const std::string& key) const;
+  [[nodiscard]] bool has(const std::string& key) const { return get(key).IsDefined(); }
+  // The value of `key`, or a ScenarioError at the map when it is absent.
+  [[nodiscard]] YAML::Node require(const std::string& key) const;
+  // "robot.gripper.max_opening"
+  [[nodiscard]] std::string path(const std::string& key) const {
+    return path_.empty() ? key : path_ + "." + key;
+  }
+  [[nodiscard]] const YAML::Node& node() const { return map_; }
+
+ private:
+  const Reader& reader_;
+  YAML::Node map_;
+  std::string path_;
+  std::vector<std::pair<std::string, YAML::Node>> entries_;  // in file order
+};
+
+class Reader {
+ public:
+  Reader(std::string source, std::filesystem::path base_dir)
+      : source_(std::move(source)), base_dir_(std::move(base_dir)) {}
+
+  [[nodiscard]] Scenario read(std::string_view text);
+
+  [[nodiscard]] SourceLocation where(const YAML::Node& node) const {
+    SourceLocation location{.file = source_};
+    if (node.IsDefined() && !node.Mark().is_null()) {
+      location.line = node.Mark().line + 1;
+      location.column = node.Mark().column + 1;
+    }
+    return location;
+  }
+  [[noreturn]] void fail(const YAML::Node& node, const std::string& what) const {
+    throw ScenarioError(where(node).str() + ": " + what);
+  }
+
+  [[nodiscard]] const YAML::Node& expect_map(const YAML::Node& node,
+                                             const std::string& path) const {
+    if (!node.IsMap()) fail(node, path + ": expected a map, got " + describe(node));
+    return node;
+  }
+  [[nodiscard]] const YAML::Node& expect_list(const YAML::Node& node,
+                                              const std::string& path) const {
+    if (!node.IsSequence()) fail(node, path + ": expected a list, got " + describe(node));
+    return node;
+  }
+  [[nodiscard]] std::string text(const YAML::Node& node, const std::string& path) const {
+    if (!node.IsScalar() || node.Scalar().empty())
+      fail(node, path + ": expected a name, got " + describe(node));
+    return node.Scalar();
+  }
+  [[nodiscard]] std::string identifier(const YAML::Node& node, const std::string& path) const {
+    const std::string name = text(node, path);
+    if (!is_identifier(name))
+      fail(node, path + ": '" + name +
+                     "' is not a name (letters, digits and _, not starting with a digit)");
+    return name;
+  }
+
+ private:
+  // Numbers in the file's units, converted to metres and radians.
+  [[nodiscard]] double number(const YAML::Node& node, const std::string& path) const;
+  [[nodiscard]] int integer(const YAML::Node& node, const std::string& path) const;
+  [[nodiscard]] std::vector<double> numbers(const YAML::Node& node, const std::string& path,
+                                            std::size_t count) const;
+  [[nodiscard]] double length(const YAML::Node& node, const std::string& path) const {
+    return number(node, path) * units_.metres_per_length_unit();
+  }
+  [[nodiscard]] double angle(const YAML::Node& node, const std::string& path) const {
+    return number(node, path) * units_.radians_per_angle_unit();
+  }
+  [[nodiscard]] double non_negative(double value, const YAML::Node& node,
+                                    const std::string& path) const {
+    if (value < 0) fail(node, path + ": must be >= 0, got " + node.Scalar());
+    return value;
+  }
+  [[nodiscard]] double positive(double value, const YAML::Node& node,
+                                const std::string& path) const {
+    if (!(value > 0)) fail(node, path + ": must be > 0, got " + node.Scalar());
+    return value;
+  }
+
+  void read_units(const YAML::Node& node, Units& units) const;
+  [[nodiscard]] Transform rigid_pose(const YAML::Node& node, const std::string& path) const;
+  [[nodiscard]] Transform rigid_pose(const Fields& pose) const;
+  [[nodiscard]] kinematics::PoseUncertainty uncertainty(const YAML::Node& node,
+                                                        const std::string& path) const;
+  void read_robot(const YAML::Node& node, RobotSpec& robot) const;
+  [[nodiscard]] kinematics::DhChain dh_chain(const YAML::Node& node, const std::string& path) const;
+  void read_gripper(const YAML::Node& node, geometry::GripperSpec& gripper) const;
+  void read_grasping(const YAML::Node& node, geometry::GraspQuantization& grasping) const;
+  [[nodiscard]] ObjectSpec read_object(const YAML::Node& key, const YAML::Node& node) const;
+  [[nodiscard]] geometry::ObjectModel object_model(const Fields& entry, const std::string& name,
+                                                   std::string& shape) const;
+  void read_pose(const YAML::Node& node, const std::string& path, ObjectSpec& object) const;
+  // Face ids named by `node` (a face id, a face name, or with `features`, a feature name; or a
+  // list of these), ascending and distinct.
+  [[nodiscard]] std::vector<int> faces(const YAML::Node& node, const std::string& path,
+                                       const ObjectSpec& object, bool features) const;
+  [[nodiscard]] std::vector<Place> read_places(const YAML::Node& node) const;
+  [[nodiscard]] std::optional<RangeScanSensor> read_sensors(const YAML::Node& node) const;
+  [[nodiscard]] AssembledGoal read_assembled(const YAML::Node& node, const std::string& path,
+                                             const Scenario& scenario) const;
+
+  std::string source_;
+  std::filesystem::path base_dir_;
+  Units units_;  // the file's, once read_units has run
+};
+
+Fields::Fields(const Reader& reader, const YAML::Node& map, std::string path,
+               std::vector<std::string> known)
+    : reader_(reader), map_(map), path_(std::move(path)) {
+  (void)reader_.expect_map(map, path_.empty() ? "the scenario" : path_);
+  for (const auto& entry : map) {
+    const YAML::Node key = entry.first;
+    if (!key.IsScalar()) reader_.fail(key, path_ + ": keys must be names, got " + describe(key));
+    const std::string& name = key.Scalar();
+    if (std::find(known.begin(), known.end(), name) == known.end())
+      reader_.fail(key, (path_.empty() ? "" : path_ + ": ") + "unknown key '" + name + "'" +
+                            suggestion(name, known) + "; known keys: " + join(known));
+    for (const auto& [seen, value] : entries_)
+      if (seen == name)
+        reader_.fail(key, (path_.empty() ? "" : path_ + ": ") + "duplicate key '" + name + "'");
+    entries_.emplace_back(name, entry.second);
+  }
+}
+
+YAML::Node Fields::get(const std::string& key) const {
+  for (const auto& [name, value] : entries_)
+    if (name == key) return value;
+  return YAML::Node(YAML::NodeType::Undefined);
+}
+
+YAML::Node Fields::require(const std::string& key) const {
+  const YAML::Node value = get(key);
+  if (!value.IsDefined())
+    reader_.fail(map_, (path_.empty() ? "" : path_ + ": ") + "missing key '" + key + "'");
+  return value;
+}
+
+double Reader::number(const YAML::Node& node, const std::string& path) const {
+  if (!node.IsScalar()) fail(node, path + ": expected a number, got " + describe(node));
+  std::string_view scalar = node.Scalar();
+  // YAML's spellings of the special values, so that they reach the finiteness check below.
+  for (const std::string_view nan : {".nan", ".NaN", ".NAN"})
+    if (scalar == nan) scalar = "nan";
+  for (const std::string_view inf : {".inf", ".Inf", ".INF", "+.inf", "+.Inf", "+.INF"})
+    if (scalar == inf) scalar = "inf";
+  for (const std::string_view inf : {"-.inf", "-.Inf", "-.INF"})
+    if (scalar == inf) scalar = "-inf";
+  if (scalar.starts_with('+')) scalar.remove_prefix(1);
+  double value = 0;
+  const auto [end, error] = std::from_chars(scalar.data(), scalar.data() + scalar.size(), value);
+  if (error != std::errc() || end != scalar.data() + scalar.size())
+    fail(node, path + ": expected a number, got " + describe(node));
+  if (!std::isfinite(value)) fail(node, path + ": expected a finite number, got " + describe(node));
+  return value;
+}
+
+int Reader::integer(const YAML::Node& node, const std::string& path) const {
+  if (!node.IsScalar()) fail(node, path + ": expected a whole number, got " + describe(node));
+  const std::string& scalar = node.Scalar();
+  int value = 0;
+  const auto [end, error] = std::from_chars(scalar.data(), scalar.data() + scalar.size(), value);
+  if (error != std::errc() || end != scalar.data() + scalar.size())
+    fail(node, path + ": expected a whole number, got " + describe(node));
+  return value;
+}
+
+std::vector<double> Reader::numbers(const YAML::Node& node, const std::string& path,
+                                    std::size_t count) const {
+  if (!node.IsSequence() || node.size() != count)
+    fail(node,
+         path + ": expected a list of " + std::to_string(count) + " numbers, got " +
+             (node.IsSequence() ? "a list of " + std::to_string(node.size()) : describe(node)));
+  std::vector<double> values;
+  for (std::size_t i = 0; i < count; ++i)
+    values.push_back(number(node[i], path + "[" + std::to_string(i) + "]"));
+  return values;
+}
+
+void Reader::read_units(const YAML::Node& node, Units& units) const {
+  const Fields fields(*this, node, "units", {"length", "angle"});
+  if (const YAML::Node length = fields.get("length"); length.IsDefined()) {
+    const std::string name = text(length, "units.length");
+    const std::vector<std::string> known{"m", "mm", "in"};
+    if (name == "m")
+      units.length = LengthUnit::kMetre;
+    else if (name == "mm")
+      units.length = LengthUnit::kMillimetre;
+    else if (name == "in")
+      units.length = LengthUnit::kInch;
+    else
+      fail(length, "units.length: unknown length unit '" + name + "'" + suggestion(name, known) +
+                       "; known: " + join(known));
+  }
+  if (const YAML::Node angle = fields.get("angle"); angle.IsDefined()) {
+    const std::string name = text(angle, "units.angle");
+    const std::vector<std::string> known{"rad", "deg"};
+    if (name == "rad")
+      units.angle = AngleUnit::kRadian;
+    else if (name == "deg")
+      units.angle = AngleUnit::kDegree;
+    else
+      fail(angle, "units.angle: unknown angle unit '" + name + "'" + suggestion(name, known) +
+                      "; known: " + join(known));
+  }
+}
+
+Transform Reader::rigid_pose(const YAML::Node& node, const std::string& path) const {
+  return rigid_pose(Fields(*this, node, path, {"xyz", "rpy", "matrix"}));
+}
+
+// {xyz, rpy} (either may be left out: zero) or {matrix: 4 rows of 4}, translation in the file's
+// length unit.
+Transform Reader::rigid_pose(const Fields& pose) const {
+  if (const YAML::Node matrix = pose.get("matrix"); matrix.IsDefined()) {
+    if (pose.has("xyz") || pose.has("rpy"))
+      fail(pose.node(), pose.path("matrix") + ": give a pose either as a matrix or as xyz/rpy");
+    const std::string path = pose.path("matrix");
+    if (!matrix.IsSequence() || matrix.size() != 4)
+      fail(matrix, path + ": expected 4 rows of 4 numbers, got " + describe(matrix));
+    std::vector<double> values;
+    for (std::size_t r = 0; r < 4; ++r) {
+      const std::vector<double> row = numbers(matrix[r], path + "[" + std::to_string(r) + "]", 4);
+      values.insert(values.end(), row.begin(), row.end());
+    }
+    Transform transform;
+    try {
+      transform = kinematics::rigid_transform_from_row_major(values);
+    } catch (const kinematics::KinematicsError& error) {
+      fail(matrix, path + ": not a rigid transform: " + error.what());
+    }
+    transform.translation() *= units_.metres_per_length_unit();
+    return transform;
+  }
+  Transform transform = Transform::Identity();
+  if (const YAML::Node xyz = pose.get("xyz"); xyz.IsDefined()) {
+    const std::vector<double> v = numbers(xyz, pose.path("xyz"), 3);
+    transform.translation() = Eigen::Vector3d(v[0], v[1], v[2]) * units_.metres_per_length_unit();
+  }
+  if (const YAML::Node rpy = pose.get("rpy"); rpy.IsDefined()) {
+    const std::vector<double> v = numbers(rpy, pose.path("rpy"), 3);
+    const double unit = units_.radians_per_angle_unit();
+    transform.linear() = rpy_rotation(v[0] * unit, v[1] * unit, v[2] * unit);
+  }
+  return transform;
+}
+
+kinematics::PoseUncertainty Reader::uncertainty(const YAML::Node& node,
+                                                const std::string& path) const {
+  const Fields fields(*this, node, path, {"dx", "dy", "dz", "dtheta"});
+  kinematics::PoseUncertainty result;
+  const std::pair<const char*, double*> lengths[] = {
+      {"dx", &result.dx}, {"dy", &result.dy}, {"dz", &result.dz}};
+  for (const auto& [key, target] : lengths)
+    if (const YAML::Node value = fields.get(key); value.IsDefined())
+      *target = non_negative(length(value, fields.path(key)), value, fields.path(key));
+  if (const YAML::Node value = fields.get("dtheta"); value.IsDefined())
+    result.dtheta = non_negative(angle(value, fields.path("dtheta")), value, fields.path("dtheta"));
+  return result;
+}
+
+kinematics::DhChain Reader::dh_chain(const YAML::Node& node, const std::string& path) const {
+  if (!expect_list(node, path).size()) fail(node, path + ": the DH table has no joints");
+  std::vector<kinematics::DhJoint> joints;
+  for (std::size_t i = 0; i < node.size(); ++i) {
+    const Fields row(*this, node[i], path + "[" + std::to_string(i) + "]",
+                     {"d", "a", "alpha", "offset", "limits"});
+    kinematics::DhJoint joint;
+    if (row.has("d")) joint.d = length(row.get("d"), row.path("d"));
+    if (row.has("a")) joint.a = length(row.get("a"), row.path("a"));
+    if (row.has("alpha")) joint.alpha = angle(row.get("alpha"), row.path("alpha"));
+    if (row.has("offset")) joint.offset = angle(row.get("offset"), row.path("offset"));
+    const YAML::Node limits = row.require("limits");
+    const std::vector<double> bounds = numbers(limits, row.path("limits"), 2);
+    joint.limits = {bounds[0] * units_.radians_per_angle_unit(),
+                    bounds[1] * units_.radians_per_angle_unit()};
+    if (joint.limits.lower > joint.limits.upper)
+      fail(limits, row.path("limits") + ": the lower limit is above the upper one");
+    joints.push_back(joint);
+  }
+  try {
+    kinematics::DhChain chain("dh", std::move(joints), source_);
+    (void)kinematics::PumaIk(chain);  // the planner's IK needs a Puma-type arm
+    return chain;
+  } catch (const kinematics::KinematicsError& error) {
+    fail(node, path + ": " + error.what());
+  }
+}
+
+void Reader::read_gripper(const YAML::Node& node, geometry::GripperSpec& gripper) const {
+  struct Length {
+    const char* key;
+    double* target;
+    bool may_be_zero;
+  };
+  const Length lengths[] = {{"max_opening", &gripper.max_opening, false},
+                            {"min_opening", &gripper.min_opening, true},
+                            {"finger_length", &gripper.finger_length, false},
+                            {"finger_width", &gripper.finger_width, false},
+                            {"finger_thickness", &gripper.finger_thickness, false},
+                            {"tip_beyond_contact", &gripper.tip_beyond_contact, true},
+                            {"palm_width", &gripper.palm_width, false},
+                            {"palm_height", &gripper.palm_height, false}};
+  std::vector<std::string> known;
+  for (const Length& field : lengths) known.emplace_back(field.key);
+  const Fields fields(*this, node, "robot.gripper", known);
+  for (const Length& field : lengths) {
+    const YAML::Node value = fields.get(field.key);
+    if (!value.IsDefined()) continue;
+    const std::string path = fields.path(field.key);
+    const double metres = length(value, path);
+    *field.target =
+        field.may_be_zero ? non_negative(metres, value, path) : positive(metres, value, path);
+  }
+  if (gripper.min_opening >= gripper.max_opening)
+    fail(node, "robot.gripper: min_opening must be below max_opening");
+}
+
+void Reader::read_robot(const YAML::Node& node, RobotSpec& robot) const {
+  const Fields fields(*this, node, "robot",
+                      {"model", "dh", "base", "tool", "gripper", "max_tilt", "uncertainty"});
+  if (const YAML::Node model = fields.get("model"); model.IsDefined()) {
+    robot.model = text(model, "robot.model");
+    std::vector<std::string> known;
+    for (const std::string_view name : kinematics::builtin_robot_names()) known.emplace_back(name);
+    known.emplace_back("dh");
+    if (std::find(known.begin(), known.end(), robot.model) == known.end())
+      fail(model, "robot.model: unknown robot model '" + robot.model + "'" +
+                      suggestion(robot.model, known) + "; known: " + join(known));
+  }
+  const YAML::Node dh = fields.get("dh");
+  if (robot.model == "dh") {
+    robot.chain = dh_chain(fields.require("dh"), "robot.dh");
+  } else {
+    if (dh.IsDefined()) fail(dh, "robot.dh: a DH table goes with model: dh, not " + robot.model);
+    robot.chain = kinematics::builtin_robot(robot.model);
+  }
+  if (fields.has("base")) robot.base = rigid_pose(fields.get("base"), "robot.base");
+  if (fields.has("tool")) robot.tool = rigid_pose(fields.get("tool"), "robot.tool");
+  if (fields.has("gripper")) read_gripper(fields.get("gripper"), robot.gripper);
+  if (const YAML::Node tilt = fields.get("max_tilt"); tilt.IsDefined()) {
+    robot.max_tool_tilt = angle(tilt, "robot.max_tilt");
+    if (!(robot.max_tool_tilt > 0 && robot.max_tool_tilt <= std::numbers::pi * (1 + 1e-12)))
+      fail(tilt, "robot.max_tilt: must be in (0, 180] degrees, got " + tilt.Scalar() + " " +
+                     std::string(units_.angle_name()));
+  }
+  if (fields.has("uncertainty"))
+    robot.uncertainty = uncertainty(fields.get("uncertainty"), "robot.uncertainty");
+}
+
+void Reader::read_grasping(const YAML::Node& node, geometry::GraspQuantization& grasping) const {
+  const Fields fields(*this, node, "grasping", {"approach_step", "positions_per_axis"});
+  if (const YAML::Node step = fields.get("approach_step"); step.IsDefined()) {
+    grasping.approach_step = angle(step, "grasping.approach_step");
+    if (!(grasping.approach_step > 0 &&
+          grasping.approach_step <= 2 * std::numbers::pi * (1 + 1e-12)))
+      fail(step, "grasping.approach_step: must be in (0, 360] degrees, got " + step.Scalar() + " " +
+                     std::string(units_.angle_name()));
+  }
+  if (const YAML::Node positions = fields.get("positions_per_axis"); positions.IsDefined()) {
+    grasping.positions_per_axis = integer(positions, "grasping.positions_per_axis");
+    if (grasping.positions_per_axis < 1)
+      fail(positions, "grasping.positions_per_axis: must be at least 1");
+  }
+}
+
+geometry::ObjectModel Reader::object_model(const Fields& entry, const std::string& name,
+                                           std::string& shape) const {
+  const YAML::Node builtin = entry.get("builtin"), mesh = entry.get("mesh");
+  if (builtin.IsDefined() == mesh.IsDefined())
+    fail(entry.node(), entry.path("") +
+                           " needs exactly one of 'builtin: <name>' and "
+                           "'mesh: <file>'");
+  if (builtin.IsDefined()) {
+    const std::string builtin_name = text(builtin, entry.path("builtin"));
+    shape = "builtin: " + builtin_name;
+    const auto known = geometry::builtin_object_names();
+    if (std::find(known.begin(), known.end(), builtin_name) == known.end())
+      fail(builtin, entry.path("builtin") + ": unknown built-in object '" + builtin_name + "'" +
+                        suggestion(builtin_name, known) + "; known: " + join(known));
+    return geometry::ObjectModel(name, geometry::builtin_mesh(builtin_name));
+  }
+  const std::string file = text(mesh, entry.path("mesh"));
+  shape = "mesh: " + file;
+  const std::filesystem::path resolved = (base_dir_ / file).lexically_normal();
+  std::error_code error;
+  if (!std::filesystem::is_regular_file(resolved, error))
+    fail(mesh, entry.path("mesh") + ": no mesh file " + resolved.string());
+  try {
+    return geometry::ObjectModel(name,
+                                 geometry::scale_mesh(geometry::read_mesh_file(resolved.string()),
+                                                      units_.metres_per_length_unit()));
+  } catch (const geometry::GeometryError& problem) {
+    fail(mesh, entry.path("mesh") + ": bad mesh " + resolved.string() + ": " + problem.what());
+  }
+}
+
+std::vector<int> Reader::faces(const YAML::Node& node, const std::string& path,
+                               const ObjectSpec& object, bool features) const {
+  std::vector<YAML::Node> items;
+  if (node.IsSequence()) {
+    for (const YAML::Node& item : node) items.push_back(item);
+  } else {
+    items.push_back(node);
+  }
+  const int count = static_cast<int>(object.model.faces().size());
+  std::set<int> ids;
+  for (std::size_t i = 0; i < items.size(); ++i) {
+    const YAML::Node& item = items[i];
+    const std::string item_path = node.IsSequence() ? path + "[" + std::to_string(i) + "]" : path;
+    const std::string name = text(item, item_path);
+    int id = 0;
+    if (std::from_chars(name.data(), name.data() + name.size(), id).ptr ==
+        name.data() + name.size()) {
+      if (id < 1 || id > count)
+        fail(item, item_path + ": object '" + object.name + "' has no face " + name +
+                       " (faces 1.." + std::to_string(count) + ")");
+      ids.insert(id);
+      continue;
+    }
+    if (features) {
+      if (const auto feature = object.features.find(name); feature != object.features.end()) {
+        ids.insert(feature->second.begin(), feature->second.end());
+        continue;
+      }
+    }
+    bool found = false;
+    for (const geometry::Face& face : object.model.faces())
+      if (face.name == name) {
+        ids.insert(face.id);
+        found = true;
+      }
+    if (found) continue;
+    std::vector<std::string> known;
+    if (features)
+      for (const auto& [feature, unused] : object.features) known.push_back(feature);
+    for (const geometry::Face& face : object.model.faces())
+      if (!face.name.empty() && std::find(known.begin(), known.end(), face.name) == known.end())
+        known.push_back(face.name);
+    fail(item, item_path + ": object '" + object.name + "' has no face " +
+                   (features ? "or feature " : "") + "named '" + name + "'" +
+                   suggestion(name, known) + "; known: " + join(known));
+  }
+  return {ids.begin(), ids.end()};
+}
+
+void Reader::read_pose(const YAML::Node& node, const std::string& path, ObjectSpec& object) const {
+  const Fields pose(*this, node, path, {"stable", "at", "yaw", "xyz", "rpy", "matrix"});
+  const YAML::Node stable = pose.get("stable");
+  if (!stable.IsDefined()) {
+    for (const char* key : {"at", "yaw"})
+      if (pose.has(key))
+        fail(pose.get(key), pose.path(key) + ": '" + key + "' goes with 'stable: <pose label>'");
+    object.initial_pose = rigid_pose(pose);
+    // Resting on the table (lowest point at z = 0) in one of the stable orientations?
+    double lowest = std::numeric_limits<double>::infinity();
+    for (const Eigen::Vector3d& vertex : object.model.mesh().vertices)
+      lowest = std::min(lowest, (object.initial_pose * vertex).z());
+    if (std::abs(lowest) <= 1e3 * object.model.tolerance())
+      if (const auto id =
+              geometry::classify_orientation(object.stable_poses, object.initial_pose.linear()))
+        object.initial_stable_pose = *id - 1;  // ids are 1-based
+    return;
+  }
+  for (const char* key : {"xyz", "rpy", "matrix"})
+    if (pose.has(key))
+      fail(pose.get(key), pose.path(key) +
+                              ": give either {stable, at, yaw} or {xyz, rpy} / "
+                              "{matrix}, not both");
+  const std::string label = text(stable, pose.path("stable"));
+  std::vector<std::string> labels;
+  for (const geometry::StablePose& candidate : object.stable_poses)
+    labels.push_back(candidate.label);
+  const auto found = std::find(labels.begin(), labels.end(), label);
+  if (found == labels.end())
+    fail(stable, pose.path("stable") + ": object '" + object.name + "' has no stable pose '" +
+                     label + "'; its stable poses: " + join(labels) + " (spar object prints them)");
+  const int index = static_cast<int>(found - labels.begin());
+  const std::vector<double> at = numbers(pose.require("at"), pose.path("at"), 2);
+  const double yaw = pose.has("yaw") ? angle(pose.get("yaw"), pose.path("yaw")) : 0.0;
+  const double unit = units_.metres_per_length_unit();
+  object.initial_pose = Eigen::Translation3d(at[0] * unit, at[1] * unit, 0) *
+                        Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) *
+                        object.stable_poses[index].object_to_world;
+  object.initial_stable_pose = index;
+}
+
+ObjectSpec Reader::read_object(const YAML::Node& key, const YAML::Node& node) const {
+  const std::string name = identifier(key, "objects");
+  const Fields entry(*this, node, "objects." + name,
+                     {"builtin", "mesh", "features", "pose", "uncertainty"});
+  std::string shape;
+  geometry::ObjectModel model = object_model(entry, name, shape);
+  std::vector<geometry::StablePose> stable_poses = geometry::stable_poses(model);
+  ObjectSpec object{.name = name,
+                    .shape = std::move(shape),
+                    .model = std::move(model),
+                    .stable_poses = std::move(stable_poses),
+                    .features = {},
+                    .initial_pose = Transform::Identity(),
+                    .initial_stable_pose = std::nullopt,
+                    .uncertainty = {},
+                    .location = where(key)};
+  if (const YAML::Node features = entry.get("features"); features.IsDefined()) {
+    // A map from feature names (the user's own, so not checked against known keys) to faces.
+    for (const auto& feature : expect_map(features, entry.path("features"))) {
+      const std::string name = identifier(feature.first, entry.path("features"));
+      if (object.features.contains(name))
+        fail(feature.first, entry.path("features") + ": duplicate feature '" + name + "'");
+      object.features[name] =
+          faces(feature.second, entry.path("features") + "." + name, object, false);
+    }
+  }
+  read_pose(entry.require("pose"), entry.path("pose"), object);
+  if (entry.has("uncertainty"))
+    object.uncertainty = uncertainty(entry.get("uncertainty"), entry.path("uncertainty"));
+  return object;
+}
+
+std::vector<Place> Reader::read_places(const YAML::Node& node) const {
+  std::vector<Place> places;
+  for (std::size_t i = 0; i < expect_list(node, "places").size(); ++i) {
+    const std::string path = "places[" + std::to_string(i) + "]";
+    const Fields fields(*this, node[i], path, {"name", "at", "yaw"});
+    Place place;
+    place.name = identifier(fields.require("name"), fields.path("name"));
+    for (const Place& other : places)
+      if (other.name == place.name)
+        fail(fields.get("name"),
+             fields.path("name") + ": duplicate place name '" + place.name + "'");
+    const std::vector<double> at = numbers(fields.require("at"), fields.path("at"), 2);
+    place.x = at[0] * units_.metres_per_length_unit();
+    place.y = at[1] * units_.metres_per_length_unit();
+    if (fields.has("yaw")) place.yaw = angle(fields.get("yaw"), fields.path("yaw"));
+    places.push_back(place);
+  }
+  return places;
+}
+
+std::optional<RangeScanSensor> Reader::read_sensors(const YAML::Node& node) const {
+  const Fields sensors(*this, node, "sensors", {"range_scan"});
+  if (!sensors.has("range_scan")) return std::nullopt;
+  const Fields range_scan(*this, sensors.get("range_scan"), "sensors.range_scan", {"residual"});
+  return RangeScanSensor{
+      .residual = uncertainty(range_scan.require("residual"), range_scan.path("residual"))};
+}
+
+AssembledGoal Reader::read_assembled(const YAML::Node& node, const std::string& path,
+                                     const Scenario& scenario) const {
+  const Fields fields(*this, node, path,
+                      {"held", "fixed", "held_faces", "fixed_faces", "relative", "mating_vector",
+                       "clearance", "angular_clearance"});
+  AssembledGoal goal;
+  const auto object_named = [&](const char* key) -> const ObjectSpec& {
+    const YAML::Node value = fields.require(key);
+    const std::string name = text(value, fields.path(key));
+    std::vector<std::string> known;
+    for (const ObjectSpec& object : scenario.objects) {
+      if (object.name == name) return object;
+      known.push_back(object.name);
+    }
+    fail(value, fields.path(key) + ": unknown object '" + name + "'" + suggestion(name, known) +
+                    "; objects: " + join(known));
+  };
+  const ObjectSpec& held = object_named("held");
+  const ObjectSpec& fixed = object_named("fixed");
+  goal.held = held.name;
+  goal.fixed = fixed.name;
+  if (goal.held == goal.fixed)
+    fail(fields.get("fixed"), fields.path("fixed") + ": held and fixed must be different objects");
+  if (fields.has("held_faces"))
+    goal.held_faces = faces(fields.get("held_faces"), fields.path("held_faces"), held, true);
+  if (fields.has("fixed_faces"))
+    goal.fixed_faces = faces(fields.get("fixed_faces"), fields.path("fixed_faces"), fixed, true);
+  goal.relative = rigid_pose(fields.require("relative"), fields.path("relative"));
+  if (const YAML::Node vector = fields.get("mating_vector"); vector.IsDefined()) {
+    const std::vector<double> v = numbers(vector, fields.path("mating_vector"), 3);
+    const Eigen::Vector3d direction(v[0], v[1], v[2]);
+    if (!(direction.norm() > 1e-12))
+      fail(vector, fields.path("mating_vector") + ": must not be zero");
+    goal.mating_vector = direction.normalized();
+  }
+  if (const YAML::Node value = fields.get("clearance"); value.IsDefined())
+    goal.clearance =
+        non_negative(length(value, fields.path("clearance")), value, fields.path("clearance"));
+  if (const YAML::Node value = fields.get("angular_clearance"); value.IsDefined())
+    goal.angular_clearance = non_negative(angle(value, fields.path("angular_clearance")), value,
+                                          fields.path("angular_clearance"));
+  goal.location = where(node);
+  return goal;
+}
+
+Scenario Reader::read(std::string_view text_of_file) {
+  YAML::Node document;
+  try {
+    document = YAML::Load(std::string(text_of_file));
+  } catch (const YAML::Exception& error) {
+    throw ScenarioError(source_ + ":" + std::to_string(error.mark.line + 1) + ":" +
+                        std::to_string(error.mark.column + 1) +
+                        ": YAML syntax error: " + error.msg);
+  }
+  if (!document.IsDefined() || document.IsNull())
+    throw ScenarioError(source_ + ":1:1: the scenario is empty (it needs at least 'objects')");
+  const Fields top(*this, document, "",
+                   {"name", "description", "units", "robot", "objects", "places", "sensors",
+                    "grasping", "goals"});
+  Scenario scenario;
+  scenario.name = top.has("name") ? text(top.get("name"), "name")
+                                  : std::filesystem::path(source_).stem().string();
+  if (top.has("description")) scenario.description = text(top.get("description"), "description");
+  if (top.has("units")) read_units(top.get("units"), units_);
+  scenario.units = units_;
+  if (top.has("robot")) read_robot(top.get("robot"), scenario.robot);
+  if (top.has("grasping")) read_grasping(top.get("grasping"), scenario.grasping);
+
+  const YAML::Node objects = top.require("objects");
+  if (!expect_map(objects, "objects").size()) fail(objects, "objects: the scenario has no object");
+  std::set<std::string> names;
+  for (const auto& entry : objects) {
+    const YAML::Node key = entry.first;
+    if (!key.IsScalar()) fail(key, "objects: keys must be object names, got " + describe(key));
+    if (!names.insert(key.Scalar()).second)
+      fail(key, "objects: duplicate object name '" + key.Scalar() + "'");
+    scenario.objects.push_back(read_object(key, entry.second));
+  }
+  if (top.has("places")) scenario.places = read_places(top.get("places"));
+  if (top.has("sensors")) scenario.range_scan = read_sensors(top.get("sensors"));
+  if (const YAML::Node goals = top.get("goals"); goals.IsDefined()) {
+    for (std::size_t i = 0; i < expect_list(goals, "goals").size(); ++i) {
+      const std::string path = "goals[" + std::to_string(i) + "]";
+      const YAML::Node goal = goals[i];
+      if (!goal.IsMap() || goal.size() != 1)
+        fail(goal, path + ": expected one goal, e.g. 'assembled: {held: ..., fixed: ...}'");
+      const Fields kind(*this, goal, path, {"assembled"});
+      scenario.goals.emplace_back(
+          read_assembled(kind.get("assembled"), kind.path("assembled"), scenario));
+    }
+  }
+  return scenario;
+}
+
+}  // namespace
+
+Scenario read_scenario_yaml(std::string_view text, const std::string& source,
+                            const std::filesystem::path& base_dir) {
+  return Reader(source, base_dir).read(text);
+}
+
+}  // namespace spar::planner::internal

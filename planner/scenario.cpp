@@ -1,0 +1,76 @@
+#include "planner/scenario.hpp"
+
+#include <fstream>
+#include <sstream>
+
+#include "common/units.hpp"
+#include "planner/error.hpp"
+#include "planner/internal/scenario_yaml.hpp"
+
+namespace spar::planner {
+
+double Units::metres_per_length_unit() const {
+  switch (length) {
+    case LengthUnit::kMetre:
+      return units::kMetre;
+    case LengthUnit::kMillimetre:
+      return units::kMillimetre;
+    case LengthUnit::kInch:
+      return units::kInch;
+  }
+  return units::kMetre;
+}
+
+double Units::radians_per_angle_unit() const {
+  return angle == AngleUnit::kDegree ? units::kDegree : units::kRadian;
+}
+
+std::string_view Units::length_name() const {
+  switch (length) {
+    case LengthUnit::kMetre:
+      return "m";
+    case LengthUnit::kMillimetre:
+      return "mm";
+    case LengthUnit::kInch:
+      return "in";
+  }
+  return "m";
+}
+
+std::string_view Units::angle_name() const { return angle == AngleUnit::kDegree ? "deg" : "rad"; }
+
+std::string SourceLocation::str() const {
+  if (line <= 0) return file;
+  return file + ":" + std::to_string(line) + ":" + std::to_string(column);
+}
+
+const ObjectSpec& Scenario::object(std::string_view name) const {
+  for (const ObjectSpec& object : objects)
+    if (object.name == name) return object;
+  std::string known;
+  for (const ObjectSpec& object : objects) known += (known.empty() ? "" : ", ") + object.name;
+  throw ScenarioError("scenario '" + this->name + "' has no object '" + std::string(name) +
+                      "' (objects: " + (known.empty() ? "none" : known) + ")");
+}
+
+Scenario load_scenario(const std::filesystem::path& path) {
+  std::error_code error;
+  if (!std::filesystem::is_regular_file(path, error))
+    throw ScenarioError(
+        path.string() + ": cannot read the scenario file: " +
+        (std::filesystem::exists(path, error) ? "not a regular file" : "no such file"));
+  std::ifstream file(path, std::ios::binary);
+  if (!file) throw ScenarioError(path.string() + ": cannot read the scenario file");
+  std::ostringstream text;
+  text << file.rdbuf();  // an empty file reads as "" (the parser then says what is missing)
+  Scenario scenario = parse_scenario(text.str(), path.string(), path.parent_path());
+  scenario.path = path;
+  return scenario;
+}
+
+Scenario parse_scenario(std::string_view text, const std::string& source,
+                        const std::filesystem::path& base_dir) {
+  return internal::read_scenario_yaml(text, source, base_dir);
+}
+
+}  // namespace spar::planner
