@@ -702,9 +702,11 @@ Scenario Reader::read(std::string_view text_of_file) {
   try {
     document = YAML::Load(std::string(text_of_file));
   } catch (const YAML::Exception& error) {
-    throw ScenarioError(source_ + ":" + std::to_string(error.mark.line + 1) + ":" +
-                        std::to_string(error.mark.column + 1) +
-                        ": YAML syntax error: " + error.msg);
+    const std::string where = error.mark.is_null()
+                                  ? source_
+                                  : source_ + ":" + std::to_string(error.mark.line + 1) + ":" +
+                                        std::to_string(error.mark.column + 1);
+    throw ScenarioError(where + ": YAML syntax error: " + error.msg);
   }
   if (!document.IsDefined() || document.IsNull())
     throw ScenarioError(source_ + ":1:1: the scenario is empty (it needs at least 'objects')");
