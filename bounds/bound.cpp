@@ -27,6 +27,13 @@ namespace {
 using symbolic::Expr;
 using symbolic::Tape;
 constexpr double kInf = std::numeric_limits<double>::infinity();
+// NLopt's global stage (DIRECT) runs up to this many variables; SLSQP (the local stage) up to
+// kMaxSlsqpVariables, MMA above. A box evaluation costs about kPassesPerBox tape passes (value and
+// gradient forward and back, the face, the centre); queues hold at most kMaxQueuedIntervals.
+constexpr unsigned kMaxGlobalVariables = 32;
+constexpr std::size_t kMaxSlsqpVariables = 64;
+constexpr std::size_t kPassesPerBox = 6;
+constexpr std::size_t kMaxQueuedIntervals = std::size_t{1} << 22;
 
 using internal::LinearForm;
 
@@ -151,6 +158,9 @@ class Bounder {
     }
     gradient_.resize(root_.size());
     point_.resize(root_.size());
+    std::size_t instructions = f.tape.instructions().size();
+    for (const auto& c : constraints_) instructions += c->function.tape.instructions().size();
+    evaluation_cost_ = instructions + root_.size() + 1;
   }
 
   BoundResult run() {
@@ -170,18 +180,16 @@ class Bounder {
     result.lo = lo;
     result.hi = hi;
     result.evaluations = evaluations_;
-    if (hi < lo && result.argmax.empty()) return infeasible(result);
+    if (hi < lo && result.argmax_value.is_empty()) return infeasible(result);
     result.possibly_undefined = undefined_;
-    if (result.argmax.empty()) {  // no verified feasible point: report the outer bounds only
-      result.inner_lo = hi;
-      result.inner_hi = lo;
-    }
+    result.time_limited = time_limited_;
     if (!std::isfinite(lo) || !std::isfinite(hi)) {
       result.status = BoundStatus::kUnbounded;
     } else {
       result.status =
           converged_[0] && converged_[1] ? BoundStatus::kConverged : BoundStatus::kEffortLimit;
     }
+    internal::order_inner_bounds(result);
     return result;
   }
 
@@ -189,8 +197,10 @@ class Bounder {
   BoundResult& infeasible(BoundResult& result) {
     result.lo = kInf;
     result.hi = -kInf;
-    result.inner_lo = kInf;
-    result.inner_hi = -kInf;
+    result.argmin.clear();
+    result.argmax.clear();
+    result.argmin_value = result.argmax_value = Interval::empty();
+    internal::order_inner_bounds(result);
     result.status = BoundStatus::kInfeasible;
     result.evaluations = evaluations_;
     return result;
@@ -258,14 +268,7 @@ class Bounder {
     }
     const Interval v = f_interval_.value(p);
     if (v.is_empty() || v.possibly_undefined) return;
-    if (v.hi < result_->inner_lo) {
-      result_->inner_lo = v.hi;
-      result_->argmin.assign(x.begin(), x.end());
-    }
-    if (v.lo > result_->inner_hi) {
-      result_->inner_hi = v.lo;
-      result_->argmax.assign(x.begin(), x.end());
-    }
+    internal::offer_witness(*result_, x, v);
   }
 
   // Centre and (for up to 10 variables) corners of the box.
@@ -296,27 +299,33 @@ class Bounder {
     std::vector<double> x(n);
     for (unsigned i = 0; i < n; ++i) x[i] = start.empty() ? box[i].mid() : start[i];
     const bool constrained = !constraints_.empty();
-    try {
-      nlopt::opt global(constrained ? nlopt::GN_ORIG_DIRECT_L : nlopt::GN_DIRECT_L, n);
-      configure(global, box, sign);
-      global.set_maxeval(constrained ? 300 * (n + 1) : 60 * (n + 1));
-      double value = 0;
-      global.optimize(x, value);
-      offer(x);
-    } catch (const std::exception&) {
-      // NLopt only tightens inner bounds; a failed stage leaves them as they are.
+    // DIRECT keeps every rectangle it has split (memory ~ evaluations x n) and samples a
+    // high-dimensional box too thinly to help: above kMaxGlobalVariables only the local stage runs.
+    if (n <= kMaxGlobalVariables) {
+      try {
+        nlopt::opt global(constrained ? nlopt::GN_ORIG_DIRECT_L : nlopt::GN_DIRECT_L, n);
+        configure(global, box, sign);
+        global.set_maxeval(nlopt_evaluations(constrained ? 300 * (n + 1) : 60 * (n + 1)));
+        double value = 0;
+        global.optimize(x, value);
+        offer(x);
+      } catch (const std::exception&) {
+        // NLopt only tightens inner bounds; a failed stage leaves them as they are.
+      }
     }
     const std::vector<double>& best = sign > 0 ? result_->argmax : result_->argmin;
     if (!best.empty()) x = best;
     local_search(box, x, sign);
   }
 
-  // SLSQP with tape gradients from `x`, within `box`; offers the point it ends at.
+  // SLSQP with tape gradients from `x`, within `box` (MMA above kMaxSlsqpVariables: SLSQP's
+  // quasi-Newton matrix is n x n, its steps O(n^3)); offers the point it ends at.
   void local_search(std::span<const Interval> box, std::vector<double> x, int sign) {
     try {
-      nlopt::opt local(nlopt::LD_SLSQP, static_cast<unsigned>(x.size()));
+      const bool small = x.size() <= kMaxSlsqpVariables;
+      nlopt::opt local(small ? nlopt::LD_SLSQP : nlopt::LD_MMA, static_cast<unsigned>(x.size()));
       configure(local, box, sign);
-      local.set_maxeval(200);
+      local.set_maxeval(nlopt_evaluations(200));
       local.set_xtol_rel(1e-12);
       double value = 0;
       local.optimize(x, value);
@@ -347,6 +356,7 @@ class Bounder {
   static double nlopt_objective(unsigned n, const double* x, double* gradient, void* data) {
     auto& objective = *static_cast<Objective*>(data);
     Bounder& self = *objective.self;
+    self.work_ += self.evaluation_cost_;
     const std::span<const double> point(x, n);
     double value = 0;
     if (gradient) {
@@ -389,6 +399,7 @@ class Bounder {
   // Also offers the box midpoint as a witness and picks the variable to bisect.
   double evaluate_box(std::vector<Interval>& box, int sign, int& split) {
     ++evaluations_;
+    work_ += kPassesPerBox * evaluation_cost_;
     split = widest(box);
     if (!contract(box) || !may_be_feasible(box)) return -kInf;
     const std::size_t n = box.size();
@@ -474,6 +485,25 @@ class Bounder {
     return index;
   }
 
+  // Whether the effort of this direction is spent: the first direction may use half of each
+  // budget, the second the rest.
+  bool out_of_effort(int direction) {
+    const std::size_t share = static_cast<std::size_t>(direction) + 1;
+    if (evaluations_ >= options_.max_box_evaluations / 2 * share) return true;
+    if (work_ >= options_.max_work / 2 * share) return true;
+    if (options_.max_seconds > 0 && elapsed() > options_.max_seconds * share / 2) {
+      time_limited_ = true;
+      return true;
+    }
+    return false;
+  }
+
+  // An NLopt stage's evaluation cap: `wanted`, but at most a 1/16 share of the work budget.
+  int nlopt_evaluations(std::size_t wanted) const {
+    const std::size_t affordable = options_.max_work / 16 / evaluation_cost_;
+    return static_cast<int>(std::clamp<std::size_t>(std::min(wanted, affordable), 1, 1'000'000));
+  }
+
   double elapsed() const {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
   }
@@ -494,17 +524,20 @@ class Bounder {
     int split = 0;
     const double root_bound = evaluate_box(box, sign, split);
     if (root_bound > -kInf) queue.push({root_bound, box, split});
-    const std::size_t budget = options_.max_box_evaluations / 2 * (direction + 1);
+    // Intervals stored in the queue: memory stays proportional to the input (capped) however
+    // many variables there are.
+    std::size_t queued_intervals = queue.size() * root.size();
     std::size_t pops = 0, next_polish = 64;
     while (!queue.empty()) {
       const double top = std::max(queue.top().bound, settled);
       if (top - inner() <= target_gap()) break;
-      if (!options_.branch_and_bound || evaluations_ >= budget ||
-          elapsed() > options_.max_seconds * (direction + 1) / 2) {
+      if (!options_.branch_and_bound || out_of_effort(direction) ||
+          queued_intervals > kMaxQueuedIntervals) {
         return std::max(top, inner());
       }
       Node node = queue.top();
       queue.pop();
+      queued_intervals -= node.box.size();
       // The best box is where the extremum most likely is: polish the inner bound from its
       // centre now and then (a loose inner bound stops convergence as surely as a loose outer).
       if (options_.inner && ++pops >= next_polish) {
@@ -512,6 +545,11 @@ class Bounder {
         std::vector<double> centre(node.box.size());
         for (std::size_t i = 0; i < centre.size(); ++i) centre[i] = node.box[i].mid();
         local_search(root, std::move(centre), sign);
+      }
+      // A box without variables (f is a constant) or too narrow to halve cannot be refined.
+      if (node.box.empty()) {
+        settled = std::max(settled, node.bound);
+        continue;
       }
       const Interval range = node.box[node.split];
       const double middle = range.mid();
@@ -524,7 +562,10 @@ class Bounder {
         child[node.split] = half == 0 ? Interval{range.lo, middle} : Interval{middle, range.hi};
         int child_split = 0;
         const double child_bound = std::min(evaluate_box(child, sign, child_split), node.bound);
-        if (child_bound > inner()) queue.push({child_bound, std::move(child), child_split});
+        if (child_bound > inner()) {
+          queued_intervals += child.size();
+          queue.push({child_bound, std::move(child), child_split});
+        }
       }
     }
     converged_[direction] = true;
@@ -545,6 +586,9 @@ class Bounder {
   std::vector<double> point_;
   BoundResult* result_{nullptr};
   std::size_t evaluations_{0};
+  std::size_t work_{0};             // tape instructions evaluated (approximately: see BoundOptions)
+  std::size_t evaluation_cost_{1};  // one pass over f's and the constraints' tapes
+  bool time_limited_{false};
   bool undefined_{false};
   bool converged_[2]{false, false};
   std::chrono::steady_clock::time_point start_;
@@ -562,29 +606,39 @@ std::string format_number(double value) {
 // defined, is a value f attains, so it may improve the inner bounds.
 void refine_with(BoundResult& result, const BoundResult& other,
                  internal::GradientEvaluator<Interval>& f, double tolerance) {
+  // Work on the rigorous witness values (the inner bounds may have been clamped or averaged).
+  if (!result.argmin_value.is_empty()) {
+    result.inner_lo = result.argmin_value.hi;
+    result.inner_hi = result.argmax_value.lo;
+  } else {
+    result.inner_lo = kInf;
+    result.inner_hi = -kInf;
+  }
   for (const std::vector<double>* point : {&other.argmin, &other.argmax}) {
     if (point->empty()) continue;
     const std::vector<Interval> x(point->begin(), point->end());
     const Interval value = f.value(x);
     if (value.is_empty() || value.possibly_undefined) continue;
-    if (value.hi < result.inner_lo) {
-      result.inner_lo = value.hi;
-      result.argmin = *point;
-    }
-    if (value.lo > result.inner_hi) {
-      result.inner_hi = value.lo;
-      result.argmax = *point;
-    }
+    internal::offer_witness(result, *point, value);
   }
   // A rewrite equals f wherever f is defined, so its bounds hold for f. Values f attains outside
   // them would mean the rewrite is wrong: then it is not used.
-  if (other.status == BoundStatus::kInfeasible || other.lo > result.inner_lo ||
-      other.hi < result.inner_hi) {
-    return;
+  const bool usable = other.status != BoundStatus::kInfeasible &&
+                      (result.argmin_value.is_empty() ||
+                       (other.lo <= result.argmin_value.hi && other.hi >= result.argmax_value.lo));
+  if (usable) {
+    result.lo = std::max(result.lo, other.lo);
+    result.hi = std::min(result.hi, other.hi);
+    if (result.status == BoundStatus::kUnbounded && std::isfinite(result.lo) &&
+        std::isfinite(result.hi)) {
+      result.status = BoundStatus::kEffortLimit;
+    }
   }
-  result.lo = std::max(result.lo, other.lo);
-  result.hi = std::min(result.hi, other.hi);
-  if (result.relative_gap() <= tolerance) result.status = BoundStatus::kConverged;
+  result.time_limited = result.time_limited || other.time_limited;
+  internal::order_inner_bounds(result);
+  if (usable && result.status == BoundStatus::kEffortLimit && result.relative_gap() <= tolerance) {
+    result.status = BoundStatus::kConverged;
+  }
 }
 
 }  // namespace
@@ -621,6 +675,36 @@ void check_ranges(std::span<const Expr> variables, std::span<const Interval> ran
   }
 }
 
+void offer_witness(BoundResult& result, std::span<const double> point, const Interval& value) {
+  // The first point is both witnesses, even where f's value overflows (exp(1000) is enclosed by
+  // [DBL_MAX, inf]): then inner_lo is +inf, which is still an upper bound of f(argmin).
+  const bool first = result.argmin_value.is_empty();
+  if (first || value.hi < result.inner_lo) {
+    result.inner_lo = value.hi;
+    result.argmin.assign(point.begin(), point.end());
+    result.argmin_value = value;
+  }
+  if (first || value.lo > result.inner_hi) {
+    result.inner_hi = value.lo;
+    result.argmax.assign(point.begin(), point.end());
+    result.argmax_value = value;
+  }
+}
+
+void order_inner_bounds(BoundResult& result) {
+  if (result.argmin_value.is_empty() || result.argmax_value.is_empty()) {
+    result.inner_lo = result.hi;
+    result.inner_hi = result.lo;
+    return;
+  }
+  // f(argmin) <= argmin_value.hi and f(argmin) <= hi, so the smaller is still an attained bound.
+  result.inner_lo = std::min(result.argmin_value.hi, result.hi);
+  result.inner_hi = std::max(result.argmax_value.lo, result.lo);
+  if (result.inner_lo > result.inner_hi) {
+    result.inner_lo = result.inner_hi = result.inner_hi + (result.inner_lo - result.inner_hi) / 2;
+  }
+}
+
 void check_uses_only(Expr expression, std::span<const Expr> variables, const std::string& what) {
   for (Expr v : symbolic::free_variables(expression)) {
     if (std::find(variables.begin(), variables.end(), v) == variables.end()) {
@@ -652,6 +736,25 @@ const char* to_string(BoundStatus status) {
   return "?";
 }
 
+void BoundResult::check_invariants() const {
+  const auto fail = [&](const char* what) {
+    throw std::logic_error(std::string("BoundResult: ") + what + " (lo " + format_number(lo) +
+                           ", inner_lo " + format_number(inner_lo) + ", inner_hi " +
+                           format_number(inner_hi) + ", hi " + format_number(hi) + ")");
+  };
+  if (argmin_value.is_empty() != argmax_value.is_empty()) fail("one witness without the other");
+  if (argmin_value.is_empty()) {
+    if (!(inner_lo == hi && inner_hi == lo)) fail("without witnesses, inner must be [hi, lo]");
+    return;
+  }
+  if (!(lo <= inner_lo && inner_lo <= inner_hi && inner_hi <= hi)) {
+    fail("lo <= inner_lo <= inner_hi <= hi is broken");
+  }
+  if (!(argmin_value.hi >= inner_lo || argmin_value.hi >= hi)) {
+    fail("inner_lo is below the value at argmin");
+  }
+}
+
 double BoundResult::relative_gap() const {
   const double gap = std::max(hi - inner_hi, inner_lo - lo);
   const double width = inner_hi - inner_lo;
@@ -678,6 +781,9 @@ struct BoundProblem::Impl {
                   const BoundOptions& options) {
     return Bounder(function, constraints, ranges, options).run();
   }
+
+  // f with the staged effort of BoundOptions::simplify.
+  BoundResult staged(std::span<const Interval> ranges, const BoundOptions& options);
 
   // The compiled rewrite for these ranges' widths (null if SMP does not change f), from the cache
   // or built now. Equal widths give the same rewrite, so caching never changes a result.
@@ -739,8 +845,17 @@ const std::vector<Expr>& BoundProblem::variables() const { return impl_->variabl
 BoundResult BoundProblem::bound(std::span<const Interval> ranges, const BoundOptions& options) {
   internal::check_ranges(impl_->variables, ranges);
   if (!(options.tolerance >= 0)) throw BoundsError("tolerance must be >= 0");
-  CompiledFunction& f = *impl_->compiled;
-  if (!options.simplify) return impl_->run(f, ranges, options);
+  const BoundResult result = impl_->staged(ranges, options);
+#ifndef NDEBUG
+  result.check_invariants();
+#endif
+  return result;
+}
+
+BoundResult BoundProblem::Impl::staged(std::span<const Interval> ranges,
+                                       const BoundOptions& options) {
+  CompiledFunction& f = *compiled;
+  if (!options.simplify) return run(f, ranges, options);
   // Staged effort: f gets an eighth of the budget first; if that stops short, SMP's rewrite gets
   // the same share (it often converges at once where f's repeated variables defeat bisection),
   // and then f starts again with the whole budget (so a call may spend up to 1.25 budgets). The
@@ -748,16 +863,17 @@ BoundResult BoundProblem::bound(std::span<const Interval> ranges, const BoundOpt
   BoundOptions first = options;
   first.max_box_evaluations = std::max<std::size_t>(1, options.max_box_evaluations / 8);
   first.max_seconds = options.max_seconds / 8;
-  BoundResult result = impl_->run(f, ranges, first);
+  first.max_work = std::max<std::size_t>(1, options.max_work / 8);
+  BoundResult result = run(f, ranges, first);
   if (result.status != BoundStatus::kEffortLimit) return result;
-  if (CompiledFunction* rewritten = impl_->rewrite(ranges)) {
-    const BoundResult other = impl_->run(*rewritten, ranges, first);
+  if (CompiledFunction* rewritten = rewrite(ranges)) {
+    const BoundResult other = run(*rewritten, ranges, first);
     result.evaluations += other.evaluations;
     refine_with(result, other, f.interval, options.tolerance);
     if (result.status != BoundStatus::kEffortLimit) return result;
   }
   const BoundResult earlier = result;
-  result = impl_->run(f, ranges, options);
+  result = run(f, ranges, options);
   result.evaluations += earlier.evaluations;
   refine_with(result, earlier, f.interval, options.tolerance);
   return result;

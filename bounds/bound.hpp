@@ -52,10 +52,18 @@ struct Constraint {
 
 // Which stages run (all on by default; the benchmark switches them to compare).
 struct BoundOptions {
-  double tolerance{1e-3};                    // relative to the attained width inner_hi - inner_lo
-  std::size_t max_box_evaluations{200'000};  // both directions together (see simplify)
-  double max_seconds{2.0};                   // likewise
-  bool inner{true};                          // NLopt inner search (midpoints/corners always)
+  double tolerance{1e-3};  // relative to the attained width inner_hi - inner_lo
+  // The effort limit counts work, never time, so a result does not depend on the machine's speed
+  // or load: at most max_box_evaluations boxes (both directions together) and at most max_work
+  // tape instructions evaluated (a box costs about 6 passes over f's and the constraints' tapes,
+  // an NLopt evaluation one), so a huge expression stops in proportion to its size. Queued boxes
+  // are capped at about 4M stored intervals (100 MB) whatever the number of variables.
+  std::size_t max_box_evaluations{200'000};
+  std::size_t max_work{300'000'000};
+  // Optional wall-clock limit in seconds; 0 (the default) is none. When it fires the result says
+  // so (time_limited) and, unlike the work limits, depends on the machine.
+  double max_seconds{0.0};
+  bool inner{true};  // NLopt inner search (midpoints/corners always)
   bool monotonicity{true};
   bool centred_form{true};
   bool branch_and_bound{true};
@@ -73,15 +81,29 @@ enum class BoundStatus {
 };
 [[nodiscard]] const char* to_string(BoundStatus status);
 
+// Invariant (checked by check_invariants(), on every result path in debug builds): when witnesses
+// exist, lo <= inner_lo <= inner_hi <= hi. Without witnesses (argmin_value and argmax_value empty:
+// no feasible point where f is defined was verified) inner_lo = hi and inner_hi = lo, an empty
+// inner range. (With no variables at all a witness is the empty point: argmin is then empty too.)
 struct BoundResult {
-  double lo{0.0}, hi{0.0};              // sound: lo <= f <= hi on the feasible box
-  double inner_lo{0.0}, inner_hi{0.0};  // attained: f(argmin) <= inner_lo, f(argmax) >= inner_hi
-  std::vector<double> argmin, argmax;   // witness points in Box::variables order (empty if none)
+  double lo{0.0}, hi{0.0};  // sound: lo <= f <= hi on the feasible box
+  // Attained: the values of f at argmin and argmax, i.e. argmin_value.hi and argmax_value.lo
+  // clamped into [lo, hi]; if those cross (f varies less than one rounding between the witnesses)
+  // both are their midpoint, so inner_lo <= inner_hi always.
+  double inner_lo{0.0}, inner_hi{0.0};
+  std::vector<double> argmin, argmax;  // witness points in Box::variables order
+  // Rigorous enclosures of f at argmin and argmax (outward-rounded evaluations): f(argmin) <=
+  // argmin_value.hi and f(argmax) >= argmax_value.lo exactly. decide() uses these. Empty when
+  // there is no witness.
+  Interval argmin_value{Interval::empty()}, argmax_value{Interval::empty()};
   BoundStatus status{BoundStatus::kConverged};
   bool possibly_undefined{false};  // f may be undefined somewhere in the box (domain error)
+  bool time_limited{false};        // BoundOptions::max_seconds stopped it (machine-dependent)
   std::size_t evaluations{0};      // boxes evaluated
   // Measured tightness: max(hi - inner_hi, inner_lo - lo) / (inner_hi - inner_lo).
   [[nodiscard]] double relative_gap() const;
+  // Throws std::logic_error naming the broken invariant (see above).
+  void check_invariants() const;
 };
 
 // f and its constraints compiled once over an ordered list of variables, bounded over any number

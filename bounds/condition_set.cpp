@@ -1,6 +1,7 @@
 #include "bounds/condition_set.hpp"
 
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include "bounds/internal/checks.hpp"
@@ -90,15 +91,13 @@ std::vector<ConditionCheck> ConditionSet::check(std::span<const Interval> ranges
     bound.possibly_undefined = natural.possibly_undefined;
     bound.status = BoundStatus::kEffortLimit;
     bound.evaluations = 1;
+    bound.inner_lo = std::numeric_limits<double>::infinity();
+    bound.inner_hi = -bound.inner_lo;
+    // f(centre) lies in `centre`: an attained value, so the centre is both witnesses.
     if (!centre.is_empty() && !centre.possibly_undefined) {
-      // f(centre) lies in `centre`: the centre attains a value <= its hi and one >= its lo.
-      bound.inner_lo = centre.hi;
-      bound.inner_hi = centre.lo;
-      bound.argmin = bound.argmax = centre_point;
-    } else {  // no attained value: the inner interval is empty (inner_lo > inner_hi)
-      bound.inner_lo = natural.hi;
-      bound.inner_hi = natural.lo;
+      internal::offer_witness(bound, centre_point, centre);
     }
+    internal::order_inner_bounds(bound);
     check.verdict = natural.is_empty() ? Verdict::kUndecided : decide(inequality, bound);
     const bool escalate =
         check.verdict == Verdict::kUndecided ||

@@ -34,8 +34,8 @@ namespace spar::bounds {
 struct ConditionCheck {
   Verdict verdict{Verdict::kUndecided};
   // Escalated: the BoundProblem's result. Otherwise the natural pass: [lo, hi] is the natural
-  // enclosure, argmin = argmax = the box centre with inner_lo / inner_hi the upper / lower end of
-  // the centre's enclosure, status kEffortLimit (no tightening was tried), evaluations 1.
+  // enclosure, argmin = argmax = the box centre (argmin_value = argmax_value = f's enclosure
+  // there), status kEffortLimit (no tightening was tried), evaluations 1.
   BoundResult bound;
   std::vector<double> witness;  // witness(inequality, bound): the deciding (worst) point
   bool escalated{false};        // bound is the BoundProblem's

@@ -30,25 +30,28 @@ const char* to_string(Relation relation) {
 
 Verdict decide(const Inequality& inequality, const BoundResult& bound) {
   const double t = inequality.threshold;
+  // Violations are read from the rigorous values at the witnesses (the inner bounds may be
+  // clamped or averaged: see BoundResult).
   // A bound proves nothing where f may be undefined, nor when no point of the box was feasible.
   const bool provable = !bound.possibly_undefined && bound.status != BoundStatus::kInfeasible;
-  const bool has_argmin = !bound.argmin.empty(), has_argmax = !bound.argmax.empty();
+  const bool has_argmin = !bound.argmin_value.is_empty();
+  const bool has_argmax = !bound.argmax_value.is_empty();
   switch (inequality.relation) {
     case Relation::kLess:
       if (provable && bound.hi < t) return Verdict::kSatisfied;
-      if (has_argmax && bound.inner_hi >= t) return Verdict::kViolated;
+      if (has_argmax && bound.argmax_value.lo >= t) return Verdict::kViolated;
       break;
     case Relation::kLessEqual:
       if (provable && bound.hi <= t) return Verdict::kSatisfied;
-      if (has_argmax && bound.inner_hi > t) return Verdict::kViolated;
+      if (has_argmax && bound.argmax_value.lo > t) return Verdict::kViolated;
       break;
     case Relation::kGreater:
       if (provable && bound.lo > t) return Verdict::kSatisfied;
-      if (has_argmin && bound.inner_lo <= t) return Verdict::kViolated;
+      if (has_argmin && bound.argmin_value.hi <= t) return Verdict::kViolated;
       break;
     case Relation::kGreaterEqual:
       if (provable && bound.lo >= t) return Verdict::kSatisfied;
-      if (has_argmin && bound.inner_lo < t) return Verdict::kViolated;
+      if (has_argmin && bound.argmin_value.hi < t) return Verdict::kViolated;
       break;
   }
   return Verdict::kUndecided;

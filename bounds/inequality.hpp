@@ -7,12 +7,13 @@
 //              hi <= threshold for `<=`, lo > threshold for `>`, lo >= threshold for `>=` (a strict
 //              relation needs strict proof), and the expression is defined on the whole box
 //              (not possibly_undefined) and the result is not infeasible;
-//   violated   an attained witness value breaks it: for `<` / `<=` the value at argmax is
-//              >= / > threshold (f(argmax) >= inner_hi), for `>` / `>=` the value at argmin is
-//              <= / < threshold (f(argmin) <= inner_lo); the witness point is given;
+//   violated   an attained witness value breaks it, rigorously: for `<` / `<=` the value at
+//              argmax is >= / > threshold (argmax_value.lo, a lower bound of f(argmax), is), for
+//              `>` / `>=` the value at argmin is <= / < threshold (argmin_value.hi is); the
+//              witness point is given;
 //   undecided  neither: the bound is not tight enough to tell, or the expression may be undefined
 //              somewhere in the box. Planning counts it as a failure but reports it as its own.
-// Since lo <= inner_lo and inner_hi <= hi, satisfied and violated exclude each other. NaN
+// Since lo <= f(argmin) and f(argmax) <= hi, satisfied and violated exclude each other. NaN
 // thresholds are refused where inequalities are built (ConditionSet); decide() on one gives
 // undecided.
 //
@@ -47,7 +48,8 @@ struct Inequality {
 [[nodiscard]] Verdict decide(const Inequality& inequality, const BoundResult& bound);
 
 // The point that decides the inequality's worst case: argmax for `<` and `<=`, argmin for `>` and
-// `>=` (a violating point when decide() says violated). Empty if the bound found none.
+// `>=` (a violating point when decide() says violated). Empty if the bound found none (or if
+// there are no variables).
 [[nodiscard]] const std::vector<double>& witness(const Inequality& inequality,
                                                  const BoundResult& bound);
 

@@ -121,6 +121,30 @@ class Compiler {
     return static_cast<std::uint32_t>(accumulator);
   }
 
+  // base^n for an integer n >= 3 of any size, as PowInt instructions (whose power is 32-bit): with
+  // n = n0 + 2^30 n1 + 2^60 n2 (each digit < 2^30), base^n0 · (base^2^30)^n1 · (base^2^60)^n2.
+  // Every factor is an exact integer power, so the parity of n (the sign of a negative base) is
+  // kept whatever its size: never exp(n log x), which is undefined for x < 0.
+  std::uint32_t integer_power(std::uint32_t base, std::int64_t n) {
+    constexpr int kDigitBits = 30;
+    constexpr std::int64_t kDigit = std::int64_t{1} << kDigitBits;
+    std::int64_t chain = -1;
+    std::uint32_t power_of_base = base;  // base^(2^(30 k)) for the k-th digit
+    for (std::int64_t rest = n; rest > 0; rest >>= kDigitBits) {
+      const auto digit = static_cast<std::int32_t>(rest % kDigit);
+      if (digit > 0) {
+        const std::uint32_t factor =
+            digit == 1 ? power_of_base : emit(TapeOp::kPowInt, power_of_base, 0, digit);
+        chain = chain < 0 ? factor
+                          : emit(TapeOp::kMul, static_cast<std::uint32_t>(chain), factor);
+      }
+      if (rest >= kDigit) {
+        power_of_base = emit(TapeOp::kPowInt, power_of_base, 0, static_cast<std::int32_t>(kDigit));
+      }
+    }
+    return static_cast<std::uint32_t>(chain);
+  }
+
   // c · Π bi^ei as numerator / denominator chains; negative exponents go to the denominator.
   std::uint32_t compile_product(Expr e) {
     std::int64_t numerator = -1, denominator = -1;
@@ -137,8 +161,8 @@ class Compiler {
         power = base;
       } else if (magnitude == Number::integer(2)) {
         power = emit(TapeOp::kSquare, base);
-      } else if (magnitude.is_integer() && magnitude.numerator() <= (1 << 30)) {
-        power = emit(TapeOp::kPowInt, base, 0, static_cast<std::int32_t>(magnitude.numerator()));
+      } else if (magnitude.is_integer()) {
+        power = integer_power(base, magnitude.numerator());
       } else if (magnitude == Number::rational(1, 2)) {
         power = emit(TapeOp::kSqrt, base);
       } else {

@@ -10,7 +10,8 @@
 // a work slot (checked by check_invariants()); an output's slot is never reused after the output
 // is computed (guaranteed by the allocator, which never frees output registers).
 // An n-ary sum or product becomes a chain of binary instructions; coefficients and exponents
-// become constant slots, integer powers PowInt, x^2 Square, x^(1/2) Sqrt.
+// become constant slots, integer powers PowInt (of any size: see integer_power in tape.cpp), x^2
+// Square, x^(1/2) Sqrt.
 //
 // A number domain T plugs in through `TapeDomain<T>` (specialise it): T needs + - * / and unary
 // -, and TapeDomain<T> provides `constant(const Number&)` (for intervals: the enclosure

@@ -1,10 +1,12 @@
-// Validation shared by bound(), BoundProblem and ConditionSet, so a bad box gets the same message
-// from each. Each throws BoundsError naming the variable.
+// Validation and result bookkeeping shared by bound(), BoundProblem and ConditionSet, so a bad box
+// gets the same message from each and every result keeps BoundResult's invariants. The checks
+// throw BoundsError naming the variable.
 #pragma once
 
 #include <span>
 #include <string>
 
+#include "bounds/bound.hpp"
 #include "bounds/interval.hpp"
 #include "symbolic/expr.hpp"
 
@@ -20,5 +22,13 @@ void check_ranges(std::span<const symbolic::Expr> variables, std::span<const Int
 // the message ("the expression", "the constraint", "inequality 'clear'").
 void check_uses_only(symbolic::Expr expression, std::span<const symbolic::Expr> variables,
                      const std::string& what);
+
+// Offers `point`, where f's enclosure is `value` (defined, not empty), as a witness: it becomes
+// argmin if value.hi < inner_lo and argmax if value.lo > inner_hi (inner_lo / inner_hi are then
+// the rigorous argmin_value.hi / argmax_value.lo until order_inner_bounds()).
+void offer_witness(BoundResult& result, std::span<const double> point, const Interval& value);
+// Final inner bounds: without witnesses inner_lo = hi and inner_hi = lo; else argmin_value.hi and
+// argmax_value.lo clamped into [lo, hi], and their midpoint for both if they cross.
+void order_inner_bounds(BoundResult& result);
 
 }  // namespace spar::bounds::internal

@@ -6,6 +6,7 @@
 #include <rapidcheck/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include "bounds/internal/gradient.hpp"
@@ -160,6 +161,107 @@ TEST(Bound, UnknownVariableIsAClearError) {
   }
 }
 
+// Issue 12: a constant that does not converge on the empty box (no variable to bisect) read
+// box[split] out of range. Each is bounded soundly now, with no variable at all.
+TEST(Bound, ConstantsWithoutVariablesDoNotCrash) {
+  ExprPool pool;
+  const Box empty;
+  for (const char* text : {"exp(1000)", "1e-400", "tan(pi/2)", "exp(exp(exp(10)))", "exp(1)"}) {
+    const Expr f = symbolic::parse(pool, text);
+    const BoundResult r = bound(f, empty);
+    r.check_invariants();
+    const double value = symbolic::evaluate(f, {});
+    if (std::isfinite(value)) {
+      EXPECT_LE(r.lo, value) << text;
+      EXPECT_GE(r.hi, value) << text;
+    } else {
+      EXPECT_EQ(r.hi, std::numeric_limits<double>::infinity()) << text;
+    }
+  }
+  // exp(1): the witness enclosure [2.7182818284590442, 2.718281828459046] no longer gives
+  // inner_lo > inner_hi.
+  const BoundResult e = bound(symbolic::parse(pool, "exp(1)"), empty);
+  EXPECT_LE(e.inner_lo, e.inner_hi);
+  EXPECT_EQ(e.status, BoundStatus::kConverged);
+}
+
+// Issue 12: integer powers above 2^30 were compiled as exp(n log x), undefined for x < 0, so a
+// negative base answered "infeasible". Parity is kept whatever the exponent's size.
+TEST(Bound, HugeIntegerPowersKeepTheirParity) {
+  ExprPool pool;
+  Box box;
+  box.add(pool.variable("x"), -1.0000001, -1);
+  struct Case {
+    const char* text;
+    double lo, hi;  // the exact range, to 9 digits
+  };
+  const Case cases[] = {
+      {"x^2000000000", 1.0, std::exp(2000000000 * std::log1p(1e-7))},
+      {"pow(x, 2000000000)", 1.0, std::exp(2000000000 * std::log1p(1e-7))},
+      {"(x^2)^600000000", 1.0, std::exp(1200000000 * std::log1p(1e-7))},
+      {"x^1073741825", -std::exp(1073741825 * std::log1p(1e-7)), -1.0},
+      {"x^(-2000000000)", std::exp(-2000000000 * std::log1p(1e-7)), 1.0},
+      {"x^9007199254740993", -std::numeric_limits<double>::infinity(), -1.0},  // odd, > 2^53
+  };
+  for (const Case& c : cases) {
+    const BoundResult r = bound(symbolic::parse(pool, c.text), box);
+    EXPECT_NE(r.status, BoundStatus::kInfeasible) << c.text;
+    EXPECT_FALSE(r.possibly_undefined) << c.text;
+    EXPECT_LE(r.lo, c.lo * (1 + 1e-9 * (c.lo > 0 ? 1 : -1))) << c.text;
+    EXPECT_GE(r.hi, c.hi * (1 - 1e-9 * (c.hi > 0 ? 1 : -1))) << c.text;
+    if (std::isfinite(c.lo)) EXPECT_GT(r.lo, c.lo * (1 - 1e-6 * (c.lo > 0 ? 1 : -1))) << c.text;
+    EXPECT_LT(r.hi, c.hi * (1 + 1e-6 * (c.hi > 0 ? 1 : -1))) << c.text;
+  }
+}
+
+// Issue 12: results must not depend on the machine's load. The default effort limit counts
+// work, not seconds; a wall-clock limit is optional and says when it fired.
+TEST(Bound, EffortIsCountedInWorkAndAClockLimitSaysSo) {
+  EXPECT_EQ(BoundOptions{}.max_seconds, 0.0);
+  ExprPool pool;
+  Box box;
+  for (const char* name : {"a", "b", "c", "d"}) box.add(pool.variable(name), -2, 2);
+  const Expr f = symbolic::parse(pool, "sin(a)*cos(b) + cos(c)*sin(d) - sin(a + d)*cos(b - c)");
+  const BoundResult by_work = bound(f, box, {.tolerance = 0.0, .max_box_evaluations = 100});
+  EXPECT_FALSE(by_work.time_limited);
+  EXPECT_EQ(by_work.status, BoundStatus::kEffortLimit);
+  const BoundResult by_clock = bound(f, box, {.tolerance = 0.0, .max_seconds = 1e-9});
+  EXPECT_TRUE(by_clock.time_limited);
+  EXPECT_EQ(by_clock.status, BoundStatus::kEffortLimit);
+}
+
+// Issue 12: the effort limit holds on large inputs. Work is counted in tape instructions, so a
+// long expression gets proportionally fewer boxes (here a 300-term sum of sines in one variable),
+// and 2 000 variables neither run DIRECT in 2 000 dimensions nor SLSQP's n^3 steps.
+TEST(Bound, WorkLimitScalesWithTheExpression) {
+  ExprPool pool;
+  const Expr x = pool.variable("x");
+  std::vector<Expr> terms;
+  for (int i = 0; i < 300; ++i) terms.push_back(symbolic::sin(x + i));
+  const Expr f = pool.sum(terms);
+  Box box;
+  box.add(x, -100, 100);
+  const BoundOptions options{.tolerance = 0.0, .max_work = 20'000'000};
+  const BoundResult r = bound(f, box, options);
+  const std::size_t instructions =
+      symbolic::Tape::compile(std::array{f}, box.variables).instructions().size();
+  // 1.25 budgets at about 6 passes per box: a little over 20e6 * 1.25 / (6 * instructions).
+  EXPECT_LE(r.evaluations, 20'000'000 * 5 / 4 / (6 * instructions) + 8);
+  EXPECT_EQ(r.status, BoundStatus::kEffortLimit);
+  r.check_invariants();
+
+  std::vector<Expr> variables;
+  Box wide;
+  for (int i = 0; i < 2000; ++i) {
+    variables.push_back(pool.variable("v" + std::to_string(i)));
+    wide.add(variables.back(), -1, 1);
+  }
+  const BoundResult sum = bound(pool.sum(variables), wide);
+  EXPECT_EQ(sum.status, BoundStatus::kConverged);
+  EXPECT_DOUBLE_EQ(sum.hi, 2000);
+  EXPECT_DOUBLE_EQ(sum.lo, -2000);
+}
+
 TEST(Bound, EmptyOrNanRangeIsRejected) {
   ExprPool pool;
   Box box;
@@ -184,12 +286,13 @@ RC_GTEST_PROP(Bound, EveryMethodContainsValuesAtRandomPoints, ()) {
       {.inner = false, .monotonicity = false, .centred_form = false, .branch_and_bound = false},
       {.inner = false, .monotonicity = true, .centred_form = false, .branch_and_bound = false},
       {.inner = false, .monotonicity = false, .centred_form = true, .branch_and_bound = false},
-      {.max_box_evaluations = 2000, .max_seconds = 0.05},
+      {.max_box_evaluations = 2000},
   };
   const symbolic::Tape tape = symbolic::Tape::compile(std::array{f}, box.variables);
   symbolic::TapeEvaluator<Interval> evaluator(tape);
   for (const BoundOptions& options : methods) {
     const BoundResult r = bound(f, box, options);
+    r.check_invariants();  // lo <= inner_lo <= inner_hi <= hi on every result path
     if (r.status == BoundStatus::kInfeasible) continue;
     for (int k = 0; k < 8; ++k) {
       Interval p[2], out[1];
@@ -203,8 +306,6 @@ RC_GTEST_PROP(Bound, EveryMethodContainsValuesAtRandomPoints, ()) {
       RC_ASSERT(out[0].hi >= r.lo);
       RC_ASSERT(out[0].lo <= r.hi);
     }
-    RC_ASSERT(r.lo <= r.inner_lo || r.argmin.empty());
-    RC_ASSERT(r.inner_hi <= r.hi || r.argmax.empty());
   }
 }
 
@@ -248,8 +349,7 @@ RC_GTEST_PROP(Bound, ConstrainedBoundContainsFeasibleValues, ()) {
     }
   }
   const Constraint constraint{g, *rc::gen::element(Relation::kLessEqual, Relation::kGreater)};
-  const BoundResult r =
-      bound(f, box, {.max_box_evaluations = 4000, .max_seconds = 0.05}, std::span(&constraint, 1));
+  const BoundResult r = bound(f, box, {.max_box_evaluations = 4000}, std::span(&constraint, 1));
   const symbolic::Tape f_tape = symbolic::Tape::compile(std::array{f}, box.variables);
   const symbolic::Tape g_tape = symbolic::Tape::compile(std::array{g}, box.variables);
   symbolic::TapeEvaluator<Interval> f_at(f_tape), g_at(g_tape);

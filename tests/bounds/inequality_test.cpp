@@ -22,6 +22,8 @@ BoundResult one_to_four() {
   r.hi = 4;
   r.argmin = {0.0};
   r.argmax = {1.0};
+  r.argmin_value = Interval{1.9, 2.0};  // f(argmin) <= 2
+  r.argmax_value = Interval{3.0, 3.1};  // f(argmax) >= 3
   return r;
 }
 
@@ -94,11 +96,27 @@ TEST(Decide, InfeasibleResultProvesNothing) {
   }
 }
 
+TEST(Decide, ViolationsAreReadFromTheRigorousWitnessValues) {
+  // f is constant within rounding: the witness enclosures cross, the inner bounds are averaged
+  // to 2.5, but only the enclosures decide: f(argmax) >= 2 and f(argmin) <= 3 exactly.
+  symbolic::ExprPool pool;
+  BoundResult r = one_to_four();
+  r.argmin_value = Interval{2.0, 3.0};
+  r.argmax_value = Interval{2.0, 3.0};
+  r.inner_lo = r.inner_hi = 2.5;
+  const Expr x = pool.variable("x");
+  EXPECT_EQ(decide({"q", x, Relation::kLessEqual, 2.4}, r), Verdict::kUndecided);
+  EXPECT_EQ(decide({"q", x, Relation::kLessEqual, 1.9}, r), Verdict::kViolated);
+  EXPECT_EQ(decide({"q", x, Relation::kGreaterEqual, 2.6}, r), Verdict::kUndecided);
+  EXPECT_EQ(decide({"q", x, Relation::kGreaterEqual, 3.1}, r), Verdict::kViolated);
+}
+
 TEST(Decide, NoWitnessMeansNoViolation) {
   symbolic::ExprPool pool;
   BoundResult r = one_to_four();
   r.argmin.clear();
   r.argmax.clear();
+  r.argmin_value = r.argmax_value = Interval::empty();
   EXPECT_EQ(decide({"q", pool.variable("x"), Relation::kLess, 0}, r), Verdict::kUndecided);
   EXPECT_EQ(decide({"q", pool.variable("x"), Relation::kGreater, 5}, r), Verdict::kUndecided);
 }
