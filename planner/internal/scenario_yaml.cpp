@@ -112,6 +112,7 @@ class Fields {
     return path_.empty() ? key : path_ + "." + key;
   }
   [[nodiscard]] const YAML::Node& node() const { return map_; }
+  [[nodiscard]] const std::string& name() const { return path_; }  // "robot.gripper"
 
  private:
   const Reader& reader_;
@@ -125,7 +126,7 @@ class Reader {
   Reader(std::string source, std::filesystem::path base_dir)
       : source_(std::move(source)), base_dir_(std::move(base_dir)) {}
 
-  [[nodiscard]] Scenario read(std::string_view text);
+  [[nodiscard]] Scenario read(std::string_view document_text);
 
   [[nodiscard]] SourceLocation where(const YAML::Node& node) const {
     SourceLocation location{.file = source_};
@@ -475,9 +476,8 @@ geometry::ObjectModel Reader::object_model(const Fields& entry, const std::strin
                                            std::string& shape) const {
   const YAML::Node builtin = entry.get("builtin"), mesh = entry.get("mesh");
   if (builtin.IsDefined() == mesh.IsDefined())
-    fail(entry.node(), entry.path("") +
-                           " needs exactly one of 'builtin: <name>' and "
-                           "'mesh: <file>'");
+    fail(entry.node(),
+         entry.name() + ": needs exactly one of 'builtin: <name>' and 'mesh: <file>'");
   if (builtin.IsDefined()) {
     const std::string builtin_name = text(builtin, entry.path("builtin"));
     shape = "builtin: " + builtin_name;
@@ -697,10 +697,10 @@ AssembledGoal Reader::read_assembled(const YAML::Node& node, const std::string& 
   return goal;
 }
 
-Scenario Reader::read(std::string_view text_of_file) {
+Scenario Reader::read(std::string_view document_text) {
   YAML::Node document;
   try {
-    document = YAML::Load(std::string(text_of_file));
+    document = YAML::Load(std::string(document_text));
   } catch (const YAML::Exception& error) {
     const std::string where = error.mark.is_null()
                                   ? source_

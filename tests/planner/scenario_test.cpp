@@ -214,6 +214,8 @@ TEST(ScenarioErrors, MissingKey) {
   expect_error("units: {length: in}\n", 1, 1, "missing key 'objects'");
   expect_error(with("    pose: {stable: P1, at: [14, 12]}\n", ""), 4, 5,
                "objects.peg: missing key 'pose'");
+  expect_error(with("    builtin: peg\n", ""), 4, 5,
+               "objects.peg: needs exactly one of 'builtin: <name>' and 'mesh: <file>'");
 }
 
 TEST(ScenarioErrors, UnknownObjectInAGoal) {
