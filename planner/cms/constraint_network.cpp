@@ -12,20 +12,17 @@ namespace {
 
 using internal::Arc;
 using internal::Bitset;
+using internal::ConstBitsRef;
 using internal::ForwardChecking;
 
 [[nodiscard]] int other_end(const Arc& arc, int variable) {
   return arc.first == variable ? arc.second : arc.first;
 }
 
-// Keeps in `matrix` only rows of labels in `rows` and, within them, columns in `columns`.
-void keep_current_pairs(internal::BitMatrix& matrix, const Bitset& rows, const Bitset& columns) {
-  for (int row = 0; row < matrix.rows(); ++row) {
-    const std::span<std::uint64_t> words = matrix.row(row);
-    const bool live = rows.test(row);
-    for (std::size_t i = 0; i < words.size(); ++i)
-      words[i] = live ? words[i] & columns.words()[i] : 0;
-  }
+[[nodiscard]] std::vector<int> members(ConstBitsRef set) {
+  std::vector<int> result;
+  for (int bit = set.find_first(); bit >= 0; bit = set.find_next(bit + 1)) result.push_back(bit);
+  return result;
 }
 
 }  // namespace
@@ -69,8 +66,8 @@ int ConstraintNetwork::add_variable(std::string name, int domain_size,
   const int id = variable_count();
   witness_.push_back(labels.find_first());
   variables_.push_back({std::move(name), domain_size, id});
-  labels_.push_back(std::move(labels));
-  incident_.emplace_back();
+  labels_[labels_.add(domain_size)].assign(labels);
+  rebuild_incidence();
   return id;
 }
 
@@ -98,16 +95,11 @@ int ConstraintNetwork::representative(int var) const {
 }
 
 std::vector<int> ConstraintNetwork::labels(int var) const {
-  const Bitset& set = labels_[static_cast<std::size_t>(representative(var))];
-  std::vector<int> result;
-  for (int label = set.find_first(); label >= 0; label = set.find_next(label + 1)) {
-    result.push_back(label);
-  }
-  return result;
+  return members(labels_[representative(var)]);
 }
 
 bool ConstraintNetwork::has_label(int var, int label) const {
-  const Bitset& set = labels_[static_cast<std::size_t>(representative(var))];
+  const ConstBitsRef set = labels_[representative(var)];
   return label >= 0 && label < set.size() && set.test(label);
 }
 
@@ -115,19 +107,17 @@ bool ConstraintNetwork::could_unify(int a, int b) const {
   const int first = representative(a);
   const int second = representative(b);
   return first == second ||
-         (domain_size(a) == domain_size(b) && labels_[static_cast<std::size_t>(first)].intersects(
-                                                  labels_[static_cast<std::size_t>(second)]));
+         (domain_size(a) == domain_size(b) && labels_[first].intersects(labels_[second].words()));
 }
 
 std::vector<ArcPairs> ConstraintNetwork::arcs() const {
   std::vector<ArcPairs> result;
   for (const Arc& arc : arcs_) {
     ArcPairs printed{arc.first, arc.second, {}};
-    for (int row = 0; row < arc.forward.rows(); ++row) {
-      const auto words = arc.forward.row(row);
-      for (int column = internal::span_find_next(words, arc.forward.columns(), 0); column >= 0;
-           column = internal::span_find_next(words, arc.forward.columns(), column + 1)) {
-        printed.pairs.emplace_back(row, column);
+    for (int label = 0; label < arc.first_domain; ++label) {
+      for (const int other :
+           members(ConstBitsRef(row(arc, true, label).data(), arc.second_domain))) {
+        printed.pairs.emplace_back(label, other);
       }
     }
     result.push_back(std::move(printed));
@@ -146,11 +136,41 @@ std::vector<int> ConstraintNetwork::representatives() const {
   return result;
 }
 
+std::span<const int> ConstraintNetwork::incident(int var) const {
+  const auto begin = static_cast<std::size_t>(incident_start_[static_cast<std::size_t>(var)]);
+  const auto end = static_cast<std::size_t>(incident_start_[static_cast<std::size_t>(var) + 1]);
+  return std::span<const int>(incident_arcs_).subspan(begin, end - begin);
+}
+
 int ConstraintNetwork::find_arc(int first, int second) const {
-  for (const int index : incident_[static_cast<std::size_t>(first)]) {
+  for (const int index : incident(first)) {
     if (other_end(arcs_[static_cast<std::size_t>(index)], first) == second) return index;
   }
   return -1;
+}
+
+std::span<const std::uint64_t> ConstraintNetwork::row(const Arc& arc, bool from_first,
+                                                      int label) const {
+  return arc.row(std::span<const std::uint64_t>(arc_words_), from_first, label);
+}
+
+void ConstraintNetwork::rebuild_incidence() {
+  incident_start_.assign(variables_.size() + 1, 0);
+  for (const Arc& arc : arcs_) {
+    ++incident_start_[static_cast<std::size_t>(arc.first) + 1];
+    ++incident_start_[static_cast<std::size_t>(arc.second) + 1];
+  }
+  for (std::size_t var = 0; var < variables_.size(); ++var) {
+    incident_start_[var + 1] += incident_start_[var];
+  }
+  incident_arcs_.resize(2 * arcs_.size());
+  std::vector<int> next(incident_start_.begin(), incident_start_.end() - 1);
+  for (std::size_t index = 0; index < arcs_.size(); ++index) {
+    for (const int end : {arcs_[index].first, arcs_[index].second}) {
+      incident_arcs_[static_cast<std::size_t>(next[static_cast<std::size_t>(end)]++)] =
+          static_cast<int>(index);
+    }
+  }
 }
 
 // AC-3's revise: drops the labels of revision.variable that no current label at the arc's other
@@ -158,11 +178,11 @@ int ConstraintNetwork::find_arc(int first, int second) const {
 bool ConstraintNetwork::revise(LabelSets& labels, Revision revision) const {
   const Arc& arc = arcs_[static_cast<std::size_t>(revision.arc)];
   const bool from_first = arc.first == revision.variable;
-  Bitset& own = labels[static_cast<std::size_t>(revision.variable)];
-  const Bitset& other = labels[static_cast<std::size_t>(from_first ? arc.second : arc.first)];
+  const internal::BitsRef own = labels[revision.variable];
+  const ConstBitsRef other = labels[other_end(arc, revision.variable)];
   bool changed = false;
   for (int label = own.find_first(); label >= 0; label = own.find_next(label + 1)) {
-    if (!other.intersects(arc.row(from_first, label))) {
+    if (!other.intersects(row(arc, from_first, label))) {
       own.reset(label);
       changed = true;
     }
@@ -183,8 +203,8 @@ bool ConstraintNetwork::propagate(LabelSets& labels, std::vector<Revision> queue
     const Revision revision = queue[head];
     queued[key(revision)] = 0;
     if (!revise(labels, revision)) continue;
-    if (labels[static_cast<std::size_t>(revision.variable)].none()) return false;
-    for (const int index : incident_[static_cast<std::size_t>(revision.variable)]) {
+    if (labels[revision.variable].none()) return false;
+    for (const int index : incident(revision.variable)) {
       if (index == revision.arc) continue;
       const Revision next{other_end(arcs_[static_cast<std::size_t>(index)], revision.variable),
                           index};
@@ -208,12 +228,14 @@ ForwardChecking ConstraintNetwork::make_search(const std::vector<int>& component
   std::vector<std::vector<ForwardChecking::Neighbor>> neighbors(component.size());
   for (std::size_t i = 0; i < component.size(); ++i) {
     const int var = component[i];
-    domains.push_back(labels[static_cast<std::size_t>(var)]);
-    for (const int index : incident_[static_cast<std::size_t>(var)]) {
+    domains.push_back(labels[var].copy());
+    for (const int index : incident(var)) {
       const Arc& arc = arcs_[static_cast<std::size_t>(index)];
       const int other = local[static_cast<std::size_t>(other_end(arc, var))];
       if (other < 0) throw std::logic_error("constraint network: component is not closed");
-      neighbors[i].push_back({other, index, arc.first == var});
+      const bool from_first = arc.first == var;
+      neighbors[i].push_back(
+          {other, from_first ? arc.forward : arc.backward, arc.row_words(from_first)});
     }
   }
   return ForwardChecking(std::move(domains), std::move(neighbors), order);
@@ -228,7 +250,7 @@ std::vector<std::vector<int>> ConstraintNetwork::components_of(std::vector<int> 
     std::vector<int> component{seed};
     seen[static_cast<std::size_t>(seed)] = 1;
     for (std::size_t head = 0; head < component.size(); ++head) {
-      for (const int index : incident_[static_cast<std::size_t>(component[head])]) {
+      for (const int index : incident(component[head])) {
         const int other = other_end(arcs_[static_cast<std::size_t>(index)], component[head]);
         if (seen[static_cast<std::size_t>(other)] == 0) {
           seen[static_cast<std::size_t>(other)] = 1;
@@ -251,7 +273,7 @@ Consistency ConstraintNetwork::search_components(const std::vector<std::vector<i
   for (const std::vector<int>& component : components) {
     ForwardChecking search =
         make_search(component, labels, ForwardChecking::Order::kFewestLabelsFirst);
-    switch (search.next(arcs_, nodes_left)) {
+    switch (search.next(arc_words_, nodes_left)) {
       case ForwardChecking::Outcome::kFound:
         for (std::size_t i = 0; i < component.size(); ++i) {
           witness[static_cast<std::size_t>(component[i])] = search.assignment()[i];
@@ -266,30 +288,60 @@ Consistency ConstraintNetwork::search_components(const std::vector<std::vector<i
   return Consistency::kConsistent;
 }
 
+bool ConstraintNetwork::is_tree(const std::vector<int>& component) const {
+  std::size_t incidences = 0;
+  for (const int var : component) incidences += incident(var).size();
+  return incidences / 2 + 1 == component.size();  // connected with n - 1 arcs
+}
+
+// A consistent labeling of a tree-structured component whose labels are arc consistent, without
+// backtracking (Freuder 1982): the first variable takes its smallest label, and every other
+// variable, reached from the one before it in breadth-first order, the smallest label the arc
+// from there allows (arc consistency guarantees one).
+void ConstraintNetwork::label_tree(const std::vector<int>& component, const LabelSets& labels,
+                                   std::vector<int>& witness) const {
+  std::vector<char> labeled(variables_.size(), 0);
+  std::vector<int> order{component.front()};
+  witness[static_cast<std::size_t>(order.front())] = labels[order.front()].find_first();
+  labeled[static_cast<std::size_t>(order.front())] = 1;
+  for (std::size_t head = 0; head < order.size(); ++head) {
+    const int parent = order[head];
+    const int parent_label = witness[static_cast<std::size_t>(parent)];
+    for (const int index : incident(parent)) {
+      const Arc& arc = arcs_[static_cast<std::size_t>(index)];
+      const int child = other_end(arc, parent);
+      if (labeled[static_cast<std::size_t>(child)] != 0) continue;
+      Bitset allowed = labels[child].copy();
+      allowed.intersect_with(row(arc, arc.first == parent, parent_label));
+      const int label = allowed.find_first();
+      if (label < 0)
+        throw std::logic_error("constraint network: tree labeling met a wiped-out arc");
+      witness[static_cast<std::size_t>(child)] = label;
+      labeled[static_cast<std::size_t>(child)] = 1;
+      order.push_back(child);
+    }
+  }
+}
+
 // The cheap first try when the witness no longer fits: gives each misfit, in turn, the first
 // current label (its old one first) that every arc at it allows with the neighbours' witness
 // labels (neighbours still to be repaired are skipped; they check against it in their turn).
 // True if every misfit got one: the witness is then consistent again. False says nothing about
-// consistency; settle() then searches.
+// consistency; settle() then labels the components concerned afresh.
 bool ConstraintNetwork::repair(const LabelSets& labels, const std::vector<int>& misfits,
                                std::vector<int>& witness) const {
   const auto fits = [&](int var, int label) {
-    for (const int index : incident_[static_cast<std::size_t>(var)]) {
+    for (const int index : incident(var)) {
       const Arc& arc = arcs_[static_cast<std::size_t>(index)];
       const int other = other_end(arc, var);
       const int other_label = witness[static_cast<std::size_t>(other)];
-      if (other_label < 0 || !labels[static_cast<std::size_t>(other)].test(other_label)) continue;
-      const auto row = arc.row(arc.first == var, label);
-      if (((row[static_cast<std::size_t>(other_label / internal::kWordBits)] >>
-            (other_label % internal::kWordBits)) &
-           1U) == 0) {
-        return false;
-      }
+      if (other_label < 0 || !labels[other].test(other_label)) continue;
+      if (!internal::span_test(row(arc, arc.first == var, label), other_label)) return false;
     }
     return true;
   };
   for (const int var : misfits) {
-    const Bitset& own = labels[static_cast<std::size_t>(var)];
+    const ConstBitsRef own = labels[var];
     int& label = witness[static_cast<std::size_t>(var)];
     if (label >= 0 && own.test(label) && fits(var, label)) continue;
     label = -1;
@@ -305,67 +357,39 @@ bool ConstraintNetwork::repair(const LabelSets& labels, const std::vector<int>& 
   return true;
 }
 
-bool ConstraintNetwork::is_tree(const std::vector<int>& component) const {
-  std::size_t incidences = 0;
-  for (const int var : component) incidences += incident_[static_cast<std::size_t>(var)].size();
-  return incidences / 2 + 1 == component.size();  // connected with n - 1 arcs
-}
-
-// A consistent labeling of a tree-structured component whose labels are arc consistent, without
-// backtracking (Freuder 1982): the first variable takes its smallest label, and every other
-// variable, reached from the one before it in breadth-first order, the smallest label the arc
-// from there allows (arc consistency guarantees one).
-void ConstraintNetwork::label_tree(const std::vector<int>& component, const LabelSets& labels,
-                                   std::vector<int>& witness) const {
-  std::vector<char> labeled(variables_.size(), 0);
-  std::vector<int> order{component.front()};
-  witness[static_cast<std::size_t>(order.front())] =
-      labels[static_cast<std::size_t>(order.front())].find_first();
-  labeled[static_cast<std::size_t>(order.front())] = 1;
-  for (std::size_t head = 0; head < order.size(); ++head) {
-    const int parent = order[head];
-    const int parent_label = witness[static_cast<std::size_t>(parent)];
-    for (const int index : incident_[static_cast<std::size_t>(parent)]) {
-      const Arc& arc = arcs_[static_cast<std::size_t>(index)];
-      const int child = other_end(arc, parent);
-      if (labeled[static_cast<std::size_t>(child)] != 0) continue;
-      Bitset allowed = labels[static_cast<std::size_t>(child)];
-      allowed.intersect_with(arc.row(arc.first == parent, parent_label));
-      const int label = allowed.find_first();
-      if (label < 0)
-        throw std::logic_error("constraint network: tree labeling met a wiped-out arc");
-      witness[static_cast<std::size_t>(child)] = label;
-      labeled[static_cast<std::size_t>(child)] = 1;
-      order.push_back(child);
+// Clears the pairs of labels no longer current from both matrices of `arc`.
+void ConstraintNetwork::mask_arc(const Arc& arc) {
+  const std::span<std::uint64_t> pool(arc_words_);
+  for (const bool from_first : {true, false}) {
+    const ConstBitsRef own = labels_[from_first ? arc.first : arc.second];
+    const ConstBitsRef other = labels_[from_first ? arc.second : arc.first];
+    for (int label = 0; label < own.size(); ++label) {
+      const std::span<std::uint64_t> words = arc.row(pool, from_first, label);
+      const bool live = own.test(label);
+      for (std::size_t i = 0; i < words.size(); ++i) {
+        words[i] = live ? words[i] & other.words()[i] : 0;
+      }
     }
   }
-}
-
-void ConstraintNetwork::mask_arc(Arc& arc) const {
-  const Bitset& first = labels_[static_cast<std::size_t>(arc.first)];
-  const Bitset& second = labels_[static_cast<std::size_t>(arc.second)];
-  keep_current_pairs(arc.forward, first, second);
-  keep_current_pairs(arc.backward, second, first);
 }
 
 // Arc consistency from `queue`, then a consistent labeling: the witness where it still fits,
 // else the witness repaired, else, in each connected component where it does not fit, a
 // labeling read off the tree (arc consistency decides a tree-structured component) or found by
-// search. On kConsistent
-// commits the labels and the witness and drops pruned pairs from the arcs at changed variables and
-// from `touched_arcs`; otherwise changes nothing.
+// search. On kConsistent commits the labels and the witness and drops pruned pairs from the arcs
+// at changed variables and from `touched_arcs`; otherwise changes nothing.
 Consistency ConstraintNetwork::settle(LabelSets labels, std::vector<Revision> queue,
                                       SearchBudget budget, const std::vector<int>& touched_arcs) {
   if (!propagate(labels, std::move(queue))) return Consistency::kInconsistent;
   std::vector<int> misfits;
   for (const int var : representatives()) {
     const int label = witness_[static_cast<std::size_t>(var)];
-    if (label < 0 || !labels[static_cast<std::size_t>(var)].test(label)) misfits.push_back(var);
+    if (label < 0 || !labels[var].test(label)) misfits.push_back(var);
   }
   for (const Arc& arc : arcs_) {
     const int first = witness_[static_cast<std::size_t>(arc.first)];
     const int second = witness_[static_cast<std::size_t>(arc.second)];
-    if (first >= 0 && second >= 0 && !arc.forward.test(first, second)) {
+    if (first >= 0 && second >= 0 && !internal::span_test(row(arc, true, first), second)) {
       misfits.push_back(arc.first);
       misfits.push_back(arc.second);
     }
@@ -386,10 +410,12 @@ Consistency ConstraintNetwork::settle(LabelSets labels, std::vector<Revision> qu
     if (verdict != Consistency::kConsistent) return verdict;
   }
   std::vector<char> changed(variables_.size(), 0);
-  for (std::size_t var = 0; var < labels.size(); ++var) changed[var] = labels[var] != labels_[var];
+  for (int var = 0; var < variable_count(); ++var) {
+    changed[static_cast<std::size_t>(var)] = !labels[var].equals(labels_[var]);
+  }
   labels_ = std::move(labels);
   witness_ = std::move(witness);
-  for (Arc& arc : arcs_) {
+  for (const Arc& arc : arcs_) {
     if (changed[static_cast<std::size_t>(arc.first)] != 0 ||
         changed[static_cast<std::size_t>(arc.second)] != 0) {
       mask_arc(arc);
@@ -411,13 +437,35 @@ Consistency ConstraintNetwork::restrict(int var, const std::vector<int>& labels,
     allowed.set(label);
   }
   LabelSets next = labels_;
-  next[static_cast<std::size_t>(rep)].intersect_with(allowed);
-  if (next[static_cast<std::size_t>(rep)].none()) return Consistency::kInconsistent;
+  next[rep].intersect_with(allowed.words());
+  if (next[rep].none()) return Consistency::kInconsistent;
   std::vector<Revision> queue;
-  for (const int index : incident_[static_cast<std::size_t>(rep)]) {
+  for (const int index : incident(rep)) {
     queue.push_back({other_end(arcs_[static_cast<std::size_t>(index)], rep), index});
   }
   return settle(std::move(next), std::move(queue), budget, {});
+}
+
+// Appends an arc first < second with the given matrices (forward: domain(first) rows).
+void ConstraintNetwork::add_arc(int first, int second, const internal::BitMatrix& forward,
+                                const internal::BitMatrix& backward) {
+  const Arc arc{first,
+                second,
+                forward.rows(),
+                backward.rows(),
+                arc_words_.size(),
+                arc_words_.size() + forward.words().size()};
+  arc_words_.insert(arc_words_.end(), forward.words().begin(), forward.words().end());
+  arc_words_.insert(arc_words_.end(), backward.words().begin(), backward.words().end());
+  arcs_.push_back(arc);
+}
+
+// Intersects arc `index` with matrices of its shape, given as words (forward, then backward).
+void ConstraintNetwork::intersect_arc(int index, std::span<const std::uint64_t> forward,
+                                      std::span<const std::uint64_t> backward) {
+  const Arc& arc = arcs_[static_cast<std::size_t>(index)];
+  for (std::size_t i = 0; i < forward.size(); ++i) arc_words_[arc.forward + i] &= forward[i];
+  for (std::size_t i = 0; i < backward.size(); ++i) arc_words_[arc.backward + i] &= backward[i];
 }
 
 Consistency ConstraintNetwork::post(int a, int b, const AllowedPairs& allowed,
@@ -444,28 +492,30 @@ Consistency ConstraintNetwork::post(int a, int b, const AllowedPairs& allowed,
     std::swap(forward, backward);
   }
   // Install the arc (intersected with an existing one), settle, and take it out on refusal.
-  const int existing = find_arc(first, second);
-  std::optional<Arc> saved;
-  int index = existing;
-  if (existing >= 0) {
-    Arc& arc = arcs_[static_cast<std::size_t>(existing)];
-    saved = arc;
-    arc.forward.intersect_with(forward);
-    arc.backward.intersect_with(backward);
+  int index = find_arc(first, second);
+  const bool existed = index >= 0;
+  const std::size_t old_words = arc_words_.size();
+  std::vector<std::uint64_t> saved;  // an existing arc's words before the intersection
+  if (existed) {
+    const Arc& arc = arcs_[static_cast<std::size_t>(index)];
+    saved.assign(arc_words_.begin() + static_cast<std::ptrdiff_t>(arc.forward),
+                 arc_words_.begin() + static_cast<std::ptrdiff_t>(arc.backward + arc.words(false)));
+    intersect_arc(index, forward.words(), backward.words());
   } else {
     index = static_cast<int>(arcs_.size());
-    arcs_.push_back({first, second, std::move(forward), std::move(backward)});
-    incident_[static_cast<std::size_t>(first)].push_back(index);
-    incident_[static_cast<std::size_t>(second)].push_back(index);
+    add_arc(first, second, forward, backward);
+    rebuild_incidence();
   }
   const Consistency verdict = settle(labels_, {{first, index}, {second, index}}, budget, {index});
   if (verdict != Consistency::kConsistent) {
-    if (saved) {
-      arcs_[static_cast<std::size_t>(index)] = std::move(*saved);
+    if (existed) {
+      std::copy(saved.begin(), saved.end(),
+                arc_words_.begin() +
+                    static_cast<std::ptrdiff_t>(arcs_[static_cast<std::size_t>(index)].forward));
     } else {
       arcs_.pop_back();
-      incident_[static_cast<std::size_t>(first)].pop_back();
-      incident_[static_cast<std::size_t>(second)].pop_back();
+      arc_words_.resize(old_words);
+      rebuild_incidence();
     }
   }
   return verdict;
@@ -487,14 +537,6 @@ Consistency ConstraintNetwork::post(int a, int b, const std::function<bool(int, 
   return post(a, b, pairs, budget);
 }
 
-void ConstraintNetwork::rebuild_incidence() {
-  for (std::vector<int>& list : incident_) list.clear();
-  for (std::size_t index = 0; index < arcs_.size(); ++index) {
-    incident_[static_cast<std::size_t>(arcs_[index].first)].push_back(static_cast<int>(index));
-    incident_[static_cast<std::size_t>(arcs_[index].second)].push_back(static_cast<int>(index));
-  }
-}
-
 // Makes `gone` a member of `keep`'s class (keep < gone, both representatives): intersects the
 // label sets, turns an arc between them into a restriction of keep to its diagonal, and moves
 // gone's other arcs to keep, intersecting with keep's arc to the same variable. Arc consistency
@@ -503,41 +545,57 @@ void ConstraintNetwork::merge_into(int keep, int gone) {
   for (Variable& variable : variables_) {
     if (variable.representative == gone) variable.representative = keep;
   }
-  Bitset& kept = labels_[static_cast<std::size_t>(keep)];
-  kept.intersect_with(labels_[static_cast<std::size_t>(gone)]);
-  labels_[static_cast<std::size_t>(gone)] = Bitset();
+  const internal::BitsRef kept = labels_[keep];
+  kept.intersect_with(labels_[gone].words());
+  labels_[gone].clear();
   witness_[static_cast<std::size_t>(gone)] = -1;
   std::vector<char> removed(arcs_.size(), 0);
-  for (const int index : incident_[static_cast<std::size_t>(gone)]) {
+  for (const int index : incident(gone)) {
     Arc& arc = arcs_[static_cast<std::size_t>(index)];
-    const bool gone_first = arc.first == gone;
     const int other = other_end(arc, gone);
     if (other == keep) {
-      Bitset diagonal(kept.size());
-      for (int label = 0; label < diagonal.size(); ++label) {
-        if (arc.forward.test(label, label)) diagonal.set(label);
+      for (int label = kept.find_first(); label >= 0; label = kept.find_next(label + 1)) {
+        if (!internal::span_test(row(arc, true, label), label)) kept.reset(label);
       }
-      kept.intersect_with(diagonal);
       removed[static_cast<std::size_t>(index)] = 1;
       continue;
     }
-    (gone_first ? arc.first : arc.second) = keep;
+    (arc.first == gone ? arc.first : arc.second) = keep;
     if (arc.first > arc.second) {
       std::swap(arc.first, arc.second);
+      std::swap(arc.first_domain, arc.second_domain);
       std::swap(arc.forward, arc.backward);
     }
-    const int existing = find_arc(keep, other);  // keep's incidence is not yet rebuilt
+    const int existing = find_arc(keep, other);  // the incidence still lists keep's old arcs
     if (existing >= 0) {
-      arcs_[static_cast<std::size_t>(existing)].forward.intersect_with(arc.forward);
-      arcs_[static_cast<std::size_t>(existing)].backward.intersect_with(arc.backward);
+      const std::span<const std::uint64_t> pool(arc_words_);
+      const std::vector<std::uint64_t> forward(
+          pool.begin() + static_cast<std::ptrdiff_t>(arc.forward),
+          pool.begin() + static_cast<std::ptrdiff_t>(arc.forward + arc.words(true)));
+      const std::vector<std::uint64_t> backward(
+          pool.begin() + static_cast<std::ptrdiff_t>(arc.backward),
+          pool.begin() + static_cast<std::ptrdiff_t>(arc.backward + arc.words(false)));
+      intersect_arc(existing, forward, backward);
       removed[static_cast<std::size_t>(index)] = 1;
     }
   }
+  // Rebuild the arc list and its word pool without the removed arcs, forward before backward.
   std::vector<Arc> remaining;
+  std::vector<std::uint64_t> words;
   for (std::size_t index = 0; index < arcs_.size(); ++index) {
-    if (removed[index] == 0) remaining.push_back(std::move(arcs_[index]));
+    if (removed[index] != 0) continue;
+    Arc arc = arcs_[index];
+    for (std::size_t* offset : {&arc.forward, &arc.backward}) {
+      const std::size_t count = offset == &arc.forward ? arc.words(true) : arc.words(false);
+      const std::size_t start = words.size();
+      words.insert(words.end(), arc_words_.begin() + static_cast<std::ptrdiff_t>(*offset),
+                   arc_words_.begin() + static_cast<std::ptrdiff_t>(*offset + count));
+      *offset = start;
+    }
+    remaining.push_back(arc);
   }
   arcs_ = std::move(remaining);
+  arc_words_ = std::move(words);
   rebuild_incidence();
 }
 
@@ -552,9 +610,10 @@ Consistency ConstraintNetwork::unify(int a, int b, SearchBudget budget) {
   if (keep == gone) return Consistency::kConsistent;
   ConstraintNetwork next = *this;
   next.merge_into(keep, gone);
-  if (next.labels_[static_cast<std::size_t>(keep)].none()) return Consistency::kInconsistent;
+  if (next.labels_[keep].none()) return Consistency::kInconsistent;
   std::vector<Revision> queue;
-  const std::vector<int> touched = next.incident_[static_cast<std::size_t>(keep)];
+  const std::span<const int> at_keep = next.incident(keep);
+  const std::vector<int> touched(at_keep.begin(), at_keep.end());
   for (const int index : touched) {
     queue.push_back({keep, index});
     queue.push_back({other_end(next.arcs_[static_cast<std::size_t>(index)], keep), index});
@@ -574,7 +633,8 @@ void ConstraintNetwork::check_invariants() const {
     throw std::logic_error("constraint network: " + what);
   };
   const std::size_t n = variables_.size();
-  if (labels_.size() != n || incident_.size() != n || witness_.size() != n) {
+  if (labels_.count() != variable_count() || witness_.size() != n ||
+      incident_start_.size() != n + 1 || incident_arcs_.size() != 2 * arcs_.size()) {
     fail("per-variable tables differ in size");
   }
   for (int var = 0; var < variable_count(); ++var) {
@@ -587,63 +647,72 @@ void ConstraintNetwork::check_invariants() const {
     if (variables_[static_cast<std::size_t>(rep)].domain_size != variables_[v].domain_size) {
       fail(who + ": domain differs from its representative's");
     }
+    if (labels_[var].size() != variables_[v].domain_size) fail(who + ": label set has wrong width");
     if (rep != var) {
-      if (labels_[v].size() != 0 || !incident_[v].empty() || witness_[v] != -1) {
+      if (!labels_[var].none() || !incident(var).empty() || witness_[v] != -1) {
         fail(who + ": a codesignated id keeps labels, arcs or a witness");
       }
       continue;
     }
-    if (labels_[v].size() != variables_[v].domain_size) fail(who + ": label set has wrong width");
-    if (labels_[v].none()) fail(who + ": empty label set");
-    if (witness_[v] < 0 || witness_[v] >= labels_[v].size() || !labels_[v].test(witness_[v])) {
+    if (labels_[var].none()) fail(who + ": empty label set");
+    if (witness_[v] < 0 || witness_[v] >= labels_[var].size() || !labels_[var].test(witness_[v])) {
       fail(who + ": witness label is not a current label");
     }
   }
+  std::size_t words = 0;
   for (std::size_t index = 0; index < arcs_.size(); ++index) {
     const Arc& arc = arcs_[index];
     const std::string which = "arc " + std::to_string(arc.first) + "-" + std::to_string(arc.second);
     if (arc.first < 0 || arc.second >= variable_count() || arc.first >= arc.second) {
       fail(which + ": ends out of order or range");
     }
-    const auto first = static_cast<std::size_t>(arc.first);
-    const auto second = static_cast<std::size_t>(arc.second);
-    if (variables_[first].representative != arc.first ||
-        variables_[second].representative != arc.second) {
+    if (variables_[static_cast<std::size_t>(arc.first)].representative != arc.first ||
+        variables_[static_cast<std::size_t>(arc.second)].representative != arc.second) {
       fail(which + ": an end is not a representative");
     }
-    if (arc.forward.rows() != variables_[first].domain_size ||
-        arc.forward.columns() != variables_[second].domain_size ||
-        !(arc.backward == arc.forward.transposed())) {
-      fail(which + ": matrices have the wrong shape or are not transposes");
+    if (arc.first_domain != domain_size(arc.first) ||
+        arc.second_domain != domain_size(arc.second) || arc.forward != words ||
+        arc.backward != words + arc.words(true)) {
+      fail(which + ": matrices have the wrong shape or place in the pool");
     }
-    for (int label = 0; label < arc.forward.rows(); ++label) {
-      const auto row = arc.forward.row(label);
-      const bool live = labels_[first].test(label);
-      if (!live && internal::spans_intersect(row, row)) fail(which + ": pairs of a pruned label");
-      if (live && !labels_[second].intersects(row)) {
-        fail(which + ": label " + std::to_string(label) + " has no support (not arc consistent)");
-      }
-      for (std::size_t i = 0; i < row.size(); ++i) {
-        if ((row[i] & ~labels_[second].words()[i]) != 0) fail(which + ": pairs of a pruned label");
-      }
-    }
-    for (int label = labels_[second].find_first(); label >= 0;
-         label = labels_[second].find_next(label + 1)) {
-      if (!labels_[first].intersects(arc.backward.row(label))) {
-        fail(which + ": label " + std::to_string(label) + " has no support (not arc consistent)");
+    words += arc.words(true) + arc.words(false);
+    for (const bool from_first : {true, false}) {
+      const ConstBitsRef own = labels_[from_first ? arc.first : arc.second];
+      const ConstBitsRef other = labels_[from_first ? arc.second : arc.first];
+      for (int label = 0; label < own.size(); ++label) {
+        const auto pairs = row(arc, from_first, label);
+        for (int with = 0; with < other.size(); ++with) {
+          if (internal::span_test(pairs, with) !=
+              internal::span_test(from_first ? row(arc, false, with) : row(arc, true, with),
+                                  label)) {
+            fail(which + ": backward is not the transpose of forward");
+          }
+        }
+        if (!own.test(label) && !ConstBitsRef(pairs.data(), other.size()).none()) {
+          fail(which + ": pairs of a pruned label");
+        }
+        if (own.test(label) && !other.intersects(pairs)) {
+          fail(which + ": label " + std::to_string(label) + " has no support (not arc consistent)");
+        }
       }
     }
     if (find_arc(arc.first, arc.second) != static_cast<int>(index)) {
       fail(which + ": duplicate arc or missing incidence");
     }
-    if (!arc.forward.test(witness_[first], witness_[second])) fail(which + ": witness violates it");
+    if (!internal::span_test(row(arc, true, witness_[static_cast<std::size_t>(arc.first)]),
+                             witness_[static_cast<std::size_t>(arc.second)])) {
+      fail(which + ": witness violates it");
+    }
   }
-  std::size_t incidences = 0;
-  for (const std::vector<int>& list : incident_) {
+  if (words != arc_words_.size()) fail("the arc word pool holds words of no arc");
+  for (int var = 0; var < variable_count(); ++var) {
+    const std::span<const int> list = incident(var);
     if (!std::is_sorted(list.begin(), list.end())) fail("incidence list not ascending");
-    incidences += list.size();
+    for (const int index : list) {
+      const Arc& arc = arcs_[static_cast<std::size_t>(index)];
+      if (arc.first != var && arc.second != var) fail("incidence lists an arc not at the variable");
+    }
   }
-  if (incidences != 2 * arcs_.size()) fail("incidence lists do not match the arcs");
 }
 
 Labelings::Labelings(const ConstraintNetwork& network, SearchBudget budget)
@@ -658,7 +727,7 @@ Labelings::Labelings(const ConstraintNetwork& network, SearchBudget budget)
 }
 
 std::optional<Labeling> Labelings::next() {
-  switch (search_.next(network_.arcs_, nodes_left_)) {
+  switch (search_.next(network_.arc_words_, nodes_left_)) {
     case ForwardChecking::Outcome::kFound: {
       Labeling labeling;
       for (int var = 0; var < network_.variable_count(); ++var) {

@@ -1,8 +1,11 @@
-// Bitset: a dynamic set of small non-negative integers as 64-bit words, for the CMS's label sets,
-// allowed-pair matrices and the ordering graph's transitive closure. A plain value (one vector).
+// Bit sets and bit matrices as 64-bit words, for the CMS's label sets, allowed-pair matrices and
+// the ordering graph's transitive closure: Bitset (one set, owning), BitMatrix (rows of bits,
+// owning), BitsetArray (many sets in one flat vector, so copying them all is one memcpy) and
+// BitsRef (a view of one set in a BitsetArray). All plain values.
 //
-// Invariant: bits at positions >= size() are zero, so word-wise comparisons, counts and
-// intersection tests never see stray bits. Private to planner/cms/.
+// Invariant of all four: bits at positions >= the set's size (or a row's width) are zero, so
+// word-wise comparisons, counts and intersection tests never see stray bits. Private to
+// planner/cms/.
 #pragma once
 
 #include <algorithm>
@@ -10,6 +13,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <span>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -57,6 +61,22 @@ inline constexpr int kWordBits = 64;
   return true;
 }
 
+[[nodiscard]] inline bool span_none(std::span<const std::uint64_t> words) {
+  return std::all_of(words.begin(), words.end(), [](std::uint64_t word) { return word == 0; });
+}
+
+// destination &= source (spans of equal length); returns true if destination changed.
+inline bool span_intersect_with(std::span<std::uint64_t> destination,
+                                std::span<const std::uint64_t> source) {
+  bool changed = false;
+  for (std::size_t i = 0; i < destination.size(); ++i) {
+    const std::uint64_t next = destination[i] & source[i];
+    changed |= next != destination[i];
+    destination[i] = next;
+  }
+  return changed;
+}
+
 // destination |= source (spans of equal length).
 inline void span_unite(std::span<std::uint64_t> destination,
                        std::span<const std::uint64_t> source) {
@@ -72,9 +92,7 @@ class Bitset {
       : size_{size}, words_(words.begin(), words.end()) {}
 
   [[nodiscard]] int size() const { return size_; }
-  [[nodiscard]] bool test(int bit) const {
-    return ((words_[static_cast<std::size_t>(bit / kWordBits)] >> (bit % kWordBits)) & 1U) != 0;
-  }
+  [[nodiscard]] bool test(int bit) const { return span_test(words_, bit); }
   void set(int bit) {
     words_[static_cast<std::size_t>(bit / kWordBits)] |= std::uint64_t{1} << (bit % kWordBits);
   }
@@ -84,19 +102,8 @@ class Bitset {
   void clear() {
     for (std::uint64_t& word : words_) word = 0;
   }
-  // Grows (new bits zero) or shrinks (dropped bits cleared, keeping the invariant).
-  void resize(int size) {
-    words_.resize(static_cast<std::size_t>(words_for(size)), 0);
-    size_ = size;
-    if (size_ % kWordBits != 0) words_.back() &= (std::uint64_t{1} << (size_ % kWordBits)) - 1;
-  }
 
-  [[nodiscard]] bool none() const {
-    for (const std::uint64_t word : words_) {
-      if (word != 0) return false;
-    }
-    return true;
-  }
+  [[nodiscard]] bool none() const { return span_none(words_); }
   [[nodiscard]] int count() const {
     int total = 0;
     for (const std::uint64_t word : words_) total += std::popcount(word);
@@ -106,40 +113,98 @@ class Bitset {
   [[nodiscard]] int find_next(int from) const { return span_find_next(words_, size_, from); }
   [[nodiscard]] int find_first() const { return find_next(0); }
 
-  [[nodiscard]] bool intersects(std::span<const std::uint64_t> other) const {
-    return spans_intersect(words_, other);
-  }
-  [[nodiscard]] bool intersects(const Bitset& other) const { return intersects(other.words()); }
-  // True if every member of this set is in `other` (same size).
-  [[nodiscard]] bool is_subset_of(const Bitset& other) const {
-    for (std::size_t i = 0; i < words_.size(); ++i) {
-      if ((words_[i] & ~other.words_[i]) != 0) return false;
-    }
-    return true;
-  }
   // this &= other (a row of the same width); returns true if this changed.
   bool intersect_with(std::span<const std::uint64_t> other) {
-    bool changed = false;
-    for (std::size_t i = 0; i < words_.size(); ++i) {
-      const std::uint64_t next = words_[i] & other[i];
-      changed |= next != words_[i];
-      words_[i] = next;
-    }
-    return changed;
+    return span_intersect_with(words_, other);
   }
-  bool intersect_with(const Bitset& other) { return intersect_with(other.words()); }
-  void unite_with(const Bitset& other) {
-    for (std::size_t i = 0; i < words_.size(); ++i) words_[i] |= other.words_[i];
-  }
-
   [[nodiscard]] std::span<const std::uint64_t> words() const { return words_; }
-  [[nodiscard]] std::span<std::uint64_t> words() { return words_; }
 
   friend bool operator==(const Bitset&, const Bitset&) = default;
 
  private:
   int size_{0};                       // number of bits
   std::vector<std::uint64_t> words_;  // words_for(size_) words; bits >= size_ are zero
+};
+
+// A view of `size` bits stored in words_for(size) words it does not own (a set of a BitsetArray,
+// or a Bitset); valid while that storage is neither resized nor destroyed. `Word` is
+// std::uint64_t (mutable view) or const std::uint64_t.
+template <class Word>
+class BasicBitsRef {
+ public:
+  BasicBitsRef(Word* words, int size) : words_{words}, size_{size} {}
+  // A const view of a mutable one, and of a Bitset.
+  template <class Other>
+  BasicBitsRef(const BasicBitsRef<Other>& other)  // NOLINT: implicit, like span's
+      : words_{other.words().data()}, size_{other.size()} {}
+  BasicBitsRef(const Bitset& set)  // NOLINT: implicit, like span's
+      requires std::is_const_v<Word>
+      : words_{set.words().data()}, size_{set.size()} {}
+
+  [[nodiscard]] int size() const { return size_; }
+  [[nodiscard]] std::span<Word> words() const {
+    return {words_, static_cast<std::size_t>(words_for(size_))};
+  }
+  [[nodiscard]] bool test(int bit) const { return span_test(words(), bit); }
+  [[nodiscard]] bool none() const { return span_none(words()); }
+  [[nodiscard]] int find_next(int from) const { return span_find_next(words(), size_, from); }
+  [[nodiscard]] int find_first() const { return find_next(0); }
+  [[nodiscard]] bool intersects(std::span<const std::uint64_t> other) const {
+    return spans_intersect(words(), other);
+  }
+  [[nodiscard]] bool equals(BasicBitsRef<const std::uint64_t> other) const {
+    return size_ == other.size() &&
+           std::equal(words().begin(), words().end(), other.words().begin());
+  }
+  [[nodiscard]] Bitset copy() const { return Bitset(size_, words()); }
+
+  void reset(int bit) const requires(!std::is_const_v<Word>) {
+    words_[static_cast<std::size_t>(bit / kWordBits)] &= ~(std::uint64_t{1} << (bit % kWordBits));
+  }
+  // this &= other (words of the same width); returns true if this changed.
+  bool intersect_with(std::span<const std::uint64_t> other) const requires(!std::is_const_v<Word>) {
+    return span_intersect_with(words(), other);
+  }
+  void assign(BasicBitsRef<const std::uint64_t> other) const requires(!std::is_const_v<Word>) {
+    std::copy(other.words().begin(), other.words().end(), words_);
+  }
+  void clear() const requires(!std::is_const_v<Word>) {
+    std::fill(words().begin(), words().end(), 0);
+  }
+
+ private:
+  Word* words_;
+  int size_;
+};
+using BitsRef = BasicBitsRef<std::uint64_t>;
+using ConstBitsRef = BasicBitsRef<const std::uint64_t>;
+
+// Many bit sets of fixed sizes in one flat vector of words: copying the array is one memcpy.
+class BitsetArray {
+ public:
+  // Appends an empty set of `size` bits; returns its index.
+  int add(int size) {
+    offsets_.push_back(words_.size());
+    sizes_.push_back(size);
+    words_.resize(words_.size() + static_cast<std::size_t>(words_for(size)), 0);
+    return static_cast<int>(sizes_.size()) - 1;
+  }
+  [[nodiscard]] int count() const { return static_cast<int>(sizes_.size()); }
+  [[nodiscard]] BitsRef operator[](int index) {
+    return {words_.data() + offsets_[static_cast<std::size_t>(index)],
+            sizes_[static_cast<std::size_t>(index)]};
+  }
+  [[nodiscard]] ConstBitsRef operator[](int index) const {
+    return {words_.data() + offsets_[static_cast<std::size_t>(index)],
+            sizes_[static_cast<std::size_t>(index)]};
+  }
+
+  friend bool operator==(const BitsetArray&, const BitsetArray&) = default;
+
+ private:
+  std::vector<std::uint64_t> words_;  // the sets one after the other
+  std::vector<std::size_t> offsets_;  // where each set's words start
+  std::vector<int> sizes_;            // each set's size in bits
 };
 
 // Rows × columns bits, row-major, each row padded to whole words (so a row is a word span that
@@ -155,20 +220,17 @@ class BitMatrix {
 
   [[nodiscard]] int rows() const { return rows_; }
   [[nodiscard]] int columns() const { return columns_; }
+  // All rows, one after the other.
+  [[nodiscard]] std::span<const std::uint64_t> words() const { return words_; }
   [[nodiscard]] std::span<const std::uint64_t> row(int r) const {
     return {words_.data() + offset(r), static_cast<std::size_t>(row_words_)};
   }
   [[nodiscard]] std::span<std::uint64_t> row(int r) {
     return {words_.data() + offset(r), static_cast<std::size_t>(row_words_)};
   }
-  [[nodiscard]] bool test(int r, int c) const {
-    return ((row(r)[static_cast<std::size_t>(c / kWordBits)] >> (c % kWordBits)) & 1U) != 0;
-  }
+  [[nodiscard]] bool test(int r, int c) const { return span_test(row(r), c); }
   void set(int r, int c) {
     row(r)[static_cast<std::size_t>(c / kWordBits)] |= std::uint64_t{1} << (c % kWordBits);
-  }
-  void reset(int r, int c) {
-    row(r)[static_cast<std::size_t>(c / kWordBits)] &= ~(std::uint64_t{1} << (c % kWordBits));
   }
   // Adds zero rows and columns (never shrinks); re-lays the words out when a row needs more.
   void grow(int rows, int columns) {
@@ -184,10 +246,6 @@ class BitMatrix {
     rows_ = rows;
     columns_ = columns;
     words_.resize(static_cast<std::size_t>(rows) * static_cast<std::size_t>(row_words_), 0);
-  }
-  // this &= other (same shape).
-  void intersect_with(const BitMatrix& other) {
-    for (std::size_t i = 0; i < words_.size(); ++i) words_[i] &= other.words_[i];
   }
   // Column-for-row copy.
   [[nodiscard]] BitMatrix transposed() const {

@@ -28,7 +28,7 @@ int ForwardChecking::choose_variable(int depth) const {
   return best;
 }
 
-ForwardChecking::Outcome ForwardChecking::next(std::span<const Arc> arcs,
+ForwardChecking::Outcome ForwardChecking::next(std::span<const std::uint64_t> pool,
                                                std::uint64_t& nodes_left) {
   if (state_ == State::kNoMore) return Outcome::kNoMore;
   if (state_ == State::kOutOfBudget) return Outcome::kOutOfBudget;
@@ -80,8 +80,9 @@ ForwardChecking::Outcome ForwardChecking::next(std::span<const Arc> arcs,
     for (const Neighbor& neighbor : neighbors_[variable]) {
       const auto other = static_cast<std::size_t>(neighbor.variable);
       if (assigned_[other] != 0) continue;
+      const auto width = static_cast<std::size_t>(neighbor.row_words);
       domains_[other].intersect_with(
-          arcs[static_cast<std::size_t>(neighbor.arc)].row(neighbor.from_first, label));
+          pool.subspan(neighbor.rows + static_cast<std::size_t>(label) * width, width));
       if (domains_[other].none()) {
         descend = false;  // wiped out: try the next label at this level
         break;

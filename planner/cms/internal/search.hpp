@@ -3,6 +3,7 @@
 // Private to planner/cms/: ConstraintNetwork and Labelings drive it.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -11,16 +12,31 @@
 
 namespace spar::planner::cms::internal {
 
-// One arc of the network: the allowed label pairs between two representative variables.
+// One arc of the network: the allowed label pairs between two representative variables, as two
+// bit matrices kept in a flat word pool that the network owns (so copying all arcs is one
+// memcpy): `forward` has a row per label of first, bit m of row l set iff (l, m) is allowed;
+// `backward` is its transpose, so both directions read rows.
 struct Arc {
-  int first{0};        // the smaller variable id
-  int second{0};       // the larger variable id
-  BitMatrix forward;   // domain(first) × domain(second): bit (l, m) set iff (l, m) is allowed
-  BitMatrix backward;  // the transpose of forward, so both directions read rows
+  int first{0};             // the smaller variable id
+  int second{0};            // the larger variable id
+  int first_domain{0};      // domain size of first: rows of forward, columns of backward
+  int second_domain{0};     // domain size of second
+  std::size_t forward{0};   // offset of forward in the pool
+  std::size_t backward{0};  // offset of backward in the pool
 
-  // The row of labels of the other end allowed with `label` at end `from_first ? first : second`.
-  [[nodiscard]] std::span<const std::uint64_t> row(bool from_first, int label) const {
-    return from_first ? forward.row(label) : backward.row(label);
+  [[nodiscard]] int row_words(bool from_first) const {
+    return words_for(from_first ? second_domain : first_domain);
+  }
+  [[nodiscard]] std::size_t words(bool from_first) const {
+    return static_cast<std::size_t>(from_first ? first_domain : second_domain) *
+           static_cast<std::size_t>(row_words(from_first));
+  }
+  // The labels of the other end allowed with `label` at end `from_first ? first : second`.
+  template <class Word>
+  [[nodiscard]] std::span<Word> row(std::span<Word> pool, bool from_first, int label) const {
+    const auto width = static_cast<std::size_t>(row_words(from_first));
+    return pool.subspan((from_first ? forward : backward) + static_cast<std::size_t>(label) * width,
+                        width);
   }
   friend bool operator==(const Arc&, const Arc&) = default;
 };
@@ -33,9 +49,9 @@ struct Arc {
 class ForwardChecking {
  public:
   struct Neighbor {
-    int variable{0};        // local index of the other end
-    int arc{0};             // index into the arcs passed to next()
-    bool from_first{true};  // this variable is the arc's `first`
+    int variable{0};      // local index of the other end
+    std::size_t rows{0};  // offset in the word pool of the arc's matrix read from this end
+    int row_words{0};     // words per row of that matrix
   };
   enum class Order { kAsGiven, kFewestLabelsFirst };
   enum class Outcome { kFound, kNoMore, kOutOfBudget };
@@ -45,8 +61,8 @@ class ForwardChecking {
 
   // Advances to the next solution. kFound: assignment() holds it (a label per local variable);
   // kNoMore: all solutions have been produced; kOutOfBudget: nodes_left reached zero (every
-  // later call says so too). `arcs` must be the same arcs on every call.
-  [[nodiscard]] Outcome next(std::span<const Arc> arcs, std::uint64_t& nodes_left);
+  // later call says so too). `pool` holds the arcs' matrices; the same on every call.
+  [[nodiscard]] Outcome next(std::span<const std::uint64_t> pool, std::uint64_t& nodes_left);
   [[nodiscard]] const std::vector<int>& assignment() const { return assignment_; }
 
  private:
