@@ -224,11 +224,11 @@ ForwardChecking ConstraintNetwork::make_search(const std::vector<int>& component
   for (std::size_t i = 0; i < component.size(); ++i) {
     local[static_cast<std::size_t>(component[i])] = static_cast<int>(i);
   }
-  std::vector<Bitset> domains;
+  internal::BitsetArray domains;
   std::vector<std::vector<ForwardChecking::Neighbor>> neighbors(component.size());
   for (std::size_t i = 0; i < component.size(); ++i) {
     const int var = component[i];
-    domains.push_back(labels[var].copy());
+    domains[domains.add(labels[var].size())].assign(labels[var]);
     for (const int index : incident(var)) {
       const Arc& arc = arcs_[static_cast<std::size_t>(index)];
       const int other = local[static_cast<std::size_t>(other_end(arc, var))];

@@ -99,16 +99,8 @@ class Bitset {
   void reset(int bit) {
     words_[static_cast<std::size_t>(bit / kWordBits)] &= ~(std::uint64_t{1} << (bit % kWordBits));
   }
-  void clear() {
-    for (std::uint64_t& word : words_) word = 0;
-  }
 
   [[nodiscard]] bool none() const { return span_none(words_); }
-  [[nodiscard]] int count() const {
-    int total = 0;
-    for (const std::uint64_t word : words_) total += std::popcount(word);
-    return total;
-  }
   // Smallest member >= from, or -1.
   [[nodiscard]] int find_next(int from) const { return span_find_next(words_, size_, from); }
   [[nodiscard]] int find_first() const { return find_next(0); }
@@ -147,6 +139,11 @@ class BasicBitsRef {
   }
   [[nodiscard]] bool test(int bit) const { return span_test(words(), bit); }
   [[nodiscard]] bool none() const { return span_none(words()); }
+  [[nodiscard]] int count() const {
+    int total = 0;
+    for (const std::uint64_t word : words()) total += std::popcount(word);
+    return total;
+  }
   [[nodiscard]] int find_next(int from) const { return span_find_next(words(), size_, from); }
   [[nodiscard]] int find_first() const { return find_next(0); }
   [[nodiscard]] bool intersects(std::span<const std::uint64_t> other) const {
@@ -158,6 +155,9 @@ class BasicBitsRef {
   }
   [[nodiscard]] Bitset copy() const { return Bitset(size_, words()); }
 
+  void set(int bit) const requires(!std::is_const_v<Word>) {
+    words_[static_cast<std::size_t>(bit / kWordBits)] |= std::uint64_t{1} << (bit % kWordBits);
+  }
   void reset(int bit) const requires(!std::is_const_v<Word>) {
     words_[static_cast<std::size_t>(bit / kWordBits)] &= ~(std::uint64_t{1} << (bit % kWordBits));
   }

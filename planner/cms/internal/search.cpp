@@ -4,22 +4,22 @@
 
 namespace spar::planner::cms::internal {
 
-ForwardChecking::ForwardChecking(std::vector<Bitset> domains,
-                                 std::vector<std::vector<Neighbor>> neighbors, Order order)
+ForwardChecking::ForwardChecking(BitsetArray domains, std::vector<std::vector<Neighbor>> neighbors,
+                                 Order order)
     : order_{order},
       neighbors_{std::move(neighbors)},
       domains_{std::move(domains)},
-      assigned_(domains_.size(), 0),
-      frames_(domains_.size()),
-      assignment_(domains_.size(), -1) {}
+      assigned_(static_cast<std::size_t>(domains_.count()), 0),
+      frames_(static_cast<std::size_t>(domains_.count())),
+      assignment_(static_cast<std::size_t>(domains_.count()), -1) {}
 
 int ForwardChecking::choose_variable(int depth) const {
   if (order_ == Order::kAsGiven) return depth;
   int best = -1;
   int best_count = 0;
-  for (int variable = 0; variable < static_cast<int>(domains_.size()); ++variable) {
+  for (int variable = 0; variable < domains_.count(); ++variable) {
     if (assigned_[static_cast<std::size_t>(variable)] != 0) continue;
-    const int count = domains_[static_cast<std::size_t>(variable)].count();
+    const int count = domains_[variable].count();
     if (best < 0 || count < best_count) {
       best = variable;
       best_count = count;
@@ -36,7 +36,7 @@ ForwardChecking::Outcome ForwardChecking::next(std::span<const std::uint64_t> po
   // deepest level with the next label.
   bool descend = state_ == State::kFresh;
   state_ = State::kRunning;
-  const int size = static_cast<int>(domains_.size());
+  const int size = domains_.count();
   while (true) {
     if (descend) {
       if (depth_ == size) {
@@ -60,7 +60,7 @@ ForwardChecking::Outcome ForwardChecking::next(std::span<const std::uint64_t> po
     const auto variable = static_cast<std::size_t>(frame.variable);
     domains_ = frame.saved;
     assigned_[variable] = 0;
-    const int label = frame.saved[variable].find_next(frame.label + 1);
+    const int label = frame.saved[frame.variable].find_next(frame.label + 1);
     if (label < 0) {  // level exhausted: back to the one above
       --depth_;
       descend = false;
@@ -73,7 +73,7 @@ ForwardChecking::Outcome ForwardChecking::next(std::span<const std::uint64_t> po
     --nodes_left;
     frame.label = label;
     assigned_[variable] = 1;
-    Bitset& own = domains_[variable];
+    const BitsRef own = domains_[frame.variable];
     own.clear();
     own.set(label);
     descend = true;
@@ -81,9 +81,9 @@ ForwardChecking::Outcome ForwardChecking::next(std::span<const std::uint64_t> po
       const auto other = static_cast<std::size_t>(neighbor.variable);
       if (assigned_[other] != 0) continue;
       const auto width = static_cast<std::size_t>(neighbor.row_words);
-      domains_[other].intersect_with(
+      domains_[neighbor.variable].intersect_with(
           pool.subspan(neighbor.rows + static_cast<std::size_t>(label) * width, width));
-      if (domains_[other].none()) {
+      if (domains_[neighbor.variable].none()) {
         descend = false;  // wiped out: try the next label at this level
         break;
       }

@@ -56,8 +56,7 @@ class ForwardChecking {
   enum class Order { kAsGiven, kFewestLabelsFirst };
   enum class Outcome { kFound, kNoMore, kOutOfBudget };
 
-  ForwardChecking(std::vector<Bitset> domains, std::vector<std::vector<Neighbor>> neighbors,
-                  Order order);
+  ForwardChecking(BitsetArray domains, std::vector<std::vector<Neighbor>> neighbors, Order order);
 
   // Advances to the next solution. kFound: assignment() holds it (a label per local variable);
   // kNoMore: all solutions have been produced; kOutOfBudget: nodes_left reached zero (every
@@ -68,14 +67,14 @@ class ForwardChecking {
  private:
   struct Frame {
     int variable{0};
-    int label{-1};              // the label tried last at this level (-1: none yet)
-    std::vector<Bitset> saved;  // the domains before this level's assignment
+    int label{-1};      // the label tried last at this level (-1: none yet)
+    BitsetArray saved;  // the domains before this level's assignment
   };
   [[nodiscard]] int choose_variable(int depth) const;
 
   Order order_;
   std::vector<std::vector<Neighbor>> neighbors_;
-  std::vector<Bitset> domains_;  // current domains; an assigned variable's holds its one label
+  BitsetArray domains_;  // current domains; an assigned variable's holds its one label
   std::vector<char> assigned_;
   std::vector<Frame> frames_;  // one per variable; the first depth_ are the active levels
   int depth_{0};
