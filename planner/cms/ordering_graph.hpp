@@ -14,7 +14,8 @@
 // Example:
 //   OrderingGraph graph;
 //   const int start = graph.add_step(), pick = graph.add_step(), place = graph.add_step();
-//   graph.add_before(start, pick), graph.add_before(pick, place);   // both true
+//   graph.add_before(start, pick);                 // true
+//   graph.add_before(pick, place);                 // true
 //   assert(graph.precedes(start, place) && !graph.add_before(place, start));
 //   Linearizations orders(graph);  // orders.next() == {0, 1, 2}, then std::nullopt
 #pragma once
