@@ -601,6 +601,31 @@ TEST(Labelings, BudgetCanRunOutMidwayAndStaysOut) {
   EXPECT_EQ(short_one.labelings.size(), 7U);
 }
 
+TEST(ConstraintNetwork, CopiesAreIndependentValues) {
+  ConstraintNetwork network;
+  const int a = network.add_variable("a", 3, {0, 1, 2});
+  const int b = network.add_variable("b", 3, {0, 1, 2});
+  EXPECT_EQ(network.post(a, b, pairs_of(3, 3, {{0, 1}, {1, 2}, {2, 0}})), Consistency::kConsistent);
+  ConstraintNetwork branch = network;
+  EXPECT_EQ(branch.restrict(a, {0}), Consistency::kConsistent);
+  EXPECT_EQ(branch.unify(a, b), Consistency::kInconsistent);
+  EXPECT_EQ(network.labels(a), (std::vector<int>{0, 1, 2}));
+  EXPECT_EQ(network.arcs().front().pairs.size(), 3U);
+  EXPECT_EQ(branch.labels(b), (std::vector<int>{1}));
+  EXPECT_EQ(branch.arcs().front().pairs, (std::vector<std::pair<int, int>>{{0, 1}}));
+}
+
+TEST(Labelings, EnumeratorIsIndependentOfLaterChanges) {
+  ConstraintNetwork network;
+  const int a = network.add_variable("a", 2, {0, 1});
+  Labelings enumeration(network);
+  EXPECT_EQ(network.restrict(a, {1}), Consistency::kConsistent);
+  EXPECT_EQ(enumeration.next(), (Labeling{0}));
+  EXPECT_EQ(enumeration.next(), (Labeling{1}));
+  EXPECT_EQ(enumeration.next(), std::nullopt);
+  EXPECT_FALSE(enumeration.budget_exhausted());
+}
+
 TEST(Labelings, EmptyNetworkHasTheEmptyLabeling) {
   EXPECT_EQ(first_labelings(ConstraintNetwork{}, 5).labelings, (std::vector<Labeling>{{}}));
   EXPECT_EQ(ConstraintNetwork{}.consistent(), Consistency::kConsistent);
