@@ -317,15 +317,21 @@ TEST(ScenarioErrors, UnreadableFile) {
 
 // ---- the seed's four experiments ----
 
+// The seed's situations, by what rests on the table (not by pose label, which the examples may
+// pick among equivalent poses): the block on its top (19, face down), on a side (1, 5, 9 or 11)
+// or on its bottom (13, hole up); the peg standing on its base (7) or lying on its side.
+enum class BlockRests { kFaceDown, kOnASide, kHoleUp };
+enum class PegRests { kOnItsSide, kOnItsBase };
 struct Experiment {
   const char* file;
-  const char* block_pose;
-  const char* peg_pose;
+  BlockRests block;
+  PegRests peg;
 };
-constexpr Experiment kExperiments[] = {{"peg_block_face_down.yaml", "P6", "P3"},
-                                       {"peg_block_on_sides.yaml", "P3", "P4"},
-                                       {"peg_block_face_up.yaml", "P5", "P3"},
-                                       {"peg_block_on_back.yaml", "P5", "P1"}};
+constexpr Experiment kExperiments[] = {
+    {"peg_block_face_down.yaml", BlockRests::kFaceDown, PegRests::kOnItsSide},
+    {"peg_block_on_sides.yaml", BlockRests::kOnASide, PegRests::kOnItsSide},
+    {"peg_block_face_up.yaml", BlockRests::kHoleUp, PegRests::kOnItsSide},
+    {"peg_block_on_back.yaml", BlockRests::kHoleUp, PegRests::kOnItsBase}};
 
 TEST(SeedExperiments, LoadInInchesAndDegreesWithTable2Uncertainties) {
   for (const Experiment& experiment : kExperiments) {
@@ -338,8 +344,28 @@ TEST(SeedExperiments, LoadInInchesAndDegreesWithTable2Uncertainties) {
     EXPECT_EQ(block.shape, "builtin: block");
     EXPECT_EQ(peg.shape, "builtin: peg");
     ASSERT_TRUE(block.initial_stable_pose && peg.initial_stable_pose);
-    EXPECT_EQ(block.stable_poses[*block.initial_stable_pose].label, experiment.block_pose);
-    EXPECT_EQ(peg.stable_poses[*peg.initial_stable_pose].label, experiment.peg_pose);
+    const std::vector<int>& block_on = block.stable_poses[*block.initial_stable_pose].table_faces;
+    switch (experiment.block) {
+      case BlockRests::kFaceDown:
+        EXPECT_EQ(block_on, std::vector<int>{19});
+        break;
+      case BlockRests::kOnASide:
+        ASSERT_EQ(block_on.size(), 1u);
+        EXPECT_TRUE(block_on[0] == 1 || block_on[0] == 5 || block_on[0] == 9 || block_on[0] == 11)
+            << block_on[0];
+        break;
+      case BlockRests::kHoleUp:
+        EXPECT_EQ(block_on, std::vector<int>{13});
+        break;
+    }
+    // The peg's axis (its frame's z) in the world: up when standing, nearly level when lying.
+    const double axis_up = peg.initial_pose.linear().col(2).z();
+    if (experiment.peg == PegRests::kOnItsBase) {
+      EXPECT_EQ(peg.stable_poses[*peg.initial_stable_pose].table_faces, std::vector<int>{7});
+      EXPECT_NEAR(axis_up, 1, 1e-12);
+    } else {
+      EXPECT_LT(std::abs(axis_up), 0.5);
+    }
     for (const ObjectSpec* object : {&block, &peg}) {
       EXPECT_NEAR(object->uncertainty.dx, 0.11 * in, 1e-15);
       EXPECT_NEAR(object->uncertainty.dtheta, 5.5 * deg, 1e-15);
