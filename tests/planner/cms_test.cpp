@@ -13,6 +13,7 @@
 
 #include "planner/cms/constraint_network.hpp"
 #include "planner/cms/error.hpp"
+#include "planner/cms/internal/bitset.hpp"
 #include "planner/cms/ordering_graph.hpp"
 
 namespace spar::planner::cms {
@@ -240,6 +241,35 @@ RC_GTEST_PROP(Linearizations, AreExactlyTheTopologicalOrdersInLexicographicOrder
   const LinearizationCount count = count_linearizations(graph, 10);
   RC_ASSERT(count.count == std::min<std::size_t>(expected.size(), 10));
   RC_ASSERT(count.limit_reached == (expected.size() > 10));
+}
+
+// ---------------------------------------------------------------------------------------------
+// BitMatrix (the arcs' storage)
+
+// The block transpose agrees with the definition on shapes that cut 64 x 64 blocks every way.
+RC_GTEST_PROP(BitMatrix, TransposeSwapsEveryBit, ()) {
+  const int rows = *rc::gen::inRange(1, 200);
+  const int columns = *rc::gen::inRange(1, 200);
+  internal::BitMatrix matrix(rows, columns);
+  const int density = *rc::gen::inRange(1, 100);
+  std::uint64_t state = *rc::gen::arbitrary<std::uint64_t>() | 1U;  // xorshift: cheap bits
+  for (int row = 0; row < rows; ++row) {
+    for (int column = 0; column < columns; ++column) {
+      state ^= state << 13;
+      state ^= state >> 7;
+      state ^= state << 17;
+      if (static_cast<int>(state % 100) < density) matrix.set(row, column);
+    }
+  }
+  const internal::BitMatrix transposed = matrix.transposed();
+  RC_ASSERT(transposed.rows() == columns);
+  RC_ASSERT(transposed.columns() == rows);
+  for (int row = 0; row < rows; ++row) {
+    for (int column = 0; column < columns; ++column) {
+      RC_ASSERT(transposed.test(column, row) == matrix.test(row, column));
+    }
+  }
+  RC_ASSERT(transposed.transposed() == matrix);  // also: padding bits stay zero
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -247,13 +247,21 @@ class BitMatrix {
     columns_ = columns;
     words_.resize(static_cast<std::size_t>(rows) * static_cast<std::size_t>(row_words_), 0);
   }
-  // Column-for-row copy.
+  // Column-for-row copy, 64 x 64 blocks at a time.
   [[nodiscard]] BitMatrix transposed() const {
     BitMatrix result(columns_, rows_);
-    for (int r = 0; r < rows_; ++r) {
-      for (int c = span_find_next(row(r), columns_, 0); c >= 0;
-           c = span_find_next(row(r), columns_, c + 1)) {
-        result.set(c, r);
+    std::uint64_t block[kWordBits];
+    for (int row_block = 0; row_block < words_for(rows_); ++row_block) {
+      for (int column_block = 0; column_block < row_words_; ++column_block) {
+        for (int i = 0; i < kWordBits; ++i) {
+          const int r = row_block * kWordBits + i;
+          block[i] = r < rows_ ? row(r)[static_cast<std::size_t>(column_block)] : 0;
+        }
+        transpose_block(block);
+        for (int i = 0; i < kWordBits; ++i) {
+          const int c = column_block * kWordBits + i;
+          if (c < columns_) result.row(c)[static_cast<std::size_t>(row_block)] = block[i];
+        }
       }
     }
     return result;
@@ -262,6 +270,18 @@ class BitMatrix {
   friend bool operator==(const BitMatrix&, const BitMatrix&) = default;
 
  private:
+  // Transposes a 64 x 64 bit block in place (bit j of block[i] <-> bit i of block[j]) by
+  // swapping ever smaller off-diagonal sub-blocks (Hacker's Delight, section 7-3).
+  static void transpose_block(std::uint64_t (&block)[kWordBits]) {
+    std::uint64_t low_half = 0x00000000FFFFFFFFULL;  // columns whose bit `width` is clear
+    for (int width = 32; width != 0; width >>= 1, low_half ^= low_half << width) {
+      for (int k = 0; k < kWordBits; k = ((k | width) + 1) & ~width) {
+        const std::uint64_t swapped = ((block[k] >> width) ^ block[k | width]) & low_half;
+        block[k | width] ^= swapped;
+        block[k] ^= swapped << width;
+      }
+    }
+  }
   [[nodiscard]] std::size_t offset(int r) const {
     return static_cast<std::size_t>(r) * static_cast<std::size_t>(row_words_);
   }
