@@ -567,31 +567,26 @@ void ConstraintNetwork::merge_into(int keep, int gone) {
       std::swap(arc.forward, arc.backward);
     }
     const int existing = find_arc(keep, other);  // the incidence still lists keep's old arcs
-    if (existing >= 0) {
+    if (existing >= 0) {                         // the two arcs' words do not overlap
       const std::span<const std::uint64_t> pool(arc_words_);
-      const std::vector<std::uint64_t> forward(
-          pool.begin() + static_cast<std::ptrdiff_t>(arc.forward),
-          pool.begin() + static_cast<std::ptrdiff_t>(arc.forward + arc.words(true)));
-      const std::vector<std::uint64_t> backward(
-          pool.begin() + static_cast<std::ptrdiff_t>(arc.backward),
-          pool.begin() + static_cast<std::ptrdiff_t>(arc.backward + arc.words(false)));
-      intersect_arc(existing, forward, backward);
+      intersect_arc(existing, pool.subspan(arc.forward, arc.words(true)),
+                    pool.subspan(arc.backward, arc.words(false)));
       removed[static_cast<std::size_t>(index)] = 1;
     }
   }
   // Rebuild the arc list and its word pool without the removed arcs, forward before backward.
   std::vector<Arc> remaining;
   std::vector<std::uint64_t> words;
+  const auto move_matrix = [&](std::size_t& offset, std::size_t count) {
+    const auto begin = arc_words_.begin() + static_cast<std::ptrdiff_t>(offset);
+    offset = words.size();
+    words.insert(words.end(), begin, begin + static_cast<std::ptrdiff_t>(count));
+  };
   for (std::size_t index = 0; index < arcs_.size(); ++index) {
     if (removed[index] != 0) continue;
     Arc arc = arcs_[index];
-    for (std::size_t* offset : {&arc.forward, &arc.backward}) {
-      const std::size_t count = offset == &arc.forward ? arc.words(true) : arc.words(false);
-      const std::size_t start = words.size();
-      words.insert(words.end(), arc_words_.begin() + static_cast<std::ptrdiff_t>(*offset),
-                   arc_words_.begin() + static_cast<std::ptrdiff_t>(*offset + count));
-      *offset = start;
-    }
+    move_matrix(arc.forward, arc.words(true));
+    move_matrix(arc.backward, arc.words(false));
     remaining.push_back(arc);
   }
   arcs_ = std::move(remaining);
