@@ -34,11 +34,11 @@
 
 #include <cstddef>
 #include <span>
-#include <stdexcept>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include "bounds/error.hpp"
 #include "symbolic/expr.hpp"
 
 namespace spar::bounds {
@@ -53,10 +53,11 @@ enum class ShostakFailure {
   kOverflow,        // a rational left 64 bits
 };
 
-class ShostakError : public std::runtime_error {
+// A BoundsError that also says which way the algorithm failed.
+class ShostakError : public BoundsError {
  public:
   ShostakError(ShostakFailure failure, const std::string& message)
-      : std::runtime_error(message), failure_(failure) {}
+      : BoundsError(message), failure_(failure) {}
   [[nodiscard]] ShostakFailure failure() const { return failure_; }
 
  private:

@@ -23,18 +23,12 @@
 #include <Eigen/Core>
 #include <array>
 #include <span>
-#include <stdexcept>
 #include <string>
 #include <vector>
 
-namespace spar::geometry {
+#include "geometry/error.hpp"
 
-// Bad geometry or a bad file: the message names the source (file or builder) and, where it can,
-// the line of the polygon at fault.
-class GeometryError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
+namespace spar::geometry {
 
 struct Mesh {
   std::string source{"<built in code>"};      // file name or builder, for error messages

@@ -18,20 +18,14 @@
 #include <Eigen/Geometry>
 #include <initializer_list>
 #include <span>
-#include <stdexcept>
 #include <string>
 #include <vector>
+
+#include "kinematics/error.hpp"
 
 namespace spar::kinematics {
 
 using Transform = Eigen::Isometry3d;
-
-// A user's or a file's mistake in the kinematics module (bad joint count, non-rigid pose, unknown
-// robot, a chain the closed-form solver cannot handle).
-class KinematicsError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
 
 // Closed interval [lower, upper] of joint angles (radians); lower <= upper.
 struct JointLimits {

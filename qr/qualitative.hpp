@@ -33,17 +33,12 @@
 #include <array>
 #include <cstdint>
 #include <span>
-#include <stdexcept>
 #include <string>
 #include <vector>
 
-namespace spar::qr {
+#include "qr/error.hpp"
 
-// A user's or a file's mistake in the qr module (bad sign character, malformed network, ...).
-class QrError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
+namespace spar::qr {
 
 // The four qualitative values. The definite ones double as indices 0, 1, 2 into a Potentials
 // triple.

@@ -27,18 +27,12 @@
 #include <cstddef>
 #include <cstdint>
 #include <optional>
-#include <stdexcept>
 #include <string>
 #include <string_view>
 
-namespace spar::symbolic {
+#include "symbolic/error.hpp"
 
-// A user's mistake in building, parsing or evaluating an expression. The message names the
-// problem (and the offending token or column for parse errors).
-class SymbolicError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
+namespace spar::symbolic {
 
 class Number {
  public:

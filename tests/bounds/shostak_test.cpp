@@ -12,6 +12,7 @@
 
 #include "symbolic/operations.hpp"
 #include "symbolic/parse.hpp"
+#include "tests/common/expect_message.hpp"
 
 namespace spar::bounds {
 namespace {
@@ -120,6 +121,16 @@ TEST(Shostak, NonLinearInKeptVariablesPassesThrough) {
   const Expr y = pool.variable("y");
   EXPECT_EQ(sup(symbolic::parse(pool, "x + sin(y)"), constraints, std::array{y}),
             symbolic::parse(pool, "y + sin(y)"));
+}
+
+// Issue 12: one error hierarchy. A ShostakError is a BoundsError is a spar::Error, so callers
+// catch a module's mistakes or all of spar's with one handler, and keep the message.
+TEST(Shostak, ErrorIsABoundsErrorAndASparError) {
+  ExprPool pool;
+  const auto constraints = parse_all(pool, {"0 <= x <= y <= 5"});
+  const Expr x_times_y = symbolic::parse(pool, "x*y");
+  EXPECT_THROW_MESSAGE(sup(x_times_y, constraints, {}), "not linear");
+  EXPECT_THROW(static_cast<void>(sup(x_times_y, constraints, {})), BoundsError);
 }
 
 TEST(Shostak, NonLinearInEliminatedVariableIsReported) {

@@ -6,18 +6,10 @@
 
 #include "geometry/mesh_io.hpp"
 #include "geometry/object.hpp"
+#include "tests/common/expect_message.hpp"
 
 namespace spar::geometry {
 namespace {
-
-// Checks that `statement` throws GeometryError whose message contains `fragment`.
-#define EXPECT_GEOMETRY_ERROR(statement, fragment)                                          \
-  try {                                                                                     \
-    statement;                                                                              \
-    ADD_FAILURE() << "expected GeometryError containing: " << (fragment);                   \
-  } catch (const GeometryError& error) {                                                    \
-    EXPECT_NE(std::string(error.what()).find(fragment), std::string::npos) << error.what(); \
-  }
 
 const char* const kTetrahedronOff = R"(OFF
 # a tetrahedron
@@ -64,21 +56,21 @@ f 2 3 4
 TEST(MeshIo, BadNumberNamesFileAndLine) {
   std::string text = kTetrahedronOff;
   text.replace(text.find("1 0 0"), 5, "1 x 0");
-  EXPECT_GEOMETRY_ERROR((void)parse_off(text, "tet.off"), "tet.off:5: expected a number, got 'x'");
+  EXPECT_THROW_MESSAGE((void)parse_off(text, "tet.off"), "tet.off:5: expected a number, got 'x'");
 }
 
 TEST(MeshIo, OutOfRangeIndexNamesLine) {
   std::string text = kTetrahedronOff;
   text.replace(text.find("3 1 2 3"), 7, "3 1 2 9");
-  EXPECT_GEOMETRY_ERROR((void)parse_off(text, "tet.off"),
-                        "tet.off:11: vertex index 9 is out of range");
+  EXPECT_THROW_MESSAGE((void)parse_off(text, "tet.off"),
+                       "tet.off:11: vertex index 9 is out of range");
 }
 
 TEST(MeshIo, TooFewPolygonsAreRejected) {
   std::string text = kTetrahedronOff;
   text.replace(text.find("4 4 0"), 5, "4 3 0");
   text.erase(text.find("3 1 2 3 # slanted\n"));
-  EXPECT_GEOMETRY_ERROR((void)parse_off(text, "tet.off"), "needs at least 4 triangles");
+  EXPECT_THROW_MESSAGE((void)parse_off(text, "tet.off"), "needs at least 4 triangles");
 }
 
 TEST(MeshIo, OpenBoxIsRejectedWithTheEdge) {
@@ -99,14 +91,14 @@ TEST(MeshIo, OpenBoxIsRejectedWithTheEdge) {
 4 2 3 7 6
 4 3 0 4 7
 )";
-  EXPECT_GEOMETRY_ERROR((void)parse_off(open_box, "open.off"), "mesh is not closed");
-  EXPECT_GEOMETRY_ERROR((void)parse_off(open_box, "open.off"), "open.off:1");  // a polygon line
+  EXPECT_THROW_MESSAGE((void)parse_off(open_box, "open.off"), "mesh is not closed");
+  EXPECT_THROW_MESSAGE((void)parse_off(open_box, "open.off"), "open.off:1");  // a polygon line
 }
 
 TEST(MeshIo, FlippedPolygonIsInconsistent) {
   std::string text = kTetrahedronOff;
   text.replace(text.find("3 0 1 3"), 7, "3 0 3 1");
-  EXPECT_GEOMETRY_ERROR((void)parse_off(text, "tet.off"), "inconsistently oriented");
+  EXPECT_THROW_MESSAGE((void)parse_off(text, "tet.off"), "inconsistently oriented");
 }
 
 TEST(MeshIo, InwardMeshIsTurnedOutward) {
@@ -130,13 +122,13 @@ TEST(MeshIo, FlatMeshIsDegenerate) {
   for (const std::array<int, 3>& t :
        {std::array{0, 2, 1}, std::array{0, 1, 3}, std::array{0, 3, 2}, std::array{1, 2, 3}})
     builder.add_polygon(t, "");
-  EXPECT_GEOMETRY_ERROR((void)std::move(builder).build(), "encloses no volume");
+  EXPECT_THROW_MESSAGE((void)std::move(builder).build(), "encloses no volume");
 }
 
 TEST(MeshIo, ZeroAreaTriangleNamesLine) {
   std::string text = kTetrahedronOff;
   text.replace(text.find("0 0 1\n"), 6, "2 0 0\n");  // vertex 3 now on the line of 0 and 1
-  EXPECT_GEOMETRY_ERROR((void)parse_off(text, "tet.off"), "tet.off:9: degenerate triangle");
+  EXPECT_THROW_MESSAGE((void)parse_off(text, "tet.off"), "tet.off:9: degenerate triangle");
 }
 
 TEST(MeshIo, NonConvexPolygonIsRejected) {
@@ -145,12 +137,12 @@ TEST(MeshIo, NonConvexPolygonIsRejected) {
                                    Eigen::Vector3d(1, 0.2, 0), Eigen::Vector3d(1, 2, 0)})
     builder.add_vertex(p);
   const std::array loop{0, 1, 2, 3};
-  EXPECT_GEOMETRY_ERROR(builder.add_polygon(loop, "", 7), "dart:7: polygon is not convex");
+  EXPECT_THROW_MESSAGE(builder.add_polygon(loop, "", 7), "dart:7: polygon is not convex");
 }
 
 TEST(MeshIo, MissingFileAndUnknownExtension) {
-  EXPECT_GEOMETRY_ERROR((void)read_mesh_file("/nonexistent/thing.off"), "cannot open the file");
-  EXPECT_GEOMETRY_ERROR((void)read_mesh_file("thing.stl"), "unknown mesh format '.stl'");
+  EXPECT_THROW_MESSAGE((void)read_mesh_file("/nonexistent/thing.off"), "cannot open the file");
+  EXPECT_THROW_MESSAGE((void)read_mesh_file("thing.stl"), "unknown mesh format '.stl'");
 }
 
 TEST(MeshIo, WriteThenReadKeepsFacesAndNames) {
@@ -186,7 +178,7 @@ TEST(RectilinearSolid, EdgeTouchingCellsAreNonManifold) {
   RectilinearSolid solid({0, 1, 2}, {0, 1}, {0, 1, 2});
   solid.set_filled(1, 0, 0, false);
   solid.set_filled(0, 0, 1, false);
-  EXPECT_GEOMETRY_ERROR((void)solid.to_mesh(), "non-manifold");
+  EXPECT_THROW_MESSAGE((void)solid.to_mesh(), "non-manifold");
 }
 
 }  // namespace

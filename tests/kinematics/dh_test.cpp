@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "kinematics/puma.hpp"
-#include "tests/kinematics/expect_message.hpp"
+#include "tests/common/expect_message.hpp"
 
 namespace spar::kinematics {
 namespace {

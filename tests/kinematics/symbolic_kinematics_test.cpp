@@ -19,7 +19,7 @@
 #include "kinematics/uncertain_pose.hpp"
 #include "symbolic/operations.hpp"
 #include "symbolic/smp.hpp"
-#include "tests/kinematics/expect_message.hpp"
+#include "tests/common/expect_message.hpp"
 
 namespace spar::kinematics {
 namespace {

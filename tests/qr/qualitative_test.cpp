@@ -7,6 +7,8 @@
 #include <set>
 #include <string>
 
+#include "tests/common/expect_message.hpp"
+
 namespace spar::qr {
 namespace {
 
@@ -175,6 +177,8 @@ TEST(Signs, ParseRejectsOtherCharactersWithAMessage) {
   } catch (const QrError& error) {
     EXPECT_STREQ(error.what(), "not a qualitative value: 'x' (expected + 0 - ?)");
   }
+  // One error hierarchy (issue 12): QrError is a spar::Error.
+  EXPECT_THROW_MESSAGE(sign_from_char('x'), "not a qualitative value");
 }
 
 // ------------------------------------------------------------------------------------------------

@@ -6,19 +6,17 @@
 #include <string>
 
 #include "symbolic/operations.hpp"
+#include "tests/common/expect_message.hpp"
 
 namespace spar::symbolic {
 namespace {
 
-// The statement throws SymbolicError whose message contains `fragment`.
+// Parsing `text` throws SymbolicError whose message contains `fragment`.
 void expect_parse_error(const std::string& text, const std::string& fragment) {
+  SCOPED_TRACE("parsing '" + text + "'");
   ExprPool pool;
-  try {
-    (void)parse(pool, text);
-    ADD_FAILURE() << "'" << text << "' parsed without error";
-  } catch (const SymbolicError& error) {
-    EXPECT_NE(std::string(error.what()).find(fragment), std::string::npos) << error.what();
-  }
+  EXPECT_THROW_MESSAGE(parse(pool, text), fragment);
+  EXPECT_THROW(static_cast<void>(parse(pool, text)), SymbolicError);
 }
 
 TEST(Parse, PrecedenceAndAssociativity) {
