@@ -1,22 +1,26 @@
 // bounds: naive interval arithmetic, each bounding stage, and the full pipeline on the FPBench
 // corpus, against the reference interval branch and bound's box evaluations (bb_evals, Python,
 // recorded in the corpus file), and plain interval tape evaluation against MPFI (53-bit, the
-// same tape and boxes, in the same run).
+// same tape and boxes, in the same run). Then reuse: one compiled BoundProblem (ConditionSet)
+// bounding 1000 boxes against a fresh bound() per box, same boxes, same run, same results checked.
 // Usage: bounds_bench [--quick] [--per-record]
 #include <mpfi.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
 #include "bounds/bound.hpp"
+#include "bounds/condition_set.hpp"
 #include "symbolic/parse.hpp"
 #include "symbolic/tape.hpp"
 
@@ -34,6 +38,16 @@ struct Method {
   const char* name;
   BoundOptions options;
 };
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+bool same(const BoundResult& a, const BoundResult& b) {
+  return a.lo == b.lo && a.hi == b.hi && a.inner_lo == b.inner_lo && a.inner_hi == b.inner_hi &&
+         a.argmin == b.argmin && a.argmax == b.argmax && a.status == b.status &&
+         a.evaluations == b.evaluations;
+}
 
 double median(std::vector<double> v) {
   if (v.empty()) return NAN;
@@ -175,6 +189,178 @@ class MpfiTape {
 };
 
 }  // namespace
+
+// A deterministic stream of numbers in [0, 1) (the boxes must be the same in every run).
+struct Lcg {
+  std::uint64_t state{20261201};
+  double next() {
+    state = state * 6364136223846793005ull + 1442695040888963407ull;
+    return static_cast<double>(state >> 11) / 9007199254740992.0;
+  }
+};
+
+// A pickup precondition's shape (kinematics/pickup.hpp): half the finger opening plus the contact's
+// y in the gripper frame, cos Δθ_g (q_y - Δy_g) - sin Δθ_g (q_x - Δx_g), with q the contact point
+// displaced by the object's uncertainty (Δx_o, Δy_o, Δθ_o), the object turned 30 degrees.
+std::string pickup_like(const char* half_opening, const char* half_width) {
+  const std::string w = half_width;
+  const std::string qx = "(0.866*dxo + 0.5*dyo - " + w + "*sin(tho + 0.5236))";
+  const std::string qy = "(-0.5*dxo + 0.866*dyo + " + w + "*cos(tho + 0.5236))";
+  return std::string(half_opening) + " + cos(tg)*(" + qy + " - dyg) - sin(tg)*(" + qx + " - dxg)";
+}
+
+struct ReuseTimes {
+  double fresh{0}, reused{0};         // seconds in all
+  std::vector<double> per_box_ratio;  // fresh / reused, box by box
+  std::size_t boxes{0}, different{0};
+  void add(const ReuseTimes& other) {
+    fresh += other.fresh;
+    reused += other.reused;
+    per_box_ratio.insert(per_box_ratio.end(), other.per_box_ratio.begin(),
+                         other.per_box_ratio.end());
+    boxes += other.boxes;
+    different += other.different;
+  }
+};
+
+// Bounds f over every box twice, interleaved box by box (so a busy machine slows both alike): a
+// fresh bound() (compiles f's tape, checks the box) and one BoundProblem reused for all boxes.
+ReuseTimes time_reuse(symbolic::Expr f, const std::vector<symbolic::Expr>& variables,
+                      const std::vector<std::vector<Interval>>& boxes,
+                      std::span<const Constraint> constraints, const BoundOptions& options) {
+  ReuseTimes times;
+  auto start = std::chrono::steady_clock::now();
+  spar::bounds::BoundProblem problem(f, variables, constraints);
+  times.reused = seconds_since(start);
+  for (const std::vector<Interval>& ranges : boxes) {
+    start = std::chrono::steady_clock::now();
+    spar::bounds::Box box;
+    for (std::size_t i = 0; i < variables.size(); ++i) {
+      box.add(variables[i], ranges[i].lo, ranges[i].hi);
+    }
+    const BoundResult fresh = spar::bounds::bound(f, box, options, constraints);
+    const double fresh_seconds = seconds_since(start);
+    start = std::chrono::steady_clock::now();
+    const BoundResult reused = problem.bound(ranges, options);
+    const double reused_seconds = seconds_since(start);
+    times.fresh += fresh_seconds;
+    times.reused += reused_seconds;
+    times.per_box_ratio.push_back(fresh_seconds / reused_seconds);
+    times.different += same(fresh, reused) ? 0 : 1;
+  }
+  times.boxes = boxes.size();
+  return times;
+}
+
+void print_reuse(const char* workload, const ReuseTimes& t) {
+  std::printf(
+      "%-30s %5zu boxes  fresh %8.1f us/box  reused %8.1f us/box  per-box ratio median %.3g  "
+      "different %zu\n",
+      workload, t.boxes, 1e6 * t.fresh / t.boxes, 1e6 * t.reused / t.boxes, median(t.per_box_ratio),
+      t.different);
+}
+
+// Reuse over 1000 boxes: what phase 2 does when it widens, senses or bisects.
+void run_reuse(const std::vector<nlohmann::json>& records, bool quick) {
+  const std::size_t box_count = 1000;
+  const BoundOptions options{};  // the defaults: a work budget, no clock
+  std::printf("\nreuse: one compiled problem over %zu boxes vs a fresh bound() per box\n",
+              box_count);
+  // 1. The pickup-like inequality over a widening of the object's uncertainty (0.02 to 0.6).
+  symbolic::ExprPool pool;
+  std::vector<symbolic::Expr> variables;
+  for (const char* name : {"dxg", "dyg", "tg", "dxo", "dyo", "tho"}) {
+    variables.push_back(pool.variable(name));
+  }
+  std::vector<std::vector<Interval>> widening;
+  for (std::size_t b = 0; b < box_count; ++b) {
+    const double w = 0.02 + 0.58 * static_cast<double>(b) / (box_count - 1);
+    widening.push_back(
+        {{-1e-3, 1e-3}, {-1e-3, 1e-3}, {-1e-3, 1e-3}, {-w, w}, {-w, w}, {-0.096, 0.096}});
+  }
+  const symbolic::Expr y = symbolic::parse(pool, pickup_like("2", "1.5"));
+  const ReuseTimes pickup = time_reuse(y, variables, widening, {}, options);
+  print_reuse("pickup-like inequality, widening", pickup);
+  // 2. The same four pickup inequalities as one ConditionSet vs a fresh bound() of each.
+  const std::vector<spar::bounds::Inequality> inequalities{
+      {"P1.C1", y, Relation::kGreater, 0.0},
+      {"P1.C2", symbolic::parse(pool, pickup_like("2", "-1.5")), Relation::kGreater, 0.0},
+      {"P2.C1", symbolic::parse(pool, pickup_like("-2", "1.5")), Relation::kLess, 0.0},
+      {"P2.C2", symbolic::parse(pool, pickup_like("-2", "-1.5")), Relation::kLess, 0.0}};
+  ReuseTimes set_times;
+  std::size_t escalated = 0;
+  {
+    spar::bounds::ConditionSet set(inequalities, variables);
+    for (const auto& ranges : widening) {
+      auto start = std::chrono::steady_clock::now();
+      spar::bounds::Box box;
+      for (std::size_t i = 0; i < variables.size(); ++i) {
+        box.add(variables[i], ranges[i].lo, ranges[i].hi);
+      }
+      std::vector<spar::bounds::Verdict> fresh;
+      for (const auto& q : inequalities) {
+        fresh.push_back(decide(q, spar::bounds::bound(q.expression, box, options)));
+      }
+      const double fresh_seconds = seconds_since(start);
+      start = std::chrono::steady_clock::now();
+      const std::vector<spar::bounds::ConditionCheck> checks = set.check(ranges, options);
+      const double reused_seconds = seconds_since(start);
+      set_times.fresh += fresh_seconds;
+      set_times.reused += reused_seconds;
+      set_times.per_box_ratio.push_back(fresh_seconds / reused_seconds);
+      for (std::size_t k = 0; k < checks.size(); ++k) {
+        set_times.different += checks[k].verdict != fresh[k] ? 1 : 0;
+        escalated += checks[k].escalated ? 1 : 0;
+      }
+    }
+    set_times.boxes = widening.size();
+  }
+  print_reuse("4 pickup-like, ConditionSet", set_times);
+  std::printf("  (verdicts compared; %zu of %zu inequality checks escalated to a full bound)\n",
+              escalated, 4 * widening.size());
+  // 3. FPBench: sub-boxes of every bounded record (constraints included), 1000 in all.
+  Lcg random;
+  ReuseTimes corpus;
+  std::size_t bounded = 0;
+  for (const auto& record : records) bounded += record.value("range_unbounded", false) ? 0 : 1;
+  const std::size_t per_record = std::max<std::size_t>(1, box_count / bounded);
+  for (const auto& record : records) {
+    if (record.value("range_unbounded", false)) continue;
+    if (quick && corpus.boxes >= box_count / 4) break;
+    symbolic::ExprPool record_pool;
+    std::vector<symbolic::Expr> record_variables;
+    std::vector<Interval> root;
+    for (const auto& [var, range] : record["vars"].items()) {
+      record_variables.push_back(record_pool.variable(var));
+      root.push_back({range[0].get<double>(), range[1].get<double>()});
+    }
+    std::vector<Constraint> constraints;
+    for (const auto& c : record.value("constraints", nlohmann::json::array())) {
+      constraints.push_back({symbolic::parse(record_pool, c["g"].get<std::string>()),
+                             relation_of(c["rel"].get<std::string>())});
+    }
+    std::vector<std::vector<Interval>> boxes;
+    for (std::size_t b = 0; b < per_record; ++b) {
+      std::vector<Interval> box;
+      for (const Interval& r : root) {
+        const double centre = r.lo + (r.hi - r.lo) * random.next();
+        const double half = (r.hi - r.lo) * random.next() / 2;
+        box.push_back({std::max(r.lo, centre - half), std::min(r.hi, centre + half)});
+      }
+      boxes.push_back(std::move(box));
+    }
+    const symbolic::Expr f = symbolic::parse(record_pool, record["expr"].get<std::string>());
+    corpus.add(time_reuse(f, record_variables, boxes, constraints, options));
+  }
+  print_reuse("FPBench sub-boxes", corpus);
+  // Medians of the per-box ratios: robust to a busy machine (the totals are printed above).
+  std::printf("ratio bound_problem_reuse(pickup_like,median_per_box) fresh_bound %.3g\n",
+              median(pickup.per_box_ratio));
+  std::printf("ratio condition_set(4_pickup_like,median_per_box) fresh_bound_each %.3g\n",
+              median(set_times.per_box_ratio));
+  std::printf("ratio bound_problem_reuse(fpbench_subboxes,median_per_box) fresh_bound %.3g\n",
+              median(corpus.per_box_ratio));
+}
 
 int main(int argc, char** argv) {
   bool quick = false, per_record = false;
@@ -332,5 +518,6 @@ int main(int argc, char** argv) {
               median(eval_ratios));
   std::printf("ratio fpbench_width(median) naive_interval %.3g\n",
               median(ratios[0]) / median(ratios.back()));
+  run_reuse(records, quick);
   return 0;
 }
