@@ -9,7 +9,6 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <iomanip>
 #include <iostream>
 #include <memory>
@@ -18,6 +17,7 @@
 #include <sstream>
 
 #include "cli/commands.hpp"
+#include "cli/options.hpp"
 #include "common/units.hpp"
 #include "geometry/builtin_objects.hpp"
 #include "geometry/grasps.hpp"
@@ -26,8 +26,6 @@
 
 namespace spar::cli {
 namespace {
-
-using geometry::GeometryError;
 
 struct ObjectOptions {
   std::string object;
@@ -74,6 +72,9 @@ std::string id_list(const std::vector<int>& ids) {
 // A FILE's coordinates are in `unit` (metres per unit); built-ins are in metres.
 geometry::ObjectModel load_object(const std::string& argument, double unit,
                                   std::string& builtin_name) {
+  if (std::filesystem::is_directory(argument)) {
+    throw UsageError(argument + " is a directory: give an .off or .obj file, or a built-in name");
+  }
   if (std::filesystem::exists(argument)) {
     const std::string name = std::filesystem::path(argument).stem().string();
     return geometry::ObjectModel(name,
@@ -86,7 +87,7 @@ geometry::ObjectModel load_object(const std::string& argument, double unit,
   }
   std::string known;
   for (const auto& n : names) known += (known.empty() ? "" : ", ") + n;
-  throw GeometryError(argument + ": no such file, nor a built-in object (" + known + ")");
+  throw UsageError(argument + ": no such file, nor a built-in object (" + known + ")");
 }
 
 void run(const ObjectOptions& options) {
@@ -104,11 +105,11 @@ void run(const ObjectOptions& options) {
   std::string builtin_name;
   const geometry::ObjectModel object = load_object(options.object, unit, builtin_name);
   if (!options.write_off.empty()) {
-    std::ofstream file(options.write_off);
-    if (!file) throw GeometryError(options.write_off + ": cannot write the file");
-    geometry::write_off(object.mesh(), file,
-                        builtin_name.empty() ? "spar object " + object.name()
-                                             : geometry::builtin_description(builtin_name));
+    write_file(options.write_off, "the mesh", [&](std::ostream& file) {
+      geometry::write_off(object.mesh(), file,
+                          builtin_name.empty() ? "spar object " + object.name()
+                                               : geometry::builtin_description(builtin_name));
+    });
   }
   const auto poses = geometry::stable_poses(object);
   const auto grasps = geometry::compute_grasps(object, gripper, quantization);
@@ -210,12 +211,15 @@ void add_object_command(CLI::App& app) {
   command
       ->add_option("--units", options->units, "length unit of FILE and of the output (default m)")
       ->check(CLI::IsMember({"m", "mm", "in"}));
-  command->add_option("--max-opening", options->max_opening,
-                      "gripper opening in --units (default 4 in)");
-  command->add_option("--approach-step", options->approach_step_degrees,
-                      "approach quantization step in degrees about the closing axis (default 90)");
-  command->add_option("--positions", options->positions_per_axis,
-                      "contact positions per axis of each face pair's overlap (default 1)");
+  add_number_option(*command, "--max-opening", options->max_opening,
+                    "gripper opening in --units (default 4 in)", NumberLimits::positive());
+  // The grasps of a pair are its contact positions times its approach directions: both options
+  // are capped so the work stays bounded (at most 360 directions and 20 x 20 positions a pair).
+  add_number_option(*command, "--approach-step", options->approach_step_degrees,
+                    "approach quantization step in degrees about the closing axis, 1 to 360",
+                    {1, 360});
+  add_count_option(*command, "--positions", options->positions_per_axis,
+                   "contact positions per axis of each face pair's overlap, 1 to 20", 1, 20);
   command->add_option("--write-off", options->write_off, "also write the mesh as an OFF file");
   command->callback([options] { run(*options); });
 }

@@ -45,21 +45,36 @@ CLI::Option* add_whole_number_option(CLI::App& command, const std::string& name,
   return option->type_name("INT")->default_str(std::to_string(value));
 }
 
-}  // namespace
-
-CLI::Option* add_number_option(CLI::App& command, const std::string& name, double& value,
-                               const std::string& description, const NumberLimits& limits) {
+CLI::Option* add_number_option_with(CLI::App& command, const std::string& name,
+                                    std::function<void(double)> store,
+                                    const std::string& description, const NumberLimits& limits) {
   CLI::Option* option = command.add_option_function<std::string>(
       name,
-      [&value, name, limits](const std::string& text) {
+      [store = std::move(store), name, limits](const std::string& text) {
         try {
-          value = read_number(text, name, limits);
+          store(read_number(text, name, limits));
         } catch (const NumberError& error) {
           throw UsageError(error.what());
         }
       },
       description);
-  return option->type_name("NUMBER")->default_str(format_number(value));
+  return option->type_name("NUMBER");
+}
+
+}  // namespace
+
+CLI::Option* add_number_option(CLI::App& command, const std::string& name, double& value,
+                               const std::string& description, const NumberLimits& limits) {
+  return add_number_option_with(
+             command, name, [&value](double read) { value = read; }, description, limits)
+      ->default_str(format_number(value));
+}
+
+CLI::Option* add_number_option(CLI::App& command, const std::string& name,
+                               std::optional<double>& value, const std::string& description,
+                               const NumberLimits& limits) {
+  return add_number_option_with(
+      command, name, [&value](double read) { value = read; }, description, limits);
 }
 
 CLI::Option* add_count_option(CLI::App& command, const std::string& name, std::uint64_t& value,

@@ -31,6 +31,7 @@
 #include <cstdint>
 #include <functional>
 #include <iosfwd>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -49,6 +50,10 @@ class UsageError : public Error {
 // `name` takes one number inside `limits` into `value` (its default is shown by --help).
 CLI::Option* add_number_option(CLI::App& command, const std::string& name, double& value,
                                const std::string& description, const NumberLimits& limits);
+// The same for an option whose default is decided later (value stays empty when not given).
+CLI::Option* add_number_option(CLI::App& command, const std::string& name,
+                               std::optional<double>& value, const std::string& description,
+                               const NumberLimits& limits);
 
 // `name` takes one whole number from `low` to `high` into `value` (high must fit the type).
 CLI::Option* add_count_option(CLI::App& command, const std::string& name, std::uint64_t& value,

@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "geometry/internal/convex_hull.hpp"
+#include "geometry/internal/self_intersection.hpp"
 
 namespace spar::geometry {
 namespace {
@@ -128,6 +129,12 @@ void validate_closed_mesh(Mesh& mesh) {
   const double volume = volume_properties(mesh).volume;
   if (std::abs(volume) <= 1e-12 * scale * scale * scale)
     throw GeometryError(mesh.source + ": mesh encloses no volume (all vertices are coplanar)");
+  if (const auto crossing = internal::find_self_intersection(mesh.vertices, mesh.triangles))
+    throw GeometryError(mesh.where(crossing->first) +
+                        ": the mesh intersects itself: this polygon crosses the one at " +
+                        mesh.where(crossing->second) +
+                        " (volume, centre of mass and faces need a closed surface that does not "
+                        "cross itself)");
   if (volume < 0)  // consistently inward: the same solid, so turn every triangle outward
     for (auto& triangle : mesh.triangles) std::swap(triangle[1], triangle[2]);
 }

@@ -57,8 +57,10 @@ class MeshBuilder {
   Mesh mesh_;
 };
 
-// Checks closedness, consistent orientation, non-degenerate triangles and non-zero volume; flips
-// every triangle if the mesh is consistently oriented inward. Throws GeometryError otherwise.
+// Checks closedness, consistent orientation, non-degenerate triangles, non-zero volume and that no
+// two triangles cross (exact predicates; triangles meeting only at a shared edge or vertex do not
+// count), so volume and centre of mass are those of a real solid; flips every triangle if the mesh
+// is consistently oriented inward. Throws GeometryError otherwise.
 void validate_closed_mesh(Mesh& mesh);
 
 // Signed volume (positive for an outward mesh) and centre of the enclosed volume.

@@ -4,11 +4,15 @@
 #include <cctype>
 #include <charconv>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <iomanip>
+#include <optional>
 #include <ostream>
 #include <sstream>
 #include <vector>
+
+#include "common/number.hpp"
 
 namespace spar::geometry {
 namespace {
@@ -49,12 +53,20 @@ std::string at(const std::string& source, const Line& line) {
   return source + ":" + std::to_string(line.number) + ": ";
 }
 
+// Coordinates beyond this magnitude are refused: areas and volumes (squares and cubes of
+// lengths) and the moments of the volume (fourth powers) must stay far from double overflow.
+constexpr double kMaxCoordinate = 1e12;
+
 double to_double(const std::string& token, const std::string& source, const Line& line) {
-  double value = 0;
-  const auto [end, error] = std::from_chars(token.data(), token.data() + token.size(), value);
-  if (error != std::errc() || end != token.data() + token.size() || !std::isfinite(value))
+  const std::optional<double> value = parse_number(token);
+  if (!value || std::isnan(*value))
     throw GeometryError(at(source, line) + "expected a number, got '" + token + "'");
-  return value;
+  if (!(std::abs(*value) <= kMaxCoordinate))
+    throw GeometryError(at(source, line) + "coordinate '" + token +
+                        "' is too large: coordinates must lie within +-" +
+                        format_number(kMaxCoordinate) +
+                        " (areas, volumes and moments would overflow)");
+  return *value;
 }
 
 long to_integer(const std::string& token, const std::string& source, const Line& line) {
@@ -159,6 +171,8 @@ Mesh parse_obj(const std::string& text, const std::string& source) {
 }
 
 Mesh read_mesh_file(const std::string& path) {
+  if (std::filesystem::is_directory(path))
+    throw GeometryError(path + ": is a directory, not a mesh file (.off or .obj)");
   const std::string extension = lower(path.substr(std::min(path.size(), path.rfind('.'))));
   if (extension != ".off" && extension != ".obj")
     throw GeometryError(path + ": unknown mesh format '" + extension + "' (expected .off or .obj)");

@@ -1,4 +1,5 @@
-// The only door to CGAL in spar: the convex hull of a point set as outward-oriented triangles.
+// A door to CGAL (with self_intersection.hpp): the convex hull of a point set as outward-oriented
+// triangles.
 // CGAL's headers are slow to compile, so they stay inside convex_hull.cpp; callers see Eigen only.
 #pragma once
 
