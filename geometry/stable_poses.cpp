@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <climits>
 #include <cmath>
+#include <tuple>
 
 namespace spar::geometry {
 
@@ -29,14 +30,19 @@ std::vector<StablePose> stable_poses(const ObjectModel& object) {
     pose.object_to_world.translation() = -(rotation * foot);
     poses.push_back(std::move(pose));
   }
+  // Labels are how scenario files name poses, so the order depends on the shape only: face ids,
+  // then (for poses on no face) the facet normal, never the hull's facet order.
   const auto key = [](const StablePose& p) {
-    return std::pair{p.table_faces.empty() ? INT_MAX : p.table_faces.front(), p.hull_facet};
+    const auto rounded = [&](int axis) { return std::lround(p.facet_normal[axis] * 1e6); };
+    return std::tuple{p.table_faces.empty() ? INT_MAX : p.table_faces.front(), rounded(0),
+                      rounded(1), rounded(2), p.hull_facet};
   };
   std::sort(poses.begin(), poses.end(),
             [&](const StablePose& a, const StablePose& b) { return key(a) < key(b); });
   for (std::size_t i = 0; i < poses.size(); ++i) {
     poses[i].id = static_cast<int>(i) + 1;
-    poses[i].label = "P" + std::to_string(i + 1);
+    poses[i].label =
+        std::string(1, 'P').append(std::to_string(i + 1));  // GCC 12 -Wrestrict on "P" + s
   }
   return poses;
 }

@@ -7,8 +7,9 @@
 // The rotation is the smallest one taking the normal to -z; any further turn about world z is the
 // same position class. `margin` is the distance of the projected centre of mass to the facet's
 // boundary and `tipping_angle` = atan(margin / com_height), the tilt about the nearest edge that
-// topples the object. Poses are ordered by their smallest table face id (poses resting on no face,
-// only on edges and corners, come last), labelled "P1", "P2", ...
+// topples the object. Poses are ordered by their smallest table face id; poses resting on no face,
+// only on edges and corners, come last, ordered by their facet normal (x, then y, then z,
+// ascending), so the labels "P1", "P2", ... depend on the shape alone (scenario files use them).
 //
 // Example:
 //   ObjectModel cube("cube", make_box({1, 1, 1}));

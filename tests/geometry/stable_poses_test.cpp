@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -153,6 +154,41 @@ TEST(StablePoses, QueriesLeaveFreeAndClassify) {
   const Eigen::Matrix3d tilted =
       Eigen::AngleAxisd(0.5, Eigen::Vector3d::UnitX()).toRotationMatrix();
   EXPECT_EQ(classify_orientation(poses, tilted), std::nullopt);
+}
+
+TEST(StablePoses, PosesOnNoFaceAreLabelledByNormalWhateverTheMeshOrder) {
+  // The peg lying on its side rests on edges only (eight such poses). Scenario files name poses by
+  // label, so the labels must follow the shape, not the hull's facet order: the same mesh with its
+  // vertices and triangles listed backwards gives the same normals under the same labels, in
+  // ascending (x, y, z) order.
+  const Mesh mesh = peg_mesh();
+  Mesh backwards = mesh;
+  const int last = static_cast<int>(mesh.vertices.size()) - 1;
+  std::reverse(backwards.vertices.begin(), backwards.vertices.end());
+  std::reverse(backwards.triangles.begin(), backwards.triangles.end());
+  std::reverse(backwards.triangle_names.begin(), backwards.triangle_names.end());
+  std::reverse(backwards.triangle_lines.begin(), backwards.triangle_lines.end());
+  for (auto& triangle : backwards.triangles)
+    for (int& v : triangle) v = last - v;
+  const auto no_face_normals = [](const Mesh& m) {
+    std::vector<std::pair<std::string, Eigen::Vector3d>> result;
+    for (const StablePose& pose : stable_poses(ObjectModel("peg", m)))
+      if (pose.table_faces.empty()) result.emplace_back(pose.label, pose.facet_normal);
+    return result;
+  };
+  const auto forwards = no_face_normals(mesh), reversed = no_face_normals(backwards);
+  ASSERT_EQ(forwards.size(), 8u);
+  ASSERT_EQ(reversed.size(), 8u);
+  for (std::size_t i = 0; i < forwards.size(); ++i) {
+    EXPECT_EQ(forwards[i].first, reversed[i].first);
+    EXPECT_TRUE(forwards[i].second.isApprox(reversed[i].second, 1e-9)) << forwards[i].first;
+    if (i > 0) {
+      const Eigen::Vector3d& a = forwards[i - 1].second;
+      const Eigen::Vector3d& b = forwards[i].second;
+      EXPECT_TRUE(std::lexicographical_compare(a.data(), a.data() + 3, b.data(), b.data() + 3))
+          << forwards[i - 1].first << " before " << forwards[i].first;
+    }
+  }
 }
 
 }  // namespace
