@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "cli/commands.hpp"
+#include "cli/options.hpp"
 #include "common/units.hpp"
 #include "kinematics/pickup_check.hpp"
 #include "symbolic/operations.hpp"
@@ -93,12 +94,12 @@ void add_demo_command(CLI::App& app) {
   auto widened = std::make_shared<double>(0.4);
   auto show = std::make_shared<bool>(false);
   auto step = std::make_shared<double>(0.01);
-  command
-      ->add_option("--widen", *widened,
-                   "object dx, dy, dz half-width (in) of the second, widened run")
-      ->check(CLI::PositiveNumber);
-  command->add_option("--step", *step, "step (in) of the widening-until-failure search")
-      ->check(CLI::PositiveNumber);
+  add_number_option(*command, "--widen", *widened,
+                    "object dx, dy, dz half-width (in) of the second, widened run, up to 1000",
+                    {0, 1000, true});
+  // The search runs up to 10 in: a step of at least 1e-4 in bounds it to 100 000 checks.
+  add_number_option(*command, "--step", *step,
+                    "step (in) of the widening-until-failure search, 1e-4 to 10", {1e-4, 10});
   command->add_flag("--show-expression", *show, "print the first inequality's expression");
   command->callback([widened, show, step] {
     std::printf(
