@@ -21,8 +21,8 @@ std::size_t mix(std::size_t h, std::size_t v) {
   return (h ^ (v + 0x9E3779B97F4A7C15ull + (h << 6) + (h >> 2))) * 0xBF58476D1CE4E5B9ull;
 }
 
-bool is_identifier_start(unsigned char c) { return std::isalpha(c) || c == '_' || c >= 0x80; }
-bool is_identifier_char(unsigned char c) { return std::isalnum(c) || c == '_' || c >= 0x80; }
+bool is_identifier_start(unsigned char c) { return c < 0x80 && (std::isalpha(c) || c == '_'); }
+bool is_identifier_char(unsigned char c) { return c < 0x80 && (std::isalnum(c) || c == '_'); }
 
 // Exact square root of a non-negative 64-bit integer, if it is a perfect square.
 std::optional<std::int64_t> exact_isqrt(std::int64_t v) {
@@ -195,8 +195,11 @@ Expr ExprPool::variable(std::string_view name) {
   if (name.empty() || !is_identifier_start(static_cast<unsigned char>(name[0])) ||
       !std::all_of(name.begin(), name.end(),
                    [](char c) { return is_identifier_char(static_cast<unsigned char>(c)); })) {
+    const bool ascii = std::all_of(name.begin(), name.end(),
+                                   [](char c) { return static_cast<unsigned char>(c) < 0x80; });
     throw SymbolicError("invalid variable name '" + std::string(name) +
-                        "': use a letter or '_' followed by letters, digits or '_'");
+                        "': use a letter or '_' followed by letters, digits or '_'" +
+                        (ascii ? "" : std::string("; ") + kAsciiHint));
   }
   const std::string key(name);
   auto it = impl_->variable_by_name.find(key);
@@ -370,11 +373,16 @@ Expr ExprPool::product(const Number& coefficient, std::span<const Term> factors)
     return true;
   });
   if (c.is_zero()) return constant(Number());
-  for (const Entry& entry : entries) {
+  // An exponent sum that overflowed 64 bits is a real: that factor becomes the real power
+  // Pow(base, exponent) with exponent 1.
+  bool replaced = false;
+  for (Entry& entry : entries) {
     if (!entry.second.is_rational()) {
-      throw SymbolicError("exponent too large to represent exactly (64-bit rational overflow)");
+      entry = {power(Expr(this, entry.first), entry.second).id_, Number::integer(1)};
+      replaced = true;
     }
   }
+  if (replaced) sort_and_merge(entries);
   if (!c.is_rational()) {  // the coefficient overflowed 64 bits: it becomes an operand
     return product(c, terms_of(entries));
   }
@@ -410,6 +418,7 @@ Expr ExprPool::product(std::span<const Expr> factors) {
 }
 
 Expr ExprPool::power(Expr base, const Number& exponent) {
+  if (!exponent.is_rational()) return power(base, constant(exponent));  // a real power: Pow
   const Term factor[] = {{base, exponent}};
   return product(Number::integer(1), factor);
 }
@@ -418,7 +427,9 @@ Expr ExprPool::power(Expr base, Expr exponent) {
   if (base.pool_ != this || exponent.pool_ != this) {
     throw SymbolicError("expressions from different pools mixed");
   }
-  if (exponent.is_constant()) return power(base, exponent.constant());
+  if (exponent.is_constant() && exponent.constant().is_rational()) {
+    return power(base, exponent.constant());
+  }
   if (base.is_constant() && base.constant().is_one()) return base;
   const auto begin = static_cast<std::uint32_t>(impl_->operand_ids.size());
   impl_->operand_ids.push_back(base.id_);

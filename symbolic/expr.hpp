@@ -11,7 +11,8 @@
 //   Variable  a name; one node per name in a pool
 //   Add       c0 + Σ ci·ti   (constant(), then operands ti with factor() ci)
 //   Mul       c · Π bi^ei    (constant() c, then operands bi with factor() ei, a Number exponent)
-//   Pow       a^b with a non-constant exponent b (constant exponents are Mul factors)
+//   Pow       a^b with a non-constant or a real (not rational) exponent b (rational exponents
+//             are Mul factors): x^pi, 2^pi, x^1.2345678901234567 are real powers
 //   Sin Cos Tan Sqrt Exp Log Abs Atan Asin Acos   unary functions
 //   Atan2(y, x) Min(a, b) Max(a, b)                binary functions
 //
@@ -85,6 +86,11 @@ enum class Op : std::uint8_t {
   kMax,
 };
 
+// What to write instead of a non-ASCII character (names and the infix syntax are ASCII).
+inline constexpr const char* kAsciiHint =
+    "the syntax is ASCII: write x^2 for x², '-' for −, '*' for × or ·, pi for π, and ASCII "
+    "names (dtheta, not Δθ)";
+
 // Name of a function op as written in the infix syntax ("sin", "atan2", ...); "" for others.
 [[nodiscard]] std::string_view function_name(Op op);
 [[nodiscard]] bool is_unary_function(Op op);
@@ -149,8 +155,8 @@ class ExprPool {
   [[nodiscard]] Expr constant(const Number& value);
   [[nodiscard]] Expr constant(double value) { return constant(Number::real(value)); }
   [[nodiscard]] Expr integer(std::int64_t value) { return constant(Number::integer(value)); }
-  // The variable named `name` (created on first use). Names are identifiers: a letter or '_',
-  // then letters, digits, '_' (Unicode letters such as Δ are allowed too); throws otherwise.
+  // The variable named `name` (created on first use). Names are ASCII identifiers: a letter or
+  // '_', then letters, digits, '_'; throws otherwise (a non-ASCII name with a hint).
   [[nodiscard]] Expr variable(std::string_view name);
   // Every variable created so far, in creation order.
   [[nodiscard]] std::vector<Expr> variables() const;

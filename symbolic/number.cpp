@@ -321,6 +321,10 @@ std::string Number::to_string() const {
     }
     return std::to_string(numerator_) + "/" + std::to_string(denominator_);
   }
+  // A real whose nearest double is 0 (an underflowed literal such as 1e-400, enclosed by
+  // [-min, +min] subnormal): digits that are all zeros read back as the exact 0, so it prints as
+  // another literal below half the smallest subnormal, which reads back as this same real.
+  if (value_ == 0) return std::signbit(value_) ? "-1e-400" : "1e-400";
   char buffer[40];
   // 17 significant digits, trailing zeros kept ('#'), so that the text reads back as a real.
   std::snprintf(buffer, sizeof buffer, "%#.17g", value_);

@@ -90,7 +90,8 @@ class Number {
   [[nodiscard]] std::size_t hash() const;
 
   // "3", "-1/2", "0.1" (rationals whose denominator is 2^a 5^b print as exact decimals when short),
-  // reals with 17 significant digits, trailing zeros kept. parse_decimal reads every form back; a
+  // reals with 17 significant digits, trailing zeros kept (a real that rounds to 0, such as the
+  // literal 1e-400, prints as "1e-400"). parse_decimal reads every form back; a
   // real read back is the one-ulp enclosure of its value (identical for parsed or overflowed
   // reals).
   [[nodiscard]] std::string to_string() const;

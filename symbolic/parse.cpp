@@ -3,6 +3,7 @@
 #include <cctype>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <string>
 #include <unordered_map>
 #include <vector>
@@ -11,6 +12,15 @@
 
 namespace spar::symbolic {
 namespace {
+
+// The message for a non-ASCII character (a UTF-8 sequence starting at byte `at`): the character,
+// its column and what to write instead.
+std::string non_ascii_message(std::string_view text, std::size_t at) {
+  std::size_t end = at + 1;
+  while (end < text.size() && (static_cast<unsigned char>(text[end]) & 0xC0) == 0x80) ++end;
+  return "non-ASCII character '" + std::string(text.substr(at, end - at)) + "' at column " +
+         std::to_string(at + 1) + " in '" + std::string(text) + "': " + kAsciiHint;
+}
 
 struct Token {
   enum Kind { kNumber, kName, kSymbol, kEnd } kind;
@@ -24,9 +34,7 @@ class Parser {
 
   Expr parse_all() {
     if (tokens_.size() == 1) throw error("empty expression", tokens_[0]);
-    Expr e = parse_expr();
-    if (peek().kind != Token::kEnd) throw error("unexpected '" + peek().text + "'", peek());
-    return e;
+    return parse_expression();
   }
 
  private:
@@ -57,10 +65,11 @@ class Parser {
           }
         }
         tokens_.push_back({Token::kNumber, std::string(text_.substr(start, i - start)), start + 1});
-      } else if (std::isalpha(c) || c == '_' || c >= 0x80) {
+      } else if (c >= 0x80) {
+        throw SymbolicError(non_ascii_message(text_, start));
+      } else if (std::isalpha(c) || c == '_') {
         while (i < text_.size() &&
-               (std::isalnum(static_cast<unsigned char>(text_[i])) || text_[i] == '_' ||
-                static_cast<unsigned char>(text_[i]) >= 0x80)) {
+               (std::isalnum(static_cast<unsigned char>(text_[i])) || text_[i] == '_')) {
           ++i;
         }
         tokens_.push_back({Token::kName, std::string(text_.substr(start, i - start)), start + 1});
@@ -80,118 +89,222 @@ class Parser {
     tokens_.push_back({Token::kEnd, "end of input", text_.size() + 1});
   }
 
-  const Token& peek() const { return tokens_[position_]; }
-  bool accept(std::string_view symbol) {
-    if (peek().kind == Token::kSymbol && peek().text == symbol) {
-      ++position_;
-      return true;
-    }
-    return false;
-  }
-  void expect(std::string_view symbol) {
-    if (!accept(symbol)) throw error("expected '" + std::string(symbol) + "'", peek());
-  }
-
-  // Counts nesting so that hostile input fails cleanly instead of overflowing the stack.
-  struct DepthGuard {
-    explicit DepthGuard(Parser& p) : parser(p) {
-      if (++parser.depth_ > kMaxParseDepth) {
-        throw parser.error(
-            "expression nested deeper than " + std::to_string(kMaxParseDepth) + " levels",
-            parser.peek());
-      }
-    }
-    ~DepthGuard() { --parser.depth_; }
-    Parser& parser;
+  // An operator waiting on the stack for its right operand (or, for brackets, its closing ')').
+  struct Pending {
+    enum Kind { kAdd, kSubtract, kMultiply, kDivide, kPower, kNegate, kPlus, kParen, kCall } kind;
+    std::size_t token;     // index of its token (the name for a call), for error columns
+    std::size_t operands;  // kCall: operand-stack size when its arguments began
   };
 
-  Expr parse_expr() {
-    DepthGuard guard(*this);
-    Expr e = parse_term();
-    while (true) {
-      if (accept("+")) {
-        e = e + parse_term();
-      } else if (accept("-")) {
-        e = e - parse_term();
-      } else {
-        return e;
-      }
+  // Binding strength of the operators still waiting (brackets never pop on precedence).
+  static int precedence(Pending::Kind kind) {
+    switch (kind) {
+      case Pending::kAdd:
+      case Pending::kSubtract:
+        return 1;
+      case Pending::kMultiply:
+      case Pending::kDivide:
+        return 2;
+      case Pending::kNegate:
+      case Pending::kPlus:
+        return 3;  // -x*y = (-x)*y, -x^2 = -(x^2)
+      case Pending::kPower:
+        return 4;  // right-associative
+      case Pending::kParen:
+      case Pending::kCall:
+        return 0;
+    }
+    return 0;
+  }
+  // Entries that count as a nesting level: brackets, signs and powers (whose right operands may
+  // nest without bound); + - * / are reduced as soon as they can be.
+  static bool nests(Pending::Kind kind) {
+    return kind == Pending::kParen || kind == Pending::kCall || kind == Pending::kNegate ||
+           kind == Pending::kPlus || kind == Pending::kPower;
+  }
+
+  static std::optional<Pending::Kind> binary_kind(const Token& token) {
+    if (token.kind != Token::kSymbol || token.text.size() != 1) return std::nullopt;
+    switch (token.text[0]) {
+      case '+':
+        return Pending::kAdd;
+      case '-':
+        return Pending::kSubtract;
+      case '*':
+        return Pending::kMultiply;
+      case '/':
+        return Pending::kDivide;
+      case '^':
+        return Pending::kPower;
+      default:
+        return std::nullopt;
     }
   }
 
-  Expr parse_term() {
-    Expr e = parse_unary();
-    while (true) {
-      if (accept("*")) {
-        e = e * parse_unary();
-      } else if (peek().kind == Token::kSymbol && peek().text == "/") {
-        const Token slash = peek();
-        ++position_;
-        const Expr divisor = parse_unary();
-        if (divisor.is_constant() && divisor.constant().is_zero()) {
-          throw error("division by zero", slash);
+  bool is_symbol(const Token& token, char symbol) const {
+    return token.kind == Token::kSymbol && token.text.size() == 1 && token.text[0] == symbol;
+  }
+
+  void push(Pending pending) {
+    if (nests(pending.kind) && ++depth_ > kMaxParseDepth) {
+      throw error("expression nested deeper than " + std::to_string(kMaxParseDepth) +
+                      " levels (parentheses, function calls, signs and powers)",
+                  tokens_[pending.token]);
+    }
+    pending_.push_back(pending);
+  }
+
+  Expr pop_operand() {
+    const Expr e = operands_.back();
+    operands_.pop_back();
+    return e;
+  }
+
+  // Applies the operator on top of the stack to its operands.
+  void reduce() {
+    const Pending top = pending_.back();
+    pending_.pop_back();
+    if (nests(top.kind)) --depth_;
+    if (top.kind == Pending::kNegate) {
+      operands_.back() = -operands_.back();
+      return;
+    }
+    if (top.kind == Pending::kPlus) return;
+    const Expr right = pop_operand();
+    const Expr left = pop_operand();
+    switch (top.kind) {
+      case Pending::kAdd:
+        operands_.push_back(left + right);
+        break;
+      case Pending::kSubtract:
+        operands_.push_back(left - right);
+        break;
+      case Pending::kMultiply:
+        operands_.push_back(left * right);
+        break;
+      case Pending::kDivide:
+        if (right.is_constant() && right.constant().is_zero()) {
+          throw error("division by zero", tokens_[top.token]);
         }
-        e = e / divisor;
+        operands_.push_back(left / right);
+        break;
+      default:  // kPower
+        if (left.is_constant() && left.constant().is_zero() && right.is_constant() &&
+            right.constant().is_negative()) {
+          throw error("0 raised to a negative power", tokens_[top.token + 1]);
+        }
+        operands_.push_back(pow(left, right));
+        break;
+    }
+  }
+
+  // Reduces while the operator on top binds at least as tightly as `kind` (more tightly for the
+  // right-associative ^), and never past a bracket.
+  void reduce_before(Pending::Kind kind) {
+    const int p = precedence(kind);
+    while (!pending_.empty() && !is_bracket(pending_.back().kind)) {
+      const int top = precedence(pending_.back().kind);
+      if (top < p || (kind == Pending::kPower && top == p)) break;
+      reduce();
+    }
+  }
+  static bool is_bracket(Pending::Kind kind) {
+    return kind == Pending::kParen || kind == Pending::kCall;
+  }
+  // Reduces down to the innermost bracket; false if there is none.
+  bool reduce_to_bracket() {
+    while (!pending_.empty() && !is_bracket(pending_.back().kind)) reduce();
+    return !pending_.empty();
+  }
+
+  // Operator precedence with explicit stacks (no recursion: any nesting up to kMaxParseDepth
+  // costs heap, not C++ stack). Two states: expecting an operand, or an operator after one.
+  Expr parse_expression() {
+    bool operand_expected = true;
+    std::size_t i = 0;
+    while (true) {
+      const Token& token = tokens_[i];
+      if (operand_expected) {
+        if (token.kind == Token::kNumber) {
+          const auto number = Number::parse_decimal(token.text);
+          if (!number) throw error("malformed number '" + token.text + "'", token);
+          operands_.push_back(pool_.constant(*number));
+          operand_expected = false;
+        } else if (token.kind == Token::kName) {
+          if (is_symbol(tokens_[i + 1], '(')) {
+            push({Pending::kCall, i, operands_.size()});
+            ++i;                                   // the '('
+            if (is_symbol(tokens_[i + 1], ')')) {  // no arguments
+              ++i;
+              finish_call();
+              operand_expected = false;
+            }
+          } else {
+            operands_.push_back(name(token));
+            operand_expected = false;
+          }
+        } else if (is_symbol(token, '(')) {
+          push({Pending::kParen, i, 0});
+        } else if (is_symbol(token, '-')) {
+          push({Pending::kNegate, i, 0});
+        } else if (is_symbol(token, '+')) {
+          push({Pending::kPlus, i, 0});
+        } else {
+          throw error(token.kind == Token::kEnd ? "unexpected end of input"
+                                                : "unexpected '" + token.text + "'",
+                      token);
+        }
+        ++i;
+        continue;
+      }
+      // An operand was just read: a binary operator, ')', ',' or the end.
+      if (const auto kind = binary_kind(token)) {
+        reduce_before(*kind);
+        push({*kind, i, 0});
+        operand_expected = true;
+      } else if (is_symbol(token, ')') || is_symbol(token, ',')) {
+        if (!reduce_to_bracket() ||
+            (is_symbol(token, ',') && pending_.back().kind != Pending::kCall)) {
+          throw error("unexpected '" + token.text + "'", token);
+        }
+        if (is_symbol(token, ')')) {
+          if (pending_.back().kind == Pending::kCall) {
+            finish_call();
+          } else {
+            pending_.pop_back();
+            --depth_;
+          }
+        } else {
+          operand_expected = true;  // the next argument
+        }
       } else {
-        return e;
+        reduce_to_bracket();
+        if (!pending_.empty()) throw error("expected ')'", token);
+        if (token.kind != Token::kEnd) throw error("unexpected '" + token.text + "'", token);
+        return pop_operand();
       }
+      ++i;
     }
   }
 
-  Expr parse_unary() {
-    DepthGuard guard(*this);
-    if (accept("-")) return -parse_unary();
-    if (accept("+")) return parse_unary();
-    return parse_power();
+  Expr name(const Token& token) {
+    if (token.text == "pi") {
+      // A 17-digit literal is a one-ulp enclosure of the nearest double (M_PI, just below π), so
+      // it contains π; it is also exactly what printing this constant produces.
+      return pool_.constant(*Number::parse_decimal("3.1415926535897931"));
+    }
+    return pool_.variable(token.text);
   }
 
-  Expr parse_power() {
-    const Expr base = parse_primary();
-    if (!accept("^")) return base;
-    const Token& at = peek();
-    const Expr exponent = parse_unary();
-    if (base.is_constant() && base.constant().is_zero() && exponent.is_constant() &&
-        exponent.constant().is_negative()) {
-      throw error("0 raised to a negative power", at);
-    }
-    return pow(base, exponent);
-  }
-
-  Expr parse_primary() {
-    const Token token = peek();
-    if (token.kind == Token::kNumber) {
-      ++position_;
-      const auto number = Number::parse_decimal(token.text);
-      if (!number) throw error("malformed number '" + token.text + "'", token);
-      return pool_.constant(*number);
-    }
-    if (token.kind == Token::kName) {
-      ++position_;
-      if (accept("(")) return parse_call(token);
-      if (token.text == "pi") {
-        // A 17-digit literal is a one-ulp enclosure of the nearest double (M_PI, just below π),
-        // so it contains π; it is also exactly what printing this constant produces.
-        return pool_.constant(*Number::parse_decimal("3.1415926535897931"));
-      }
-      return pool_.variable(token.text);
-    }
-    if (accept("(")) {
-      const Expr e = parse_expr();
-      expect(")");
-      return e;
-    }
-    throw error(
-        token.kind == Token::kEnd ? "unexpected end of input" : "unexpected '" + token.text + "'",
-        token);
-  }
-
-  Expr parse_call(const Token& name) {
-    std::vector<Expr> args;
-    if (!accept(")")) {
-      args.push_back(parse_expr());
-      while (accept(",")) args.push_back(parse_expr());
-      expect(")");
-    }
+  // The call on top of the stack has all its arguments on the operand stack: apply it.
+  void finish_call() {
+    const Pending call = pending_.back();
+    pending_.pop_back();
+    --depth_;
+    const Token& name = tokens_[call.token];
+    std::vector<Expr> args(operands_.begin() + static_cast<std::ptrdiff_t>(call.operands),
+                           operands_.end());
+    operands_.resize(call.operands);
     std::string fn = name.text;
     if (fn == "fabs") fn = "abs";
     if (fn == "fmin") fn = "min";
@@ -205,16 +318,19 @@ class Parser {
     };
     if (fn == "pow") {
       arity(2);
-      return pow(args[0], args[1]);
+      operands_.push_back(pow(args[0], args[1]));
+      return;
     }
     for (Op op = Op::kSin; op <= Op::kMax; op = static_cast<Op>(static_cast<int>(op) + 1)) {
       if (function_name(op) != fn) continue;
       if (is_unary_function(op)) {
         arity(1);
-        return pool_.function(op, args[0]);
+        operands_.push_back(pool_.function(op, args[0]));
+      } else {
+        arity(2);
+        operands_.push_back(pool_.function(op, args[0], args[1]));
       }
-      arity(2);
-      return pool_.function(op, args[0], args[1]);
+      return;
     }
     throw error("unknown function '" + name.text + "'", name);
   }
@@ -222,8 +338,9 @@ class Parser {
   ExprPool& pool_;
   std::string_view text_;
   std::vector<Token> tokens_;
-  std::size_t position_ = 0;
-  int depth_ = 0;
+  std::vector<Expr> operands_;
+  std::vector<Pending> pending_;
+  int depth_ = 0;  // entries of pending_ that nest (see nests())
 };
 
 // Printing precedence: how tightly a printed form binds.

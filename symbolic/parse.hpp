@@ -11,9 +11,11 @@
 // fabs, fmin, fmax are accepted as aliases. The name `pi` is the constant π, enclosed to one ulp.
 // Decimal literals are exact rationals where they fit (see Number::parse_decimal).
 //
-// `to_string(parse(pool, s))` re-parses to the same node. Parsing is recursive descent with a
-// nesting limit (kMaxParseDepth): deeper input fails with a clear SymbolicError, never a crash.
-// Printing is iterative and works at any depth.
+// Names are ASCII identifiers; a non-ASCII character (x², x−1, Δx) is refused with a hint.
+// Constants print as they parse: rationals exactly, reals (pi, 17-digit literals) with 17 digits,
+// and a real exponent stays a real (x^pi is a Pow node), so `to_string(parse(pool, s))` re-parses
+// to the same node. Parsing uses explicit stacks, not recursion, and allows kMaxParseDepth levels
+// of nesting (the message names the limit); printing is iterative too and works at any depth.
 //
 // Example:
 //   ExprPool pool;
@@ -29,7 +31,8 @@
 
 namespace spar::symbolic {
 
-inline constexpr int kMaxParseDepth = 1000;
+// Parentheses, function calls, signs and powers may nest this deep.
+inline constexpr int kMaxParseDepth = 10'000;
 
 // Throws SymbolicError naming the offending token and its column.
 [[nodiscard]] Expr parse(ExprPool& pool, std::string_view text);

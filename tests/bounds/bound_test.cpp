@@ -214,6 +214,25 @@ TEST(Bound, HugeIntegerPowersKeepTheirParity) {
   }
 }
 
+// Issue 12: real exponents are real numbers (a Pow node with a real constant exponent): x^pi is
+// bounded like any real power, undefined below 0.
+TEST(Bound, RealExponentsAreRealPowers) {
+  ExprPool pool;
+  Box positive;
+  positive.add(pool.variable("x"), 1, 2);
+  const BoundResult r = bound(symbolic::parse(pool, "x^pi"), positive);
+  EXPECT_LE(r.lo, 1.0);
+  EXPECT_GE(r.hi, std::pow(2.0, M_PI));
+  EXPECT_LT(r.hi, std::pow(2.0, M_PI) * (1 + 1e-9));
+  EXPECT_FALSE(r.possibly_undefined);
+  Box straddling;
+  straddling.add(pool.variable("x"), -1, 1);
+  EXPECT_TRUE(bound(symbolic::parse(pool, "x^pi"), straddling).possibly_undefined);
+  const BoundResult two = bound(symbolic::parse(pool, "2^pi"), Box{});
+  EXPECT_LE(two.lo, std::pow(2.0, M_PI));
+  EXPECT_GE(two.hi, std::pow(2.0, M_PI));
+}
+
 // Issue 12: results must not depend on the machine's load. The default effort limit counts
 // work, not seconds; a wall-clock limit is optional and says when it fired.
 TEST(Bound, EffortIsCountedInWorkAndAClockLimitSaysSo) {

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <fstream>
 #include <string>
 
@@ -49,9 +50,74 @@ TEST(Parse, ErrorsNameTheProblemAndColumn) {
 
 TEST(Parse, DeepNestingFailsCleanly) {
   const std::string deep = std::string(100000, '(') + "x" + std::string(100000, ')');
-  expect_parse_error(deep, "nested deeper than");
+  expect_parse_error(deep, "nested deeper than 10000 levels");
   const std::string minus = std::string(100000, '-') + "x";
-  expect_parse_error(minus, "nested deeper than");
+  expect_parse_error(minus, "nested deeper than 10000 levels");
+}
+
+// Issue 12: the cap was about 500 parentheses while the message said 1000. The limit and the
+// message agree now, and plans are long: 10 000 levels of anything parse (no recursion).
+TEST(Parse, TenThousandLevelsParseAndTheLimitIsTheMessage) {
+  ExprPool pool;
+  const Expr x = pool.variable("x");
+  const int limit = kMaxParseDepth;
+  EXPECT_EQ(limit, 10000);
+  EXPECT_EQ(parse(pool, std::string(limit, '(') + "x" + std::string(limit, ')')), x);
+  expect_parse_error(std::string(limit + 1, '(') + "x" + std::string(limit + 1, ')'),
+                     "nested deeper than 10000 levels");
+  std::string calls = "x";
+  Expr expected = x;
+  for (int i = 0; i < limit; ++i) {
+    calls = "sin(" + calls + ")";
+    expected = sin(expected);
+  }
+  const Expr nested = parse(pool, calls);
+  EXPECT_EQ(nested, expected);
+  EXPECT_EQ(parse(pool, to_string(nested)), nested);
+  EXPECT_EQ(parse(pool, std::string(limit, '-') + "x"), x);  // an even number of signs
+}
+
+TEST(Parse, SignsAndPowersBindAsTheGrammarSays) {
+  ExprPool pool;
+  const Expr x = pool.variable("x"), y = pool.variable("y"), z = pool.variable("z");
+  EXPECT_EQ(parse(pool, "2^-3*4"), pool.constant(Number::rational(1, 2)));  // (2^-3)*4
+  EXPECT_EQ(parse(pool, "-x*y"), -x * y);
+  EXPECT_EQ(parse(pool, "x^-y^z"), pow(x, -pow(y, z)));
+  EXPECT_EQ(parse(pool, "x - -y + +z"), x + y + z);
+  EXPECT_EQ(parse(pool, "max(x, min(y, z)) * 2"), max(x, min(y, z)) * 2);
+  expect_parse_error("(x, y)", "unexpected ','");
+  expect_parse_error("sin()", "'sin' takes 1 argument, got 0");
+  expect_parse_error("(x y)", "expected ')' at column 4");
+  expect_parse_error("x)", "unexpected ')' at column 2");
+  expect_parse_error("0^-1", "0 raised to a negative power at column 3");
+}
+
+// Issue 12: real exponents are real numbers. x^pi, pow(x, pi), 2^pi and 17-digit exponents used
+// to fail with "exponent too large to represent exactly"; spar could not read what it printed.
+TEST(Parse, RealExponentsParseAndRoundTrip) {
+  ExprPool pool;
+  const Expr x = pool.variable("x");
+  for (const char* text : {"x^pi", "pow(x, pi)", "2^pi", "x^1.2345678901234567", "x^(-pi)",
+                           "(x^pi)^2", "x^pi * x^2", "1e-400", "x^1e-400"}) {
+    SCOPED_TRACE(text);
+    const Expr e = parse(pool, text);
+    EXPECT_EQ(parse(pool, to_string(e)), e) << to_string(e);
+  }
+  EXPECT_EQ(parse(pool, "x^pi"), parse(pool, "pow(x, pi)"));
+  EXPECT_EQ(parse(pool, "x^pi").op(), Op::kPow);
+  EXPECT_NEAR(evaluate(parse(pool, "x^pi"), {{"x", 2.0}}), std::pow(2.0, M_PI), 1e-12);
+  EXPECT_NEAR(evaluate(parse(pool, "2^pi"), {}), std::pow(2.0, M_PI), 1e-12);
+}
+
+// Issue 12: Unicode x² and x−1 became variable names. Names and operators are ASCII; the message
+// says what to write instead.
+TEST(Parse, NonAsciiIsRefusedWithAHint) {
+  expect_parse_error("x²", "non-ASCII character '²' at column 2");
+  expect_parse_error("x²", "write x^2 for x²");
+  expect_parse_error("x−1", "non-ASCII character '−' at column 2");
+  expect_parse_error("Δx + 1", "ASCII names");
+  ExprPool pool;
+  EXPECT_THROW_MESSAGE(pool.variable("Δx"), "the syntax is ASCII");
 }
 
 TEST(Parse, LongFlatInputParses) {
