@@ -115,9 +115,12 @@ void accept_leading_minus(CLI::App& app) {
 }
 
 void flush_standard_output() {
+  // A write that already failed left its reason in errno: keep it for the message.
+  const int earlier = std::cout ? 0 : errno;
   errno = 0;
   std::cout.flush();
   const bool lost = !std::cout || std::fflush(stdout) != 0 || std::ferror(stdout) != 0;
+  if (errno == 0) errno = earlier;
   if (lost) throw Error("cannot write the output to standard output: " + system_reason());
 }
 

@@ -1,0 +1,454 @@
+// The `spar` command as a user meets it (issue 12): one table of command lines, each run as the
+// built binary with its exit status, standard output and standard error checked. Every row is its
+// own ctest case (CliCase/<name>).
+//
+// Rules every row obeys on top of its own patterns:
+//   - the process exits by itself (no signal, no hang: a row has a time limit);
+//   - exit status 1 comes with exactly one "spar: error: ..." line on stderr (a usage mistake, a
+//     bad file, lost output), exit status 0 with an empty stderr.
+// A row marked `pending` waits for a fix in another module (named there); while that fix has not
+// landed the row's failure is reported as a skip naming it, and the row passes once it has.
+#include <fcntl.h>
+#include <gtest/gtest.h>
+#include <spawn.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+extern char** environ;
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Case {
+  std::string name;
+  std::vector<std::string> args;  // after "spar"; @DIR@ is the scratch folder, @SRC@ the source
+  int exit_status{0};
+  std::string stdout_pattern;  // ECMAScript regex searched in stdout ("" = not checked)
+  std::string stderr_pattern;  // searched in stderr ("" = not checked beyond the rules above)
+  std::string stdout_to{};     // a file to send stdout to instead of capturing it ("/dev/full")
+  std::string pending{};       // the fix in another module this row waits for
+  int seconds{30};             // time limit
+};
+
+struct Outcome {
+  int exit_status{-1};  // -1: killed by a signal or by the time limit
+  std::string what;     // how it ended when it did not exit
+  std::string out, err;
+};
+
+std::string read_file(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+void write_text(const fs::path& path, const std::string& text) {
+  std::ofstream out(path, std::ios::binary);
+  out << text;
+}
+
+// The scratch folder with the input files the rows use; made once per test binary.
+const fs::path& scratch() {
+  static const fs::path dir = [] {
+    std::string pattern = (fs::temp_directory_path() / "spar-cli-test-XXXXXX").string();
+    if (mkdtemp(pattern.data()) == nullptr) throw std::runtime_error("mkdtemp failed");
+    const fs::path root(pattern);
+    // JSONL batch: good, invalid UTF-8, wrong type, missing key, not an object, good.
+    write_text(
+        root / "batch.jsonl",
+        "{\"name\":\"a\",\"expr\":\"x+1\",\"vars\":{\"x\":[0,1]}}\n"
+        "{\"name\":\"b\xff\",\"expr\":\"x\",\"vars\":{\"x\":[0,1]}}\n"
+        "{\"name\":\"c\",\"expr\":5,\"vars\":{\"x\":[0,1]}}\n"
+        "{\"name\":\"d\",\"vars\":{\"x\":[0,1]}}\n"
+        "[1,2]\n"
+        "{\"name\":\"last\",\"expr\":\"x*y\",\"vars\":{\"x\":[0,1],\"y\":[\"1e-310\",2]}}\n");
+    write_text(root / "good.jsonl", "{\"name\":\"a\",\"expr\":\"x+1\",\"vars\":{\"x\":[0,1]}}\n");
+    // A variable-free expression that does not converge, then an ordinary record: the batch must
+    // survive the first (it crashed the whole run).
+    write_text(root / "constant.jsonl",
+               "{\"name\":\"big\",\"expr\":\"exp(1000)\",\"vars\":{}}\n"
+               "{\"name\":\"after\",\"expr\":\"x\",\"vars\":{\"x\":[0,1]}}\n");
+    // One record summing 2000 variables (took > 300 s and 3.5 GB).
+    std::string sum, vars;
+    for (int i = 0; i < 2000; ++i) {
+      sum += (i ? "+" : "") + std::string("x") + std::to_string(i);
+      vars += (i ? "," : "") + std::string("\"x") + std::to_string(i) + "\":[0,1]";
+    }
+    write_text(root / "wide.jsonl",
+               "{\"name\":\"wide\",\"expr\":\"" + sum + "\",\"vars\":{" + vars + "}}\n");
+    // Two unit cubes overlapping in a 0.5 cube: volume 2 was reported for a solid of 1.875.
+    std::string cubes = "OFF\n16 12 0\n";
+    for (const double offset : {0.0, 0.5})
+      for (int corner = 0; corner < 8; ++corner)
+        cubes += std::to_string(offset + (corner & 1)) + ' ' +
+                 std::to_string(offset + ((corner >> 1) & 1)) + ' ' +
+                 std::to_string(offset + ((corner >> 2) & 1)) + '\n';
+    for (const int base : {0, 8})
+      for (const char* quad : {"0 2 3 1", "4 5 7 6", "0 1 5 4", "2 6 7 3", "0 4 6 2", "1 3 7 5"}) {
+        std::istringstream corners(quad);
+        cubes += "4";
+        for (int c; corners >> c;) cubes += ' ' + std::to_string(base + c);
+        cubes += '\n';
+      }
+    write_text(root / "overlap.off", cubes);
+    write_text(root / "huge.off",
+               "OFF\n4 4 0\n0 0 0\n1e300 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n");
+    fs::create_directory(root / "folder.off");
+    return root;
+  }();
+  return dir;
+}
+
+// Removes the scratch folder when the test binary ends.
+class RemoveScratch : public testing::Environment {
+ public:
+  void TearDown() override {
+    std::error_code ignored;
+    fs::remove_all(scratch(), ignored);
+  }
+};
+[[maybe_unused]] testing::Environment* const kRemoveScratch =
+    testing::AddGlobalTestEnvironment(new RemoveScratch);
+
+std::string expand(std::string text) {
+  for (const auto& [key, value] : {std::pair<std::string, std::string>{"@DIR@", scratch().string()},
+                                   std::pair<std::string, std::string>{"@SRC@", SPAR_SOURCE_DIR}}) {
+    for (auto at = text.find(key); at != std::string::npos; at = text.find(key, at)) {
+      text.replace(at, key.size(), value);
+    }
+  }
+  return text;
+}
+
+// Runs spar with `args`, stdin from /dev/null, stdout and stderr to files (or stdout to
+// `stdout_to`); kills it after `seconds`.
+Outcome run_spar(const Case& row, const std::string& label) {
+  const fs::path out_path = scratch() / (label + ".out"), err_path = scratch() / (label + ".err");
+  const std::string stdout_file = row.stdout_to.empty() ? out_path.string() : row.stdout_to;
+  std::vector<std::string> argv_text{SPAR_BINARY};
+  for (const std::string& arg : row.args) argv_text.push_back(expand(arg));
+  std::vector<char*> argv;
+  for (std::string& arg : argv_text) argv.push_back(arg.data());
+  argv.push_back(nullptr);
+
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
+  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, stdout_file.c_str(),
+                                   O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, err_path.c_str(),
+                                   O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  pid_t pid = 0;
+  const int spawned = posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  Outcome outcome;
+  if (spawned != 0) {
+    outcome.what = "could not start " + std::string(SPAR_BINARY);
+    return outcome;
+  }
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(row.seconds);
+  int status = 0;
+  while (waitpid(pid, &status, WNOHANG) == 0) {
+    if (std::chrono::steady_clock::now() > deadline) {
+      kill(pid, SIGKILL);
+      waitpid(pid, &status, 0);
+      outcome.what = "still running after " + std::to_string(row.seconds) + " s (killed)";
+      status = -1;
+      break;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  if (status != -1) {
+    if (WIFEXITED(status)) {
+      outcome.exit_status = WEXITSTATUS(status);
+    } else {
+      outcome.what = "killed by signal " + std::to_string(WTERMSIG(status));
+    }
+  }
+  if (row.stdout_to.empty()) outcome.out = read_file(out_path);
+  outcome.err = read_file(err_path);
+  return outcome;
+}
+
+// Everything wrong with `outcome` for `row`, one line each ("" when the row holds).
+std::string problems(const Case& row, const Outcome& outcome) {
+  std::ostringstream wrong;
+  if (outcome.exit_status != row.exit_status) {
+    wrong << "exit status " << outcome.exit_status << " (" << outcome.what << "), expected "
+          << row.exit_status << '\n';
+  }
+  static const std::regex one_error_line("spar: error: [^\n]*\n");
+  if (row.exit_status == 1 && !std::regex_match(outcome.err, one_error_line)) {
+    wrong << "stderr is not one 'spar: error: ...' line\n";
+  }
+  if (row.exit_status == 0 && !outcome.err.empty()) wrong << "stderr is not empty\n";
+  if (!row.stdout_pattern.empty() &&
+      !std::regex_search(outcome.out, std::regex(row.stdout_pattern))) {
+    wrong << "stdout does not match /" << row.stdout_pattern << "/\n";
+  }
+  if (!row.stderr_pattern.empty() &&
+      !std::regex_search(outcome.err, std::regex(row.stderr_pattern))) {
+    wrong << "stderr does not match /" << row.stderr_pattern << "/\n";
+  }
+  return wrong.str();
+}
+
+// gtest prints a failing row by its name, not its bytes.
+void PrintTo(const Case& row, std::ostream* out) { *out << row.name; }
+
+class CliCase : public testing::TestWithParam<Case> {};
+
+TEST_P(CliCase, ExitStatusAndMessages) {
+  const Case& row = GetParam();
+  const Outcome outcome = run_spar(row, row.name);
+  const std::string wrong = problems(row, outcome);
+  if (wrong.empty()) return;
+  std::string command = "spar";
+  for (const std::string& arg : row.args) command += " '" + expand(arg) + "'";
+  const std::string report = command + "\n" + wrong + "--- stdout (first 600 bytes)\n" +
+                             outcome.out.substr(0, 600) + "\n--- stderr\n" +
+                             outcome.err.substr(0, 600);
+  if (!row.pending.empty()) GTEST_SKIP() << "pending " << row.pending << ":\n" << report;
+  ADD_FAILURE() << report;
+}
+
+constexpr int kError = 1;
+const std::string kFull = "/dev/full";
+const std::string kLost = "cannot write the output to standard output: No space left on device";
+
+const std::vector<Case> kCases = {
+    // A leading unary minus is an expression, not an option.
+    {"SimplifyLeadingMinus", {"simplify", "-x"}, 0, "^-x\n$"},
+    {"SimplifyLeadingMinusCall", {"simplify", "-sin(x)*2"}, 0, "^-2\\*sin\\(x\\)\n$"},
+    {"BoundLeadingMinus", {"bound", "-x", "--var", "x=0:1"}, 0, "range +\\[-1, -?0\\]"},
+    {"BoundConstraintLeadingMinus",
+     {"bound", "x", "--var", "x=0:1", "--constraint", "-x<=-0.5"},
+     0,
+     "range +\\[0.5, 1\\]"},
+    {"BoundAfterDoubleDash", {"bound", "--var", "x=0:1", "--", "-x"}, 0, "range +\\[-1, -?0\\]"},
+    // --var: one value per occurrence, repeatable, in any order.
+    {"VarBeforeExpression", {"bound", "--var", "x=0:1", "x"}, 0, "range +\\[0, 1\\]"},
+    {"VarsAroundExpression",
+     {"bound", "--var", "y=0:1", "x+y", "--var", "x=0:2"},
+     0,
+     "range +\\[0, 3\\]"},
+    // Numbers: what spar prints is read back; messages print enough digits.
+    {"SubnormalBound", {"bound", "x", "--var", "x=1e-310:1"}, 0, "range +\\[[0-9.e-]+, 1\\]"},
+    {"EmptyRangeDigits",
+     {"bound", "x", "--var", "x=2e-9:1e-9"},
+     kError,
+     "",
+     "lower bound 2e-09 > upper bound 1e-09"},
+    {"OverflowBound",
+     {"bound", "x", "--var", "x=0:1e400"},
+     kError,
+     "",
+     "--var x: upper bound: '1e400' is outside the range of double precision numbers"},
+    {"RealExponent",
+     {"bound", "x^pi", "--var", "x=1:2"},
+     0,
+     "range +\\[1, 8.82",
+     "",
+     "",
+     "core: real exponents (x^pi parsed and bounded)"},
+    {"SeventeenDigitExponent",
+     {"bound", "x^3.1415926535897931", "--var", "x=1:2"},
+     0,
+     "range +\\[1, 8.82",
+     "",
+     "",
+     "core: real exponents (17-digit exponents)"},
+    // NaN, negative, zero and overflow are refused for every numeric option, in words.
+    {"TolNaN",
+     {"bound", "x", "--var", "x=0:1", "--tol", "nan"},
+     kError,
+     "",
+     "--tol: must be a number >= 0, got 'nan'"},
+    {"MaxEvalsNegative",
+     {"bound", "x", "--var", "x=0:1", "--max-evals", "-1"},
+     kError,
+     "",
+     "--max-evals: must be a whole number from 1 to"},
+    {"MaxTiltNaN",
+     {"ik", "--pose", "1 0 0 0.5 0 -1 0 0.1 0 0 -1 0.2 0 0 0 1", "--max-tilt-deg", "nan"},
+     kError,
+     "",
+     "--max-tilt-deg: must be a number from 0 to 180, got 'nan'"},
+    {"JointAngleInfinite",
+     {"fk", "--q", "0 0 0 0 0 inf"},
+     kError,
+     "",
+     "--q: must be a finite number, got 'inf'"},
+    {"MaxOpeningNaN",
+     {"object", "cube", "--max-opening", "nan"},
+     kError,
+     "",
+     "--max-opening: must be a positive number, got 'nan'"},
+    {"DemoStepNaN", {"demo", "--step", "nan"}, kError, "", "--step: must be a number from"},
+    {"DemoWidenZero",
+     {"demo", "--widen", "0"},
+     kError,
+     "",
+     "^spar: error: --widen: must be a number > 0 and <= 1000, got '0'\n$"},
+    {"QrBudgetZero",
+     {"qr", "match-strike", "--budget", "0"},
+     kError,
+     "",
+     "^spar: error: --budget: must be a whole number from 1 to 10000, got '0'\n$"},
+    {"QrSeedNegative",
+     {"qr", "match-strike", "--seed", "-1"},
+     kError,
+     "",
+     "--seed: must be a whole number from 0 to 18446744073709551615, got '-1'"},
+    {"QrSeedTwoToThe64",
+     {"qr", "match-strike", "--seed", "18446744073709551616"},
+     kError,
+     "",
+     "--seed: must be a whole number from 0 to 18446744073709551615"},
+    {"QrSeedLargest", {"qr", "match-strike", "--seed", "18446744073709551615"}, 0, "status: "},
+    // Options that would make the work unbounded are capped with a clear error.
+    {"ApproachStepTiny",
+     {"object", "cube", "--approach-step", "1e-9"},
+     kError,
+     "",
+     "--approach-step: must be a number from 1 to 360, got '1e-9'"},
+    {"PositionsHuge",
+     {"object", "cube", "--positions", "100000"},
+     kError,
+     "",
+     "--positions: must be a whole number from 1 to 20, got '100000'"},
+    {"DemoStepTiny", {"demo", "--step", "1e-300"}, kError, "", "--step: must be a number from"},
+    // JSONL batches: a bad line is an error record with its line number; the batch goes on.
+    {"JsonlBadLinesAreRecords",
+     {"bound", "--jsonl", "@DIR@/batch.jsonl"},
+     kError,
+     "\"error\":\"\\[json.exception.parse_error.101\\][^\n]*\"line\":2[^\n]*\n"
+     "\\{\"error\":\"\\\\\"expr\\\\\" must be a string\",\"line\":3,\"name\":\"c\"\\}\n"
+     "\\{\"error\":\"missing \\\\\"expr\\\\\" string\",\"line\":4,\"name\":\"d\"\\}\n"
+     "\\{\"error\":\"a record must be a JSON object\",\"line\":5,\"name\":\"\"\\}\n"
+     "\\{\"argmax\"[^\n]*\"name\":\"last\"",
+     "4 line\\(s\\) of '[^']*batch.jsonl' could not be bounded"},
+    {"JsonlDirectory", {"bound", "--jsonl", "@DIR@"}, kError, "", "is a directory"},
+    {"JsonlWithExpression",
+     {"bound", "x+1", "--var", "x=0:1", "--jsonl", "@DIR@/good.jsonl"},
+     kError,
+     "",
+     "cannot be combined with an expression"},
+    {"JsonlConstantDoesNotKillTheBatch",
+     {"bound", "--jsonl", "@DIR@/constant.jsonl"},
+     0,
+     "\"name\":\"big\"[^\n]*\n[^\n]*\"name\":\"after\"",
+     "",
+     "",
+     "core: bound() on a variable-free constant that does not converge"},
+    {"JsonlTwoThousandVariables",
+     {"bound", "--jsonl", "@DIR@/wide.jsonl"},
+     0,
+     "\"name\":\"wide\"",
+     "",
+     "",
+     "core: effort limit and memory on large inputs",
+     60},
+    // Crashes and hangs of the issue: each exits by itself with an answer.
+    {"ExpThousand", {"bound", "exp(1000)"}, 0, "range +\\[1.79769[0-9.e+]*, inf\\]"},
+    {"UnderflowingConstant", {"bound", "1e-400"}, 0, "range"},
+    {"TanOfHalfPi", {"bound", "tan(pi/2)"}, 0, "range"},
+    {"TripleExp", {"bound", "exp(exp(exp(10)))", "--json"}, 0, "\"hi\": \"inf\""},
+    {"HugeIntegerPowerKeepsParity",
+     {"bound", "x^2000000000", "--var", "x=-1.0000001:-1"},
+     0,
+     "range +\\[1, "},
+    {"LogTimesZeroStaysUndefined",
+     {"bound", "0*log(x)", "--var", "x=-2:-1"},
+     0,
+     "infeasible",
+     "",
+     "",
+     "core: rewrites keep domain conditions (0*log(x) over x < 0)"},
+    {"XOverXPossiblyUndefined",
+     {"bound", "x/x", "--var", "x=-1:1"},
+     0,
+     "possibly undefined",
+     "",
+     "",
+     "core: rewrites keep domain conditions (x/x over a box holding 0)"},
+    {"AttainedInOrder",
+     {"bound", "exp(1)"},
+     0,
+     "attained \\[2.718281828459045[0-9]*, 2.71828",
+     "",
+     "",
+     "core: inner bounds ordered (exp(1) attained [hi, lo])"},
+    {"NonAsciiIdentifier", {"bound", "x\u00b2", "--var", "x=0:1"}, kError, "", "non-ASCII"},
+    {"DeepParentheses",
+     {"simplify", std::string(10000, '(') + "x" + std::string(10000, ')')},
+     0,
+     "^x\n$"},
+    // Meshes.
+    {"MeshDirectory", {"object", "@DIR@/folder.off"}, kError, "", "is a directory"},
+    {"MeshHugeCoordinate",
+     {"object", "@DIR@/huge.off"},
+     kError,
+     "",
+     "huge.off:4: coordinate '1e300' is too large"},
+    {"MeshSelfIntersecting",
+     {"object", "@DIR@/overlap.off"},
+     kError,
+     "",
+     "overlap.off:[0-9]+: the mesh intersects itself"},
+    {"MeshFromExamples",
+     {"object", "@SRC@/examples/objects/block.off", "--json"},
+     0,
+     "\"stable_poses\""},
+    // Output that cannot be written fails the command.
+    {"SimplifyFull", {"simplify", "x+x"}, kError, "", kLost, kFull},
+    {"BoundFull", {"bound", "x", "--var", "x=0:1"}, kError, "", kLost, kFull},
+    {"BoundJsonlFull", {"bound", "--jsonl", "@DIR@/good.jsonl"}, kError, "", kLost, kFull},
+    {"FkFull", {"fk", "--q", "0 0 0 0 0 0"}, kError, "", kLost, kFull},
+    {"IkFull",
+     {"ik", "--pose", "1 0 0 0.5 0 -1 0 0.1 0 0 -1 0.2 0 0 0 1"},
+     kError,
+     "",
+     kLost,
+     kFull},
+    {"QrFull", {"qr", "match-strike"}, kError, "", kLost, kFull},
+    {"ObjectFull", {"object", "cube"}, kError, "", kLost, kFull},
+    {"DemoFull", {"demo"}, kError, "", kLost, kFull},
+    {"WriteOffFull",
+     {"object", "cube", "--write-off", "/dev/full"},
+     kError,
+     "",
+     "cannot write the mesh to '/dev/full': No space left on device"},
+    {"SvgFull",
+     {"qr", "match-strike", "--svg", "/dev/full"},
+     kError,
+     "",
+     "cannot write the SVG to '/dev/full': No space left on device"},
+    // Usage mistakes are one line.
+    {"UnknownOption", {"bound", "x", "--vars", "x=0:1"}, kError, "", "^spar: error: "},
+    {"MissingExpression", {"bound"}, kError, "", "give an expression or --jsonl FILE"},
+    {"UnknownObject", {"object", "sphere"}, kError, "", "no such file, nor a built-in object"},
+    {"UnknownVariable",
+     {"bound", "x+y", "--var", "x=0:1"},
+     kError,
+     "",
+     "unknown variable 'y' in the expression: give it a range"},
+};
+
+INSTANTIATE_TEST_SUITE_P(Spar, CliCase, testing::ValuesIn(kCases),
+                         [](const testing::TestParamInfo<Case>& info) { return info.param.name; });
+
+}  // namespace
