@@ -19,6 +19,7 @@
 
 #include "bounds/bound.hpp"
 #include "bounds/shostak.hpp"
+#include "cli/bound_json.hpp"
 #include "cli/commands.hpp"
 #include "cli/options.hpp"
 #include "common/number.hpp"
@@ -73,14 +74,6 @@ void add_variable(symbolic::ExprPool& pool, bounds::Box& box, const std::string&
           read_bound(range.hi, "--var " + range.name + ": upper bound"));
 }
 
-bounds::Relation relation_named(const std::string& text) {
-  if (text == "<") return bounds::Relation::kLess;
-  if (text == "<=") return bounds::Relation::kLessEqual;
-  if (text == ">") return bounds::Relation::kGreater;
-  if (text == ">=") return bounds::Relation::kGreaterEqual;
-  throw UsageError("unknown relation '" + text + "' (use <, <=, >, >=)");
-}
-
 // "lhs REL rhs" -> (lhs - rhs) REL 0.
 bounds::Constraint parse_constraint(symbolic::ExprPool& pool, const std::string& text) {
   const auto at = text.find_first_of("<>");
@@ -93,115 +86,11 @@ bounds::Constraint parse_constraint(symbolic::ExprPool& pool, const std::string&
   return {lhs - rhs, relation_named(text.substr(at, length))};
 }
 
-nlohmann::json number(double value) {
-  if (std::isfinite(value)) return value;
-  if (std::isnan(value)) return "nan";
-  return value > 0 ? "inf" : "-inf";
-}
-
-nlohmann::json point(const bounds::Box& box, const std::vector<double>& values) {
-  nlohmann::json object = nlohmann::json::object();
-  for (std::size_t i = 0; i < values.size(); ++i) object[box.variables[i].name()] = values[i];
-  return object;
-}
-
-struct Timed {
-  bounds::BoundResult result;
-  double microseconds;
-};
-
-Timed run(Expr f, const bounds::Box& box, const BoundArguments& arguments,
-          const std::vector<bounds::Constraint>& constraints) {
-  const auto start = std::chrono::steady_clock::now();
+bounds::BoundOptions options(const BoundArguments& arguments) {
   bounds::BoundOptions options;
   options.tolerance = arguments.tolerance;
   options.max_box_evaluations = arguments.max_evaluations;
-  bounds::BoundResult result = bounds::bound(f, box, options, constraints);
-  const auto end = std::chrono::steady_clock::now();
-  return {std::move(result), std::chrono::duration<double, std::micro>(end - start).count()};
-}
-
-nlohmann::json to_json(const std::string& name, const bounds::Box& box, const Timed& timed) {
-  const bounds::BoundResult& r = timed.result;
-  nlohmann::json out;
-  if (!name.empty()) out["name"] = name;
-  out["lo"] = number(r.lo);
-  out["hi"] = number(r.hi);
-  out["inner_lo"] = number(r.inner_lo);
-  out["inner_hi"] = number(r.inner_hi);
-  out["argmin"] = point(box, r.argmin);
-  out["argmax"] = point(box, r.argmax);
-  out["status"] = bounds::to_string(r.status);
-  out["possibly_undefined"] = r.possibly_undefined;
-  out["relative_gap"] = number(r.relative_gap());
-  out["evals"] = r.evaluations;
-  out["time_us"] = std::round(timed.microseconds);
-  return out;
-}
-
-// A record's mistake: the line's error record says it and the batch goes on.
-class RecordError : public Error {
- public:
-  using Error::Error;
-};
-
-// A range end: a JSON number, or a string spar's number reader takes ("1e-310", "-inf" fails as
-// every range must be finite).
-double range_end(const nlohmann::json& value, const std::string& what) {
-  if (value.is_number()) return value.get<double>();
-  if (value.is_string()) return read_number(value.get<std::string>(), what);
-  throw RecordError(what + " must be a number");
-}
-
-const std::string& string_field(const nlohmann::json& object, const char* key) {
-  const auto found = object.find(key);
-  if (found == object.end()) throw RecordError(std::string("missing \"") + key + "\" string");
-  if (!found->is_string()) throw RecordError(std::string("\"") + key + "\" must be a string");
-  return found->get_ref<const std::string&>();
-}
-
-// One corpus line -> one result object, or {"line", "name", "error"} when the line is not a
-// record spar can bound (invalid JSON or UTF-8, a missing key, a wrong type) or bounding fails.
-nlohmann::json bound_record(const std::string& line, std::size_t line_number,
-                            const BoundArguments& arguments, bool& ok) {
-  std::string name;
-  try {
-    const auto record = nlohmann::json::parse(line);
-    if (!record.is_object()) throw RecordError("a record must be a JSON object");
-    if (record.contains("name") && record["name"].is_string()) name = record["name"];
-    symbolic::ExprPool pool;
-    bounds::Box box;
-    if (!record.contains("vars") || !record["vars"].is_object()) {
-      throw RecordError("missing \"vars\" object");
-    }
-    for (const auto& [var, range] : record["vars"].items()) {
-      if (!range.is_array() || range.size() != 2) {
-        throw RecordError("range of '" + var + "' must be [lo, hi]");
-      }
-      box.add(pool.variable(var), range_end(range[0], "lower bound of '" + var + "'"),
-              range_end(range[1], "upper bound of '" + var + "'"));
-    }
-    const Expr f = symbolic::parse(pool, string_field(record, "expr"));
-    std::vector<bounds::Constraint> constraints;
-    if (record.contains("constraints")) {
-      if (!record["constraints"].is_array()) {
-        throw RecordError("\"constraints\" must be an array of {\"g\", \"rel\"}");
-      }
-      for (const auto& c : record["constraints"]) {
-        if (!c.is_object()) throw RecordError("a constraint must be an object {\"g\", \"rel\"}");
-        constraints.push_back(
-            {symbolic::parse(pool, string_field(c, "g")), relation_named(string_field(c, "rel"))});
-      }
-    }
-    return to_json(name, box, run(f, box, arguments, constraints));
-  } catch (const std::exception& error) {
-    ok = false;
-    nlohmann::json out;
-    out["line"] = line_number;
-    out["name"] = name;
-    out["error"] = error.what();
-    return out;
-  }
+  return options;
 }
 
 void run_jsonl(const BoundArguments& arguments) {
@@ -219,7 +108,7 @@ void run_jsonl(const BoundArguments& arguments) {
     if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
     bool ok = true;
     // Invalid UTF-8 (in a name or an error quoting the line) is written as U+FFFD, not thrown.
-    std::cout << bound_record(line, line_number, arguments, ok)
+    std::cout << bound_record(line, line_number, options(arguments), ok)
                      .dump(-1, ' ', false, nlohmann::json::error_handler_t::replace)
               << std::endl;
     if (!std::cout) flush_standard_output();  // throws: the output is lost, stop now
@@ -307,12 +196,14 @@ void run_single(const BoundArguments& arguments) {
   for (const std::string& c : arguments.constraints) {
     constraints.push_back(parse_constraint(pool, c));
   }
-  const Timed timed = run(f, box, arguments, constraints);
+  const auto start = std::chrono::steady_clock::now();
+  const bounds::BoundResult r = bounds::bound(f, box, options(arguments), constraints);
+  const std::chrono::duration<double, std::micro> elapsed =
+      std::chrono::steady_clock::now() - start;
   if (arguments.json) {
-    std::cout << to_json("", box, timed).dump(2) << '\n';
+    std::cout << bound_result_json("", box, r, elapsed.count()).dump(2) << '\n';
     return;
   }
-  const bounds::BoundResult& r = timed.result;
   if (r.status == bounds::BoundStatus::kInfeasible) {
     std::cout << "status   infeasible: no point of the box satisfies the constraints and gives the "
                  "expression a defined value\n";
@@ -331,7 +222,7 @@ void run_single(const BoundArguments& arguments) {
   } else {
     std::cout << "none measurable (unbounded or a single attained value)";
   }
-  std::cout << ", " << r.evaluations << " boxes, " << std::round(timed.microseconds) << " us\n";
+  std::cout << ", " << r.evaluations << " boxes, " << std::round(elapsed.count()) << " us\n";
   const auto print_point = [&](const char* label, const std::vector<double>& x) {
     if (x.empty()) return;
     std::cout << label;
