@@ -15,57 +15,67 @@ bool PickupCondition::holds_at(const std::map<std::string, double>& values) cons
   return positive ? value > 0.0 : value < 0.0;
 }
 
-PickupPreconditions pickup_preconditions(const PickupGeometry& geometry,
-                                         const UncertainManipulator& gripper,
-                                         const UncertainObject& object,
-                                         const PickupOptions& options) {
+std::array<PickupCondition, 4> pickup_conditions(const PickupGeometry& geometry,
+                                                 const PoseError& manipulator,
+                                                 const PoseError& object,
+                                                 const PickupOptions& options) {
   if (!(geometry.finger_opening > 0.0) || !(geometry.object_width > 0.0)) {
     throw KinematicsError("pickup: finger opening and object width must be > 0 (got " +
                           std::to_string(geometry.finger_opening) + " and " +
                           std::to_string(geometry.object_width) + ")");
   }
-  ExprPool& pool = gripper.dx().pool();
-  if (&object.dx().pool() != &pool) {
+  ExprPool& pool = manipulator.dx.pool();
+  if (&object.dx.pool() != &pool) {
     throw KinematicsError("pickup: gripper and object uncertainties use different pools");
   }
   const SymbolicTransform object_pose = SymbolicTransform::from_numeric(pool, geometry.object_pose);
   const SymbolicTransform grasp = SymbolicTransform::from_numeric(pool, geometry.grasp);
   const SymbolicTransform ideal_gripper = object_pose * grasp;  // constants: folds to numbers
+  const SymbolicTransform manipulator_error = manipulator_error_transform(manipulator);
 
   const double half_opening = geometry.finger_opening / 2, half_width = geometry.object_width / 2;
   const SymbolicPoint contacts[2] = {grasp.apply(constant_point(pool, 0, +half_width, 0)),
                                      grasp.apply(constant_point(pool, 0, -half_width, 0))};
   const SymbolicTransform finger_offsets[2] = {trans(pool, 0, -half_opening, 0),
                                                trans(pool, 0, +half_opening, 0)};
-
-  PickupPreconditions result;
-  for (const UncertaintyVariable& v : gripper.variables()) result.variables.push_back(v);
-  for (const UncertaintyVariable& v : object.variables()) result.variables.push_back(v);
   symbolic::SimplifyOptions simplify_options;
-  for (const UncertaintyVariable& v : result.variables) {
-    simplify_options.widths[v.name] = v.upper - v.lower;
-  }
+  for (const auto& [name, width] : options.widths) simplify_options.widths[name] = width;
   // T_ΔM^-1 (T_O T_G)^-1 C per contact, C in object-frame coordinates until then; the finger
   // offsets only shift its y coordinate, so x and y are all that is built of it.
   std::array<SymbolicPoint, 2> in_gripper;
   for (int contact = 0; contact < 2; ++contact) {
     const SymbolicPoint in_ideal =
-        object.possible_point_in(ideal_gripper, geometry.object_pose, contacts[contact]);
+        possible_object_point_in(ideal_gripper, geometry.object_pose, contacts[contact], object);
     for (int row = 0; row < 2; ++row) {
-      in_gripper[contact][row] = gripper.error().apply_inverse_coordinate(in_ideal, row);
+      in_gripper[contact][row] = manipulator_error.apply_inverse_coordinate(in_ideal, row);
     }
     in_gripper[contact][2] = pool.integer(0);  // z: not needed for [0,1,0,0]
   }
+  std::array<PickupCondition, 4> conditions;
   for (int finger = 0; finger < 2; ++finger) {
     for (int contact = 0; contact < 2; ++contact) {
       const Expr y = finger_offsets[finger].apply_inverse_coordinate(in_gripper[contact], 1);
       const bool positive = finger == 0;
-      result.conditions[finger * 2 + contact] = {
+      conditions[finger * 2 + contact] = {
           std::string(positive ? "0 < " : "0 > ") + "[0,1,0,0] P" + std::to_string(finger + 1) +
               "^-1 C" + std::to_string(contact + 1),
           options.simplify ? symbolic::simplify(y, simplify_options) : y, positive};
     }
   }
+  return conditions;
+}
+
+PickupPreconditions pickup_preconditions(const PickupGeometry& geometry,
+                                         const UncertainManipulator& gripper,
+                                         const UncertainObject& object,
+                                         const PickupOptions& options) {
+  PickupPreconditions result;
+  for (const UncertaintyVariable& v : gripper.variables()) result.variables.push_back(v);
+  for (const UncertaintyVariable& v : object.variables()) result.variables.push_back(v);
+  PickupOptions with_widths = options;
+  for (const UncertaintyVariable& v : result.variables) with_widths.widths[v.name] = v.upper - v.lower;
+  result.conditions =
+      pickup_conditions(geometry, gripper.pose_error(), object.pose_error(), with_widths);
   return result;
 }
 

@@ -63,6 +63,8 @@ struct PickupOptions {
   // expressions it finds nothing to improve (same 35 nodes, same occurrence cost, measured): the
   // remaining repeats (q_x and q_y both hold the object's variables) are those of the function.
   bool simplify{false};
+  // Box width of every variable (by name), which SMP weighs occurrences by.
+  std::map<std::string, double> widths;
 };
 
 // Throws KinematicsError unless 0 < object_width and 0 < finger_opening. Both uncertainties must
@@ -71,6 +73,15 @@ struct PickupOptions {
                                                        const UncertainManipulator& gripper,
                                                        const UncertainObject& object,
                                                        const PickupOptions& options = {});
+
+// The same four conditions over pose errors given as expressions (a planner's phase 2 propagates
+// them through a plan): `manipulator` is T_ΔM of the pickup (eq. 1), `object` the object's error
+// just before it (eq. 2 form, world displacement and rotation about world z). All expressions must
+// share one pool. Throws KinematicsError like pickup_preconditions.
+[[nodiscard]] std::array<PickupCondition, 4> pickup_conditions(const PickupGeometry& geometry,
+                                                               const PoseError& manipulator,
+                                                               const PoseError& object,
+                                                               const PickupOptions& options = {});
 
 // The worked example of SPAR's paper (peg and block), used by `spar demo`, the tests and the
 // benchmark, in metres and radians (the paper's inch and degree values converted exactly).

@@ -67,7 +67,8 @@ class DomainReader {
     };
     atom.predicate = trim(text.substr(0, open));
     if (open != std::string::npos) {
-      if (text.back() != ')') fail(node.Mark(), what + " '" + text + "' lacks its closing ')'");
+      if (text.back() != ')') fail(node.Mark(), what + " '" + text + "' lacks its closing ')' (in a [...] list, quote "
+                               "atoms that contain commas: \"at(object, position)\")");
       std::stringstream args(text.substr(open + 1, text.size() - open - 2));
       std::string arg;
       while (std::getline(args, arg, ',')) atom.args.push_back(trim(arg));

@@ -61,7 +61,7 @@ std::vector<PreconditionResult> decide(const std::vector<Precondition>& precondi
   const std::vector<Interval> box = space.ranges(variables);
   bounds::ConditionSet set(inequalities, variables);
   const std::vector<bounds::ConditionCheck> checks =
-      set.check(box, options, bounds::Escalation::kNotSatisfied);
+      set.check(box, options, bounds::Escalation::kUndecided);
   for (std::size_t i = 0; i < preconditions.size(); ++i) {
     PreconditionResult result;
     result.kind = preconditions[i].kind;
@@ -200,74 +200,104 @@ std::map<int, std::vector<PreconditionResult>> InstanceAnalyser::replay(
   return decided;
 }
 
+// How far the results are from holding: the sum over the preconditions of the sound bound's
+// excess over the threshold (0 when every one is satisfied).
+double shortfall(const std::vector<PreconditionResult>& results) {
+  double total = 0;
+  for (const PreconditionResult& r : results) {
+    const bool upper = r.inequality.relation == bounds::Relation::kLess ||
+                       r.inequality.relation == bounds::Relation::kLessEqual;
+    const double excess =
+        upper ? r.bound.hi - r.inequality.threshold : r.inequality.threshold - r.bound.lo;
+    total += std::isfinite(excess) ? std::max(0.0, excess) : 1e300;
+  }
+  return total;
+}
+
 int InstanceAnalyser::repair(std::vector<Phase2Step>& steps,
                              const std::vector<Propagation>& snapshots, int k,
                              const std::vector<PreconditionResult>& failing,
                              InstanceAnalysis& out) const {
-  const Phase2Step& failed = steps[k];
-  struct Candidate {
-    int action;
-    int position;
-    Phase2Step step;
-  };
-  std::vector<Candidate> candidates;
   const int scan = find_action(domain_, ActionKind::kSensing);
   const int squeeze = find_action(domain_, ActionKind::kReduction);
-  const bool insertion = failed.effect == StepEffect::kInsert;
-  const int grasp_at = insertion ? grasp_position(steps, k, failed.object) : k;
+  const bool insertion = steps[k].effect == StepEffect::kInsert;
+  // The repairs to try, in order: (kind, object whose uncertainty it reduces).
+  enum class Kind { kScanFixed, kScanHeld, kSqueeze };
+  std::vector<Kind> kinds;
   if (scan >= 0 && world_.scenario().range_scan) {
-    std::vector<std::pair<int, int>> targets;  // (object, until)
-    if (insertion) {
-      targets = {{failed.fixed_object, k}, {failed.object, grasp_at}};
+    if (insertion) kinds.push_back(Kind::kScanFixed);
+    kinds.push_back(Kind::kScanHeld);
+  }
+  if (squeeze >= 0) kinds.push_back(Kind::kSqueeze);
+
+  std::vector<Phase2Step> current = steps;
+  int failing_at = k;
+  int earliest = k;  // the earliest insertion kept so far
+  double best = shortfall(failing);
+  std::vector<PreconditionResult> latest = failing;
+  const std::size_t first_attempt = out.repairs.size();
+  for (const Kind kind : kinds) {
+    const Phase2Step& failed = current[failing_at];
+    const int grasp_at = insertion ? grasp_position(current, failing_at, failed.object) : failing_at;
+    Phase2Step step;
+    int position = -1;
+    if (kind == Kind::kSqueeze) {
+      if (grasp_at < 0) continue;
+      step = current[grasp_at];
+      step.action = squeeze;
+      step.effect = StepEffect::kSqueeze;
+      step.instance_step = -1;
+      position = grasp_at;
     } else {
-      targets = {{failed.object, k}};
-    }
-    for (const auto& [object, until] : targets) {
+      const int object = kind == Kind::kScanFixed ? failed.fixed_object : failed.object;
+      const int until = kind == Kind::kScanFixed ? failing_at : grasp_at;
       if (until < 0) continue;
-      const int position = scan_position(steps, until, object);
+      position = scan_position(current, until, object);
       if (position < 0) continue;
-      Phase2Step step;
       step.action = scan;
       step.effect = StepEffect::kRangeScan;
       step.object = object;
-      candidates.push_back({scan, position, step});
     }
-  }
-  if (squeeze >= 0 && grasp_at >= 0) {
-    Phase2Step step = steps[grasp_at];
-    step.action = squeeze;
-    step.effect = StepEffect::kSqueeze;
-    step.instance_step = -1;
-    candidates.push_back({squeeze, grasp_at, step});
-  }
-  for (const Candidate& candidate : candidates) {
-    std::vector<Phase2Step> trial = steps;
-    trial.insert(trial.begin() + candidate.position, candidate.step);
-    const int moved = k + 1;  // the failing step's position in `trial`
+    std::vector<Phase2Step> trial = current;
+    trial.insert(trial.begin() + position, step);
+    const int moved = failing_at + 1;
     std::set<int> watch = {moved};
-    if (candidate.step.effect == StepEffect::kSqueeze) watch.insert(candidate.position);
-    const auto decided = replay(snapshots[candidate.position], trial, candidate.position, moved, watch);
-    bool helped = true;
-    for (const auto& [position, results] : decided) helped = helped && all_hold(results);
+    if (kind == Kind::kSqueeze) watch.insert(position);
+    const int from = std::min(position, earliest);
+    // Replay from the earliest change: snapshots before it are unaffected.
+    const auto decided = replay(snapshots[from], trial, from, moved, watch);
+    const bool own_ok = kind != Kind::kSqueeze || all_hold(decided.at(position));
+    const std::vector<PreconditionResult>& after = decided.at(moved);
     RepairAttempt attempt;
-    attempt.action = domain_.actions[candidate.action].name;
-    attempt.object = candidate.step.object;
-    attempt.for_instance_step = failed.instance_step;
-    attempt.helped = helped;
-    for (const PreconditionResult& r : failing) {
+    attempt.action = domain_.actions[step.action].name;
+    attempt.object = step.object;
+    attempt.for_instance_step = current[failing_at].instance_step;
+    for (const PreconditionResult& r : latest) {
       attempt.before.push_back(r.bound);
       attempt.verdicts_before.push_back(r.verdict);
     }
-    for (const PreconditionResult& r : decided.at(moved)) {
+    for (const PreconditionResult& r : after) {
       attempt.after.push_back(r.bound);
       attempt.verdicts_after.push_back(r.verdict);
     }
+    const double remaining = shortfall(after);
+    // Keep an insertion that brings the step closer to holding; it is final if the step holds.
+    const bool kept = own_ok && (all_hold(after) || remaining < best);
+    attempt.helped = kept;
     out.repairs.push_back(std::move(attempt));
-    if (helped) {
-      steps = std::move(trial);
-      return candidate.position;
+    if (!kept) continue;
+    current = std::move(trial);
+    failing_at = moved;
+    earliest = std::min(earliest, position);
+    best = remaining;
+    latest = after;
+    if (all_hold(after)) {
+      steps = std::move(current);
+      return earliest;
     }
   }
+  // Nothing made the step hold: the insertions are dropped and marked as such.
+  for (std::size_t i = first_attempt; i < out.repairs.size(); ++i) out.repairs[i].helped = false;
   return -1;
 }
 
@@ -310,14 +340,6 @@ void InstanceAnalyser::run(std::vector<Phase2Step> steps, InstanceAnalysis& out)
   out.variables = snapshots.back().space().variables();
 }
 
-// The natural interval enclosure width of `expression` over `box` (variables in `inputs` order).
-double natural_width(const symbolic::Tape& tape, std::span<const Interval> box) {
-  symbolic::TapeEvaluator<Interval> evaluator(tape);
-  Interval out[1];
-  evaluator.evaluate(box, out);
-  return out[0].hi - out[0].lo;
-}
-
 bool holds(const bounds::Inequality& inequality, double value) {
   switch (inequality.relation) {
     case bounds::Relation::kLess:
@@ -349,65 +371,79 @@ InstanceAnalysis analyse_instance(const WorldModel& world, const Domain& domain,
   return analysis;
 }
 
-void add_margins(InstanceAnalysis& analysis, const WorldModel& world,
-                 const AnalysisOptions& options) {
-  (void)world;
+void add_margins(InstanceAnalysis& analysis, const AnalysisOptions& options) {
   std::map<std::string, const SpaceVariable*> by_name;
   for (const SpaceVariable& v : analysis.variables) by_name[v.name] = &v;
   std::mt19937_64 random(20261201);
+  bounds::BoundOptions quick = options.bound;
+  quick.tolerance = 1e-2;
+  quick.max_box_evaluations = std::min<std::size_t>(quick.max_box_evaluations, 2000);
   for (AnalysedStep& step : analysis.steps) {
     for (PreconditionResult& result : step.preconditions) {
       std::vector<Expr> inputs;
       for (const std::string& name : result.variables) inputs.push_back(analysis.pool->variable(name));
-      const symbolic::Tape tape = symbolic::Tape::compile({&result.inequality.expression, 1}, inputs);
+      bounds::BoundProblem problem(result.inequality.expression, inputs);
+      // A tight bound with inner values for every precondition (the natural pass that decided a
+      // satisfied one has none): [lo, hi] only shrinks, so the verdict stands.
+      result.bound = problem.bound(result.box, options.bound);
+      result.witness = bounds::witness(result.inequality, result.bound);
       if (options.blame) {
-        const double width = natural_width(tape, result.box);
+        const double width = result.bound.hi - result.bound.lo;
         result.blame.clear();
         for (std::size_t v = 0; v < inputs.size(); ++v) {
           std::vector<Interval> pinned = result.box;
           pinned[v] = Interval(0.0);
-          const double share = width > 0 ? (width - natural_width(tape, pinned)) / width : 0.0;
-          result.blame.push_back({result.variables[v], std::max(0.0, share)});
+          const bounds::BoundResult without = problem.bound(pinned, quick);
+          const double share = width > 0 ? (width - (without.hi - without.lo)) / width : 0.0;
+          result.blame.push_back({result.variables[v], std::clamp(share, 0.0, 1.0)});
         }
         std::stable_sort(result.blame.begin(), result.blame.end(),
                          [](const auto& a, const auto& b) { return a.share > b.share; });
       }
       if (options.samples > 0) {
+        const symbolic::Tape tape =
+            symbolic::Tape::compile({&result.inequality.expression, 1}, inputs);
         symbolic::TapeEvaluator<double> evaluator(tape);
         std::size_t violations = 0;
         std::vector<double> point(inputs.size());
         double value[1];
         for (std::size_t s = 0; s < options.samples; ++s) {
           for (std::size_t v = 0; v < inputs.size(); ++v)
-            point[v] = std::uniform_real_distribution<double>(result.box[v].lo, result.box[v].hi)(random);
+            point[v] =
+                std::uniform_real_distribution<double>(result.box[v].lo, result.box[v].hi)(random);
           evaluator.evaluate(point, value);
           if (!holds(result.inequality, value[0])) ++violations;
         }
         result.monte_carlo_violation = static_cast<double>(violations) / options.samples;
       }
       if (options.reverse) {
-        // Scale the ranges of the object variables (and the arm's if asked) by s.
-        bounds::ConditionSet set({result.inequality}, inputs);
+        // Scale the ranges of the objects' variables (and the arm's if asked) by s.
         const auto proved_at = [&](double scale) {
           std::vector<Interval> box = result.box;
           for (std::size_t v = 0; v < inputs.size(); ++v) {
             const SpaceVariable& meta = *by_name.at(result.variables[v]);
-            if (meta.provenance.source == UncertaintySource::kManipulator && !options.scale_manipulator)
+            if (meta.provenance.source == UncertaintySource::kManipulator &&
+                !options.scale_manipulator)
               continue;
             box[v] = Interval(meta.lower * scale, meta.upper * scale);
           }
-          return set.check(box, options.bound)[0].verdict == Verdict::kSatisfied;
+          return bounds::decide(result.inequality, problem.bound(box, quick)) ==
+                 Verdict::kSatisfied;
         };
-        double good = 0.0, bad = options.max_scale;
-        if (proved_at(bad)) {
-          good = bad;
-        } else if (proved_at(0.0)) {
-          for (int i = 0; i < options.reverse_iterations; ++i) {
-            const double mid = 0.5 * (good + bad);
-            (proved_at(mid) ? good : bad) = mid;
+        std::optional<double> proved;
+        if (proved_at(0.0)) {
+          double good = 0.0, bad = options.max_scale;
+          if (proved_at(bad)) {
+            good = bad;
+          } else {
+            for (int i = 0; i < options.reverse_iterations; ++i) {
+              const double mid = 0.5 * (good + bad);
+              (proved_at(mid) ? good : bad) = mid;
+            }
           }
+          proved = good;
         }
-        result.holds_up_to_scale = proved_at(0.0) ? std::optional<double>(good) : std::nullopt;
+        result.holds_up_to_scale = proved;
       }
     }
   }
@@ -429,7 +465,7 @@ std::vector<InstanceAnalysis> analyse_instances(const WorldModel& world, const D
     examined.push_back(analyse_instance(world, domain, instance, options));
     if (examined.back().errors == 0) break;
   }
-  if (!examined.empty()) add_margins(examined[choose_instance(examined)], world, options);
+  if (!examined.empty()) add_margins(examined[choose_instance(examined)], options);
   return examined;
 }
 

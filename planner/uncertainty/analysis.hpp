@@ -9,13 +9,15 @@
 //   1. decide its preconditions together (bounds/condition_set.hpp: one tape, natural interval
 //      first, bound() where that cannot tell); a precondition fails unless it is satisfied
 //      (violated and undecided both fail; undecided is reported as such);
-//   2. if one fails, try in order (each attempt re-propagates from where it is spliced in and
-//      re-decides the failing step; it is kept only if every precondition of that step then
-//      holds, and a squeeze only if its own pickup preconditions hold too):
-//        a range-scan of each object the failing preconditions concern, placed at the latest point
-//        before the step where the gripper is empty and the object rests where the step finds it
-//        (for an insertion: the fixed object, then the held object before its pickup);
-//        a squeeze just before the pickup (of the held object, for an insertion);
+//   2. if one fails, try in order, cumulatively (each attempt re-propagates from where it is
+//      spliced in and re-decides the failing step; it is kept while it brings the step's sound
+//      bounds closer to their thresholds, a squeeze only if its own pickup preconditions hold, and
+//      the kept ones stay in the plan once every precondition of the step holds; if that never
+//      happens, all are dropped):
+//        for an insertion, a range-scan of the fixed object at the latest point before the step
+//        where the gripper is empty and the object rests where the step finds it;
+//        a range-scan of the handled object likewise before its pickup;
+//        a squeeze just before that pickup;
 //      each attempt is recorded with the bounds before and after;
 //   3. if none helps: the error count goes up by one, and the step gets the verification
 //      templates its action names and, per outcome, the recovery plan, instantiated with the
@@ -25,8 +27,9 @@
 //                     uncertainty of the objects it depends on (their initial / sensed variables,
 //                     the arm's too when `scale_manipulator`) for which it is PROVED to hold: a
 //                     bisection in which every accepted scale is a satisfied verdict;
-//   blame             per precondition and variable, the share of the bound's width that goes
-//                     when that variable is pinned to its nominal value 0 (natural enclosure);
+//   blame             per precondition and variable, the share of the sound bound's width that
+//                     goes when that variable is pinned to its nominal value 0 (a cheaper bound:
+//                     tolerance 1e-2, at most 2000 boxes);
 //   Monte Carlo       the fraction of `samples` uniform points of the box where the inequality
 //                     is false (on the same tape); a violation sampled for a precondition
 //                     reported satisfied would be a soundness bug.
@@ -140,8 +143,8 @@ struct AnalysisOptions {
     const WorldModel& world, const Domain& domain, const std::vector<PlanInstance>& instances,
     const AnalysisOptions& options = {});
 
-// Adds the chosen-instance extras to an analysis.
-void add_margins(InstanceAnalysis& analysis, const WorldModel& world,
-                 const AnalysisOptions& options);
+// Adds the chosen-instance extras to an analysis: a tight bound with inner values for every
+// precondition, blame, reverse analysis and Monte Carlo (as `options` enable them).
+void add_margins(InstanceAnalysis& analysis, const AnalysisOptions& options);
 
 }  // namespace spar::planner

@@ -1,0 +1,136 @@
+// An independent checker of plan instances: it simulates the steps of an instance on its own world
+// state (object poses, what the gripper holds, what is assembled), from the scenario and the
+// geometry alone, and returns every rule a step breaks. It reuses none of the planner's tables.
+//
+// Rules per step: the operational preconditions (gripper empty to pick up; holding the object to
+// put it down or insert it; the object where the step says it is); the reported gripper pose is
+// T_O T_G (an insertion: T_f Ta T_G); base * FK(joints) * tool equals the gripper pose; the joints
+// are within their limits; the gripper's approach axis points down within the robot's tilt cone;
+// no contact face of the grasp lies on the table in the object's current pose (and at its
+// destination); a put-down object rests on the table (lowest vertex at z = 0); at an insertion the
+// fixed object's mating faces are off the table and the mating vector points down. At the end,
+// every assembled goal holds.
+#pragma once
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "planner/plan.hpp"
+
+namespace spar::planner::testing {
+
+inline bool same_pose(const kinematics::Transform& a, const kinematics::Transform& b,
+                      double tolerance = 1e-6) {
+  return (a.matrix() - b.matrix()).cwiseAbs().maxCoeff() <= tolerance;
+}
+
+// Faces of `model` lying on the table (outward normal straight down, on the plane z = 0) when the
+// object is at `pose`.
+inline std::vector<int> faces_on_table(const geometry::ObjectModel& model,
+                                       const kinematics::Transform& pose) {
+  std::vector<int> on_table;
+  for (const geometry::Face& face : model.faces()) {
+    const Eigen::Vector3d normal = pose.linear() * face.normal;
+    const Eigen::Vector3d centroid = pose * face.centroid;
+    if (normal.z() < -1 + 1e-6 && std::abs(centroid.z()) < 1e-6) on_table.push_back(face.id);
+  }
+  return on_table;
+}
+
+inline double lowest_z(const geometry::ObjectModel& model, const kinematics::Transform& pose) {
+  double lowest = INFINITY;
+  for (const Eigen::Vector3d& vertex : model.mesh().vertices) lowest = std::min(lowest, (pose * vertex).z());
+  return lowest;
+}
+
+inline bool intersects(const std::vector<int>& a, const std::vector<int>& b) {
+  for (const int x : a)
+    for (const int y : b)
+      if (x == y) return true;
+  return false;
+}
+
+// Every broken rule, as text ("step 3 (pickup block): ..."); empty when the instance is valid.
+inline std::vector<std::string> check_instance(const Scenario& scenario,
+                                               const std::vector<std::vector<geometry::Grasp>>& grasps,
+                                               const PlanInstance& instance) {
+  std::vector<std::string> problems;
+  std::vector<kinematics::Transform> poses;
+  for (const ObjectSpec& object : scenario.objects) poses.push_back(object.initial_pose);
+  std::vector<bool> assembled_into(scenario.objects.size(), false);
+  int held = -1;
+  const auto find = [&](const std::string& name) {
+    for (std::size_t i = 0; i < scenario.objects.size(); ++i)
+      if (scenario.objects[i].name == name) return static_cast<int>(i);
+    return -1;
+  };
+  int number = 0;
+  for (const InstanceStep& step : instance.steps) {
+    ++number;
+    const std::string where = "step " + std::to_string(number) + " (" + step.action_name + " " +
+                              scenario.objects.at(step.object).name + "): ";
+    const auto fail = [&](const std::string& what) { problems.push_back(where + what); };
+    const geometry::ObjectModel& model = scenario.objects[step.object].model;
+    const geometry::Grasp& grasp = grasps.at(step.object).at(step.grasp);
+    const std::vector<int> contacts = {grasp.face_plus_y, grasp.face_minus_y};
+    // The gripper pose and the arm's joints.
+    const kinematics::Transform expected_gripper = step.object_pose * grasp.gripper_in_object;
+    if (!same_pose(step.gripper_pose, expected_gripper)) fail("gripper pose is not T_O T_G");
+    if (!step.reach.solution) {
+      fail("no joint solution");
+    } else {
+      std::vector<double> q(step.reach.solution->q.data(), step.reach.solution->q.data() + 6);
+      const kinematics::Transform fk =
+          scenario.robot.base * scenario.robot.chain.forward(q) * scenario.robot.tool;
+      if (!same_pose(fk, step.gripper_pose, 1e-6)) fail("base * FK(joints) * tool != gripper pose");
+      if (!scenario.robot.chain.within_limits(q)) fail("joints outside their limits");
+    }
+    const double tilt = std::acos(std::clamp(-step.gripper_pose.linear().col(2).z(), -1.0, 1.0));
+    if (tilt > scenario.robot.max_tool_tilt + 1e-9) fail("gripper does not point down");
+    if (step.action_name == "pickup") {
+      if (held != -1) fail("gripper not empty");
+      if (!same_pose(poses[step.object], step.object_pose)) fail("object is not where the step says");
+      if (intersects(faces_on_table(model, poses[step.object]), contacts))
+        fail("a contact face lies on the table");
+      held = step.object;
+    } else if (step.action_name == "putdown") {
+      if (held != step.object) fail("not holding the object");
+      if (std::abs(lowest_z(model, step.object_pose)) > 1e-6) fail("destination not on the table");
+      if (intersects(faces_on_table(model, step.object_pose), contacts))
+        fail("a contact face would lie on the table");
+      poses[step.object] = step.object_pose;
+      held = -1;
+    } else if (step.action_name == "assemble") {
+      if (held != step.object) fail("not holding the held object");
+      if (!same_pose(poses[step.fixed_object], step.fixed_pose)) fail("fixed object is elsewhere");
+      for (const Goal& goal : scenario.goals) {
+        const AssembledGoal& assembled = std::get<AssembledGoal>(goal);
+        if (find(assembled.held) != step.object || find(assembled.fixed) != step.fixed_object)
+          continue;
+        if (!same_pose(step.held_pose, step.fixed_pose * assembled.relative))
+          fail("held pose is not T_fixed Ta");
+        const geometry::ObjectModel& fixed = scenario.objects[step.fixed_object].model;
+        if (intersects(faces_on_table(fixed, step.fixed_pose), assembled.fixed_faces))
+          fail("a mating face of the fixed object lies on the table");
+        if ((step.fixed_pose.linear() * assembled.mating_vector).z() >= 0)
+          fail("the mating vector does not point down");
+        if (intersects(grasp.obscured_faces, assembled.held_faces))
+          fail("the grasp obscures a mating face of the held object");
+        assembled_into[step.object] = true;
+      }
+      held = -1;
+    } else {
+      fail("unknown action");
+    }
+  }
+  for (const Goal& goal : scenario.goals) {
+    const AssembledGoal& assembled = std::get<AssembledGoal>(goal);
+    if (!assembled_into[find(assembled.held)])
+      problems.push_back("goal assembled(" + assembled.held + ", " + assembled.fixed + ") not reached");
+  }
+  if (held != -1) problems.push_back("the plan ends holding an object");
+  return problems;
+}
+
+}  // namespace spar::planner::testing

@@ -1,0 +1,149 @@
+// Phase 1 of the planner on the seed's four peg-and-block experiments, every instance checked by an
+// independent simulation (plan_checker.hpp), and a property over random initial poses.
+#include <gtest/gtest.h>
+#include <rapidcheck/gtest.h>
+
+#include <algorithm>
+
+#include "planner/plan.hpp"
+#include "tests/planner/plan_checker.hpp"
+
+namespace spar::planner {
+namespace {
+
+using testing::check_instance;
+
+Scenario example(const std::string& name) {
+  return load_scenario(std::string(SPAR_SOURCE_DIR) + "/examples/" + name + ".yaml");
+}
+
+std::vector<std::vector<geometry::Grasp>> grasps_of(const Scenario& scenario) {
+  geometry::GripperSpec gripper = scenario.robot.gripper;
+  gripper.max_approach_tilt = scenario.robot.max_tool_tilt;
+  std::vector<std::vector<geometry::Grasp>> grasps;
+  for (const ObjectSpec& object : scenario.objects)
+    grasps.push_back(geometry::compute_grasps(object.model, gripper, scenario.grasping));
+  return grasps;
+}
+
+PlanOptions phase1_only() {
+  PlanOptions options;
+  options.uncertainty = false;
+  return options;
+}
+
+// "pickup block", "putdown block", ... of an instance.
+std::vector<std::string> actions(const Scenario& scenario, const PlanInstance& instance) {
+  std::vector<std::string> out;
+  for (const InstanceStep& step : instance.steps)
+    out.push_back(step.action_name + " " + scenario.objects[step.object].name);
+  return out;
+}
+
+void expect_every_instance_valid(const Scenario& scenario, const PlanResult& result) {
+  const auto grasps = grasps_of(scenario);
+  ASSERT_FALSE(result.instances.instances.empty());
+  for (const PlanInstance& instance : result.instances.instances) {
+    const std::vector<std::string> problems = check_instance(scenario, grasps, instance);
+    EXPECT_TRUE(problems.empty()) << "instance " << instance.index << ": " << problems.front();
+  }
+}
+
+TEST(PlanSeedExperiments, BlockFaceDownIsPutDownTwiceThenThePegGoesIn) {
+  const Scenario scenario = example("peg_block_face_down");
+  const PlanResult result = plan(scenario, builtin_domain(), phase1_only());
+  ASSERT_TRUE(result.planned()) << result.family.reason;
+  const std::vector<std::string> steps = actions(scenario, result.chosen());
+  const std::vector<std::string> expected = {"pickup block", "putdown block", "pickup block",
+                                             "putdown block", "pickup peg", "assemble peg"};
+  EXPECT_EQ(steps, expected);
+  // The first putdown leaves the block on a side, the second on its back (hole up, P5).
+  const InstanceStep& first = result.chosen().steps[1];
+  const InstanceStep& second = result.chosen().steps[3];
+  const auto& poses = scenario.object("block").stable_poses;
+  EXPECT_NE(poses[first.stable_pose].label, "P5");
+  EXPECT_NE(poses[first.stable_pose].label, "P6");
+  EXPECT_EQ(poses[second.stable_pose].label, "P5");
+  expect_every_instance_valid(scenario, result);
+}
+
+TEST(PlanSeedExperiments, BlockOnItsBackIsNotMoved) {
+  for (const char* name : {"peg_block_on_back", "peg_block_face_up"}) {
+    const Scenario scenario = example(name);
+    const PlanResult result = plan(scenario, builtin_domain(), phase1_only());
+    ASSERT_TRUE(result.planned()) << name << ": " << result.family.reason;
+    for (const std::string& step : actions(scenario, result.chosen()))
+      EXPECT_EQ(step.find("block"), std::string::npos) << name << ": " << step;
+    expect_every_instance_valid(scenario, result);
+  }
+}
+
+TEST(PlanSeedExperiments, BlockOnItsSideIsTurnedOnce) {
+  const Scenario scenario = example("peg_block_on_sides");
+  const PlanResult result = plan(scenario, builtin_domain(), phase1_only());
+  ASSERT_TRUE(result.planned()) << result.family.reason;
+  const std::vector<std::string> steps = actions(scenario, result.chosen());
+  EXPECT_EQ(std::count(steps.begin(), steps.end(), "putdown block"), 1);
+  EXPECT_EQ(steps.back(), "assemble peg");
+  expect_every_instance_valid(scenario, result);
+}
+
+TEST(PlanFamily, OrderingIsAcyclicAndNetworkConsistent) {
+  const Scenario scenario = example("peg_block_face_down");
+  const PlanResult result = plan(scenario, builtin_domain(), phase1_only());
+  ASSERT_TRUE(result.planned());
+  result.family.ordering.check_invariants();
+  result.family.network.check_invariants();
+  EXPECT_EQ(result.family.network.consistent(), cms::Consistency::kConsistent);
+  for (std::size_t a = 0; a < result.family.steps.size(); ++a)
+    EXPECT_FALSE(result.family.ordering.precedes(static_cast<int>(a), static_cast<int>(a)));
+}
+
+TEST(PlanFamily, NodeLimitIsReportedNotHidden) {
+  PlanOptions options = phase1_only();
+  options.posting.max_nodes = 3;
+  const PlanResult result = plan(example("peg_block_face_down"), builtin_domain(), options);
+  EXPECT_EQ(result.family.status, PostingStatus::kNodeLimit);
+  EXPECT_NE(result.family.reason.find("max_nodes"), std::string::npos);
+}
+
+TEST(PlanFamily, StepLimitGivesNoPlan) {
+  PlanOptions options = phase1_only();
+  options.posting.max_steps = 3;  // the face-down task needs 6 actions
+  const PlanResult result = plan(example("peg_block_face_down"), builtin_domain(), options);
+  EXPECT_EQ(result.family.status, PostingStatus::kNoPlan);
+}
+
+// Every instance of every plan found from random initial stable poses, places and yaws passes the
+// independent checker.
+RC_GTEST_PROP(PlanProperty, RandomInitialPosesGiveValidPlans, ()) {
+  static const Scenario base = example("peg_block_face_down");
+  static const auto grasps = grasps_of(base);
+  Scenario scenario = base;
+  const std::vector<std::pair<double, double>> spots = {{20, 0}, {14, 12}, {24, 4}};
+  const auto spot_indices = *rc::gen::unique<std::vector<int>>(2, rc::gen::inRange(0, 3));
+  for (std::size_t o = 0; o < scenario.objects.size(); ++o) {
+    ObjectSpec& object = scenario.objects[o];
+    const int pose = *rc::gen::inRange(0, static_cast<int>(object.stable_poses.size()));
+    const int yaw_step = *rc::gen::inRange(0, 8);
+    const auto [x, y] = spots[spot_indices[o]];
+    kinematics::Transform placed = kinematics::Transform::Identity();
+    placed.translate(Eigen::Vector3d(x * 0.0254, y * 0.0254, 0));
+    placed.rotate(Eigen::AngleAxisd(yaw_step * M_PI / 4, Eigen::Vector3d::UnitZ()));
+    object.initial_pose = placed * object.stable_poses[pose].object_to_world;
+    object.initial_stable_pose = pose;
+  }
+  PlanOptions options = phase1_only();
+  options.max_instances = 4;
+  options.posting.max_nodes = 20'000;
+  const PlanResult result = plan(scenario, builtin_domain(), options);
+  RC_CLASSIFY(result.planned(), "planned");
+  if (!result.planned()) return;
+  for (const PlanInstance& instance : result.instances.instances) {
+    const std::vector<std::string> problems = check_instance(scenario, grasps, instance);
+    RC_ASSERT(problems.empty());
+  }
+}
+
+}  // namespace
+}  // namespace spar::planner
