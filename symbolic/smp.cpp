@@ -367,7 +367,7 @@ std::optional<Expr> distribute(Expr e, std::size_t max_terms) {
   bool distributed = false;
   for (std::size_t i = 0; i < e.operand_count(); ++i) {
     const Expr base = e.operand(i);
-    const Number& exponent = e.factor(i);
+    const Number exponent = e.factor(i);  // a copy: building p * a below may move the nodes
     const bool expandable = base.op() == Op::kAdd && exponent.is_integer() &&
                             exponent.numerator() >= 1 && exponent.numerator() <= kMaxExpandPower;
     std::vector<Expr> addends;

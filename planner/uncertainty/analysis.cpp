@@ -44,9 +44,12 @@ std::vector<Phase2Step> phase2_steps(const Domain& domain, const PlanInstance& i
 }
 
 // Decides `preconditions` over the space's current ranges.
+// Decides `preconditions` over the space's current ranges: one tape for all of them, the natural
+// pass and a quick bound first (AnalysisOptions::quick), the full bound only for what is still
+// undecided.
 std::vector<PreconditionResult> decide(const std::vector<Precondition>& preconditions,
                                        const UncertaintySpace& space,
-                                       const bounds::BoundOptions& options) {
+                                       const AnalysisOptions& options) {
   std::vector<PreconditionResult> results;
   if (preconditions.empty()) return results;
   std::vector<Expr> expressions;
@@ -61,7 +64,7 @@ std::vector<PreconditionResult> decide(const std::vector<Precondition>& precondi
   const std::vector<Interval> box = space.ranges(variables);
   bounds::ConditionSet set(inequalities, variables);
   const std::vector<bounds::ConditionCheck> checks =
-      set.check(box, options, bounds::Escalation::kUndecided);
+      set.check(box, options.quick, bounds::Escalation::kUndecided);
   for (std::size_t i = 0; i < preconditions.size(); ++i) {
     PreconditionResult result;
     result.kind = preconditions[i].kind;
@@ -69,6 +72,12 @@ std::vector<PreconditionResult> decide(const std::vector<Precondition>& precondi
     result.verdict = checks[i].verdict;
     result.bound = checks[i].bound;
     result.witness = checks[i].witness;
+    if (result.verdict == Verdict::kUndecided) {
+      result.bound = bounds::BoundProblem(result.inequality.expression, variables)
+                         .bound(box, options.bound);
+      result.verdict = bounds::decide(result.inequality, result.bound);
+      result.witness = bounds::witness(result.inequality, result.bound);
+    }
     result.box = box;
     for (const Expr v : variables) result.variables.push_back(v.name());
     results.push_back(std::move(result));
@@ -195,7 +204,7 @@ std::map<int, std::vector<PreconditionResult>> InstanceAnalyser::replay(
   std::map<int, std::vector<PreconditionResult>> decided;
   for (int i = from; i <= through; ++i) {
     const std::vector<Precondition> preconditions = state.step(steps[i], i + 1);
-    if (watch.contains(i)) decided[i] = decide(preconditions, state.space(), options_.bound);
+    if (watch.contains(i)) decided[i] = decide(preconditions, state.space(), options_);
   }
   return decided;
 }
@@ -312,7 +321,7 @@ void InstanceAnalyser::run(std::vector<Phase2Step> steps, InstanceAnalysis& out)
     AnalysedStep step{.step = steps[k],
                       .action = domain_.actions[steps[k].action].name,
                       .inserted = steps[k].instance_step < 0,
-                      .preconditions = decide(preconditions, state.space(), options_.bound),
+                      .preconditions = decide(preconditions, state.space(), options_),
                       .failed = false,
                       .verification = {}};
     if (!all_hold(step.preconditions) && options_.repair && !step.inserted &&
@@ -375,9 +384,7 @@ void add_margins(InstanceAnalysis& analysis, const AnalysisOptions& options) {
   std::map<std::string, const SpaceVariable*> by_name;
   for (const SpaceVariable& v : analysis.variables) by_name[v.name] = &v;
   std::mt19937_64 random(20261201);
-  bounds::BoundOptions quick = options.bound;
-  quick.tolerance = 1e-2;
-  quick.max_box_evaluations = std::min<std::size_t>(quick.max_box_evaluations, 2000);
+  const bounds::BoundOptions& quick = options.quick;
   for (AnalysedStep& step : analysis.steps) {
     for (PreconditionResult& result : step.preconditions) {
       std::vector<Expr> inputs;
@@ -385,7 +392,7 @@ void add_margins(InstanceAnalysis& analysis, const AnalysisOptions& options) {
       bounds::BoundProblem problem(result.inequality.expression, inputs);
       // A tight bound with inner values for every precondition (the natural pass that decided a
       // satisfied one has none): [lo, hi] only shrinks, so the verdict stands.
-      result.bound = problem.bound(result.box, options.bound);
+      result.bound = problem.bound(result.box, options.report);
       result.witness = bounds::witness(result.inequality, result.bound);
       if (options.blame) {
         const double width = result.bound.hi - result.bound.lo;

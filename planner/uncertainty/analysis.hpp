@@ -7,7 +7,8 @@
 // For each step in execution order (planner/uncertainty/propagation.hpp builds the preconditions
 // from the state just before it):
 //   1. decide its preconditions together (bounds/condition_set.hpp: one tape, natural interval
-//      first, bound() where that cannot tell); a precondition fails unless it is satisfied
+//      first, a quick bound where that cannot tell, the full bound only where neither can); a
+//      precondition fails unless it is satisfied
 //      (violated and undecided both fail; undecided is reported as such);
 //   2. if one fails, try in order, cumulatively (each attempt re-propagates from where it is
 //      spliced in and re-decides the failing step; it is kept while it brings the step's sound
@@ -28,8 +29,7 @@
 //                     the arm's too when `scale_manipulator`) for which it is PROVED to hold: a
 //                     bisection in which every accepted scale is a satisfied verdict;
 //   blame             per precondition and variable, the share of the sound bound's width that
-//                     goes when that variable is pinned to its nominal value 0 (a cheaper bound:
-//                     tolerance 1e-2, at most 2000 boxes);
+//                     goes when that variable is pinned to its nominal value 0 (the quick bound);
 //   Monte Carlo       the fraction of `samples` uniform points of the box where the inequality
 //                     is false (on the same tape); a violation sampled for a precondition
 //                     reported satisfied would be a soundness bug.
@@ -118,7 +118,12 @@ struct InstanceAnalysis {
 };
 
 struct AnalysisOptions {
+  // Deciding: a quick bound first, the full one only where that leaves a precondition undecided.
+  bounds::BoundOptions quick{.tolerance = 1e-2, .max_box_evaluations = 300};
   bounds::BoundOptions bound{.tolerance = 1e-3, .max_box_evaluations = 20'000};
+  // The chosen instance's reported bounds (with inner values), blame and reverse analysis use
+  // `report`, `quick` and `quick`.
+  bounds::BoundOptions report{.tolerance = 1e-3, .max_box_evaluations = 5'000};
   bool repair{true};        // try range-scans and squeezes
   // Chosen-instance extras:
   bool reverse{true};

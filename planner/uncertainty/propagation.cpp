@@ -85,17 +85,24 @@ SymbolicTransform Propagation::grip_after_grasp(const Phase2Step& step, const Po
   return kinematics::trans(turned[0], turned[1], turned[2]);
 }
 
-Propagation::TableState Propagation::released(const Phase2Step& step, const PoseError& arm,
-                                              const SymbolicTransform& grip) const {
+kinematics::SymbolicPoint Propagation::held_point(const Phase2Step& step, const PoseError& arm,
+                                                  const SymbolicTransform& grip,
+                                                  const Eigen::Vector3d& local) const {
+  // M T_ΔM H T_G^-1 local, applied right to left as points: no transform product is built, so
+  // each coordinate stays a short sum.
   symbolic::ExprPool& pool = space_.pool();
   const Transform& grasp = world_->object(step.object).grasps[step.grasp].gripper_in_object;
-  const Transform ideal_gripper = step.object_pose * grasp;
-  const SymbolicTransform actual_gripper = SymbolicTransform::from_numeric(pool, ideal_gripper) *
-                                           kinematics::manipulator_error_transform(arm);
-  const Eigen::Vector3d origin_in_grasp = grasp.inverse(Eigen::Isometry).translation();
-  const SymbolicPoint origin = actual_gripper.apply(grip.apply(constant_point(pool, origin_in_grasp)));
+  const SymbolicPoint in_grasp = grip.apply(constant_point(pool, grasp.inverse(Eigen::Isometry) * local));
+  const SymbolicPoint in_ideal = kinematics::manipulator_error_transform(arm).apply(in_grasp);
+  return SymbolicTransform::from_numeric(pool, step.object_pose * grasp).apply(in_ideal);
+}
+
+Propagation::TableState Propagation::released(const Phase2Step& step, const PoseError& arm,
+                                              const SymbolicTransform& grip) const {
+  const Transform& grasp = world_->object(step.object).grasps[step.grasp].gripper_in_object;
+  const SymbolicPoint origin = held_point(step, arm, grip, Eigen::Vector3d::Zero());
   const Eigen::Vector3d& t = step.object_pose.translation();
-  const double approach_up = ideal_gripper.linear().col(2).z();
+  const double approach_up = (step.object_pose * grasp).linear().col(2).z();
   return {step.object_pose,
           {origin[0] - t.x(), origin[1] - t.y(), origin[2] - t.z(),
            approach_up >= 0 ? arm.dtheta : -arm.dtheta}};
@@ -128,18 +135,22 @@ std::vector<Precondition> Propagation::assemble_preconditions(const Phase2Step& 
   const AssembledGoal& goal =
       std::get<AssembledGoal>(world_->scenario().goals[tables - world_->goals().data()]);
   const TableState& fixed = *table_[step.fixed_object];
-  const Transform& grasp = world_->object(step.object).grasps[step.grasp].gripper_in_object;
-  const SymbolicTransform held_actual =
-      SymbolicTransform::from_numeric(pool, step.object_pose * grasp) *
-      kinematics::manipulator_error_transform(arm) * held_[step.object]->grip *
-     
-      SymbolicTransform::from_numeric(pool, grasp.inverse(Eigen::Isometry));
-  const SymbolicTransform fixed_actual = kinematics::possible_object_pose(fixed.ideal, fixed.error);
-  const SymbolicTransform relative = kinematics::rigid_inverse(fixed_actual) * held_actual;
+  const SymbolicTransform& grip = held_[step.object]->grip;
+  // A world point expressed in the fixed object's actual frame: R_O^T rotz(-θ) (X - t_O - d).
+  const SymbolicTransform fixed_rotation =
+      kinematics::rotz(fixed.error.dtheta) *
+      SymbolicTransform::from_numeric(pool, Transform(fixed.ideal.linear()));
+  const Eigen::Vector3d& t_fixed = fixed.ideal.translation();
+  const auto in_fixed = [&](const SymbolicPoint& world_point) {
+    const SymbolicPoint shifted = {world_point[0] - fixed.error.dx - t_fixed.x(),
+                                   world_point[1] - fixed.error.dy - t_fixed.y(),
+                                   world_point[2] - fixed.error.dz - t_fixed.z()};
+    return fixed_rotation.apply_inverse(shifted);
+  };
   const Eigen::Vector3d mating_point =
       faces_centroid(world_->scenario().objects[step.object].model, goal.held_faces);
   const Eigen::Vector3d ideal_point = goal.relative * mating_point;
-  const SymbolicPoint actual_point = relative.apply(constant_point(pool, mating_point));
+  const SymbolicPoint actual_point = in_fixed(held_point(step, arm, grip, mating_point));
   const SymbolicPoint offset = {actual_point[0] - ideal_point.x(), actual_point[1] - ideal_point.y(),
                                 actual_point[2] - ideal_point.z()};
   const Eigen::Vector3d v = goal.mating_vector.normalized();
@@ -156,7 +167,7 @@ std::vector<Precondition> Propagation::assemble_preconditions(const Phase2Step& 
   }
   if (goal.angular_clearance > 0) {
     const Eigen::Vector3d held_axis = goal.relative.linear().transpose() * v;
-    const SymbolicPoint tip = relative.apply(constant_point(pool, mating_point + held_axis));
+    const SymbolicPoint tip = in_fixed(held_point(step, arm, grip, mating_point + held_axis));
     const SymbolicPoint axis = {tip[0] - actual_point[0], tip[1] - actual_point[1],
                                 tip[2] - actual_point[2]};
     out.push_back({"assemble", {"cos(misalignment) >= cos(angular clearance)", dot(axis, v),

@@ -109,6 +109,11 @@ class Propagation {
   [[nodiscard]] kinematics::PoseError allocate_arm(int index);
   [[nodiscard]] kinematics::SymbolicTransform grip_after_grasp(const Phase2Step& step,
                                                                const kinematics::PoseError& arm);
+  // The actual world position of `local` (object frame) of the held object at `step`.
+  [[nodiscard]] kinematics::SymbolicPoint held_point(const Phase2Step& step,
+                                                     const kinematics::PoseError& arm,
+                                                     const kinematics::SymbolicTransform& grip,
+                                                     const Eigen::Vector3d& local) const;
   [[nodiscard]] TableState released(const Phase2Step& step, const kinematics::PoseError& arm,
                                     const kinematics::SymbolicTransform& grip) const;
   [[nodiscard]] std::vector<Precondition> pickup_preconditions(
