@@ -270,3 +270,25 @@ RC_GTEST_PROP(SmpProperty, SimplifyNeverRaisesTheOccurrenceCost, ()) {
 
 }  // namespace
 }  // namespace spar::symbolic
+
+namespace spar::symbolic {
+
+// Regression: expand() multiplied sums out while holding a reference to the product's exponent
+// inside the pool's node arena; the nodes it built grew the arena and the reference dangled (a
+// SIGSEGV in bound()'s SMP stage on the planner's expressions; ASan reports it at once). Fresh
+// pools make every expansion grow the arena.
+TEST(SmpRegression, ExpandSurvivesTheArenaGrowingUnderIt) {
+  for (int terms = 2; terms <= 24; ++terms) {
+    ExprPool pool;
+    std::vector<Expr> addends;
+    for (int i = 0; i < terms; ++i) addends.push_back(pool.variable("x" + std::to_string(i)));
+    const Expr sum = pool.sum(addends);
+    const Expr product = pow(sum, 2) * (pool.variable("y") + 1);
+    const Expr expanded = expand(product);
+    std::map<std::string, double> point{{"y", 0.5}};
+    for (int i = 0; i < terms; ++i) point["x" + std::to_string(i)] = 0.1 * (i + 1);
+    EXPECT_NEAR(evaluate(expanded, point), evaluate(product, point), 1e-9) << terms << " terms";
+  }
+}
+
+}  // namespace spar::symbolic
