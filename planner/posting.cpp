@@ -83,7 +83,13 @@ class Planner {
   void find_threats_to_link(PartialPlan& node, std::size_t link) const;
   void find_threats_by_step(PartialPlan& node, int step) const;
   [[nodiscard]] bool is_threat(const PartialPlan& node, const Threat& threat) const;
-  void establish(const PartialPlan& node, std::vector<PartialPlan>& children) const;
+  // Refinements establishing the open goal node.open[goal_index].
+  void establish(const PartialPlan& node, std::size_t goal_index,
+                 std::vector<PartialPlan>& children) const;
+  // How many steps already in the plan could establish `goal` (each a possible refinement).
+  [[nodiscard]] int existing_establishers(const PartialPlan& node, const OpenGoal& goal) const;
+  // The open goal to work on (see choose_goal's comment).
+  [[nodiscard]] std::size_t choose_goal(const PartialPlan& node) const;
   [[nodiscard]] std::optional<PartialPlan> establish_by_new_step(const PartialPlan& node,
                                                                  const OpenGoal& goal,
                                                                  std::size_t action,
@@ -379,8 +385,44 @@ std::optional<PartialPlan> Planner::establish_by_new_step(const PartialPlan& nod
   return child;
 }
 
-void Planner::establish(const PartialPlan& node, std::vector<PartialPlan>& children) const {
-  const OpenGoal goal = node.open.back();
+int Planner::existing_establishers(const PartialPlan& node, const OpenGoal& goal) const {
+  int count = 0;
+  for (int step = 0; step < static_cast<int>(node.plan.steps.size()); ++step) {
+    if (step == goal.consumer || step == kFinishStep ||
+        !node.plan.ordering.possibly_before(step, goal.consumer))
+      continue;
+    if (goal.after >= 0 &&
+        (step == goal.after || !node.plan.ordering.possibly_before(goal.after, step)))
+      continue;
+    for (const GroundAtom& atom : adds(node, step))
+      if (possibly_unify(node, atom, goal.atom)) ++count;
+  }
+  return count;
+}
+
+std::size_t Planner::choose_goal(const PartialPlan& node) const {
+  // ZLIFO (Schubert & Gerevini): a goal with at most one way to establish it first (the newest
+  // such), else the top of the stack.
+  for (std::size_t i = node.open.size(); i-- > 0;) {
+    const OpenGoal& goal = node.open[i];
+    int ways = existing_establishers(node, goal);
+    for (const ActionTemplate& action : domain_.actions)
+      if (action.kind == ActionKind::kManipulation)
+        for (const Atom& add : action.add)
+          ways += add.predicate == goal.atom.predicate && add.args.size() == goal.atom.args.size();
+    if (ways <= 1) return i;
+  }
+  return node.open.size() - 1;
+}
+
+void Planner::establish(const PartialPlan& node, std::size_t goal_index,
+                        std::vector<PartialPlan>& children) const {
+  const OpenGoal goal = node.open[goal_index];
+  const auto without_goal = [&] {
+    PartialPlan child = node;
+    child.open.erase(child.open.begin() + static_cast<std::ptrdiff_t>(goal_index));
+    return child;
+  };
   // By a step already in the plan (the initial state first), constrained to precede the consumer.
   for (int step = 0; step < static_cast<int>(node.plan.steps.size()); ++step) {
     if (step == goal.consumer || step == kFinishStep ||
@@ -390,8 +432,7 @@ void Planner::establish(const PartialPlan& node, std::vector<PartialPlan>& child
       continue;
     for (const GroundAtom& atom : adds(node, step)) {
       if (!possibly_unify(node, atom, goal.atom)) continue;
-      PartialPlan child = node;
-      child.open.pop_back();
+      PartialPlan child = without_goal();
       if (!unify(child, atom, goal.atom) || !add_link(child, step, goal)) continue;
       children.push_back(std::move(child));
     }
@@ -403,9 +444,7 @@ void Planner::establish(const PartialPlan& node, std::vector<PartialPlan>& child
     for (const Atom& add : action.add) {
       if (add.predicate != goal.atom.predicate || add.args.size() != goal.atom.args.size())
         continue;
-      PartialPlan parent = node;
-      parent.open.pop_back();
-      if (std::optional<PartialPlan> child = establish_by_new_step(parent, goal, a, add))
+      if (std::optional<PartialPlan> child = establish_by_new_step(without_goal(), goal, a, add))
         children.push_back(std::move(*child));
     }
   }
@@ -536,7 +575,7 @@ PlanFamily Planner::run() {
     if (!node.threats.empty()) {
       resolve(node, node.threats.front(), children);
     } else if (!node.open.empty()) {
-      establish(node, children);
+      establish(node, choose_goal(node), children);
     } else {
       for (const CausalLink& link : node.plan.links) {
         std::string condition = link.predicate + "(";
