@@ -187,6 +187,9 @@ class InstanceAnalyser {
                                                         const std::vector<Phase2Step>& steps,
                                                         int from, int through,
                                                         const std::set<int>& watch) const;
+  // AnalysedStep::sensor_scale_needed for the failing step at `k`.
+  std::optional<double> sensor_margin(const std::vector<Phase2Step>& steps,
+                                      const std::vector<Propagation>& snapshots, int k) const;
   // Tries the repairs for the failing step at `k`; on success replaces `steps` and returns the
   // position from which to resume; -1 if nothing helped.
   int repair(std::vector<Phase2Step>& steps, const std::vector<Propagation>& snapshots, int k,
@@ -310,6 +313,50 @@ int InstanceAnalyser::repair(std::vector<Phase2Step>& steps,
   return -1;
 }
 
+std::optional<double> InstanceAnalyser::sensor_margin(const std::vector<Phase2Step>& steps,
+                                                      const std::vector<Propagation>& snapshots,
+                                                      int k) const {
+  const int scan = find_action(domain_, ActionKind::kSensing);
+  if (scan < 0 || !world_.scenario().range_scan) return std::nullopt;
+  const Phase2Step& failed = steps[k];
+  std::vector<std::pair<int, int>> targets;  // (object, until)
+  if (failed.effect == StepEffect::kInsert) targets.push_back({failed.fixed_object, k});
+  const int grasp_at = failed.effect == StepEffect::kInsert
+                           ? grasp_position(steps, k, failed.object)
+                           : (failed.effect == StepEffect::kGrasp ? k : -1);
+  if (grasp_at >= 0) targets.push_back({failed.object, grasp_at});
+  std::vector<int> positions;
+  for (const auto& [object, until] : targets) positions.push_back(scan_position(steps, until, object));
+  std::vector<Phase2Step> trial = steps;
+  int inserted = 0, earliest = k;
+  // Insert the later position first so the earlier one stays valid.
+  for (int t = static_cast<int>(targets.size()) - 1; t >= 0; --t) {
+    if (positions[t] < 0) continue;
+    Phase2Step step;
+    step.action = scan;
+    step.effect = StepEffect::kRangeScan;
+    step.object = targets[t].first;
+    trial.insert(trial.begin() + positions[t], step);
+    ++inserted;
+    earliest = std::min(earliest, positions[t]);
+  }
+  if (inserted == 0) return std::nullopt;
+  const int moved = k + inserted;
+  const auto holds_at = [&](double scale) {
+    Propagation start = snapshots[earliest];
+    start.set_sensor_scale(scale);
+    return all_hold(replay(start, trial, earliest, moved, {moved}).at(moved));
+  };
+  if (!holds_at(0.0)) return std::nullopt;
+  double good = 0.0, bad = options_.max_scale;
+  if (holds_at(bad)) return bad;
+  for (int i = 0; i < options_.reverse_iterations; ++i) {
+    const double mid = 0.5 * (good + bad);
+    (holds_at(mid) ? good : bad) = mid;
+  }
+  return good;
+}
+
 void InstanceAnalyser::run(std::vector<Phase2Step> steps, InstanceAnalysis& out) {
   std::vector<Propagation> snapshots = {Propagation(world_, pool_)};
   std::vector<AnalysedStep> analysed;
@@ -337,6 +384,7 @@ void InstanceAnalyser::run(std::vector<Phase2Step> steps, InstanceAnalysis& out)
     }
     if (!all_hold(step.preconditions)) {
       step.failed = true;
+      if (options_.reverse) step.sensor_scale_needed = sensor_margin(steps, snapshots, k);
       step.verification = verification_plans(world_, domain_, steps[k]);
       ++out.errors;
     }

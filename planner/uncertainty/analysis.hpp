@@ -30,6 +30,8 @@
 //                     bisection in which every accepted scale is a satisfied verdict;
 //   blame             per precondition and variable, the share of the sound bound's width that
 //                     goes when that variable is pinned to its nominal value 0 (the quick bound);
+//   sensor margin     for a failed step (any instance), the largest residual scale of the
+//                     range-scan that would make it hold (AnalysedStep::sensor_scale_needed);
 //   Monte Carlo       the fraction of `samples` uniform points of the box where the inequality
 //                     is false (on the same tape); a violation sampled for a precondition
 //                     reported satisfied would be a soundness bug.
@@ -94,6 +96,10 @@ struct AnalysedStep {
   std::vector<PreconditionResult> preconditions;
   bool failed{false};  // some precondition does not hold (after repair attempts)
   std::vector<VerificationPlan> verification;
+  // Reverse analysis of the sensor, for a failed step: the largest scale s of the range-scan
+  // residual (s times the scenario's) for which scanning the objects the step concerns would PROVE
+  // every precondition of the step; nullopt when even a perfect sensor would not (or none exists).
+  std::optional<double> sensor_scale_needed;
 };
 
 // A repair phase 2 tried: a range-scan or squeeze spliced in before `before` (index into the

@@ -223,8 +223,10 @@ std::vector<Precondition> Propagation::step(const Phase2Step& step, int index) {
     case StepEffect::kRangeScan: {
       require_on_table(step.object);
       const RangeScanSensor sensor = world_->scenario().range_scan.value_or(RangeScanSensor{});
+      const kinematics::PoseUncertainty& r = sensor.residual;
       table_[step.object]->error = space_.allocate(
-          sensor.residual,
+          {r.dx * sensor_scale_, r.dy * sensor_scale_, r.dz * sensor_scale_,
+           r.dtheta * sensor_scale_},
           {.source = UncertaintySource::kSensor, .object = step.object, .step = index},
           world_->scenario().objects[step.object].name + "_s" + std::to_string(index));
       break;

@@ -98,6 +98,9 @@ class Propagation {
     return table_.at(object);
   }
   [[nodiscard]] bool held(int object) const { return held_.at(object).has_value(); }
+  // Range-scans from now on leave `scale` times the scenario's residual (reverse analysis of the
+  // sensor); 1 by default.
+  void set_sensor_scale(double scale) { sensor_scale_ = scale; }
   [[nodiscard]] const UncertaintySpace& space() const { return space_; }
   [[nodiscard]] UncertaintySpace& space() { return space_; }
 
@@ -125,6 +128,7 @@ class Propagation {
   UncertaintySpace space_;
   std::vector<std::optional<TableState>> table_;  // per object
   std::vector<std::optional<HeldState>> held_;    // per object
+  double sensor_scale_{1.0};
 };
 
 }  // namespace spar::planner
