@@ -67,11 +67,17 @@ class Planner {
   [[nodiscard]] std::vector<GroundAtom> deletes(const PartialPlan& node, int step) const;
 
   [[nodiscard]] cms::SearchBudget budget() const { return {options_.network_budget}; }
+  // Whether a network operation kept its change; counts the refusals that were only the budget's
+  // (the search then is incomplete, and says so when it finds no plan).
+  [[nodiscard]] bool accepted(cms::Consistency result) const {
+    if (result == cms::Consistency::kBudgetExhausted) ++budget_refusals_;
+    return result == cms::Consistency::kConsistent;
+  }
   // Posts the binary constraint whose allowed pairs are table[label of a][label of b].
   [[nodiscard]] bool post_table(cms::ConstraintNetwork& network, int a, int b,
                                 const std::vector<std::vector<char>>& table) const {
-    return network.post(a, b, [&](int la, int lb) { return table[la][lb] != 0; }, budget()) ==
-           cms::Consistency::kConsistent;
+    return accepted(
+        network.post(a, b, [&](int la, int lb) { return table[la][lb] != 0; }, budget()));
   }
 
   // --- refinements ---
@@ -102,6 +108,7 @@ class Planner {
   const WorldModel& world_;
   const Domain& domain_;
   const PostingOptions& options_;
+  mutable std::size_t budget_refusals_{0};
 };
 
 bool Planner::possibly_equal(const PartialPlan& node, const Term& a, const Term& b) const {
@@ -130,8 +137,7 @@ bool Planner::unify(PartialPlan& node, const GroundAtom& a, const GroundAtom& b)
   if (!possibly_unify(node, a, b)) return false;
   for (std::size_t i = 0; i < a.args.size(); ++i)
     if (a.args[i].kind == Term::Kind::kVariable &&
-        node.plan.network.unify(a.args[i].index, b.args[i].index, budget()) !=
-            cms::Consistency::kConsistent)
+        !accepted(node.plan.network.unify(a.args[i].index, b.args[i].index, budget())))
       return false;
   return true;
 }
@@ -240,7 +246,7 @@ bool Planner::post_geometric(PartialPlan& node, const FamilyStep& step,
       std::vector<int> labels;
       for (std::size_t label = 0; label < members.size(); ++label)
         if (members[label]) labels.push_back(static_cast<int>(label));
-      ok = network.restrict(variable(0), labels, budget()) == cms::Consistency::kConsistent;
+      ok = accepted(network.restrict(variable(0), labels, budget()));
       break;
     }
   }
@@ -355,8 +361,7 @@ std::optional<PartialPlan> Planner::establish_by_new_step(const PartialPlan& nod
         for (int label = 1; label < static_cast<int>(world_.object(object).positions.size());
              ++label)
           placements.push_back(label);
-        if (child.plan.network.restrict(step.args[p].index, placements, budget()) !=
-            cms::Consistency::kConsistent)
+        if (!accepted(child.plan.network.restrict(step.args[p].index, placements, budget())))
           return std::nullopt;
       }
       continue;
@@ -591,9 +596,13 @@ PlanFamily Planner::run() {
     }
     for (PartialPlan& child : children) push(std::move(child));
   }
-  return finish(PlanFamily{}, PostingStatus::kNoPlan,
-                "no plan with at most " + std::to_string(options_.max_steps) +
-                    " actions reaches the goals (every refinement was inconsistent)");
+  std::string reason = "no plan with at most " + std::to_string(options_.max_steps) +
+                       " actions reaches the goals (every refinement was inconsistent)";
+  if (budget_refusals_ > 0)
+    reason += "; " + std::to_string(budget_refusals_) +
+              " constraint posts ran out of the network's search budget (network_budget), so "
+              "this is not a proof that none exists";
+  return finish(PlanFamily{}, PostingStatus::kNoPlan, reason);
 }
 
 }  // namespace
