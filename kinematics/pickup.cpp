@@ -73,7 +73,8 @@ PickupPreconditions pickup_preconditions(const PickupGeometry& geometry,
   for (const UncertaintyVariable& v : gripper.variables()) result.variables.push_back(v);
   for (const UncertaintyVariable& v : object.variables()) result.variables.push_back(v);
   PickupOptions with_widths = options;
-  for (const UncertaintyVariable& v : result.variables) with_widths.widths[v.name] = v.upper - v.lower;
+  for (const UncertaintyVariable& v : result.variables)
+    with_widths.widths[v.name] = v.upper - v.lower;
   result.conditions =
       pickup_conditions(geometry, gripper.pose_error(), object.pose_error(), with_widths);
   return result;

@@ -43,7 +43,8 @@ PoseUncertaintyVariables::PoseUncertaintyVariables(ExprPool& pool, const PoseUnc
 
 UncertainManipulator::UncertainManipulator(ExprPool& pool, const PoseUncertainty& bounds,
                                            std::string_view tag)
-    : PoseUncertaintyVariables(pool, bounds, tag), error_(manipulator_error_transform(pose_error())) {}
+    : PoseUncertaintyVariables(pool, bounds, tag),
+      error_(manipulator_error_transform(pose_error())) {}
 
 SymbolicTransform UncertainManipulator::possible_pose(const Transform& ideal) const {
   return SymbolicTransform::from_numeric(error_.pool(), ideal) * error_;

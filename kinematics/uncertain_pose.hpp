@@ -70,7 +70,6 @@ class PoseUncertaintyVariables {
   std::array<UncertaintyVariable, 4> variables_;
 };
 
-
 // trans(dx, dy, dz) rotz(dtheta).
 [[nodiscard]] SymbolicTransform manipulator_error_transform(const PoseError& error);
 // trans(dx, dy, dz) Tr_O rotz(dtheta) R_O for the ideal pose T_O = Tr_O R_O.

@@ -10,7 +10,8 @@
 // Grammar of the text forms:
 //   atom        predicate(arg, ...)          args are parameter names or constants (e.g. `empty`)
 //   type        object | grasp(P) | position(P) | placement(P)    P names an object parameter
-//   constraint  reachable(G, X) | mate_reachable(G, X) | member(G, grasps_leaving_mating_faces_free)
+//   constraint  reachable(G, X) | mate_reachable(G, X) | member(G,
+//   grasps_leaving_mating_faces_free)
 //               | in_position_class(X, mating_poses)
 // Invariants (checked by the loader, DomainError with file:line:col otherwise): parameter names are
 // unique; every atom/constraint argument is a parameter or a known constant; typed parameters name
@@ -33,7 +34,7 @@ namespace spar::planner {
 
 struct Atom {
   std::string predicate;
-  std::vector<std::string> args;  // parameter names or constants
+  std::vector<std::string> args;          // parameter names or constants
   [[nodiscard]] std::string str() const;  // "at(object, position)"
   friend bool operator==(const Atom&, const Atom&) = default;
 };
@@ -47,10 +48,10 @@ struct Parameter {
 };
 
 enum class GeometricConstraintKind {
-  kReachable,        // reachable(grasp, position): usable grasp, IK within limits, gripper down
-  kMateReachable,    // mate_reachable(grasp, position): the held object at T_fixed Ta reachable
-  kMemberMatingFree, // member(grasp, grasps_leaving_mating_faces_free)
-  kMatingPoses,      // in_position_class(position, mating_poses)
+  kReachable,         // reachable(grasp, position): usable grasp, IK within limits, gripper down
+  kMateReachable,     // mate_reachable(grasp, position): the held object at T_fixed Ta reachable
+  kMemberMatingFree,  // member(grasp, grasps_leaving_mating_faces_free)
+  kMatingPoses,       // in_position_class(position, mating_poses)
 };
 
 struct GeometricPrecondition {
@@ -72,7 +73,7 @@ struct ActionTemplate {
   std::vector<Parameter> parameters;
   std::vector<Atom> operational;
   std::vector<GeometricPrecondition> geometric;
-  std::vector<std::string> uncertainty;   // builder names: pickup, squeeze, assemble
+  std::vector<std::string> uncertainty;  // builder names: pickup, squeeze, assemble
   std::vector<Atom> add;
   std::vector<Atom> del;
   std::vector<std::string> verification;  // VerificationTemplate names

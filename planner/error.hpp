@@ -1,5 +1,5 @@
-// The planner's errors: every one is a spar::Error (common/error.hpp) whose message a person can act
-// on. Scenario and domain files report `file:line:col: what is wrong`.
+// The planner's errors: every one is a spar::Error (common/error.hpp) whose message a person can
+// act on. Scenario and domain files report `file:line:col: what is wrong`.
 #pragma once
 
 #include "common/error.hpp"

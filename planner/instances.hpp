@@ -9,8 +9,8 @@
 //
 // Per step (in execution order), for manipulations: the grasp (object's grasp label), the object's
 // world pose when the step starts (for a putdown and an assembly: where the step puts it), the
-// gripper frame's world pose at the grasp, T = T_O T_G (assembly: T = T_fixed Ta T_G), and the first
-// in-limit IK solution reaching it (kinematics/ik.hpp's order: lun, luf, ...).
+// gripper frame's world pose at the grasp, T = T_O T_G (assembly: T = T_fixed Ta T_G), and the
+// first in-limit IK solution reaching it (kinematics/ik.hpp's order: lun, luf, ...).
 //
 // Example:
 //   const PlanFamily family = post_plan(world, domain);
@@ -29,16 +29,16 @@
 namespace spar::planner {
 
 struct InstanceStep {
-  int step{0};  // family step id
+  int step{0};    // family step id
   int action{0};  // index into Domain::actions
   std::string action_name;
-  int object{-1};    // the object the step handles (the held one for an assembly)
-  int grasp{-1};     // grasp label of `object`, -1 for steps without a grasp
-  int position{-1};  // position label of the step's position parameter
+  int object{-1};       // the object the step handles (the held one for an assembly)
+  int grasp{-1};        // grasp label of `object`, -1 for steps without a grasp
+  int position{-1};     // position label of the step's position parameter
   int stable_pose{-1};  // of the object at `object_pose`, -1 if none
   kinematics::Transform object_pose{kinematics::Transform::Identity()};
   kinematics::Transform gripper_pose{kinematics::Transform::Identity()};  // valid if grasp >= 0
-  Reach reach;  // of gripper_pose
+  Reach reach;                                                            // of gripper_pose
   // Assembly steps (the position belongs to another object than the grasp):
   int fixed_object{-1};
   kinematics::Transform fixed_pose{kinematics::Transform::Identity()};
@@ -47,9 +47,9 @@ struct InstanceStep {
 };
 
 struct PlanInstance {
-  std::size_t index{0};        // position in the enumeration
-  std::vector<int> labeling;   // label of every network variable id
-  std::vector<int> order;      // family step ids of the actions, in execution order
+  std::size_t index{0};       // position in the enumeration
+  std::vector<int> labeling;  // label of every network variable id
+  std::vector<int> order;     // family step ids of the actions, in execution order
   std::vector<InstanceStep> steps;
 };
 
@@ -70,7 +70,7 @@ class InstanceEnumerator {
   const WorldModel& world_;
   const Domain& domain_;
   cms::Labelings labelings_;
-  std::optional<std::vector<int>> labeling_;  // the current labeling
+  std::optional<std::vector<int>> labeling_;   // the current labeling
   std::optional<cms::Linearizations> orders_;  // of the current labeling
   std::size_t count_{0};
 };

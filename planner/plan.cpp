@@ -6,7 +6,8 @@ namespace spar::planner {
 
 const PlanInstance& PlanResult::chosen() const {
   if (instances.instances.empty())
-    throw PlanError("no plan instance: " + (family.reason.empty() ? "none enumerated" : family.reason));
+    throw PlanError("no plan instance: " +
+                    (family.reason.empty() ? "none enumerated" : family.reason));
   return instances.instances.at(chosen_index);
 }
 
@@ -18,8 +19,12 @@ const InstanceAnalysis* PlanResult::chosen_analysis() const {
 
 PlanResult plan(Scenario scenario, const Domain& domain, const PlanOptions& options) {
   if (options.max_instances == 0) throw PlanError("max_instances must be at least 1");
-  PlanResult result{.world = WorldModel(std::move(scenario)), .domain = domain, .family = {},
-                    .instances = {}, .examined = {}, .chosen_index = 0};
+  PlanResult result{.world = WorldModel(std::move(scenario)),
+                    .domain = domain,
+                    .family = {},
+                    .instances = {},
+                    .examined = {},
+                    .chosen_index = 0};
   result.family = post_plan(result.world, result.domain, options.posting);
   if (!result.planned()) return result;
   result.instances =

@@ -76,8 +76,8 @@ class Planner {
   // Posts the binary constraint whose allowed pairs are table[label of a][label of b].
   [[nodiscard]] bool post_table(cms::ConstraintNetwork& network, int a, int b,
                                 const std::vector<std::vector<char>>& table) const {
-    return accepted(
-        network.post(a, b, [&](int la, int lb) { return table[la][lb] != 0; }, budget()));
+    return accepted(network.post(
+        a, b, [&](int la, int lb) { return table[la][lb] != 0; }, budget()));
   }
 
   // --- refinements ---
@@ -240,9 +240,9 @@ bool Planner::post_geometric(PartialPlan& node, const FamilyStep& step,
     case GeometricConstraintKind::kMatingPoses: {
       const GoalWorld* tables = goal_tables();
       if (tables == nullptr) return false;
-      const std::vector<char>& members =
-          geometric.kind == GeometricConstraintKind::kMatingPoses ? tables->mating_pose
-                                                                  : tables->grasp_leaves_mating_free;
+      const std::vector<char>& members = geometric.kind == GeometricConstraintKind::kMatingPoses
+                                             ? tables->mating_pose
+                                             : tables->grasp_leaves_mating_free;
       std::vector<int> labels;
       for (std::size_t label = 0; label < members.size(); ++label)
         if (members[label]) labels.push_back(static_cast<int>(label));
@@ -257,8 +257,8 @@ bool Planner::post_geometric(PartialPlan& node, const FamilyStep& step,
     const std::string& to = node.plan.variables[variable(i)].name;
     condition.replace(condition.find(from), from.size(), to);
   }
-  node.plan.satisfied.push_back({SatisfiedGoal::Level::kGeometric, condition, step.id,
-                                 "constraint posted"});
+  node.plan.satisfied.push_back(
+      {SatisfiedGoal::Level::kGeometric, condition, step.id, "constraint posted"});
   return true;
 }
 
@@ -316,7 +316,8 @@ std::optional<PartialPlan> Planner::establish_by_new_step(const PartialPlan& nod
   const ActionTemplate& action = domain_.actions[action_index];
   if (node.actions + 1 > options_.max_steps) return std::nullopt;
   PartialPlan child = node;
-  FamilyStep step{.id = child.plan.ordering.add_step(), .action = static_cast<int>(action_index), .args = {}};
+  FamilyStep step{
+      .id = child.plan.ordering.add_step(), .action = static_cast<int>(action_index), .args = {}};
   step.args.resize(action.parameters.size(), {Term::Kind::kObject, -1});
   for (const Atom& atom : action.operational)
     for (const std::string& arg : atom.args)
@@ -433,7 +434,8 @@ void Planner::establish(const PartialPlan& node, std::size_t goal_index,
     if (step == goal.consumer || step == kFinishStep ||
         !node.plan.ordering.possibly_before(step, goal.consumer))
       continue;
-    if (goal.after >= 0 && (step == goal.after || !node.plan.ordering.possibly_before(goal.after, step)))
+    if (goal.after >= 0 &&
+        (step == goal.after || !node.plan.ordering.possibly_before(goal.after, step)))
       continue;
     for (const GroundAtom& atom : adds(node, step)) {
       if (!possibly_unify(node, atom, goal.atom)) continue;
@@ -460,16 +462,18 @@ void Planner::resolve(const PartialPlan& node, const Threat& threat,
   const CausalLink link = node.plan.links[threat.link];
   const auto without_threat = [&] {
     PartialPlan child = node;
-    child.threats.erase(std::find_if(child.threats.begin(), child.threats.end(), [&](const Threat& t) {
-      return t.link == threat.link && t.clobberer == threat.clobberer;
-    }));
+    child.threats.erase(std::find_if(
+        child.threats.begin(), child.threats.end(),
+        [&](const Threat& t) { return t.link == threat.link && t.clobberer == threat.clobberer; }));
     return child;
   };
   // Promotion: the clobberer after the consumer.
-  if (PartialPlan child = without_threat(); child.plan.ordering.add_before(link.consumer, threat.clobberer))
+  if (PartialPlan child = without_threat();
+      child.plan.ordering.add_before(link.consumer, threat.clobberer))
     children.push_back(std::move(child));
   // Demotion: the clobberer before the producer.
-  if (PartialPlan child = without_threat(); child.plan.ordering.add_before(threat.clobberer, link.producer))
+  if (PartialPlan child = without_threat();
+      child.plan.ordering.add_before(threat.clobberer, link.producer))
     children.push_back(std::move(child));
   // Re-establishment (ground atoms only: dropping a link cannot undo a codesignation).
   const bool ground = std::none_of(link.args.begin(), link.args.end(), [](const Term& term) {
@@ -520,10 +524,10 @@ PartialPlan Planner::initial_plan() const {
   plan.steps.push_back({.id = plan.ordering.add_step(), .action = -1, .args = {}});  // finish
   plan.ordering.add_before(kInitialStep, kFinishStep);
   for (const GoalWorld& goal : world_.goals())
-    node.open.push_back({{"assembled",
-                          {{Term::Kind::kObject, goal.held}, {Term::Kind::kObject, goal.fixed}}},
-                         kFinishStep,
-                         -1});
+    node.open.push_back(
+        {{"assembled", {{Term::Kind::kObject, goal.held}, {Term::Kind::kObject, goal.fixed}}},
+         kFinishStep,
+         -1});
   std::reverse(node.open.begin(), node.open.end());  // the first goal on top
   return node;
 }
@@ -586,10 +590,9 @@ PlanFamily Planner::run() {
         std::string condition = link.predicate + "(";
         for (std::size_t i = 0; i < link.args.size(); ++i)
           condition += (i ? ", " : "") + node.plan.term_name(link.args[i], world_);
-        node.plan.satisfied.push_back({SatisfiedGoal::Level::kOperational, condition + ")",
-                                       link.consumer,
-                                       link.producer == kInitialStep
-                                           ? std::string("initial state")
+        node.plan.satisfied.push_back(
+            {SatisfiedGoal::Level::kOperational, condition + ")", link.consumer,
+             link.producer == kInitialStep ? std::string("initial state")
                                            : "step " + std::to_string(link.producer)});
       }
       return finish(std::move(node.plan), PostingStatus::kPlanned, "");
@@ -640,8 +643,7 @@ std::string PlanFamily::describe(const FamilyStep& step, const WorldModel& world
   return text + ")";
 }
 
-PlanFamily post_plan(const WorldModel& world, const Domain& domain,
-                     const PostingOptions& options) {
+PlanFamily post_plan(const WorldModel& world, const Domain& domain, const PostingOptions& options) {
   if (world.goals().empty()) throw PlanError("the scenario has no goals: nothing to plan");
   return Planner(world, domain, options).run();
 }

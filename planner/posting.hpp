@@ -21,14 +21,14 @@
 //     checks the satisfied goals it may undo (threats on existing links).
 //   Geometric constraints are posted when the step that carries them is added; codesignation then
 //   narrows them as operational goals are established. A post that makes the network inconsistent
-//   kills that branch (the network of every other branch is untouched: branches are copies), which is
-//   SPAR's backtracking (the seed's goal_2/goal_4 example: the block is not initially in a mating
-//   pose, so establishing at(block, pos) by the initial state fails and putdown(block, pos_1) is added).
-//   Two objects may not be put down at the same place.
+//   kills that branch (the network of every other branch is untouched: branches are copies), which
+//   is SPAR's backtracking (the seed's goal_2/goal_4 example: the block is not initially in a
+//   mating pose, so establishing at(block, pos) by the initial state fails and putdown(block,
+//   pos_1) is added). Two objects may not be put down at the same place.
 // Search: best-first on (steps + open goals no existing step can establish), ties to the newest
-// partial plan, so it dives like depth-first search on plateaus and prefers plans with fewer actions.
-// It is complete up to the budget: it stops at max_nodes expanded partial plans or when every
-// partial plan left would need more than max_steps actions, and says which.
+// partial plan, so it dives like depth-first search on plateaus and prefers plans with fewer
+// actions. It is complete up to the budget: it stops at max_nodes expanded partial plans or when
+// every partial plan left would need more than max_steps actions, and says which.
 //
 // Example:
 //   const WorldModel world(load_scenario("examples/peg_block_face_down.yaml"));
@@ -53,21 +53,21 @@ namespace spar::planner {
 struct Term {
   enum class Kind { kObject, kVariable, kConstant };
   Kind kind{Kind::kObject};
-  int index{0};         // object index, variable id, or index into PlanFamily::constants
+  int index{0};  // object index, variable id, or index into PlanFamily::constants
   friend bool operator==(const Term&, const Term&) = default;
 };
 
 struct FamilyStep {
-  int id{0};                // node of the ordering graph
-  int action{-1};           // index into Domain::actions; -1 for the initial state and the finish
-  std::vector<Term> args;   // one per template parameter, in the template's order
+  int id{0};               // node of the ordering graph
+  int action{-1};          // index into Domain::actions; -1 for the initial state and the finish
+  std::vector<Term> args;  // one per template parameter, in the template's order
 };
 
 // A plan variable: a node of the constraint network.
 struct PlanVariable {
   std::string name;  // grasp_1, pos_2, initial_block
   ParameterType type{ParameterType::kGrasp};
-  int object{0};     // whose grasps / positions its labels are
+  int object{0};  // whose grasps / positions its labels are
 };
 
 struct CausalLink {
@@ -88,9 +88,9 @@ struct SatisfiedGoal {
 };
 
 enum class PostingStatus {
-  kPlanned,          // every operational and geometric goal is satisfied
-  kNoPlan,           // the search space is exhausted: no plan within max_steps actions
-  kNodeLimit,        // stopped after max_nodes expanded partial plans
+  kPlanned,    // every operational and geometric goal is satisfied
+  kNoPlan,     // the search space is exhausted: no plan within max_steps actions
+  kNodeLimit,  // stopped after max_nodes expanded partial plans
 };
 [[nodiscard]] const char* to_string(PostingStatus status);
 
@@ -109,7 +109,7 @@ struct PostingStats {
 
 struct PlanFamily {
   PostingStatus status{PostingStatus::kNoPlan};
-  std::string reason;  // why there is no plan (empty when planned)
+  std::string reason;             // why there is no plan (empty when planned)
   std::vector<FamilyStep> steps;  // [0] initial state, [1] finish, then actions in order added
   std::vector<std::string> constants;
   std::vector<PlanVariable> variables;  // indexed by network variable id

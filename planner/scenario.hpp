@@ -64,8 +64,8 @@ struct Units {
 // Where something was declared in a scenario file, for messages about it after loading.
 struct SourceLocation {
   std::string file;
-  int line{0};    // 1-based; 0 when unknown
-  int column{0};  // 1-based
+  int line{0};                            // 1-based; 0 when unknown
+  int column{0};                          // 1-based
   [[nodiscard]] std::string str() const;  // "file:line:col"
 };
 
@@ -77,7 +77,7 @@ struct RobotSpec {
   geometry::GripperSpec gripper{};
   // Half-angle of the cone about world -z the gripper's approach (z) axis must lie in when it
   // reaches a grasp (SPAR: never reach up through the table).
-  double max_tool_tilt{1.0471975511965976};  // 60 degrees
+  double max_tool_tilt{1.0471975511965976};   // 60 degrees
   kinematics::PoseUncertainty uncertainty{};  // Δx_g, Δy_g, Δz_g, Δθ_g of eq. 1
 };
 
@@ -85,12 +85,12 @@ struct ObjectSpec {
   std::string name;
   std::string shape;  // as written: "builtin: peg" or "mesh: meshes/part.off"
   geometry::ObjectModel model;
-  std::vector<geometry::StablePose> stable_poses;      // of `model`, labels "P1", "P2", ...
-  std::map<std::string, std::vector<int>> features;    // named feature -> face ids (ascending)
+  std::vector<geometry::StablePose> stable_poses;    // of `model`, labels "P1", "P2", ...
+  std::map<std::string, std::vector<int>> features;  // named feature -> face ids (ascending)
   kinematics::Transform initial_pose{kinematics::Transform::Identity()};  // object frame in world
   // The stable pose the object initially rests in: given (`pose: {stable: P3, ...}`) or found by
   // classify_orientation for an `xyz/rpy` pose resting on the table; nullopt if neither.
-  std::optional<int> initial_stable_pose;  // index into stable_poses
+  std::optional<int> initial_stable_pose;     // index into stable_poses
   kinematics::PoseUncertainty uncertainty{};  // Δx_o, Δy_o, Δz_o, Δθ_o of eq. 2
   SourceLocation location;                    // of the object's entry
 };
@@ -129,8 +129,8 @@ struct AssembledGoal {
 using Goal = std::variant<AssembledGoal>;
 
 struct Scenario {
-  std::string name;         // `name:` or the file's stem
-  std::string description;  // optional free text
+  std::string name;            // `name:` or the file's stem
+  std::string description;     // optional free text
   std::filesystem::path path;  // the file it was read from ("" if parsed from text)
   Units units{};
   RobotSpec robot{};
@@ -138,7 +138,7 @@ struct Scenario {
   std::vector<Place> places;        // in file order
   std::optional<RangeScanSensor> range_scan;
   geometry::GraspQuantization grasping{};  // how grasps are quantized (SPAR's grasp labels)
-  std::vector<Goal> goals;                  // in file order
+  std::vector<Goal> goals;                 // in file order
 
   // Throws ScenarioError naming the known objects when there is none called `name`.
   [[nodiscard]] const ObjectSpec& object(std::string_view name) const;

@@ -79,8 +79,7 @@ WorldModel::WorldModel(Scenario scenario)
       const Eigen::Vector3d mating = position.pose.linear() * assembled.mating_vector;
       tables.mating_pose.push_back(faces_free && -mating.z() >= std::cos(kFrictionCone));
     }
-    tables.mate_reachable.assign(held.grasps.size(),
-                                 std::vector<char>(fixed.positions.size(), 0));
+    tables.mate_reachable.assign(held.grasps.size(), std::vector<char>(fixed.positions.size(), 0));
     for (std::size_t g = 0; g < held.grasps.size(); ++g)
       for (std::size_t p = 0; p < fixed.positions.size(); ++p)
         tables.mate_reachable[g][p] =

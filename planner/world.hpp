@@ -17,7 +17,8 @@
 //   grasps_leaving_mating_faces_free   the held object's grasps obscuring none of its mating faces;
 //   mating_poses          the fixed object's positions whose stable pose leaves its mating faces
 //                         off the table and turn the mating vector into the friction cone (within
-//                         kFrictionCone of world -z: the insertion pushes the object onto the table).
+//                         kFrictionCone of world -z: the insertion pushes the object onto the
+//                         table).
 // An initial pose that is not a stable pose has no table lookup: its contact faces count as free
 // (SPAR: the sensing system tells), and it is a mating pose only by the mating-vector test.
 //
@@ -52,16 +53,16 @@ struct PositionLabel {
 
 struct ObjectWorld {
   std::vector<geometry::Grasp> grasps;
-  std::vector<PositionLabel> positions;     // [0] is the initial pose
+  std::vector<PositionLabel> positions;      // [0] is the initial pose
   std::vector<std::vector<char>> reachable;  // [grasp][position]
 };
 
 // The tables of one assembled goal.
 struct GoalWorld {
-  int held{0};                                   // object indices
+  int held{0};  // object indices
   int fixed{0};
-  std::vector<char> grasp_leaves_mating_free;    // [held grasp]
-  std::vector<char> mating_pose;                 // [fixed position]
+  std::vector<char> grasp_leaves_mating_free;     // [held grasp]
+  std::vector<char> mating_pose;                  // [fixed position]
   std::vector<std::vector<char>> mate_reachable;  // [held grasp][fixed position]
 };
 
@@ -90,7 +91,8 @@ class WorldModel {
 
   [[nodiscard]] Reach reach(const kinematics::Transform& gripper_pose) const;
   // The flange pose in the robot's base frame for a gripper pose in the world.
-  [[nodiscard]] kinematics::Transform flange_in_base(const kinematics::Transform& gripper_pose) const;
+  [[nodiscard]] kinematics::Transform flange_in_base(
+      const kinematics::Transform& gripper_pose) const;
 
  private:
   [[nodiscard]] bool grasp_usable_at(const geometry::Grasp& grasp, const ObjectSpec& object,

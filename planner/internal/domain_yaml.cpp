@@ -37,7 +37,8 @@ class DomainReader {
       if (std::find(allowed.begin(), allowed.end(), key) == allowed.end()) {
         std::string known;
         for (std::string_view k : allowed) known += (known.empty() ? "" : ", ") + std::string(k);
-        fail(entry.first.Mark(), "unknown key '" + key + "' in " + what + " (known: " + known + ")");
+        fail(entry.first.Mark(),
+             "unknown key '" + key + "' in " + what + " (known: " + known + ")");
       }
     }
   }
@@ -67,8 +68,10 @@ class DomainReader {
     };
     atom.predicate = trim(text.substr(0, open));
     if (open != std::string::npos) {
-      if (text.back() != ')') fail(node.Mark(), what + " '" + text + "' lacks its closing ')' (in a [...] list, quote "
-                               "atoms that contain commas: \"at(object, position)\")");
+      if (text.back() != ')')
+        fail(node.Mark(), what + " '" + text +
+                              "' lacks its closing ')' (in a [...] list, quote "
+                              "atoms that contain commas: \"at(object, position)\")");
       std::stringstream args(text.substr(open + 1, text.size() - open - 2));
       std::string arg;
       while (std::getline(args, arg, ',')) atom.args.push_back(trim(arg));
@@ -104,7 +107,8 @@ class DomainReader {
   }
 
   // Every argument of `atom` must be a parameter or a constant.
-  void check_arguments(const ActionTemplate& action, const Atom& atom, const YAML::Node& node) const {
+  void check_arguments(const ActionTemplate& action, const Atom& atom,
+                       const YAML::Node& node) const {
     for (const std::string& arg : atom.args)
       if (action.parameter_index(arg) < 0 && !kConstants.contains(arg))
         fail(node.Mark(), "'" + arg + "' in " + atom.str() + " is not a parameter of action '" +
@@ -116,7 +120,8 @@ class DomainReader {
     const int index = action.parameter_index(arg);
     if (index < 0) fail(node.Mark(), "'" + arg + "' in " + constraint + " is not a parameter");
     const ParameterType type = action.parameters[index].type;
-    const bool position_like = type == ParameterType::kPosition || type == ParameterType::kPlacement;
+    const bool position_like =
+        type == ParameterType::kPosition || type == ParameterType::kPlacement;
     const bool ok = wanted == ParameterType::kPosition ? position_like : type == wanted;
     if (!ok)
       fail(node.Mark(), "'" + arg + "' in " + constraint + " must be a " +
@@ -157,8 +162,9 @@ class DomainReader {
     } else if (constraint.predicate == "in_position_class") {
       expect_arguments(2);
       if (constraint.args[1] != "mating_poses")
-        fail(node["constraint"].Mark(), "in_position_class() knows the pose class mating_poses, not '" +
-                                            constraint.args[1] + "'");
+        fail(node["constraint"].Mark(),
+             "in_position_class() knows the pose class mating_poses, not '" + constraint.args[1] +
+                 "'");
       check_type(action, constraint.args[0], ParameterType::kPosition, text, node["constraint"]);
       geometric.kind = GeometricConstraintKind::kMatingPoses;
       geometric.args = {constraint.args[0]};
@@ -183,17 +189,22 @@ class DomainReader {
   }
 
   ActionTemplate parse_action(const YAML::Node& node) const {
-    expect_map(node, "action", {"name", "kind", "parameters", "operational", "geometric",
-                                "uncertainty", "add", "delete", "verification"});
+    expect_map(node, "action",
+               {"name", "kind", "parameters", "operational", "geometric", "uncertainty", "add",
+                "delete", "verification"});
     if (!node["name"]) fail(node.Mark(), "an action needs a 'name'");
     ActionTemplate action;
     action.name = scalar(node["name"], "action name");
     if (const YAML::Node kind = node["kind"]) {
       const std::string text = scalar(kind, "kind");
-      if (text == "manipulation") action.kind = ActionKind::kManipulation;
-      else if (text == "sensing") action.kind = ActionKind::kSensing;
-      else if (text == "reduction") action.kind = ActionKind::kReduction;
-      else fail(kind.Mark(), "unknown kind '" + text + "' (known: manipulation, sensing, reduction)");
+      if (text == "manipulation")
+        action.kind = ActionKind::kManipulation;
+      else if (text == "sensing")
+        action.kind = ActionKind::kSensing;
+      else if (text == "reduction")
+        action.kind = ActionKind::kReduction;
+      else
+        fail(kind.Mark(), "unknown kind '" + text + "' (known: manipulation, sensing, reduction)");
     }
     const YAML::Node parameters = node["parameters"];
     if (!parameters || !parameters.IsMap())
@@ -206,7 +217,8 @@ class DomainReader {
       action.parameters.push_back(parse_parameter(name, entry.second));
     }
     for (const auto& entry : parameters) {
-      const Parameter& parameter = action.parameters[action.parameter_index(entry.first.as<std::string>())];
+      const Parameter& parameter =
+          action.parameters[action.parameter_index(entry.first.as<std::string>())];
       if (parameter.type == ParameterType::kObject) continue;
       const int owner = action.parameter_index(parameter.of);
       if (owner < 0 || action.parameters[owner].type != ParameterType::kObject)
@@ -222,8 +234,8 @@ class DomainReader {
     for (std::size_t i = 0; i < action.uncertainty.size(); ++i) {
       const std::string& builder = action.uncertainty[i];
       if (builder != "pickup" && builder != "squeeze" && builder != "assemble")
-        fail(node["uncertainty"][i].Mark(), "unknown uncertainty builder '" + builder +
-                                                "' (known: pickup, squeeze, assemble)");
+        fail(node["uncertainty"][i].Mark(),
+             "unknown uncertainty builder '" + builder + "' (known: pickup, squeeze, assemble)");
     }
     action.add = parse_atoms(action, node["add"], "add");
     action.del = parse_atoms(action, node["delete"], "delete");
@@ -234,7 +246,8 @@ class DomainReader {
   VerificationTemplate parse_verification(const YAML::Node& node) const {
     expect_map(node, "verification", {"name", "sense", "expect", "outcomes"});
     VerificationTemplate verification;
-    if (!node["name"] || !node["sense"]) fail(node.Mark(), "a verification needs 'name' and 'sense'");
+    if (!node["name"] || !node["sense"])
+      fail(node.Mark(), "a verification needs 'name' and 'sense'");
     verification.name = scalar(node["name"], "verification name");
     verification.sense = scalar(node["sense"], "sense");
     if (node["expect"]) verification.expect = scalar(node["expect"], "expect");
@@ -264,7 +277,8 @@ class DomainReader {
     expect_map(root, "the domain file", {"actions", "verifications", "recoveries"});
     const auto list = [&](const char* key) {
       const YAML::Node node = root[key];
-      if (node && !node.IsSequence()) fail(node.Mark(), std::string("'") + key + "' must be a list");
+      if (node && !node.IsSequence())
+        fail(node.Mark(), std::string("'") + key + "' must be a list");
       return node;
     };
     std::map<std::string, YAML::Mark> verification_uses;
@@ -273,9 +287,8 @@ class DomainReader {
       for (std::size_t i = 0; i < domain.actions.back().verification.size(); ++i)
         verification_uses.emplace(domain.actions.back().verification[i],
                                   item["verification"][i].Mark());
-      if (std::count_if(domain.actions.begin(), domain.actions.end(), [&](const auto& a) {
-            return a.name == domain.actions.back().name;
-          }) > 1)
+      if (std::count_if(domain.actions.begin(), domain.actions.end(),
+                        [&](const auto& a) { return a.name == domain.actions.back().name; }) > 1)
         fail(item.Mark(), "action '" + domain.actions.back().name + "' is defined twice");
     }
     if (domain.actions.empty()) fail(root.Mark(), "the domain has no actions");

@@ -73,8 +73,8 @@ std::vector<PreconditionResult> decide(const std::vector<Precondition>& precondi
     result.bound = checks[i].bound;
     result.witness = checks[i].witness;
     if (result.verdict == Verdict::kUndecided) {
-      result.bound = bounds::BoundProblem(result.inequality.expression, variables)
-                         .bound(box, options.bound);
+      result.bound =
+          bounds::BoundProblem(result.inequality.expression, variables).bound(box, options.bound);
       result.verdict = bounds::decide(result.inequality, result.bound);
       result.witness = bounds::witness(result.inequality, result.bound);
     }
@@ -86,9 +86,8 @@ std::vector<PreconditionResult> decide(const std::vector<Precondition>& precondi
 }
 
 bool all_hold(const std::vector<PreconditionResult>& results) {
-  return std::all_of(results.begin(), results.end(), [](const PreconditionResult& r) {
-    return r.verdict == Verdict::kSatisfied;
-  });
+  return std::all_of(results.begin(), results.end(),
+                     [](const PreconditionResult& r) { return r.verdict == Verdict::kSatisfied; });
 }
 
 // held_before[i]: the object held just before step i, or -1 (gripper empty).
@@ -128,7 +127,8 @@ int grasp_position(const std::vector<Phase2Step>& steps, int until, int object) 
 }
 
 std::string replace_all(std::string text, const std::string& from, const std::string& to) {
-  for (std::size_t at = text.find(from); at != std::string::npos; at = text.find(from, at + to.size()))
+  for (std::size_t at = text.find(from); at != std::string::npos;
+       at = text.find(from, at + to.size()))
     text.replace(at, from.size(), to);
   return text;
 }
@@ -250,7 +250,8 @@ int InstanceAnalyser::repair(std::vector<Phase2Step>& steps,
   const std::size_t first_attempt = out.repairs.size();
   for (const Kind kind : kinds) {
     const Phase2Step& failed = current[failing_at];
-    const int grasp_at = insertion ? grasp_position(current, failing_at, failed.object) : failing_at;
+    const int grasp_at =
+        insertion ? grasp_position(current, failing_at, failed.object) : failing_at;
     Phase2Step step;
     int position = -1;
     if (kind == Kind::kSqueeze) {
@@ -326,7 +327,8 @@ std::optional<double> InstanceAnalyser::sensor_margin(const std::vector<Phase2St
                            : (failed.effect == StepEffect::kGrasp ? k : -1);
   if (grasp_at >= 0) targets.push_back({failed.object, grasp_at});
   std::vector<int> positions;
-  for (const auto& [object, until] : targets) positions.push_back(scan_position(steps, until, object));
+  for (const auto& [object, until] : targets)
+    positions.push_back(scan_position(steps, until, object));
   std::vector<Phase2Step> trial = steps;
   int inserted = 0, earliest = k;
   // Insert the later position first so the earlier one stays valid.
@@ -436,7 +438,8 @@ void add_margins(InstanceAnalysis& analysis, const AnalysisOptions& options) {
   for (AnalysedStep& step : analysis.steps) {
     for (PreconditionResult& result : step.preconditions) {
       std::vector<Expr> inputs;
-      for (const std::string& name : result.variables) inputs.push_back(analysis.pool->variable(name));
+      for (const std::string& name : result.variables)
+        inputs.push_back(analysis.pool->variable(name));
       bounds::BoundProblem problem(result.inequality.expression, inputs);
       // A tight bound with inner values for every precondition (the natural pass that decided a
       // satisfied one has none): [lo, hi] only shrinks, so the verdict stands.

@@ -62,27 +62,27 @@ struct PreconditionResult {
   std::size_t nodes{0};    // DAG nodes of the expression
   bounds::Verdict verdict{bounds::Verdict::kUndecided};
   bounds::BoundResult bound;
-  std::vector<std::string> variables;      // the expression's variables, in box order
-  std::vector<bounds::Interval> box;       // their ranges
-  std::vector<double> witness;             // the worst point found (variables order)
+  std::vector<std::string> variables;  // the expression's variables, in box order
+  std::vector<bounds::Interval> box;   // their ranges
+  std::vector<double> witness;         // the worst point found (variables order)
   // Beyond SPAR (chosen instance only; empty / nullopt otherwise):
   struct Blame {
     std::string variable;
     double share{0.0};  // fraction of the natural enclosure's width removed by pinning it
   };
-  std::vector<Blame> blame;        // largest share first
-  std::optional<double> holds_up_to_scale;  // reverse analysis: proved for scales <= this
+  std::vector<Blame> blame;                     // largest share first
+  std::optional<double> holds_up_to_scale;      // reverse analysis: proved for scales <= this
   std::optional<double> monte_carlo_violation;  // fraction of samples violating
 };
 
 struct VerificationPlan {
-  std::string name;    // the verification template
-  std::string sense;   // instantiated text
+  std::string name;   // the verification template
+  std::string sense;  // instantiated text
   std::string expect;
   struct Outcome {
     std::string when;
     std::string error;
-    std::string recovery;               // the recovery template's name
+    std::string recovery;                     // the recovery template's name
     std::vector<std::string> recovery_steps;  // instantiated
   };
   std::vector<Outcome> outcomes;
@@ -130,14 +130,14 @@ struct AnalysisOptions {
   // The chosen instance's reported bounds (with inner values), blame and reverse analysis use
   // `report`, `quick` and `quick`.
   bounds::BoundOptions report{.tolerance = 1e-3, .max_box_evaluations = 5'000};
-  bool repair{true};        // try range-scans and squeezes
+  bool repair{true};  // try range-scans and squeezes
   // Chosen-instance extras:
   bool reverse{true};
   double max_scale{8.0};          // reverse analysis searches scales in [0, max_scale]
   int reverse_iterations{20};     // bisection steps
   bool scale_manipulator{false};  // also scale the arm's variables
   bool blame{true};
-  std::size_t samples{2000};      // Monte Carlo samples per precondition (0: off)
+  std::size_t samples{2000};  // Monte Carlo samples per precondition (0: off)
 };
 
 // Phase 2 on one instance. Throws PlanError if the instance does not fit its world.

@@ -56,10 +56,10 @@ Propagation::Propagation(const WorldModel& world, symbolic::ExprPool& pool)
     const ObjectSpec& object = world.scenario().objects[o];
     table_[o] = TableState{
         object.initial_pose,
-        space_.allocate(object.uncertainty,
-                        {.source = UncertaintySource::kInitial, .object = static_cast<int>(o),
-                         .step = -1},
-                        object.name)};
+        space_.allocate(
+            object.uncertainty,
+            {.source = UncertaintySource::kInitial, .object = static_cast<int>(o), .step = -1},
+            object.name)};
   }
 }
 
@@ -92,7 +92,8 @@ kinematics::SymbolicPoint Propagation::held_point(const Phase2Step& step, const 
   // each coordinate stays a short sum.
   symbolic::ExprPool& pool = space_.pool();
   const Transform& grasp = world_->object(step.object).grasps[step.grasp].gripper_in_object;
-  const SymbolicPoint in_grasp = grip.apply(constant_point(pool, grasp.inverse(Eigen::Isometry) * local));
+  const SymbolicPoint in_grasp =
+      grip.apply(constant_point(pool, grasp.inverse(Eigen::Isometry) * local));
   const SymbolicPoint in_ideal = kinematics::manipulator_error_transform(arm).apply(in_grasp);
   return SymbolicTransform::from_numeric(pool, step.object_pose * grasp).apply(in_ideal);
 }
@@ -120,10 +121,10 @@ std::vector<Precondition> Propagation::pickup_preconditions(const Phase2Step& st
   std::vector<Precondition> out;
   for (const kinematics::PickupCondition& condition :
        kinematics::pickup_conditions(geometry, arm, state.error))
-    out.push_back({kind,
-                   {condition.name, condition.expression,
-                    condition.positive ? bounds::Relation::kGreater : bounds::Relation::kLess,
-                    0.0}});
+    out.push_back(
+        {kind,
+         {condition.name, condition.expression,
+          condition.positive ? bounds::Relation::kGreater : bounds::Relation::kLess, 0.0}});
   return out;
 }
 
@@ -151,27 +152,31 @@ std::vector<Precondition> Propagation::assemble_preconditions(const Phase2Step& 
       faces_centroid(world_->scenario().objects[step.object].model, goal.held_faces);
   const Eigen::Vector3d ideal_point = goal.relative * mating_point;
   const SymbolicPoint actual_point = in_fixed(held_point(step, arm, grip, mating_point));
-  const SymbolicPoint offset = {actual_point[0] - ideal_point.x(), actual_point[1] - ideal_point.y(),
+  const SymbolicPoint offset = {actual_point[0] - ideal_point.x(),
+                                actual_point[1] - ideal_point.y(),
                                 actual_point[2] - ideal_point.z()};
   const Eigen::Vector3d v = goal.mating_vector.normalized();
   const Eigen::Vector3d u1 = v.unitOrthogonal(), u2 = v.cross(u1);
   std::vector<Precondition> out;
   const Expr along[2] = {dot(offset, u1), dot(offset, u2)};
   for (int axis = 0; axis < 2; ++axis) {
-    const std::string name = "offset along u" + std::to_string(axis + 1) + " (perpendicular to " +
-                             "the mating vector)";
-    out.push_back({"assemble", {name + " <= clearance", along[axis], bounds::Relation::kLessEqual,
-                                goal.clearance}});
-    out.push_back({"assemble", {name + " >= -clearance", along[axis],
-                                bounds::Relation::kGreaterEqual, -goal.clearance}});
+    const std::string name =
+        "offset along u" + std::to_string(axis + 1) + " (perpendicular to " + "the mating vector)";
+    out.push_back(
+        {"assemble",
+         {name + " <= clearance", along[axis], bounds::Relation::kLessEqual, goal.clearance}});
+    out.push_back(
+        {"assemble",
+         {name + " >= -clearance", along[axis], bounds::Relation::kGreaterEqual, -goal.clearance}});
   }
   if (goal.angular_clearance > 0) {
     const Eigen::Vector3d held_axis = goal.relative.linear().transpose() * v;
     const SymbolicPoint tip = in_fixed(held_point(step, arm, grip, mating_point + held_axis));
     const SymbolicPoint axis = {tip[0] - actual_point[0], tip[1] - actual_point[1],
                                 tip[2] - actual_point[2]};
-    out.push_back({"assemble", {"cos(misalignment) >= cos(angular clearance)", dot(axis, v),
-                                bounds::Relation::kGreaterEqual, std::cos(goal.angular_clearance)}});
+    out.push_back({"assemble",
+                   {"cos(misalignment) >= cos(angular clearance)", dot(axis, v),
+                    bounds::Relation::kGreaterEqual, std::cos(goal.angular_clearance)}});
   }
   return out;
 }
@@ -180,10 +185,10 @@ std::vector<Precondition> Propagation::step(const Phase2Step& step, int index) {
   std::vector<Precondition> preconditions;
   const auto require_on_table = [&](int object) {
     if (object < 0 || !table_.at(object))
-      throw PlanError("step " + std::to_string(index) + " needs " +
-                      (object < 0 ? std::string("an object")
-                                  : world_->scenario().objects[object].name) +
-                      " on the table");
+      throw PlanError(
+          "step " + std::to_string(index) + " needs " +
+          (object < 0 ? std::string("an object") : world_->scenario().objects[object].name) +
+          " on the table");
   };
   switch (step.effect) {
     case StepEffect::kGrasp: {

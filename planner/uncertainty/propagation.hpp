@@ -62,13 +62,15 @@ enum class StepEffect { kGrasp, kRelease, kInsert, kRangeScan, kSqueeze, kNone }
 
 // One step as phase 2 sees it: an instance step or a range-scan / squeeze phase 2 inserted.
 struct Phase2Step {
-  int action{0};       // index into Domain::actions
+  int action{0};  // index into Domain::actions
   StepEffect effect{StepEffect::kNone};
-  int object{-1};      // the handled (held) object
-  int grasp{-1};       // grasp label of `object` (grasp, release, squeeze, insert)
+  int object{-1};        // the handled (held) object
+  int grasp{-1};         // grasp label of `object` (grasp, release, squeeze, insert)
   int fixed_object{-1};  // insertions
-  kinematics::Transform object_pose{kinematics::Transform::Identity()};  // ideal: where it is
-                       // (grasp, squeeze, scan) or goes (release, insert: T_f Ta)
+  kinematics::Transform object_pose{
+      kinematics::Transform::Identity()};  // ideal: where it is
+                                           // (grasp, squeeze, scan) or goes (release, insert: T_f
+                                           // Ta)
   kinematics::Transform fixed_pose{kinematics::Transform::Identity()};
   int instance_step{-1};  // index into PlanInstance::steps; -1 when inserted by phase 2
 };
@@ -119,8 +121,9 @@ class Propagation {
                                                      const Eigen::Vector3d& local) const;
   [[nodiscard]] TableState released(const Phase2Step& step, const kinematics::PoseError& arm,
                                     const kinematics::SymbolicTransform& grip) const;
-  [[nodiscard]] std::vector<Precondition> pickup_preconditions(
-      const Phase2Step& step, const kinematics::PoseError& arm, const std::string& kind) const;
+  [[nodiscard]] std::vector<Precondition> pickup_preconditions(const Phase2Step& step,
+                                                               const kinematics::PoseError& arm,
+                                                               const std::string& kind) const;
   [[nodiscard]] std::vector<Precondition> assemble_preconditions(
       const Phase2Step& step, const kinematics::PoseError& arm) const;
 

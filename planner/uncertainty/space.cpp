@@ -25,11 +25,12 @@ kinematics::PoseError UncertaintySpace::allocate(const kinematics::PoseUncertain
   const double widths[4] = {half_widths.dx, half_widths.dy, half_widths.dz, half_widths.dtheta};
   const char* const prefixes[4] = {"dx_", "dy_", "dz_", "dtheta_"};
   const char components[4] = {'x', 'y', 'z', 't'};
-  symbolic::Expr symbols[4];
-  for (int i = 0; i < 4; ++i) {
+  for (int i = 0; i < 4; ++i)  // all checked first: a refused allocation adds nothing
     if (!std::isfinite(widths[i]) || widths[i] < 0)
       throw PlanError("uncertainty half-width of " + std::string(prefixes[i]) + std::string(tag) +
                       " must be finite and >= 0");
+  symbolic::Expr symbols[4];
+  for (int i = 0; i < 4; ++i) {
     std::string name = prefixes[i] + std::string(tag);
     for (int suffix = 2; std::any_of(variables_.begin(), variables_.end(),
                                      [&](const SpaceVariable& v) { return v.name == name; });
@@ -49,7 +50,8 @@ int UncertaintySpace::index_of(symbolic::Expr symbol) const {
 
 void UncertaintySpace::set_range(int index, double lower, double upper) {
   if (!(std::isfinite(lower) && std::isfinite(upper) && lower <= upper))
-    throw PlanError("uncertainty range of " + variables_.at(index).name + " must be finite with "
+    throw PlanError("uncertainty range of " + variables_.at(index).name +
+                    " must be finite with "
                     "lower <= upper");
   variables_.at(index).lower = lower;
   variables_.at(index).upper = upper;

@@ -57,8 +57,7 @@ class UncertaintySpace {
   // Four fresh variables dx, dy, dz, dtheta with ranges [-h, h] of `half_widths`, named with
   // `tag` (see the header comment). Throws PlanError on a negative or non-finite half-width.
   [[nodiscard]] kinematics::PoseError allocate(const kinematics::PoseUncertainty& half_widths,
-                                               const Provenance& provenance,
-                                               std::string_view tag);
+                                               const Provenance& provenance, std::string_view tag);
 
   [[nodiscard]] symbolic::ExprPool& pool() const { return *pool_; }
   [[nodiscard]] const std::vector<SpaceVariable>& variables() const { return variables_; }
@@ -73,7 +72,8 @@ class UncertaintySpace {
  private:
   symbolic::ExprPool* pool_;
   std::vector<SpaceVariable> variables_;
-  std::vector<symbolic::Expr> symbols_;  // symbols_[i] is the pool variable named variables_[i].name
+  std::vector<symbolic::Expr>
+      symbols_;  // symbols_[i] is the pool variable named variables_[i].name
 };
 
 }  // namespace spar::planner

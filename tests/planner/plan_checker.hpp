@@ -40,7 +40,8 @@ inline std::vector<int> faces_on_table(const geometry::ObjectModel& model,
 
 inline double lowest_z(const geometry::ObjectModel& model, const kinematics::Transform& pose) {
   double lowest = INFINITY;
-  for (const Eigen::Vector3d& vertex : model.mesh().vertices) lowest = std::min(lowest, (pose * vertex).z());
+  for (const Eigen::Vector3d& vertex : model.mesh().vertices)
+    lowest = std::min(lowest, (pose * vertex).z());
   return lowest;
 }
 
@@ -52,9 +53,9 @@ inline bool intersects(const std::vector<int>& a, const std::vector<int>& b) {
 }
 
 // Every broken rule, as text ("step 3 (pickup block): ..."); empty when the instance is valid.
-inline std::vector<std::string> check_instance(const Scenario& scenario,
-                                               const std::vector<std::vector<geometry::Grasp>>& grasps,
-                                               const PlanInstance& instance) {
+inline std::vector<std::string> check_instance(
+    const Scenario& scenario, const std::vector<std::vector<geometry::Grasp>>& grasps,
+    const PlanInstance& instance) {
   std::vector<std::string> problems;
   std::vector<kinematics::Transform> poses;
   for (const ObjectSpec& object : scenario.objects) poses.push_back(object.initial_pose);
@@ -90,7 +91,8 @@ inline std::vector<std::string> check_instance(const Scenario& scenario,
     if (tilt > scenario.robot.max_tool_tilt + 1e-9) fail("gripper does not point down");
     if (step.action_name == "pickup") {
       if (held != -1) fail("gripper not empty");
-      if (!same_pose(poses[step.object], step.object_pose)) fail("object is not where the step says");
+      if (!same_pose(poses[step.object], step.object_pose))
+        fail("object is not where the step says");
       if (intersects(faces_on_table(model, poses[step.object]), contacts))
         fail("a contact face lies on the table");
       held = step.object;
@@ -127,7 +129,8 @@ inline std::vector<std::string> check_instance(const Scenario& scenario,
   for (const Goal& goal : scenario.goals) {
     const AssembledGoal& assembled = std::get<AssembledGoal>(goal);
     if (!assembled_into[find(assembled.held)])
-      problems.push_back("goal assembled(" + assembled.held + ", " + assembled.fixed + ") not reached");
+      problems.push_back("goal assembled(" + assembled.held + ", " + assembled.fixed +
+                         ") not reached");
   }
   if (held != -1) problems.push_back("the plan ends holding an object");
   return problems;

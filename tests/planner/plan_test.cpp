@@ -1,11 +1,12 @@
 // Phase 1 of the planner on the seed's four peg-and-block experiments, every instance checked by an
 // independent simulation (plan_checker.hpp), and a property over random initial poses.
+#include "planner/plan.hpp"
+
 #include <gtest/gtest.h>
 #include <rapidcheck/gtest.h>
 
 #include <algorithm>
 
-#include "planner/plan.hpp"
 #include "tests/planner/plan_checker.hpp"
 
 namespace spar::planner {
@@ -54,8 +55,8 @@ TEST(PlanSeedExperiments, BlockFaceDownIsPutDownTwiceThenThePegGoesIn) {
   const PlanResult result = plan(scenario, builtin_domain(), phase1_only());
   ASSERT_TRUE(result.planned()) << result.family.reason;
   const std::vector<std::string> steps = actions(scenario, result.chosen());
-  const std::vector<std::string> expected = {"pickup block", "putdown block", "pickup block",
-                                             "putdown block", "pickup peg", "assemble peg"};
+  const std::vector<std::string> expected = {"pickup block",  "putdown block", "pickup block",
+                                             "putdown block", "pickup peg",    "assemble peg"};
   EXPECT_EQ(steps, expected);
   // The first putdown leaves the block on a side, the second on its back (hole up, P5).
   const InstanceStep& first = result.chosen().steps[1];
