@@ -1,17 +1,22 @@
 #include "geometry/grasps.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <numbers>
 #include <optional>
+#include <utility>
+#include <vector>
 
 #include "geometry/internal/polygon2d.hpp"
+#include "geometry/internal/triangle_tree.hpp"
 
 namespace spar::geometry {
 namespace {
 
 using internal::Polygon2;
+using internal::TriangleTree;
 
 // Möller–Trumbore: does the segment from p to q cross the triangle (a, b, c) strictly inside
 // the segment (beyond `slack` of parameter at either end)?
@@ -34,17 +39,33 @@ bool segment_hits_triangle(const Eigen::Vector3d& p, const Eigen::Vector3d& q,
 
 // A finger can touch `point` on a face only from outside: the ray along the face's outward normal
 // must leave the object without crossing it (rules out faces inside holes).
-bool exposed(const ObjectModel& object, const Eigen::Vector3d& point,
+bool exposed(const ObjectModel& object, const TriangleTree& tree, const Eigen::Vector3d& point,
              const Eigen::Vector3d& normal) {
   const double diagonal = object.tolerance() / 1e-9;
   const Eigen::Vector3d far = point + 1e3 * diagonal * normal;  // well past the object
   const auto& mesh = object.mesh();
   // Hits within 1e-6 diagonals of the start are the face itself or its neighbours' edges.
-  for (const auto& t : mesh.triangles)
-    if (segment_hits_triangle(point, far, mesh.vertices[t[0]], mesh.vertices[t[1]],
-                              mesh.vertices[t[2]], 1e-9))
-      return false;
-  return true;
+  return !tree.any_on_segment(point, far, [&](int t) {
+    const auto& tri = mesh.triangles[t];
+    return segment_hits_triangle(point, far, mesh.vertices[tri[0]], mesh.vertices[tri[1]],
+                                 mesh.vertices[tri[2]], 1e-9);
+  });
+}
+
+// The axis-aligned box (object frame) around the gripper-frame box [low, high].
+std::pair<Eigen::Vector3d, Eigen::Vector3d> object_frame_bounds(
+    const Eigen::Isometry3d& gripper_to_object, const Eigen::Vector3d& low,
+    const Eigen::Vector3d& high) {
+  Eigen::Vector3d object_low = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
+  Eigen::Vector3d object_high = -object_low;
+  for (int corner = 0; corner < 8; ++corner) {
+    const Eigen::Vector3d p((corner & 1) ? high.x() : low.x(), (corner & 2) ? high.y() : low.y(),
+                            (corner & 4) ? high.z() : low.z());
+    const Eigen::Vector3d q = gripper_to_object * p;
+    object_low = object_low.cwiseMin(q);
+    object_high = object_high.cwiseMax(q);
+  }
+  return {object_low, object_high};
 }
 
 struct Box {
@@ -89,16 +110,17 @@ bool segment_hits_box(const Eigen::Vector3d& p, const Eigen::Vector3d& q, const 
 // a mesh edge enters it or a box edge crosses a triangle. Not detected: a box wholly inside the
 // solid; the fingers start at exposed contacts and join the palm, so a gripper that reaches into
 // the solid also has a box crossing the surface.
-bool gripper_hits_object(const ObjectModel& object, const Eigen::Isometry3d& object_to_gripper,
-                         const GripperSpec& gripper, double width) {
+// Only the triangles whose boxes meet a gripper box's object-frame bounds are tested: the others
+// can neither have an edge entering the box nor be crossed by one of its edges.
+bool gripper_hits_object(const ObjectModel& object, const TriangleTree& tree,
+                         const Eigen::Isometry3d& object_to_gripper, const GripperSpec& gripper,
+                         double width) {
   const auto& mesh = object.mesh();
-  std::vector<Eigen::Vector3d> local(mesh.vertices.size());
-  for (std::size_t v = 0; v < local.size(); ++v) local[v] = object_to_gripper * mesh.vertices[v];
+  const Eigen::Isometry3d gripper_to_object = object_to_gripper.inverse(Eigen::Isometry);
   const double shrink = 1e-6 * object.tolerance() / 1e-9;  // 1e-6 of the bounding-box diagonal
   for (const Box& box : gripper_boxes(gripper, width, shrink)) {
-    for (const auto& t : mesh.triangles)
-      for (int c = 0; c < 3; ++c)
-        if (segment_hits_box(local[t[c]], local[t[(c + 1) % 3]], box)) return true;
+    if ((box.low.array() >= box.high.array()).any()) continue;  // shrunk to nothing
+    std::array<std::pair<Eigen::Vector3d, Eigen::Vector3d>, 12> box_edges;
     for (int edge = 0; edge < 12; ++edge) {
       const int axis = edge / 4, others = edge % 4;
       Eigen::Vector3d p, q;
@@ -110,16 +132,28 @@ bool gripper_hits_object(const ObjectModel& object, const Eigen::Isometry3d& obj
           p[a] = q[a] = ((others >> bit++) & 1) ? box.high[a] : box.low[a];
         }
       }
-      for (const auto& t : mesh.triangles)
-        if (segment_hits_triangle(p, q, local[t[0]], local[t[1]], local[t[2]], 0)) return true;
+      box_edges[edge] = {p, q};
     }
+    const auto [low, high] = object_frame_bounds(gripper_to_object, box.low, box.high);
+    const bool hit = tree.for_each_in_box(low, high, [&](int t) {
+      const auto& tri = mesh.triangles[t];
+      const std::array<Eigen::Vector3d, 3> local{object_to_gripper * mesh.vertices[tri[0]],
+                                                 object_to_gripper * mesh.vertices[tri[1]],
+                                                 object_to_gripper * mesh.vertices[tri[2]]};
+      for (int c = 0; c < 3; ++c)
+        if (segment_hits_box(local[c], local[(c + 1) % 3], box)) return true;
+      return std::any_of(box_edges.begin(), box_edges.end(), [&](const auto& edge) {
+        return segment_hits_triangle(edge.first, edge.second, local[0], local[1], local[2], 0);
+      });
+    });
+    if (hit) return true;
   }
   return false;
 }
 
 // Contact positions of a pair (mid-plane points, object frame), per the header's quantization.
-std::vector<Eigen::Vector3d> contact_positions(const ObjectModel& object, const FacePair& pair,
-                                               int per_axis) {
+std::vector<Eigen::Vector3d> contact_positions(const ObjectModel& object, const TriangleTree& tree,
+                                               const FacePair& pair, int per_axis) {
   const Eigen::Vector3d normal = object.face(pair.face_a).normal;
   const internal::PlaneBasis basis = internal::plane_basis(normal);
   const double mid_offset = normal.dot(pair.overlap.front().front());
@@ -148,8 +182,9 @@ std::vector<Eigen::Vector3d> contact_positions(const ObjectModel& object, const 
         }))
       return false;
     const Eigen::Vector3d mid = basis.u * q.x() + basis.v * q.y() + normal * mid_offset;
-    return exposed(object, mid + (face_a.offset - mid_offset) * normal, normal) &&
-           exposed(object, mid - (pair.width - (face_a.offset - mid_offset)) * normal, -normal);
+    return exposed(object, tree, mid + (face_a.offset - mid_offset) * normal, normal) &&
+           exposed(object, tree, mid - (pair.width - (face_a.offset - mid_offset)) * normal,
+                   -normal);
   };
   // Candidate points: a 41 x 41 grid over the bounding box, keeping those inside the overlap.
   // Built only when a target is not inside: each inside() casts rays against the whole mesh, so
@@ -238,11 +273,47 @@ std::vector<Grasp> compute_grasps(const ObjectModel& object, const GripperSpec& 
   std::vector<Grasp> grasps;
   const double half_x = gripper.palm_width / 2;
   const double half_y = gripper.max_opening / 2 + gripper.finger_thickness;
+  const Mesh& mesh = object.mesh();
+  const TriangleTree tree(mesh.vertices, mesh.triangles);
+  std::vector<int> face_of_triangle(mesh.triangles.size(), 0);
+  for (const Face& face : object.faces())
+    for (const int t : face.triangles) face_of_triangle[t] = face.id;
+  Eigen::Vector3d object_low = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
+  Eigen::Vector3d object_high = -object_low;
+  for (const auto& tri : mesh.triangles)
+    for (const int v : tri) {
+      object_low = object_low.cwiseMin(mesh.vertices[v]);
+      object_high = object_high.cwiseMax(mesh.vertices[v]);
+    }
+  // Faces with a triangle in the footprint's prism over the object's extent along z: only they can
+  // meet the footprint (ascending ids).
+  const auto faces_under_footprint = [&](const Eigen::Isometry3d& object_to_gripper) {
+    double z_low = std::numeric_limits<double>::infinity(), z_high = -z_low;
+    for (int corner = 0; corner < 8; ++corner) {
+      const Eigen::Vector3d p((corner & 1) ? object_high.x() : object_low.x(),
+                              (corner & 2) ? object_high.y() : object_low.y(),
+                              (corner & 4) ? object_high.z() : object_low.z());
+      const double z = (object_to_gripper * p).z();
+      z_low = std::min(z_low, z);
+      z_high = std::max(z_high, z);
+    }
+    const auto [low, high] =
+        object_frame_bounds(object_to_gripper.inverse(Eigen::Isometry), {-half_x, -half_y, z_low},
+                            {half_x, half_y, z_high});
+    std::vector<int> ids;
+    tree.for_each_in_box(low, high, [&](int t) {
+      ids.push_back(face_of_triangle[t]);
+      return false;
+    });
+    std::sort(ids.begin(), ids.end());
+    ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+    return ids;
+  };
   for (const FacePair& pair : object.face_pairs()) {
     if (pair.width < gripper.min_opening || pair.width >= gripper.max_opening) continue;
     const Eigen::Vector3d y = object.face(pair.face_a).normal;
     const Eigen::Vector3d reference = approach_reference(y);
-    const auto positions = contact_positions(object, pair, quantization.positions_per_axis);
+    const auto positions = contact_positions(object, tree, pair, quantization.positions_per_axis);
     for (std::size_t position = 0; position < positions.size(); ++position)
       for (int step = 0; step * quantization.approach_step < kTurn * (1 - 1e-11); ++step) {
         const double angle = step * quantization.approach_step;
@@ -258,8 +329,14 @@ std::vector<Grasp> compute_grasps(const ObjectModel& object, const GripperSpec& 
         grasp.gripper_in_object.translation() = positions[position];
         const Eigen::Isometry3d object_to_gripper =
             grasp.gripper_in_object.inverse(Eigen::Isometry);
-        if (gripper_hits_object(object, object_to_gripper, gripper, pair.width)) continue;
-        for (const Face& face : object.faces()) {
+        if (gripper_hits_object(object, tree, object_to_gripper, gripper, pair.width)) continue;
+        std::vector<int> candidates = faces_under_footprint(object_to_gripper);
+        candidates.push_back(pair.face_a);
+        candidates.push_back(pair.face_b);
+        std::sort(candidates.begin(), candidates.end());
+        candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
+        for (const int id : candidates) {
+          const Face& face = object.face(id);
           const bool contact = face.id == pair.face_a || face.id == pair.face_b;
           if (contact || (face.normal.dot(z) <= -quantization.obscure_facing_cosine &&
                           face_meets_footprint(object, face, object_to_gripper, half_x, half_y)))
