@@ -1,0 +1,190 @@
+// Propagation through a long chain (issue 10): the peg picked up and put down k times between two
+// places, then picked up once more. SPAR's trees grow exponentially with the number of actions
+// that touch an object; as shared DAG nodes the last pickup's preconditions must grow linearly in
+// k. The chain's expressions must also still be the physics: they evaluate to the numeric
+// simulation's values (tests/planner/phase2_simulation.hpp) after 100 round trips.
+#include <gtest/gtest.h>
+
+#include <map>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "common/units.hpp"
+#include "planner/error.hpp"
+#include "planner/plan.hpp"
+#include "planner/uncertainty/propagation.hpp"
+#include "symbolic/operations.hpp"
+#include "tests/planner/phase2_simulation.hpp"
+
+namespace spar::planner {
+namespace {
+
+constexpr int kMaxRoundTrips = 100;
+
+int action_with(const Domain& domain, StepEffect effect) {
+  for (std::size_t a = 0; a < domain.actions.size(); ++a)
+    if (step_effect(domain.actions[a]) == effect) return static_cast<int>(a);
+  ADD_FAILURE() << "the domain has no action with that effect";
+  return -1;
+}
+
+// The chain over one object between two places: pickup at A, putdown at B, pickup at B, putdown at
+// A, ... Records the DAG size of the pickup preconditions a grasp would have after each round
+// trip (k = 0..kMaxRoundTrips), and keeps the full step list.
+class Chain : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    world_ = new WorldModel(
+        load_scenario(std::string(SPAR_SOURCE_DIR) + "/tests/planner/data/phase2_peg_pickup.yaml"));
+    const Domain& domain = builtin_domain();
+    const int peg = world_->object_index("peg");
+    const kinematics::Transform a = world_->scenario().objects[peg].initial_pose;
+    const kinematics::Transform b =
+        Eigen::Translation3d(0.1, -0.25, 0) * Eigen::AngleAxisd(0.4, Eigen::Vector3d::UnitZ()) * a;
+    Phase2Step grasp{.action = action_with(domain, StepEffect::kGrasp),
+                     .effect = StepEffect::kGrasp,
+                     .object = peg,
+                     .grasp = 0};
+    Phase2Step release = grasp;
+    release.action = action_with(domain, StepEffect::kRelease);
+    release.effect = StepEffect::kRelease;
+    pool_ = new symbolic::ExprPool;
+    propagation_ = new Propagation(*world_, *pool_);
+    for (int k = 0; k <= kMaxRoundTrips; ++k) {
+      const bool at_a = k % 2 == 0;
+      grasp.object_pose = at_a ? a : b;
+      release.object_pose = at_a ? b : a;
+      // The pickup that would come next, on a snapshot.
+      Propagation next = *propagation_;
+      const std::vector<Precondition> pre = next.step(grasp, static_cast<int>(steps_.size()) + 1);
+      std::vector<symbolic::Expr> roots;
+      for (const Precondition& p : pre) roots.push_back(p.inequality.expression);
+      nodes_.push_back(symbolic::dag_size(roots));
+      if (k == kMaxRoundTrips) {
+        steps_.push_back(grasp);
+        last_ = pre;
+        *propagation_ = std::move(next);
+        break;
+      }
+      for (const Phase2Step& step : {grasp, release}) {
+        EXPECT_TRUE(propagation_->step(step, static_cast<int>(steps_.size()) + 1).size() ==
+                    (step.effect == StepEffect::kGrasp ? 4u : 0u));
+        steps_.push_back(step);
+      }
+    }
+  }
+  static void TearDownTestSuite() {
+    delete propagation_;
+    delete pool_;
+    delete world_;
+  }
+
+  static WorldModel* world_;
+  static symbolic::ExprPool* pool_;
+  static Propagation* propagation_;  // after the whole chain and the last pickup
+  static std::vector<Phase2Step> steps_;
+  static std::vector<std::size_t> nodes_;  // [k]: preconditions' DAG nodes after k round trips
+  static std::vector<Precondition> last_;  // the last pickup's preconditions
+};
+WorldModel* Chain::world_ = nullptr;
+symbolic::ExprPool* Chain::pool_ = nullptr;
+Propagation* Chain::propagation_ = nullptr;
+std::vector<Phase2Step> Chain::steps_;
+std::vector<std::size_t> Chain::nodes_;
+std::vector<Precondition> Chain::last_;
+
+TEST_F(Chain, NodeCountGrowsLinearlyInTheNumberOfRoundTrips) {
+  ASSERT_EQ(nodes_.size(), static_cast<std::size_t>(kMaxRoundTrips) + 1);
+  // Linear a + b k: doubling k from 50 to 100 adds what going from 0 to 50 added (a quadratic
+  // would add three times as much, an exponential incomparably more).
+  const double first = static_cast<double>(nodes_[50]) - nodes_[0];
+  const double second = static_cast<double>(nodes_[100]) - nodes_[50];
+  EXPECT_GT(first, 0.0);
+  EXPECT_NEAR(second / first, 1.0, 0.1) << nodes_[0] << ", " << nodes_[50] << ", " << nodes_[100];
+  const double ratio = static_cast<double>(nodes_[100]) / nodes_[50];
+  EXPECT_GT(ratio, 1.6);
+  EXPECT_LT(ratio, 2.1);
+  // Every round trip adds a bounded number of nodes: at most twice the average.
+  const std::size_t average = (nodes_[kMaxRoundTrips] - nodes_[0]) / kMaxRoundTrips;
+  for (int k = 1; k <= kMaxRoundTrips; ++k) {
+    EXPECT_GT(nodes_[k], nodes_[k - 1]) << "k = " << k;
+    EXPECT_LE(nodes_[k] - nodes_[k - 1], 2 * average + 4) << "k = " << k;
+  }
+}
+
+TEST_F(Chain, LastPickupStillDependsOnEarlySteps) {
+  // A grasp keeps the x and z of the grasp centre's offset (the finger axis and the rotation are
+  // reset to the arm's), so the arm errors of early steps reach the last pickup through every
+  // putdown in between: the expressions cannot stay small by forgetting.
+  ASSERT_EQ(last_.size(), 4u);
+  std::vector<symbolic::Expr> roots;
+  for (const Precondition& p : last_) roots.push_back(p.inequality.expression);
+  std::map<int, int> per_step;
+  for (const symbolic::Expr v : symbolic::free_variables(roots)) {
+    const int index = propagation_->space().index_of(v);
+    ASSERT_GE(index, 0) << v.name();
+    const Provenance& from = propagation_->space().variables()[index].provenance;
+    ++per_step[from.source == UncertaintySource::kManipulator ? from.step : 0];
+  }
+  const int last = static_cast<int>(steps_.size());
+  EXPECT_EQ(per_step[last], 3) << "the pickup's own arm error but its dz (along the approach)";
+  EXPECT_GT(per_step[last - 1], 0) << "the putdown before it";
+  // The x and z of the grasp centre carry the object's earlier error: early steps still count.
+  int early = 0;
+  for (const auto& [step, count] : per_step) early += step > 0 && step < last / 2 ? count : 0;
+  EXPECT_GT(early, 0);
+}
+
+TEST_F(Chain, ExpressionsAfterAHundredRoundTripsEvaluateToTheSimulation) {
+  const std::vector<SpaceVariable>& variables = propagation_->space().variables();
+  std::mt19937_64 random(7);
+  for (int sample = 0; sample < 20; ++sample) {
+    std::map<std::string, double> values;
+    for (const SpaceVariable& v : variables)
+      values[v.name] =
+          sample == 0 ? v.upper : std::uniform_real_distribution<double>(v.lower, v.upper)(random);
+    testing::NumericPlan simulation(*world_, variables, values);
+    std::vector<testing::NumericCondition> measured;
+    for (std::size_t i = 0; i < steps_.size(); ++i)
+      measured = simulation.step(steps_[i], static_cast<int>(i) + 1);
+    ASSERT_EQ(measured.size(), last_.size());
+    for (std::size_t j = 0; j < last_.size(); ++j) {
+      const double value = symbolic::evaluate(last_[j].inequality.expression, values);
+      EXPECT_NEAR(value, measured[j].value, 1e-9)
+          << last_[j].inequality.name << ", sample " << sample;
+    }
+  }
+}
+
+TEST(Propagation, StepsThatDoNotFitTheStateAreRefused) {
+  const WorldModel world(
+      load_scenario(std::string(SPAR_SOURCE_DIR) + "/tests/planner/data/phase2_peg_pickup.yaml"));
+  const Domain& domain = builtin_domain();
+  symbolic::ExprPool pool;
+  Propagation propagation(world, pool);
+  const int peg = world.object_index("peg");
+  Phase2Step release{.action = action_with(domain, StepEffect::kRelease),
+                     .effect = StepEffect::kRelease,
+                     .object = peg,
+                     .grasp = 0};
+  EXPECT_THROW((void)propagation.step(release, 1), PlanError);
+  Phase2Step grasp{.action = action_with(domain, StepEffect::kGrasp),
+                   .effect = StepEffect::kGrasp,
+                   .object = peg,
+                   .grasp = 0,
+                   .object_pose = world.scenario().objects[peg].initial_pose};
+  EXPECT_EQ(propagation.step(grasp, 1).size(), 4u);
+  EXPECT_TRUE(propagation.held(peg));
+  EXPECT_FALSE(propagation.on_table(peg).has_value());
+  try {
+    (void)propagation.step(grasp, 2);
+    ADD_FAILURE() << "grasping a held object was accepted";
+  } catch (const PlanError& error) {
+    EXPECT_NE(std::string(error.what()).find("peg on the table"), std::string::npos)
+        << error.what();
+  }
+}
+
+}  // namespace
+}  // namespace spar::planner

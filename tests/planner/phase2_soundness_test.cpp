@@ -1,0 +1,282 @@
+// End-to-end soundness of phase 2 (issue 10): for plan instances of the examples and of random
+// initial poses, and actual uncertainty values inside the box, at its corners and at the bounds'
+// own witnesses, the plan is simulated numerically (tests/planner/phase2_simulation.hpp, written
+// independently of Propagation and of the symbolic code). Every precondition reported satisfied
+// must hold there, every violated one must fail at its witness, and every expression must
+// evaluate to the simulated value. The Monte Carlo cross-check must sample no violation of a
+// satisfied precondition.
+#include <gtest/gtest.h>
+#include <rapidcheck/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "common/units.hpp"
+#include "planner/plan.hpp"
+#include "symbolic/operations.hpp"
+#include "tests/planner/phase2_simulation.hpp"
+
+namespace spar::planner {
+namespace {
+
+using bounds::Verdict;
+using testing::NumericCondition;
+using testing::NumericPlan;
+
+Scenario example(const std::string& name) {
+  return load_scenario(std::string(SPAR_SOURCE_DIR) + "/examples/" + name + ".yaml");
+}
+
+// Phase 2 without the chosen-instance extras that cost time (reverse analysis, blame); the tight
+// re-bound of the chosen instance still runs and gives every precondition its witnesses.
+PlanOptions quick_options(std::size_t max_instances) {
+  PlanOptions options;
+  options.max_instances = max_instances;
+  options.analysis.reverse = false;
+  options.analysis.blame = false;
+  options.analysis.samples = 0;
+  return options;
+}
+
+// Simulates `analysis` at `values` and returns every disagreement with phase 2's verdicts and
+// expressions, in words (empty: none). `where` says which point this is.
+std::vector<std::string> check_at(const WorldModel& world, const InstanceAnalysis& analysis,
+                                  const std::map<std::string, double>& values,
+                                  const std::string& where) {
+  std::vector<std::string> problems;
+  NumericPlan simulation(world, analysis.variables, values);
+  for (std::size_t i = 0; i < analysis.steps.size(); ++i) {
+    const AnalysedStep& step = analysis.steps[i];
+    const std::vector<NumericCondition> measured =
+        simulation.step(step.step, static_cast<int>(i) + 1);
+    const auto say = [&](std::size_t j, const std::string& what) {
+      std::ostringstream text;
+      text << "instance " << analysis.instance << ", step " << i + 1 << " (" << step.action
+           << "), precondition '" << step.preconditions[j].inequality.name << "' at " << where
+           << ": " << what;
+      problems.push_back(text.str());
+    };
+    if (measured.size() != step.preconditions.size()) {
+      problems.push_back("step " + std::to_string(i + 1) + " (" + step.action + ") has " +
+                         std::to_string(step.preconditions.size()) + " preconditions, the model " +
+                         std::to_string(measured.size()));
+      continue;
+    }
+    for (std::size_t j = 0; j < measured.size(); ++j) {
+      const PreconditionResult& result = step.preconditions[j];
+      const NumericCondition& truth = measured[j];
+      if (result.inequality.relation != truth.relation ||
+          std::abs(result.inequality.threshold - truth.threshold) > 1e-12)
+        say(j, "relation or threshold differs from the model's");
+      const double symbolic = symbolic::evaluate(result.inequality.expression, values);
+      if (!(std::abs(symbolic - truth.value) <= 1e-9 * std::max(1.0, std::abs(truth.value))))
+        say(j, "expression evaluates to " + std::to_string(symbolic) + ", simulation gives " +
+                   std::to_string(truth.value));
+      if (result.verdict == Verdict::kSatisfied && !truth.holds())
+        say(j, "SOUNDNESS: reported satisfied, simulated value " + std::to_string(truth.value) +
+                   " breaks it");
+    }
+  }
+  return problems;
+}
+
+// Every variable at 0 (the nominal), then overwritten from `point` for `names`.
+std::map<std::string, double> nominal_with(const InstanceAnalysis& analysis,
+                                           const std::vector<std::string>& names,
+                                           const std::vector<double>& point) {
+  std::map<std::string, double> values;
+  for (const SpaceVariable& v : analysis.variables) values[v.name] = 0.0;
+  for (std::size_t i = 0; i < names.size() && i < point.size(); ++i) values[names[i]] = point[i];
+  return values;
+}
+
+// Checks `analysis` at the nominal point, `samples` random points whose every coordinate is, at
+// random, its range's lower end, upper end or a uniform value inside (corners included), and at
+// each precondition's witnesses. A violated precondition must fail at its own witness.
+std::vector<std::string> check_analysis(const WorldModel& world, const InstanceAnalysis& analysis,
+                                        int samples, std::uint64_t seed) {
+  // The box phase 2 decided on is the space's final ranges (nothing narrows them afterwards).
+  std::map<std::string, const SpaceVariable*> by_name;
+  for (const SpaceVariable& v : analysis.variables) by_name[v.name] = &v;
+  std::vector<std::string> problems;
+  for (const AnalysedStep& step : analysis.steps)
+    for (const PreconditionResult& result : step.preconditions)
+      for (std::size_t v = 0; v < result.variables.size(); ++v) {
+        const SpaceVariable* meta =
+            by_name.count(result.variables[v]) ? by_name[result.variables[v]] : nullptr;
+        if (meta == nullptr || meta->lower != result.box[v].lo || meta->upper != result.box[v].hi)
+          problems.push_back("the box of '" + result.inequality.name + "' is not the space's for " +
+                             result.variables[v]);
+      }
+  const auto add = [&](const std::vector<std::string>& found) {
+    problems.insert(problems.end(), found.begin(), found.end());
+  };
+  add(check_at(world, analysis, nominal_with(analysis, {}, {}), "the nominal point"));
+  std::mt19937_64 random(seed);
+  for (int s = 0; s < samples; ++s) {
+    std::map<std::string, double> values;
+    for (const SpaceVariable& v : analysis.variables) {
+      const int where = std::uniform_int_distribution<int>(0, 2)(random);
+      values[v.name] = where == 0 ? v.lower
+                       : where == 1
+                           ? v.upper
+                           : std::uniform_real_distribution<double>(v.lower, v.upper)(random);
+    }
+    add(check_at(world, analysis, values, "sample " + std::to_string(s)));
+  }
+  for (std::size_t i = 0; i < analysis.steps.size(); ++i)
+    for (const PreconditionResult& result : analysis.steps[i].preconditions) {
+      for (const std::vector<double>* point : {&result.bound.argmin, &result.bound.argmax}) {
+        if (point->empty()) continue;
+        add(check_at(world, analysis, nominal_with(analysis, result.variables, *point),
+                     "a witness of '" + result.inequality.name + "'"));
+      }
+      if (result.verdict != Verdict::kViolated) continue;
+      // The reported witness must violate the precondition in the simulation too.
+      const std::map<std::string, double> at_witness =
+          nominal_with(analysis, result.variables, result.witness);
+      NumericPlan simulation(world, analysis.variables, at_witness);
+      for (std::size_t k = 0; k < i; ++k)
+        (void)simulation.step(analysis.steps[k].step, static_cast<int>(k) + 1);
+      const std::vector<NumericCondition> measured =
+          simulation.step(analysis.steps[i].step, static_cast<int>(i) + 1);
+      const auto at = static_cast<std::size_t>(&result - analysis.steps[i].preconditions.data());
+      if (at < measured.size() && measured[at].holds())
+        problems.push_back("violated '" + result.inequality.name +
+                           "' holds at its witness (value " + std::to_string(measured[at].value) +
+                           ")");
+    }
+  return problems;
+}
+
+void expect_sound(const PlanResult& result, int samples) {
+  ASSERT_FALSE(result.examined.empty());
+  for (const InstanceAnalysis& analysis : result.examined) {
+    const std::vector<std::string> problems =
+        check_analysis(result.world, analysis, samples, 20261201 + analysis.instance);
+    EXPECT_TRUE(problems.empty()) << problems.size()
+                                  << " problems, the first: " << problems.front();
+  }
+}
+
+TEST(Phase2Soundness, SeedExperimentsHoldWhereverTheyAreReportedSatisfied) {
+  for (const char* name :
+       {"peg_block_face_down", "peg_block_on_sides", "peg_block_face_up", "peg_block_on_back"}) {
+    SCOPED_TRACE(name);
+    const PlanResult result = plan(example(name), builtin_domain(), quick_options(2));
+    ASSERT_TRUE(result.planned()) << result.family.reason;
+    expect_sound(result, 300);
+  }
+}
+
+// Without sensing every instance keeps its failures: violated verdicts, witnesses and the
+// unrepaired state are simulated too.
+TEST(Phase2Soundness, UnrepairedInstancesAreSoundAndTheirWitnessesViolate) {
+  Scenario scenario = example("peg_block_face_down");
+  scenario.range_scan.reset();
+  PlanOptions options = quick_options(2);
+  options.analysis.repair = false;
+  const PlanResult result = plan(scenario, builtin_domain(), options);
+  ASSERT_TRUE(result.planned()) << result.family.reason;
+  int violated = 0;
+  for (const InstanceAnalysis& analysis : result.examined)
+    for (const AnalysedStep& step : analysis.steps)
+      for (const PreconditionResult& p : step.preconditions)
+        violated += p.verdict == Verdict::kViolated;
+  EXPECT_GT(violated, 0) << "the insertion's 0.05 in clearance should fail without sensing";
+  expect_sound(result, 300);
+}
+
+// The Monte Carlo cross-check (same compiled tape, uniform samples of the box) never samples a
+// violation of a precondition proved satisfied.
+TEST(Phase2Soundness, MonteCarloFindsNoViolationOfASatisfiedPrecondition) {
+  for (const char* name : {"peg_block_face_down", "peg_block_on_back"}) {
+    SCOPED_TRACE(name);
+    PlanOptions options = quick_options(2);
+    options.analysis.samples = 4000;
+    const PlanResult result = plan(example(name), builtin_domain(), options);
+    ASSERT_TRUE(result.planned()) << result.family.reason;
+    const InstanceAnalysis* chosen = result.chosen_analysis();
+    ASSERT_NE(chosen, nullptr);
+    int satisfied = 0;
+    for (const AnalysedStep& step : chosen->steps)
+      for (const PreconditionResult& p : step.preconditions) {
+        ASSERT_TRUE(p.monte_carlo_violation.has_value()) << p.inequality.name;
+        EXPECT_GE(*p.monte_carlo_violation, 0.0);
+        EXPECT_LE(*p.monte_carlo_violation, 1.0);
+        if (p.verdict != Verdict::kSatisfied) continue;
+        ++satisfied;
+        EXPECT_EQ(*p.monte_carlo_violation, 0.0)
+            << "SOUNDNESS: " << step.action << " '" << p.inequality.name << "' reported satisfied";
+      }
+    EXPECT_GT(satisfied, 0);
+  }
+}
+
+// Monte Carlo does see violations where there are some: a pickup whose object uncertainty is
+// four times its margin fails on a large share of the box.
+TEST(Phase2Soundness, MonteCarloSamplesViolationsOfAFailingPickup) {
+  Scenario scenario =
+      load_scenario(std::string(SPAR_SOURCE_DIR) + "/tests/planner/data/phase2_peg_pickup.yaml");
+  ObjectSpec& peg = scenario.objects[1];
+  ASSERT_EQ(peg.name, "peg");
+  peg.uncertainty.dx = peg.uncertainty.dy = peg.uncertainty.dz = 2.0 * units::kInch;
+  PlanOptions options = quick_options(1);
+  options.analysis.repair = false;
+  options.analysis.samples = 2000;
+  const PlanResult result = plan(scenario, builtin_domain(), options);
+  ASSERT_TRUE(result.planned()) << result.family.reason;
+  const AnalysedStep& pickup = result.chosen_analysis()->steps.front();
+  ASSERT_EQ(pickup.action, "pickup");
+  double most = 0;
+  for (const PreconditionResult& p : pickup.preconditions)
+    most = std::max(most, *p.monte_carlo_violation);
+  EXPECT_GT(most, 0.05);
+}
+
+// Random initial stable poses, yaws and spots of the face-down example's objects, and a random
+// scale of their uncertainty (so that repairs, squeezes and failures all occur).
+RC_GTEST_PROP(Phase2SoundnessProperty, RandomInstancesHoldWhereverReportedSatisfied, ()) {
+  static const Scenario base = example("peg_block_face_down");
+  Scenario scenario = base;
+  const std::vector<std::pair<double, double>> spots = {{20, 0}, {14, 12}, {24, 4}};
+  const auto spot_indices = *rc::gen::unique<std::vector<int>>(2, rc::gen::inRange(0, 3));
+  const double scale = *rc::gen::element(0.25, 1.0, 3.0);
+  for (std::size_t o = 0; o < scenario.objects.size(); ++o) {
+    ObjectSpec& object = scenario.objects[o];
+    const int pose = *rc::gen::inRange(0, static_cast<int>(object.stable_poses.size()));
+    const int yaw_step = *rc::gen::inRange(0, 8);
+    const auto [x, y] = spots[spot_indices[o]];
+    kinematics::Transform placed = kinematics::Transform::Identity();
+    placed.translate(Eigen::Vector3d(x * units::kInch, y * units::kInch, 0));
+    placed.rotate(Eigen::AngleAxisd(yaw_step * M_PI / 4, Eigen::Vector3d::UnitZ()));
+    object.initial_pose = placed * object.stable_poses[pose].object_to_world;
+    object.initial_stable_pose = pose;
+    object.uncertainty.dx *= scale;
+    object.uncertainty.dy *= scale;
+    object.uncertainty.dz *= scale;
+    object.uncertainty.dtheta *= scale;
+  }
+  PlanOptions options = quick_options(2);
+  options.posting.max_nodes = 20'000;
+  const PlanResult result = plan(scenario, builtin_domain(), options);
+  RC_CLASSIFY(result.planned(), "planned");
+  if (!result.planned()) return;
+  const InstanceAnalysis& chosen = *result.chosen_analysis();
+  RC_CLASSIFY(chosen.errors == 0, "no error");
+  RC_CLASSIFY(!chosen.repairs.empty(), "repaired");
+  const auto seed = *rc::gen::arbitrary<std::uint32_t>();
+  for (const InstanceAnalysis& analysis : result.examined) {
+    const std::vector<std::string> problems = check_analysis(result.world, analysis, 100, seed);
+    if (!problems.empty())
+      RC_FAIL(std::to_string(problems.size()) + " problems, the first: " + problems.front());
+  }
+}
+
+}  // namespace
+}  // namespace spar::planner
