@@ -55,11 +55,12 @@ struct BoundOptions {
   double tolerance{1e-3};  // relative to the attained width inner_hi - inner_lo
   // The effort limit counts work, never time, so a result does not depend on the machine's speed
   // or load: at most max_box_evaluations boxes (both directions together) and at most max_work
-  // tape instructions evaluated (a box costs about 6 passes over f's and the constraints' tapes,
-  // an NLopt evaluation one), so a huge expression stops in proportion to its size. Queued boxes
-  // are capped at about 4M stored intervals (100 MB) whatever the number of variables.
+  // work units (one per arithmetic tape instruction, 10 per transcendental one; a box costs about
+  // 6 passes over f's and the constraints' tapes, an NLopt evaluation one), so a huge expression
+  // stops in proportion to its size: the default is a few seconds of work on this machine. Queued
+  // boxes are capped at about 4M stored intervals (100 MB) whatever the number of variables.
   std::size_t max_box_evaluations{200'000};
-  std::size_t max_work{300'000'000};
+  std::size_t max_work{100'000'000};
   // Optional wall-clock limit in seconds; 0 (the default) is none. When it fires the result says
   // so (time_limited) and, unlike the work limits, depends on the machine.
   double max_seconds{0.0};

@@ -2,6 +2,7 @@
 
 #include <cctype>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <optional>
 #include <string>
@@ -22,15 +23,24 @@ std::string non_ascii_message(std::string_view text, std::size_t at) {
          std::to_string(at + 1) + " in '" + std::string(text) + "': " + kAsciiHint;
 }
 
+// 12 bytes: the text is a view into the input (a million-term input is 7 million tokens).
 struct Token {
-  enum Kind { kNumber, kName, kSymbol, kEnd } kind;
-  std::string text;
-  std::size_t column;  // 1-based
+  enum Kind : std::uint8_t { kNumber, kName, kSymbol, kEnd } kind;
+  char symbol;           // kSymbol: + - * / ^ ( ) ,  ('**' is '^')
+  std::uint32_t start;   // byte offset in the input
+  std::uint32_t length;  // bytes
+  [[nodiscard]] std::size_t column() const { return std::size_t{start} + 1; }
 };
 
 class Parser {
  public:
-  Parser(ExprPool& pool, std::string_view text) : pool_(pool), text_(text) { tokenize(); }
+  Parser(ExprPool& pool, std::string_view text) : pool_(pool), text_(text) {
+    if (text.size() >= std::numeric_limits<std::uint32_t>::max()) {
+      throw SymbolicError("expression text of " + std::to_string(text.size()) +
+                          " bytes: at most 4 GiB");
+    }
+    tokenize();
+  }
 
   Expr parse_all() {
     if (tokens_.size() == 1) throw error("empty expression", tokens_[0]);
@@ -39,8 +49,17 @@ class Parser {
 
  private:
   SymbolicError error(const std::string& what, const Token& at) const {
-    return SymbolicError(what + " at column " + std::to_string(at.column) + " in '" +
+    return SymbolicError(what + " at column " + std::to_string(at.column()) + " in '" +
                          std::string(text_) + "'");
+  }
+
+  std::string_view text(const Token& token) const {
+    return text_.substr(token.start, token.length);
+  }
+
+  void add(Token::Kind kind, char symbol, std::size_t start, std::size_t end) {
+    tokens_.push_back(
+        {kind, symbol, static_cast<std::uint32_t>(start), static_cast<std::uint32_t>(end - start)});
   }
 
   void tokenize() {
@@ -64,7 +83,7 @@ class Parser {
             while (i < text_.size() && std::isdigit(static_cast<unsigned char>(text_[i]))) ++i;
           }
         }
-        tokens_.push_back({Token::kNumber, std::string(text_.substr(start, i - start)), start + 1});
+        add(Token::kNumber, 0, start, i);
       } else if (c >= 0x80) {
         throw SymbolicError(non_ascii_message(text_, start));
       } else if (std::isalpha(c) || c == '_') {
@@ -72,21 +91,21 @@ class Parser {
                (std::isalnum(static_cast<unsigned char>(text_[i])) || text_[i] == '_')) {
           ++i;
         }
-        tokens_.push_back({Token::kName, std::string(text_.substr(start, i - start)), start + 1});
+        add(Token::kName, 0, start, i);
       } else if (c == '*' && i + 1 < text_.size() && text_[i + 1] == '*') {
         i += 2;
-        tokens_.push_back({Token::kSymbol, "^", start + 1});
+        add(Token::kSymbol, '^', start, i);
       } else if (std::string_view("+-*/^(),").find(static_cast<char>(c)) !=
                  std::string_view::npos) {
         ++i;
-        tokens_.push_back({Token::kSymbol, std::string(1, static_cast<char>(c)), start + 1});
+        add(Token::kSymbol, static_cast<char>(c), start, i);
       } else {
         throw SymbolicError("unexpected character '" + std::string(1, static_cast<char>(c)) +
                             "' at column " + std::to_string(start + 1) + " in '" +
                             std::string(text_) + "'");
       }
     }
-    tokens_.push_back({Token::kEnd, "end of input", text_.size() + 1});
+    add(Token::kEnd, 0, text_.size(), text_.size());
   }
 
   // An operator waiting on the stack for its right operand (or, for brackets, its closing ')').
@@ -124,8 +143,8 @@ class Parser {
   }
 
   static std::optional<Pending::Kind> binary_kind(const Token& token) {
-    if (token.kind != Token::kSymbol || token.text.size() != 1) return std::nullopt;
-    switch (token.text[0]) {
+    if (token.kind != Token::kSymbol) return std::nullopt;
+    switch (token.symbol) {
       case '+':
         return Pending::kAdd;
       case '-':
@@ -142,7 +161,7 @@ class Parser {
   }
 
   bool is_symbol(const Token& token, char symbol) const {
-    return token.kind == Token::kSymbol && token.text.size() == 1 && token.text[0] == symbol;
+    return token.kind == Token::kSymbol && token.symbol == symbol;
   }
 
   void push(Pending pending) {
@@ -154,10 +173,36 @@ class Parser {
     pending_.push_back(pending);
   }
 
+  // An operand, or a sum or product still collecting its terms: `a + b - c + ...` and
+  // `a * b / c * ...` become one n-ary node when the operand is used, never a chain of partial
+  // sums (each interned in the pool for good: memory quadratic in the chain up to the flattening
+  // limit).
+  struct Operand {
+    Expr expr;                // when terms is empty
+    std::vector<Term> terms;  // coefficients (sum) or exponents (product) of +1 / -1
+    bool product{false};
+  };
+
+  Expr value(Operand& operand) {
+    if (operand.terms.empty()) return operand.expr;
+    return operand.product ? pool_.product(Number::integer(1), operand.terms)
+                           : pool_.sum(Number(), operand.terms);
+  }
+
   Expr pop_operand() {
-    const Expr e = operands_.back();
+    Expr e = value(operands_.back());
     operands_.pop_back();
     return e;
+  }
+
+  // left (on top of the stack) op= right, collecting into an n-ary sum or product.
+  void collect(bool product, Expr right, bool inverse) {
+    Operand& left = operands_.back();
+    if (left.terms.empty() || left.product != product) {
+      const Expr first = value(left);
+      left = Operand{{}, {{first, Number::integer(1)}}, product};
+    }
+    left.terms.push_back({right, Number::integer(inverse ? -1 : 1)});
   }
 
   // Applies the operator on top of the stack to its operands.
@@ -166,35 +211,35 @@ class Parser {
     pending_.pop_back();
     if (nests(top.kind)) --depth_;
     if (top.kind == Pending::kNegate) {
-      operands_.back() = -operands_.back();
+      const Expr negated = -pop_operand();
+      operands_.push_back({negated});
       return;
     }
     if (top.kind == Pending::kPlus) return;
     const Expr right = pop_operand();
-    const Expr left = pop_operand();
     switch (top.kind) {
       case Pending::kAdd:
-        operands_.push_back(left + right);
-        break;
       case Pending::kSubtract:
-        operands_.push_back(left - right);
+        collect(false, right, top.kind == Pending::kSubtract);
         break;
       case Pending::kMultiply:
-        operands_.push_back(left * right);
+        collect(true, right, false);
         break;
       case Pending::kDivide:
         if (right.is_constant() && right.constant().is_zero()) {
           throw error("division by zero", tokens_[top.token]);
         }
-        operands_.push_back(left / right);
+        collect(true, right, true);
         break;
-      default:  // kPower
+      default: {  // kPower
+        const Expr left = pop_operand();
         if (left.is_constant() && left.constant().is_zero() && right.is_constant() &&
             right.constant().is_negative()) {
           throw error("0 raised to a negative power", tokens_[top.token + 1]);
         }
-        operands_.push_back(pow(left, right));
+        operands_.push_back({pow(left, right)});
         break;
+      }
     }
   }
 
@@ -226,9 +271,9 @@ class Parser {
       const Token& token = tokens_[i];
       if (operand_expected) {
         if (token.kind == Token::kNumber) {
-          const auto number = Number::parse_decimal(token.text);
-          if (!number) throw error("malformed number '" + token.text + "'", token);
-          operands_.push_back(pool_.constant(*number));
+          const auto number = Number::parse_decimal(text(token));
+          if (!number) throw error("malformed number '" + std::string(text(token)) + "'", token);
+          operands_.push_back({pool_.constant(*number)});
           operand_expected = false;
         } else if (token.kind == Token::kName) {
           if (is_symbol(tokens_[i + 1], '(')) {
@@ -240,7 +285,7 @@ class Parser {
               operand_expected = false;
             }
           } else {
-            operands_.push_back(name(token));
+            operands_.push_back({name(token)});
             operand_expected = false;
           }
         } else if (is_symbol(token, '(')) {
@@ -251,7 +296,7 @@ class Parser {
           push({Pending::kPlus, i, 0});
         } else {
           throw error(token.kind == Token::kEnd ? "unexpected end of input"
-                                                : "unexpected '" + token.text + "'",
+                                                : "unexpected '" + std::string(text(token)) + "'",
                       token);
         }
         ++i;
@@ -265,7 +310,7 @@ class Parser {
       } else if (is_symbol(token, ')') || is_symbol(token, ',')) {
         if (!reduce_to_bracket() ||
             (is_symbol(token, ',') && pending_.back().kind != Pending::kCall)) {
-          throw error("unexpected '" + token.text + "'", token);
+          throw error("unexpected '" + std::string(text(token)) + "'", token);
         }
         if (is_symbol(token, ')')) {
           if (pending_.back().kind == Pending::kCall) {
@@ -280,7 +325,8 @@ class Parser {
       } else {
         reduce_to_bracket();
         if (!pending_.empty()) throw error("expected ')'", token);
-        if (token.kind != Token::kEnd) throw error("unexpected '" + token.text + "'", token);
+        if (token.kind != Token::kEnd)
+          throw error("unexpected '" + std::string(text(token)) + "'", token);
         return pop_operand();
       }
       ++i;
@@ -288,12 +334,12 @@ class Parser {
   }
 
   Expr name(const Token& token) {
-    if (token.text == "pi") {
+    if (text(token) == "pi") {
       // A 17-digit literal is a one-ulp enclosure of the nearest double (M_PI, just below π), so
       // it contains π; it is also exactly what printing this constant produces.
       return pool_.constant(*Number::parse_decimal("3.1415926535897931"));
     }
-    return pool_.variable(token.text);
+    return pool_.variable(text(token));
   }
 
   // The call on top of the stack has all its arguments on the operand stack: apply it.
@@ -302,43 +348,45 @@ class Parser {
     pending_.pop_back();
     --depth_;
     const Token& name = tokens_[call.token];
-    std::vector<Expr> args(operands_.begin() + static_cast<std::ptrdiff_t>(call.operands),
-                           operands_.end());
+    std::vector<Expr> args;
+    for (std::size_t k = call.operands; k < operands_.size(); ++k) {
+      args.push_back(value(operands_[k]));
+    }
     operands_.resize(call.operands);
-    std::string fn = name.text;
+    std::string fn(text(name));
     if (fn == "fabs") fn = "abs";
     if (fn == "fmin") fn = "min";
     if (fn == "fmax") fn = "max";
     auto arity = [&](std::size_t n) {
       if (args.size() != n) {
-        throw error("'" + name.text + "' takes " + std::to_string(n) + " argument" +
+        throw error("'" + std::string(text(name)) + "' takes " + std::to_string(n) + " argument" +
                         (n == 1 ? "" : "s") + ", got " + std::to_string(args.size()),
                     name);
       }
     };
     if (fn == "pow") {
       arity(2);
-      operands_.push_back(pow(args[0], args[1]));
+      operands_.push_back({pow(args[0], args[1])});
       return;
     }
     for (Op op = Op::kSin; op <= Op::kMax; op = static_cast<Op>(static_cast<int>(op) + 1)) {
       if (function_name(op) != fn) continue;
       if (is_unary_function(op)) {
         arity(1);
-        operands_.push_back(pool_.function(op, args[0]));
+        operands_.push_back({pool_.function(op, args[0])});
       } else {
         arity(2);
-        operands_.push_back(pool_.function(op, args[0], args[1]));
+        operands_.push_back({pool_.function(op, args[0], args[1])});
       }
       return;
     }
-    throw error("unknown function '" + name.text + "'", name);
+    throw error("unknown function '" + std::string(text(name)) + "'", name);
   }
 
   ExprPool& pool_;
   std::string_view text_;
   std::vector<Token> tokens_;
-  std::vector<Expr> operands_;
+  std::vector<Operand> operands_;
   std::vector<Pending> pending_;
   int depth_ = 0;  // entries of pending_ that nest (see nests())
 };

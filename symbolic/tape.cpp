@@ -85,12 +85,12 @@ class Compiler {
     }
   }
 
+  // Each distinct constant gets one slot (looked up by hash: a tape may hold 100 000 constants).
   std::uint32_t constant(const Number& n) {
-    for (std::size_t i = 0; i < constants_.size(); ++i) {
-      if (constants_[i] == n) return static_cast<std::uint32_t>(input_count_ + i);
-    }
-    constants_.push_back(n);
-    return static_cast<std::uint32_t>(input_count_ + constants_.size() - 1);
+    const auto [it, inserted] =
+        constant_slot_.try_emplace(n, static_cast<std::uint32_t>(input_count_ + constants_.size()));
+    if (inserted) constants_.push_back(n);
+    return it->second;
   }
 
   std::uint32_t emit(TapeOp op, std::uint32_t a, std::uint32_t b = 0, std::int32_t power = 0) {
@@ -135,8 +135,7 @@ class Compiler {
       if (digit > 0) {
         const std::uint32_t factor =
             digit == 1 ? power_of_base : emit(TapeOp::kPowInt, power_of_base, 0, digit);
-        chain = chain < 0 ? factor
-                          : emit(TapeOp::kMul, static_cast<std::uint32_t>(chain), factor);
+        chain = chain < 0 ? factor : emit(TapeOp::kMul, static_cast<std::uint32_t>(chain), factor);
       }
       if (rest >= kDigit) {
         power_of_base = emit(TapeOp::kPowInt, power_of_base, 0, static_cast<std::int32_t>(kDigit));
@@ -190,6 +189,10 @@ class Compiler {
   std::unordered_map<std::uint32_t, std::uint32_t> register_of_;  // node id -> register
   std::vector<Instruction> code_;
   std::vector<Number> constants_;
+  struct NumberHash {
+    std::size_t operator()(const Number& n) const { return n.hash(); }
+  };
+  std::unordered_map<Number, std::uint32_t, NumberHash> constant_slot_;  // constants_ by value
 };
 
 bool is_binary(TapeOp op) {

@@ -2,7 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <vector>
 
 #include "symbolic/parse.hpp"
 #include "symbolic/tape.hpp"
@@ -83,6 +86,40 @@ TEST_F(OperationsTest, HundredThousandDeepChainWorks) {
   const Expr inputs[] = {x};
   const Tape tape = Tape::compile(std::span<const Expr>(&d, 1), inputs);
   tape.check_invariants();
+}
+
+// Each distinct constant gets one slot, shared by every use (found by hash: compiling 100 000
+// distinct constants was quadratic). Integer powers of any size compile to exact PowInt steps.
+TEST_F(OperationsTest, TapeConstantsAreSharedOncePerValue) {
+  std::vector<Expr> terms;
+  for (int i = 0; i < 20000; ++i) terms.push_back(sin(x + i % 5000) * (i % 3 + 2));
+  const Expr f = pool.sum(terms);
+  const Expr inputs[] = {x};
+  const Tape tape = Tape::compile(std::span<const Expr>(&f, 1), inputs);
+  tape.check_invariants();
+  std::vector<double> values;
+  for (const Number& n : tape.constants()) values.push_back(n.value());
+  std::sort(values.begin(), values.end());
+  EXPECT_EQ(std::adjacent_find(values.begin(), values.end()), values.end());  // no duplicates
+  EXPECT_LE(tape.constants().size(), 5000u + 10u);
+  TapeEvaluator<double> evaluator(tape);
+  double in[] = {0.25}, out[1];
+  evaluator.evaluate(in, out);
+  EXPECT_NEAR(out[0], evaluate(f, {{"x", 0.25}}), 1e-8);
+}
+
+TEST_F(OperationsTest, HugeIntegerPowersCompileToExactSteps) {
+  const Expr inputs[] = {x};
+  for (const std::int64_t n : {std::int64_t{1} << 30, (std::int64_t{1} << 30) + 1,
+                               std::int64_t{3000000001}, std::int64_t{1} << 62}) {
+    const Expr f = pow(x, n);
+    const Tape tape = Tape::compile(std::span<const Expr>(&f, 1), inputs);
+    for (const Instruction& in : tape.instructions()) EXPECT_NE(in.op, TapeOp::kPow) << n;
+    TapeEvaluator<double> evaluator(tape);
+    double point[] = {-1.0}, out[1];
+    evaluator.evaluate(point, out);
+    EXPECT_EQ(out[0], n % 2 == 0 ? 1.0 : -1.0) << n;  // parity kept: (-1)^n
+  }
 }
 
 }  // namespace

@@ -120,6 +120,24 @@ TEST(Parse, NonAsciiIsRefusedWithAHint) {
   EXPECT_THROW_MESSAGE(pool.variable("Δx"), "the syntax is ASCII");
 }
 
+// Issue 12: a long sum used to intern every partial sum (up to 64 operands each) in the pool, so
+// parsing a million-term input took gigabytes. A chain of + and - (or * and /) is one node now:
+// the pool holds the terms and one sum, not n partial sums.
+TEST(Parse, ChainsBecomeOneNodeAndMemoryStaysLinear) {
+  ExprPool pool;
+  std::string text = "x0";
+  for (int i = 1; i < 10000; ++i) text += (i % 3 ? " + x" : " - x") + std::to_string(i);
+  const Expr sum = parse(pool, text);
+  EXPECT_EQ(sum.op(), Op::kAdd);
+  EXPECT_EQ(sum.operand_count(), 10000u);
+  EXPECT_LE(pool.size(), 10000u + 8u);  // the variables, the sum and a few constants
+  const std::size_t before = pool.size();
+  const Expr product = parse(pool, "x1 * x2 / x3 * x4 / x5");
+  EXPECT_EQ(pool.size(), before + 1u);  // the product alone
+  EXPECT_EQ(product, pool.variable("x1") * pool.variable("x2") * pool.variable("x4") /
+                         (pool.variable("x3") * pool.variable("x5")));
+}
+
 TEST(Parse, LongFlatInputParses) {
   std::string text = "x";
   for (int i = 0; i < 100000; ++i) text += " + x*" + std::to_string(i % 7);
