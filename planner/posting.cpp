@@ -601,6 +601,8 @@ PlanFamily Planner::run() {
   }
   std::string reason = "no plan with at most " + std::to_string(options_.max_steps) +
                        " actions reaches the goals (every refinement was inconsistent)";
+  if (const std::optional<std::string> obstacle = world_.relaxed_obstacle())
+    reason += ": " + *obstacle;
   if (budget_refusals_ > 0)
     reason += "; " + std::to_string(budget_refusals_) +
               " constraint posts ran out of the network's search budget (network_budget), so "

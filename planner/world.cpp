@@ -118,6 +118,63 @@ Reach WorldModel::reach(const Transform& gripper_pose) const {
   return result;
 }
 
+std::optional<std::string> WorldModel::relaxed_obstacle() const {
+  // reachable_positions[o][p]: object o can be brought to position p by moves alone.
+  std::vector<std::vector<char>> reachable_positions;
+  for (const ObjectWorld& object : objects_) {
+    std::vector<char> seen(object.positions.size(), 0);
+    std::vector<std::size_t> queue = {0};
+    seen[0] = 1;
+    while (!queue.empty()) {
+      const std::size_t from = queue.back();
+      queue.pop_back();
+      for (std::size_t to = 0; to < object.positions.size(); ++to) {
+        if (seen[to] || object.positions[to].place < 0) continue;
+        for (std::size_t g = 0; g < object.grasps.size(); ++g)
+          if (object.reachable[g][from] && object.reachable[g][to]) {
+            seen[to] = 1;
+            queue.push_back(to);
+            break;
+          }
+      }
+    }
+    reachable_positions.push_back(std::move(seen));
+  }
+  for (const GoalWorld& goal : goals_) {
+    const std::string& held = scenario_.objects[goal.held].name;
+    const std::string& fixed = scenario_.objects[goal.fixed].name;
+    const ObjectWorld& h = objects_[goal.held];
+    bool held_graspable = false, fixed_placeable = false, insertable = false;
+    for (std::size_t g = 0; g < h.grasps.size(); ++g)
+      for (std::size_t p = 0; p < h.positions.size(); ++p)
+        held_graspable |= reachable_positions[goal.held][p] && h.reachable[g][p] != 0;
+    for (std::size_t p = 0; p < goal.mating_pose.size(); ++p)
+      fixed_placeable |= reachable_positions[goal.fixed][p] && goal.mating_pose[p];
+    for (std::size_t g = 0; g < h.grasps.size(); ++g) {
+      bool graspable = false;
+      for (std::size_t p = 0; p < h.positions.size(); ++p)
+        graspable |= reachable_positions[goal.held][p] && h.reachable[g][p] != 0;
+      for (std::size_t p = 0; p < goal.mating_pose.size() && graspable; ++p)
+        insertable |= goal.grasp_leaves_mating_free[g] && reachable_positions[goal.fixed][p] &&
+                      goal.mating_pose[p] && goal.mate_reachable[g][p];
+    }
+    if (!held_graspable)
+      return "the robot cannot grasp " + held +
+             " at its initial pose (no grasp within reach and "
+             "the tilt limit)";
+    if (!fixed_placeable)
+      return fixed + " cannot be brought into a pose for assembled(" + held + ", " + fixed +
+             ") (its mating faces off the table, the mating vector pointing down) by moves the "
+             "robot can make";
+    if (!insertable)
+      return "no grasp of " + held +
+             " that leaves its mating faces free both picks it up and "
+             "reaches the insertion into " +
+             fixed + " at a pose " + fixed + " can be brought to";
+  }
+  return std::nullopt;
+}
+
 bool WorldModel::grasp_usable_at(const geometry::Grasp& grasp, const ObjectSpec& object,
                                  const PositionLabel& position) const {
   if (position.stable_pose < 0) return true;  // no table lookup: the IK tilt test still applies

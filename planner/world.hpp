@@ -90,6 +90,12 @@ class WorldModel {
   [[nodiscard]] const geometry::GripperSpec& gripper() const { return gripper_; }
 
   [[nodiscard]] Reach reach(const kinematics::Transform& gripper_pose) const;
+
+  // Why the goals cannot be reached even with the interactions between steps ignored (each object
+  // moved alone, places shared), naming the first object or goal that fails; nullopt when that
+  // relaxed problem is solvable. Positions reachable by moves: from the initial one, any position
+  // a grasp reaches together with the current one (pick up there, put down here).
+  [[nodiscard]] std::optional<std::string> relaxed_obstacle() const;
   // The flange pose in the robot's base frame for a gripper pose in the world.
   [[nodiscard]] kinematics::Transform flange_in_base(
       const kinematics::Transform& gripper_pose) const;

@@ -148,3 +148,20 @@ RC_GTEST_PROP(PlanProperty, RandomInitialPosesGiveValidPlans, ()) {
 
 }  // namespace
 }  // namespace spar::planner
+
+namespace spar::planner {
+namespace {
+
+TEST(PlanFamily, NoPlanNamesTheObjectOutOfReach) {
+  Scenario scenario = example("peg_block_face_down");
+  ObjectSpec& peg =
+      scenario.objects[static_cast<std::size_t>(&scenario.object("peg") - scenario.objects.data())];
+  peg.initial_pose.translation().x() += 3.0;  // 3 m further out: beyond the Puma's reach
+  const PlanResult result = plan(scenario, builtin_domain(), phase1_only());
+  EXPECT_EQ(result.family.status, PostingStatus::kNoPlan);
+  EXPECT_NE(result.family.reason.find("cannot grasp peg at its initial pose"), std::string::npos)
+      << result.family.reason;
+}
+
+}  // namespace
+}  // namespace spar::planner
