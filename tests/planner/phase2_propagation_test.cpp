@@ -96,6 +96,8 @@ std::vector<Precondition> Chain::last_;
 
 TEST_F(Chain, NodeCountGrowsLinearlyInTheNumberOfRoundTrips) {
   ASSERT_EQ(nodes_.size(), static_cast<std::size_t>(kMaxRoundTrips) + 1);
+  for (const int k : {0, 1, 50, 100})  // in the XML report (--gtest_output=xml)
+    RecordProperty("nodes_k" + std::to_string(k), static_cast<int>(nodes_[k]));
   // Linear a + b k: doubling k from 50 to 100 adds what going from 0 to 50 added (a quadratic
   // would add three times as much, an exponential incomparably more).
   const double first = static_cast<double>(nodes_[50]) - nodes_[0];

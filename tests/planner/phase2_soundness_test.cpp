@@ -239,14 +239,21 @@ TEST(Phase2Soundness, MonteCarloSamplesViolationsOfAFailingPickup) {
   EXPECT_GT(most, 0.05);
 }
 
-// Random initial stable poses, yaws and spots of the face-down example's objects, and a random
-// scale of their uncertainty (so that repairs, squeezes and failures all occur).
+// Random initial stable poses, yaws and spots of the face-down example's objects, a random scale
+// of their uncertainty and of the arm's (so that nonlinear rotation terms matter), and sometimes
+// no sensor: instances without errors, repairs by scanning and unrepaired failures all occur.
 RC_GTEST_PROP(Phase2SoundnessProperty, RandomInstancesHoldWhereverReportedSatisfied, ()) {
   static const Scenario base = example("peg_block_face_down");
   Scenario scenario = base;
   const std::vector<std::pair<double, double>> spots = {{20, 0}, {14, 12}, {24, 4}};
   const auto spot_indices = *rc::gen::unique<std::vector<int>>(2, rc::gen::inRange(0, 3));
-  const double scale = *rc::gen::element(0.25, 1.0, 3.0);
+  const double scale = *rc::gen::element(0.25, 1.0, 6.0);
+  const double arm_scale = *rc::gen::element(1.0, 10.0);
+  if (*rc::gen::inRange(0, 3) == 0) scenario.range_scan.reset();
+  const auto scaled = [](kinematics::PoseUncertainty& u, double by) {
+    u = {u.dx * by, u.dy * by, u.dz * by, u.dtheta * by};
+  };
+  scaled(scenario.robot.uncertainty, arm_scale);
   for (std::size_t o = 0; o < scenario.objects.size(); ++o) {
     ObjectSpec& object = scenario.objects[o];
     const int pose = *rc::gen::inRange(0, static_cast<int>(object.stable_poses.size()));
@@ -257,10 +264,7 @@ RC_GTEST_PROP(Phase2SoundnessProperty, RandomInstancesHoldWhereverReportedSatisf
     placed.rotate(Eigen::AngleAxisd(yaw_step * M_PI / 4, Eigen::Vector3d::UnitZ()));
     object.initial_pose = placed * object.stable_poses[pose].object_to_world;
     object.initial_stable_pose = pose;
-    object.uncertainty.dx *= scale;
-    object.uncertainty.dy *= scale;
-    object.uncertainty.dz *= scale;
-    object.uncertainty.dtheta *= scale;
+    scaled(object.uncertainty, scale);
   }
   PlanOptions options = quick_options(2);
   options.posting.max_nodes = 20'000;
@@ -269,7 +273,9 @@ RC_GTEST_PROP(Phase2SoundnessProperty, RandomInstancesHoldWhereverReportedSatisf
   if (!result.planned()) return;
   const InstanceAnalysis& chosen = *result.chosen_analysis();
   RC_CLASSIFY(chosen.errors == 0, "no error");
-  RC_CLASSIFY(!chosen.repairs.empty(), "repaired");
+  RC_CLASSIFY(std::any_of(chosen.repairs.begin(), chosen.repairs.end(),
+                          [](const RepairAttempt& r) { return r.helped; }),
+              "repaired");
   const auto seed = *rc::gen::arbitrary<std::uint32_t>();
   for (const InstanceAnalysis& analysis : result.examined) {
     const std::vector<std::string> problems = check_analysis(result.world, analysis, 100, seed);
