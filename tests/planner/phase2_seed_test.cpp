@@ -238,5 +238,34 @@ TEST(Phase2SeedExample, CoarseSensorGivesVerificationRecoveryAndOneError) {
             (std::vector<std::string>{"grope", "retry_toward_contact", "summon_operator"}));
 }
 
+// Reverse analysis of the sensor: the coarse sensor's failed pickup says by how much the residual
+// must shrink; a sensor that much finer makes the range-scan repair it.
+TEST(Phase2SeedExample, SensorMarginIsAResidualThatRepairsThePickup) {
+  Scenario scenario = widened();
+  const RangeScanSensor coarse{{1.0 * kInch, 1.0 * kInch, 1.0 * kInch, 0.2}};
+  scenario.range_scan = coarse;
+  PlanOptions options = quick_options(1);
+  options.analysis.reverse = true;
+  const PlanResult result = plan(scenario, builtin_domain(), options);
+  ASSERT_TRUE(result.planned()) << result.family.reason;
+  const AnalysedStep& pickup = result.chosen_analysis()->steps.front();
+  ASSERT_TRUE(pickup.failed);
+  ASSERT_TRUE(pickup.sensor_scale_needed.has_value());
+  const double needed = *pickup.sensor_scale_needed;
+  EXPECT_GT(needed, 0.0);
+  EXPECT_LT(needed, 1.0) << "the coarse sensor was reported good enough";
+  // The 0.5 in to spare along the finger axis bounds the residual: 1 in scaled by s cannot exceed
+  // it.
+  EXPECT_LT(needed * coarse.residual.dx, 0.5 * kInch);
+
+  const auto& r = coarse.residual;
+  scenario.range_scan =
+      RangeScanSensor{{r.dx * needed, r.dy * needed, r.dz * needed, r.dtheta * needed}};
+  const PlanResult finer = plan(scenario, builtin_domain(), quick_options(1));
+  const InstanceAnalysis& repaired = *finer.chosen_analysis();
+  EXPECT_EQ(repaired.errors, 0);
+  EXPECT_EQ(actions(repaired), (std::vector<std::string>{"range-scan", "pickup", "assemble"}));
+}
+
 }  // namespace
 }  // namespace spar::planner

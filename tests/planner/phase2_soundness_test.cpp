@@ -2,9 +2,9 @@
 // initial poses, and actual uncertainty values inside the box, at its corners and at the bounds'
 // own witnesses, the plan is simulated numerically (tests/planner/phase2_simulation.hpp, written
 // independently of Propagation and of the symbolic code). Every precondition reported satisfied
-// must hold there, every violated one must fail at its witness, and every expression must
-// evaluate to the simulated value. The Monte Carlo cross-check must sample no violation of a
-// satisfied precondition.
+// must hold there, every simulated value must lie in its sound bound, every violated one must
+// fail at its witness, and every expression must evaluate to the simulated value. The Monte Carlo
+// cross-check must sample no violation of a satisfied precondition.
 #include <gtest/gtest.h>
 #include <rapidcheck/gtest.h>
 
@@ -77,6 +77,11 @@ std::vector<std::string> check_at(const WorldModel& world, const InstanceAnalysi
       if (!(std::abs(symbolic - truth.value) <= 1e-9 * std::max(1.0, std::abs(truth.value))))
         say(j, "expression evaluates to " + std::to_string(symbolic) + ", simulation gives " +
                    std::to_string(truth.value));
+      // Every bound is sound, whatever the verdict (1e-12 m: the simulation's own rounding).
+      if (!(truth.value >= result.bound.lo - 1e-12 && truth.value <= result.bound.hi + 1e-12))
+        say(j, "SOUNDNESS: simulated value " + std::to_string(truth.value) +
+                   " outside the bound [" + std::to_string(result.bound.lo) + ", " +
+                   std::to_string(result.bound.hi) + "]");
       if (result.verdict == Verdict::kSatisfied && !truth.holds())
         say(j, "SOUNDNESS: reported satisfied, simulated value " + std::to_string(truth.value) +
                    " breaks it");
@@ -237,6 +242,59 @@ TEST(Phase2Soundness, MonteCarloSamplesViolationsOfAFailingPickup) {
   for (const PreconditionResult& p : pickup.preconditions)
     most = std::max(most, *p.monte_carlo_violation);
   EXPECT_GT(most, 0.05);
+}
+
+// Reverse analysis claims each precondition PROVED with the objects' (initial and sensed) ranges
+// scaled by holds_up_to_scale, the arm's unchanged: the simulation must agree everywhere in that
+// larger box. Blame shares are fractions, largest first, one per variable.
+TEST(Phase2Soundness, ReverseMarginsHoldInTheScaledBox) {
+  Scenario scenario =
+      load_scenario(std::string(SPAR_SOURCE_DIR) + "/tests/planner/data/phase2_peg_pickup.yaml");
+  PlanOptions options = quick_options(1);
+  options.analysis.reverse = true;
+  options.analysis.blame = true;
+  const PlanResult result = plan(scenario, builtin_domain(), options);
+  ASSERT_TRUE(result.planned()) << result.family.reason;
+  const InstanceAnalysis& chosen = *result.chosen_analysis();
+  std::mt19937_64 random(11);
+  int checked = 0;
+  for (std::size_t i = 0; i < chosen.steps.size(); ++i)
+    for (std::size_t j = 0; j < chosen.steps[i].preconditions.size(); ++j) {
+      const PreconditionResult& p = chosen.steps[i].preconditions[j];
+      SCOPED_TRACE(p.inequality.name);
+      ASSERT_EQ(p.blame.size(), p.variables.size());
+      for (std::size_t b = 0; b < p.blame.size(); ++b) {
+        EXPECT_GE(p.blame[b].share, 0.0);
+        EXPECT_LE(p.blame[b].share, 1.0);
+        if (b > 0) EXPECT_GE(p.blame[b - 1].share, p.blame[b].share);
+      }
+      if (p.verdict == Verdict::kSatisfied) {
+        ASSERT_TRUE(p.holds_up_to_scale.has_value());
+      }
+      if (!p.holds_up_to_scale || *p.holds_up_to_scale <= 0) continue;
+      const double scale = *p.holds_up_to_scale;
+      ++checked;
+      for (int sample = 0; sample < 200; ++sample) {
+        std::map<std::string, double> values;
+        for (const SpaceVariable& v : chosen.variables) {
+          const double by = v.provenance.source == UncertaintySource::kManipulator ? 1.0 : scale;
+          const int where = std::uniform_int_distribution<int>(0, 2)(random);
+          values[v.name] = where == 0   ? v.lower * by
+                           : where == 1 ? v.upper * by
+                                        : std::uniform_real_distribution<double>(
+                                              v.lower * by, v.upper * by)(random);
+        }
+        NumericPlan simulation(result.world, chosen.variables, values);
+        std::vector<NumericCondition> measured;
+        for (std::size_t k = 0; k <= i; ++k)
+          measured = simulation.step(chosen.steps[k].step, static_cast<int>(k) + 1);
+        ASSERT_EQ(measured.size(), chosen.steps[i].preconditions.size());
+        EXPECT_TRUE(measured[j].holds())
+            << "SOUNDNESS: claimed to hold up to scale " << scale << ", simulated value "
+            << measured[j].value << " at sample " << sample;
+      }
+    }
+  EXPECT_GT(checked, 0);
 }
 
 // Random initial stable poses, yaws and spots of the face-down example's objects, a random scale
