@@ -159,6 +159,104 @@ TEST_F(Chain, ExpressionsAfterAHundredRoundTripsEvaluateToTheSimulation) {
   }
 }
 
+// Every effect in one script, for every grasp of the peg (approaches from straight down to
+// tilted): scan, squeeze, pickup, putdown elsewhere, squeeze there, pickup, insertion into the
+// block. Each step's preconditions evaluate to the simulation's values at corners and random
+// points of the box, and each has the kind and count the model gives it.
+TEST(Propagation, EveryEffectMatchesTheSimulationForEveryGrasp) {
+  const WorldModel world(
+      load_scenario(std::string(SPAR_SOURCE_DIR) + "/tests/planner/data/phase2_peg_pickup.yaml"));
+  const Domain& domain = builtin_domain();
+  const int peg = world.object_index("peg"), block = world.object_index("block");
+  const kinematics::Transform a = world.scenario().objects[peg].initial_pose;
+  const kinematics::Transform b =
+      Eigen::Translation3d(-0.05, 0.1, 0) * Eigen::AngleAxisd(-1.0, Eigen::Vector3d::UnitZ()) * a;
+  const kinematics::Transform block_pose = world.scenario().objects[block].initial_pose;
+  const auto& goal = std::get<AssembledGoal>(world.scenario().goals.front());
+  const std::size_t grasps = world.object(peg).grasps.size();
+  ASSERT_GT(grasps, 4u);
+  std::mt19937_64 random(3);
+  for (std::size_t g = 0; g < grasps; ++g) {
+    SCOPED_TRACE("grasp " + world.object(peg).grasps[g].label);
+    const auto make = [&](StepEffect effect, const kinematics::Transform& pose) {
+      Phase2Step step{.action = action_with(domain, effect),
+                      .effect = effect,
+                      .object = peg,
+                      .grasp = static_cast<int>(g),
+                      .object_pose = pose};
+      if (effect == StepEffect::kInsert) {
+        step.fixed_object = block;
+        step.fixed_pose = block_pose;
+      }
+      return step;
+    };
+    const std::vector<Phase2Step> script = {make(StepEffect::kRangeScan, a),
+                                            make(StepEffect::kSqueeze, a),
+                                            make(StepEffect::kGrasp, a),
+                                            make(StepEffect::kRelease, b),
+                                            make(StepEffect::kSqueeze, b),
+                                            make(StepEffect::kGrasp, b),
+                                            make(StepEffect::kInsert, block_pose * goal.relative)};
+    const std::vector<std::pair<std::string, std::size_t>> expected = {
+        {"", 0},        {"squeeze", 4}, {"pickup", 4},  {"", 0},
+        {"squeeze", 4}, {"pickup", 4},  {"assemble", 5}};
+    symbolic::ExprPool pool;
+    Propagation propagation(world, pool);
+    std::vector<std::vector<Precondition>> built;
+    for (std::size_t i = 0; i < script.size(); ++i) {
+      built.push_back(propagation.step(script[i], static_cast<int>(i) + 1));
+      ASSERT_EQ(built.back().size(), expected[i].second) << "step " << i + 1;
+      for (const Precondition& p : built.back()) EXPECT_EQ(p.kind, expected[i].first);
+    }
+    const std::vector<SpaceVariable>& variables = propagation.space().variables();
+    // The scan moves no arm: it allocates the sensor's four, the others the arm's four each.
+    for (const SpaceVariable& v : variables)
+      if (v.provenance.step == 1)
+        EXPECT_EQ(v.provenance.source, UncertaintySource::kSensor) << v.name;
+    EXPECT_EQ(variables.size(), 4u * world.object_count() + 4 + 4 * 6);
+    for (int sample = 0; sample < 12; ++sample) {
+      std::map<std::string, double> values;
+      for (const SpaceVariable& v : variables)
+        values[v.name] = sample < 2
+                             ? (sample == 0 ? v.lower : v.upper)
+                             : std::uniform_real_distribution<double>(v.lower, v.upper)(random);
+      testing::NumericPlan simulation(world, variables, values);
+      for (std::size_t i = 0; i < script.size(); ++i) {
+        const std::vector<testing::NumericCondition> measured =
+            simulation.step(script[i], static_cast<int>(i) + 1);
+        ASSERT_EQ(measured.size(), built[i].size());
+        for (std::size_t j = 0; j < measured.size(); ++j) {
+          EXPECT_EQ(built[i][j].inequality.relation, measured[j].relation);
+          EXPECT_NEAR(built[i][j].inequality.threshold, measured[j].threshold, 1e-12);
+          EXPECT_NEAR(symbolic::evaluate(built[i][j].inequality.expression, values),
+                      measured[j].value, 1e-9)
+              << "step " << i + 1 << " '" << built[i][j].inequality.name << "', sample " << sample;
+        }
+      }
+    }
+  }
+}
+
+TEST(Propagation, ACopyIsASnapshot) {
+  const WorldModel world(
+      load_scenario(std::string(SPAR_SOURCE_DIR) + "/tests/planner/data/phase2_peg_pickup.yaml"));
+  symbolic::ExprPool pool;
+  const Propagation original(world, pool);
+  Propagation copy = original;
+  const int peg = world.object_index("peg");
+  const Phase2Step grasp{.action = action_with(builtin_domain(), StepEffect::kGrasp),
+                         .effect = StepEffect::kGrasp,
+                         .object = peg,
+                         .grasp = 0,
+                         .object_pose = world.scenario().objects[peg].initial_pose};
+  (void)copy.step(grasp, 1);
+  EXPECT_TRUE(copy.held(peg));
+  EXPECT_FALSE(original.held(peg));
+  EXPECT_TRUE(original.on_table(peg).has_value());
+  EXPECT_EQ(original.space().variables().size(), 4u * world.object_count());
+  EXPECT_EQ(copy.space().variables().size(), 4u * world.object_count() + 4);
+}
+
 TEST(Propagation, StepsThatDoNotFitTheStateAreRefused) {
   const WorldModel world(
       load_scenario(std::string(SPAR_SOURCE_DIR) + "/tests/planner/data/phase2_peg_pickup.yaml"));
