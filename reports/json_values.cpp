@@ -16,9 +16,8 @@ nlohmann::ordered_json matrix_json(const Eigen::Isometry3d& pose, double length_
   for (int row = 0; row < 4; ++row) {
     nlohmann::ordered_json values = nlohmann::ordered_json::array();
     for (int column = 0; column < 4; ++column)
-      values.push_back(
-          number_json(column == 3 && row < 3 ? matrix(row, column) * length_scale
-                                             : matrix(row, column)));
+      values.push_back(number_json(column == 3 && row < 3 ? matrix(row, column) * length_scale
+                                                          : matrix(row, column)));
     rows.push_back(std::move(values));
   }
   return rows;

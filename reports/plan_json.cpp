@@ -1,5 +1,7 @@
 #include "reports/plan_json.hpp"
 
+#include <algorithm>
+
 #include "reports/json_values.hpp"
 
 namespace spar::reports {
@@ -35,7 +37,8 @@ ordered_json family_json(const planner::PlanResult& result) {
   ordered_json steps = ordered_json::array();
   for (const planner::FamilyStep& step : family.steps) {
     ordered_json args = ordered_json::array();
-    for (const planner::Term& term : step.args) args.push_back(family.term_name(term, result.world));
+    for (const planner::Term& term : step.args)
+      args.push_back(family.term_name(term, result.world));
     steps.push_back({{"id", step.id},
                      {"action", step.action < 0 ? (step.id == 0 ? "start" : "finish")
                                                 : result.domain.actions[step.action].name},
@@ -61,15 +64,15 @@ ordered_json family_json(const planner::PlanResult& result) {
     ordered_json pairs = ordered_json::array();
     for (const auto& [a, b] : arc.pairs)
       pairs.push_back({label_name(result, arc.first, a), label_name(result, arc.second, b)});
-    arcs.push_back({{"variables",
-                     {family.variables[arc.first].name, family.variables[arc.second].name}},
-                    {"pairs", pairs}});
+    arcs.push_back(
+        {{"variables", {family.variables[arc.first].name, family.variables[arc.second].name}},
+         {"pairs", pairs}});
   }
   ordered_json goals = ordered_json::array();
   for (const planner::SatisfiedGoal& goal : family.satisfied)
     goals.push_back(
-        {{"level", goal.level == planner::SatisfiedGoal::Level::kOperational ? "operational"
-                                                                              : "geometric"},
+        {{"level",
+          goal.level == planner::SatisfiedGoal::Level::kOperational ? "operational" : "geometric"},
          {"condition", goal.condition},
          {"step", goal.step},
          {"how", goal.how}});
@@ -125,17 +128,29 @@ ordered_json step_json(const planner::PlanResult& result, const planner::Instanc
   return out;
 }
 
-ordered_json precondition_json(const planner::PreconditionResult& result) {
+// The SI unit of a precondition's expression: SPAR's pickup inequalities and the insertion
+// offsets are lengths; the misalignment condition compares cosines (dimensionless).
+const char* precondition_unit(const planner::PreconditionResult& result) {
+  return result.inequality.name.rfind("cos(", 0) == 0 ? "1" : "m";
+}
+
+ordered_json precondition_json(const planner::Scenario& scenario,
+                               const planner::PreconditionResult& result,
+                               const std::vector<planner::SpaceVariable>& space) {
   ordered_json witness = ordered_json::object();
   for (std::size_t v = 0; v < result.witness.size() && v < result.variables.size(); ++v)
     witness[result.variables[v]] = number_json(result.witness[v]);
   ordered_json box = ordered_json::object();
   for (std::size_t v = 0; v < result.variables.size(); ++v)
     box[result.variables[v]] = {number_json(result.box[v].lo), number_json(result.box[v].hi)};
+  const std::string unit = precondition_unit(result);
+  const double scale = unit == "m" ? 1.0 / scenario.units.metres_per_length_unit() : 1.0;
+  const auto shown = [&](double value) { return number_json(value * scale); };
   ordered_json out = {{"name", result.inequality.name},
                       {"kind", result.kind},
                       {"relation", bounds::to_string(result.inequality.relation)},
                       {"threshold", number_json(result.inequality.threshold)},
+                      {"unit", unit},
                       {"expression", result.expression},
                       {"nodes", result.nodes},
                       {"lo", number_json(result.bound.lo)},
@@ -144,14 +159,40 @@ ordered_json precondition_json(const planner::PreconditionResult& result) {
                       {"inner_hi", number_json(result.bound.inner_hi)},
                       {"verdict", bounds::to_string(result.verdict)},
                       {"witness", witness},
-                      {"box", box}};
+                      {"box", box},
+                      {"display",
+                       {{"unit", unit == "m" ? std::string(scenario.units.length_name()) : unit},
+                        {"threshold", shown(result.inequality.threshold)},
+                        {"lo", shown(result.bound.lo)},
+                        {"hi", shown(result.bound.hi)},
+                        {"inner_lo", shown(result.bound.inner_lo)},
+                        {"inner_hi", shown(result.bound.inner_hi)}}}};
   if (!result.blame.empty()) {
     ordered_json blame = ordered_json::array();
     for (const auto& entry : result.blame)
       blame.push_back({{"variable", entry.variable}, {"share", number_json(entry.share)}});
     out["blame"] = blame;
   }
-  if (result.holds_up_to_scale) out["holds_up_to_scale"] = number_json(*result.holds_up_to_scale);
+  if (result.holds_up_to_scale) {
+    // The scaled uncertainty as half-widths: the widest scaled displacement and rotation among
+    // the variables reverse analysis scales (the objects' initial and sensed ones).
+    const double s = *result.holds_up_to_scale;
+    double displacement = 0.0, rotation = 0.0;
+    for (std::size_t v = 0; v < result.variables.size(); ++v) {
+      const auto found = std::find_if(space.begin(), space.end(), [&](const auto& variable) {
+        return variable.name == result.variables[v];
+      });
+      if (found == space.end() ||
+          found->provenance.source == planner::UncertaintySource::kManipulator)
+        continue;
+      const double half_width = std::max(-result.box[v].lo, result.box[v].hi) * s;
+      double& widest = found->component == 't' ? rotation : displacement;
+      widest = std::max(widest, half_width);
+    }
+    out["holds_up_to_scale"] = number_json(s);
+    out["margin"] = {{"displacement", number_json(scenario.units.to_file_length(displacement))},
+                     {"rotation", number_json(scenario.units.to_file_angle(rotation))}};
+  }
   if (result.monte_carlo_violation)
     out["monte_carlo_violation"] = number_json(*result.monte_carlo_violation);
   return out;
@@ -201,7 +242,8 @@ ordered_json chosen_steps_json(const planner::PlanResult& result) {
   const planner::InstanceAnalysis* analysis = result.chosen_analysis();
   ordered_json steps = ordered_json::array();
   if (analysis == nullptr) {
-    for (const planner::InstanceStep& step : instance.steps) steps.push_back(step_json(result, step));
+    for (const planner::InstanceStep& step : instance.steps)
+      steps.push_back(step_json(result, step));
     return steps;
   }
   int next_id = static_cast<int>(result.family.steps.size());
@@ -221,9 +263,21 @@ ordered_json chosen_steps_json(const planner::PlanResult& result) {
                               result.world.scenario().units.metres_per_length_unit();
     ordered_json preconditions = ordered_json::array();
     for (const planner::PreconditionResult& precondition : analysed.preconditions)
-      preconditions.push_back(precondition_json(precondition));
+      preconditions.push_back(
+          precondition_json(result.world.scenario(), precondition, analysis->variables));
     out["preconditions"] = preconditions;
     out["failed"] = analysed.failed;
+    if (analysed.sensor_scale_needed && result.world.scenario().range_scan) {
+      // The range-scan residual (scenario units) that would make this failed step hold.
+      const planner::Units& units = result.world.scenario().units;
+      const kinematics::PoseUncertainty& r = result.world.scenario().range_scan->residual;
+      const double f = *analysed.sensor_scale_needed;
+      out["sensor_residual_needed"] = {{"scale", f},
+                                       {"dx", units.to_file_length(r.dx * f)},
+                                       {"dy", units.to_file_length(r.dy * f)},
+                                       {"dz", units.to_file_length(r.dz * f)},
+                                       {"dtheta", units.to_file_angle(r.dtheta * f)}};
+    }
     if (analysed.failed) {
       ordered_json recovery = ordered_json::array();
       out["verification"] = verification_json(analysed.verification, recovery);
@@ -238,15 +292,28 @@ ordered_json repairs_json(const planner::PlanResult& result,
                           const planner::InstanceAnalysis& analysis) {
   ordered_json repairs = ordered_json::array();
   for (const planner::RepairAttempt& attempt : analysis.repairs) {
-    ordered_json before = ordered_json::array(), after = ordered_json::array();
-    for (std::size_t i = 0; i < attempt.before.size(); ++i)
-      before.push_back({{"lo", number_json(attempt.before[i].lo)},
-                        {"hi", number_json(attempt.before[i].hi)},
-                        {"verdict", bounds::to_string(attempt.verdicts_before[i])}});
-    for (std::size_t i = 0; i < attempt.after.size(); ++i)
-      after.push_back({{"lo", number_json(attempt.after[i].lo)},
-                       {"hi", number_json(attempt.after[i].hi)},
-                       {"verdict", bounds::to_string(attempt.verdicts_after[i])}});
+    // The failing step's preconditions, in the order of `before` and `after`.
+    const auto failing =
+        std::find_if(analysis.steps.begin(), analysis.steps.end(), [&](const auto& step) {
+          return !step.inserted && step.step.instance_step == attempt.for_instance_step;
+        });
+    const auto bounds_json = [&](const std::vector<bounds::BoundResult>& bounds,
+                                 const std::vector<bounds::Verdict>& verdicts) {
+      ordered_json out = ordered_json::array();
+      for (std::size_t i = 0; i < bounds.size(); ++i) {
+        const bool named = failing != analysis.steps.end() && i < failing->preconditions.size();
+        out.push_back({{"name", named ? ordered_json(failing->preconditions[i].inequality.name)
+                                      : ordered_json(nullptr)},
+                       {"unit", named ? ordered_json(precondition_unit(failing->preconditions[i]))
+                                      : ordered_json(nullptr)},
+                       {"lo", number_json(bounds[i].lo)},
+                       {"hi", number_json(bounds[i].hi)},
+                       {"verdict", bounds::to_string(verdicts[i])}});
+      }
+      return out;
+    };
+    const ordered_json before = bounds_json(attempt.before, attempt.verdicts_before);
+    const ordered_json after = bounds_json(attempt.after, attempt.verdicts_after);
     repairs.push_back({{"action", attempt.action},
                        {"object", result.world.scenario().objects.at(attempt.object).name},
                        {"for_step", result.chosen().steps.at(attempt.for_instance_step).step},
@@ -255,6 +322,17 @@ ordered_json repairs_json(const planner::PlanResult& result,
                        {"after", after}});
   }
   return repairs;
+}
+
+// A variable's range in the scenario's units.
+ordered_json display_range(const planner::Units& units, const planner::SpaceVariable& variable) {
+  const bool angle = variable.component == 't';
+  const auto convert = [&](double value) {
+    return number_json(angle ? units.to_file_angle(value) : units.to_file_length(value));
+  };
+  return {{"unit", angle ? units.angle_name() : units.length_name()},
+          {"lo", convert(variable.lower)},
+          {"hi", convert(variable.upper)}};
 }
 
 ordered_json variables_json(const planner::PlanResult& result,
@@ -270,8 +348,27 @@ ordered_json variables_json(const planner::PlanResult& result,
          {"object", v.provenance.object >= 0
                         ? ordered_json(result.world.scenario().objects[v.provenance.object].name)
                         : ordered_json(nullptr)},
-         {"step", v.provenance.step >= 0 ? ordered_json(v.provenance.step) : ordered_json(nullptr)}});
+         {"step", v.provenance.step >= 0 ? ordered_json(v.provenance.step) : ordered_json(nullptr)},
+         {"display", display_range(result.world.scenario().units, v)}});
   return variables;
+}
+
+ordered_json examined_json(const planner::InstanceAnalysis& analysis) {
+  const auto count = [&](auto predicate) {
+    return std::count_if(analysis.steps.begin(), analysis.steps.end(), predicate);
+  };
+  std::size_t preconditions = 0, failed = 0;
+  for (const planner::AnalysedStep& step : analysis.steps)
+    for (const planner::PreconditionResult& precondition : step.preconditions) {
+      ++preconditions;
+      failed += precondition.verdict == bounds::Verdict::kSatisfied ? 0 : 1;
+    }
+  return {{"index", analysis.instance},
+          {"errors", analysis.errors},
+          {"steps", analysis.steps.size()},
+          {"inserted", count([](const auto& step) { return step.inserted; })},
+          {"preconditions", preconditions},
+          {"failed_preconditions", failed}};
 }
 
 }  // namespace
@@ -280,18 +377,23 @@ ordered_json plan_json(const planner::PlanResult& result) {
   const planner::Scenario& scenario = result.world.scenario();
   const double scale = 1.0 / scenario.units.metres_per_length_unit();
   ordered_json out;
+  out["schema"] = kReportSchema;
   out["scenario"] = scenario.name;
+  out["description"] = scenario.description;
   out["status"] = result.planned() ? "planned" : "no_plan";
   if (!result.planned())
     out["reason"] = std::string(to_string(result.family.status)) + ": " + result.family.reason;
-  out["units"] = {{"length", scenario.units.length_name()}, {"angle", scenario.units.angle_name()}};
+  out["units"] = {{"length", scenario.units.length_name()},
+                  {"angle", scenario.units.angle_name()},
+                  {"metres_per_length", scenario.units.metres_per_length_unit()},
+                  {"radians_per_angle", scenario.units.radians_per_angle_unit()}};
   out["robot"] = {{"model", scenario.robot.model},
                   {"base", matrix_json(scenario.robot.base, scale)},
                   {"tool", matrix_json(scenario.robot.tool, scale)}};
   out["family"] = family_json(result);
   ordered_json examined = ordered_json::array();
   for (const planner::InstanceAnalysis& analysis : result.examined)
-    examined.push_back({{"index", analysis.instance}, {"errors", analysis.errors}});
+    examined.push_back(examined_json(analysis));
   out["instances"] = {{"count", result.instances.instances.size()},
                       {"limit_reached", result.instances.limit_reached},
                       {"examined", examined}};

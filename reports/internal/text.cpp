@@ -1,0 +1,206 @@
+#include "reports/internal/text.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+namespace spar::reports::internal {
+
+double value(const Json& number) {
+  if (number.is_number()) return number.get<double>();
+  if (number.is_string()) {
+    const std::string& word = number.get_ref<const std::string&>();
+    if (word == "inf") return HUGE_VAL;
+    if (word == "-inf") return -HUGE_VAL;
+  }
+  return std::nan("");
+}
+
+std::string rounded(double value, int digits) {
+  if (std::isnan(value)) return "nan";
+  if (std::isinf(value)) return value > 0 ? "inf" : "-inf";
+  if (value == 0.0) return "0";
+  // Decimals so that `digits` significant digits show; none for large values.
+  const int magnitude = static_cast<int>(std::floor(std::log10(std::fabs(value))));
+  const int decimals = std::clamp(digits - 1 - magnitude, 0, 15);
+  char buffer[64];
+  std::snprintf(buffer, sizeof buffer, "%.*f", decimals, value);
+  std::string out = buffer;
+  if (out.find('.') != std::string::npos) {
+    out.erase(out.find_last_not_of('0') + 1);
+    if (out.back() == '.') out.pop_back();
+  }
+  if (out == "-0") out = "0";
+  return out;
+}
+
+std::string text(const Json& object, std::string_view key, std::string_view fallback) {
+  const auto found = object.find(key);
+  if (found == object.end() || !found->is_string()) return std::string(fallback);
+  return found->get<std::string>();
+}
+
+std::string html_escape(std::string_view text) {
+  std::string out;
+  out.reserve(text.size());
+  for (const char c : text) {
+    switch (c) {
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      case '\'':
+        out += "&#39;";
+        break;
+      default:
+        out += c;
+    }
+  }
+  return out;
+}
+
+std::string cell_escape(std::string_view text) {
+  std::string out;
+  for (const char c : text) {
+    if (c == '|')
+      out += "\\|";
+    else if (c == '\n')
+      out += ' ';
+    else
+      out += c;
+  }
+  return out;
+}
+
+double to_length_unit(const Json& report, double metres) {
+  return metres / value(report.at("units").at("metres_per_length"));
+}
+
+double to_angle_unit(const Json& report, double radians) {
+  return radians / value(report.at("units").at("radians_per_angle"));
+}
+
+std::string half_width_text(const Json& variable) {
+  const Json& display = variable.at("display");
+  const double lo = value(display.at("lo")), hi = value(display.at("hi"));
+  const std::string unit = text(display, "unit");
+  if (lo == -hi) return "±" + rounded(hi) + " " + unit;
+  return "[" + rounded(lo) + ", " + rounded(hi) + "] " + unit;
+}
+
+const Json* step_by_id(const Json& report, int id) {
+  const Json& chosen = report.at("chosen");
+  if (!chosen.is_object()) return nullptr;
+  for (const Json& step : chosen.at("steps"))
+    if (step.at("id") == id) return &step;
+  return nullptr;
+}
+
+std::string step_title(const Json& step) {
+  std::string title = text(step, "action") + " " + text(step, "object");
+  if (step.contains("fixed_object")) title += " into " + text(step, "fixed_object");
+  return title;
+}
+
+namespace {
+
+std::string unit_suffix(const std::string& unit) {
+  if (unit == "1") return " (cosine)";
+  return unit.empty() ? "" : " " + unit;
+}
+
+}  // namespace
+
+std::string step_details(const Json& report, const Json& step) {
+  const std::string length = report.at("units").at("length").get<std::string>();
+  std::string out;
+  const auto add = [&](const std::string& part) { out += (out.empty() ? "" : ", ") + part; };
+  if (step.contains("grasp")) {
+    const Json& grasp = step.at("grasp");
+    add("grasp " + text(grasp, "label") + " (faces " + grasp.at("faces").at(0).dump() + "/" +
+        grasp.at("faces").at(1).dump() + ", width " + rounded(value(grasp.at("width"))) + " " +
+        length + ")");
+  }
+  const auto position = [&](const Json& pose) {
+    return "(" + rounded(value(pose.at(0).at(3))) + ", " + rounded(value(pose.at(1).at(3))) + ", " +
+           rounded(value(pose.at(2).at(3))) + ") " + length;
+  };
+  if (step.contains("fixed_object")) {
+    add(text(step, "fixed_object") + " at " + position(step.at("fixed_pose")));
+    add(text(step, "object") + " to " + position(step.at("held_pose")));
+  } else if (step.contains("object_pose")) {
+    add(std::string(text(step, "action") == "putdown" ? "to " : "at ") +
+        position(step.at("object_pose")));
+  }
+  if (step.contains("stable_pose") && step.at("stable_pose").is_string())
+    add("stable pose " + text(step, "stable_pose"));
+  if (step.contains("configuration") && step.at("configuration").is_string())
+    add("arm " + text(step, "configuration"));
+  return out;
+}
+
+std::string requirement_text(const Json& precondition) {
+  const Json& display = precondition.at("display");
+  return text(precondition, "relation") + " " + rounded(value(display.at("threshold")), 6) +
+         unit_suffix(text(display, "unit"));
+}
+
+std::string bound_text(const Json& precondition, bool inner) {
+  const Json& display = precondition.at("display");
+  const double lo = value(display.at(inner ? "inner_lo" : "lo"));
+  const double hi = value(display.at(inner ? "inner_hi" : "hi"));
+  return "[" + rounded(lo) + ", " + rounded(hi) + "]" + unit_suffix(text(display, "unit"));
+}
+
+std::string margin_text(const Json& report, const Json& precondition) {
+  if (!precondition.contains("holds_up_to_scale")) return "";
+  const Json& margin = precondition.at("margin");
+  const Json& units = report.at("units");
+  return "x" + rounded(value(precondition.at("holds_up_to_scale")), 2) + " (±" +
+         rounded(value(margin.at("displacement")), 2) + " " + text(units, "length") + ", ±" +
+         rounded(value(margin.at("rotation")), 2) + " " + text(units, "angle") + ")";
+}
+
+std::string repair_bound_text(const Json& report, const Json& entry) {
+  const bool length = entry.at("unit") == "m";
+  const auto shown = [&](const char* key) {
+    const double v = value(entry.at(key));
+    return rounded(length ? to_length_unit(report, v) : v);
+  };
+  return "[" + shown("lo") + ", " + shown("hi") + "]" +
+         (length ? " " + report.at("units").at("length").get<std::string>() : std::string());
+}
+
+std::string sensor_residual_text(const Json& report, const Json& needed) {
+  const Json& units = report.at("units");
+  const double largest =
+      std::max({value(needed.at("dx")), value(needed.at("dy")), value(needed.at("dz"))});
+  return "a range-scan with a residual of ±" + rounded(largest, 2) + " " + text(units, "length") +
+         ", ±" + rounded(value(needed.at("dtheta")), 2) + " " + text(units, "angle") + " (x" +
+         rounded(value(needed.at("scale")), 2) +
+         " of the scenario's sensor) would make this step hold";
+}
+
+VerdictCounts verdict_counts(const Json& report) {
+  VerdictCounts counts;
+  const Json& chosen = report.at("chosen");
+  if (!chosen.is_object()) return counts;
+  for (const Json& step : chosen.at("steps"))
+    for (const Json& precondition : step.value("preconditions", Json::array())) {
+      const std::string verdict = text(precondition, "verdict");
+      (verdict == "satisfied"  ? counts.satisfied
+       : verdict == "violated" ? counts.violated
+                               : counts.undecided)++;
+    }
+  return counts;
+}
+
+}  // namespace spar::reports::internal

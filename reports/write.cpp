@@ -1,0 +1,100 @@
+#include "reports/write.hpp"
+
+#include <algorithm>
+#include <cerrno>
+#include <cstring>
+#include <fstream>
+#include <system_error>
+
+#include "reports/error.hpp"
+#include "reports/html.hpp"
+#include "reports/markdown.hpp"
+
+namespace spar::reports {
+namespace fs = std::filesystem;
+
+std::vector<Format> parse_formats(std::string_view list) {
+  std::vector<Format> formats;
+  std::size_t start = 0;
+  while (start <= list.size()) {
+    const std::size_t comma = std::min(list.find(',', start), list.size());
+    const std::string_view word = list.substr(start, comma - start);
+    Format format;
+    if (word == "json")
+      format = Format::kJson;
+    else if (word == "md" || word == "markdown")
+      format = Format::kMarkdown;
+    else if (word == "html")
+      format = Format::kHtml;
+    else
+      throw ReportError("unknown report format '" + std::string(word) +
+                        "' (expected a comma-separated list of json, md, html)");
+    if (std::find(formats.begin(), formats.end(), format) != formats.end())
+      throw ReportError("report format '" + std::string(word) + "' given twice");
+    formats.push_back(format);
+    start = comma + 1;
+  }
+  return formats;
+}
+
+std::string file_name(Format format) {
+  switch (format) {
+    case Format::kJson:
+      return "report.json";
+    case Format::kMarkdown:
+      return "report.md";
+    case Format::kHtml:
+      return "report.html";
+  }
+  return "report";
+}
+
+std::string render(const nlohmann::ordered_json& report, Format format) {
+  switch (format) {
+    case Format::kJson:
+      return report.dump(2) + "\n";
+    case Format::kMarkdown:
+      return render_markdown(report);
+    case Format::kHtml:
+      return render_html(report);
+  }
+  return {};
+}
+
+std::vector<fs::path> write_reports(const nlohmann::ordered_json& report, const fs::path& folder,
+                                    const std::vector<Format>& formats) {
+  std::vector<std::string> texts;
+  for (const Format format : formats) texts.push_back(render(report, format));
+  std::error_code error;
+  fs::create_directories(folder, error);
+  if (error)
+    throw ReportError("cannot create the report folder " + folder.string() + ": " +
+                      error.message());
+  std::vector<fs::path> temporaries, finals;
+  const auto remove_temporaries = [&] {
+    for (const fs::path& temporary : temporaries) fs::remove(temporary, error);
+  };
+  for (std::size_t i = 0; i < formats.size(); ++i) {
+    finals.push_back(folder / file_name(formats[i]));
+    temporaries.push_back(folder / ("." + file_name(formats[i]) + ".tmp"));
+    std::ofstream out(temporaries.back(), std::ios::binary | std::ios::trunc);
+    out << texts[i];
+    out.close();
+    if (!out) {
+      const std::string reason = std::strerror(errno);
+      remove_temporaries();
+      throw ReportError("cannot write " + temporaries.back().string() + ": " + reason);
+    }
+  }
+  for (std::size_t i = 0; i < formats.size(); ++i) {
+    fs::rename(temporaries[i], finals[i], error);
+    if (error) {
+      remove_temporaries();
+      throw ReportError("cannot rename " + temporaries[i].string() + " to " + finals[i].string() +
+                        ": " + error.message());
+    }
+  }
+  return finals;
+}
+
+}  // namespace spar::reports

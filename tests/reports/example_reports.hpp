@@ -1,0 +1,48 @@
+// The reports of the seed's four peg-and-block experiments (examples/peg_block_*.yaml), planned
+// once per test binary with the default options (phase 2 with blame, reverse analysis and Monte
+// Carlo, as `spar plan` runs it), plus a run whose search budget is too small to find a plan.
+#pragma once
+
+#include <map>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "planner/plan.hpp"
+#include "reports/plan_json.hpp"
+
+namespace spar::reports::testing {
+
+inline const std::vector<std::string>& example_names() {
+  static const std::vector<std::string> names = {"peg_block_face_down", "peg_block_on_sides",
+                                                 "peg_block_face_up", "peg_block_on_back"};
+  return names;
+}
+
+inline std::string example_path(const std::string& name) {
+  return std::string(SPAR_SOURCE_DIR) + "/examples/" + name + ".yaml";
+}
+
+inline const nlohmann::ordered_json& example_report(const std::string& name) {
+  static std::map<std::string, nlohmann::ordered_json> cache;
+  auto found = cache.find(name);
+  if (found == cache.end())
+    found = cache
+                .emplace(name, plan_json(planner::plan(planner::load_scenario(example_path(name)),
+                                                       planner::builtin_domain())))
+                .first;
+  return found->second;
+}
+
+// The face-down task with a search budget of 3 partial plans: status no_plan, with a reason.
+inline const nlohmann::ordered_json& no_plan_report() {
+  static const nlohmann::ordered_json report = [] {
+    planner::PlanOptions options;
+    options.posting.max_nodes = 3;
+    return plan_json(planner::plan(planner::load_scenario(example_path("peg_block_face_down")),
+                                   planner::builtin_domain(), options));
+  }();
+  return report;
+}
+
+}  // namespace spar::reports::testing
