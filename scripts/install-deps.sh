@@ -12,6 +12,7 @@ packages=(
   libmpfi-dev                      # tests only: rigorous oracle for the Interval kernels
   libginac-dev liborocos-kdl-dev   # benchmarks only: peers
   python3 python3-sympy python3-numpy  # benchmarks only: SymPy peer
+  chromium                         # tests only: the HTML report in a real browser
 )
 
 missing=()
