@@ -77,7 +77,10 @@ bool is_binary_function(Op op) { return op >= Op::kAtan2 && op <= Op::kMax; }
 //    id is smaller than n (the arena is topologically ordered: children are built first);
 //  * Constant: count == 0, number is the value. Variable: count == 0, begin is the index into
 //    names. Add/Mul: the canonical forms of expr.hpp (operands sorted strictly by id, no zero
-//    coefficient / exponent). Functions and Pow: factors are all one;
+//    exponent; no zero coefficient except on a partial term, a domain guard). Functions and
+//    Pow: factors are all one;
+//  * partial: some real values of the variables are outside the node's domain (computed from
+//    the op and the operands on construction: see partial_node());
 //  * the hash table holds every node id exactly once, at the probe sequence of its hash.
 struct Node {
   Op op;
@@ -85,6 +88,7 @@ struct Node {
   std::uint32_t count;
   Number number;
   std::size_t hash;
+  bool partial{false};
 };
 
 struct ExprPool::Impl {
@@ -139,7 +143,8 @@ struct ExprPool::Impl {
     }
     if (nodes.size() >= 0xFFFFFFF0u) throw SymbolicError("expression pool is full (2^32 nodes)");
     const auto candidate = static_cast<std::uint32_t>(nodes.size());
-    nodes.push_back(Node{op, op == Op::kVariable ? var_index : begin, count, number, h});
+    nodes.push_back(Node{op, op == Op::kVariable ? var_index : begin, count, number, h,
+                         partial_node(op, begin, count)});
     std::size_t s = slot_of(h);
     while (table[s] != kEmptySlot) {
       if (same_node(table[s], candidate)) {
@@ -154,6 +159,41 @@ struct ExprPool::Impl {
     table[s] = candidate;
     if (nodes.size() * 2 > table.size()) grow_table();
     return candidate;
+  }
+
+  // Whether a node (op over operands [begin, begin + count)) may be undefined for some real values
+  // of its variables: log, sqrt, tan, asin, acos, atan2 and real powers are partial; so is a
+  // product with a negative or fractional exponent of a non-constant base (x^-1 needs x != 0,
+  // x^(1/2) needs x >= 0) or a fractional power of a constant that is not positive; and any
+  // node with a partial operand.
+  bool partial_node(Op op, std::uint32_t begin, std::uint32_t count) const {
+    switch (op) {
+      case Op::kConstant:
+      case Op::kVariable:
+        return false;
+      case Op::kLog:
+      case Op::kSqrt:
+      case Op::kTan:
+      case Op::kAsin:
+      case Op::kAcos:
+      case Op::kAtan2:
+      case Op::kPow:
+        return true;
+      default:
+        break;
+    }
+    for (std::uint32_t i = begin; i < begin + count; ++i) {
+      const Node& operand = nodes[operand_ids[i]];
+      if (operand.partial) return true;
+      if (op != Op::kMul) continue;
+      const Number& exponent = factors[i];
+      if (operand.op == Op::kConstant) {
+        if (!exponent.is_integer() && operand.number.sign() <= 0) return true;
+      } else if (exponent.is_negative() || !exponent.is_integer()) {
+        return true;
+      }
+    }
+    return false;
   }
 
   std::uint32_t intern_leaf(Op op, const Number& number, std::uint32_t var_index = 0) {
@@ -175,6 +215,7 @@ std::size_t Expr::operand_count() const { return pool_->impl_->nodes[id_].count;
 Expr Expr::operand(std::size_t i) const {
   return Expr(pool_, pool_->impl_->operand_ids[pool_->impl_->nodes[id_].begin + i]);
 }
+bool Expr::is_partial() const { return pool_->impl_->nodes[id_].partial; }
 const Number& Expr::factor(std::size_t i) const {
   return pool_->impl_->factors[pool_->impl_->nodes[id_].begin + i];
 }
@@ -228,8 +269,10 @@ namespace {
 
 using Entry = std::pair<std::uint32_t, Number>;
 
-// Sorts entries by id and merges equal ids by adding their numbers; drops zero numbers.
-void sort_and_merge(std::vector<Entry>& entries) {
+// Sorts entries by id and merges equal ids by adding their numbers; drops zero numbers unless
+// keep_zero(id) (a sum's partial term stays, with coefficient 0, as a domain guard).
+template <class KeepZero>
+void sort_and_merge(std::vector<Entry>& entries, KeepZero keep_zero) {
   std::sort(entries.begin(), entries.end(),
             [](const Entry& a, const Entry& b) { return a.first < b.first; });
   std::size_t out = 0;
@@ -239,10 +282,13 @@ void sort_and_merge(std::vector<Entry>& entries) {
     for (; j < entries.size() && entries[j].first == entries[i].first; ++j) {
       total = total + entries[j].second;
     }
-    if (!total.is_zero()) entries[out++] = {entries[i].first, total};
+    if (!total.is_zero() || keep_zero(entries[i].first)) entries[out++] = {entries[i].first, total};
     i = j;
   }
   entries.resize(out);
+}
+void sort_and_merge(std::vector<Entry>& entries) {
+  sort_and_merge(entries, [](std::uint32_t) { return false; });
 }
 
 }  // namespace
@@ -267,7 +313,7 @@ Expr ExprPool::sum(const Number& constant, std::span<const Term> terms) {
   entries.reserve(terms.size());
   for (const Term& original : terms) {
     if (original.expr.pool_ != this) throw SymbolicError("expressions from different pools mixed");
-    if (original.factor.is_zero()) continue;
+    if (original.factor.is_zero() && !impl_->nodes[original.expr.id_].partial) continue;
     Term term = original;
     if (!term.factor.is_rational()) {
       const Term scaled[] = {{this->constant(term.factor), Number::integer(1)},
@@ -311,7 +357,8 @@ Expr ExprPool::sum(const Number& constant, std::span<const Term> terms) {
         entries.emplace_back(term.expr.id_, term.factor);
     }
   }
-  sort_and_merge(entries);
+  // 0·t stays where t may be undefined: log(x) - log(x) is 0·log(x), undefined for x <= 0.
+  sort_and_merge(entries, [&](std::uint32_t id) { return impl_->nodes[id].partial; });
   // Folding rationals can overflow 64 bits into a real; build again so the entry point above
   // turns that real into an operand (Add factors stay rational).
   if (!c0.is_rational() || std::any_of(entries.begin(), entries.end(),
@@ -319,7 +366,7 @@ Expr ExprPool::sum(const Number& constant, std::span<const Term> terms) {
     return sum(c0, terms_of(entries));
   }
   if (entries.empty()) return this->constant(c0);
-  if (c0.is_zero() && entries.size() == 1) {
+  if (c0.is_zero() && entries.size() == 1 && !entries[0].second.is_zero()) {
     const Expr only(this, entries[0].first);
     if (entries[0].second.is_one()) return only;
     const Term scaled[] = {{only, Number::integer(1)}};
@@ -333,6 +380,16 @@ Expr ExprPool::sum(const Number& constant, std::span<const Term> terms) {
   return Expr(this, impl_->intern(Op::kAdd, c0, begin, 0));
 }
 
+namespace {
+
+// Domain conditions of a power b^e: b != 0 when e < 0, b >= 0 when e is not an integer.
+constexpr int kNonZero = 1, kNonNegative = 2;
+int domain_of_exponent(const Number& e) {
+  return (e.is_negative() ? kNonZero : 0) | (e.is_integer() ? 0 : kNonNegative);
+}
+
+}  // namespace
+
 Expr ExprPool::product(const Number& coefficient, std::span<const Term> factors) {
   if (!coefficient.is_rational()) {  // never folded: see sum()
     std::vector<Term> all(factors.begin(), factors.end());
@@ -342,11 +399,19 @@ Expr ExprPool::product(const Number& coefficient, std::span<const Term> factors)
   Number c = coefficient;
   std::vector<Entry> entries;
   entries.reserve(factors.size());
+  // Domains: what the exponents of each base required (kNonZero / kNonNegative), and the
+  // guards, partial factors that folding removes: they come back as 0·guard terms so the result
+  // stays undefined where the input was (x/x is 1 + 0·x^-1, 0·log(x) is 0·log(x)).
+  std::vector<std::pair<std::uint32_t, int>> required;
+  std::vector<Expr> guards;
   for (const Term& factor : factors) {
     if (factor.expr.pool_ != this) throw SymbolicError("expressions from different pools mixed");
     const Number& e = factor.factor;
-    if (e.is_zero()) continue;  // b^0 = 1
     const Node& node = impl_->nodes[factor.expr.id_];
+    if (e.is_zero()) {  // b^0 = 1 where b is defined
+      if (node.partial) guards.push_back(factor.expr);
+      continue;
+    }
     const bool rational_constant = node.op == Op::kConstant && node.number.is_rational();
     if (rational_constant && e.is_integer()) {
       c = c * node.number.pow(e.numerator());
@@ -355,14 +420,52 @@ Expr ExprPool::product(const Number& coefficient, std::span<const Term> factors)
     } else if (node.op == Op::kMul && e.is_integer() && node.count <= kFlattenLimit) {
       c = c * node.number.pow(e.numerator());
       for (std::uint32_t i = node.begin; i < node.begin + node.count; ++i) {
-        entries.emplace_back(impl_->operand_ids[i], e * impl_->factors[i]);
+        const Number inner = impl_->factors[i];
+        entries.emplace_back(impl_->operand_ids[i], e * inner);
+        required.emplace_back(impl_->operand_ids[i],
+                              domain_of_exponent(inner) | domain_of_exponent(e * inner));
       }
     } else {
       entries.emplace_back(factor.expr.id_, e);
+      required.emplace_back(factor.expr.id_, domain_of_exponent(e));
     }
   }
-  if (c.is_zero()) return constant(Number());
+  // c = 0: the product is 0 wherever it is defined.
+  const auto zero = [&] {
+    std::vector<Term> guard_terms;
+    if (!entries.empty()) {
+      guard_terms.push_back({product(Number::integer(1), terms_of(entries)), Number()});
+    }
+    for (Expr g : guards) guard_terms.push_back({g, Number()});
+    return sum(Number(), guard_terms);  // drops what is defined everywhere
+  };
+  if (c.is_zero()) return zero();
   sort_and_merge(entries);
+  // A merged exponent may need less than its parts did (x·x^-1 = x^0, sqrt(x)^2 = x): guard the
+  // base with the condition it lost, as b^-1 (b != 0), b^(1/2) (b >= 0) or b^(-1/2) (b > 0).
+  std::sort(required.begin(), required.end());
+  for (std::size_t k = 0; k < required.size();) {
+    const std::uint32_t id = required[k].first;
+    int needed = 0;
+    for (; k < required.size() && required[k].first == id; ++k) needed |= required[k].second;
+    const auto merged =
+        std::lower_bound(entries.begin(), entries.end(), id,
+                         [](const Entry& e, std::uint32_t v) { return e.first < v; });
+    const bool present = merged != entries.end() && merged->first == id;
+    const int kept = present && merged->second.is_rational() ? domain_of_exponent(merged->second)
+                                                             : (present ? needed : 0);
+    const Node& base = impl_->nodes[id];
+    if (base.op == Op::kConstant) needed &= base.number.sign() <= 0 ? kNonNegative : 0;
+    const int lost = needed & ~kept;
+    if (lost != 0) {
+      const Number exponent = lost == (kNonZero | kNonNegative) ? Number::rational(-1, 2)
+                              : lost == kNonZero                ? Number::integer(-1)
+                                                                : Number::rational(1, 2);
+      guards.push_back(power(Expr(this, id), exponent));
+    } else if (!present && base.partial) {
+      guards.push_back(Expr(this, id));
+    }
+  }
   // Merging may give a constant base an integer exponent (2^(1/2)·2^(1/2) = 2): fold it.
   std::erase_if(entries, [&](const Entry& entry) {
     const Node& node = impl_->nodes[entry.first];
@@ -372,7 +475,7 @@ Expr ExprPool::product(const Number& coefficient, std::span<const Term> factors)
     c = c * node.number.pow(entry.second.numerator());
     return true;
   });
-  if (c.is_zero()) return constant(Number());
+  if (c.is_zero()) return zero();
   // An exponent sum that overflowed 64 bits is a real: that factor becomes the real power
   // Pow(base, exponent) with exponent 1.
   bool replaced = false;
@@ -383,24 +486,30 @@ Expr ExprPool::product(const Number& coefficient, std::span<const Term> factors)
     }
   }
   if (replaced) sort_and_merge(entries);
-  if (!c.is_rational()) {  // the coefficient overflowed 64 bits: it becomes an operand
-    return product(c, terms_of(entries));
-  }
-  if (entries.empty()) return constant(c);
-  if (entries.size() == 1 && entries[0].second.is_one()) {
-    const Expr only(this, entries[0].first);
-    if (c.is_one()) return only;
-    if (only.op() == Op::kAdd) {  // distribute the coefficient: 2·(x + y) -> 2x + 2y
-      const Term scaled[] = {{only, c}};
-      return sum(Number(), scaled);
+  const Expr result = [&] {
+    if (!c.is_rational()) {  // the coefficient overflowed 64 bits: it becomes an operand
+      return product(c, terms_of(entries));
     }
-  }
-  const auto begin = static_cast<std::uint32_t>(impl_->operand_ids.size());
-  for (const Entry& e : entries) {
-    impl_->operand_ids.push_back(e.first);
-    impl_->factors.push_back(e.second);
-  }
-  return Expr(this, impl_->intern(Op::kMul, c, begin, 0));
+    if (entries.empty()) return constant(c);
+    if (entries.size() == 1 && entries[0].second.is_one()) {
+      const Expr only(this, entries[0].first);
+      if (c.is_one()) return only;
+      if (only.op() == Op::kAdd) {  // distribute the coefficient: 2·(x + y) -> 2x + 2y
+        const Term scaled[] = {{only, c}};
+        return sum(Number(), scaled);
+      }
+    }
+    const auto begin = static_cast<std::uint32_t>(impl_->operand_ids.size());
+    for (const Entry& e : entries) {
+      impl_->operand_ids.push_back(e.first);
+      impl_->factors.push_back(e.second);
+    }
+    return Expr(this, impl_->intern(Op::kMul, c, begin, 0));
+  }();
+  if (guards.empty()) return result;
+  std::vector<Term> guarded{{result, Number::integer(1)}};
+  for (Expr g : guards) guarded.push_back({g, Number()});
+  return sum(Number(), guarded);
 }
 
 Expr ExprPool::sum(std::span<const Expr> terms) {
@@ -430,7 +539,10 @@ Expr ExprPool::power(Expr base, Expr exponent) {
   if (exponent.is_constant() && exponent.constant().is_rational()) {
     return power(base, exponent.constant());
   }
-  if (base.is_constant() && base.constant().is_one()) return base;
+  if (base.is_constant() && base.constant().is_one()) {  // 1^b = 1 where b is defined
+    const Term guard[] = {{exponent, Number()}};
+    return sum(Number::integer(1), guard);
+  }
   const auto begin = static_cast<std::uint32_t>(impl_->operand_ids.size());
   impl_->operand_ids.push_back(base.id_);
   impl_->factors.push_back(Number::integer(1));
@@ -518,7 +630,9 @@ void ExprPool::check_invariants() const {
             m.operand_ids[i] <= m.operand_ids[i - 1]) {
           fail(id, "operands not strictly sorted by id");
         }
-        if (m.factors[i].is_zero()) fail(id, "zero coefficient or exponent");
+        if (m.factors[i].is_zero() && !(n.op == Op::kAdd && m.nodes[m.operand_ids[i]].partial)) {
+          fail(id, "zero coefficient (on a term defined everywhere) or exponent");
+        }
         const Node& child = m.nodes[m.operand_ids[i]];
         if (n.op == Op::kAdd) {
           if (child.op == Op::kConstant && child.number.is_rational())
@@ -541,7 +655,8 @@ void ExprPool::check_invariants() const {
     if ((n.op == Op::kAdd || n.op == Op::kMul) && !n.number.is_rational()) {
       fail(id, "real constant folded into a sum or product");
     }
-    if (n.op == Op::kAdd && (n.count == 0 || (n.count == 1 && n.number.is_zero()))) {
+    if (n.op == Op::kAdd &&
+        (n.count == 0 || (n.count == 1 && n.number.is_zero() && !m.factors[n.begin].is_zero()))) {
       fail(id, "degenerate sum");
     }
     if (n.op == Op::kMul) {
@@ -549,6 +664,7 @@ void ExprPool::check_invariants() const {
       if (n.count == 1 && n.number.is_one() && m.factors[n.begin].is_one())
         fail(id, "trivial product");
     }
+    if (n.partial != m.partial_node(n.op, n.begin, n.count)) fail(id, "wrong partial flag");
     std::size_t s = m.slot_of(n.hash);
     while (m.table[s] != id) {
       if (m.table[s] == kEmptySlot) fail(id, "missing from the hash-consing table");

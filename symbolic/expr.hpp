@@ -18,7 +18,8 @@
 //
 // Automatic simplifications at construction (everything else is the simplifier's, see smp.hpp):
 //   * Add: nested sums flattened; constants folded into c0; like terms collected (x + 2x -> 3x);
-//     terms with coefficient 0 dropped (x - x -> 0); c0 + 1·t with c0 = 0 is t; a lone scaled
+//     terms with coefficient 0 dropped (x - x -> 0) unless partial (see Domains); c0 + 1·t with
+//     c0 = 0 is t; a lone scaled
 //     term c·t is the Mul c·t. Each term ti is neither a rational Constant, an Add, nor a Mul
 //     whose coefficient is not 1 (that coefficient moves into ci).
 //   * Mul: nested products flattened (for integer outer exponents); numeric factors folded into c;
@@ -40,6 +41,13 @@
 //   * Functions fold only exact special values: sin(0) = 0, cos(0) = 1, exp(0) = 1, log(1) = 0,
 //     sqrt of a perfect-square rational, abs of a constant, min/max of constants or of equal
 //     arguments. No libm call is ever folded into a constant (that would round it).
+//   * Domains are never lost. A node is partial when some real values of its variables are
+//     outside its domain (log, sqrt, tan, asin, acos, atan2, real powers, x^-1, x^(1/2), and
+//     anything with a partial operand). A simplification that would drop a partial part keeps
+//     it as a guard term with coefficient 0, whose value is 0 where it is defined and which is
+//     undefined (NaN, or an interval flagged possibly_undefined) elsewhere: log(x) - log(x) is
+//     0·log(x), 0·log(x) stays, x/x is 1 + 0·x^-1, sqrt(x)^2 is x + 0·x^(1/2), 1^log(x) is
+//     1 + 0·log(x). Only sums carry such zero coefficients, and only on partial terms.
 // Subtraction a - b is a + (-1)·b, division a / b is a · b^-1, negation is (-1)·a.
 //
 // Pools are not thread-safe. Expressions from different pools never mix (checked, throws).
@@ -122,6 +130,8 @@ class Expr {
   [[nodiscard]] Expr operand(std::size_t i) const;
   // Add: the coefficient of operand(i); Mul: its exponent; else one.
   [[nodiscard]] const Number& factor(std::size_t i) const;
+  // Partial: some real values of the variables are outside the domain (see "Domains" above).
+  [[nodiscard]] bool is_partial() const;
 
   friend bool operator==(Expr a, Expr b) { return a.pool_ == b.pool_ && a.id_ == b.id_; }
 

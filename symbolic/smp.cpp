@@ -61,7 +61,16 @@ Price price(Expr f, const std::map<std::string, double>& widths, std::size_t& wo
       if (n > 1) p.occurrences += (width == widths.end() ? 1.0 : width->second) * (n - 1);
       continue;
     }
-    for (std::size_t i = 0; i < e.operand_count(); ++i) paths[e.operand(i).id()] += n;
+    for (std::size_t i = 0; i < e.operand_count(); ++i) {
+      // A guard term 0·t (expr.hpp, Domains) encloses to [0, 0] where defined: it costs no
+      // occurrences, only its size.
+      const bool guard = e.op() == Op::kAdd && e.factor(i).is_zero();
+      if (guard) {
+        p.size += n;
+        continue;
+      }
+      paths[e.operand(i).id()] += n;
+    }
   }
   return p;
 }
@@ -505,6 +514,93 @@ class Simplifier {
   std::unordered_set<std::uint32_t> settled_;
 };
 
+// The domain of an expression is the intersection of the conditions its nodes impose on their
+// operands: a base b of b^e (b != 0 when e < 0, b >= 0 when e is fractional), log u (u > 0),
+// sqrt u (u >= 0), tan u, asin u, acos u (conditions symmetric in the sign of u), atan2(y, x) and
+// real powers. Conditions are compared by what they constrain, not by the node imposing them:
+// a/w + b/w and (a + b)/w both require w != 0.
+struct DomainConditions {
+  static constexpr int kNonZero = 1, kNonNegative = 2;
+  std::unordered_map<std::uint32_t, int> on_base;  // base id -> kNonZero | kNonNegative
+  std::unordered_set<std::uint64_t> other;         // (op, operand ids) keys
+
+  explicit DomainConditions(Expr f) {
+    for (Expr e : topological_order(just(f))) add(e);
+  }
+
+  static std::uint64_t key(Op op, std::uint32_t a, std::uint32_t b = 0) {
+    return (static_cast<std::uint64_t>(op) << 56) ^ (static_cast<std::uint64_t>(a) << 24) ^ b;
+  }
+  // tan, asin, acos: the same condition on u and -u.
+  static std::uint32_t sign_free(Expr u) { return std::min(u.id(), (-u).id()); }
+
+  void add(Expr e) {
+    switch (e.op()) {
+      case Op::kLog:
+        on_base[e.operand(0).id()] |= kNonZero | kNonNegative;
+        return;
+      case Op::kSqrt:
+        on_base[e.operand(0).id()] |= kNonNegative;
+        return;
+      case Op::kTan:
+      case Op::kAsin:
+      case Op::kAcos:
+        other.insert(key(e.op(), sign_free(e.operand(0))));
+        return;
+      case Op::kAtan2:
+      case Op::kPow:
+        other.insert(key(e.op(), e.operand(0).id(), e.operand(1).id()));
+        return;
+      case Op::kMul:
+        for (std::size_t i = 0; i < e.operand_count(); ++i) {
+          const Number& exponent = e.factor(i);
+          const Expr base = e.operand(i);
+          int flags =
+              (exponent.is_negative() ? kNonZero : 0) | (exponent.is_integer() ? 0 : kNonNegative);
+          if (base.is_constant()) flags &= base.constant().sign() <= 0 ? kNonNegative : 0;
+          if (flags != 0) on_base[base.id()] |= flags;
+        }
+        return;
+      default:
+        return;
+    }
+  }
+
+  // Whether every condition e imposes is among these.
+  bool covers(Expr e) const {
+    DomainConditions own;
+    own.add(e);
+    for (const auto& [base, flags] : own.on_base) {
+      const auto it = on_base.find(base);
+      if (it == on_base.end() || (it->second & flags) != flags) return false;
+    }
+    for (const std::uint64_t k : own.other) {
+      if (!other.contains(k)) return false;
+    }
+    return true;
+  }
+
+ private:
+  DomainConditions() = default;
+};
+
+// `result`, equal to `original` wherever `original` is defined, made undefined wherever
+// `original` is: each node of `original` whose domain condition `result` no longer imposes is
+// added back as a guard 0·node (sin(log x)^2 + cos(log x)^2 -> 1 + 0·log(x)). Guards cost no
+// occurrences (see price()).
+Expr keep_domain(Expr original, Expr result) {
+  if (result == original || !original.is_partial()) return result;
+  DomainConditions kept(result);
+  std::vector<Term> guarded{{result, kOne}};
+  const std::vector<Expr> order = topological_order(just(original));
+  for (auto it = order.rbegin(); it != order.rend(); ++it) {  // outermost first
+    if (kept.covers(*it)) continue;
+    guarded.push_back({*it, Number()});
+    for (Expr inside : topological_order(just(*it))) kept.add(inside);  // now guarded too
+  }
+  return guarded.size() == 1 ? result : original.pool().sum(Number(), guarded);
+}
+
 }  // namespace
 
 double occurrence_cost(Expr f, const std::map<std::string, double>& widths) {
@@ -513,7 +609,8 @@ double occurrence_cost(Expr f, const std::map<std::string, double>& widths) {
 }
 
 Expr expand(Expr f) {
-  return rewrite_bottom_up(f, [](Expr e) { return distribute(e, kMaxExpandTerms).value_or(e); });
+  return keep_domain(
+      f, rewrite_bottom_up(f, [](Expr e) { return distribute(e, kMaxExpandTerms).value_or(e); }));
 }
 
 Expr collect(Expr f, std::span<const Expr> variables) {
@@ -522,33 +619,34 @@ Expr collect(Expr f, std::span<const Expr> variables) {
     if (!v.is_variable()) throw SymbolicError("collect: can only collect in variables");
     collected.insert(v.id());
   }
-  return rewrite_bottom_up(expand(f), [&](Expr e) {
-    if (e.op() != Op::kAdd) return e;
-    ExprPool& pool = e.pool();
-    // Monomial -> the coefficients of its terms, in order of first appearance.
-    std::vector<std::pair<Expr, std::vector<Term>>> groups;
-    std::unordered_map<std::uint32_t, std::size_t> group_of;
-    for (const SumTerm& term : terms_of(e)) {
-      std::vector<Term> monomial, coefficient;
-      for (const Term& factor : term.factors) {
-        const bool in = collected.contains(factor.expr.id()) && factor.factor.is_integer();
-        (in ? monomial : coefficient).push_back(factor);
-      }
-      const Expr m = pool.product(kOne, monomial);
-      const auto [it, fresh] = group_of.emplace(m.id(), groups.size());
-      if (fresh) groups.push_back({m, {}});
-      groups[it->second].second.push_back({pool.product(term.coefficient, coefficient), kOne});
-    }
-    std::vector<Expr> grouped;
-    for (const auto& [monomial, coefficients] : groups) {
-      grouped.push_back(monomial * pool.sum(Number(), coefficients));
-    }
-    return pool.constant(e.constant()) + pool.sum(grouped);
-  });
+  return keep_domain(
+      f, rewrite_bottom_up(expand(f), [&](Expr e) {
+        if (e.op() != Op::kAdd) return e;
+        ExprPool& pool = e.pool();
+        // Monomial -> the coefficients of its terms, in order of first appearance.
+        std::vector<std::pair<Expr, std::vector<Term>>> groups;
+        std::unordered_map<std::uint32_t, std::size_t> group_of;
+        for (const SumTerm& term : terms_of(e)) {
+          std::vector<Term> monomial, coefficient;
+          for (const Term& factor : term.factors) {
+            const bool in = collected.contains(factor.expr.id()) && factor.factor.is_integer();
+            (in ? monomial : coefficient).push_back(factor);
+          }
+          const Expr m = pool.product(kOne, monomial);
+          const auto [it, fresh] = group_of.emplace(m.id(), groups.size());
+          if (fresh) groups.push_back({m, {}});
+          groups[it->second].second.push_back({pool.product(term.coefficient, coefficient), kOne});
+        }
+        std::vector<Expr> grouped;
+        for (const auto& [monomial, coefficients] : groups) {
+          grouped.push_back(monomial * pool.sum(Number(), coefficients));
+        }
+        return pool.constant(e.constant()) + pool.sum(grouped);
+      }));
 }
 
 Expr simplify(Expr f, const SimplifyOptions& options) {
-  const Expr result = Simplifier(options).run(f);
+  const Expr result = keep_domain(f, Simplifier(options).run(f));
   // Each accepted rewrite lowered the cost of its own node; this guards the whole expression.
   if (occurrence_cost(result, options.widths) > occurrence_cost(f, options.widths)) return f;
   return result;

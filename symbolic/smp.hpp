@@ -4,7 +4,9 @@
 // one goal: make interval evaluation tight. Every repeated occurrence of a variable loosens an
 // interval bound (x - x over [0, 1] evaluates to [-1, 1]), so SMP minimises the occurrence cost
 //     cost(f) = Σ_v width(v) · max(0, occurrences_v(f) - 1)        (width 1 when no box is known)
-// counted on f as a tree (a shared subexpression counts once per use), then the tree size.
+// counted on f as a tree (a shared subexpression counts once per use; a domain guard 0·t, see
+// expr.hpp, counts nothing: it encloses to [0, 0]), then the tree size. No rewrite loses a domain:
+// every rewrite is built by construction, which keeps guards for what cancels.
 //
 // Rewrites `simplify` applies (each one an identity wherever the original is defined):
 //   parity         sin(-u) -> -sin u, tan(-u) -> -tan u, atan(-u) -> -atan u, asin(-u) -> -asin u,

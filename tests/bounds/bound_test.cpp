@@ -9,6 +9,7 @@
 #include <limits>
 #include <string>
 
+#include "bounds/inequality.hpp"
 #include "bounds/internal/gradient.hpp"
 #include "bounds/internal/linear_enclosure.hpp"
 #include "random_expression.hpp"
@@ -212,6 +213,27 @@ TEST(Bound, HugeIntegerPowersKeepTheirParity) {
     if (std::isfinite(c.lo)) EXPECT_GT(r.lo, c.lo * (1 - 1e-6 * (c.lo > 0 ? 1 : -1))) << c.text;
     EXPECT_LT(r.hi, c.hi * (1 + 1e-6 * (c.hi > 0 ? 1 : -1))) << c.text;
   }
+}
+
+// Issue 12: 0*log(x), log(x)-log(x) and sqrt(x)-sqrt(x)+1 over x < 0 came back [0, 0] converged
+// although log(x) alone is infeasible there, and x/x was [1, 1], defined, over a box holding 0.
+// Construction keeps the domain of what it cancels, so the bound reports it.
+TEST(Bound, CancelledSubexpressionsKeepTheirDomain) {
+  ExprPool pool;
+  Box negative;
+  negative.add(pool.variable("x"), -2, -1);
+  for (const char* text : {"log(x)", "0*log(x)", "log(x) - log(x)", "sqrt(x) - sqrt(x) + 1"}) {
+    const BoundResult r = bound(symbolic::parse(pool, text), negative);
+    EXPECT_EQ(r.status, BoundStatus::kInfeasible) << text;  // defined nowhere in the box
+  }
+  Box around_zero;
+  around_zero.add(pool.variable("x"), -1, 1);
+  const BoundResult ratio = bound(symbolic::parse(pool, "x/x"), around_zero);
+  EXPECT_TRUE(ratio.possibly_undefined);
+  EXPECT_EQ(ratio.lo, 1.0);
+  EXPECT_EQ(ratio.hi, 1.0);
+  const Inequality one{"x/x <= 1", symbolic::parse(pool, "x/x"), Relation::kLessEqual, 1.0};
+  EXPECT_EQ(decide(one, ratio), Verdict::kUndecided);  // not proved where x = 0
 }
 
 // Issue 12: real exponents are real numbers (a Pow node with a real constant exponent): x^pi is

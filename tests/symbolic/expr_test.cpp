@@ -3,8 +3,10 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <random>
 
+#include "symbolic/operations.hpp"
 #include "symbolic/parse.hpp"
 
 namespace spar::symbolic {
@@ -81,6 +83,11 @@ class ExprTest : public ::testing::Test {
  protected:
   ExprPool pool;
   Expr x = pool.variable("x"), y = pool.variable("y"), z = pool.variable("z");
+  // The guard term 0·e (see Domains in expr.hpp).
+  Expr guard(Expr e) {
+    const Term term[] = {{e, Number()}};
+    return pool.sum(Number(), term);
+  }
 };
 
 TEST_F(ExprTest, StructurallyEqualBuildsShareOneNode) {
@@ -95,13 +102,42 @@ TEST_F(ExprTest, CanonicalFormsAtConstruction) {
   EXPECT_EQ(x * 1.0, x);
   EXPECT_EQ(x + 0.0, x);
   EXPECT_EQ(x * x, pow(x, 2));
-  EXPECT_EQ(pow(x, 2) / x, x);
+  EXPECT_EQ(pow(x, 2) / x, x + guard(pow(x, -1)));  // x, where x != 0
   EXPECT_EQ(x + 2 * x, 3 * x);
   EXPECT_EQ(pow(x, 0), pool.integer(1));
   EXPECT_EQ(2 * (x + y), 2 * x + 2 * y);
   EXPECT_EQ((x + y) + z, x + (y + z));
   EXPECT_EQ((x * y) * z, x * (y * z));
   EXPECT_EQ(x * 0.0, pool.integer(0));
+}
+
+// Issue 12: a simplification at construction may not make an undefined expression defined. What
+// it removes comes back as a guard term 0·t, undefined where t is.
+TEST_F(ExprTest, CancellationKeepsTheDomainOfWhatItRemoves) {
+  struct Case {
+    Expr e;
+    double outside, inside;  // a point outside the domain, one inside
+    double value_inside;
+  };
+  const Case cases[] = {
+      {log(x) - log(x), -1, 2, 0},       {0 * log(x), -1, 2, 0},
+      {sqrt(x) - sqrt(x) + 1, -1, 2, 1}, {x / x, 0, 2, 1},
+      {pow(sqrt(x), 2), -1, 2, 2},       {pow(x, 2) * pow(x, -2), 0, 3, 1},
+      {pow(log(x), 0), -1, 2, 1},        {pow(pool.integer(1), log(x)), -1, 2, 1},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(to_string(c.e));
+    EXPECT_TRUE(c.e.is_partial());
+    EXPECT_TRUE(std::isnan(evaluate(c.e, {{"x", c.outside}})));
+    EXPECT_DOUBLE_EQ(evaluate(c.e, {{"x", c.inside}}), c.value_inside);
+    EXPECT_EQ(parse(pool, to_string(c.e)), c.e);  // the guard prints and reads back
+  }
+  // Cancelling what is defined everywhere still folds.
+  EXPECT_EQ(x - x, pool.integer(0));
+  EXPECT_EQ((x + y) * 0.0, pool.integer(0));
+  EXPECT_EQ(pow(x, 3) / pow(x, 2), x + guard(pow(x, -1)));
+  EXPECT_FALSE((sin(x) - sin(x) + pow(x, 2)).is_partial());
+  pool.check_invariants();
 }
 
 TEST_F(ExprTest, SumStoresConstantAndSortedTerms) {
