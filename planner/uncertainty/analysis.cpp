@@ -34,6 +34,7 @@ std::vector<Phase2Step> phase2_steps(const Domain& domain, const PlanInstance& i
     step.effect = step_effect(domain.actions[source.action]);
     step.object = source.object;
     step.grasp = source.grasp;
+    step.position = source.is_assembly() ? -1 : source.position;
     step.fixed_object = source.fixed_object;
     step.object_pose = source.object_pose;
     step.fixed_pose = source.fixed_pose;
@@ -233,14 +234,31 @@ int InstanceAnalyser::repair(std::vector<Phase2Step>& steps,
   const int scan = find_action(domain_, ActionKind::kSensing);
   const int squeeze = find_action(domain_, ActionKind::kReduction);
   const bool insertion = steps[k].effect == StepEffect::kInsert;
-  // The repairs to try, in order: (kind, object whose uncertainty it reduces).
+  // The repairs to try, in order. A squeeze uses another grasp than the pickup's (with the same
+  // one its preconditions would be the failing pickup's own): every grasp the robot reaches where
+  // the object lies, up to AnalysisOptions::squeeze_grasps of them; it re-centres the object
+  // across that grasp's fingers and leaves only the arm's rotation error.
   enum class Kind { kScanFixed, kScanHeld, kSqueeze };
-  std::vector<Kind> kinds;
+  struct Repair {
+    Kind kind;
+    int grasp{-1};
+  };
+  std::vector<Repair> kinds;
   if (scan >= 0 && world_.scenario().range_scan) {
-    if (insertion) kinds.push_back(Kind::kScanFixed);
-    kinds.push_back(Kind::kScanHeld);
+    if (insertion) kinds.push_back({Kind::kScanFixed});
+    kinds.push_back({Kind::kScanHeld});
   }
-  if (squeeze >= 0) kinds.push_back(Kind::kSqueeze);
+  const int pickup_at = insertion ? grasp_position(steps, k, steps[k].object) : k;
+  if (squeeze >= 0 && pickup_at >= 0 && steps[pickup_at].position >= 0) {
+    const Phase2Step& pickup = steps[pickup_at];
+    const ObjectWorld& object = world_.object(pickup.object);
+    int added = 0;
+    for (std::size_t g = 0; g < object.grasps.size() && added < options_.squeeze_grasps; ++g)
+      if (static_cast<int>(g) != pickup.grasp && object.reachable[g][pickup.position]) {
+        kinds.push_back({Kind::kSqueeze, static_cast<int>(g)});
+        ++added;
+      }
+  }
 
   std::vector<Phase2Step> current = steps;
   int failing_at = k;
@@ -248,7 +266,7 @@ int InstanceAnalyser::repair(std::vector<Phase2Step>& steps,
   double best = shortfall(failing);
   std::vector<PreconditionResult> latest = failing;
   const std::size_t first_attempt = out.repairs.size();
-  for (const Kind kind : kinds) {
+  for (const auto& [kind, squeeze_grasp] : kinds) {
     const Phase2Step& failed = current[failing_at];
     const int grasp_at =
         insertion ? grasp_position(current, failing_at, failed.object) : failing_at;
@@ -259,6 +277,7 @@ int InstanceAnalyser::repair(std::vector<Phase2Step>& steps,
       step = current[grasp_at];
       step.action = squeeze;
       step.effect = StepEffect::kSqueeze;
+      step.grasp = squeeze_grasp;
       step.instance_step = -1;
       position = grasp_at;
     } else {

@@ -18,7 +18,9 @@
 //        for an insertion, a range-scan of the fixed object at the latest point before the step
 //        where the gripper is empty and the object rests where the step finds it;
 //        a range-scan of the handled object likewise before its pickup;
-//        a squeeze just before that pickup;
+//        a squeeze just before that pickup, with each other grasp the robot reaches there (up to
+//        squeeze_grasps): it re-centres the object across those fingers and leaves only the
+//        arm's rotation error;
 //      each attempt is recorded with the bounds before and after;
 //   3. if none helps: the error count goes up by one, and the step gets the verification
 //      templates its action names and, per outcome, the recovery plan, instantiated with the
@@ -130,7 +132,8 @@ struct AnalysisOptions {
   // The chosen instance's reported bounds (with inner values), blame and reverse analysis use
   // `report`, `quick` and `quick`.
   bounds::BoundOptions report{.tolerance = 1e-3, .max_box_evaluations = 5'000};
-  bool repair{true};  // try range-scans and squeezes
+  bool repair{true};      // try range-scans and squeezes
+  int squeeze_grasps{4};  // squeezes tried per failing step (other grasps than the pickup's)
   // Chosen-instance extras:
   bool reverse{true};
   double max_scale{8.0};          // reverse analysis searches scales in [0, max_scale]

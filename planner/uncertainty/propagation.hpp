@@ -66,6 +66,8 @@ struct Phase2Step {
   StepEffect effect{StepEffect::kNone};
   int object{-1};        // the handled (held) object
   int grasp{-1};         // grasp label of `object` (grasp, release, squeeze, insert)
+  int position{-1};      // position label of `object` where it is (grasp, squeeze) or goes
+                         // (release); -1 for insertions and inserted range-scans
   int fixed_object{-1};  // insertions
   kinematics::Transform object_pose{
       kinematics::Transform::Identity()};  // ideal: where it is
