@@ -196,14 +196,14 @@ TEST(Phase2SeedExample, CoarseSensorGivesVerificationRecoveryAndOneError) {
   EXPECT_EQ(chosen.errors, 1);
   EXPECT_EQ(actions(chosen), (std::vector<std::string>{"pickup", "assemble"}));
 
-  // Tried, in order, and dropped: the scan (wider after), then the squeeze. A squeeze would
-  // centre the peg for the pickup after it, but its own preconditions are the pickup's four over
-  // the same state and fail just as those did, so it cannot be done either.
-  ASSERT_EQ(chosen.repairs.size(), 2u);
+  // Tried, in order, and dropped: the scan (wider after), then squeezes with the peg's other
+  // reachable grasps (with the pickup's own grasp a squeeze's preconditions would be the failing
+  // pickup's four); none of them gets the pickup proved.
+  ASSERT_GE(chosen.repairs.size(), 2u);
   const RepairAttempt& scan = chosen.repairs[0];
-  const RepairAttempt& squeeze = chosen.repairs[1];
   EXPECT_EQ(scan.action, "range-scan");
-  EXPECT_EQ(squeeze.action, "squeeze");
+  for (std::size_t i = 1; i < chosen.repairs.size(); ++i)
+    EXPECT_EQ(chosen.repairs[i].action, "squeeze");
   for (const RepairAttempt& attempt : chosen.repairs) {
     EXPECT_FALSE(attempt.helped) << attempt.action;
     EXPECT_EQ(attempt.for_instance_step, 0);
@@ -211,7 +211,6 @@ TEST(Phase2SeedExample, CoarseSensorGivesVerificationRecoveryAndOneError) {
   }
   EXPECT_EQ(failing(scan.verdicts_after), 2);
   EXPECT_GT(scan.after[1].hi - scan.after[1].lo, scan.before[1].hi - scan.before[1].lo);
-  EXPECT_EQ(failing(squeeze.verdicts_after), 0);
 
   const AnalysedStep& pickup = chosen.steps[0];
   EXPECT_TRUE(pickup.failed);
