@@ -183,6 +183,28 @@ TEST(Phase2SeedExample, WithoutRepairTheWidenedPickupIsAnError) {
   EXPECT_TRUE(chosen.steps[0].failed);
 }
 
+// Without a sensor, a squeeze across another grasp of the peg (more room between the fingers than
+// the pickup's) re-centres it and removes its rotation error, and the pickup is proved.
+TEST(Phase2SeedExample, WithoutASensorASqueezeWithAnotherGraspRepairsThePickup) {
+  Scenario scenario = peg_pickup();
+  scenario.range_scan.reset();
+  ObjectSpec& peg = peg_of(scenario);
+  peg.uncertainty.dx = peg.uncertainty.dy = 0.5 * kInch;
+  const PlanResult result = plan(scenario, builtin_domain(), quick_options(1));
+  ASSERT_TRUE(result.planned()) << result.family.reason;
+  const InstanceAnalysis& chosen = *result.chosen_analysis();
+  EXPECT_EQ(chosen.errors, 0);
+  ASSERT_EQ(actions(chosen), (std::vector<std::string>{"squeeze", "pickup", "assemble"}));
+  EXPECT_TRUE(chosen.steps[0].inserted);
+  EXPECT_NE(chosen.steps[0].step.grasp, chosen.steps[1].step.grasp);
+  for (const AnalysedStep& step : chosen.steps)
+    for (const PreconditionResult& p : step.preconditions)
+      EXPECT_EQ(p.verdict, Verdict::kSatisfied) << step.action << ": " << p.inequality.name;
+  ASSERT_FALSE(chosen.repairs.empty());
+  EXPECT_TRUE(chosen.repairs.back().helped);
+  EXPECT_EQ(chosen.repairs.back().action, "squeeze");
+}
+
 TEST(Phase2SeedExample, CoarseSensorGivesVerificationRecoveryAndOneError) {
   Scenario scenario = widened();
   // A residual wider than the peg's own uncertainty: a scan can only make things worse.
