@@ -96,17 +96,12 @@ struct spar::symbolic::TapeDomain<spar::bounds::Interval> {
   static I square(const I& x) { return spar::bounds::square(x); }
   static I pow_int(const I& x, int n) { return spar::bounds::pow_int(x, n); }
   static I pow(const I& x, const I& y) { return spar::bounds::pow(x, y); }
-  static I sqrt(const I& x) { return spar::bounds::sqrt(x); }
-  static I sin(const I& x) { return spar::bounds::sin(x); }
-  static I cos(const I& x) { return spar::bounds::cos(x); }
-  static I tan(const I& x) { return spar::bounds::tan(x); }
-  static I exp(const I& x) { return spar::bounds::exp(x); }
-  static I log(const I& x) { return spar::bounds::log(x); }
-  static I abs(const I& x) { return spar::bounds::abs(x); }
-  static I atan(const I& x) { return spar::bounds::atan(x); }
-  static I asin(const I& x) { return spar::bounds::asin(x); }
-  static I acos(const I& x) { return spar::bounds::acos(x); }
-  static I atan2(const I& y, const I& x) { return spar::bounds::atan2(y, x); }
-  static I min(const I& a, const I& b) { return spar::bounds::min(a, b); }
-  static I max(const I& a, const I& b) { return spar::bounds::max(a, b); }
+#define SPAR_INTERVAL_UNARY(Name, name, ...) \
+  static I name(const I& x) { return spar::bounds::name(x); }
+#define SPAR_INTERVAL_BINARY(Name, name, ...) \
+  static I name(const I& a, const I& b) { return spar::bounds::name(a, b); }
+  SPAR_UNARY_FUNCTIONS(SPAR_INTERVAL_UNARY)
+  SPAR_BINARY_FUNCTIONS(SPAR_INTERVAL_BINARY)
+#undef SPAR_INTERVAL_UNARY
+#undef SPAR_INTERVAL_BINARY
 };

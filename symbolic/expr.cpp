@@ -38,39 +38,38 @@ std::optional<std::int64_t> exact_isqrt(std::int64_t v) {
 
 std::string_view function_name(Op op) {
   switch (op) {
-    case Op::kSin:
-      return "sin";
-    case Op::kCos:
-      return "cos";
-    case Op::kTan:
-      return "tan";
-    case Op::kSqrt:
-      return "sqrt";
-    case Op::kExp:
-      return "exp";
-    case Op::kLog:
-      return "log";
-    case Op::kAbs:
-      return "abs";
-    case Op::kAtan:
-      return "atan";
-    case Op::kAsin:
-      return "asin";
-    case Op::kAcos:
-      return "acos";
-    case Op::kAtan2:
-      return "atan2";
-    case Op::kMin:
-      return "min";
-    case Op::kMax:
-      return "max";
+#define SPAR_NAME(Name, name, ...) \
+  case Op::k##Name:                \
+    return #name;
+    SPAR_UNARY_FUNCTIONS(SPAR_NAME)
+    SPAR_BINARY_FUNCTIONS(SPAR_NAME)
+#undef SPAR_NAME
     default:
       return "";
   }
 }
 
-bool is_unary_function(Op op) { return op >= Op::kSin && op <= Op::kAcos; }
-bool is_binary_function(Op op) { return op >= Op::kAtan2 && op <= Op::kMax; }
+bool is_unary_function(Op op) {
+  switch (op) {
+#define SPAR_CASE(Name, ...) case Op::k##Name:
+    SPAR_UNARY_FUNCTIONS(SPAR_CASE)
+    return true;
+#undef SPAR_CASE
+    default:
+      return false;
+  }
+}
+
+bool is_binary_function(Op op) {
+  switch (op) {
+#define SPAR_CASE(Name, ...) case Op::k##Name:
+    SPAR_BINARY_FUNCTIONS(SPAR_CASE)
+    return true;
+#undef SPAR_CASE
+    default:
+      return false;
+  }
+}
 
 // Node layout. Invariants (checked by ExprPool::check_invariants):
 //  * operands of node n are operand_ids[begin, begin + count) with parallel factors; every operand
@@ -754,18 +753,13 @@ Expr pow(Expr base, const Number& exponent) { return base.pool().power(base, exp
 Expr pow(Expr base, std::int64_t exponent) {
   return base.pool().power(base, Number::integer(exponent));
 }
-Expr sin(Expr a) { return a.pool().function(Op::kSin, a); }
-Expr cos(Expr a) { return a.pool().function(Op::kCos, a); }
-Expr tan(Expr a) { return a.pool().function(Op::kTan, a); }
-Expr sqrt(Expr a) { return a.pool().function(Op::kSqrt, a); }
-Expr exp(Expr a) { return a.pool().function(Op::kExp, a); }
-Expr log(Expr a) { return a.pool().function(Op::kLog, a); }
-Expr abs(Expr a) { return a.pool().function(Op::kAbs, a); }
-Expr atan(Expr a) { return a.pool().function(Op::kAtan, a); }
-Expr asin(Expr a) { return a.pool().function(Op::kAsin, a); }
-Expr acos(Expr a) { return a.pool().function(Op::kAcos, a); }
-Expr atan2(Expr y, Expr x) { return y.pool().function(Op::kAtan2, y, x); }
-Expr min(Expr a, Expr b) { return a.pool().function(Op::kMin, a, b); }
-Expr max(Expr a, Expr b) { return a.pool().function(Op::kMax, a, b); }
+#define SPAR_DEFINE_UNARY(Name, name, ...) \
+  Expr name(Expr a) { return a.pool().function(Op::k##Name, a); }
+#define SPAR_DEFINE_BINARY(Name, name, ...) \
+  Expr name(Expr a, Expr b) { return a.pool().function(Op::k##Name, a, b); }
+SPAR_UNARY_FUNCTIONS(SPAR_DEFINE_UNARY)
+SPAR_BINARY_FUNCTIONS(SPAR_DEFINE_BINARY)
+#undef SPAR_DEFINE_UNARY
+#undef SPAR_DEFINE_BINARY
 
 }  // namespace spar::symbolic

@@ -69,29 +69,21 @@
 #include <utility>
 #include <vector>
 
+#include "symbolic/functions.hpp"
 #include "symbolic/number.hpp"
 
 namespace spar::symbolic {
 
+// The functions come from the one table (symbolic/functions.hpp): unary ones, then binary ones.
 enum class Op : std::uint8_t {
   kConstant,
   kVariable,
   kAdd,
   kMul,
   kPow,
-  kSin,
-  kCos,
-  kTan,
-  kSqrt,
-  kExp,
-  kLog,
-  kAbs,
-  kAtan,
-  kAsin,
-  kAcos,
-  kAtan2,
-  kMin,
-  kMax,
+#define SPAR_OP(Name, ...) k##Name,
+  SPAR_UNARY_FUNCTIONS(SPAR_OP) SPAR_BINARY_FUNCTIONS(SPAR_OP)
+#undef SPAR_OP
 };
 
 // What to write instead of a non-ASCII character (names and the infix syntax are ASCII).
@@ -103,6 +95,12 @@ inline constexpr const char* kAsciiHint =
 [[nodiscard]] std::string_view function_name(Op op);
 [[nodiscard]] bool is_unary_function(Op op);
 [[nodiscard]] bool is_binary_function(Op op);  // Atan2, Min, Max (Pow is not a function call)
+// Every function op, in the table's order.
+inline constexpr Op kFunctionOps[] = {
+#define SPAR_OP(Name, ...) Op::k##Name,
+    SPAR_UNARY_FUNCTIONS(SPAR_OP) SPAR_BINARY_FUNCTIONS(SPAR_OP)
+#undef SPAR_OP
+};
 
 class ExprPool;
 class Expr;
@@ -223,18 +221,12 @@ Expr& operator*=(Expr& a, Expr b);
 [[nodiscard]] Expr pow(Expr base, Expr exponent);
 [[nodiscard]] Expr pow(Expr base, const Number& exponent);
 [[nodiscard]] Expr pow(Expr base, std::int64_t exponent);
-[[nodiscard]] Expr sin(Expr a);
-[[nodiscard]] Expr cos(Expr a);
-[[nodiscard]] Expr tan(Expr a);
-[[nodiscard]] Expr sqrt(Expr a);
-[[nodiscard]] Expr exp(Expr a);
-[[nodiscard]] Expr log(Expr a);
-[[nodiscard]] Expr abs(Expr a);
-[[nodiscard]] Expr atan(Expr a);
-[[nodiscard]] Expr asin(Expr a);
-[[nodiscard]] Expr acos(Expr a);
-[[nodiscard]] Expr atan2(Expr y, Expr x);
-[[nodiscard]] Expr min(Expr a, Expr b);
-[[nodiscard]] Expr max(Expr a, Expr b);
+// sin(a) ... acos(a), atan2(y, x), min(a, b), max(a, b): one per entry of functions.hpp.
+#define SPAR_DECLARE_UNARY(Name, name, ...) [[nodiscard]] Expr name(Expr a);
+#define SPAR_DECLARE_BINARY(Name, name, ...) [[nodiscard]] Expr name(Expr a, Expr b);
+SPAR_UNARY_FUNCTIONS(SPAR_DECLARE_UNARY)
+SPAR_BINARY_FUNCTIONS(SPAR_DECLARE_BINARY)
+#undef SPAR_DECLARE_UNARY
+#undef SPAR_DECLARE_BINARY
 
 }  // namespace spar::symbolic

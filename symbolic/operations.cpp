@@ -1,6 +1,7 @@
 #include "symbolic/operations.hpp"
 
 #include <algorithm>
+#include <stdexcept>
 #include <unordered_map>
 
 #include "symbolic/tape.hpp"
@@ -11,6 +12,21 @@ namespace {
 const Number kOne = Number::integer(1);
 
 bool is_zero(Expr e) { return e.is_constant() && e.constant().is_zero(); }
+
+// The function set the table's derivative formulas (symbolic/functions.hpp) are written over, as
+// expressions. min/max are not smooth: d min(a, b)/da is 1 where a < b and 0 where a > b,
+// (1 - (a - b)/|a - b|)/2, undefined where a = b (as the derivative is).
+struct F {
+  static double one() { return 1.0; }  // a double operand is an exact constant (expr.hpp)
+  static Expr square(Expr x) { return pow(x, 2); }
+  static Expr sin(Expr x) { return symbolic::sin(x); }
+  static Expr cos(Expr x) { return symbolic::cos(x); }
+  static Expr tan(Expr x) { return symbolic::tan(x); }
+  static Expr exp(Expr x) { return symbolic::exp(x); }
+  static Expr sqrt(Expr x) { return symbolic::sqrt(x); }
+  static Expr sign(Expr x) { return x / abs(x); }
+  static Expr min_partial(Expr a, Expr b) { return (1 - (a - b) / abs(a - b)) / 2; }
+};
 
 // d e given the derivatives of its operands (`d(operand)`), for every op.
 template <class Derivative>
@@ -49,44 +65,34 @@ Expr derivative_of_node(Expr e, Expr variable, Derivative&& d) {
       const Expr a = e.operand(0), b = e.operand(1);
       return e * (d(b) * log(a) + b * d(a) / a);
     }
-    case Op::kAtan2: {  // d atan2(y, x) = (x dy - y dx) / (x^2 + y^2)
-      const Expr y = e.operand(0), x = e.operand(1);
-      return (x * d(y) - y * d(x)) / (pow(x, 2) + pow(y, 2));
-    }
-    case Op::kMin:
-    case Op::kMax: {  // min/max(a, b) = (a + b)/2 ∓ |a - b|/2
-      const Expr a = e.operand(0), b = e.operand(1);
-      const Expr da = d(a), db = d(b);
-      const Expr half_spread = (a - b) * (da - db) / (2 * abs(a - b));
-      return (da + db) / 2 + (e.op() == Op::kMax ? half_spread : -half_spread);
-    }
     default:
       break;
   }
+  // A function: the chain rule with the table's derivatives (symbolic/functions.hpp).
   const Expr a = e.operand(0);
   const Expr da = d(a);
-  if (is_zero(da)) return pool.integer(0);
+  if (e.operand_count() == 1) {
+    if (is_zero(da)) return pool.integer(0);
+    switch (e.op()) {
+#define SPAR_DERIVATIVE_UNARY(Name, name, libm, derivative) \
+  case Op::k##Name:                                         \
+    return (derivative)*da;
+      SPAR_UNARY_FUNCTIONS(SPAR_DERIVATIVE_UNARY)
+#undef SPAR_DERIVATIVE_UNARY
+      default:
+        break;
+    }
+  }
+  const Expr b = e.operand(1);
+  const Expr db = d(b);
   switch (e.op()) {
-    case Op::kSin:
-      return cos(a) * da;
-    case Op::kCos:
-      return -sin(a) * da;
-    case Op::kTan:
-      return (1 + pow(e, 2)) * da;
-    case Op::kSqrt:
-      return da / (2 * e);
-    case Op::kExp:
-      return e * da;
-    case Op::kLog:
-      return da / a;
-    case Op::kAbs:
-      return a / e * da;
-    case Op::kAtan:
-      return da / (1 + pow(a, 2));
-    case Op::kAsin:
-      return da / sqrt(1 - pow(a, 2));
+#define SPAR_DERIVATIVE_BINARY(Name, name, libm, by_a, by_b) \
+  case Op::k##Name:                                          \
+    return (by_a)*da + (by_b)*db;
+    SPAR_BINARY_FUNCTIONS(SPAR_DERIVATIVE_BINARY)
+#undef SPAR_DERIVATIVE_BINARY
     default:
-      return -da / sqrt(1 - pow(a, 2));  // acos
+      throw std::logic_error("differentiate: unknown operation");
   }
 }
 

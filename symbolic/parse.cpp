@@ -369,7 +369,7 @@ class Parser {
       operands_.push_back({pow(args[0], args[1])});
       return;
     }
-    for (Op op = Op::kSin; op <= Op::kMax; op = static_cast<Op>(static_cast<int>(op) + 1)) {
+    for (const Op op : kFunctionOps) {
       if (function_name(op) != fn) continue;
       if (is_unary_function(op)) {
         arity(1);

@@ -52,36 +52,20 @@ class Compiler {
 
   static TapeOp unary_op(Op op) {
     switch (op) {
-      case Op::kSin:
-        return TapeOp::kSin;
-      case Op::kCos:
-        return TapeOp::kCos;
-      case Op::kTan:
-        return TapeOp::kTan;
-      case Op::kSqrt:
-        return TapeOp::kSqrt;
-      case Op::kExp:
-        return TapeOp::kExp;
-      case Op::kLog:
-        return TapeOp::kLog;
-      case Op::kAbs:
-        return TapeOp::kAbs;
-      case Op::kAtan:
-        return TapeOp::kAtan;
-      case Op::kAsin:
-        return TapeOp::kAsin;
+#define SPAR_MAP(Name, ...) \
+  case Op::k##Name:         \
+    return TapeOp::k##Name;
+      SPAR_UNARY_FUNCTIONS(SPAR_MAP)
       default:
-        return TapeOp::kAcos;
+        throw std::logic_error("tape: not a unary function");
     }
   }
   static TapeOp binary_op(Op op) {
     switch (op) {
-      case Op::kAtan2:
-        return TapeOp::kAtan2;
-      case Op::kMin:
-        return TapeOp::kMin;
+      SPAR_BINARY_FUNCTIONS(SPAR_MAP)
+#undef SPAR_MAP
       default:
-        return TapeOp::kMax;
+        throw std::logic_error("tape: not a binary function");
     }
   }
 

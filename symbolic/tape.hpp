@@ -46,19 +46,9 @@ enum class TapeOp : std::uint8_t {
   kSquare,
   kPowInt,
   kPow,
-  kSqrt,
-  kSin,
-  kCos,
-  kTan,
-  kExp,
-  kLog,
-  kAbs,
-  kAtan,
-  kAsin,
-  kAcos,
-  kAtan2,
-  kMin,
-  kMax,
+#define SPAR_TAPE_OP(Name, ...) k##Name,
+  SPAR_UNARY_FUNCTIONS(SPAR_TAPE_OP) SPAR_BINARY_FUNCTIONS(SPAR_TAPE_OP)
+#undef SPAR_TAPE_OP
 };
 
 // dst = op(a[, b]); `power` is the exponent of PowInt. Slots index the evaluator's array.
@@ -107,19 +97,14 @@ struct TapeDomain<double> {
     return result;
   }
   static double pow(double x, double y) { return std::pow(x, y); }
-  static double sqrt(double x) { return std::sqrt(x); }
-  static double sin(double x) { return std::sin(x); }
-  static double cos(double x) { return std::cos(x); }
-  static double tan(double x) { return std::tan(x); }
-  static double exp(double x) { return std::exp(x); }
-  static double log(double x) { return std::log(x); }
-  static double abs(double x) { return std::fabs(x); }
-  static double atan(double x) { return std::atan(x); }
-  static double asin(double x) { return std::asin(x); }
-  static double acos(double x) { return std::acos(x); }
-  static double atan2(double y, double x) { return std::atan2(y, x); }
-  static double min(double a, double b) { return std::fmin(a, b); }
-  static double max(double a, double b) { return std::fmax(a, b); }
+#define SPAR_DOUBLE_UNARY(Name, name, libm, ...) \
+  static double name(double x) { return std::libm(x); }
+#define SPAR_DOUBLE_BINARY(Name, name, libm, ...) \
+  static double name(double a, double b) { return std::libm(a, b); }
+  SPAR_UNARY_FUNCTIONS(SPAR_DOUBLE_UNARY)
+  SPAR_BINARY_FUNCTIONS(SPAR_DOUBLE_BINARY)
+#undef SPAR_DOUBLE_UNARY
+#undef SPAR_DOUBLE_BINARY
 };
 
 // Calls visitor.unary(f) or visitor.binary(f) with the instruction's operation as a generic
@@ -152,45 +137,18 @@ inline void dispatch_instruction(const Instruction& in, Visitor&& visitor) {
     case TapeOp::kPow:
       visitor.binary([](const auto& a, const auto& b) { return D::pow(a, b); });
       break;
-    case TapeOp::kSqrt:
-      visitor.unary([](const auto& a) { return D::sqrt(a); });
-      break;
-    case TapeOp::kSin:
-      visitor.unary([](const auto& a) { return D::sin(a); });
-      break;
-    case TapeOp::kCos:
-      visitor.unary([](const auto& a) { return D::cos(a); });
-      break;
-    case TapeOp::kTan:
-      visitor.unary([](const auto& a) { return D::tan(a); });
-      break;
-    case TapeOp::kExp:
-      visitor.unary([](const auto& a) { return D::exp(a); });
-      break;
-    case TapeOp::kLog:
-      visitor.unary([](const auto& a) { return D::log(a); });
-      break;
-    case TapeOp::kAbs:
-      visitor.unary([](const auto& a) { return D::abs(a); });
-      break;
-    case TapeOp::kAtan:
-      visitor.unary([](const auto& a) { return D::atan(a); });
-      break;
-    case TapeOp::kAsin:
-      visitor.unary([](const auto& a) { return D::asin(a); });
-      break;
-    case TapeOp::kAcos:
-      visitor.unary([](const auto& a) { return D::acos(a); });
-      break;
-    case TapeOp::kAtan2:
-      visitor.binary([](const auto& y, const auto& x) { return D::atan2(y, x); });
-      break;
-    case TapeOp::kMin:
-      visitor.binary([](const auto& a, const auto& b) { return D::min(a, b); });
-      break;
-    case TapeOp::kMax:
-      visitor.binary([](const auto& a, const auto& b) { return D::max(a, b); });
-      break;
+#define SPAR_DISPATCH_UNARY(Name, name, ...)                 \
+  case TapeOp::k##Name:                                      \
+    visitor.unary([](const auto& a) { return D::name(a); }); \
+    break;
+#define SPAR_DISPATCH_BINARY(Name, name, ...)                                   \
+  case TapeOp::k##Name:                                                         \
+    visitor.binary([](const auto& a, const auto& b) { return D::name(a, b); }); \
+    break;
+      SPAR_UNARY_FUNCTIONS(SPAR_DISPATCH_UNARY)
+      SPAR_BINARY_FUNCTIONS(SPAR_DISPATCH_BINARY)
+#undef SPAR_DISPATCH_UNARY
+#undef SPAR_DISPATCH_BINARY
   }
 }
 

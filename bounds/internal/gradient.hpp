@@ -116,9 +116,33 @@ class GradientEvaluator {
 
   static bool is_binary(symbolic::TapeOp op) {
     using symbolic::TapeOp;
-    return op == TapeOp::kAdd || op == TapeOp::kSub || op == TapeOp::kMul || op == TapeOp::kDiv ||
-           op == TapeOp::kPow || op == TapeOp::kAtan2 || op == TapeOp::kMin || op == TapeOp::kMax;
+    switch (op) {
+      case TapeOp::kAdd:
+      case TapeOp::kSub:
+      case TapeOp::kMul:
+      case TapeOp::kDiv:
+      case TapeOp::kPow:
+#define SPAR_CASE(Name, ...) case TapeOp::k##Name:
+        SPAR_BINARY_FUNCTIONS(SPAR_CASE)
+#undef SPAR_CASE
+        return true;
+      default:
+        return false;
+    }
   }
+
+  // The function set the table's derivative formulas (symbolic/functions.hpp) are written over.
+  struct F {
+    static T one() { return T{1.0}; }
+    static T square(const T& x) { return D::square(x); }
+    static T sin(const T& x) { return D::sin(x); }
+    static T cos(const T& x) { return D::cos(x); }
+    static T tan(const T& x) { return D::tan(x); }
+    static T exp(const T& x) { return D::exp(x); }
+    static T sqrt(const T& x) { return D::sqrt(x); }
+    static T sign(const T& x) { return sign_partial(x); }
+    static T min_partial(const T& a, const T& b) { return internal::min_partial(a, b); }
+  };
 
   static void partials(const symbolic::Instruction& in, const T& a, const T& b, T& da, T& db) {
     using symbolic::TapeOp;
@@ -153,55 +177,26 @@ class GradientEvaluator {
         da = b * D::pow(a, b - one);
         db = D::pow(a, b) * D::log(a);
         break;
-      case TapeOp::kSqrt:
-        da = T{0.5} / D::sqrt(a);
-        break;
-      case TapeOp::kSin:
-        da = D::cos(a);
-        break;
-      case TapeOp::kCos:
-        da = -D::sin(a);
-        break;
-      case TapeOp::kTan:
-        da = one + D::square(D::tan(a));
-        break;
-      case TapeOp::kExp:
-        da = D::exp(a);
-        break;
-      case TapeOp::kLog:
-        da = one / a;
-        break;
-      case TapeOp::kAbs:
-        da = sign_partial(a);
-        break;
-      case TapeOp::kAtan:
-        da = one / (one + D::square(a));
-        break;
-      case TapeOp::kAsin:
-        da = one / D::sqrt(one - D::square(a));
-        break;
-      case TapeOp::kAcos:
-        da = -(one / D::sqrt(one - D::square(a)));
-        break;
-      case TapeOp::kAtan2: {
-        const T norm = D::square(a) + D::square(b);
-        da = b / norm;
-        db = -(a / norm);
-        if constexpr (std::is_same_v<T, Interval>) {
-          // atan2(a, b) jumps by 2π where b < 0 and a crosses 0 (the branch cut): no derivative
-          // bounds the change there, so monotonicity and the centred form must not be used.
-          if (b.lo < 0 && a.lo <= 0 && a.hi >= 0) da = db = Interval::entire();
-        }
-        break;
+#define SPAR_PARTIAL_UNARY(Name, name, libm, derivative) \
+  case TapeOp::k##Name:                                  \
+    da = derivative;                                     \
+    break;
+#define SPAR_PARTIAL_BINARY(Name, name, libm, by_a, by_b) \
+  case TapeOp::k##Name:                                   \
+    da = by_a;                                            \
+    db = by_b;                                            \
+    break;
+        SPAR_UNARY_FUNCTIONS(SPAR_PARTIAL_UNARY)
+        SPAR_BINARY_FUNCTIONS(SPAR_PARTIAL_BINARY)
+#undef SPAR_PARTIAL_UNARY
+#undef SPAR_PARTIAL_BINARY
+    }
+    if constexpr (std::is_same_v<T, Interval>) {
+      // atan2(a, b) jumps by 2π where b < 0 and a crosses 0 (the branch cut): no derivative
+      // bounds the change there, so monotonicity and the centred form must not be used.
+      if (in.op == TapeOp::kAtan2 && b.lo < 0 && a.lo <= 0 && a.hi >= 0) {
+        da = db = Interval::entire();
       }
-      case TapeOp::kMin:
-        da = min_partial(a, b);
-        db = min_partial(b, a);
-        break;
-      case TapeOp::kMax:
-        da = min_partial(b, a);
-        db = min_partial(a, b);
-        break;
     }
   }
 
