@@ -25,6 +25,10 @@ double Units::radians_per_angle_unit() const {
   return angle == AngleUnit::kDegree ? units::kDegree : units::kRadian;
 }
 
+const char* to_string(Distribution distribution) {
+  return distribution == Distribution::kGaussian ? "gaussian" : "uniform";
+}
+
 std::string_view Units::length_name() const {
   switch (length) {
     case LengthUnit::kMetre:

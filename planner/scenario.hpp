@@ -15,7 +15,9 @@
 //   * object names are unique identifiers; every name a goal uses is an object;
 //   * every face id (features, goals) exists in its object's model;
 //   * every pose is rigid; every half-width of an uncertainty is finite and >= 0;
-//   * `places` have unique names; the robot's DH table is a valid chain for the Puma IK.
+//   * `places` have unique names; the robot's DH table is a valid chain for the Puma IK;
+//   * every UncertaintyModel's sigma is > 0 (and finite) where its half-width is > 0 when it is
+//     Gaussian, 0 when uniform; every cost is finite and > 0.
 //
 // Example:
 //   const Scenario scenario = load_scenario("examples/peg_block_face_down.yaml");
@@ -69,6 +71,20 @@ struct SourceLocation {
   [[nodiscard]] std::string str() const;  // "file:line:col"
 };
 
+// How the variables of one uncertainty block ({dx, dy, dz, dtheta}) are distributed inside their
+// worst-case box, for the probabilistic analysis (planner/uncertainty/probability.hpp) only: the
+// half-widths stay the worst-case bound every verdict is about.
+//   uniform   the box's own measure (the default);
+//   gaussian  N(0, sigma^2) per variable, truncated to the box (e.g. half-width = 3 sigma).
+// `cost` weighs each variable's relative tightening in tolerance allocation (default 1).
+enum class Distribution { kUniform, kGaussian };
+[[nodiscard]] const char* to_string(Distribution distribution);  // "uniform", "gaussian"
+struct UncertaintyModel {
+  Distribution distribution{Distribution::kUniform};
+  kinematics::PoseUncertainty sigma{};  // m, rad; all 0 when uniform
+  kinematics::PoseUncertainty cost{1.0, 1.0, 1.0, 1.0};
+};
+
 struct RobotSpec {
   std::string model{"puma560"};  // "puma560", "puma762", or "dh" for a table given in the file
   kinematics::DhChain chain{kinematics::puma560()};
@@ -79,6 +95,7 @@ struct RobotSpec {
   // reaches a grasp (SPAR: never reach up through the table).
   double max_tool_tilt{1.0471975511965976};   // 60 degrees
   kinematics::PoseUncertainty uncertainty{};  // Δx_g, Δy_g, Δz_g, Δθ_g of eq. 1
+  UncertaintyModel uncertainty_model{};       // how they are distributed (probability only)
 };
 
 struct ObjectSpec {
@@ -92,6 +109,7 @@ struct ObjectSpec {
   // classify_orientation for an `xyz/rpy` pose resting on the table; nullopt if neither.
   std::optional<int> initial_stable_pose;     // index into stable_poses
   kinematics::PoseUncertainty uncertainty{};  // Δx_o, Δy_o, Δz_o, Δθ_o of eq. 2
+  UncertaintyModel uncertainty_model{};       // how they are distributed (probability only)
   SourceLocation location;                    // of the object's entry
 };
 
@@ -107,6 +125,7 @@ struct Place {
 // range-scan: sensing an object replaces its pose uncertainty by this residual (fresh variables).
 struct RangeScanSensor {
   kinematics::PoseUncertainty residual{};
+  UncertaintyModel residual_model{};  // how the residual is distributed (probability only)
 };
 
 // SPAR's assembled(held, fixed, [held faces, fixed faces], Ta, mating vector).

@@ -189,8 +189,10 @@ class Reader {
   void read_units(const YAML::Node& node, Units& units) const;
   [[nodiscard]] Transform rigid_pose(const YAML::Node& node, const std::string& path) const;
   [[nodiscard]] Transform rigid_pose(const Fields& pose) const;
+  // Half-widths {dx, dy, dz, dtheta}, and in `model` how they are distributed.
   [[nodiscard]] kinematics::PoseUncertainty uncertainty(const YAML::Node& node,
-                                                        const std::string& path) const;
+                                                        const std::string& path,
+                                                        UncertaintyModel& model) const;
   void read_robot(const YAML::Node& node, RobotSpec& robot) const;
   [[nodiscard]] kinematics::DhChain dh_chain(const YAML::Node& node, const std::string& path) const;
   void read_gripper(const YAML::Node& node, geometry::GripperSpec& gripper) const;
@@ -353,17 +355,63 @@ Transform Reader::rigid_pose(const Fields& pose) const {
   return transform;
 }
 
-kinematics::PoseUncertainty Reader::uncertainty(const YAML::Node& node,
-                                                const std::string& path) const {
-  const Fields fields(*this, node, path, {"dx", "dy", "dz", "dtheta"});
+kinematics::PoseUncertainty Reader::uncertainty(const YAML::Node& node, const std::string& path,
+                                                UncertaintyModel& model) const {
+  const Fields fields(*this, node, path,
+                      {"dx", "dy", "dz", "dtheta", "distribution", "sigma", "cost"});
   kinematics::PoseUncertainty result;
-  const std::pair<const char*, double*> lengths[] = {
-      {"dx", &result.dx}, {"dy", &result.dy}, {"dz", &result.dz}};
-  for (const auto& [key, target] : lengths)
-    if (const YAML::Node value = fields.get(key); value.IsDefined())
-      *target = non_negative(length(value, fields.path(key)), value, fields.path(key));
-  if (const YAML::Node value = fields.get("dtheta"); value.IsDefined())
-    result.dtheta = non_negative(angle(value, fields.path("dtheta")), value, fields.path("dtheta"));
+  // Each of the four components with its target in the half-widths, sigma and cost, and whether
+  // it is an angle.
+  struct Component {
+    const char* key;
+    double kinematics::PoseUncertainty::*member;
+    bool angle;
+  };
+  static constexpr Component kComponents[] = {
+      {"dx", &kinematics::PoseUncertainty::dx, false},
+      {"dy", &kinematics::PoseUncertainty::dy, false},
+      {"dz", &kinematics::PoseUncertainty::dz, false},
+      {"dtheta", &kinematics::PoseUncertainty::dtheta, true}};
+  const auto value_of = [&](const Fields& map, const Component& c) {
+    const YAML::Node value = map.get(c.key);
+    const std::string at = map.path(c.key);
+    return non_negative(c.angle ? angle(value, at) : length(value, at), value, at);
+  };
+  for (const Component& c : kComponents)
+    if (fields.has(c.key)) result.*c.member = value_of(fields, c);
+  model = UncertaintyModel{};
+  if (const YAML::Node kind = fields.get("distribution"); kind.IsDefined()) {
+    const std::string name = text(kind, fields.path("distribution"));
+    const std::vector<std::string> known = {"uniform", "gaussian"};
+    if (name == "gaussian")
+      model.distribution = Distribution::kGaussian;
+    else if (name != "uniform")
+      fail(kind, fields.path("distribution") + ": unknown distribution '" + name + "'" +
+                     suggestion(name, known) + "; known: " + join(known));
+  }
+  if (const YAML::Node sigma = fields.get("sigma"); sigma.IsDefined()) {
+    if (model.distribution != Distribution::kGaussian)
+      fail(sigma, fields.path("sigma") + ": sigma needs 'distribution: gaussian'");
+    const Fields given(*this, sigma, fields.path("sigma"), {"dx", "dy", "dz", "dtheta"});
+    for (const Component& c : kComponents)
+      if (given.has(c.key)) {
+        model.sigma.*c.member = value_of(given, c);
+        if (result.*c.member > 0 && !(model.sigma.*c.member > 0))
+          fail(given.get(c.key), given.path(c.key) + ": must be > 0 where the half-width is, got " +
+                                     given.get(c.key).Scalar());
+      }
+  }
+  // A Gaussian component without its sigma: the half-width is 3 sigma.
+  if (model.distribution == Distribution::kGaussian)
+    for (const Component& c : kComponents)
+      if (model.sigma.*c.member == 0) model.sigma.*c.member = result.*c.member / 3;
+  if (const YAML::Node cost = fields.get("cost"); cost.IsDefined()) {
+    const Fields given(*this, cost, fields.path("cost"), {"dx", "dy", "dz", "dtheta"});
+    for (const Component& c : kComponents)
+      if (given.has(c.key))  // a weight: no unit
+        model.cost.*c.member = positive(number(given.get(c.key), given.path(c.key)),
+                                        given.get(c.key), given.path(c.key));
+  }
   return result;
 }
 
@@ -453,7 +501,8 @@ void Reader::read_robot(const YAML::Node& node, RobotSpec& robot) const {
                      std::string(units_.angle_name()));
   }
   if (fields.has("uncertainty"))
-    robot.uncertainty = uncertainty(fields.get("uncertainty"), "robot.uncertainty");
+    robot.uncertainty =
+        uncertainty(fields.get("uncertainty"), "robot.uncertainty", robot.uncertainty_model);
 }
 
 void Reader::read_grasping(const YAML::Node& node, geometry::GraspQuantization& grasping) const {
@@ -620,7 +669,8 @@ ObjectSpec Reader::read_object(const YAML::Node& key, const YAML::Node& node) co
   }
   read_pose(entry.require("pose"), entry.path("pose"), object);
   if (entry.has("uncertainty"))
-    object.uncertainty = uncertainty(entry.get("uncertainty"), entry.path("uncertainty"));
+    object.uncertainty =
+        uncertainty(entry.get("uncertainty"), entry.path("uncertainty"), object.uncertainty_model);
   return object;
 }
 
@@ -648,8 +698,10 @@ std::optional<RangeScanSensor> Reader::read_sensors(const YAML::Node& node) cons
   const Fields sensors(*this, node, "sensors", {"range_scan"});
   if (!sensors.has("range_scan")) return std::nullopt;
   const Fields range_scan(*this, sensors.get("range_scan"), "sensors.range_scan", {"residual"});
-  return RangeScanSensor{
-      .residual = uncertainty(range_scan.require("residual"), range_scan.path("residual"))};
+  RangeScanSensor sensor;
+  sensor.residual = uncertainty(range_scan.require("residual"), range_scan.path("residual"),
+                                sensor.residual_model);
+  return sensor;
 }
 
 AssembledGoal Reader::read_assembled(const YAML::Node& node, const std::string& path,

@@ -4,6 +4,7 @@
 
 #include "kinematics/pickup.hpp"
 #include "planner/error.hpp"
+#include "planner/uncertainty/probability.hpp"
 
 namespace spar::planner {
 namespace {
@@ -39,6 +40,12 @@ Eigen::Vector3d faces_centroid(const geometry::ObjectModel& model, const std::ve
   return area > 0 ? Eigen::Vector3d(sum / area) : Eigen::Vector3d::Zero();
 }
 
+// The space's sigmas of a block (SpaceVariable::sigma): all 0 when it is uniform.
+kinematics::PoseUncertainty sigmas(const UncertaintyModel& model) {
+  return model.distribution == Distribution::kGaussian ? model.sigma
+                                                       : kinematics::PoseUncertainty{};
+}
+
 }  // namespace
 
 StepEffect step_effect(const ActionTemplate& action) {
@@ -59,14 +66,15 @@ Propagation::Propagation(const WorldModel& world, symbolic::ExprPool& pool)
         space_.allocate(
             object.uncertainty,
             {.source = UncertaintySource::kInitial, .object = static_cast<int>(o), .step = -1},
-            object.name)};
+            object.name, sigmas(object.uncertainty_model))};
   }
 }
 
 PoseError Propagation::allocate_arm(int index) {
   return space_.allocate(world_->scenario().robot.uncertainty,
                          {.source = UncertaintySource::kManipulator, .object = -1, .step = index},
-                         "g" + std::to_string(index));
+                         "g" + std::to_string(index),
+                         sigmas(world_->scenario().robot.uncertainty_model));
 }
 
 SymbolicTransform Propagation::grip_after_grasp(const Phase2Step& step, const PoseError& arm) {
@@ -181,6 +189,53 @@ std::vector<Precondition> Propagation::assemble_preconditions(const Phase2Step& 
   return out;
 }
 
+std::optional<Propagation::Reading> Propagation::unmoved_scan(int object) const {
+  const PoseError& error = table_.at(object)->error;
+  Reading reading;
+  const Expr components[4] = {error.dx, error.dy, error.dz, error.dtheta};
+  double* half_widths[4] = {&reading.half_widths.dx, &reading.half_widths.dy,
+                            &reading.half_widths.dz, &reading.half_widths.dtheta};
+  double* sigmas[4] = {&reading.sigmas.dx, &reading.sigmas.dy, &reading.sigmas.dz,
+                       &reading.sigmas.dtheta};
+  for (int i = 0; i < 4; ++i) {
+    const int v = components[i].is_variable() ? space_.index_of(components[i]) : -1;
+    if (v < 0) return std::nullopt;
+    const SpaceVariable& variable = space_.variables()[v];
+    if (variable.provenance.source != UncertaintySource::kSensor ||
+        variable.provenance.object != object)
+      return std::nullopt;
+    *half_widths[i] = std::max(-variable.lower, variable.upper);
+    *sigmas[i] = variable.sigma;
+  }
+  return reading;
+}
+
+Propagation::Reading Propagation::fused(const Reading& earlier, const Reading& latest,
+                                        int object) const {
+  // Worst case: both boxes are centred on the nominal, so their intersection is the smaller
+  // half-width per component.
+  const auto as_vector = [](const kinematics::PoseUncertainty& u) {
+    return Eigen::Vector4d(u.dx, u.dy, u.dz, u.dtheta);
+  };
+  const Eigen::Vector4d widths =
+      as_vector(earlier.half_widths).cwiseMin(as_vector(latest.half_widths));
+  Reading out{{widths[0], widths[1], widths[2], widths[3]}, {}};
+  // Gaussian: information form (CHOLMOD) when both readings are Gaussian in every component;
+  // otherwise the fused residual is taken uniform over the intersection (conservative).
+  const Eigen::Vector4d s1 = as_vector(earlier.sigmas), s2 = as_vector(latest.sigmas);
+  if ((s1.array() > 0).all() && (s2.array() > 0).all()) {
+    const PoseReading readings[2] = {{.object = object,
+                                      .covariance = s1.cwiseAbs2().asDiagonal(),
+                                      .half_width = as_vector(earlier.half_widths)},
+                                     {.object = object,
+                                      .covariance = s2.cwiseAbs2().asDiagonal(),
+                                      .half_width = as_vector(latest.half_widths)}};
+    const Eigen::Vector4d sigma = fuse_readings(readings).front().covariance.diagonal().cwiseSqrt();
+    out.sigmas = {sigma[0], sigma[1], sigma[2], sigma[3]};
+  }
+  return out;
+}
+
 std::vector<Precondition> Propagation::step(const Phase2Step& step, int index) {
   std::vector<Precondition> preconditions;
   const auto require_on_table = [&](int object) {
@@ -229,11 +284,18 @@ std::vector<Precondition> Propagation::step(const Phase2Step& step, int index) {
       require_on_table(step.object);
       const RangeScanSensor sensor = world_->scenario().range_scan.value_or(RangeScanSensor{});
       const kinematics::PoseUncertainty& r = sensor.residual;
+      const kinematics::PoseUncertainty s = sigmas(sensor.residual_model);
+      Reading reading{{r.dx * sensor_scale_, r.dy * sensor_scale_, r.dz * sensor_scale_,
+                       r.dtheta * sensor_scale_},
+                      {s.dx * sensor_scale_, s.dy * sensor_scale_, s.dz * sensor_scale_,
+                       s.dtheta * sensor_scale_}};
+      if (const std::optional<Reading> earlier = unmoved_scan(step.object))
+        reading = fused(*earlier, reading, step.object);
       table_[step.object]->error = space_.allocate(
-          {r.dx * sensor_scale_, r.dy * sensor_scale_, r.dz * sensor_scale_,
-           r.dtheta * sensor_scale_},
+          reading.half_widths,
           {.source = UncertaintySource::kSensor, .object = step.object, .step = index},
-          world_->scenario().objects[step.object].name + "_s" + std::to_string(index));
+          world_->scenario().objects[step.object].name + "_s" + std::to_string(index),
+          reading.sigmas);
       break;
     }
     case StepEffect::kNone:

@@ -21,6 +21,11 @@
 //         world z (sign of a_z): exact for a vertical approach; for a tilted one the object is
 //         taken to settle on the table turned by that angle (a modelling choice).
 //   range-scan  the object's d and θ are replaced by the sensor's residual (fresh variables).
+//               Scanned again before it moved (its error is still the last scan's residual),
+//               the two readings are fused (planner/uncertainty/probability.hpp): the worst-case
+//               box is their intersection, and a Gaussian residual gets the information-form
+//               sigma (CHOLMOD), e.g. sigma / sqrt(2) for two equal readings; a uniform one stays
+//               uniform over the intersection. The verdicts see only the box.
 //   squeeze     a grasp and a release in place with the same arm error (no motion in between).
 //   insertion   the held object joins the fixed one (it is no longer tracked).
 // Every step's preconditions are built from the state just before it, with the arm error
@@ -114,6 +119,14 @@ class Propagation {
     kinematics::SymbolicTransform grip;  // H: the grasp frame relative to the actual gripper
   };
   [[nodiscard]] kinematics::PoseError allocate_arm(int index);
+  // A range-scan's residual: half-widths and sigmas (0: uniform).
+  struct Reading {
+    kinematics::PoseUncertainty half_widths, sigmas;
+  };
+  // The residual of the last scan of `object` if it has not moved since, else nullopt.
+  [[nodiscard]] std::optional<Reading> unmoved_scan(int object) const;
+  // Two readings of one object fused (see the header comment).
+  [[nodiscard]] Reading fused(const Reading& earlier, const Reading& latest, int object) const;
   [[nodiscard]] kinematics::SymbolicTransform grip_after_grasp(const Phase2Step& step,
                                                                const kinematics::PoseError& arm);
   // The actual world position of `local` (object frame) of the held object at `step`.

@@ -20,14 +20,19 @@ const char* to_string(UncertaintySource source) {
 }
 
 kinematics::PoseError UncertaintySpace::allocate(const kinematics::PoseUncertainty& half_widths,
-                                                 const Provenance& provenance,
-                                                 std::string_view tag) {
+                                                 const Provenance& provenance, std::string_view tag,
+                                                 const kinematics::PoseUncertainty& sigmas) {
   const double widths[4] = {half_widths.dx, half_widths.dy, half_widths.dz, half_widths.dtheta};
+  const double sigma[4] = {sigmas.dx, sigmas.dy, sigmas.dz, sigmas.dtheta};
   const char* const prefixes[4] = {"dx_", "dy_", "dz_", "dtheta_"};
   const char components[4] = {'x', 'y', 'z', 't'};
   for (int i = 0; i < 4; ++i)  // all checked first: a refused allocation adds nothing
     if (!std::isfinite(widths[i]) || widths[i] < 0)
       throw PlanError("uncertainty half-width of " + std::string(prefixes[i]) + std::string(tag) +
+                      " must be finite and >= 0");
+  for (int i = 0; i < 4; ++i)
+    if (!std::isfinite(sigma[i]) || sigma[i] < 0)
+      throw PlanError("sigma of " + std::string(prefixes[i]) + std::string(tag) +
                       " must be finite and >= 0");
   symbolic::Expr symbols[4];
   for (int i = 0; i < 4; ++i) {
@@ -37,7 +42,7 @@ kinematics::PoseError UncertaintySpace::allocate(const kinematics::PoseUncertain
          ++suffix)
       name = prefixes[i] + std::string(tag) + "_" + std::to_string(suffix);
     symbols[i] = pool_->variable(name);
-    variables_.push_back({name, components[i], -widths[i], widths[i], provenance});
+    variables_.push_back({name, components[i], -widths[i], widths[i], sigma[i], provenance});
     symbols_.push_back(symbols[i]);
   }
   return {symbols[0], symbols[1], symbols[2], symbols[3]};

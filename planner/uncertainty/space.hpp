@@ -46,6 +46,9 @@ struct SpaceVariable {
   char component{'x'};  // 'x', 'y', 'z' (displacement) or 't' (rotation dtheta)
   double lower{0.0};
   double upper{0.0};
+  // How it is distributed in [lower, upper] (planner/uncertainty/probability.hpp; never used by
+  // a verdict): 0 = uniform; > 0 = N(0, sigma^2) truncated to the range.
+  double sigma{0.0};
   Provenance provenance;
 };
 
@@ -55,9 +58,11 @@ class UncertaintySpace {
   explicit UncertaintySpace(symbolic::ExprPool& pool) : pool_(&pool) {}
 
   // Four fresh variables dx, dy, dz, dtheta with ranges [-h, h] of `half_widths`, named with
-  // `tag` (see the header comment). Throws PlanError on a negative or non-finite half-width.
+  // `tag` (see the header comment), each with its `sigmas` component (0: uniform, see
+  // SpaceVariable::sigma). Throws PlanError on a negative or non-finite half-width or sigma.
   [[nodiscard]] kinematics::PoseError allocate(const kinematics::PoseUncertainty& half_widths,
-                                               const Provenance& provenance, std::string_view tag);
+                                               const Provenance& provenance, std::string_view tag,
+                                               const kinematics::PoseUncertainty& sigmas = {});
 
   [[nodiscard]] symbolic::ExprPool& pool() const { return *pool_; }
   [[nodiscard]] const std::vector<SpaceVariable>& variables() const { return variables_; }

@@ -1,0 +1,786 @@
+#include "planner/uncertainty/probability.hpp"
+
+#include <cholmod.h>
+
+#include <Eigen/Cholesky>
+#include <Eigen/QR>
+#include <SuiteSparseQR.hpp>
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <map>
+#include <memory>
+#include <numbers>
+#include <optional>
+#include <random>
+#include <tuple>
+#include <type_traits>
+
+#include "bounds/inequality.hpp"
+#include "planner/error.hpp"
+#include "planner/uncertainty/analysis.hpp"
+#include "symbolic/operations.hpp"
+#include "symbolic/tape.hpp"
+
+namespace spar::planner {
+namespace {
+
+using symbolic::Expr;
+
+static_assert(sizeof(SuiteSparse_long) == sizeof(std::int64_t),
+              "Sensitivities' indices are CHOLMOD's long indices");
+
+// ---- the standard normal ----
+double normal_pdf(double x) { return std::exp(-0.5 * x * x) / std::sqrt(2 * std::numbers::pi); }
+double normal_cdf(double x) { return 0.5 * std::erfc(-x / std::numbers::sqrt2); }
+// Φ(b) - Φ(a) for a <= b, without cancellation in either tail.
+double normal_mass(double a, double b) {
+  if (a >= 0)
+    return 0.5 * (std::erfc(a / std::numbers::sqrt2) - std::erfc(b / std::numbers::sqrt2));
+  if (b <= 0) return normal_cdf(b) - normal_cdf(a);
+  return 1 - normal_cdf(a) - 0.5 * std::erfc(b / std::numbers::sqrt2);
+}
+// Φ^-1(p), p in (0, 1): Acklam's rational approximation (relative error 1.2e-9) refined by one
+// Halley step on erfc (then accurate to a few ulps).
+double normal_quantile(double p) {
+  static constexpr double a[] = {-3.969683028665376e+01, 2.209460984245205e+02,
+                                 -2.759285104469687e+02, 1.383577518672690e+02,
+                                 -3.066479806614716e+01, 2.506628277459239e+00};
+  static constexpr double b[] = {-5.447609879822406e+01, 1.615858368580409e+02,
+                                 -1.556989798598866e+02, 6.680131188771972e+01,
+                                 -1.328068155288572e+01};
+  static constexpr double c[] = {-7.784894002430293e-03, -3.223964580411365e-01,
+                                 -2.400758277161838e+00, -2.549732539343734e+00,
+                                 4.374664141464968e+00,  2.938163982698783e+00};
+  static constexpr double d[] = {7.784695709041462e-03, 3.224671290700398e-01,
+                                 2.445134137142996e+00, 3.754408661907416e+00};
+  const double tail = 0.02425;
+  double x = 0;
+  if (p < tail) {
+    const double q = std::sqrt(-2 * std::log(p));
+    x = (((((c[0] * q + c[1]) * q + c[2]) * q + c[3]) * q + c[4]) * q + c[5]) /
+        ((((d[0] * q + d[1]) * q + d[2]) * q + d[3]) * q + 1);
+  } else if (p <= 1 - tail) {
+    const double q = p - 0.5, r = q * q;
+    x = (((((a[0] * r + a[1]) * r + a[2]) * r + a[3]) * r + a[4]) * r + a[5]) * q /
+        (((((b[0] * r + b[1]) * r + b[2]) * r + b[3]) * r + b[4]) * r + 1);
+  } else {
+    const double q = std::sqrt(-2 * std::log(1 - p));
+    x = -(((((c[0] * q + c[1]) * q + c[2]) * q + c[3]) * q + c[4]) * q + c[5]) /
+        ((((d[0] * q + d[1]) * q + d[2]) * q + d[3]) * q + 1);
+  }
+  const double e = normal_cdf(x) - p;
+  const double u = e * std::sqrt(2 * std::numbers::pi) * std::exp(0.5 * x * x);
+  return x - u / (1 + 0.5 * x * u);
+}
+
+// Wilson score interval (95%) of `k` successes in `n` trials.
+std::pair<double, double> wilson(std::size_t k, std::size_t n) {
+  if (n == 0) return {0.0, 1.0};
+  const double z = 1.959963984540054, p = static_cast<double>(k) / n, z2n = z * z / n;
+  const double centre = (p + z2n / 2) / (1 + z2n);
+  const double half = z / (1 + z2n) * std::sqrt(p * (1 - p) / n + z2n / (4 * n));
+  return {std::max(0.0, centre - half), std::min(1.0, centre + half)};
+}
+
+// Whether the precondition is violated where its expression has `value` (NaN: undefined there).
+bool violated(const bounds::Inequality& inequality, double value) {
+  const double t = inequality.threshold;
+  switch (inequality.relation) {
+    case bounds::Relation::kLess:
+      return !(value < t);
+    case bounds::Relation::kLessEqual:
+      return !(value <= t);
+    case bounds::Relation::kGreater:
+      return !(value > t);
+    case bounds::Relation::kGreaterEqual:
+      return !(value >= t);
+  }
+  return true;
+}
+bool upper_limit(bounds::Relation relation) {  // f < t or f <= t: violations lie above t
+  return relation == bounds::Relation::kLess || relation == bounds::Relation::kLessEqual;
+}
+
+// P(violation) of N(mean, sigma^2) truncated to the support [lo, hi] of f (the sound bound).
+double truncated_violation(const bounds::Inequality& inequality, double mean, double sigma,
+                           double lo, double hi) {
+  const double t = inequality.threshold;
+  const bool above = upper_limit(inequality.relation);
+  // The support decides first: a proved precondition gets exactly 0.
+  if (above ? t >= hi : t <= lo) return 0.0;
+  if (above ? t < lo : t > hi) return 1.0;
+  const double m = std::clamp(mean, lo, hi);
+  if (!(sigma > 0) || !std::isfinite(sigma)) return violated(inequality, m) ? 1.0 : 0.0;
+  const double alpha = (lo - m) / sigma, beta = (hi - m) / sigma, tau = (t - m) / sigma;
+  const double support = normal_mass(alpha, beta);
+  if (!(support > 0)) return violated(inequality, m) ? 1.0 : 0.0;
+  const double mass = above ? normal_mass(tau, beta) : normal_mass(alpha, tau);
+  return std::clamp(mass / support, 0.0, 1.0);
+}
+
+// One variable's sampler: uniform on its range, or its truncated Gaussian by inversion.
+struct Sampler {
+  double lo{0.0}, hi{0.0}, sigma{0.0}, cdf_lo{0.0}, cdf_hi{0.0};
+  explicit Sampler(const SpaceVariable& v) : lo(v.lower), hi(v.upper), sigma(v.sigma) {
+    if (sigma > 0) {
+      cdf_lo = normal_cdf(lo / sigma);
+      cdf_hi = normal_cdf(hi / sigma);
+    }
+  }
+  template <class Random>
+  double operator()(Random& random) const {
+    const double u = std::uniform_real_distribution<double>(0.0, 1.0)(random);
+    if (!(hi > lo)) return lo;
+    if (!(sigma > 0) || !(cdf_hi > cdf_lo)) return lo + u * (hi - lo);
+    const double p = cdf_lo + u * (cdf_hi - cdf_lo);
+    // p in (0, 1) strictly: the inverse is finite; clamp only against its last-ulp rounding.
+    return std::clamp(sigma * normal_quantile(std::clamp(p, 1e-300, 1 - 1e-16)), lo, hi);
+  }
+};
+
+// ---- CHOLMOD (long interface: SPQR needs it) ----
+class Cholmod {
+ public:
+  Cholmod() { cholmod_l_start(&common_); }
+  ~Cholmod() { cholmod_l_finish(&common_); }
+  Cholmod(const Cholmod&) = delete;
+  Cholmod& operator=(const Cholmod&) = delete;
+  cholmod_common* get() { return &common_; }
+
+ private:
+  cholmod_common common_;
+};
+struct SparseDeleter {
+  cholmod_common* common;
+  void operator()(cholmod_sparse* a) const { cholmod_l_free_sparse(&a, common); }
+};
+struct DenseDeleter {
+  cholmod_common* common;
+  void operator()(cholmod_dense* a) const { cholmod_l_free_dense(&a, common); }
+};
+struct FactorDeleter {
+  cholmod_common* common;
+  void operator()(cholmod_factor* a) const { cholmod_l_free_factor(&a, common); }
+};
+struct TripletDeleter {
+  cholmod_common* common;
+  void operator()(cholmod_triplet* a) const { cholmod_l_free_triplet(&a, common); }
+};
+using SparsePtr = std::unique_ptr<cholmod_sparse, SparseDeleter>;
+using DensePtr = std::unique_ptr<cholmod_dense, DenseDeleter>;
+
+// A matrix in compressed sparse column form that we own (CHOLMOD views it, never frees it).
+struct Csc {
+  std::size_t rows{0}, cols{0};
+  std::vector<std::int64_t> start, index;
+  std::vector<double> value;
+  // The view CHOLMOD reads; valid while this Csc lives and is not resized.
+  cholmod_sparse view() {
+    cholmod_sparse a{};
+    a.nrow = rows;
+    a.ncol = cols;
+    a.nzmax = std::max<std::size_t>(1, value.size());
+    a.p = start.data();
+    a.i = index.data();
+    a.x = value.data();
+    a.stype = 0;
+    a.itype = CHOLMOD_LONG;
+    a.xtype = CHOLMOD_REAL;
+    a.dtype = CHOLMOD_DOUBLE;
+    a.sorted = 1;
+    a.packed = 1;
+    return a;
+  }
+};
+
+struct Triplet {
+  std::size_t row, col;
+  double value;
+};
+// Sorts by column then row; duplicates are summed.
+Csc to_csc(std::size_t rows, std::size_t cols, std::vector<Triplet> triplets) {
+  std::sort(triplets.begin(), triplets.end(), [](const Triplet& a, const Triplet& b) {
+    return std::tie(a.col, a.row) < std::tie(b.col, b.row);
+  });
+  Csc m{.rows = rows,
+        .cols = cols,
+        .start = std::vector<std::int64_t>(cols + 1, 0),
+        .index = {},
+        .value = {}};
+  for (std::size_t i = 0; i < triplets.size(); ++i) {
+    const Triplet& t = triplets[i];
+    if (i > 0 && triplets[i - 1].col == t.col && triplets[i - 1].row == t.row) {
+      m.value.back() += t.value;
+      continue;
+    }
+    m.index.push_back(static_cast<std::int64_t>(t.row));
+    m.value.push_back(t.value);
+    ++m.start[t.col + 1];
+  }
+  for (std::size_t j = 0; j < cols; ++j) m.start[j + 1] += m.start[j];
+  return m;
+}
+
+Eigen::MatrixXd to_dense(const Csc& m) {
+  Eigen::MatrixXd dense =
+      Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(m.rows), static_cast<Eigen::Index>(m.cols));
+  for (std::size_t j = 0; j < m.cols; ++j)
+    for (std::int64_t i = m.start[j]; i < m.start[j + 1]; ++i)
+      dense(m.index[i], static_cast<Eigen::Index>(j)) = m.value[i];
+  return dense;
+}
+
+// Minimum-norm solution z of M z = r (M: rows <= cols typically).
+Eigen::VectorXd min_norm_solve(Csc& m, const Eigen::VectorXd& r, LinearAlgebra algebra) {
+  if (algebra == LinearAlgebra::kDense)
+    return to_dense(m).completeOrthogonalDecomposition().solve(r);
+  Cholmod cholmod;
+  cholmod_common* common = cholmod.get();
+  cholmod_sparse a = m.view();
+  DensePtr b(cholmod_l_allocate_dense(m.rows, 1, m.rows, CHOLMOD_REAL, common),
+             DenseDeleter{common});
+  std::copy(r.data(), r.data() + r.size(), static_cast<double*>(b->x));
+  DensePtr z(
+      SuiteSparseQR_min2norm<double>(SPQR_ORDERING_DEFAULT, SPQR_DEFAULT_TOL, &a, b.get(), common),
+      DenseDeleter{common});
+  if (!z) throw PlanError("internal: SPQR failed (status " + std::to_string(common->status) + ")");
+  const double* x = static_cast<const double*>(z->x);
+  return Eigen::Map<const Eigen::VectorXd>(x, static_cast<Eigen::Index>(m.cols));
+}
+
+// The expressions of a precondition's variables (the pool's variables of those names).
+std::vector<Expr> inputs_of(const InstanceAnalysis& analysis, const PreconditionResult& result) {
+  std::vector<Expr> inputs;
+  for (const std::string& name : result.variables) inputs.push_back(analysis.pool->variable(name));
+  return inputs;
+}
+
+std::string format(const char* pattern, double a, double b = 0, double c = 0, double d = 0) {
+  char buffer[256];
+  std::snprintf(buffer, sizeof buffer, pattern, a, b, c, d);
+  return buffer;
+}
+
+}  // namespace
+
+VariableMoments variable_moments(const SpaceVariable& v) {
+  const double lo = v.lower, hi = v.upper;
+  if (!(hi > lo)) return {lo, 0.0};
+  if (!(v.sigma > 0)) return {(lo + hi) / 2, (hi - lo) * (hi - lo) / 12};
+  const double s = v.sigma, a = lo / s, b = hi / s, z = normal_mass(a, b);
+  if (!(z > 0)) return {(lo + hi) / 2, (hi - lo) * (hi - lo) / 12};  // box far in a tail
+  const double pa = normal_pdf(a), pb = normal_pdf(b);
+  const double shift = (pa - pb) / z;
+  // a·φ(a) with a = ±inf is 0 (φ decays faster); the box is finite here, so no special case.
+  return {s * shift, s * s * (1 + (a * pa - b * pb) / z - shift * shift)};
+}
+
+double Sensitivities::density() const {
+  return rows == 0 || cols == 0 ? 0.0 : static_cast<double>(nonzeros()) / (rows * cols);
+}
+
+Sensitivities sensitivities(const InstanceAnalysis& analysis) {
+  Sensitivities out;
+  std::map<std::string, std::size_t> column;
+  for (std::size_t j = 0; j < analysis.variables.size(); ++j)
+    column[analysis.variables[j].name] = j;
+  out.cols = analysis.variables.size();
+  std::vector<Triplet> triplets;
+  for (std::size_t s = 0; s < analysis.steps.size(); ++s)
+    for (std::size_t p = 0; p < analysis.steps[s].preconditions.size(); ++p) {
+      const PreconditionResult& result = analysis.steps[s].preconditions[p];
+      const std::size_t row = out.rows++;
+      out.row_step.push_back(s);
+      out.row_precondition.push_back(p);
+      const std::vector<Expr> inputs = inputs_of(analysis, result);
+      const Expr f = result.inequality.expression;
+      // [f, ∂f/∂x_1 .. ∂f/∂x_n, ∂²f/∂x_1² .. ∂²f/∂x_n²] on one tape, evaluated at 0.
+      std::vector<Expr> outputs{f};
+      const std::vector<std::vector<Expr>> gradient = symbolic::jacobian({&f, 1}, inputs);
+      for (const Expr& g : gradient[0]) outputs.push_back(g);
+      for (std::size_t j = 0; j < inputs.size(); ++j)
+        outputs.push_back(symbolic::differentiate(gradient[0][j], inputs[j]));
+      const symbolic::Tape tape = symbolic::Tape::compile(outputs, inputs);
+      symbolic::TapeEvaluator<double> evaluator(tape);
+      const std::vector<double> zero(inputs.size(), 0.0);
+      std::vector<double> values(outputs.size());
+      evaluator.evaluate(zero, values);
+      out.nominal.push_back(values[0]);
+      double trace = 0;
+      for (std::size_t j = 0; j < inputs.size(); ++j) {
+        const double first = values[1 + j], second = values[1 + inputs.size() + j];
+        const SpaceVariable& variable = analysis.variables[column.at(result.variables[j])];
+        if (!std::isfinite(first)) {
+          ++out.non_differentiable;
+          continue;
+        }
+        if (first != 0) triplets.push_back({row, column.at(result.variables[j]), first});
+        const VariableMoments moments = variable_moments(variable);
+        if (std::isfinite(second))
+          trace += 0.5 * second * (moments.variance + moments.mean * moments.mean);
+      }
+      out.hessian_trace.push_back(trace);
+    }
+  Csc csc = to_csc(out.rows, out.cols, std::move(triplets));
+  out.column_start = std::move(csc.start);
+  out.row_index = std::move(csc.index);
+  out.value = std::move(csc.value);
+  return out;
+}
+
+PreconditionCovariance precondition_covariance(const Sensitivities& jacobian,
+                                               std::span<const SpaceVariable> variables,
+                                               LinearAlgebra algebra) {
+  if (variables.size() != jacobian.cols)
+    throw PlanError("internal: precondition_covariance needs one variable per column of J");
+  // B = J Σ^(1/2); J Σ J^T = B B^T.
+  Csc b{.rows = jacobian.rows,
+        .cols = jacobian.cols,
+        .start = jacobian.column_start,
+        .index = jacobian.row_index,
+        .value = jacobian.value};
+  for (std::size_t j = 0; j < b.cols; ++j) {
+    const double scale = std::sqrt(variable_moments(variables[j]).variance);
+    for (std::int64_t i = b.start[j]; i < b.start[j + 1]; ++i) b.value[i] *= scale;
+  }
+  PreconditionCovariance out;
+  out.variance.assign(jacobian.rows, 0.0);
+  if (algebra == LinearAlgebra::kDense) {
+    const Eigen::MatrixXd dense = to_dense(b);
+    const Eigen::MatrixXd c = dense * dense.transpose();
+    for (std::size_t k = 0; k < jacobian.rows; ++k) out.variance[k] = c(k, k);
+    out.nonzeros = static_cast<std::size_t>((c.array() != 0).count());
+    return out;
+  }
+  if (jacobian.rows == 0) return out;
+  Cholmod cholmod;
+  cholmod_common* common = cholmod.get();
+  cholmod_sparse view = b.view();
+  const SparsePtr c(cholmod_l_aat(&view, nullptr, 0, 1, common), SparseDeleter{common});
+  if (!c)
+    throw PlanError("internal: CHOLMOD aat failed (status " + std::to_string(common->status) + ")");
+  const auto* start = static_cast<const SuiteSparse_long*>(c->p);
+  const auto* index = static_cast<const SuiteSparse_long*>(c->i);
+  const auto* value = static_cast<const double*>(c->x);
+  for (std::size_t k = 0; k < jacobian.rows; ++k)
+    for (SuiteSparse_long i = start[k]; i < start[k + 1]; ++i)
+      if (static_cast<std::size_t>(index[i]) == k) out.variance[k] = value[i];
+  out.nonzeros = static_cast<std::size_t>(cholmod_l_nnz(c.get(), common));
+  return out;
+}
+
+ProbabilityAnalysis analyse_probability(const InstanceAnalysis& analysis,
+                                        const ProbabilityOptions& options) {
+  const Sensitivities jacobian = sensitivities(analysis);
+  const PreconditionCovariance covariance =
+      precondition_covariance(jacobian, analysis.variables, options.algebra);
+  ProbabilityAnalysis out{.rows = jacobian.rows,
+                          .cols = jacobian.cols,
+                          .nonzeros = jacobian.nonzeros(),
+                          .density = jacobian.density(),
+                          .covariance_nonzeros = covariance.nonzeros,
+                          .non_differentiable = jacobian.non_differentiable,
+                          .preconditions = {}};
+  // m1 = f(0) + J μ.
+  std::vector<double> mean = jacobian.nominal;
+  for (std::size_t j = 0; j < jacobian.cols; ++j) {
+    const double mu = variable_moments(analysis.variables[j]).mean;
+    if (mu != 0)
+      for (std::int64_t i = jacobian.column_start[j]; i < jacobian.column_start[j + 1]; ++i)
+        mean[jacobian.row_index[i]] += jacobian.value[i] * mu;
+  }
+  std::vector<const PreconditionResult*> results;
+  for (std::size_t k = 0; k < jacobian.rows; ++k) {
+    const PreconditionResult& result =
+        analysis.steps[jacobian.row_step[k]].preconditions[jacobian.row_precondition[k]];
+    results.push_back(&result);
+    PreconditionProbability p{.step = jacobian.row_step[k],
+                              .precondition = jacobian.row_precondition[k],
+                              .nominal = jacobian.nominal[k],
+                              .mean = mean[k],
+                              .second_order_mean = mean[k] + jacobian.hessian_trace[k],
+                              .sigma = std::sqrt(std::max(0.0, covariance.variance[k])),
+                              .note = {}};
+    p.proved = result.verdict == bounds::Verdict::kSatisfied;
+    p.p_first_order =
+        truncated_violation(result.inequality, p.mean, p.sigma, result.bound.lo, result.bound.hi);
+    p.p_second_order = truncated_violation(result.inequality, p.second_order_mean, p.sigma,
+                                           result.bound.lo, result.bound.hi);
+    out.preconditions.push_back(p);
+  }
+  if (options.samples == 0 || jacobian.rows == 0) return out;
+
+  // Monte Carlo: every precondition on one tape over every variable, blocks of points.
+  std::vector<Expr> inputs, outputs;
+  for (const SpaceVariable& v : analysis.variables)
+    inputs.push_back(analysis.pool->variable(v.name));
+  for (const PreconditionResult* result : results) outputs.push_back(result->inequality.expression);
+  const symbolic::Tape tape = symbolic::Tape::compile(outputs, inputs);
+  std::vector<Sampler> samplers;
+  for (const SpaceVariable& v : analysis.variables) samplers.emplace_back(v);
+  std::mt19937_64 random(options.seed);
+  constexpr std::size_t kBlock = 256;
+  std::vector<double> points(inputs.size() * kBlock), values(outputs.size() * kBlock);
+  std::vector<std::size_t> violations(outputs.size(), 0);
+  std::size_t plan_violations = 0;
+  for (std::size_t done = 0; done < options.samples; done += kBlock) {
+    const std::size_t n = std::min(kBlock, options.samples - done);
+    for (std::size_t p = 0; p < n; ++p)  // point-major draws: independent of the block size
+      for (std::size_t j = 0; j < inputs.size(); ++j) points[j * n + p] = samplers[j](random);
+    symbolic::evaluate_batch(tape, {points.data(), inputs.size() * n},
+                             {values.data(), outputs.size() * n}, n);
+    for (std::size_t p = 0; p < n; ++p) {
+      bool any = false;
+      for (std::size_t k = 0; k < outputs.size(); ++k)
+        if (violated(results[k]->inequality, values[k * n + p])) {
+          ++violations[k];
+          any = true;
+        }
+      plan_violations += any;
+    }
+  }
+  out.samples = options.samples;
+  out.plan_violations = plan_violations;
+  out.p_plan = static_cast<double>(plan_violations) / options.samples;
+  std::tie(out.p_plan_ci_lo, out.p_plan_ci_hi) = wilson(plan_violations, options.samples);
+  for (std::size_t k = 0; k < outputs.size(); ++k) {
+    PreconditionProbability& p = out.preconditions[k];
+    p.samples = options.samples;
+    p.violations = violations[k];
+    p.p_monte_carlo = static_cast<double>(p.violations) / p.samples;
+    if (p.proved) {
+      if (p.violations > 0)
+        p.note = "SOUNDNESS: " + std::to_string(p.violations) +
+                 " sampled violations of a precondition proved satisfied";
+      else
+        continue;  // exactly 0 from both: the sound bound holds on the whole support
+    }
+    std::tie(p.ci_lo, p.ci_hi) = wilson(p.violations, p.samples);
+    p.agrees = p.p_first_order >= p.ci_lo && p.p_first_order <= p.ci_hi;
+    if (!p.agrees && p.note.empty()) {
+      const bool second_agrees = p.p_second_order >= p.ci_lo && p.p_second_order <= p.ci_hi;
+      p.note =
+          format("first order %.3g lies outside the Monte Carlo 95%% interval [%.3g, %.3g]; ",
+                 p.p_first_order, p.ci_lo, p.ci_hi) +
+          format("second order (mean shifted by 1/2 tr(H Sigma)) gives %.3g", p.p_second_order) +
+          (second_agrees ? ", inside it"
+                         : ", also outside: f is not near-linear over the box (or its "
+                           "distribution is far from Gaussian)");
+    }
+  }
+  return out;
+}
+
+std::vector<FusedPose> fuse_readings(std::span<const PoseReading> readings, LinearAlgebra algebra) {
+  std::map<int, std::size_t> block;  // object -> block index (ascending objects)
+  for (const PoseReading& r : readings) block.emplace(r.object, 0);
+  std::vector<FusedPose> out;
+  for (auto& [object, index] : block) {
+    index = out.size();
+    out.push_back({.object = object});
+  }
+  const std::size_t n = 4 * out.size();
+  std::vector<Triplet> information;  // upper triangle of Λ (symmetric, stype 1)
+  Eigen::VectorXd eta = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(n));
+  for (const PoseReading& r : readings) {
+    if (!((r.covariance - r.covariance.transpose()).cwiseAbs().maxCoeff() <=
+          1e-12 * r.covariance.cwiseAbs().maxCoeff()))
+      throw PlanError("fuse_readings: the covariance of a reading of object " +
+                      std::to_string(r.object) + " is not symmetric");
+    const Eigen::LLT<Eigen::Matrix4d> llt(r.covariance);
+    if (llt.info() != Eigen::Success)
+      throw PlanError("fuse_readings: the covariance of a reading of object " +
+                      std::to_string(r.object) + " is not positive definite");
+    if (!(r.half_width.array() >= 0).all())
+      throw PlanError("fuse_readings: a negative half-width for object " +
+                      std::to_string(r.object));
+    const Eigen::Matrix4d inverse = llt.solve(Eigen::Matrix4d::Identity());
+    FusedPose& fused = out[block.at(r.object)];
+    const std::size_t base = 4 * block.at(r.object);
+    for (int i = 0; i < 4; ++i)
+      for (int j = i; j < 4; ++j) information.push_back({base + i, base + j, inverse(i, j)});
+    eta.segment<4>(static_cast<Eigen::Index>(base)) += inverse * r.estimate;
+    const Eigen::Vector4d lower = r.estimate - r.half_width, upper = r.estimate + r.half_width;
+    fused.lower = fused.readings == 0 ? lower : Eigen::Vector4d(fused.lower.cwiseMax(lower));
+    fused.upper = fused.readings == 0 ? upper : Eigen::Vector4d(fused.upper.cwiseMin(upper));
+    ++fused.readings;
+  }
+  Csc lambda = to_csc(n, n, std::move(information));
+  Eigen::VectorXd mean;
+  const auto set_block = [&](std::size_t b, const Eigen::Matrix4d& covariance) {
+    out[b].covariance = covariance;
+    out[b].mean = mean.segment<4>(static_cast<Eigen::Index>(4 * b));
+    out[b].consistent = (out[b].lower.array() <= out[b].upper.array()).all();
+  };
+  if (algebra == LinearAlgebra::kDense) {
+    const Eigen::MatrixXd dense = to_dense(lambda).selfadjointView<Eigen::Upper>();
+    const Eigen::LLT<Eigen::MatrixXd> llt(dense);
+    mean = llt.solve(eta);
+    const Eigen::MatrixXd inverse = llt.solve(Eigen::MatrixXd::Identity(n, n));
+    for (std::size_t b = 0; b < out.size(); ++b) set_block(b, inverse.block<4, 4>(4 * b, 4 * b));
+    return out;
+  }
+  if (n == 0) return out;
+  Cholmod cholmod;
+  cholmod_common* common = cholmod.get();
+  cholmod_sparse a = lambda.view();
+  a.stype = 1;  // symmetric, upper triangle stored
+  const std::unique_ptr<cholmod_factor, FactorDeleter> factor(cholmod_l_analyze(&a, common),
+                                                              FactorDeleter{common});
+  if (!factor || !cholmod_l_factorize(&a, factor.get(), common) || common->status != CHOLMOD_OK)
+    throw PlanError("internal: CHOLMOD could not factor the information matrix (status " +
+                    std::to_string(common->status) + ")");
+  DensePtr rhs(cholmod_l_allocate_dense(n, 1, n, CHOLMOD_REAL, common), DenseDeleter{common});
+  std::copy(eta.data(), eta.data() + n, static_cast<double*>(rhs->x));
+  const DensePtr solution(cholmod_l_solve(CHOLMOD_A, factor.get(), rhs.get(), common),
+                          DenseDeleter{common});
+  mean = Eigen::Map<const Eigen::VectorXd>(static_cast<const double*>(solution->x),
+                                           static_cast<Eigen::Index>(n));
+  // Λ^-1 is block diagonal like Λ: solve against the sparse identity, read the blocks.
+  const SparsePtr identity(cholmod_l_speye(n, n, CHOLMOD_REAL, common), SparseDeleter{common});
+  const SparsePtr inverse(cholmod_l_spsolve(CHOLMOD_A, factor.get(), identity.get(), common),
+                          SparseDeleter{common});
+  const auto* start = static_cast<const SuiteSparse_long*>(inverse->p);
+  const auto* index = static_cast<const SuiteSparse_long*>(inverse->i);
+  const auto* value = static_cast<const double*>(inverse->x);
+  for (std::size_t b = 0; b < out.size(); ++b) {
+    Eigen::Matrix4d covariance = Eigen::Matrix4d::Zero();
+    for (std::size_t j = 4 * b; j < 4 * b + 4; ++j)
+      for (SuiteSparse_long i = start[j]; i < start[j + 1]; ++i)
+        if (static_cast<std::size_t>(index[i]) / 4 == b)
+          covariance(index[i] - 4 * b, j - 4 * b) = value[i];
+    set_block(b, covariance);
+  }
+  return out;
+}
+
+const char* to_string(AllocationStatus status) {
+  switch (status) {
+    case AllocationStatus::kNotNeeded:
+      return "not_needed";
+    case AllocationStatus::kProved:
+      return "proved";
+    case AllocationStatus::kNotProved:
+      return "not_proved";
+    case AllocationStatus::kInfeasible:
+      return "infeasible";
+  }
+  return "?";
+}
+
+namespace {
+
+constexpr double kinematics::PoseUncertainty::*kComponentMember[] = {
+    &kinematics::PoseUncertainty::dx, &kinematics::PoseUncertainty::dy,
+    &kinematics::PoseUncertainty::dz, &kinematics::PoseUncertainty::dtheta};
+constexpr const char* kComponentName[] = {"dx", "dy", "dz", "dtheta"};
+int component_index(char component) {
+  switch (component) {
+    case 'x':
+      return 0;
+    case 'y':
+      return 1;
+    case 'z':
+      return 2;
+    default:
+      return 3;
+  }
+}
+
+// The scenario block a variable's half-width comes from (its half-widths, model and name), or
+// nullopt when the scenario has none (no range-scan sensor). S is Scenario or const Scenario.
+template <class S>
+auto block_of(S& scenario, UncertaintySource source, int object) {
+  constexpr bool kConst = std::is_const_v<S>;
+  struct Block {
+    std::conditional_t<kConst, const kinematics::PoseUncertainty, kinematics::PoseUncertainty>*
+        widths;
+    std::conditional_t<kConst, const UncertaintyModel, UncertaintyModel>* model;
+    std::string name;
+  };
+  std::optional<Block> block;
+  switch (source) {
+    case UncertaintySource::kInitial:
+      if (object >= 0 && object < static_cast<int>(scenario.objects.size()))
+        block = Block{&scenario.objects[object].uncertainty,
+                      &scenario.objects[object].uncertainty_model, scenario.objects[object].name};
+      break;
+    case UncertaintySource::kManipulator:
+      block = Block{&scenario.robot.uncertainty, &scenario.robot.uncertainty_model, "robot"};
+      break;
+    case UncertaintySource::kSensor:
+      if (scenario.range_scan)
+        block = Block{&scenario.range_scan->residual, &scenario.range_scan->residual_model,
+                      "range_scan"};
+      break;
+  }
+  return block;
+}
+
+}  // namespace
+
+Scenario ToleranceAllocation::apply(Scenario scenario) const {
+  for (const ToleranceParameter& p : parameters) {
+    const auto block = block_of(scenario, p.source, p.object);
+    if (!block) throw PlanError("tolerance allocation: " + p.name + " is not in the scenario");
+    const int c = component_index(p.component);
+    double& width = block->widths->*kComponentMember[c];
+    double& sigma = block->model->sigma.*kComponentMember[c];
+    if (width > 0) sigma *= p.allocated / width;
+    width = p.allocated;
+  }
+  return scenario;
+}
+
+ToleranceAllocation allocate_tolerances(const Scenario& scenario, const InstanceAnalysis& analysis,
+                                        const AllocationOptions& options) {
+  ToleranceAllocation out;
+  // Parameters: one per (block, component) with a positive half-width that some variable uses.
+  std::map<std::tuple<int, int, int>, std::size_t> parameter_of;
+  std::vector<int> parameter(analysis.variables.size(), -1);  // per variable
+  std::vector<double> reach(analysis.variables.size(), 0.0);  // max |x_j| over its range
+  for (std::size_t j = 0; j < analysis.variables.size(); ++j) {
+    const SpaceVariable& v = analysis.variables[j];
+    reach[j] = std::max(std::abs(v.lower), std::abs(v.upper));
+    const Provenance& from = v.provenance;
+    const int object = from.source == UncertaintySource::kInitial ? from.object : -1;
+    const auto block = block_of(scenario, from.source, object);
+    const int c = component_index(v.component);
+    if (!block || !(block->widths->*kComponentMember[c] > 0)) continue;
+    const auto key = std::make_tuple(static_cast<int>(from.source), object, c);
+    auto [it, fresh] = parameter_of.emplace(key, out.parameters.size());
+    if (fresh) {
+      const double width = block->widths->*kComponentMember[c];
+      out.parameters.push_back({.source = from.source,
+                                .object = object,
+                                .component = v.component,
+                                .name = block->name + "." + kComponentName[c],
+                                .half_width = width,
+                                .cost = block->model->cost.*kComponentMember[c],
+                                .allocated = width});
+    }
+    parameter[j] = static_cast<int>(it->second);
+  }
+  const std::size_t np = out.parameters.size();
+
+  // Rows: A p <= b - ε with A_kp = Σ_{j in p} |J_kj| reach_j / p0_p, b_k the room the nominal
+  // value leaves (minus what the variables of no parameter take).
+  const Sensitivities jacobian = sensitivities(analysis);
+  const std::size_t rows = jacobian.rows;
+  Eigen::MatrixXd a_rows =
+      Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(rows), static_cast<Eigen::Index>(np));
+  std::vector<double> room(rows);
+  std::vector<const PreconditionResult*> results(rows);
+  for (std::size_t k = 0; k < rows; ++k) {
+    results[k] = &analysis.steps[jacobian.row_step[k]].preconditions[jacobian.row_precondition[k]];
+    const bounds::Inequality& q = results[k]->inequality;
+    room[k] = upper_limit(q.relation) ? q.threshold - jacobian.nominal[k]
+                                      : jacobian.nominal[k] - q.threshold;
+  }
+  for (std::size_t j = 0; j < jacobian.cols; ++j)
+    for (std::int64_t i = jacobian.column_start[j]; i < jacobian.column_start[j + 1]; ++i) {
+      const double spread = std::abs(jacobian.value[i]) * reach[j];
+      if (parameter[j] < 0)
+        room[jacobian.row_index[i]] -= spread;
+      else
+        a_rows(jacobian.row_index[i], parameter[j]) +=
+            spread / out.parameters[parameter[j]].half_width;
+    }
+  Eigen::VectorXd p0(static_cast<Eigen::Index>(np)), cost(static_cast<Eigen::Index>(np));
+  for (std::size_t q = 0; q < np; ++q) {
+    p0[q] = out.parameters[q].half_width;
+    cost[q] = out.parameters[q].cost;
+  }
+  // ε: a positive margin, relative to each row's first-order spread; raised by verification.
+  std::vector<double> epsilon(rows);
+  for (std::size_t k = 0; k < rows; ++k)
+    epsilon[k] =
+        1e-9 * (1 + std::abs(results[k]->inequality.threshold)) + 1e-6 * a_rows.row(k).dot(p0);
+
+  std::vector<bounds::BoundProblem> problems;
+  std::vector<std::vector<std::size_t>> variable_index(rows);  // result.variables -> space index
+  std::map<std::string, std::size_t> column;
+  for (std::size_t j = 0; j < analysis.variables.size(); ++j)
+    column[analysis.variables[j].name] = j;
+  for (std::size_t k = 0; k < rows; ++k) {
+    problems.emplace_back(results[k]->inequality.expression, inputs_of(analysis, *results[k]));
+    for (const std::string& name : results[k]->variables)
+      variable_index[k].push_back(column.at(name));
+  }
+
+  const auto violated_rows = [&](const Eigen::VectorXd& p) {
+    std::vector<std::size_t> v;
+    for (std::size_t k = 0; k < rows; ++k)
+      if (a_rows.row(k).dot(p) > room[k] - epsilon[k]) v.push_back(k);
+    return v;
+  };
+  Eigen::VectorXd p = p0;
+  for (out.rounds = 1; out.rounds <= options.max_rounds; ++out.rounds) {
+    for (std::size_t k = 0; k < rows; ++k)
+      if (room[k] - epsilon[k] < 0) {  // even with every tolerance 0
+        out.status = AllocationStatus::kInfeasible;
+        out.misses.push_back(
+            {jacobian.row_step[k], jacobian.row_precondition[k], epsilon[k] - room[k]});
+      }
+    if (out.status == AllocationStatus::kInfeasible) return out;
+    // Active-set least squares: the violated rows as equalities, min Σ c (δ/p0)^2, clamped.
+    p = p0;
+    for (int iteration = 0; iteration < 100; ++iteration) {
+      const std::vector<std::size_t> active = violated_rows(p);
+      if (active.empty()) break;
+      std::vector<Triplet> m;
+      Eigen::VectorXd r(static_cast<Eigen::Index>(active.size()));
+      for (std::size_t i = 0; i < active.size(); ++i) {
+        const std::size_t k = active[i];
+        r[i] = a_rows.row(k).dot(p) - (room[k] - epsilon[k]);
+        for (std::size_t q = 0; q < np; ++q)
+          if (p[q] > 0 && a_rows(k, q) != 0)
+            m.push_back({i, q, a_rows(k, q) * p0[q] / std::sqrt(cost[q])});
+      }
+      Csc matrix = to_csc(active.size(), np, std::move(m));
+      const Eigen::VectorXd z = min_norm_solve(matrix, r, options.algebra);
+      for (std::size_t q = 0; q < np; ++q)
+        p[q] = std::clamp(p[q] - p0[q] * z[q] / std::sqrt(cost[q]), 0.0, p0[q]);
+    }
+    // If the clamps kept some row violated, shrink uniformly (p = 0 satisfies every row).
+    if (!violated_rows(p).empty()) {
+      double good = 0, bad = 1;
+      for (int i = 0; i < 60; ++i) {
+        const double mid = (good + bad) / 2;
+        (violated_rows(mid * p).empty() ? good : bad) = mid;
+      }
+      p *= good;
+    }
+    // Verify with the sound bounds over the scaled box.
+    out.misses.clear();
+    for (std::size_t k = 0; k < rows; ++k) {
+      std::vector<bounds::Interval> box = results[k]->box;
+      for (std::size_t v = 0; v < box.size(); ++v) {
+        const int q = parameter[variable_index[k][v]];
+        if (q >= 0) box[v] = bounds::Interval(box[v].lo * p[q] / p0[q], box[v].hi * p[q] / p0[q]);
+      }
+      const bounds::BoundResult bound = problems[k].bound(box, options.verify);
+      if (bounds::decide(results[k]->inequality, bound) == bounds::Verdict::kSatisfied) continue;
+      const double t = results[k]->inequality.threshold;
+      const double by = upper_limit(results[k]->inequality.relation) ? bound.hi - t : t - bound.lo;
+      out.misses.push_back({jacobian.row_step[k], jacobian.row_precondition[k], std::max(0.0, by)});
+      epsilon[k] += 1.5 * std::max(by, 0.0) + 1e-6 * a_rows.row(k).dot(p0);
+    }
+    if (out.misses.empty()) break;
+  }
+  out.rounds = std::min(out.rounds, options.max_rounds);
+  for (std::size_t q = 0; q < np; ++q) {
+    out.parameters[q].allocated = p[q];
+    const double change = (p0[q] - p[q]) / p0[q];
+    out.cost += cost[q] * change * change;
+  }
+  if (!out.misses.empty())
+    out.status = AllocationStatus::kNotProved;
+  else
+    out.status = (p == p0) ? AllocationStatus::kNotNeeded : AllocationStatus::kProved;
+  return out;
+}
+
+}  // namespace spar::planner
