@@ -93,7 +93,10 @@ class Planner {
   void establish(const PartialPlan& node, std::size_t goal_index,
                  std::vector<PartialPlan>& children) const;
   // How many steps already in the plan could establish `goal` (each a possible refinement).
-  [[nodiscard]] int existing_establishers(const PartialPlan& node, const OpenGoal& goal) const;
+  // The steps already in the plan that could establish `goal`, each with the add-list atom that
+  // matches it (each pair a possible refinement).
+  [[nodiscard]] std::vector<std::pair<int, GroundAtom>> existing_establishers(
+      const PartialPlan& node, const OpenGoal& goal) const;
   // The open goal to work on (see choose_goal's comment).
   [[nodiscard]] std::size_t choose_goal(const PartialPlan& node) const;
   [[nodiscard]] std::optional<PartialPlan> establish_by_new_step(const PartialPlan& node,
@@ -391,8 +394,9 @@ std::optional<PartialPlan> Planner::establish_by_new_step(const PartialPlan& nod
   return child;
 }
 
-int Planner::existing_establishers(const PartialPlan& node, const OpenGoal& goal) const {
-  int count = 0;
+std::vector<std::pair<int, GroundAtom>> Planner::existing_establishers(const PartialPlan& node,
+                                                                       const OpenGoal& goal) const {
+  std::vector<std::pair<int, GroundAtom>> candidates;
   for (int step = 0; step < static_cast<int>(node.plan.steps.size()); ++step) {
     if (step == goal.consumer || step == kFinishStep ||
         !node.plan.ordering.possibly_before(step, goal.consumer))
@@ -400,10 +404,10 @@ int Planner::existing_establishers(const PartialPlan& node, const OpenGoal& goal
     if (goal.after >= 0 &&
         (step == goal.after || !node.plan.ordering.possibly_before(goal.after, step)))
       continue;
-    for (const GroundAtom& atom : adds(node, step))
-      if (possibly_unify(node, atom, goal.atom)) ++count;
+    for (GroundAtom& atom : adds(node, step))
+      if (possibly_unify(node, atom, goal.atom)) candidates.emplace_back(step, std::move(atom));
   }
-  return count;
+  return candidates;
 }
 
 std::size_t Planner::choose_goal(const PartialPlan& node) const {
@@ -411,7 +415,7 @@ std::size_t Planner::choose_goal(const PartialPlan& node) const {
   // such), else the top of the stack.
   for (std::size_t i = node.open.size(); i-- > 0;) {
     const OpenGoal& goal = node.open[i];
-    int ways = existing_establishers(node, goal);
+    int ways = static_cast<int>(existing_establishers(node, goal).size());
     for (const ActionTemplate& action : domain_.actions)
       if (action.kind == ActionKind::kManipulation)
         for (const Atom& add : action.add)
@@ -430,19 +434,10 @@ void Planner::establish(const PartialPlan& node, std::size_t goal_index,
     return child;
   };
   // By a step already in the plan (the initial state first), constrained to precede the consumer.
-  for (int step = 0; step < static_cast<int>(node.plan.steps.size()); ++step) {
-    if (step == goal.consumer || step == kFinishStep ||
-        !node.plan.ordering.possibly_before(step, goal.consumer))
-      continue;
-    if (goal.after >= 0 &&
-        (step == goal.after || !node.plan.ordering.possibly_before(goal.after, step)))
-      continue;
-    for (const GroundAtom& atom : adds(node, step)) {
-      if (!possibly_unify(node, atom, goal.atom)) continue;
-      PartialPlan child = without_goal();
-      if (!unify(child, atom, goal.atom) || !add_link(child, step, goal)) continue;
-      children.push_back(std::move(child));
-    }
+  for (const auto& [step, atom] : existing_establishers(node, goal)) {
+    PartialPlan child = without_goal();
+    if (!unify(child, atom, goal.atom) || !add_link(child, step, goal)) continue;
+    children.push_back(std::move(child));
   }
   // By a new step from every manipulation template whose add list has the predicate.
   for (std::size_t a = 0; a < domain_.actions.size(); ++a) {
@@ -493,21 +488,9 @@ void Planner::resolve(const PartialPlan& node, const Threat& threat,
 }
 
 int Planner::unestablishable(const PartialPlan& node) const {
-  int count = 0;
-  for (const OpenGoal& goal : node.open) {
-    bool possible = false;
-    for (int step = 0; step < static_cast<int>(node.plan.steps.size()) && !possible; ++step) {
-      if (step == goal.consumer || !node.plan.ordering.possibly_before(step, goal.consumer))
-        continue;
-      for (const GroundAtom& atom : adds(node, step))
-        if (possibly_unify(node, atom, goal.atom)) {
-          possible = true;
-          break;
-        }
-    }
-    count += possible ? 0 : 1;
-  }
-  return count;
+  return static_cast<int>(std::count_if(
+      node.open.begin(), node.open.end(),
+      [&](const OpenGoal& goal) { return existing_establishers(node, goal).empty(); }));
 }
 
 PartialPlan Planner::initial_plan() const {
