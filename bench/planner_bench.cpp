@@ -415,9 +415,11 @@ IntervalError error_box(const spar::kinematics::PoseUncertainty& u) {
 
 class NaivePeer {
  public:
-  explicit NaivePeer(const planner::WorldModel& world) : world_(world) {
+  // Every half-width of the scenario (objects, arm, sensor) times `scale`.
+  explicit NaivePeer(const planner::WorldModel& world, double scale = 1.0)
+      : world_(world), scale_(scale) {
     for (const planner::ObjectSpec& object : world.scenario().objects)
-      table_.push_back(Table{object.initial_pose, error_box(object.uncertainty)});
+      table_.push_back(Table{object.initial_pose, scaled_box(object.uncertainty)});
     held_.resize(table_.size());
   }
 
@@ -425,7 +427,7 @@ class NaivePeer {
   std::vector<Interval> step(const planner::Phase2Step& step) {
     using planner::StepEffect;
     std::vector<Interval> values;
-    const IntervalError arm = error_box(world_.scenario().robot.uncertainty);
+    const IntervalError arm = scaled_box(world_.scenario().robot.uncertainty);
     switch (step.effect) {
       case StepEffect::kGrasp:
         values = pickup(step, arm);
@@ -449,7 +451,7 @@ class NaivePeer {
         break;
       case StepEffect::kRangeScan:
         table_[step.object]->error =
-            error_box(world_.scenario().range_scan.value_or(planner::RangeScanSensor{}).residual);
+            scaled_box(world_.scenario().range_scan.value_or(planner::RangeScanSensor{}).residual);
         break;
       case StepEffect::kNone:
         break;
@@ -465,6 +467,14 @@ class NaivePeer {
   struct Held {
     IntervalPose grip;  // H
   };
+
+  [[nodiscard]] IntervalError scaled_box(spar::kinematics::PoseUncertainty u) const {
+    u.dx *= scale_;
+    u.dy *= scale_;
+    u.dz *= scale_;
+    u.dtheta *= scale_;
+    return error_box(u);
+  }
 
   static IntervalPose arm_transform(const IntervalError& arm) {
     return translation(arm.d[0], arm.d[1], arm.d[2]) * rotation_z(arm.theta);
@@ -568,6 +578,7 @@ class NaivePeer {
   }
 
   const planner::WorldModel& world_;
+  double scale_{1.0};
   std::vector<std::optional<Table>> table_;
   std::vector<std::optional<Held>> held_;
 };
@@ -889,8 +900,7 @@ struct ChainRun {
   Comparison tight;    // against tight bounds (when computed)
 };
 
-ChainRun run_chain(const planner::WorldModel& world, const ChainSetup& setup, int k, int repeats,
-                   bool tight) {
+std::vector<planner::Phase2Step> chain_steps(const ChainSetup& setup, int k) {
   const planner::Domain& domain = planner::builtin_domain();
   planner::Phase2Step grasp{.action = action_with(domain, planner::StepEffect::kGrasp),
                             .effect = planner::StepEffect::kGrasp,
@@ -907,6 +917,12 @@ ChainRun run_chain(const planner::WorldModel& world, const ChainSetup& setup, in
     release.object_pose = trip % 2 == 0 ? setup.b : setup.a;
     steps.push_back(release);
   }
+  return steps;
+}
+
+ChainRun run_chain(const planner::WorldModel& world, const ChainSetup& setup, int k, int repeats,
+                   bool tight) {
+  const std::vector<planner::Phase2Step> steps = chain_steps(setup, k);
   ChainRun run;
   // Build (expressions of every step; the last step's preconditions kept).
   std::unique_ptr<symbolic::ExprPool> pool;
@@ -953,6 +969,64 @@ ChainRun run_chain(const planner::WorldModel& world, const ChainSetup& setup, in
   return run;
 }
 
+// The largest uniform scale s in [0, kMaxScale] of every half-width (objects, arm) for which
+// `proves(s)` holds, by bisection (12 steps; every accepted scale is a proof). 0 if none.
+constexpr double kMaxScale = 256.0;
+double largest_proved_scale(const std::function<bool(double)>& proves) {
+  if (proves(kMaxScale)) return kMaxScale;
+  double good = 0, bad = kMaxScale;
+  for (int i = 0; i < 12; ++i) {
+    const double mid = 0.5 * (good + bad);
+    (proves(mid) ? good : bad) = mid;
+  }
+  return good;
+}
+
+// Reverse analysis of the k-chain's last pickup: up to which scale of all uncertainties each
+// method still PROVES the four preconditions (spar: phase 2's decision over the scaled box; the
+// peer: its enclosures of the scaled chain). Where the peer's scale is smaller, every scale in
+// between is a false alarm of the peer.
+void chain_scales(const planner::WorldModel& world, const ChainSetup& setup,
+                  const std::vector<int>& ks) {
+  std::printf(
+      "\nUp to which uniform scale of every half-width (objects and arm, Table 2 = 1) "
+      "each method proves the last pickup's four preconditions (bisection, 12 steps, "
+      "scales <= %g):\n\n| k | spar proves up to | peer proves up to | spar/peer | "
+      "spar search s |\n|---|---|---|---|---|\n",
+      kMaxScale);
+  const planner::AnalysisOptions options;
+  for (const int k : ks) {
+    const std::vector<planner::Phase2Step> steps = chain_steps(setup, k);
+    symbolic::ExprPool pool;
+    planner::Propagation propagation(world, pool);
+    std::vector<planner::Precondition> last;
+    for (std::size_t s = 0; s < steps.size(); ++s)
+      last = propagation.step(steps[s], static_cast<int>(s) + 1);
+    const ConditionInputs in = condition_inputs(last, propagation.space());
+    const auto start = std::chrono::steady_clock::now();
+    const double spar_scale = largest_proved_scale([&](double scale) {
+      std::vector<Interval> box = in.box;
+      for (Interval& range : box) range = Interval(range.lo * scale, range.hi * scale);
+      const Decided decided = decide_like_phase2(in.inequalities, in.variables, box, options);
+      return std::all_of(decided.verdicts.begin(), decided.verdicts.end(),
+                         [](Verdict v) { return v == Verdict::kSatisfied; });
+    });
+    const double spar_seconds = seconds_since(start);
+    const double peer_scale = largest_proved_scale([&](double scale) {
+      NaivePeer peer(world, scale);
+      std::vector<Interval> values;
+      for (const planner::Phase2Step& step : steps) values = peer.step(step);
+      for (std::size_t i = 0; i < values.size(); ++i)
+        if (peer_verdict(in.inequalities[i].relation, in.inequalities[i].threshold, values[i]) !=
+            Verdict::kSatisfied)
+          return false;
+      return true;
+    });
+    std::printf("| %d | %.3g | %.3g | %.3g | %.2f |\n", k, spar_scale, peer_scale,
+                spar_scale / peer_scale, spar_seconds);
+  }
+}
+
 void k_chain(bool quick, int repeats, Comparison& decided, Comparison& tight, double& ratio_at_max,
              int& max_k) {
   const planner::WorldModel world(planner::load_scenario(example_path("peg_block_on_back")));
@@ -993,6 +1067,8 @@ void k_chain(bool quick, int repeats, Comparison& decided, Comparison& tight, do
     ratio_at_max = run.peer / (run.build + run.decide);
     max_k = k;
   }
+  // Near the threshold spar's decision escalates to the full bound: minutes for k >= 10.
+  chain_scales(world, setup, quick ? std::vector<int>{1} : std::vector<int>{1, 10, 50});
 }
 
 }  // namespace
@@ -1020,8 +1096,8 @@ int main(int argc, char** argv) {
     double scale_expanded = 0, scale_generated = 0, scale_seconds = 0;
     std::string largest_task = "none solvable";
     // The N-pair searches run to the node budget from N = 2 on (see RESULTS.md): --quick gives
-    // them 5 000 partial plans instead of the default 200 000 to stay under a minute.
-    scaling(8, quick ? 5'000 : planner::PostingOptions{}.max_nodes, scenario_dir, scale_expanded,
+    // them 2 000 partial plans instead of the default 200 000 to stay under a minute.
+    scaling(8, quick ? 2'000 : planner::PostingOptions{}.max_nodes, scenario_dir, scale_expanded,
             scale_generated, scale_seconds, largest_task);
     Comparison seeds;
     double our_phase2 = 0, peer_phase2 = 0;
