@@ -8,7 +8,8 @@
 //   PEER, in the same run: naive interval propagation of the same 4x4 products (numeric interval
 //   matrices multiplied through the same chain, the same inequality evaluated by interval
 //   arithmetic over the box). Reported: false alarms (preconditions spar proves satisfied that the
-//   peer cannot) and the width ratio peer/spar.
+//   peer cannot), the width ratio peer/spar, and on the k-chain the largest uniform scale of the
+//   uncertainty for which each method still proves the last pickup.
 // Usage: planner_bench [--quick] [--scenarios DIR]   (DIR: write the N-pair tasks as YAML there)
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -748,6 +749,8 @@ void decide_breakdown(const planner::WorldModel& world, const planner::InstanceA
   std::printf("\n");
 }
 
+// The instance's steps as phase 2 sees them (the same mapping as analysis.cpp's private one, which
+// has no public name).
 std::vector<planner::Phase2Step> phase2_steps(const planner::Domain& domain,
                                               const planner::PlanInstance& instance) {
   std::vector<planner::Phase2Step> steps;
