@@ -1,169 +1,203 @@
-// `spar plan SCENARIO`: plans a scenario file with SPAR's two phases and prints the plan family and
-// the chosen plan instance (or, with --json, one JSON object: reports/plan_json.hpp).
+// `spar plan`: plans scenario files with SPAR's two phases and reports on them. Everything it
+// prints is rendered from the report's JSON (reports/plan_json.hpp), never from planner internals.
 //
-//   spar plan examples/peg_block_face_down.yaml [--json] [--domain FILE] [--instances N]
-//             [--max-nodes N] [--max-steps N]
-#include <cstdio>
-#include <iomanip>
+//   spar plan SCENARIO                      the Markdown report on standard output
+//   spar plan SCENARIO --report DIR         writes DIR/report.{json,md,html} atomically (nothing
+//             [--format json,md,html]       when planning fails) and prints a summary and where
+//   spar plan SCENARIO --json               the JSON report on standard output
+//   spar plan --batch FILE_OR_DIR [--jobs N] [--report DIR]
+//             many scenarios (a folder's *.yaml, or a file listing one path per line, relative to
+//             the file) on a thread pool: one JSON line per scenario, in input order, either
+//             {"file", "report"} or {"file", "error"}; a progress bar on stderr when it is a
+//             terminal; with --report, each report goes to DIR/<file stem>/. A bad scenario gives
+//             an error record and the batch goes on; the command fails at the end if any did.
+//   common options: --domain FILE, --instances N, --max-nodes N, --max-steps N
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <condition_variable>
+#include <filesystem>
+#include <fstream>
 #include <iostream>
-#include <sstream>
+#include <mutex>
+#include <set>
+#include <thread>
 
 #include "cli/commands.hpp"
+#include "cli/options.hpp"
 #include "planner/plan.hpp"
+#include "reports/markdown.hpp"
 #include "reports/plan_json.hpp"
+#include "reports/write.hpp"
 
 namespace spar::cli {
 namespace {
 
+namespace fs = std::filesystem;
+
 struct PlanArguments {
   std::string scenario;
   std::string domain;
+  std::string report;
+  std::string formats{"json,md,html"};
+  std::string batch;
   bool json{false};
-  std::size_t instances{16};
-  std::size_t max_nodes{200'000};
+  int jobs{0};  // 0: the core count
+  std::uint64_t instances{16};
+  std::uint64_t max_nodes{200'000};
   int max_steps{64};
 };
 
-std::string fixed(double value, int digits = 3) {
-  std::ostringstream out;
-  out << std::fixed << std::setprecision(digits) << value;
-  return out.str();
+nlohmann::ordered_json plan_report(const std::string& scenario, const planner::Domain& domain,
+                                   const planner::PlanOptions& options) {
+  return reports::plan_json(planner::plan(planner::load_scenario(scenario), domain, options));
 }
 
-void print_text(const planner::PlanResult& result, std::ostream& out) {
-  const planner::Scenario& scenario = result.world.scenario();
-  const planner::PlanFamily& family = result.family;
-  const planner::Units& units = scenario.units;
-  const std::string length(units.length_name());
-  const auto vector_text = [&](const Eigen::Vector3d& v) {
-    return "(" + fixed(units.to_file_length(v.x())) + ", " + fixed(units.to_file_length(v.y())) +
-           ", " + fixed(units.to_file_length(v.z())) + ") " + length;
-  };
-  out << "plan " << scenario.name << ": " << to_string(family.status);
-  if (result.planned()) out << ", " << family.steps.size() - 2 << " actions";
-  out << " (" << family.stats.expanded << " partial plans expanded, "
-      << fixed(family.stats.seconds * 1e3, 2) << " ms)\n";
-  if (!result.planned()) {
-    out << "  " << family.reason << '\n';
-    return;
+// "wrote report/report.html (and report.json, report.md)".
+std::string written_text(const std::vector<fs::path>& files) {
+  std::string out = "report: " + files.front().string();
+  for (std::size_t i = 1; i < files.size(); ++i)
+    out += (i == 1 ? " (also " : ", ") + files[i].filename().string();
+  return out + (files.size() > 1 ? ")" : "");
+}
+
+// The HTML first when there is one: it is what a person opens.
+std::vector<reports::Format> html_first(std::vector<reports::Format> formats) {
+  std::stable_partition(formats.begin(), formats.end(),
+                        [](reports::Format format) { return format == reports::Format::kHtml; });
+  return formats;
+}
+
+void run_single(const PlanArguments& arguments, const planner::Domain& domain,
+                const planner::PlanOptions& options) {
+  const std::vector<reports::Format> formats =
+      html_first(reports::parse_formats(arguments.formats));
+  const nlohmann::ordered_json report = plan_report(arguments.scenario, domain, options);
+  std::vector<fs::path> files;
+  if (!arguments.report.empty()) files = reports::write_reports(report, arguments.report, formats);
+  if (arguments.json) {
+    std::cout << report.dump(2) << '\n';
+    if (!files.empty()) std::cerr << written_text(files) << '\n';
+  } else if (!files.empty()) {
+    std::cout << reports::summary(report) << written_text(files) << '\n';
+  } else {
+    std::cout << reports::render_markdown(report);
   }
-  out << "\nplan family\n  steps (in the order they were added):\n";
-  for (std::size_t s = 2; s < family.steps.size(); ++s)
-    out << "    " << std::setw(2) << family.steps[s].id << "  "
-        << family.describe(family.steps[s], result.world, result.domain) << '\n';
-  out << "  ordering (prior_to):";
-  for (const auto& [before, after] : family.ordering.transitive_reduction())
-    if (family.steps[before].action >= 0 && family.steps[after].action >= 0)
-      out << "  " << before << " < " << after;
-  out << "\n  variables:\n";
-  for (int v = 0; v < family.network.variable_count(); ++v) {
-    if (family.network.representative(v) != v) continue;
-    const planner::PlanVariable& meta = family.variables[v];
-    const planner::ObjectWorld& object = result.world.object(meta.object);
-    out << "    " << std::left << std::setw(16) << meta.name << std::right;
-    for (const int label : family.network.labels(v))
-      out << ' '
-          << (meta.type == planner::ParameterType::kGrasp ? object.grasps[label].label
-                                                           : object.positions[label].name);
-    out << '\n';
+}
+
+// The scenarios of a batch: a folder's *.yaml / *.yml files (sorted), or the lines of a list file
+// (blank lines and # comments skipped), relative to the list's folder.
+std::vector<std::string> batch_files(const std::string& source) {
+  std::vector<std::string> files;
+  if (fs::is_directory(source)) {
+    for (const auto& entry : fs::directory_iterator(source))
+      if (entry.is_regular_file() &&
+          (entry.path().extension() == ".yaml" || entry.path().extension() == ".yml"))
+        files.push_back(entry.path().string());
+    std::sort(files.begin(), files.end());
+    if (files.empty()) throw UsageError("--batch: no *.yaml scenario in folder '" + source + "'");
+    return files;
   }
-  out << "  constraint network: " << family.network.arcs().size() << " arcs\n";
-  out << "\ninstances: " << result.instances.instances.size()
-      << (result.instances.limit_reached ? " (limit reached; more exist)" : "") << '\n';
-  const planner::PlanInstance& chosen = result.chosen();
-  const planner::InstanceAnalysis* analysis = result.chosen_analysis();
-  out << "\nchosen instance " << chosen.index + 1;
-  if (analysis != nullptr) {
-    out << " (" << analysis->errors << " error" << (analysis->errors == 1 ? "" : "s")
-        << "; examined:";
-    for (const planner::InstanceAnalysis& examined : result.examined)
-      out << " #" << examined.instance + 1 << "=" << examined.errors;
-    out << ")";
+  std::ifstream list(source);
+  if (!list) throw UsageError("--batch: cannot read '" + source + "' (a folder or a list file)");
+  const fs::path base = fs::path(source).parent_path();
+  for (std::string line; std::getline(list, line);) {
+    line.erase(0, line.find_first_not_of(" \t"));
+    line.erase(line.find_last_not_of(" \t\r") + 1);
+    if (line.empty() || line[0] == '#') continue;
+    files.push_back(fs::path(line).is_absolute() ? line : (base / line).string());
   }
-  out << ", in execution order:\n";
-  const auto print_step = [&](int number, const planner::InstanceStep& step, bool inserted) {
-    const planner::ObjectSpec& object = scenario.objects[step.object];
-    out << "  " << number << ". " << step.action_name << ' ' << object.name;
-    if (step.is_assembly()) out << " into " << scenario.objects[step.fixed_object].name;
-    out << (inserted ? "   [inserted by phase 2]" : "") << '\n';
-    if (step.grasp >= 0) {
-      const geometry::Grasp& grasp = result.world.object(step.object).grasps[step.grasp];
-      out << "       grasp " << grasp.label << " (faces " << grasp.face_plus_y << "/"
-          << grasp.face_minus_y << ", width " << fixed(units.to_file_length(grasp.width))
-          << ' ' << length << ")\n";
-    }
-    if (step.position >= 0 && !step.is_assembly())
-      out << "       object at " << vector_text(step.object_pose.translation())
-          << (step.stable_pose >= 0 ? ", stable pose " + object.stable_poses[step.stable_pose].label
-                                    : std::string())
-          << '\n';
-    if (step.is_assembly())
-      out << "       " << scenario.objects[step.fixed_object].name << " at "
-          << vector_text(step.fixed_pose.translation()) << ", " << object.name << " goes to "
-          << vector_text(step.held_pose.translation()) << '\n';
-    if (step.grasp >= 0) {
-      out << "       gripper at " << vector_text(step.gripper_pose.translation()) << ", tilt "
-          << fixed(units.to_file_angle(step.reach.tilt), 1) << ' ' << units.angle_name();
-      if (step.reach.solution) {
-        out << ", joints (";
-        for (int j = 0; j < 6; ++j)
-          out << (j ? ", " : "") << fixed(units.to_file_angle(step.reach.solution->q[j]), 1);
-        out << ") " << units.angle_name() << " " << step.reach.solution->configuration.label();
+  if (files.empty()) throw UsageError("--batch: '" + source + "' lists no scenario");
+  return files;
+}
+
+void draw_progress(std::size_t done, std::size_t total) {
+  constexpr int kWidth = 30;
+  const int filled = static_cast<int>(kWidth * done / total);
+  std::cerr << "\r[" << std::string(filled, '#') << std::string(kWidth - filled, '.') << "] "
+            << done << "/" << total << " scenarios" << (done == total ? "\n" : "") << std::flush;
+}
+
+void run_batch(const PlanArguments& arguments, const planner::Domain& domain,
+               const planner::PlanOptions& options) {
+  const std::vector<std::string> files = batch_files(arguments.batch);
+  const std::vector<reports::Format> formats =
+      html_first(reports::parse_formats(arguments.formats));
+  if (!arguments.report.empty()) {
+    std::set<std::string> stems;
+    for (const std::string& file : files)
+      if (!stems.insert(fs::path(file).stem().string()).second)
+        throw UsageError("--batch with --report: two scenarios are named '" +
+                         fs::path(file).stem().string() + "' (each report goes to DIR/<stem>/)");
+  }
+  const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
+  const std::size_t jobs =
+      std::min<std::size_t>(files.size(), arguments.jobs > 0 ? arguments.jobs : cores);
+
+  // Workers take the next index; the calling thread prints the lines in input order.
+  std::vector<std::string> lines(files.size());
+  std::vector<bool> ready(files.size(), false);
+  std::atomic<std::size_t> next{0};
+  std::mutex mutex;
+  std::condition_variable finished;
+  std::size_t failures = 0;
+  const auto work = [&] {
+    for (std::size_t i = next++; i < files.size(); i = next++) {
+      nlohmann::ordered_json record = {{"file", files[i]}};
+      bool failed = false;
+      try {
+        record["report"] = plan_report(files[i], domain, options);
+        if (!arguments.report.empty())
+          (void)reports::write_reports(
+              record["report"], fs::path(arguments.report) / fs::path(files[i]).stem(), formats);
+      } catch (const std::exception& error) {
+        record.erase("report");
+        record["error"] = error.what();
+        failed = true;
       }
-      out << '\n';
+      const std::lock_guard lock(mutex);
+      lines[i] = record.dump();
+      ready[i] = true;
+      failures += failed ? 1 : 0;
+      finished.notify_all();
     }
   };
-  if (analysis == nullptr) {
-    int number = 0;
-    for (const planner::InstanceStep& step : chosen.steps) print_step(++number, step, false);
-    return;
+  std::vector<std::jthread> pool;
+  for (std::size_t j = 0; j < jobs; ++j) pool.emplace_back(work);
+  const bool progress = isatty(STDERR_FILENO) == 1;
+  std::size_t printed = 0;
+  while (printed < files.size()) {
+    std::unique_lock lock(mutex);
+    finished.wait(lock, [&] { return ready[printed]; });
+    const std::string line = std::move(lines[printed++]);
+    const std::size_t done = std::count(ready.begin(), ready.end(), true);
+    lock.unlock();
+    if (progress) std::cerr << "\r\033[K" << std::flush;  // clear the bar, print, redraw it
+    std::cout << line << '\n' << std::flush;
+    if (progress) draw_progress(done, files.size());
   }
-  int number = 0;
-  for (const planner::AnalysedStep& analysed : analysis->steps) {
-    planner::InstanceStep step;
-    if (analysed.inserted) {
-      step.action_name = analysed.action;
-      step.object = analysed.step.object;
-      step.grasp = -1;
-      step.object_pose = analysed.step.object_pose;
-    } else {
-      step = chosen.steps[analysed.step.instance_step];
-    }
-    print_step(++number, step, analysed.inserted);
-    for (const planner::PreconditionResult& p : analysed.preconditions) {
-      out << "       " << std::left << std::setw(10) << bounds::to_string(p.verdict) << std::right
-          << p.kind << "  " << p.inequality.name << "   bound [" << std::setprecision(6)
-          << p.bound.lo << ", " << p.bound.hi << "] m";
-      if (p.holds_up_to_scale) out << "   holds up to x" << fixed(*p.holds_up_to_scale, 2);
-      out << '\n';
-    }
-    for (const planner::VerificationPlan& plan : analysed.verification) {
-      out << "       verify: " << plan.sense << " (expect " << plan.expect << ")\n";
-      for (const auto& outcome : plan.outcomes)
-        out << "         if " << outcome.when << " -> " << outcome.error << ": recover by "
-            << outcome.recovery << '\n';
-    }
-  }
-  for (const planner::RepairAttempt& attempt : analysis->repairs)
-    out << "  repair tried: " << attempt.action << ' ' << scenario.objects[attempt.object].name
-        << (attempt.helped ? " (made the step's preconditions hold)" : " (did not help)") << '\n';
+  pool.clear();
+  if (failures > 0)
+    throw Error(std::to_string(failures) + " of " + std::to_string(files.size()) +
+                " scenarios failed (their records say why)");
 }
 
 void run_plan(const PlanArguments& arguments) {
-  planner::Domain domain = arguments.domain.empty() ? planner::builtin_domain()
-                                                    : planner::load_domain(arguments.domain);
+  if (arguments.scenario.empty() == arguments.batch.empty())
+    throw UsageError("spar plan takes a SCENARIO file or --batch FILE_OR_DIR (one of the two)");
+  if (!arguments.batch.empty() && arguments.json)
+    throw UsageError("--json: a batch always prints JSON lines");
+  const planner::Domain domain =
+      arguments.domain.empty() ? planner::builtin_domain() : planner::load_domain(arguments.domain);
   planner::PlanOptions options;
   options.max_instances = arguments.instances;
   options.posting.max_nodes = arguments.max_nodes;
   options.posting.max_steps = arguments.max_steps;
-  const planner::PlanResult result =
-      planner::plan(planner::load_scenario(arguments.scenario), domain, options);
-  if (arguments.json)
-    std::cout << reports::plan_json(result).dump(2) << '\n';
+  if (arguments.batch.empty())
+    run_single(arguments, domain, options);
   else
-    print_text(result, std::cout);
-  std::cout.flush();
-  if (!std::cout) throw std::runtime_error("cannot write the plan to standard output");
+    run_batch(arguments, domain, options);
 }
 
 }  // namespace
@@ -171,20 +205,30 @@ void run_plan(const PlanArguments& arguments) {
 void add_plan_command(CLI::App& app) {
   auto arguments = std::make_shared<PlanArguments>();
   CLI::App* command = app.add_subcommand(
-      "plan", "Plan a scenario file (SPAR): plan family, plan instances, the chosen plan");
-  command->add_option("scenario", arguments->scenario, "scenario file (YAML, docs/scenario.md)")
-      ->required();
-  command->add_flag("--json", arguments->json, "print one JSON object");
+      "plan", "Plan a scenario file (SPAR) and report on it: plan, preconditions, repairs");
+  command->add_option("scenario", arguments->scenario, "scenario file (YAML, docs/scenario.md)");
+  command->add_option("--report", arguments->report,
+                      "write the report into this folder (report.json, report.md, report.html)");
+  auto* format = command->add_option("--format", arguments->formats,
+                                     "report formats, comma-separated (default json,md,html)");
+  command->add_flag("--json", arguments->json, "print the JSON report (docs/report-schema.md)");
+  command->add_option("--batch", arguments->batch,
+                      "plan many scenarios: a folder of *.yaml or a file listing paths");
+  add_count_option(*command, "--jobs", arguments->jobs,
+                   "batch threads (default: the number of cores)", 1, 256);
   command->add_option("--domain", arguments->domain,
                       "action templates (YAML; default: the built-in planner/domain.yaml)");
-  command->add_option("--instances", arguments->instances, "plan instances to enumerate (default 16)")
-      ->check(CLI::Range(std::size_t{1}, std::size_t{100'000}));
-  command->add_option("--max-nodes", arguments->max_nodes,
-                      "partial plans the search may expand (default 200000)")
-      ->check(CLI::Range(std::size_t{1}, std::size_t{100'000'000}));
-  command->add_option("--max-steps", arguments->max_steps, "actions in one plan (default 64)")
-      ->check(CLI::Range(1, 10'000));
-  command->callback([arguments] { run_plan(*arguments); });
+  add_count_option(*command, "--instances", arguments->instances,
+                   "plan instances to enumerate (default 16)", 1, 100'000);
+  add_count_option(*command, "--max-nodes", arguments->max_nodes,
+                   "partial plans the search may expand (default 200000)", 1, 100'000'000);
+  add_count_option(*command, "--max-steps", arguments->max_steps,
+                   "actions in one plan (default 64)", 1, 10'000);
+  command->callback([arguments, format] {
+    if (format->count() > 0 && arguments->report.empty())
+      throw UsageError("--format needs --report DIR");
+    run_plan(*arguments);
+  });
 }
 
 }  // namespace spar::cli

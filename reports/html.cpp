@@ -447,7 +447,8 @@ void network_section(const Json& report, std::ostringstream& out) {
 void instances_section(const Json& report, std::ostringstream& out) {
   const Json& instances = report.at("instances");
   out << "<section id=\"instances\"><h2>Instances considered</h2>\n<p>"
-      << instances.at("count").get<std::size_t>() << " plan instances enumerated"
+      << instances.at("count").get<std::size_t>()
+      << (instances.at("count") == 1 ? " plan instance enumerated" : " plan instances enumerated")
       << (instances.at("limit_reached").get<bool>() ? " (the limit was reached: more exist)" : "")
       << "; phase 2 examines them in order until one has no error.</p>\n"
       << "<table id=\"instance-table\"><tr><th>instance</th><th>errors</th><th>steps</th>"

@@ -150,7 +150,8 @@ void verification_section(const Json& report, std::ostringstream& out) {
 void instances_section(const Json& report, std::ostringstream& out) {
   const Json& instances = report.at("instances");
   out << "\n## Instances considered\n\n"
-      << instances.at("count").get<std::size_t>() << " plan instances enumerated"
+      << instances.at("count").get<std::size_t>()
+      << (instances.at("count") == 1 ? " plan instance enumerated" : " plan instances enumerated")
       << (instances.at("limit_reached").get<bool>() ? " (the limit was reached: more exist)" : "")
       << "; phase 2 examines them in order until one has no error.\n\n"
       << "| instance | errors | steps | inserted | failed preconditions | |\n"

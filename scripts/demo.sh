@@ -1,10 +1,12 @@
 #!/usr/bin/env bash
-# The README's main-job command: installs what is missing, builds `spar` and runs it on the
-# built-in example.
+# The README's first command: installs what is missing, builds `spar`, plans the seed's
+# peg-and-block task (the block face down: it is turned over twice before the peg goes in) and
+# writes the uncertainty report to report/ (report.html, report.md, report.json). Extra arguments
+# go to `spar plan` (e.g. --format html).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh >/dev/null
 build=${SPAR_BUILD_DIR:-build}
 cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build "$build" -j2 --target spar >/dev/null
-exec "$build/cli/spar" demo "$@"
+exec "$build/cli/spar" plan examples/peg_block_face_down.yaml --report report "$@"

@@ -16,13 +16,9 @@ double value(const Json& number) {
   return std::nan("");
 }
 
-std::string rounded(double value, int digits) {
+std::string fixed(double value, int decimals) {
   if (std::isnan(value)) return "nan";
   if (std::isinf(value)) return value > 0 ? "inf" : "-inf";
-  if (value == 0.0) return "0";
-  // Decimals so that `digits` significant digits show; none for large values.
-  const int magnitude = static_cast<int>(std::floor(std::log10(std::fabs(value))));
-  const int decimals = std::clamp(digits - 1 - magnitude, 0, 15);
   char buffer[64];
   std::snprintf(buffer, sizeof buffer, "%.*f", decimals, value);
   std::string out = buffer;
@@ -30,8 +26,14 @@ std::string rounded(double value, int digits) {
     out.erase(out.find_last_not_of('0') + 1);
     if (out.back() == '.') out.pop_back();
   }
-  if (out == "-0") out = "0";
-  return out;
+  return out == "-0" ? "0" : out;
+}
+
+std::string rounded(double value, int digits) {
+  if (!std::isfinite(value) || value == 0.0) return fixed(value, 0);
+  // Decimals so that `digits` significant digits show; none for large values.
+  const int magnitude = static_cast<int>(std::floor(std::log10(std::fabs(value))));
+  return fixed(value, std::clamp(digits - 1 - magnitude, 0, 15));
 }
 
 std::string text(const Json& object, std::string_view key, std::string_view fallback) {
@@ -130,8 +132,8 @@ std::string step_details(const Json& report, const Json& step) {
         length + ")");
   }
   const auto position = [&](const Json& pose) {
-    return "(" + rounded(value(pose.at(0).at(3))) + ", " + rounded(value(pose.at(1).at(3))) + ", " +
-           rounded(value(pose.at(2).at(3))) + ") " + length;
+    return "(" + fixed(value(pose.at(0).at(3))) + ", " + fixed(value(pose.at(1).at(3))) + ", " +
+           fixed(value(pose.at(2).at(3))) + ") " + length;
   };
   if (step.contains("fixed_object")) {
     add(text(step, "fixed_object") + " at " + position(step.at("fixed_pose")));

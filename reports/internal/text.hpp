@@ -22,6 +22,8 @@ using Json = nlohmann::ordered_json;
 [[nodiscard]] double value(const Json& number);
 // `value` rounded to `digits` significant digits for reading ("inf", "-inf", "nan" as words).
 [[nodiscard]] std::string rounded(double value, int digits = 3);
+// `value` with at most `decimals` decimals, trailing zeros dropped: 3e-15 -> "0", 12.4 -> "12.4".
+[[nodiscard]] std::string fixed(double value, int decimals = 3);
 // A string member, or `fallback` when it is absent or null.
 [[nodiscard]] std::string text(const Json& object, std::string_view key,
                                std::string_view fallback = "");
