@@ -4,6 +4,7 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/QR>
+#include <Eigen/SparseCore>
 #include <SuiteSparseQR.hpp>
 #include <algorithm>
 #include <cmath>
@@ -636,6 +637,12 @@ Scenario ToleranceAllocation::apply(Scenario scenario) const {
 
 ToleranceAllocation allocate_tolerances(const Scenario& scenario, const InstanceAnalysis& analysis,
                                         const AllocationOptions& options) {
+  return allocate_tolerances(scenario, analysis, sensitivities(analysis), options);
+}
+
+ToleranceAllocation allocate_tolerances(const Scenario& scenario, const InstanceAnalysis& analysis,
+                                        const Sensitivities& jacobian,
+                                        const AllocationOptions& options) {
   ToleranceAllocation out;
   // Parameters: one per (block, component) with a positive half-width that some variable uses.
   std::map<std::tuple<int, int, int>, std::size_t> parameter_of;
@@ -667,10 +674,10 @@ ToleranceAllocation allocate_tolerances(const Scenario& scenario, const Instance
 
   // Rows: A p <= b - ε with A_kp = Σ_{j in p} |J_kj| reach_j / p0_p, b_k the room the nominal
   // value leaves (minus what the variables of no parameter take).
-  const Sensitivities jacobian = sensitivities(analysis);
+  if (jacobian.cols != analysis.variables.size())
+    throw PlanError("internal: allocate_tolerances needs J of this instance");
   const std::size_t rows = jacobian.rows;
-  Eigen::MatrixXd a_rows =
-      Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(rows), static_cast<Eigen::Index>(np));
+  std::vector<Eigen::Triplet<double>> a_entries;
   std::vector<double> room(rows);
   std::vector<const PreconditionResult*> results(rows);
   for (std::size_t k = 0; k < rows; ++k) {
@@ -685,35 +692,40 @@ ToleranceAllocation allocate_tolerances(const Scenario& scenario, const Instance
       if (parameter[j] < 0)
         room[jacobian.row_index[i]] -= spread;
       else
-        a_rows(jacobian.row_index[i], parameter[j]) +=
-            spread / out.parameters[parameter[j]].half_width;
+        a_entries.emplace_back(jacobian.row_index[i], parameter[j],
+                               spread / out.parameters[parameter[j]].half_width);
     }
+  // Row-major and sparse (duplicates summed): row k's parameters are those f_k depends on.
+  Eigen::SparseMatrix<double, Eigen::RowMajor> a_rows(static_cast<Eigen::Index>(rows),
+                                                      static_cast<Eigen::Index>(np));
+  a_rows.setFromTriplets(a_entries.begin(), a_entries.end());
   Eigen::VectorXd p0(static_cast<Eigen::Index>(np)), cost(static_cast<Eigen::Index>(np));
   for (std::size_t q = 0; q < np; ++q) {
     p0[q] = out.parameters[q].half_width;
     cost[q] = out.parameters[q].cost;
   }
   // ε: a positive margin, relative to each row's first-order spread; raised by verification.
+  const Eigen::VectorXd spread0 = a_rows * p0;
   std::vector<double> epsilon(rows);
   for (std::size_t k = 0; k < rows; ++k)
-    epsilon[k] =
-        1e-9 * (1 + std::abs(results[k]->inequality.threshold)) + 1e-6 * a_rows.row(k).dot(p0);
+    epsilon[k] = 1e-9 * (1 + std::abs(results[k]->inequality.threshold)) + 1e-6 * spread0[k];
 
   std::vector<bounds::BoundProblem> problems;
   std::vector<std::vector<std::size_t>> variable_index(rows);  // result.variables -> space index
   std::map<std::string, std::size_t> column;
   for (std::size_t j = 0; j < analysis.variables.size(); ++j)
     column[analysis.variables[j].name] = j;
-  for (std::size_t k = 0; k < rows; ++k) {
+  for (std::size_t k = 0; k < rows && options.verify; ++k) {
     problems.emplace_back(results[k]->inequality.expression, inputs_of(analysis, *results[k]));
     for (const std::string& name : results[k]->variables)
       variable_index[k].push_back(column.at(name));
   }
 
   const auto violated_rows = [&](const Eigen::VectorXd& p) {
+    const Eigen::VectorXd spread = a_rows * p;
     std::vector<std::size_t> v;
     for (std::size_t k = 0; k < rows; ++k)
-      if (a_rows.row(k).dot(p) > room[k] - epsilon[k]) v.push_back(k);
+      if (spread[k] > room[k] - epsilon[k]) v.push_back(k);
     return v;
   };
   Eigen::VectorXd p = p0;
@@ -730,14 +742,17 @@ ToleranceAllocation allocate_tolerances(const Scenario& scenario, const Instance
     for (int iteration = 0; iteration < 100; ++iteration) {
       const std::vector<std::size_t> active = violated_rows(p);
       if (active.empty()) break;
+      const Eigen::VectorXd spread = a_rows * p;
       std::vector<Triplet> m;
       Eigen::VectorXd r(static_cast<Eigen::Index>(active.size()));
       for (std::size_t i = 0; i < active.size(); ++i) {
         const std::size_t k = active[i];
-        r[i] = a_rows.row(k).dot(p) - (room[k] - epsilon[k]);
-        for (std::size_t q = 0; q < np; ++q)
-          if (p[q] > 0 && a_rows(k, q) != 0)
-            m.push_back({i, q, a_rows(k, q) * p0[q] / std::sqrt(cost[q])});
+        r[i] = spread[k] - (room[k] - epsilon[k]);
+        for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(a_rows, k); it; ++it) {
+          const auto q = static_cast<std::size_t>(it.col());
+          if (p[q] > 0 && it.value() != 0)
+            m.push_back({i, q, it.value() * p0[q] / std::sqrt(cost[q])});
+        }
       }
       Csc matrix = to_csc(active.size(), np, std::move(m));
       const Eigen::VectorXd z = min_norm_solve(matrix, r, options.algebra);
@@ -753,6 +768,7 @@ ToleranceAllocation allocate_tolerances(const Scenario& scenario, const Instance
       }
       p *= good;
     }
+    if (!options.verify) break;
     // Verify with the sound bounds over the scaled box.
     out.misses.clear();
     for (std::size_t k = 0; k < rows; ++k) {
@@ -761,12 +777,12 @@ ToleranceAllocation allocate_tolerances(const Scenario& scenario, const Instance
         const int q = parameter[variable_index[k][v]];
         if (q >= 0) box[v] = bounds::Interval(box[v].lo * p[q] / p0[q], box[v].hi * p[q] / p0[q]);
       }
-      const bounds::BoundResult bound = problems[k].bound(box, options.verify);
+      const bounds::BoundResult bound = problems[k].bound(box, options.verify_bounds);
       if (bounds::decide(results[k]->inequality, bound) == bounds::Verdict::kSatisfied) continue;
       const double t = results[k]->inequality.threshold;
       const double by = upper_limit(results[k]->inequality.relation) ? bound.hi - t : t - bound.lo;
       out.misses.push_back({jacobian.row_step[k], jacobian.row_precondition[k], std::max(0.0, by)});
-      epsilon[k] += 1.5 * std::max(by, 0.0) + 1e-6 * a_rows.row(k).dot(p0);
+      epsilon[k] += 1.5 * std::max(by, 0.0) + 1e-6 * spread0[k];
     }
     if (out.misses.empty()) break;
   }
@@ -776,7 +792,7 @@ ToleranceAllocation allocate_tolerances(const Scenario& scenario, const Instance
     const double change = (p0[q] - p[q]) / p0[q];
     out.cost += cost[q] * change * change;
   }
-  if (!out.misses.empty())
+  if (!out.misses.empty() || !options.verify)
     out.status = AllocationStatus::kNotProved;
   else
     out.status = (p == p0) ? AllocationStatus::kNotNeeded : AllocationStatus::kProved;

@@ -203,11 +203,19 @@ struct ToleranceAllocation {
 struct AllocationOptions {
   LinearAlgebra algebra{LinearAlgebra::kSparse};
   int max_rounds{4};
-  bounds::BoundOptions verify{.tolerance = 1e-3, .max_box_evaluations = 5'000};
+  bounds::BoundOptions verify_bounds{.tolerance = 1e-3, .max_box_evaluations = 5'000};
+  // false: one first-order allocation, not verified (status kNotProved, no misses): benchmarks
+  // time the linear algebra alone with it.
+  bool verify{true};
 };
 // `analysis` is an instance of `scenario` (its variables' provenance names the parameters).
 [[nodiscard]] ToleranceAllocation allocate_tolerances(const Scenario& scenario,
                                                       const InstanceAnalysis& analysis,
+                                                      const AllocationOptions& options = {});
+// The same with the instance's J already computed (sensitivities(analysis)).
+[[nodiscard]] ToleranceAllocation allocate_tolerances(const Scenario& scenario,
+                                                      const InstanceAnalysis& analysis,
+                                                      const Sensitivities& jacobian,
                                                       const AllocationOptions& options = {});
 
 }  // namespace spar::planner
