@@ -362,6 +362,47 @@ void run_reuse(const std::vector<nlohmann::json>& records, bool quick) {
               median(corpus.per_box_ratio));
 }
 
+// Large inputs (issue 12): the effort limit holds in proportion to the input, memory stays
+// linear. Parse + bound with the default options; prints time and boxes.
+void run_large(bool quick) {
+  std::printf("\nlarge inputs (default options: work budget, no clock)\n");
+  const auto run = [](const char* label, const std::string& text, int variables) {
+    symbolic::ExprPool pool;
+    const auto start = std::chrono::steady_clock::now();
+    const symbolic::Expr f = symbolic::parse(pool, text);
+    const double parse_seconds = seconds_since(start);
+    spar::bounds::Box box;
+    if (variables == 1) {
+      box.add(pool.variable("x"), -1, 1);
+    } else {
+      for (int i = 0; i < variables; ++i) {
+        std::string name = "v";
+        name += std::to_string(i);
+        box.add(pool.variable(name), -1, 1);
+      }
+    }
+    const auto bound_start = std::chrono::steady_clock::now();
+    const BoundResult r = spar::bounds::bound(f, box);
+    std::printf("%-34s parse %7.3f s  bound %7.3f s  %zu boxes  %s  [%.6g, %.6g]\n", label,
+                parse_seconds, seconds_since(bound_start), r.evaluations,
+                spar::bounds::to_string(r.status), r.lo, r.hi);
+  };
+  std::string sum = "v0";
+  for (int i = 1; i < 2000; ++i) {
+    sum += " + v";
+    sum += std::to_string(i);
+  }
+  run("sum of 2000 variables", sum, 2000);
+  const int terms = quick ? 10000 : 100000;
+  std::string sines = "sin(x)";
+  for (int i = 1; i < terms; ++i) {
+    sines += " + sin(x + ";
+    sines += std::to_string(i);
+    sines += ')';
+  }
+  run(quick ? "10k terms sin(x + i)" : "100k terms sin(x + i)", sines, 1);
+}
+
 int main(int argc, char** argv) {
   bool quick = false, per_record = false;
   for (int i = 1; i < argc; ++i) {
@@ -519,5 +560,6 @@ int main(int argc, char** argv) {
   std::printf("ratio fpbench_width(median) naive_interval %.3g\n",
               median(ratios[0]) / median(ratios.back()));
   run_reuse(records, quick);
+  run_large(quick);
   return 0;
 }
