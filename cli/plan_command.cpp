@@ -12,6 +12,9 @@
 //             terminal; with --report, each report goes to DIR/<file stem>/. A bad scenario gives
 //             an error record and the batch goes on; the command fails at the end if any did.
 //   common options: --domain FILE, --instances N, --max-nodes N, --max-steps N
+//
+// `spar demo [--report DIR] [--json] ...` is `spar plan` on the built-in example, the seed's
+// peg-and-block task with the block face down (examples/peg_block_face_down.yaml, compiled in).
 #include <unistd.h>
 
 #include <algorithm>
@@ -25,6 +28,7 @@
 #include <thread>
 
 #include "cli/commands.hpp"
+#include "cli/demo_scenario.hpp"
 #include "cli/options.hpp"
 #include "planner/plan.hpp"
 #include "reports/markdown.hpp"
@@ -37,6 +41,7 @@ namespace {
 namespace fs = std::filesystem;
 
 struct PlanArguments {
+  bool demo{false};  // plan the built-in example instead of `scenario`
   std::string scenario;
   std::string domain;
   std::string report;
@@ -49,9 +54,9 @@ struct PlanArguments {
   int max_steps{64};
 };
 
-nlohmann::ordered_json plan_report(const std::string& scenario, const planner::Domain& domain,
+nlohmann::ordered_json plan_report(const planner::Scenario& scenario, const planner::Domain& domain,
                                    const planner::PlanOptions& options) {
-  return reports::plan_json(planner::plan(planner::load_scenario(scenario), domain, options));
+  return reports::plan_json(planner::plan(scenario, domain, options));
 }
 
 // "wrote report/report.html (and report.json, report.md)".
@@ -73,7 +78,11 @@ void run_single(const PlanArguments& arguments, const planner::Domain& domain,
                 const planner::PlanOptions& options) {
   const std::vector<reports::Format> formats =
       html_first(reports::parse_formats(arguments.formats));
-  const nlohmann::ordered_json report = plan_report(arguments.scenario, domain, options);
+  const nlohmann::ordered_json report = plan_report(
+      arguments.demo
+          ? planner::parse_scenario(kDemoScenarioText, "peg_block_face_down.yaml (built in)", ".")
+          : planner::load_scenario(arguments.scenario),
+      domain, options);
   std::vector<fs::path> files;
   if (!arguments.report.empty()) files = reports::write_reports(report, arguments.report, formats);
   if (arguments.json) {
@@ -147,7 +156,7 @@ void run_batch(const PlanArguments& arguments, const planner::Domain& domain,
       nlohmann::ordered_json record = {{"file", files[i]}};
       bool failed = false;
       try {
-        record["report"] = plan_report(files[i], domain, options);
+        record["report"] = plan_report(planner::load_scenario(files[i]), domain, options);
         if (!arguments.report.empty())
           (void)reports::write_reports(
               record["report"], fs::path(arguments.report) / fs::path(files[i]).stem(), formats);
@@ -184,7 +193,7 @@ void run_batch(const PlanArguments& arguments, const planner::Domain& domain,
 }
 
 void run_plan(const PlanArguments& arguments) {
-  if (arguments.scenario.empty() == arguments.batch.empty())
+  if (!arguments.demo && arguments.scenario.empty() == arguments.batch.empty())
     throw UsageError("spar plan takes a SCENARIO file or --batch FILE_OR_DIR (one of the two)");
   if (!arguments.batch.empty() && arguments.json)
     throw UsageError("--json: a batch always prints JSON lines");
@@ -200,6 +209,33 @@ void run_plan(const PlanArguments& arguments) {
     run_batch(arguments, domain, options);
 }
 
+// The options `spar plan` and `spar demo` share.
+CLI::Option* add_report_options(CLI::App& command, PlanArguments& arguments) {
+  command.add_option("--report", arguments.report,
+                     "write the report into this folder (report.json, report.md, report.html)");
+  CLI::Option* format = command.add_option(
+      "--format", arguments.formats, "report formats, comma-separated (default json,md,html)");
+  command.add_flag("--json", arguments.json, "print the JSON report (docs/report-schema.md)");
+  command.add_option("--domain", arguments.domain,
+                     "action templates (YAML; default: the built-in planner/domain.yaml)");
+  add_count_option(command, "--instances", arguments.instances,
+                   "plan instances to enumerate (default 16)", 1, 100'000);
+  add_count_option(command, "--max-nodes", arguments.max_nodes,
+                   "partial plans the search may expand (default 200000)", 1, 100'000'000);
+  add_count_option(command, "--max-steps", arguments.max_steps, "actions in one plan (default 64)",
+                   1, 10'000);
+  return format;
+}
+
+void set_callback(CLI::App& command, std::shared_ptr<PlanArguments> arguments,
+                  CLI::Option* format) {
+  command.callback([arguments, format] {
+    if (format->count() > 0 && arguments->report.empty())
+      throw UsageError("--format needs --report DIR");
+    run_plan(*arguments);
+  });
+}
+
 }  // namespace
 
 void add_plan_command(CLI::App& app) {
@@ -207,28 +243,19 @@ void add_plan_command(CLI::App& app) {
   CLI::App* command = app.add_subcommand(
       "plan", "Plan a scenario file (SPAR) and report on it: plan, preconditions, repairs");
   command->add_option("scenario", arguments->scenario, "scenario file (YAML, docs/scenario.md)");
-  command->add_option("--report", arguments->report,
-                      "write the report into this folder (report.json, report.md, report.html)");
-  auto* format = command->add_option("--format", arguments->formats,
-                                     "report formats, comma-separated (default json,md,html)");
-  command->add_flag("--json", arguments->json, "print the JSON report (docs/report-schema.md)");
   command->add_option("--batch", arguments->batch,
                       "plan many scenarios: a folder of *.yaml or a file listing paths");
   add_count_option(*command, "--jobs", arguments->jobs,
                    "batch threads (default: the number of cores)", 1, 256);
-  command->add_option("--domain", arguments->domain,
-                      "action templates (YAML; default: the built-in planner/domain.yaml)");
-  add_count_option(*command, "--instances", arguments->instances,
-                   "plan instances to enumerate (default 16)", 1, 100'000);
-  add_count_option(*command, "--max-nodes", arguments->max_nodes,
-                   "partial plans the search may expand (default 200000)", 1, 100'000'000);
-  add_count_option(*command, "--max-steps", arguments->max_steps,
-                   "actions in one plan (default 64)", 1, 10'000);
-  command->callback([arguments, format] {
-    if (format->count() > 0 && arguments->report.empty())
-      throw UsageError("--format needs --report DIR");
-    run_plan(*arguments);
-  });
+  set_callback(*command, arguments, add_report_options(*command, *arguments));
+}
+
+void add_demo_command(CLI::App& app) {
+  auto arguments = std::make_shared<PlanArguments>();
+  arguments->demo = true;
+  CLI::App* command = app.add_subcommand(
+      "demo", "spar plan on the built-in example: the seed's peg and block, block face down");
+  set_callback(*command, arguments, add_report_options(*command, *arguments));
 }
 
 }  // namespace spar::cli
