@@ -24,7 +24,9 @@ PlanResult plan(Scenario scenario, const Domain& domain, const PlanOptions& opti
                     .family = {},
                     .instances = {},
                     .examined = {},
-                    .chosen_index = 0};
+                    .chosen_index = 0,
+                    .probability = {},
+                    .tolerances = {}};
   result.family = post_plan(result.world, result.domain, options.posting);
   if (!result.planned()) return result;
   result.instances =
@@ -32,7 +34,13 @@ PlanResult plan(Scenario scenario, const Domain& domain, const PlanOptions& opti
   if (options.uncertainty && !result.instances.instances.empty()) {
     result.examined = analyse_instances(result.world, result.domain, result.instances.instances,
                                         options.analysis);
-    result.chosen_index = result.examined[choose_instance(result.examined)].instance;
+    const InstanceAnalysis& chosen = result.examined[choose_instance(result.examined)];
+    result.chosen_index = chosen.instance;
+    if (options.probability) {
+      result.probability = analyse_probability(chosen, *options.probability);
+      result.tolerances = allocate_tolerances(result.world.scenario(), chosen,
+                                              {.algebra = options.probability->algebra});
+    }
   }
   return result;
 }

@@ -1,7 +1,9 @@
 // plan(): the planner's one entry point. From a scenario and a domain to a plan family (phase 1:
 // constraint posting, planner/posting.hpp) and its plan instances (planner/instances.hpp); phase 2
 // (planner/uncertainty/analysis.hpp) examines the instances in order and chooses the first without
-// errors, else the one with the fewest.
+// errors, else the one with the fewest. The chosen instance then gets the probabilistic analysis
+// (planner/uncertainty/probability.hpp: σ, P(violation) first-order and Monte Carlo per
+// precondition) and the tolerance allocation, unless PlanOptions::probability is nullopt.
 //
 // Example:
 //   const PlanResult result = plan(load_scenario("examples/peg_block_face_down.yaml"),
@@ -11,6 +13,7 @@
 #pragma once
 
 #include <cstddef>
+#include <optional>
 #include <vector>
 
 #include "planner/domain.hpp"
@@ -18,6 +21,7 @@
 #include "planner/posting.hpp"
 #include "planner/scenario.hpp"
 #include "planner/uncertainty/analysis.hpp"
+#include "planner/uncertainty/probability.hpp"
 #include "planner/world.hpp"
 
 namespace spar::planner {
@@ -27,6 +31,9 @@ struct PlanOptions {
   std::size_t max_instances{16};  // plan instances enumerated (labelings x linearizations)
   bool uncertainty{true};         // run phase 2 (else the first instance is chosen)
   AnalysisOptions analysis{};
+  // The chosen instance's probabilistic analysis and tolerance allocation
+  // (planner/uncertainty/probability.hpp); nullopt: off.
+  std::optional<ProbabilityOptions> probability{ProbabilityOptions{}};
 };
 
 struct PlanResult {
@@ -37,6 +44,9 @@ struct PlanResult {
   // Phase 2: the instances examined, in order (it stops at the first without errors).
   std::vector<InstanceAnalysis> examined;
   std::size_t chosen_index{0};  // into instances.instances
+  // PlanOptions::probability on the chosen instance, when phase 2 ran (else nullopt).
+  std::optional<ProbabilityAnalysis> probability;
+  std::optional<ToleranceAllocation> tolerances;
   // The chosen instance's analysis, or nullptr when phase 2 did not run.
   [[nodiscard]] const InstanceAnalysis* chosen_analysis() const;
 

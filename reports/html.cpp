@@ -193,6 +193,108 @@ std::string bound_bar(const Json& precondition) {
   return svg.str();
 }
 
+// chosen.probability (issue 15): the first-order Gaussian of a precondition (density, truncated
+// to the sound bound) over its worst-case interval [lo, hi] (the bar), with the threshold dashed
+// and the failing side tinted, in display units.
+std::string distribution_plot(const Json& report, const Json& entry) {
+  const Json& precondition = internal::probability_precondition(report, entry);
+  const Json& display = precondition.at("display");
+  const double lo = value(display.at("lo")), hi = value(display.at("hi"));
+  const double threshold = value(display.at("threshold"));
+  const double mean = internal::precondition_display(report, entry, value(entry.at("mean")));
+  const double sigma = internal::precondition_display(report, entry, value(entry.at("sigma")));
+  const std::string relation = text(precondition, "relation");
+  const bool below_ok = relation == "<" || relation == "<=";
+  double axis_lo = threshold, axis_hi = threshold;
+  for (const double v : {lo, hi, mean})
+    if (std::isfinite(v)) axis_lo = std::min(axis_lo, v), axis_hi = std::max(axis_hi, v);
+  const double span =
+      axis_hi - axis_lo > 0 ? axis_hi - axis_lo : std::max(1e-12, std::fabs(axis_hi));
+  axis_lo -= 0.08 * span;
+  axis_hi += 0.08 * span;
+  constexpr double kWidth = 200, kLeft = 4, kRight = 4, kBase = 30, kHeight = 24;
+  const auto at = [&](double v) {
+    const double clamped =
+        std::isfinite(v) ? std::clamp(v, axis_lo, axis_hi) : (v > 0 ? axis_hi : axis_lo);
+    return kLeft + (clamped - axis_lo) / (axis_hi - axis_lo) * (kWidth - kLeft - kRight);
+  };
+  std::ostringstream svg;
+  svg << "<svg xmlns=\"http://www.w3.org/2000/svg\" class=\"distribution\" width=\"" << kWidth
+      << "\" height=\"36\"><title>first-order mean " << rounded(mean) << ", sigma "
+      << rounded(sigma) << "; worst case [" << rounded(lo) << ", " << rounded(hi)
+      << "]; requirement " << html_escape(relation) << " " << rounded(threshold) << "</title>";
+  const double t = at(threshold);
+  svg << "<rect x=\"" << px(below_ok ? t : kLeft) << "\" y=\"2\" width=\""
+      << px(below_ok ? kWidth - kRight - t : t - kLeft) << "\" height=\"" << kBase
+      << "\" fill=\"#fbe9e7\"/><rect x=\"" << px(at(lo)) << "\" y=\"" << kBase << "\" width=\""
+      << px(std::max(1.0, at(hi) - at(lo))) << "\" height=\"4\" fill=\"#8aa0bd\"/>";
+  if (sigma > 0 && std::isfinite(sigma) && std::isfinite(lo) && std::isfinite(hi)) {
+    svg << "<polyline fill=\"none\" stroke=\"#2b5fad\" stroke-width=\"1.2\" points=\"";
+    constexpr int kPoints = 48;
+    for (int i = 0; i <= kPoints; ++i) {
+      const double x = lo + (hi - lo) * i / kPoints, z = (x - mean) / sigma;
+      svg << (i ? " " : "") << px(at(x)) << "," << px(kBase - kHeight * std::exp(-0.5 * z * z));
+    }
+    svg << "\"/>";
+  } else {
+    svg << "<line x1=\"" << px(at(mean)) << "\" y1=\"" << kBase - kHeight << "\" x2=\""
+        << px(at(mean)) << "\" y2=\"" << kBase << "\" stroke=\"#2b5fad\" stroke-width=\"1.5\"/>";
+  }
+  svg << "<line x1=\"" << px(t) << "\" y1=\"1\" x2=\"" << px(t)
+      << "\" y2=\"35\" stroke=\"#1d2430\" "
+      << "stroke-width=\"1.5\" stroke-dasharray=\"3,2\"/></svg>";
+  return svg.str();
+}
+
+void probability_section(const Json& report, std::ostringstream& out) {
+  const Json& probability = report.at("chosen").at("probability");
+  out << "<section id=\"probability\"><h2>Failure probability and tolerances</h2>\n<p "
+         "class=\"note\">"
+         "Beyond the worst case: each uncertainty variable is distributed in its box as the "
+         "scenario says (uniform unless <code>distribution: gaussian</code>). σ is first order "
+         "(J Σ Jᵀ); P first order is the linearised precondition's Gaussian truncated to the sound "
+         "bound; Monte Carlo draws "
+      << probability.at("samples").get<std::size_t>()
+      << " points (95% Wilson interval). The plot: that Gaussian over the worst-case interval "
+         "(the bar), the threshold dashed, the failing side tinted. A proved precondition fails "
+         "with probability 0.</p>\n<p>P(some precondition fails) = "
+      << html_escape(internal::monte_carlo_text(probability.at("plan"), false))
+      << " (Monte Carlo).</p>\n<table id=\"probability-table\"><tr><th>step</th>"
+         "<th>precondition</th><th>σ</th><th>P first order</th><th>P Monte Carlo</th>"
+         "<th>distribution vs worst case</th><th>note</th></tr>\n";
+  for (const Json& entry : probability.at("preconditions")) {
+    const Json& step = report.at("chosen").at("steps").at(entry.at("step").get<std::size_t>());
+    const bool proved = entry.at("proved").get<bool>();
+    out << "<tr class=\"probability\"><td>" << step.at("id").get<int>() << " "
+        << html_escape(internal::step_title(step)) << "</td><td><code>"
+        << html_escape(text(entry, "name")) << "</code></td><td class=\"num\">"
+        << html_escape(internal::sigma_text(report, entry)) << "</td><td class=\"num\">"
+        << html_escape(internal::probability_text(value(entry.at("p_first_order")), proved))
+        << "</td><td class=\"num\">" << html_escape(internal::monte_carlo_text(entry, proved))
+        << "</td><td>" << distribution_plot(report, entry) << "</td><td class=\"note\">"
+        << html_escape(text(entry, "note")) << "</td></tr>\n";
+  }
+  out << "</table>\n";
+  const Json& tolerances = probability.at("tolerances");
+  out << "<p>Tolerance allocation: " << html_escape(internal::allocation_text(tolerances))
+      << ".</p>\n";
+  if (text(tolerances, "status") != "not_needed") {
+    out << "<table id=\"tolerance-table\"><tr><th>parameter</th><th>half-width</th>"
+           "<th>allocated</th><th>cost</th></tr>\n";
+    for (const Json& parameter : tolerances.at("parameters")) {
+      const Json& display = parameter.at("display");
+      const std::string unit = " " + text(display, "unit");
+      out << "<tr><td>" << html_escape(text(parameter, "name")) << "</td><td class=\"num\">"
+          << rounded(value(display.at("half_width"))) << html_escape(unit)
+          << "</td><td class=\"num\">" << rounded(value(display.at("allocated")))
+          << html_escape(unit) << "</td><td class=\"num\">" << rounded(value(parameter.at("cost")))
+          << "</td></tr>\n";
+    }
+    out << "</table>\n";
+  }
+  out << "</section>\n";
+}
+
 // Up to six variables' shares of the bound's width, largest first.
 std::string blame_bars(const Json& precondition) {
   if (!precondition.contains("blame")) return "<span class=\"note\">not computed</span>";
@@ -245,15 +347,17 @@ void preconditions_section(const Json& report, std::ostringstream& out) {
          "dashed line is the threshold and the tinted side is where the precondition fails. "
          "Blame: each variable's share of the bound's width. Holds up to: the largest scale of "
          "the objects' uncertainty for which the precondition is still proved.</p>\n"
-      << "<table id=\"precondition-table\"><tr><th>step</th><th>precondition</th><th>verdict</th>"
+      << "<table id=\"precondition-table\"><tr><th># step</th><th>precondition</th><th>verdict</th>"
          "<th>requirement</th><th>bound</th><th>bound vs threshold</th><th>holds up to</th>"
          "<th>witness</th><th>blame</th><th>sampled violations</th></tr>\n";
-  for (const Json& step : report.at("chosen").at("steps"))
+  int number = 0;  // execution position, as in the timeline
+  for (const Json& step : report.at("chosen").at("steps")) {
+    ++number;
     for (const Json& precondition : step.value("preconditions", Json::array())) {
       const std::string verdict = text(precondition, "verdict");
       out << "<tr class=\"precondition\" data-verdict=\"" << html_escape(verdict) << "\"><td>"
-          << step.at("id").get<int>() << " " << html_escape(internal::step_title(step))
-          << "</td><td><code title=\"" << html_escape(text(precondition, "expression")) << "\">"
+          << number << ". " << html_escape(internal::step_title(step)) << "</td><td><code title=\""
+          << html_escape(text(precondition, "expression")) << "\">"
           << html_escape(text(precondition, "name")) << "</code></td><td>" << verdict_span(verdict)
           << "</td><td>" << html_escape(internal::requirement_text(precondition)) << "</td><td>"
           << html_escape(internal::bound_text(precondition)) << "<br><span class=\"note\">inner "
@@ -267,6 +371,7 @@ void preconditions_section(const Json& report, std::ostringstream& out) {
                   : std::string("-"))
           << "</td></tr>\n";
     }
+  }
   out << "</table></section>\n";
 }
 
@@ -479,6 +584,7 @@ std::string html(const Json& report) {
     preconditions_section(report, out);
     repairs_section(report, out);
     verification_section(report, out);
+    if (report.at("chosen").contains("probability")) probability_section(report, out);
     uncertainty_section(report, out);
   }
   if (report.at("status") == "planned") {

@@ -80,18 +80,21 @@ void preconditions_section(const Json& report, std::ostringstream& out) {
          "attained at witness points (the true range lies between the two). Lengths in "
       << text(report.at("units"), "length")
       << "; exact values, expressions (SI) and witnesses are in the JSON report.\n\n"
-      << "| step | precondition | verdict | requirement | bound | inner bound | holds up to |\n"
+      << "| # step | precondition | verdict | requirement | bound | inner bound | holds up to |\n"
       << "|---|---|---|---|---|---|---|\n";
-  for (const Json& step : report.at("chosen").at("steps"))
+  int number = 0;  // execution position, as in the plan table
+  for (const Json& step : report.at("chosen").at("steps")) {
+    ++number;
     for (const Json& precondition : step.value("preconditions", Json::array())) {
       const std::string verdict = text(precondition, "verdict");
-      out << "| " << step.at("id").get<int>() << " " << internal::step_title(step) << " | `"
+      out << "| " << number << ". " << internal::step_title(step) << " | `"
           << internal::cell_escape(text(precondition, "name")) << "` | "
           << (verdict == "satisfied" ? verdict : "**" + verdict + "**") << " | "
           << internal::requirement_text(precondition) << " | " << internal::bound_text(precondition)
           << " | " << internal::bound_text(precondition, true) << " | "
           << internal::margin_text(report, precondition) << " |\n";
     }
+  }
 }
 
 void repairs_section(const Json& report, std::ostringstream& out) {
@@ -147,6 +150,45 @@ void verification_section(const Json& report, std::ostringstream& out) {
   if (!any) out << "Every precondition of the chosen plan holds: nothing to verify at execution.\n";
 }
 
+// chosen.probability (issue 15): σ and P(violation) per precondition, the tolerance allocation.
+void probability_section(const Json& report, std::ostringstream& out) {
+  const Json& probability = report.at("chosen").at("probability");
+  const Json& jacobian = probability.at("jacobian");
+  out << "\n## Failure probability and tolerances\n\n"
+      << "Beyond the worst case: each uncertainty variable is distributed in its box as the "
+         "scenario says (uniform unless `distribution: gaussian`). σ is first order (J Σ Jᵀ; J is "
+      << jacobian.at("rows").get<std::size_t>() << " × " << jacobian.at("cols").get<std::size_t>()
+      << ", " << jacobian.at("nonzeros").get<std::size_t>()
+      << " nonzeros); P first order is the "
+         "linearised precondition's Gaussian truncated to the sound bound; Monte Carlo draws "
+      << probability.at("samples").get<std::size_t>()
+      << " points (95% Wilson interval). A proved precondition fails with probability 0.\n\n"
+      << "P(some precondition fails) = "
+      << internal::monte_carlo_text(probability.at("plan"), false) << " (Monte Carlo).\n\n"
+      << "| step | precondition | σ | P first order | P Monte Carlo | note |\n"
+      << "|---|---|---|---|---|---|\n";
+  for (const Json& entry : probability.at("preconditions")) {
+    const Json& step = report.at("chosen").at("steps").at(entry.at("step").get<std::size_t>());
+    const bool proved = entry.at("proved").get<bool>();
+    out << "| " << step.at("id").get<int>() << " " << internal::step_title(step) << " | `"
+        << internal::cell_escape(text(entry, "name")) << "` | "
+        << internal::sigma_text(report, entry) << " | "
+        << internal::probability_text(value(entry.at("p_first_order")), proved) << " | "
+        << internal::monte_carlo_text(entry, proved) << " | "
+        << internal::cell_escape(text(entry, "note")) << " |\n";
+  }
+  const Json& tolerances = probability.at("tolerances");
+  out << "\nTolerance allocation: " << internal::allocation_text(tolerances) << ".\n";
+  if (text(tolerances, "status") == "not_needed") return;
+  out << "\n| parameter | half-width | allocated | cost |\n|---|---|---|---|\n";
+  for (const Json& parameter : tolerances.at("parameters")) {
+    const Json& display = parameter.at("display");
+    out << "| " << text(parameter, "name") << " | " << rounded(value(display.at("half_width")))
+        << " " << text(display, "unit") << " | " << rounded(value(display.at("allocated"))) << " "
+        << text(display, "unit") << " | " << rounded(value(parameter.at("cost"))) << " |\n";
+  }
+}
+
 void instances_section(const Json& report, std::ostringstream& out) {
   const Json& instances = report.at("instances");
   out << "\n## Instances considered\n\n"
@@ -181,6 +223,7 @@ std::string markdown(const Json& report) {
   preconditions_section(report, out);
   repairs_section(report, out);
   verification_section(report, out);
+  if (report.at("chosen").contains("probability")) probability_section(report, out);
   instances_section(report, out);
   return out.str();
 }

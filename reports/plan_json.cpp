@@ -371,6 +371,74 @@ ordered_json examined_json(const planner::InstanceAnalysis& analysis) {
           {"failed_preconditions", failed}};
 }
 
+// ---- probability (issue 15): the chosen instance's probabilistic analysis and tolerance
+// allocation (planner/uncertainty/probability.hpp), in one block `chosen.probability` ----
+
+ordered_json probability_json(const planner::PlanResult& result,
+                              const planner::InstanceAnalysis& analysis) {
+  const planner::ProbabilityAnalysis& p = *result.probability;
+  const planner::ToleranceAllocation& t = *result.tolerances;
+  const planner::Units& units = result.world.scenario().units;
+  ordered_json preconditions = ordered_json::array();
+  for (const planner::PreconditionProbability& q : p.preconditions) {
+    const auto miss = std::find_if(t.misses.begin(), t.misses.end(), [&](const auto& m) {
+      return m.step == q.step && m.precondition == q.precondition;
+    });
+    preconditions.push_back(
+        {{"step", q.step},
+         {"index", q.precondition},
+         {"name", analysis.steps[q.step].preconditions[q.precondition].inequality.name},
+         {"nominal", number_json(q.nominal)},
+         {"mean", number_json(q.mean)},
+         {"second_order_mean", number_json(q.second_order_mean)},
+         {"sigma", number_json(q.sigma)},
+         {"p_first_order", number_json(q.p_first_order)},
+         {"p_second_order", number_json(q.p_second_order)},
+         {"p_monte_carlo", number_json(q.p_monte_carlo)},
+         {"ci", {number_json(q.ci_lo), number_json(q.ci_hi)}},
+         {"violations", q.violations},
+         {"proved", q.proved},
+         {"agrees", q.agrees},
+         {"note", q.note},
+         {"allocation_miss",
+          miss == t.misses.end() ? ordered_json(nullptr) : number_json(miss->by)}});
+  }
+  ordered_json parameters = ordered_json::array();
+  for (const planner::ToleranceParameter& q : t.parameters) {
+    const bool angle = q.component == 't';
+    const auto shown = [&](double value) {
+      return number_json(angle ? units.to_file_angle(value) : units.to_file_length(value));
+    };
+    parameters.push_back({{"name", q.name},
+                          {"source", planner::to_string(q.source)},
+                          {"unit", angle ? "rad" : "m"},
+                          {"half_width", number_json(q.half_width)},
+                          {"allocated", number_json(q.allocated)},
+                          {"cost", number_json(q.cost)},
+                          {"display",
+                           {{"unit", angle ? units.angle_name() : units.length_name()},
+                            {"half_width", shown(q.half_width)},
+                            {"allocated", shown(q.allocated)}}}});
+  }
+  return {{"jacobian",
+           {{"rows", p.rows},
+            {"cols", p.cols},
+            {"nonzeros", p.nonzeros},
+            {"density", number_json(p.density)},
+            {"covariance_nonzeros", p.covariance_nonzeros},
+            {"non_differentiable", p.non_differentiable}}},
+          {"samples", p.samples},
+          {"plan",
+           {{"p_monte_carlo", number_json(p.p_plan)},
+            {"ci", {number_json(p.p_plan_ci_lo), number_json(p.p_plan_ci_hi)}}}},
+          {"preconditions", preconditions},
+          {"tolerances",
+           {{"status", planner::to_string(t.status)},
+            {"cost", number_json(t.cost)},
+            {"rounds", t.rounds},
+            {"parameters", parameters}}}};
+}
+
 }  // namespace
 
 ordered_json plan_json(const planner::PlanResult& result) {
@@ -403,6 +471,8 @@ ordered_json plan_json(const planner::PlanResult& result) {
       out["chosen"]["errors"] = analysis->errors;
       out["chosen"]["repairs"] = repairs_json(result, *analysis);
       out["chosen"]["uncertainty_variables"] = variables_json(result, *analysis);
+      if (result.probability && result.tolerances)
+        out["chosen"]["probability"] = probability_json(result, *analysis);
     }
   } else {
     out["chosen"] = nullptr;

@@ -728,6 +728,12 @@ ToleranceAllocation allocate_tolerances(const Scenario& scenario, const Instance
       if (spread[k] > room[k] - epsilon[k]) v.push_back(k);
     return v;
   };
+  // Nothing to do when phase 2 proved every precondition over this very box already (even where
+  // the first-order margin, which ignores curvature, is not positive).
+  if (std::all_of(results.begin(), results.end(), [](const PreconditionResult* r) {
+        return r->verdict == bounds::Verdict::kSatisfied;
+      }))
+    return out;  // kNotNeeded, rounds 0: every parameter keeps its half-width
   Eigen::VectorXd p = p0;
   for (out.rounds = 1; out.rounds <= options.max_rounds; ++out.rounds) {
     for (std::size_t k = 0; k < rows; ++k)

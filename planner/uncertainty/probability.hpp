@@ -50,6 +50,7 @@
 // [0, p]) until no row is violated. Then every precondition is bounded soundly over the new box
 // (bounds::BoundProblem); a row not proved raises its ε by its miss and the allocation is redone
 // (a few rounds). The allocation counts as proved only when every bound proves its precondition.
+// When phase 2 proved every precondition already, nothing is allocated (status not_needed).
 //
 // Example:
 //   const PlanResult result = plan(scenario, builtin_domain());
@@ -181,7 +182,7 @@ struct ToleranceParameter {
   double allocated{0.0};  // the new half-width (<= half_width)
 };
 enum class AllocationStatus {
-  kNotNeeded,   // every first-order margin is positive and every precondition proved already
+  kNotNeeded,   // phase 2 proved every precondition over the scenario's box already
   kProved,      // the allocated box: every precondition proved satisfied by the sound bounds
   kNotProved,   // margins positive to first order, but some bound does not prove it (misses)
   kInfeasible,  // a precondition fails at the nominal point: no tolerance can fix it
@@ -191,7 +192,7 @@ struct ToleranceAllocation {
   AllocationStatus status{AllocationStatus::kNotNeeded};
   std::vector<ToleranceParameter> parameters;  // every parameter with a positive half-width
   double cost{0.0};                            // Σ c_p (δ_p / p_p)^2
-  int rounds{0};                               // allocations tried (each verified)
+  int rounds{0};  // allocations tried (each verified); 0 when phase 2 proved all already
   struct Miss {
     std::size_t step{0}, precondition{0};
     double by{0.0};  // how far the sound bound lies past the threshold (>= 0)

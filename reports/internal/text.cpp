@@ -205,4 +205,51 @@ VerdictCounts verdict_counts(const Json& report) {
   return counts;
 }
 
+// ---- chosen.probability (issue 15) ----
+
+const Json& probability_precondition(const Json& report, const Json& entry) {
+  return report.at("chosen")
+      .at("steps")
+      .at(entry.at("step").get<std::size_t>())
+      .at("preconditions")
+      .at(entry.at("index").get<std::size_t>());
+}
+
+double precondition_display(const Json& report, const Json& entry, double si) {
+  return text(probability_precondition(report, entry), "unit") == "m" ? to_length_unit(report, si)
+                                                                      : si;
+}
+
+std::string sigma_text(const Json& report, const Json& entry) {
+  const bool length = text(probability_precondition(report, entry), "unit") == "m";
+  return "σ " + rounded(precondition_display(report, entry, value(entry.at("sigma")))) +
+         (length ? " " + report.at("units").at("length").get<std::string>() : std::string());
+}
+
+std::string probability_text(double probability, bool proved) {
+  if (proved) return "0 (proved)";
+  if (probability == 0) return "0";
+  return rounded(100 * probability) + "%";
+}
+
+std::string monte_carlo_text(const Json& entry, bool proved) {
+  const Json& ci = entry.at("ci");
+  return probability_text(value(entry.at("p_monte_carlo")), proved) + " [" +
+         probability_text(value(ci.at(0)), false) + ", " +
+         probability_text(value(ci.at(1)), false) + "]";
+}
+
+std::string allocation_text(const Json& tolerances) {
+  const std::string status = text(tolerances, "status");
+  if (status == "not_needed")
+    return "not needed: every precondition is proved over the scenario's box";
+  if (status == "infeasible")
+    return "infeasible: some precondition fails at the nominal point, whatever the tolerances";
+  const std::string rounds = std::to_string(tolerances.at("rounds").get<int>());
+  return (status == "proved" ? "proved by the sound bounds"
+                             : "NOT proved by the sound bounds (see the misses)") +
+         std::string(" after ") + rounds + " round" + (rounds == "1" ? "" : "s") + ", cost " +
+         rounded(value(tolerances.at("cost")));
+}
+
 }  // namespace spar::reports::internal

@@ -55,6 +55,20 @@ using Json = nlohmann::ordered_json;
 // "a range-scan with residual +-0.018 in, +-0.9 deg (x0.9 of the sensor's) would make it hold".
 [[nodiscard]] std::string sensor_residual_text(const Json& report, const Json& needed);
 
+// ---- chosen.probability (issue 15) ----
+// The chosen step's precondition an entry of chosen.probability.preconditions describes.
+[[nodiscard]] const Json& probability_precondition(const Json& report, const Json& entry);
+// A value of that precondition (SI) in display units: lengths in the report's unit.
+[[nodiscard]] double precondition_display(const Json& report, const Json& entry, double si);
+// "σ 0.012 in" / "σ 0.0021" for an entry.
+[[nodiscard]] std::string sigma_text(const Json& report, const Json& entry);
+// "0 (proved)", "12.3%", "0.0041%".
+[[nodiscard]] std::string probability_text(double probability, bool proved);
+// "0.12% [0.1%, 0.14%]" from an entry's p_monte_carlo and ci (or the plan's).
+[[nodiscard]] std::string monte_carlo_text(const Json& entry, bool proved);
+// "not needed: ..." / "proved in 2 rounds (cost 0.38)" for chosen.probability.tolerances.
+[[nodiscard]] std::string allocation_text(const Json& tolerances);
+
 struct VerdictCounts {
   int satisfied{0}, violated{0}, undecided{0};
   [[nodiscard]] int total() const { return satisfied + violated + undecided; }
