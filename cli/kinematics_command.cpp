@@ -11,6 +11,7 @@
 #include <numbers>
 #include <sstream>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "cli/commands.hpp"
@@ -108,8 +109,18 @@ void add_common_options(CLI::App* command, CommonOptions& options) {
   command->add_flag("--json", options.json, "Print JSON instead of text");
 }
 
+// The built-in robot --robot names; an unknown name is a usage mistake.
+const DhChain& robot_named(const std::string& name) {
+  std::string known;
+  for (const std::string_view robot : kinematics::builtin_robot_names()) {
+    if (robot == name) return kinematics::builtin_robot(name);
+    known += (known.empty() ? "" : ", ") + std::string(robot);
+  }
+  throw UsageError("--robot: unknown robot '" + name + "' (built-in: " + known + ")");
+}
+
 void run_fk(const CommonOptions& options, const std::string& joint_text) {
-  const DhChain& robot = kinematics::builtin_robot(options.robot);
+  const DhChain& robot = robot_named(options.robot);
   const std::vector<double> q = parse_numbers(joint_text, "--q");
   if (q.size() != robot.size()) {
     throw UsageError("--q: " + options.robot + " needs " + std::to_string(robot.size()) +
@@ -134,7 +145,7 @@ void run_fk(const CommonOptions& options, const std::string& joint_text) {
 }
 
 void run_ik(const CommonOptions& options, const std::string& pose_text, double max_tilt_degrees) {
-  const DhChain& robot = kinematics::builtin_robot(options.robot);
+  const DhChain& robot = robot_named(options.robot);
   const Transform pose =
       kinematics::rigid_transform_from_row_major(parse_numbers(pose_text, "--pose"));
   const kinematics::PumaIk solver(robot);
