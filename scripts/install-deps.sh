@@ -13,6 +13,7 @@ packages=(
   libginac-dev liborocos-kdl-dev   # benchmarks only: peers
   python3 python3-sympy python3-numpy  # benchmarks only: SymPy peer
   chromium                         # tests only: the HTML report in a real browser
+  clang libclang-rt-14-dev llvm    # scripts/hunt.sh: ASan + UBSan build, libFuzzer, symbolizer
 )
 
 missing=()
