@@ -19,6 +19,7 @@
 #include "common/number.hpp"
 #include "kinematics/ik.hpp"
 #include "kinematics/puma.hpp"
+#include "reports/json_values.hpp"
 
 namespace spar::cli {
 namespace {
@@ -69,16 +70,6 @@ std::string joint_list(const std::vector<int>& joints) {
   std::string text;
   for (int joint : joints) text += (text.empty() ? "q" : ",q") + std::to_string(joint);
   return text;
-}
-
-nlohmann::ordered_json matrix_json(const Transform& pose) {
-  nlohmann::ordered_json rows = nlohmann::ordered_json::array();
-  for (int row = 0; row < 4; ++row) {
-    nlohmann::ordered_json values = nlohmann::ordered_json::array();
-    for (int col = 0; col < 4; ++col) values.push_back(pose.matrix()(row, col));
-    rows.push_back(values);
-  }
-  return rows;
 }
 
 std::vector<std::string> singularity_list(std::uint8_t flags) {
@@ -133,7 +124,7 @@ void run_fk(const CommonOptions& options, const std::string& joint_text) {
                                            {"q", q},
                                            {"within_limits", out.empty()},
                                            {"joints_out_of_limits", out},
-                                           {"T", matrix_json(pose)}};
+                                           {"T", reports::matrix_json(pose)}};
     std::cout << result.dump(2) << '\n';
     return;
   }

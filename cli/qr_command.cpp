@@ -17,6 +17,7 @@
 #include "cli/commands.hpp"
 #include "cli/options.hpp"
 #include "qr/match_strike.hpp"
+#include "reports/qr_svg.hpp"
 
 namespace spar::cli {
 namespace {
@@ -181,7 +182,7 @@ void add_qr_command(CLI::App& app) {
     const qr::RunResult run = qr::run_trials(planner, start, world.as_function(), options->budget);
     if (!options->svg.empty()) {
       write_file(options->svg, "the SVG",
-                 [&](std::ostream& file) { file << qr::search_svg(model, run); });
+                 [&](std::ostream& file) { file << reports::match_strike_svg(model, run); });
     }
     if (!options->json) {
       print_table(model, run);

@@ -90,9 +90,4 @@ class SimulatedWorld {
   std::mt19937_64 random_;
 };
 
-// The search in the angle (vertical) x digging depth (horizontal) plane: trials numbered and
-// coloured by outcome, arrows for the planned changes, asserted limits as bars over the region
-// from which they are visible (grey: no ignition, red: break on strike, blue: break on start).
-[[nodiscard]] std::string search_svg(const MatchStrikeModel& model, const RunResult& run);
-
 }  // namespace spar::qr

@@ -1,6 +1,6 @@
-// JSON values every spar writer shares: numbers (JSON has no inf or NaN: they are written as the
-// strings "inf", "-inf" and "nan", so a reader never meets an invalid document) and 4x4 poses
-// (row-major, lengths scaled to the output's unit).
+// JSON values every spar writer shares (the report JSON, `spar fk/ik --json`): numbers (JSON has
+// no inf or NaN: they are written as the strings "inf", "-inf" and "nan", so a reader never meets
+// an invalid document) and 4x4 poses (row-major, lengths scaled to the output's unit).
 //
 // Example:
 //   nlohmann::ordered_json out;

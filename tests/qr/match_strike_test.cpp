@@ -52,26 +52,5 @@ RC_GTEST_PROP(SimulatedWorldProperty, RandomWorldsAreSolvable, (std::uint64_t se
   RC_ASSERT(solvable);
 }
 
-TEST(SearchSvg, DrawsEveryTrialAndEveryLimitInThePlane) {
-  const MatchStrikeModel model = match_strike_model();
-  Planner planner(model.network, model.controls, model.goals);
-  SimulatedWorld world = SimulatedWorld::paper_like();
-  const RunResult run = run_trials(planner, kSeedStart, world.as_function(), 40);
-  const std::string svg = search_svg(model, run);
-  ASSERT_EQ(svg.rfind("<svg", 0), 0u);
-  auto count = [&svg](const std::string& what) {
-    std::size_t n = 0;
-    for (std::size_t at = svg.find(what); at != std::string::npos; at = svg.find(what, at + 1)) ++n;
-    return n;
-  };
-  std::size_t plane_limits = 0;
-  for (const Trial& trial : run.trials) {
-    for (const Limit& limit : trial.limits_asserted) plane_limits += limit.control != kJumpingGap;
-  }
-  EXPECT_EQ(count("<circle"), run.trials.size());
-  EXPECT_EQ(count("<title>limit from trial"), plane_limits);
-  EXPECT_GT(plane_limits, 0u);
-}
-
 }  // namespace
 }  // namespace spar::qr

@@ -1,0 +1,110 @@
+#include "reports/qr_svg.hpp"
+
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace spar::reports {
+
+using namespace qr;  // the match-striking model's names (kAngle, Trial, Limit, ...)
+
+std::string match_strike_svg(const MatchStrikeModel& model, const RunResult& run) {
+  const ControlSpec& depth = model.controls[kDiggingDepth];
+  const ControlSpec& angle = model.controls[kAngle];
+  constexpr double kLeft = 70, kTop = 40, kWidth = 560, kHeight = 420;
+  auto x_of = [&](double value) {
+    return kLeft + (value - depth.minimum) / (depth.maximum - depth.minimum) * kWidth;
+  };
+  auto y_of = [&](double value) {
+    return kTop + (angle.maximum - value) / (angle.maximum - angle.minimum) * kHeight;
+  };
+  auto colour_of_goal = [](int goal) {
+    return goal == kBreakOnStrike ? "#d62728" : goal == kBreakOnStart ? "#1f77b4" : "#7f7f7f";
+  };
+  std::ostringstream svg;
+  svg << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"700\" height=\"520\" "
+         "font-family=\"sans-serif\" font-size=\"11\">\n"
+      << "<defs><marker id=\"arrow\" markerWidth=\"8\" markerHeight=\"8\" refX=\"7\" refY=\"4\" "
+         "orient=\"auto\"><path d=\"M0,0 L8,4 L0,8 z\" fill=\"black\"/></marker></defs>\n"
+      << "<rect x=\"" << kLeft << "\" y=\"" << kTop << "\" width=\"" << kWidth << "\" height=\""
+      << kHeight << "\" fill=\"white\" stroke=\"black\"/>\n";
+  for (double d = depth.minimum; d <= depth.maximum + 1e-9; d += 2) {
+    svg << "<text x=\"" << x_of(d) << "\" y=\"" << kTop + kHeight + 15
+        << "\" text-anchor=\"middle\">" << d << "</text>\n";
+  }
+  for (double a = angle.minimum; a <= angle.maximum + 1e-9; a += 20) {
+    svg << "<text x=\"" << kLeft - 6 << "\" y=\"" << y_of(a) + 4 << "\" text-anchor=\"end\">" << a
+        << "</text>\n";
+  }
+  svg << "<text x=\"" << kLeft + kWidth / 2 << "\" y=\"" << kTop + kHeight + 32
+      << "\" text-anchor=\"middle\">digging depth [mm]</text>\n"
+      << "<text x=\"18\" y=\"" << kTop + kHeight / 2 << "\" transform=\"rotate(-90 18 "
+      << kTop + kHeight / 2 << ")\" text-anchor=\"middle\">angle [deg]</text>\n"
+      << "<text x=\"" << kLeft << "\" y=\"24\">match striking search: " << run.trials.size()
+      << " trials, " << to_string(run.status)
+      << " (limits: grey no ignition, red break on strike, blue break on start)</text>\n";
+  // Limits: a bar on the excluded side of the bound, over the region it is visible from.
+  for (const Trial& trial : run.trials) {
+    for (const Limit& limit : trial.limits_asserted) {
+      if (limit.control == kJumpingGap) continue;  // not in this plane
+      const int other = limit.control == kDiggingDepth ? kAngle : kDiggingDepth;
+      const ControlSpec& spec = model.controls[other];
+      double low = spec.minimum, high = spec.maximum;
+      switch (limit.visibility[other]) {
+        case Visibility::kEverywhere:
+          break;
+        case Visibility::kAtMost:
+          high = limit.anchor[other];
+          break;
+        case Visibility::kAtLeast:
+          low = limit.anchor[other];
+          break;
+        case Visibility::kSameValue:
+          low = limit.anchor[other] - spec.resolution;
+          high = limit.anchor[other] + spec.resolution;
+          break;
+      }
+      const double thickness = 6;
+      double x = 0, y = 0, w = 0, h = 0;
+      if (limit.control == kAngle) {
+        x = x_of(low);
+        w = x_of(high) - x;
+        y = limit.side == Side::kUpper ? y_of(limit.bound) - thickness : y_of(limit.bound);
+        h = thickness;
+      } else {
+        y = y_of(high);
+        h = y_of(low) - y;
+        x = limit.side == Side::kLower ? x_of(limit.bound) - thickness : x_of(limit.bound);
+        w = thickness;
+      }
+      svg << "<rect x=\"" << x << "\" y=\"" << y << "\" width=\"" << w << "\" height=\"" << h
+          << "\" fill=\"" << colour_of_goal(limit.goal) << "\" fill-opacity=\"0.45\"><title>limit "
+          << "from trial " << limit.trial << "</title></rect>\n";
+    }
+  }
+  // Trials and planned changes.
+  for (std::size_t i = 0; i < run.trials.size(); ++i) {
+    const Trial& trial = run.trials[i];
+    const double x = x_of(trial.controls[kDiggingDepth]);
+    const double y = y_of(trial.controls[kAngle]);
+    if (trial.plan && trial.plan->control != kJumpingGap) {
+      std::vector<double> next = trial.controls;
+      next[trial.plan->control] = trial.plan->to;
+      svg << "<line x1=\"" << x << "\" y1=\"" << y << "\" x2=\"" << x_of(next[kDiggingDepth])
+          << "\" y2=\"" << y_of(next[kAngle])
+          << "\" stroke=\"black\" stroke-width=\"1\" marker-end=\"url(#arrow)\"/>\n";
+    }
+    const char* fill = trial.status == Status::kSuccess ? "#2ca02c" : "white";
+    svg << "<circle cx=\"" << x << "\" cy=\"" << y << "\" r=\"4\" fill=\"" << fill
+        << "\" stroke=\"black\"/>\n"
+        << "<text x=\"" << x + 6 << "\" y=\"" << y - 6 + 12.0 * (i % 2) << "\">" << trial.number
+        << (trial.controls[kJumpingGap] < model.controls[kJumpingGap].maximum
+                ? " (gap " + std::to_string(static_cast<int>(trial.controls[kJumpingGap])) + ")"
+                : "")
+        << "</text>\n";
+  }
+  svg << "</svg>\n";
+  return svg.str();
+}
+
+}  // namespace spar::reports
