@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <limits>
 #include <queue>
 
 #include "planner/error.hpp"
@@ -93,6 +94,12 @@ class Planner {
   void establish(const PartialPlan& node, std::size_t goal_index,
                  std::vector<PartialPlan>& children) const;
   // How many steps already in the plan could establish `goal` (each a possible refinement).
+  // Whether `atom` of `producer` is already consumed: linked to another step that deletes it,
+  // while `consumer` deletes it too. Both cannot use it (whichever runs second would find it gone
+  // with no step re-adding it in between, or that step would be its producer), so such a producer
+  // is no candidate: one release serves one pickup's gripper(empty).
+  [[nodiscard]] bool consumed(const PartialPlan& node, int producer, const GroundAtom& atom,
+                              int consumer) const;
   // The steps already in the plan that could establish `goal`, each with the add-list atom that
   // matches it (each pair a possible refinement).
   [[nodiscard]] std::vector<std::pair<int, GroundAtom>> existing_establishers(
@@ -394,6 +401,21 @@ std::optional<PartialPlan> Planner::establish_by_new_step(const PartialPlan& nod
   return child;
 }
 
+bool Planner::consumed(const PartialPlan& node, int producer, const GroundAtom& atom,
+                       int consumer) const {
+  const auto deletes_atom = [&](int step) {
+    for (const GroundAtom& removed : deletes(node, step))
+      if (possibly_unify(node, removed, atom)) return true;
+    return false;
+  };
+  if (!deletes_atom(consumer)) return false;
+  for (const CausalLink& link : node.plan.links)
+    if (link.producer == producer && link.consumer != consumer &&
+        possibly_unify(node, {link.predicate, link.args}, atom) && deletes_atom(link.consumer))
+      return true;
+  return false;
+}
+
 std::vector<std::pair<int, GroundAtom>> Planner::existing_establishers(const PartialPlan& node,
                                                                        const OpenGoal& goal) const {
   std::vector<std::pair<int, GroundAtom>> candidates;
@@ -405,14 +427,18 @@ std::vector<std::pair<int, GroundAtom>> Planner::existing_establishers(const Par
         (step == goal.after || !node.plan.ordering.possibly_before(goal.after, step)))
       continue;
     for (GroundAtom& atom : adds(node, step))
-      if (possibly_unify(node, atom, goal.atom)) candidates.emplace_back(step, std::move(atom));
+      if (possibly_unify(node, atom, goal.atom) && !consumed(node, step, atom, goal.consumer))
+        candidates.emplace_back(step, std::move(atom));
   }
   return candidates;
 }
 
 std::size_t Planner::choose_goal(const PartialPlan& node) const {
-  // ZLIFO (Schubert & Gerevini): a goal with at most one way to establish it first (the newest
-  // such), else the top of the stack.
+  // Least-cost flaw first (Joslin & Pollack; ZLIFO's forced goals are its special case): the goal
+  // with the fewest ways to establish it (existing steps plus templates), the newest among equals.
+  // Goals any release can establish (gripper(empty)) thus wait until the steps are known.
+  std::size_t best = node.open.size() - 1;
+  int fewest = std::numeric_limits<int>::max();
   for (std::size_t i = node.open.size(); i-- > 0;) {
     const OpenGoal& goal = node.open[i];
     int ways = static_cast<int>(existing_establishers(node, goal).size());
@@ -420,9 +446,13 @@ std::size_t Planner::choose_goal(const PartialPlan& node) const {
       if (action.kind == ActionKind::kManipulation)
         for (const Atom& add : action.add)
           ways += add.predicate == goal.atom.predicate && add.args.size() == goal.atom.args.size();
-    if (ways <= 1) return i;
+    if (ways < fewest) {
+      fewest = ways;
+      best = i;
+      if (ways <= 1) break;
+    }
   }
-  return node.open.size() - 1;
+  return best;
 }
 
 void Planner::establish(const PartialPlan& node, std::size_t goal_index,
@@ -531,7 +561,7 @@ PlanFamily Planner::run() {
   std::priority_queue<Entry> queue;
   PostingStats stats;
   const auto push = [&](PartialPlan&& node) {
-    const int priority = node.actions + unestablishable(node);
+    const int priority = node.actions + static_cast<int>(node.open.size());
     std::size_t slot;
     if (free_slots.empty()) {
       slot = store.size();
@@ -580,7 +610,10 @@ PlanFamily Planner::run() {
       }
       return finish(std::move(node.plan), PostingStatus::kPlanned, "");
     }
-    for (PartialPlan& child : children) push(std::move(child));
+    // Pushed last-first: among equal priorities the newest is expanded first, so the first
+    // refinement (SPAR's preferred: promotion before demotion before re-establishment, an
+    // existing step before a new one) is tried first.
+    for (auto child = children.rbegin(); child != children.rend(); ++child) push(std::move(*child));
   }
   std::string reason = "no plan with at most " + std::to_string(options_.max_steps) +
                        " actions reaches the goals (every refinement was inconsistent)";

@@ -15,6 +15,7 @@
 #include "common/units.hpp"
 #include "planner/plan.hpp"
 #include "symbolic/operations.hpp"
+#include "tests/planner/plan_options.hpp"
 
 namespace spar::planner {
 namespace {
@@ -26,14 +27,7 @@ Scenario peg_pickup() {
   return load_scenario(std::string(SPAR_SOURCE_DIR) + "/tests/planner/data/phase2_peg_pickup.yaml");
 }
 
-PlanOptions quick_options(std::size_t max_instances) {
-  PlanOptions options;
-  options.max_instances = max_instances;
-  options.analysis.reverse = false;
-  options.analysis.blame = false;
-  options.analysis.samples = 0;
-  return options;
-}
+using testing::quick_options;
 
 ObjectSpec& peg_of(Scenario& scenario) {
   auto found = std::find_if(scenario.objects.begin(), scenario.objects.end(),

@@ -9,6 +9,7 @@
 #include "common/units.hpp"
 #include "planner/error.hpp"
 #include "planner/plan.hpp"
+#include "tests/planner/plan_options.hpp"
 
 namespace spar::planner {
 namespace {
@@ -47,14 +48,7 @@ TEST(ChooseInstance, NothingExaminedIsAnError) {
   }
 }
 
-PlanOptions quick_options(std::size_t max_instances) {
-  PlanOptions options;
-  options.max_instances = max_instances;
-  options.analysis.reverse = false;
-  options.analysis.blame = false;
-  options.analysis.samples = 0;
-  return options;
-}
+using testing::quick_options;
 
 // The examined instances are the enumeration's first ones, in order; every one but the last has
 // an error; the chosen one is the earliest with the fewest.

@@ -20,6 +20,7 @@
 #include "planner/plan.hpp"
 #include "symbolic/operations.hpp"
 #include "tests/planner/phase2_simulation.hpp"
+#include "tests/planner/plan_options.hpp"
 
 namespace spar::planner {
 namespace {
@@ -32,16 +33,7 @@ Scenario example(const std::string& name) {
   return load_scenario(std::string(SPAR_SOURCE_DIR) + "/examples/" + name + ".yaml");
 }
 
-// Phase 2 without the chosen-instance extras that cost time (reverse analysis, blame); the tight
-// re-bound of the chosen instance still runs and gives every precondition its witnesses.
-PlanOptions quick_options(std::size_t max_instances) {
-  PlanOptions options;
-  options.max_instances = max_instances;
-  options.analysis.reverse = false;
-  options.analysis.blame = false;
-  options.analysis.samples = 0;
-  return options;
-}
+using testing::quick_options;
 
 // Simulates `analysis` at `values` and returns every disagreement with phase 2's verdicts and
 // expressions, in words (empty: none). `where` says which point this is.
