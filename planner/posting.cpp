@@ -112,7 +112,6 @@ class Planner {
                                                                  const Atom& add) const;
   void resolve(const PartialPlan& node, const Threat& threat,
                std::vector<PartialPlan>& children) const;
-  [[nodiscard]] int unestablishable(const PartialPlan& node) const;
   [[nodiscard]] PartialPlan initial_plan() const;
 
   const WorldModel& world_;
@@ -515,12 +514,6 @@ void Planner::resolve(const PartialPlan& node, const Threat& threat,
       children.push_back(std::move(child));
     }
   }
-}
-
-int Planner::unestablishable(const PartialPlan& node) const {
-  return static_cast<int>(std::count_if(
-      node.open.begin(), node.open.end(),
-      [&](const OpenGoal& goal) { return existing_establishers(node, goal).empty(); }));
 }
 
 PartialPlan Planner::initial_plan() const {

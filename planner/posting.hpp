@@ -25,10 +25,13 @@
 //   is SPAR's backtracking (the seed's goal_2/goal_4 example: the block is not initially in a
 //   mating pose, so establishing at(block, pos) by the initial state fails and putdown(block,
 //   pos_1) is added). Two objects may not be put down at the same place.
-// Search: best-first on (steps + open goals no existing step can establish), ties to the newest
-// partial plan, so it dives like depth-first search on plateaus and prefers plans with fewer
-// actions. It is complete up to the budget: it stops at max_nodes expanded partial plans or when
-// every partial plan left would need more than max_steps actions, and says which.
+// Search: best-first on (steps + open goals) (UCPOP's S+OC), ties to the newest partial plan, so
+// it dives like depth-first search on plateaus, trying each flaw's refinements in SPAR's order; the
+// open goal worked on is the one with the fewest ways to establish it (least-cost flaw first: a
+// forced goal at once, gripper(empty), which any release can give, last). A producer's atom that
+// a step deleting it already consumes serves no other such step (one release, one pickup). It is
+// complete up to the budget: it stops at max_nodes expanded partial plans or when every partial
+// plan left would need more than max_steps actions, and says which.
 //
 // Example:
 //   const WorldModel world(load_scenario("examples/peg_block_face_down.yaml"));
