@@ -305,14 +305,17 @@ class DomainReader {
       domain.recoveries.push_back(
           {scalar(item["name"], "recovery name"), scalars(item["steps"], "steps")});
     }
-    for (const auto& [name, mark] : verification_uses)
-      if (std::none_of(domain.verifications.begin(), domain.verifications.end(),
-                       [&](const auto& v) { return v.name == name; }))
-        fail(mark, "verification '" + name + "' is not defined under 'verifications'");
-    for (const auto& [name, mark] : recovery_uses)
-      if (std::none_of(domain.recoveries.begin(), domain.recoveries.end(),
-                       [&](const auto& r) { return r.name == name; }))
-        fail(mark, "recovery '" + name + "' is not defined under 'recoveries'");
+    // Every template named must exist (plain loops: clang 14 cannot capture structured bindings).
+    const auto defined = [](const auto& templates, const std::string& name) {
+      return std::any_of(templates.begin(), templates.end(),
+                         [&name](const auto& t) { return t.name == name; });
+    };
+    for (const auto& use : verification_uses)
+      if (!defined(domain.verifications, use.first))
+        fail(use.second, "verification '" + use.first + "' is not defined under 'verifications'");
+    for (const auto& use : recovery_uses)
+      if (!defined(domain.recoveries, use.first))
+        fail(use.second, "recovery '" + use.first + "' is not defined under 'recoveries'");
     return domain;
   }
 

@@ -391,7 +391,8 @@ void InstanceAnalyser::run(std::vector<Phase2Step> steps, InstanceAnalysis& out)
                       .inserted = steps[k].instance_step < 0,
                       .preconditions = decide(preconditions, state.space(), options_),
                       .failed = false,
-                      .verification = {}};
+                      .verification = {},
+                      .sensor_scale_needed = std::nullopt};
     if (!all_hold(step.preconditions) && options_.repair && !step.inserted &&
         !attempted.contains(steps[k].instance_step)) {
       attempted.insert(steps[k].instance_step);
