@@ -14,6 +14,7 @@ packages=(
   python3 python3-sympy python3-numpy  # benchmarks only: SymPy peer
   chromium                         # tests only: the HTML report in a real browser
   clang libclang-rt-14-dev llvm    # scripts/hunt.sh: ASan + UBSan build, libFuzzer, symbolizer
+  pybind11-dev python3-pybind11 python3-pytest python3-distributed python3-dask  # python/
 )
 
 missing=()
