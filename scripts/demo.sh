@@ -7,6 +7,8 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh >/dev/null
 build=${SPAR_BUILD_DIR:-build}
-cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
+# Configure only a new build folder (Release): an existing one keeps its configuration (CI's
+# sanitizer build runs this through scripts/check-readme.sh); the build is incremental.
+[ -f "$build/CMakeCache.txt" ] || cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build "$build" -j2 --target spar >/dev/null
 exec "$build/cli/spar" plan examples/peg_block_face_down.yaml --report report "$@"
