@@ -504,12 +504,20 @@ void network_section(const Json& report, std::ostringstream& out) {
   const int count = static_cast<int>(variables.size());
   std::map<std::string, int> node_of;
   for (int i = 0; i < count; ++i) node_of[text(variables[i], "name")] = i;
+  std::vector<std::pair<int, int>> edges;
+  for (const Json& arc : family.at("arcs")) {
+    const auto first = node_of.find(arc.at("variables").at(0).get<std::string>());
+    const auto second = node_of.find(arc.at("variables").at(1).get<std::string>());
+    if (first != node_of.end() && second != node_of.end())
+      edges.emplace_back(first->second, second->second);
+  }
   const std::vector<internal::Point> ring = internal::circular_layout(count);
+  const std::vector<int> slot = internal::circle_order(count, edges);
   // Nodes 120 wide: the circle's circumference gives each about 170 px.
   const double radius = std::max(110.0, 170.0 * count / (2 * 3.14159265358979));
   const double size = 2 * radius + 200;
-  const auto x = [&](int node) { return size / 2 + radius * ring[node].x; };
-  const auto y = [&](int node) { return size / 2 + radius * ring[node].y; };
+  const auto x = [&](int node) { return size / 2 + radius * ring[slot[node]].x; };
+  const auto y = [&](int node) { return size / 2 + radius * ring[slot[node]].y; };
   out << "<section id=\"network\"><h2>Geometric constraint network</h2>\n<p class=\"note\">"
       << count << " plan variables (grasps, positions) with their label sets; "
       << family.at("arcs").size()

@@ -69,4 +69,31 @@ std::vector<Point> circular_layout(int nodes) {
   return points;
 }
 
+std::vector<int> circle_order(int nodes, const std::vector<std::pair<int, int>>& edges) {
+  std::vector<std::vector<int>> neighbours(nodes);
+  for (const auto& [a, b] : edges) {
+    if (a < 0 || b < 0 || a >= nodes || b >= nodes || a == b) continue;
+    neighbours[a].push_back(b);
+    neighbours[b].push_back(a);
+  }
+  for (std::vector<int>& list : neighbours) std::sort(list.begin(), list.end());
+  std::vector<int> slot(nodes, -1);
+  int next = 0;
+  std::vector<int> stack;  // explicit: no recursion on the C++ stack
+  for (int root = 0; root < nodes; ++root) {
+    if (slot[root] >= 0) continue;
+    stack.push_back(root);
+    while (!stack.empty()) {
+      const int node = stack.back();
+      stack.pop_back();
+      if (slot[node] >= 0) continue;
+      slot[node] = next++;
+      // Push in reverse so the smallest neighbour is visited first.
+      for (auto it = neighbours[node].rbegin(); it != neighbours[node].rend(); ++it)
+        if (slot[*it] < 0) stack.push_back(*it);
+    }
+  }
+  return slot;
+}
+
 }  // namespace spar::reports::internal

@@ -192,6 +192,17 @@ TEST(CircularLayout, PointsAreOnTheUnitCircleStartingAtTheTop) {
   EXPECT_NEAR(ring[1].x, 1.0, 1e-12);
 }
 
+TEST(CircleOrder, NeighboursSitSideBySide) {
+  // A chain listed out of order: 0-3-1-4-2 must come out as consecutive slots.
+  const std::vector<std::pair<int, int>> chain = {{1, 4}, {0, 3}, {4, 2}, {3, 1}};
+  const std::vector<int> slot = internal::circle_order(5, chain);
+  for (const auto& [a, b] : chain) EXPECT_EQ(std::abs(slot[a] - slot[b]), 1) << a << "-" << b;
+  std::vector<int> sorted = slot;
+  std::sort(sorted.begin(), sorted.end());
+  EXPECT_EQ(sorted, (std::vector<int>{0, 1, 2, 3, 4}));
+  EXPECT_EQ(internal::circle_order(3, {}), (std::vector<int>{0, 1, 2}));  // isolated: as given
+}
+
 // `spar plan --batch` runs plan() on several threads: two concurrent plans must give exactly what
 // they give one after the other.
 TEST(Planner, TwoConcurrentPlansGiveTheSequentialReports) {
