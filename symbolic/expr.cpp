@@ -5,6 +5,7 @@
 #include <stdexcept>
 #include <string>
 #include <unordered_map>
+#include <utility>
 
 namespace spar::symbolic {
 namespace {
@@ -269,25 +270,43 @@ namespace {
 using Entry = std::pair<std::uint32_t, Number>;
 
 // Sorts entries by id and merges equal ids by adding their numbers; drops zero numbers unless
-// keep_zero(id) (a sum's partial term stays, with coefficient 0, as a domain guard).
+// keep_zero(id) (a sum's partial term stays, with coefficient 0, as a domain guard). Reals are
+// never added: an entry whose number is real (a fold that overflowed 64 bits, rounded once), or a
+// total that overflows, moves to `spilled` as an entry of its own, and that id's total starts
+// again from zero, so no real is rounded twice.
 template <class KeepZero>
-void sort_and_merge(std::vector<Entry>& entries, KeepZero keep_zero) {
+void sort_and_merge(std::vector<Entry>& entries, std::vector<Entry>& spilled, KeepZero keep_zero) {
   std::sort(entries.begin(), entries.end(),
             [](const Entry& a, const Entry& b) { return a.first < b.first; });
   std::size_t out = 0;
   for (std::size_t i = 0; i < entries.size();) {
-    Number total = entries[i].second;
-    std::size_t j = i + 1;
+    Number total;
+    bool any = false;
+    std::size_t j = i;
     for (; j < entries.size() && entries[j].first == entries[i].first; ++j) {
-      total = total + entries[j].second;
+      if (!entries[j].second.is_rational()) {
+        spilled.push_back(entries[j]);
+        continue;
+      }
+      Number next = total + entries[j].second;
+      if (next.is_rational()) {
+        total = std::move(next);
+        any = true;
+      } else {
+        spilled.emplace_back(entries[i].first, std::move(next));
+        total = Number();
+        any = false;
+      }
     }
-    if (!total.is_zero() || keep_zero(entries[i].first)) entries[out++] = {entries[i].first, total};
+    if (any && (!total.is_zero() || keep_zero(entries[i].first))) {
+      entries[out++] = {entries[i].first, total};
+    }
     i = j;
   }
   entries.resize(out);
 }
-void sort_and_merge(std::vector<Entry>& entries) {
-  sort_and_merge(entries, [](std::uint32_t) { return false; });
+void sort_and_merge(std::vector<Entry>& entries, std::vector<Entry>& spilled) {
+  sort_and_merge(entries, spilled, [](std::uint32_t) { return false; });
 }
 
 }  // namespace
@@ -302,12 +321,27 @@ std::vector<Term> ExprPool::terms_of(std::span<const std::pair<std::uint32_t, Nu
 Expr ExprPool::sum(const Number& constant, std::span<const Term> terms) {
   // Real (inexact) numbers are never folded: a real constant term or coefficient stays a
   // Constant operand, so construction never rounds; the bounds engine encloses it instead.
+  // A real becomes |c| with coefficient +-1, the form the parser gives "-c".
   if (!constant.is_rational()) {
+    const bool negative = std::signbit(constant.value());
     std::vector<Term> all(terms.begin(), terms.end());
-    all.push_back({this->constant(constant), Number::integer(1)});
+    all.push_back(
+        {this->constant(negative ? -constant : constant), Number::integer(negative ? -1 : 1)});
     return sum(Number(), all);
   }
+  // c0 folds the rational constants; a fold that overflows 64 bits is a real rounded once
+  // (within one ulp), which is folded no further but becomes a term (and c0 starts again from 0).
   Number c0 = constant;
+  std::vector<Number> overflowed;
+  const auto fold = [&](const Number& addend) {
+    const Number folded = addend.is_rational() ? c0 + addend : addend;
+    if (folded.is_rational()) {
+      c0 = folded;
+    } else {
+      overflowed.push_back(folded);
+      if (addend.is_rational()) c0 = Number();
+    }
+  };
   std::vector<Entry> entries;
   entries.reserve(terms.size());
   for (const Term& original : terms) {
@@ -315,9 +349,8 @@ Expr ExprPool::sum(const Number& constant, std::span<const Term> terms) {
     if (original.factor.is_zero() && !impl_->nodes[original.expr.id_].partial) continue;
     Term term = original;
     if (!term.factor.is_rational()) {
-      const Term scaled[] = {{this->constant(term.factor), Number::integer(1)},
-                             {term.expr, Number::integer(1)}};
-      term = {product(Number::integer(1), scaled), Number::integer(1)};
+      const Term unit[] = {{term.expr, Number::integer(1)}};
+      term = {product(term.factor, unit), Number::integer(1)};
     }
     const Node& node = impl_->nodes[term.expr.id_];
     switch (node.op) {
@@ -326,14 +359,14 @@ Expr ExprPool::sum(const Number& constant, std::span<const Term> terms) {
           entries.emplace_back(term.expr.id_, term.factor);
           break;
         }
-        c0 = c0 + term.factor * node.number;
+        fold(term.factor * node.number);
         break;
       case Op::kAdd:
         if (node.count > kFlattenLimit) {
           entries.emplace_back(term.expr.id_, term.factor);
           break;
         }
-        c0 = c0 + term.factor * node.number;
+        fold(term.factor * node.number);
         for (std::uint32_t i = node.begin; i < node.begin + node.count; ++i) {
           entries.emplace_back(impl_->operand_ids[i], term.factor * impl_->factors[i]);
         }
@@ -357,12 +390,18 @@ Expr ExprPool::sum(const Number& constant, std::span<const Term> terms) {
     }
   }
   // 0·t stays where t may be undefined: log(x) - log(x) is 0·log(x), undefined for x <= 0.
-  sort_and_merge(entries, [&](std::uint32_t id) { return impl_->nodes[id].partial; });
-  // Folding rationals can overflow 64 bits into a real; build again so the entry point above
-  // turns that real into an operand (Add factors stay rational).
-  if (!c0.is_rational() || std::any_of(entries.begin(), entries.end(),
-                                       [](const Entry& e) { return !e.second.is_rational(); })) {
-    return sum(c0, terms_of(entries));
+  std::vector<Entry> spilled;
+  sort_and_merge(entries, spilled, [&](std::uint32_t id) { return impl_->nodes[id].partial; });
+  // Overflowed constants and coefficients: build again, so that the entry point above turns
+  // each real into an operand (Add factors stay rational).
+  if (!overflowed.empty() || !spilled.empty()) {
+    std::vector<Term> all = terms_of(entries);
+    for (const Number& real : overflowed) {  // |real| with its sign as the coefficient
+      const bool negative = std::signbit(real.value());
+      all.push_back({this->constant(negative ? -real : real), Number::integer(negative ? -1 : 1)});
+    }
+    for (const Entry& entry : spilled) all.push_back({Expr(this, entry.first), entry.second});
+    return sum(c0, all);
   }
   if (entries.empty()) return this->constant(c0);
   if (c0.is_zero() && entries.size() == 1 && !entries[0].second.is_zero()) {
@@ -390,12 +429,29 @@ int domain_of_exponent(const Number& e) {
 }  // namespace
 
 Expr ExprPool::product(const Number& coefficient, std::span<const Term> factors) {
-  if (!coefficient.is_rational()) {  // never folded: see sum()
+  if (!coefficient.is_rational()) {
+    // Never folded (see sum()): |c| becomes a base and its sign the coefficient, the form the
+    // parser gives "-c", so a real that overflowed survives print and parse.
+    const bool negative = std::signbit(coefficient.value());
     std::vector<Term> all(factors.begin(), factors.end());
-    all.push_back({constant(coefficient), Number::integer(1)});
-    return product(Number::integer(1), all);
+    all.push_back({constant(negative ? -coefficient : coefficient), Number::integer(1)});
+    return product(Number::integer(negative ? -1 : 1), all);
   }
+  // Constant folding: c times every rational power met. A power or product that overflows 64
+  // bits is a real rounded once (within one ulp, see number.hpp); it is folded no further but
+  // becomes a base (see sum()), and c starts again from 1.
   Number c = coefficient;
+  std::vector<Number> overflowed;
+  const auto fold = [&](const Number& base, std::int64_t exponent) {
+    const Number power = base.pow(exponent);
+    const Number folded = power.is_rational() ? c * power : power;
+    if (folded.is_rational()) {
+      c = folded;
+    } else {
+      overflowed.push_back(folded);
+      if (power.is_rational()) c = Number::integer(1);
+    }
+  };
   std::vector<Entry> entries;
   entries.reserve(factors.size());
   // Domains: what the exponents of each base required (kNonZero / kNonNegative), and the
@@ -413,11 +469,11 @@ Expr ExprPool::product(const Number& coefficient, std::span<const Term> factors)
     }
     const bool rational_constant = node.op == Op::kConstant && node.number.is_rational();
     if (rational_constant && e.is_integer()) {
-      c = c * node.number.pow(e.numerator());
+      fold(node.number, e.numerator());
     } else if (rational_constant && node.number.is_one()) {
       continue;
     } else if (node.op == Op::kMul && e.is_integer() && node.count <= kFlattenLimit) {
-      c = c * node.number.pow(e.numerator());
+      fold(node.number, e.numerator());
       for (std::uint32_t i = node.begin; i < node.begin + node.count; ++i) {
         const Number inner = impl_->factors[i];
         entries.emplace_back(impl_->operand_ids[i], e * inner);
@@ -439,7 +495,8 @@ Expr ExprPool::product(const Number& coefficient, std::span<const Term> factors)
     return sum(Number(), guard_terms);  // drops what is defined everywhere
   };
   if (c.is_zero()) return zero();
-  sort_and_merge(entries);
+  std::vector<Entry> spilled;
+  sort_and_merge(entries, spilled);
   // A merged exponent may need less than its parts did (x·x^-1 = x^0, sqrt(x)^2 = x): guard the
   // base with the condition it lost, as b^-1 (b != 0), b^(1/2) (b >= 0) or b^(-1/2) (b > 0).
   std::sort(required.begin(), required.end());
@@ -471,24 +528,28 @@ Expr ExprPool::product(const Number& coefficient, std::span<const Term> factors)
     if (node.op != Op::kConstant || !node.number.is_rational() || !entry.second.is_integer()) {
       return false;
     }
-    c = c * node.number.pow(entry.second.numerator());
+    fold(node.number, entry.second.numerator());
     return true;
   });
   if (c.is_zero()) return zero();
-  // An exponent sum that overflowed 64 bits is a real: that factor becomes the real power
-  // Pow(base, exponent) with exponent 1.
-  bool replaced = false;
-  for (Entry& entry : entries) {
-    if (!entry.second.is_rational()) {
-      entry = {power(Expr(this, entry.first), entry.second).id_, Number::integer(1)};
-      replaced = true;
-    }
+  for (const Number& real : overflowed) {  // |real| as a base, its sign into c
+    const bool negative = std::signbit(real.value());
+    if (negative) c = -c;
+    spilled.emplace_back(constant(negative ? -real : real).id_, Number::integer(1));
   }
-  if (replaced) sort_and_merge(entries);
-  const Expr result = [&] {
-    if (!c.is_rational()) {  // the coefficient overflowed 64 bits: it becomes an operand
-      return product(c, terms_of(entries));
+  // A spilled exponent that is real (a sum that overflowed 64 bits) makes its factor the real
+  // power Pow(base, exponent) with exponent 1; merge again until nothing spills.
+  while (!spilled.empty()) {
+    for (const Entry& entry : std::exchange(spilled, {})) {
+      if (entry.second.is_rational()) {
+        entries.push_back(entry);
+      } else {
+        entries.emplace_back(power(Expr(this, entry.first), entry.second).id_, Number::integer(1));
+      }
     }
+    sort_and_merge(entries, spilled);
+  }
+  const Expr result = [&] {
     if (entries.empty()) return constant(c);
     if (entries.size() == 1 && entries[0].second.is_one()) {
       const Expr only(this, entries[0].first);

@@ -36,8 +36,11 @@
 //     64-bit rational) is never combined with another number: it stays a Constant operand (a sum
 //     term, or a product base), so construction never rounds; bounds/ encloses it instead.
 //     Hence c0, the Add coefficients and the Mul coefficient c are always rational. A fold whose
-//     result overflows 64 bits gives a real (see number.hpp), which becomes a Constant operand
-//     in the same way; from there on, as with floating point, grouping may change the result.
+//     result overflows 64 bits gives a real rounded once (within one ulp, see number.hpp),
+//     which becomes a Constant operand |r| in the same way (its sign goes to the coefficient,
+//     as the parser reads "-r") and is folded no further; as with floating point, grouping may
+//     change the result, but no constant is rounded twice, so printing and parsing an
+//     expression gives back the same node.
 //   * Functions fold only exact special values: sin(0) = 0, cos(0) = 1, exp(0) = 1, log(1) = 0,
 //     sqrt of a perfect-square rational, abs of a constant, min/max of constants or of equal
 //     arguments. No libm call is ever folded into a constant (that would round it).

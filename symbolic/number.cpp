@@ -1,5 +1,6 @@
 #include "symbolic/number.hpp"
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstdio>
@@ -7,6 +8,7 @@
 #include <functional>
 #include <limits>
 #include <numeric>
+#include <stdexcept>
 #include <string>
 
 namespace spar::symbolic {
@@ -108,7 +110,9 @@ Number Number::from_rational128(__int128 numerator, __int128 denominator) {
       denominator /= g;
     }
   }
-  if (fits_int64(numerator) && fits_int64(denominator)) {
+  // INT64_MIN is left out so that negation stays exact (and "-9223372036854775808" reads back).
+  if (fits_int64(numerator) && fits_int64(denominator) &&
+      numerator != std::numeric_limits<std::int64_t>::min()) {
     Number n;
     n.numerator_ = static_cast<std::int64_t>(numerator);
     n.denominator_ = static_cast<std::int64_t>(denominator);
@@ -144,13 +148,14 @@ std::optional<Number> Number::parse_decimal(std::string_view text) {
   std::size_t i = 0;
   std::string digits;
   int fraction_digits = 0;
-  bool seen_digit = false;
+  bool seen_digit = false, has_point = false;
   while (i < text.size() && std::isdigit(static_cast<unsigned char>(text[i]))) {
     digits += text[i++];
     seen_digit = true;
   }
   if (i < text.size() && text[i] == '.') {
     ++i;
+    has_point = true;
     while (i < text.size() && std::isdigit(static_cast<unsigned char>(text[i]))) {
       digits += text[i++];
       ++fraction_digits;
@@ -173,20 +178,24 @@ std::optional<Number> Number::parse_decimal(std::string_view text) {
 
   // Significant digits: strip leading zeros, then trailing zeros (moving them into the exponent).
   // Trailing zeros written after the point still count as written precision: "2.5000000000000000"
-  // (17 digits) is the printout of a real and re-parses as one, while "1e20" or "2.5" are exact.
+  // (17 digits) is the printout of a real and re-parses as one, as does "31664425652737800." (a
+  // point and 17 digits), while "1e20" or "2.5" are exact.
   const std::size_t first = digits.find_first_not_of('0');
   if (first == std::string::npos) return Number();
   std::string significant = digits.substr(first);
   const bool written_as_real =
-      fraction_digits > 0 && static_cast<int>(significant.size()) > kMaxExactDecimalDigits;
+      has_point && static_cast<int>(significant.size()) > kMaxExactDecimalDigits;
   long scale = exponent - fraction_digits;
   while (significant.size() > 1 && significant.back() == '0') {
     significant.pop_back();
     ++scale;
   }
-  if (!written_as_real && static_cast<int>(significant.size()) <= kMaxExactDecimalDigits &&
+  // Without a point, up to 19 digits (any int64: the printout of a rational) are exact too.
+  const int max_digits = has_point ? kMaxExactDecimalDigits : 19;
+  if (!written_as_real && static_cast<int>(significant.size()) <= max_digits &&
       std::labs(scale) <= 18) {
-    __int128 mantissa = std::stoll(significant);
+    __int128 mantissa = 0;
+    for (const char digit : significant) mantissa = mantissa * 10 + (digit - '0');
     __int128 power = 1;
     for (long k = 0; k < std::labs(scale); ++k) power *= 10;
     const __int128 numerator = scale >= 0 ? mantissa * power : mantissa;
@@ -210,6 +219,8 @@ int Number::sign() const {
 }
 
 Number operator+(const Number& a, const Number& b) {
+  if (a.is_zero()) return b;
+  if (b.is_zero()) return a;
   if (a.is_rational() && b.is_rational()) {
     return Number::from_rational128(static_cast<__int128>(a.numerator_) * b.denominator_ +
                                         static_cast<__int128>(b.numerator_) * a.denominator_,
@@ -228,6 +239,11 @@ Number operator-(const Number& a) {
 Number operator-(const Number& a, const Number& b) { return a + (-b); }
 
 Number operator*(const Number& a, const Number& b) {
+  if (a.is_zero() || b.is_zero()) return Number();
+  if (a.is_one()) return b;
+  if (b.is_one()) return a;
+  if (a.is_minus_one()) return -b;
+  if (b.is_minus_one()) return -a;
   if (a.is_rational() && b.is_rational()) {
     return Number::from_rational128(static_cast<__int128>(a.numerator_) * b.numerator_,
                                     static_cast<__int128>(a.denominator_) * b.denominator_);
@@ -256,8 +272,12 @@ Number operator/(const Number& a, const Number& b) {
 }
 
 Number Number::pow(std::int64_t exponent) const {
+  if (is_rational()) return rational_power(exponent);
   if (exponent < 0) {
-    if (is_zero()) throw SymbolicError("0 raised to a negative power (division by zero)");
+    if (sign() == 0) throw SymbolicError("0 raised to a negative power (division by zero)");
+    if (exponent == std::numeric_limits<std::int64_t>::min()) {
+      throw SymbolicError("exponent out of range");
+    }
     return Number::integer(1) / pow(-exponent);
   }
   Number result = Number::integer(1);
@@ -268,6 +288,118 @@ Number Number::pow(std::int64_t exponent) const {
     if (exponent > 0) base = base * base;
   }
   return result;
+}
+
+namespace {
+
+// A positive number (high + low)·2^exponent with high in [1/2, 1) and |low| <= ulp(high)/2: a
+// pair of long doubles carries ~128 significant bits, and the exponent cannot overflow, so huge
+// powers keep their leading digits. `error` bounds the relative error of the represented value.
+struct Scaled {
+  long double high = 0.5L;
+  long double low = 0.0L;
+  __int128 exponent = 1;
+  long double error = 0.0L;
+
+  explicit Scaled(std::uint64_t magnitude = 1) {
+    int shift = 0;
+    high = std::frexp(static_cast<long double>(magnitude), &shift);  // exact: 64 bits
+    exponent = shift;
+  }
+
+  // (h1 + l1)(h2 + l2) = h1·h2 + (h1·l2 + l1·h2 + l1·l2): h1·h2 exactly as p + e (fma), the cross
+  // terms rounded (their relative weight is 2^-63, so three roundings cost < 2^-125), l1·l2
+  // (< 2^-128 relative) dropped, then p + cross renormalised exactly (|p| >= |cross|). Each
+  // product adds less than 2^-122 to the relative error.
+  void times(const Scaled& other) {
+    const long double p = high * other.high;
+    const long double e = std::fma(high, other.high, -p);
+    const long double cross = e + (high * other.low + low * other.high);
+    const long double sum = p + cross;
+    const long double tail = cross - (sum - p);
+    int shift = 0;
+    high = std::frexp(sum, &shift);
+    low = std::ldexp(tail, -shift);
+    exponent += other.exponent + shift;
+    error = error + other.error + error * other.error + 0x1p-122L;
+  }
+};
+
+// magnitude^n for n >= 0 by square-and-multiply.
+Scaled scaled_power(std::uint64_t magnitude, std::uint64_t n) {
+  Scaled base(magnitude);
+  Scaled result;
+  while (n > 0) {
+    if ((n & 1) != 0) result.times(base);
+    n >>= 1;
+    if (n > 0) base.times(Scaled(base));
+  }
+  return result;
+}
+
+std::uint64_t magnitude_of(std::int64_t v) {
+  return v < 0 ? std::uint64_t{0} - static_cast<std::uint64_t>(v) : static_cast<std::uint64_t>(v);
+}
+
+// Exact a^n for a 64-bit a and n >= 0, or nullopt if it overflows.
+std::optional<std::int64_t> exact_power(std::int64_t a, std::uint64_t n) {
+  std::int64_t result = 1;
+  while (n > 0) {
+    if ((n & 1) != 0 && __builtin_mul_overflow(result, a, &result)) return std::nullopt;
+    n >>= 1;
+    // a^2 overflowing with bits of n left: the result (a multiple of a^2) overflows too.
+    if (n > 0 && __builtin_mul_overflow(a, a, &a)) return std::nullopt;
+  }
+  return result;
+}
+
+}  // namespace
+
+Number Number::rational_power(std::int64_t exponent) const {
+  if (is_zero()) {
+    if (exponent < 0) throw SymbolicError("0 raised to a negative power (division by zero)");
+    return exponent == 0 ? Number::integer(1) : Number();
+  }
+  // Exact first: in lowest terms, p^n / q^n is too.
+  const bool inverse = exponent < 0;
+  const std::uint64_t n = magnitude_of(exponent);
+  const auto p = exact_power(numerator_, n);
+  const auto q = exact_power(denominator_, n);
+  if (p && q) return inverse ? Number::rational(*q, *p) : Number::rational(*p, *q);
+
+  // Overflow: p^n / q^n in double-long-double, then one rounding to double. The quotient is
+  // within relative error E of the true value; when E < 2^-55 (a quarter of the double spacing
+  // below the value; E < 2^-57 for every 64-bit n, checked) rounding to the nearest double adds
+  // at most half a spacing, so the true value lies strictly between the neighbours of the
+  // result.
+  const bool negative = numerator_ < 0 && (n & 1) != 0;
+  const Scaled top = scaled_power(magnitude_of(numerator_), n);
+  const Scaled bottom = scaled_power(static_cast<std::uint64_t>(denominator_), n);
+  const Scaled& numerator = inverse ? bottom : top;
+  const Scaled& denominator = inverse ? top : bottom;
+  // quotient = n / d: q1 rounded, its residual exact by fma, then the low parts.
+  const long double q1 = numerator.high / denominator.high;  // in (1/2, 2)
+  const long double residual =
+      std::fma(-q1, denominator.high, numerator.high) + (numerator.low - q1 * denominator.low);
+  const long double quotient = q1 + residual / denominator.high;
+  const long double error =
+      numerator.error + denominator.error + 2 * numerator.error * denominator.error + 0x1p-63L;
+  const __int128 binary_exponent = numerator.exponent - denominator.exponent;
+  const double sign = negative ? -1.0 : 1.0;
+  const auto out_of_range = [&] {
+    return SymbolicError("constant out of the range of a double (about 2^" +
+                         std::to_string(static_cast<long long>(binary_exponent)) + ")");
+  };
+  if (binary_exponent > std::numeric_limits<double>::max_exponent) throw out_of_range();
+  if (binary_exponent < std::numeric_limits<double>::min_exponent - 60) {  // below every subnormal
+    return from_enclosure(sign * 0.0, -std::numeric_limits<double>::denorm_min(),
+                          std::numeric_limits<double>::denorm_min());
+  }
+  const long double scaled = std::ldexp(quotient, static_cast<int>(binary_exponent));  // exact
+  const double value = sign * static_cast<double>(scaled);
+  if (!std::isfinite(value) || !std::isfinite(next_up(std::fabs(value)))) throw out_of_range();
+  if (!(error < 0x1p-55L)) throw std::logic_error("Number::pow: error bound above 2^-55");
+  return from_enclosure(value, next_down(value), next_up(value));
 }
 
 bool operator==(const Number& a, const Number& b) {
@@ -304,6 +436,7 @@ std::string Number::to_string() const {
     while (d % 2 == 0) d /= 2, ++twos;
     while (d % 5 == 0) d /= 5, ++fives;
     const int places = std::max(twos, fives);
+    // At most 16 significant digits: a longer decimal with a point reads back as a real.
     if (d == 1 && places <= 12) {
       // numerator/denominator == numerator * 2^(places-twos) * 5^(places-fives) / 10^places.
       __int128 scaled = static_cast<__int128>(numerator_);
@@ -311,6 +444,9 @@ std::string Number::to_string() const {
       for (int k = fives; k < places; ++k) scaled *= 5;
       const bool negative = scaled < 0;
       std::string digits = std::to_string(static_cast<long long>(negative ? -scaled : scaled));
+      if (static_cast<int>(digits.size()) > kMaxExactDecimalDigits) {
+        return std::to_string(numerator_) + "/" + std::to_string(denominator_);
+      }
       if (static_cast<int>(digits.size()) <= places) {
         digits.insert(0, places - digits.size() + 1, '0');
       }

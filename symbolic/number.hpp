@@ -46,7 +46,8 @@ class Number {
   // 2.0 and 2 are the same constant. Throws SymbolicError for NaN or infinity.
   [[nodiscard]] static Number real(double value);
   // Parses a decimal literal such as "12", "0.25", "4.27e-05". Returns an exact rational when it
-  // has at most 16 significant digits and fits in 64 bits, else a one-ulp enclosure of the
+  // fits in 64 bits and has at most 16 significant digits (any number of digits up to 19 without
+  // a decimal point: every int64 reads back exactly), else a one-ulp enclosure of the
   // nearest double. nullopt if not a literal.
   [[nodiscard]] static std::optional<Number> parse_decimal(std::string_view text);
 
@@ -73,13 +74,19 @@ class Number {
   [[nodiscard]] double lower() const { return lower_; }
   [[nodiscard]] double upper() const { return upper_; }
 
+  // Exact rationals combine exactly (a result that overflows 64 bits becomes a one-ulp real, see
+  // above); a real operand widens the enclosure by one ulp, except with an exact 0 addend or an
+  // exact 0 or +-1 factor, which are exact (0·a is the exact 0).
   friend Number operator+(const Number& a, const Number& b);
   friend Number operator-(const Number& a, const Number& b);
   friend Number operator*(const Number& a, const Number& b);
   // Throws SymbolicError on division by an exact zero or by a real enclosure containing zero.
   friend Number operator/(const Number& a, const Number& b);
   friend Number operator-(const Number& a);
-  // a^n for an integer n; throws SymbolicError for 0^negative.
+  // a^n for an integer n; throws SymbolicError for 0^negative. For a rational base: the exact
+  // rational when it fits 64 bits, else the double v within one ulp of the true value enclosed
+  // by v's two neighbours (the form parse_decimal reads back from v's printout; "1e-400"'s below
+  // every subnormal), however large n is; a value beyond the double range throws.
   [[nodiscard]] Number pow(std::int64_t exponent) const;
 
   // Structural equality: same kind and same representation. A rational never equals a real
@@ -101,9 +108,10 @@ class Number {
   static Number from_rational128(__int128 numerator, __int128 denominator);
   static Number from_enclosure(double value, double lower, double upper);
   void set_rational_enclosure();
+  [[nodiscard]] Number rational_power(std::int64_t exponent) const;
 
   Kind kind_{Kind::kRational};
-  std::int64_t numerator_{0};    // rational only; sign carried here
+  std::int64_t numerator_{0};    // rational only; sign carried here; never INT64_MIN
   std::int64_t denominator_{1};  // rational only; > 0, gcd(numerator, denominator) == 1
   double value_{0.0};            // nearest double to the value (rational: numerator/denominator)
   double lower_{0.0};            // lower_ <= true value <= upper_, always

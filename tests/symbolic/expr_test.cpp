@@ -48,6 +48,25 @@ TEST(Number, OverflowedConstantRoundTripsThroughText) {
   EXPECT_EQ(*Number::parse_decimal(square.to_string()), square);
 }
 
+// An integer power that overflows is the double nearest within one ulp, enclosed by its two
+// neighbours, however large the exponent: 20^85, and (1 + 1e-6)^(1e7) = e^(9.9999950000...) =
+// 22026.35566282649397... (square-and-multiply in plain long double would lose 24 bits there).
+TEST(Number, OverflowedPowerIsOneUlpEnclosure) {
+  const Number big = Number::integer(20).pow(85);
+  ASSERT_FALSE(big.is_rational());
+  EXPECT_EQ(big.lower(), std::nextafter(big.value(), 0.0));
+  EXPECT_EQ(big.upper(), std::nextafter(big.value(), HUGE_VAL));
+  const long double exact = std::pow(20.0L, 85);
+  EXPECT_LT(static_cast<long double>(big.lower()), exact);
+  EXPECT_GT(static_cast<long double>(big.upper()), exact);
+  const Number e10 = Number::rational(1000001, 1000000).pow(10000000);
+  EXPECT_LT(e10.lower(), 22026.355662826494);
+  EXPECT_GT(e10.upper(), 22026.355662826494);
+  EXPECT_EQ(e10.upper(), std::nextafter(e10.value(), HUGE_VAL));
+  EXPECT_EQ(*Number::parse_decimal(e10.to_string()), e10);
+  EXPECT_THROW((void)Number::integer(2).pow(1024), SymbolicError);
+}
+
 TEST(Number, TrailingZerosAfterThePointAreWrittenPrecision) {
   EXPECT_TRUE(Number::parse_decimal("2.5")->is_rational());
   EXPECT_TRUE(Number::parse_decimal("1000000000000000000")->is_rational());  // 1e18 exactly
