@@ -131,7 +131,7 @@ ordered_json step_json(const planner::PlanResult& result, const planner::Instanc
 // The SI unit of a precondition's expression: SPAR's pickup inequalities and the insertion
 // offsets are lengths; the misalignment condition compares cosines (dimensionless).
 const char* precondition_unit(const planner::PreconditionResult& result) {
-  return result.inequality.name.rfind("cos(", 0) == 0 ? "1" : "m";
+  return result.length ? "m" : "1";
 }
 
 ordered_json precondition_json(const planner::Scenario& scenario,

@@ -70,6 +70,7 @@ std::vector<PreconditionResult> decide(const std::vector<Precondition>& precondi
     PreconditionResult result;
     result.kind = preconditions[i].kind;
     result.inequality = preconditions[i].inequality;
+    result.length = preconditions[i].length;
     result.verdict = checks[i].verdict;
     result.bound = checks[i].bound;
     result.witness = checks[i].witness;
@@ -385,6 +386,10 @@ void InstanceAnalyser::run(std::vector<Phase2Step> steps, InstanceAnalysis& out)
   int k = 0;
   while (k < static_cast<int>(steps.size())) {
     Propagation state = snapshots[k];
+    // An inserted range-scan looks at the object where it rests now.
+    if (steps[k].effect == StepEffect::kRangeScan && steps[k].object >= 0 &&
+        state.on_table(steps[k].object))
+      steps[k].object_pose = state.on_table(steps[k].object)->ideal;
     const std::vector<Precondition> preconditions = state.step(steps[k], k + 1);
     AnalysedStep step{.step = steps[k],
                       .action = domain_.actions[steps[k].action].name,

@@ -60,6 +60,7 @@ namespace spar::planner {
 struct PreconditionResult {
   std::string kind;  // pickup, squeeze, assemble
   bounds::Inequality inequality;
+  bool length{true};       // the expression is a length in metres (else dimensionless)
   std::string expression;  // spar's infix syntax (parseable by `spar bound`)
   std::size_t nodes{0};    // DAG nodes of the expression
   bounds::Verdict verdict{bounds::Verdict::kUndecided};

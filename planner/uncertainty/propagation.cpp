@@ -184,7 +184,8 @@ std::vector<Precondition> Propagation::assemble_preconditions(const Phase2Step& 
                                 tip[2] - actual_point[2]};
     out.push_back({"assemble",
                    {"cos(misalignment) >= cos(angular clearance)", dot(axis, v),
-                    bounds::Relation::kGreaterEqual, std::cos(goal.angular_clearance)}});
+                    bounds::Relation::kGreaterEqual, std::cos(goal.angular_clearance)},
+                   /*length=*/false});
   }
   return out;
 }

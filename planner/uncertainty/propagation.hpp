@@ -85,6 +85,7 @@ struct Phase2Step {
 struct Precondition {
   std::string kind;  // pickup, squeeze, assemble
   bounds::Inequality inequality;
+  bool length{true};  // the expression is a length in metres (else dimensionless, e.g. a cosine)
 };
 
 class Propagation {
