@@ -1,0 +1,342 @@
+#include "python/facade.hpp"
+
+#include <algorithm>
+#include <stdexcept>
+
+#include "bounds/bound.hpp"
+#include "bounds/error.hpp"
+#include "bounds/inequality.hpp"
+#include "kinematics/ik.hpp"
+#include "kinematics/puma.hpp"
+#include "reports/json_values.hpp"
+#include "reports/plan_json.hpp"
+#include "symbolic/operations.hpp"
+#include "symbolic/parse.hpp"
+#include "symbolic/smp.hpp"
+
+namespace spar::python {
+namespace {
+
+using nlohmann::ordered_json;
+using symbolic::Expr;
+
+// An expression as it will be read into `pool`: its node when it is in `pool`, else its text
+// (taken under its own pool's lock, before the caller locks `pool`: one lock at a time).
+struct Foreign {
+  std::optional<Expr> node;
+  std::string text;
+};
+
+Foreign foreign(const Expression& e, const SharedPool& pool) {
+  if (e.pool.get() == &pool) return {e.expr, {}};
+  return {std::nullopt, expression_text(e)};
+}
+
+// The caller holds pool.mutex.
+Expr read_into(const Foreign& e, SharedPool& pool) {
+  return e.node ? *e.node : symbolic::parse(pool.pool, e.text);
+}
+
+Expression derived(const Expression& from, Expr expr) { return Expression{from.pool, expr}; }
+
+kinematics::Transform rigid(const Matrix4& matrix) {
+  const Eigen::Matrix<double, 4, 4, Eigen::RowMajor> row_major = matrix;
+  return kinematics::rigid_transform_from_row_major(std::span<const double>(row_major.data(), 16));
+}
+
+Matrix4 matrix(const kinematics::Transform& pose) { return pose.matrix(); }
+
+bounds::Relation relation_named(std::string_view text) {
+  if (text == "<") return bounds::Relation::kLess;
+  if (text == "<=") return bounds::Relation::kLessEqual;
+  if (text == ">") return bounds::Relation::kGreater;
+  if (text == ">=") return bounds::Relation::kGreaterEqual;
+  throw bounds::BoundsError("unknown relation '" + std::string(text) +
+                            "' in a constraint: use <, <=, > or >=");
+}
+
+// "lhs REL rhs" -> (lhs) - (rhs) REL 0, parsed into `pool`.
+bounds::Constraint constraint_from_text(const std::string& text, symbolic::ExprPool& pool) {
+  for (const std::string_view relation : {"<=", ">=", "<", ">"}) {
+    const std::size_t at = text.find(relation);
+    if (at == std::string::npos) continue;
+    const std::string lhs = text.substr(0, at), rhs = text.substr(at + relation.size());
+    if (rhs.find_first_of("<>") != std::string::npos)
+      throw bounds::BoundsError("constraint '" + text + "' has more than one relation");
+    return {symbolic::parse(pool, "(" + lhs + ") - (" + rhs + ")"), relation_named(relation)};
+  }
+  throw bounds::BoundsError("constraint '" + text +
+                            "' has no relation: write e.g. 'x + y <= 1' or give (g, '<=')");
+}
+
+}  // namespace
+
+// ---- expressions ----
+
+Expression parse_expression(std::string_view text) {
+  auto pool = std::make_shared<SharedPool>();
+  const std::lock_guard lock(pool->mutex);
+  const Expr expr = symbolic::parse(pool->pool, text);
+  return Expression{pool, expr};
+}
+
+std::string expression_text(const Expression& e) {
+  const std::lock_guard lock(e.pool->mutex);
+  return symbolic::to_string(e.expr);
+}
+
+Expression simplify_expression(const Expression& e) {
+  const std::lock_guard lock(e.pool->mutex);
+  return derived(e, symbolic::simplify(e.expr));
+}
+
+Expression differentiate_expression(const Expression& e, std::string_view variable) {
+  const std::lock_guard lock(e.pool->mutex);
+  return derived(e, symbolic::differentiate(e.expr, e.pool->pool.variable(variable)));
+}
+
+double evaluate_expression(const Expression& e, const std::map<std::string, double>& values) {
+  const std::lock_guard lock(e.pool->mutex);
+  return symbolic::evaluate(e.expr, values);
+}
+
+std::vector<std::string> expression_variables(const Expression& e) {
+  const std::lock_guard lock(e.pool->mutex);
+  std::vector<std::string> names;
+  for (const Expr v : symbolic::free_variables(e.expr)) names.emplace_back(v.name());
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+bool same_expression(const Expression& a, const Expression& b) {
+  const Foreign other = foreign(b, *a.pool);
+  const std::lock_guard lock(a.pool->mutex);
+  return read_into(other, *a.pool) == a.expr;
+}
+
+// ---- bounds ----
+
+BoundAnswer bound_expression(const Expression& f, const std::vector<BoxRange>& box,
+                             const std::vector<ConstraintSpec>& constraints,
+                             const BoundSettings& settings) {
+  SharedPool& pool = *f.pool;
+  std::vector<Foreign> constraint_gs;
+  for (const ConstraintSpec& spec : constraints)
+    if (spec.g) constraint_gs.push_back(foreign(*spec.g, pool));
+  const std::lock_guard lock(pool.mutex);
+  bounds::Box bound_box;
+  for (const BoxRange& range : box)
+    bound_box.add(pool.pool.variable(range.variable), range.lo, range.hi);
+  std::vector<bounds::Constraint> parsed;
+  std::size_t next_g = 0;
+  for (const ConstraintSpec& spec : constraints)
+    parsed.push_back(spec.g ? bounds::Constraint{read_into(constraint_gs[next_g++], pool),
+                                                 relation_named(spec.relation)}
+                            : constraint_from_text(spec.text, pool.pool));
+  bounds::BoundOptions options;
+  options.tolerance = settings.tolerance;
+  options.max_box_evaluations = settings.max_box_evaluations;
+  options.max_seconds = settings.max_seconds;
+  options.inner = settings.inner;
+  const bounds::BoundResult result = bounds::bound(f.expr, bound_box, options, parsed);
+  BoundAnswer answer{.lo = result.lo,
+                     .hi = result.hi,
+                     .inner_lo = result.inner_lo,
+                     .inner_hi = result.inner_hi,
+                     .status = bounds::to_string(result.status),
+                     .possibly_undefined = result.possibly_undefined,
+                     .time_limited = result.time_limited,
+                     .evaluations = result.evaluations,
+                     .relative_gap = result.relative_gap()};
+  for (std::size_t i = 0; i < result.argmin.size(); ++i)
+    answer.argmin[std::string(bound_box.variables[i].name())] = result.argmin[i];
+  for (std::size_t i = 0; i < result.argmax.size(); ++i)
+    answer.argmax[std::string(bound_box.variables[i].name())] = result.argmax[i];
+  return answer;
+}
+
+// ---- kinematics ----
+
+std::vector<std::string> robot_names() {
+  std::vector<std::string> names;
+  for (const std::string_view name : kinematics::builtin_robot_names()) names.emplace_back(name);
+  return names;
+}
+
+RobotInfo robot_info(std::string_view robot) {
+  const kinematics::DhChain& chain = kinematics::builtin_robot(robot);
+  RobotInfo info{.name = chain.name(), .source = chain.source(), .joints = {}};
+  for (const kinematics::DhJoint& joint : chain.joints())
+    info.joints.push_back(
+        {joint.d, joint.a, joint.alpha, joint.offset, joint.limits.lower, joint.limits.upper});
+  return info;
+}
+
+Matrix4 forward_kinematics(std::string_view robot, const std::vector<double>& q) {
+  return matrix(kinematics::builtin_robot(robot).forward(q));
+}
+
+IkAnswer inverse_kinematics(std::string_view robot, const Matrix4& flange) {
+  const kinematics::PumaIk solver(kinematics::builtin_robot(robot));
+  const kinematics::IkResult result = solver.solve(rigid(flange));
+  IkAnswer answer{.solved = result.solved(),
+                  .singularities = kinematics::singularity_names(result.singularities),
+                  .solutions = {}};
+  if (!result.solved()) return answer;
+  for (const kinematics::IkSolution& solution : result.solutions) {
+    IkSolutionInfo info{.configuration = solution.configuration.label(),
+                        .within_limits = solution.within_limits,
+                        .singularities = kinematics::singularity_names(solution.singularities)};
+    for (int j = 0; j < 6; ++j) info.q[j] = solution.q[j];
+    answer.solutions.push_back(info);
+  }
+  return answer;
+}
+
+// ---- uncertain poses ----
+
+UncertainPose possible_object_pose(const Matrix4& ideal,
+                                   const kinematics::PoseUncertainty& uncertainty,
+                                   std::string_view tag) {
+  const kinematics::Transform pose = rigid(ideal);
+  auto pool = std::make_shared<SharedPool>();
+  const std::lock_guard lock(pool->mutex);
+  const kinematics::UncertainObject object(pool->pool, uncertainty, tag);
+  const auto& variables = object.variables();
+  return UncertainPose{pool, object.possible_pose(pose), {variables.begin(), variables.end()}};
+}
+
+UncertainPose possible_manipulator_pose(const Matrix4& ideal,
+                                        const kinematics::PoseUncertainty& uncertainty,
+                                        std::string_view tag) {
+  const kinematics::Transform pose = rigid(ideal);
+  auto pool = std::make_shared<SharedPool>();
+  const std::lock_guard lock(pool->mutex);
+  const kinematics::UncertainManipulator gripper(pool->pool, uncertainty, tag);
+  const auto& variables = gripper.variables();
+  return UncertainPose{pool, gripper.possible_pose(pose), {variables.begin(), variables.end()}};
+}
+
+Expression pose_entry(const UncertainPose& pose, int row, int column) {
+  if (row < 0 || row > 3 || column < 0 || column > 3)
+    throw std::out_of_range("pose entry (" + std::to_string(row) + ", " + std::to_string(column) +
+                            ") is outside the 4x4 matrix");
+  const std::lock_guard lock(pose.pool->mutex);
+  return Expression{pose.pool, pose.transform.entry(row, column)};
+}
+
+Matrix4 evaluate_pose(const UncertainPose& pose, const std::map<std::string, double>& values) {
+  const std::lock_guard lock(pose.pool->mutex);
+  return matrix(pose.transform.evaluate(values));
+}
+
+// ---- planner ----
+
+planner::Scenario load_scenario_file(const std::filesystem::path& path) {
+  return planner::load_scenario(path);
+}
+
+planner::Scenario parse_scenario_text(std::string_view text, const std::string& source,
+                                      const std::filesystem::path& base_dir) {
+  return planner::parse_scenario(text, source, base_dir);
+}
+
+std::vector<std::string> scenario_mesh_files(const planner::Scenario& scenario) {
+  constexpr std::string_view kMesh = "mesh: ";
+  std::vector<std::string> files;
+  for (const planner::ObjectSpec& object : scenario.objects)
+    if (object.shape.starts_with(kMesh)) files.push_back(object.shape.substr(kMesh.size()));
+  return files;
+}
+
+namespace {
+
+planner::PlanOptions plan_options(const PlanSettings& settings) {
+  planner::PlanOptions options;
+  options.max_instances = settings.instances;
+  options.posting.max_nodes = settings.max_nodes;
+  options.posting.max_steps = settings.max_steps;
+  if (!settings.probability) options.probability.reset();
+  if (!settings.chosen_extras) {
+    options.analysis.reverse = false;
+    options.analysis.blame = false;
+    options.analysis.samples = 0;
+  }
+  return options;
+}
+
+ordered_json precondition_json(const planner::PreconditionResult& result) {
+  ordered_json box = ordered_json::object(), witness = ordered_json::object();
+  for (std::size_t i = 0; i < result.variables.size(); ++i) {
+    box[result.variables[i]] = {reports::number_json(result.box[i].lo),
+                                reports::number_json(result.box[i].hi)};
+    if (i < result.witness.size())
+      witness[result.variables[i]] = reports::number_json(result.witness[i]);
+  }
+  return {{"name", result.inequality.name},
+          {"kind", result.kind},
+          {"expression", result.expression},
+          {"relation", bounds::to_string(result.inequality.relation)},
+          {"threshold", reports::number_json(result.inequality.threshold)},
+          {"verdict", bounds::to_string(result.verdict)},
+          {"lo", reports::number_json(result.bound.lo)},
+          {"hi", reports::number_json(result.bound.hi)},
+          {"inner_lo", reports::number_json(result.bound.inner_lo)},
+          {"inner_hi", reports::number_json(result.bound.inner_hi)},
+          {"box", box},
+          {"witness", witness}};
+}
+
+}  // namespace
+
+PlanRun::PlanRun(planner::PlanResult planned, PlanSettings used)
+    : result(std::move(planned)), report(reports::plan_json(result)), settings(std::move(used)) {}
+
+PlanRun plan_scenario(planner::Scenario scenario, const PlanSettings& settings) {
+  const planner::Domain domain =
+      !settings.domain_text.empty()
+          ? planner::parse_domain(settings.domain_text, settings.domain_source)
+      : !settings.domain_path.empty() ? planner::load_domain(settings.domain_path)
+                                      : planner::builtin_domain();
+  return PlanRun(planner::plan(std::move(scenario), domain, plan_options(settings)), settings);
+}
+
+std::size_t instance_count(const PlanRun& run) { return run.result.instances.instances.size(); }
+
+ordered_json analyse_instance_json(const PlanRun& run, std::size_t index, bool extras) {
+  if (index >= instance_count(run))
+    throw std::out_of_range("plan instance " + std::to_string(index) +
+                            " does not exist: the run has " + std::to_string(instance_count(run)) +
+                            " instance(s)");
+  planner::AnalysisOptions options = plan_options(run.settings).analysis;
+  planner::InstanceAnalysis analysis = planner::analyse_instance(
+      run.result.world, run.result.domain, run.result.instances.instances[index], options);
+  if (extras) planner::add_margins(analysis, options);
+  const planner::Scenario& scenario = run.result.world.scenario();
+  ordered_json steps = ordered_json::array();
+  for (const planner::AnalysedStep& step : analysis.steps) {
+    ordered_json preconditions = ordered_json::array();
+    for (const planner::PreconditionResult& result : step.preconditions)
+      preconditions.push_back(precondition_json(result));
+    steps.push_back(
+        {{"action", step.action},
+         {"object", step.step.object >= 0 ? ordered_json(scenario.objects[step.step.object].name)
+                                          : ordered_json(nullptr)},
+         {"inserted", step.inserted},
+         {"failed", step.failed},
+         {"preconditions", preconditions}});
+  }
+  ordered_json repairs = ordered_json::array();
+  for (const planner::RepairAttempt& repair : analysis.repairs)
+    repairs.push_back(
+        {{"action", repair.action},
+         {"object", repair.object >= 0 ? ordered_json(scenario.objects[repair.object].name)
+                                       : ordered_json(nullptr)},
+         {"helped", repair.helped}});
+  return {{"index", analysis.instance},
+          {"errors", analysis.errors},
+          {"steps", steps},
+          {"repairs", repairs}};
+}
+
+}  // namespace spar::python

@@ -1,0 +1,338 @@
+// spar._spar: pybind11 bindings of the facade (python/facade.hpp). Only type conversion lives
+// here: 4x4 poses and joint vectors as NumPy arrays, box and witnesses as dicts, reports as
+// dict/list, spar's exceptions as the spar.Error hierarchy with the same messages. Long calls
+// (scenario loading, plan, instance analysis, bound) release the GIL. The package's Python part
+// (python/spar/__init__.py) wraps these in the public names.
+#include <pybind11/eigen.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+#include <pybind11/stl/filesystem.h>
+
+#include "bounds/error.hpp"
+#include "bounds/shostak.hpp"
+#include "common/number.hpp"
+#include "geometry/error.hpp"
+#include "kinematics/error.hpp"
+#include "planner/cms/error.hpp"
+#include "planner/error.hpp"
+#include "python/docstrings.hpp"
+#include "python/facade.hpp"
+#include "qr/error.hpp"
+#include "reports/error.hpp"
+#include "symbolic/error.hpp"
+
+namespace py = pybind11;
+using namespace pybind11::literals;
+
+namespace spar::python {
+namespace {
+
+using Release = py::call_guard<py::gil_scoped_release>;
+
+// JSON -> dict / list / str / int / float / bool / None, keys in the document's order.
+py::object to_python(const nlohmann::ordered_json& value) {
+  switch (value.type()) {
+    case nlohmann::json::value_t::object: {
+      py::dict out;
+      for (const auto& [key, item] : value.items()) out[py::str(key)] = to_python(item);
+      return out;
+    }
+    case nlohmann::json::value_t::array: {
+      py::list out;
+      for (const auto& item : value) out.append(to_python(item));
+      return out;
+    }
+    case nlohmann::json::value_t::string:
+      return py::str(value.get_ref<const std::string&>());
+    case nlohmann::json::value_t::boolean:
+      return py::bool_(value.get<bool>());
+    case nlohmann::json::value_t::number_unsigned:
+      return py::int_(value.get<std::uint64_t>());
+    case nlohmann::json::value_t::number_integer:
+      return py::int_(value.get<std::int64_t>());
+    case nlohmann::json::value_t::number_float:
+      return py::float_(value.get<double>());
+    default:
+      return py::none();
+  }
+}
+
+template <typename CppError>
+py::handle add_error(py::module_& m, const char* name, py::handle base) {
+  return py::register_exception<CppError>(m, name, base);
+}
+
+// The spar.Error hierarchy. pybind11 tries translators newest first, so a subclass is
+// registered after its base (ShostakError after BoundsError, the module errors after Error).
+void register_errors(py::module_& m) {
+  const py::handle error = add_error<spar::Error>(m, "Error", PyExc_Exception);
+  error.attr("__doc__") = doc::kError;
+  const py::handle bounds = add_error<bounds::BoundsError>(m, "BoundsError", error);
+  add_error<bounds::ShostakError>(m, "ShostakError", bounds);
+  add_error<NumberError>(m, "NumberError", error);
+  add_error<symbolic::SymbolicError>(m, "SymbolicError", error);
+  add_error<kinematics::KinematicsError>(m, "KinematicsError", error);
+  add_error<geometry::GeometryError>(m, "GeometryError", error);
+  add_error<planner::cms::CmsError>(m, "CmsError", error);
+  add_error<planner::ScenarioError>(m, "ScenarioError", error);
+  add_error<planner::DomainError>(m, "DomainError", error);
+  add_error<planner::PlanError>(m, "PlanError", error);
+  add_error<qr::QrError>(m, "QrError", error);
+  add_error<reports::ReportError>(m, "ReportError", error);
+}
+
+kinematics::PoseUncertainty uncertainty_from(const std::map<std::string, double>& values) {
+  kinematics::PoseUncertainty out;
+  for (const auto& [key, value] : values) {
+    if (key == "dx")
+      out.dx = value;
+    else if (key == "dy")
+      out.dy = value;
+    else if (key == "dz")
+      out.dz = value;
+    else if (key == "dtheta")
+      out.dtheta = value;
+    else
+      throw py::value_error("unknown uncertainty '" + key +
+                            "': the half-widths are dx, dy, dz (m) and dtheta (rad)");
+  }
+  return out;
+}
+
+py::dict bound_dict(const BoundAnswer& r) {
+  return py::dict("lo"_a = r.lo, "hi"_a = r.hi, "inner_lo"_a = r.inner_lo,
+                  "inner_hi"_a = r.inner_hi, "argmin"_a = r.argmin, "argmax"_a = r.argmax,
+                  "status"_a = r.status, "possibly_undefined"_a = r.possibly_undefined,
+                  "time_limited"_a = r.time_limited, "evaluations"_a = r.evaluations,
+                  "relative_gap"_a = r.relative_gap);
+}
+
+BoundAnswer bound_from_dict(const py::dict& d) {
+  return BoundAnswer{.lo = d["lo"].cast<double>(),
+                     .hi = d["hi"].cast<double>(),
+                     .inner_lo = d["inner_lo"].cast<double>(),
+                     .inner_hi = d["inner_hi"].cast<double>(),
+                     .argmin = d["argmin"].cast<std::map<std::string, double>>(),
+                     .argmax = d["argmax"].cast<std::map<std::string, double>>(),
+                     .status = d["status"].cast<std::string>(),
+                     .possibly_undefined = d["possibly_undefined"].cast<bool>(),
+                     .time_limited = d["time_limited"].cast<bool>(),
+                     .evaluations = d["evaluations"].cast<std::size_t>(),
+                     .relative_gap = d["relative_gap"].cast<double>()};
+}
+
+void bind_expressions(py::module_& m) {
+  py::class_<Expression>(m, "Expr", doc::kParse)
+      .def(py::init(&parse_expression), "text"_a,
+           "Parses infix text (the grammar above); raises spar.SymbolicError naming the "
+           "offending token and its column.")
+      .def_static("parse", &parse_expression, "text"_a, "Same as Expr(text).")
+      .def("__str__", &expression_text)
+      .def("__repr__",
+           [](const Expression& e) { return "spar.Expr('" + expression_text(e) + "')"; })
+      .def("simplify", &simplify_expression, doc::kSimplify)
+      .def("diff", &differentiate_expression, "variable"_a, doc::kOperations)
+      .def("evaluate", &evaluate_expression, "values"_a,
+           "The value at a point: a dict of every variable's value (raises spar.SymbolicError "
+           "naming a missing one).")
+      .def_property_readonly("variables", &expression_variables,
+                             "Names of the free variables, sorted.")
+      // Not hashable (pybind11 sets __hash__ = None with __eq__): equal expressions of two
+      // pools may print differently (see facade.hpp).
+      .def("__eq__", &same_expression)
+      .def(py::pickle([](const Expression& e) { return expression_text(e); },
+                      [](const std::string& text) { return parse_expression(text); }));
+
+  py::class_<BoundAnswer>(m, "BoundResult",
+                          "Sound bounds [lo, hi] of an expression over a box, the attained inner "
+                          "range [inner_lo, inner_hi] and its witnesses argmin/argmax (dicts), "
+                          "status (converged | effort_limit | unbounded | infeasible).")
+      .def_readonly("lo", &BoundAnswer::lo)
+      .def_readonly("hi", &BoundAnswer::hi)
+      .def_readonly("inner_lo", &BoundAnswer::inner_lo)
+      .def_readonly("inner_hi", &BoundAnswer::inner_hi)
+      .def_readonly("argmin", &BoundAnswer::argmin)
+      .def_readonly("argmax", &BoundAnswer::argmax)
+      .def_readonly("status", &BoundAnswer::status)
+      .def_readonly("possibly_undefined", &BoundAnswer::possibly_undefined)
+      .def_readonly("time_limited", &BoundAnswer::time_limited)
+      .def_readonly("evaluations", &BoundAnswer::evaluations)
+      .def_readonly("relative_gap", &BoundAnswer::relative_gap)
+      .def("as_dict", &bound_dict, "The fields as a dict.")
+      .def("__repr__",
+           [](const BoundAnswer& r) {
+             return "spar.BoundResult(lo=" + py::repr(py::float_(r.lo)).cast<std::string>() +
+                    ", hi=" + py::repr(py::float_(r.hi)).cast<std::string>() + ", status='" +
+                    r.status + "')";
+           })
+      .def(py::pickle([](const BoundAnswer& r) { return bound_dict(r); }, &bound_from_dict));
+
+  py::class_<ConstraintSpec>(m, "_Constraint")
+      .def(py::init([](const Expression& g, const std::string& relation) {
+             return ConstraintSpec{g, relation, ""};
+           }),
+           "g"_a, "relation"_a)
+      .def(py::init([](const std::string& text) {
+             return ConstraintSpec{std::nullopt, "", text};
+           }),
+           "text"_a);
+
+  m.def(
+      "_bound",
+      [](const Expression& f, const std::vector<std::tuple<std::string, double, double>>& box,
+         const std::vector<ConstraintSpec>& constraints, double tolerance,
+         std::size_t max_box_evaluations, double max_seconds, bool inner) {
+        std::vector<BoxRange> ranges;
+        for (const auto& [name, lo, hi] : box) ranges.push_back({name, lo, hi});
+        return bound_expression(f, ranges, constraints,
+                                {tolerance, max_box_evaluations, max_seconds, inner});
+      },
+      "f"_a, "box"_a, "constraints"_a, "tolerance"_a, "max_box_evaluations"_a, "max_seconds"_a,
+      "inner"_a, Release(), doc::kBound);
+}
+
+void bind_kinematics(py::module_& m) {
+  m.def("robots", &robot_names, "Names of the built-in robots.");
+  m.def(
+      "robot",
+      [](const std::string& name) {
+        const RobotInfo info = robot_info(name);
+        py::list joints;
+        for (const JointInfo& j : info.joints)
+          joints.append(py::dict("d"_a = j.d, "a"_a = j.a, "alpha"_a = j.alpha,
+                                 "offset"_a = j.offset, "lower"_a = j.lower, "upper"_a = j.upper));
+        return py::dict("name"_a = info.name, "source"_a = info.source, "joints"_a = joints);
+      },
+      "robot"_a, doc::kPuma);
+  m.def("fk", &forward_kinematics, "robot"_a, "q"_a, doc::kDh);
+
+  py::class_<IkSolutionInfo>(m, "IkSolution",
+                             "One closed-form configuration: its label (l|r, u|d, n|f), joint "
+                             "angles q (radians, NumPy), within_limits, singularities.")
+      .def_readonly("configuration", &IkSolutionInfo::configuration)
+      .def_property_readonly(
+          "q", [](const IkSolutionInfo& s) { return Eigen::Matrix<double, 6, 1>(s.q.data()); })
+      .def_readonly("within_limits", &IkSolutionInfo::within_limits)
+      .def_readonly("singularities", &IkSolutionInfo::singularities)
+      .def("__repr__", [](const IkSolutionInfo& s) {
+        return "spar.IkSolution('" + s.configuration +
+               "', within_limits=" + (s.within_limits ? "True" : "False") + ")";
+      });
+  py::class_<IkAnswer>(m, "IkResult",
+                       "All eight solutions (solutions, in the order lun luf ldn ldf run ruf rdn "
+                       "rdf) when solved; none when the pose is out of reach.")
+      .def_readonly("solved", &IkAnswer::solved)
+      .def_readonly("singularities", &IkAnswer::singularities)
+      .def_readonly("solutions", &IkAnswer::solutions)
+      .def("__len__", [](const IkAnswer& r) { return r.solutions.size(); })
+      .def(
+          "__getitem__",
+          [](const IkAnswer& r, const std::string& configuration) {
+            for (const IkSolutionInfo& s : r.solutions)
+              if (s.configuration == configuration) return s;
+            throw py::key_error("no solution '" + configuration + "'");
+          },
+          "configuration"_a);
+  m.def("ik", &inverse_kinematics, "robot"_a, "pose"_a, doc::kIk);
+
+  py::class_<UncertainPose>(m, "UncertainPose",
+                            "A 4x4 transform whose entries are spar.Expr over the pose's "
+                            "uncertainty variables (variables: name -> (lo, hi), usable as the "
+                            "box of spar.bound).")
+      .def("entry", &pose_entry, "row"_a, "column"_a)
+      .def("__getitem__",
+           [](const UncertainPose& pose, std::pair<int, int> index) {
+             return pose_entry(pose, index.first, index.second);
+           })
+      .def_property_readonly("matrix",
+                             [](const UncertainPose& pose) {
+                               std::vector<std::vector<Expression>> rows(4);
+                               for (int r = 0; r < 4; ++r)
+                                 for (int c = 0; c < 4; ++c)
+                                   rows[r].push_back(pose_entry(pose, r, c));
+                               return rows;
+                             })
+      .def_property_readonly("variables",
+                             [](const UncertainPose& pose) {
+                               py::dict out;
+                               for (const auto& v : pose.variables)
+                                 out[py::str(v.name)] = py::make_tuple(v.lower, v.upper);
+                               return out;
+                             })
+      .def("evaluate", &evaluate_pose, "values"_a,
+           "The numeric pose (4x4 NumPy array) at a point: a dict of every variable's value.");
+  m.def(
+      "possible_object_pose",
+      [](const Matrix4& ideal, const std::map<std::string, double>& uncertainty,
+         const std::string& tag) {
+        return possible_object_pose(ideal, uncertainty_from(uncertainty), tag);
+      },
+      "ideal"_a, "uncertainty"_a, "tag"_a = "o", doc::kUncertainPose);
+  m.def(
+      "possible_manipulator_pose",
+      [](const Matrix4& ideal, const std::map<std::string, double>& uncertainty,
+         const std::string& tag) {
+        return possible_manipulator_pose(ideal, uncertainty_from(uncertainty), tag);
+      },
+      "ideal"_a, "uncertainty"_a, "tag"_a = "g", doc::kUncertainPose);
+}
+
+void bind_planner(py::module_& m) {
+  py::class_<planner::Scenario>(m, "Scenario", doc::kScenario)
+      .def_readonly("name", &planner::Scenario::name)
+      .def_readonly("description", &planner::Scenario::description)
+      .def_property_readonly("meshes", &scenario_mesh_files,
+                             "The mesh files the scenario references, as written.");
+  m.def("_load_scenario", &load_scenario_file, "path"_a, Release());
+  m.def("_parse_scenario", &parse_scenario_text, "text"_a, "source"_a, "base_dir"_a, Release());
+
+  py::class_<PlanRun>(m, "PlanRun",
+                      "A finished planning run: its report (the JSON of `spar plan --json` as "
+                      "dict/list), and phase 2 on any of its plan instances.")
+      .def_property_readonly("report", [](const PlanRun& run) { return to_python(run.report); })
+      .def_property_readonly("instance_count", &instance_count)
+      .def(
+          "analyse",
+          [](const PlanRun& run, std::size_t index, bool extras) {
+            nlohmann::ordered_json analysis;
+            {
+              const py::gil_scoped_release release;
+              analysis = analyse_instance_json(run, index, extras);
+            }
+            return to_python(analysis);
+          },
+          "index"_a, "extras"_a = false, doc::kAnalysis);
+  py::class_<PlanSettings>(m, "_PlanSettings")
+      .def(py::init<>())
+      .def_readwrite("instances", &PlanSettings::instances)
+      .def_readwrite("max_nodes", &PlanSettings::max_nodes)
+      .def_readwrite("max_steps", &PlanSettings::max_steps)
+      .def_readwrite("domain_path", &PlanSettings::domain_path)
+      .def_readwrite("domain_text", &PlanSettings::domain_text)
+      .def_readwrite("domain_source", &PlanSettings::domain_source)
+      .def_readwrite("probability", &PlanSettings::probability)
+      .def_readwrite("chosen_extras", &PlanSettings::chosen_extras);
+  m.def("_plan_run", &plan_scenario, "scenario"_a, "settings"_a, Release(), doc::kPlan);
+  m.def(
+      "_plan",
+      [](const planner::Scenario& scenario, const PlanSettings& settings) {
+        nlohmann::ordered_json report;
+        {
+          const py::gil_scoped_release release;
+          report = plan_scenario(scenario, settings).report;
+        }
+        return to_python(report);
+      },
+      "scenario"_a, "settings"_a, doc::kReport);
+}
+
+}  // namespace
+}  // namespace spar::python
+
+PYBIND11_MODULE(_spar, m) {
+  m.doc() = spar::python::doc::kModule;
+  spar::python::register_errors(m);
+  spar::python::bind_expressions(m);
+  spar::python::bind_kinematics(m);
+  spar::python::bind_planner(m);
+}

@@ -1,0 +1,185 @@
+"""spar: symbolic worst-case uncertainty analysis of robot task plans, from Python.
+
+The C++ engine (spar._spar, built from python/module.cpp over python/facade.hpp) with Pythonic
+names:
+
+    import spar
+    f = spar.Expr("x^2 - y")
+    r = spar.bound(f, {"x": (-1, 2), "y": (0, 1)}, tolerance=1e-6)   # r.lo, r.hi, r.argmax
+    pose = spar.fk("puma560", [0, 0.7, 0.9, 0, -0.5, 0])              # 4x4 NumPy array
+    solutions = spar.ik("puma560", pose).solutions                    # all eight, labelled
+    report = spar.plan("examples/peg_block_face_down.yaml")           # `spar plan --json`
+
+Errors are spar.Error and its subclasses (spar.ScenarioError, spar.BoundsError, ...) with the
+engine's messages. Long calls (plan, bound, scenario loading) release the GIL, so a thread pool
+runs them in parallel; spar.dask spreads batches over a Dask cluster.
+"""
+
+import json
+import os
+
+from spar import _spar
+from spar._spar import (  # noqa: F401 (re-exported)
+    BoundResult,
+    BoundsError,
+    CmsError,
+    DomainError,
+    Error,
+    Expr,
+    GeometryError,
+    IkResult,
+    IkSolution,
+    KinematicsError,
+    NumberError,
+    PlanError,
+    PlanRun,
+    QrError,
+    ReportError,
+    Scenario,
+    ScenarioError,
+    ShostakError,
+    SymbolicError,
+    UncertainPose,
+    fk,
+    ik,
+    possible_manipulator_pose,
+    possible_object_pose,
+    robot,
+    robots,
+)
+
+__all__ = [
+    "BoundResult", "BoundsError", "CmsError", "DomainError", "Error", "Expr", "GeometryError",
+    "IkResult", "IkSolution", "KinematicsError", "NumberError", "PlanError", "PlanRun", "QrError",
+    "ReportError", "Scenario", "ScenarioError", "ShostakError", "SymbolicError", "UncertainPose",
+    "bound", "bound_record", "fk", "ik", "plan", "plan_run", "possible_manipulator_pose",
+    "possible_object_pose", "robot", "robots", "scenario",
+]
+
+
+def _expr(value):
+    return value if isinstance(value, Expr) else Expr(str(value))
+
+
+def _constraint(value):
+    """'x + y <= 1', (g, '<=') meaning g <= 0, or {'g': g, 'rel': '<='} (the JSONL form)."""
+    if isinstance(value, str):
+        return _spar._Constraint(value)
+    if isinstance(value, dict):
+        return _spar._Constraint(_expr(value["g"]), value.get("rel", "<="))
+    g, relation = value
+    return _spar._Constraint(_expr(g), relation)
+
+
+def bound(expr, box, *, tolerance=1e-3, constraints=(), max_box_evaluations=200_000,
+          max_seconds=0.0, inner=True):
+    """Sound bounds of `expr` (an Expr or its text) over `box` ({name: (lo, hi)}).
+
+    Returns a BoundResult: lo <= inner_lo <= inner_hi <= hi, where [lo, hi] encloses every value
+    on the (constrained) box and inner_lo / inner_hi are attained at argmin / argmax ({name:
+    value}); status is converged, effort_limit, unbounded or infeasible. `constraints` are
+    'lhs <= rhs' texts, (g, relation) pairs meaning g relation 0, or {'g', 'rel'} dicts.
+    The GIL is released while bounding. Raises spar.BoundsError for a bad box or a variable of
+    `expr` without a range.
+    """
+    ranges = [(str(name), float(lo), float(hi)) for name, (lo, hi) in box.items()]
+    return _spar._bound(_expr(expr), ranges, [_constraint(c) for c in constraints],
+                        float(tolerance), int(max_box_evaluations), float(max_seconds),
+                        bool(inner))
+
+
+bound.__doc__ += "\n" + _spar._bound.__doc__
+
+
+def bound_record(record, **options):
+    """Bounds one FPBench-style record ({"name", "expr", "vars": {x: [lo, hi]}, "constraints"}).
+
+    Returns the result as a dict (BoundResult.as_dict() plus "name"), or {"name", "error",
+    "error_type"} when the record is bad or bounding fails: one bad record never stops a batch
+    (like `spar bound --jsonl`). `options` are bound()'s keywords.
+    """
+    name = record.get("name") if isinstance(record, dict) else None
+    try:
+        result = bound(record["expr"], record["vars"], constraints=record.get("constraints", ()),
+                       **options).as_dict()
+    except (Error, KeyError, TypeError, ValueError) as error:
+        message = f"missing key {error}" if isinstance(error, KeyError) else str(error)
+        return {"name": name, "error": message, "error_type": type(error).__name__}
+    return {"name": name, **result}
+
+
+def scenario(source, *, base_dir=None, name=None):
+    """A Scenario from a path, a dict (the YAML's structure) or YAML text.
+
+    A str without a newline that names a file (or ends in .yaml / .yml) is a path; other strs are
+    YAML text. Mesh paths in a dict or text resolve against `base_dir` (default: the current
+    folder); `name` names a dict or text in messages (and becomes the scenario's name when it has
+    no `name:`). Raises spar.ScenarioError with file:line:col for a bad scenario.
+    """
+    if isinstance(source, Scenario):
+        return source
+    if isinstance(source, os.PathLike) or (
+            isinstance(source, str) and "\n" not in source
+            and (source.endswith((".yaml", ".yml")) or os.path.isfile(source))):
+        return _spar._load_scenario(os.fspath(source))
+    if isinstance(source, dict):
+        text, default_name = json.dumps(source), "<dict>"  # JSON is YAML
+    elif isinstance(source, (str, bytes)):
+        text = source.decode() if isinstance(source, bytes) else source
+        default_name = "<text>"
+    else:
+        raise TypeError("a scenario is a path, a dict or YAML text, not "
+                        f"{type(source).__name__}")
+    return _spar._parse_scenario(text, name or default_name,
+                                 os.fspath(base_dir) if base_dir is not None else ".")
+
+
+def _settings(instances, max_nodes, max_steps, domain, domain_text, probability, chosen_extras):
+    settings = _spar._PlanSettings()
+    settings.instances = int(instances)
+    settings.max_nodes = int(max_nodes)
+    settings.max_steps = int(max_steps)
+    if domain is not None:
+        settings.domain_path = os.fspath(domain)
+    if domain_text is not None:
+        settings.domain_text, settings.domain_source = domain_text
+    settings.probability = bool(probability)
+    settings.chosen_extras = bool(chosen_extras)
+    return settings
+
+
+_PLAN_OPTIONS_DOC = """
+    Options (the defaults are `spar plan`'s): instances (plan instances enumerated, 16),
+    max_nodes (partial plans the search may expand, 200000), max_steps (actions in one plan, 64),
+    domain (a domain file; default the built-in planner/domain.yaml), domain_text ((text, name):
+    a domain given as text), probability (False: skip the chosen instance's probabilistic
+    analysis and tolerance allocation), chosen_extras (False: skip its reverse analysis, blame
+    and Monte Carlo; the verdicts do not change). base_dir and name as in spar.scenario().
+    The GIL is released while planning.
+"""
+
+
+def plan(source, *, instances=16, max_nodes=200_000, max_steps=64, domain=None,
+         domain_text=None, probability=True, chosen_extras=True, base_dir=None, name=None):
+    """Plans a scenario (path, dict, YAML text or Scenario) and returns its report.
+
+    The report is the JSON of `spar plan --json` (schema spar-report/1, docs/report-schema.md)
+    as dicts and lists; non-finite numbers are the strings "inf", "-inf", "nan" as there.
+    """
+    return _spar._plan(scenario(source, base_dir=base_dir, name=name),
+                       _settings(instances, max_nodes, max_steps, domain, domain_text,
+                                 probability, chosen_extras))
+
+
+def plan_run(source, *, instances=16, max_nodes=200_000, max_steps=64, domain=None,
+             domain_text=None, probability=True, chosen_extras=True, base_dir=None, name=None):
+    """Plans a scenario and keeps the run: PlanRun.report is plan()'s result, and
+    PlanRun.analyse(i) runs phase 2 on plan instance i (0 <= i < PlanRun.instance_count).
+    """
+    return _spar._plan_run(scenario(source, base_dir=base_dir, name=name),
+                           _settings(instances, max_nodes, max_steps, domain, domain_text,
+                                     probability, chosen_extras))
+
+
+plan.__doc__ += _PLAN_OPTIONS_DOC + "\n" + _spar._plan.__doc__
+plan_run.__doc__ += _PLAN_OPTIONS_DOC + "\n" + _spar._plan_run.__doc__
