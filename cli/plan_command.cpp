@@ -11,7 +11,9 @@
 //             {"file", "report"} or {"file", "error"}; a progress bar on stderr when it is a
 //             terminal; with --report, each report goes to DIR/<file stem>/. A bad scenario gives
 //             an error record and the batch goes on; the command fails at the end if any did.
-//   common options: --domain FILE, --instances N, --max-nodes N, --max-steps N
+//   common options: --domain FILE, --instances N, --max-nodes N, --max-steps N, --samples N
+//             (Monte Carlo points of the failure-probability analysis; 0 turns it and the
+//             tolerance allocation off: planner/uncertainty/probability.hpp)
 //
 // `spar demo [--report DIR] [--json] ...` is `spar plan` on the built-in example, the seed's
 // peg-and-block task with the block face down (examples/peg_block_face_down.yaml, compiled in).
@@ -52,6 +54,7 @@ struct PlanArguments {
   std::uint64_t instances{16};
   std::uint64_t max_nodes{200'000};
   int max_steps{64};
+  std::uint64_t samples{20'000};  // probabilistic analysis (0: off)
 };
 
 nlohmann::ordered_json plan_report(const planner::Scenario& scenario, const planner::Domain& domain,
@@ -203,6 +206,10 @@ void run_plan(const PlanArguments& arguments) {
   options.max_instances = arguments.instances;
   options.posting.max_nodes = arguments.max_nodes;
   options.posting.max_steps = arguments.max_steps;
+  if (arguments.samples == 0)
+    options.probability.reset();
+  else
+    options.probability->samples = arguments.samples;
   if (arguments.batch.empty())
     run_single(arguments, domain, options);
   else
@@ -224,6 +231,10 @@ CLI::Option* add_report_options(CLI::App& command, PlanArguments& arguments) {
                    "partial plans the search may expand (default 200000)", 1, 100'000'000);
   add_count_option(command, "--max-steps", arguments.max_steps, "actions in one plan (default 64)",
                    1, 10'000);
+  add_count_option(command, "--samples", arguments.samples,
+                   "Monte Carlo points of the failure-probability analysis (default 20000; 0: no "
+                   "probability analysis or tolerance allocation)",
+                   0, 100'000'000);
   return format;
 }
 
