@@ -47,7 +47,10 @@
 // so every first-order margin is positive when A p <= b - ε. The smallest weighted change
 // min Σ_p c_p (δ_p / p_p)^2 that satisfies the violated rows as equalities is a minimum-norm
 // least-squares problem, solved with SPQR (SuiteSparseQR_min2norm) and repeated (clamping to
-// [0, p]) until no row is violated. Then every precondition is bounded soundly over the new box
+// [0, p]) until no row is violated (an active-set iteration: exact for the rows it makes active
+// when no clamp binds, otherwise a feasible small change, not a certified QP optimum; if clamps
+// leave a row violated, all parameters shrink by one common factor, found by bisection until
+// every row holds). Then every precondition is bounded soundly over the new box
 // (bounds::BoundProblem); a row not proved raises its ε by its miss and the allocation is redone
 // (a few rounds). The allocation counts as proved only when every bound proves its precondition.
 // When phase 2 proved every precondition already, nothing is allocated (status not_needed).
