@@ -88,7 +88,12 @@ def bound(expr, box, *, tolerance=1e-3, constraints=(), max_box_evaluations=200_
                         bool(inner))
 
 
-bound.__doc__ += "\n" + _spar._bound.__doc__
+def _engine_doc(function):
+    """A binding's docstring without the signature line pybind11 puts first."""
+    return function.__doc__.split("\n", 1)[1].strip()
+
+
+bound.__doc__ += "\n" + _engine_doc(_spar._bound)
 
 
 def bound_record(record, **options):
@@ -108,6 +113,13 @@ def bound_record(record, **options):
     return {"name": name, **result}
 
 
+def _is_path(source):
+    """A PathLike, or a str without a newline that names a file or ends in .yaml / .yml."""
+    return isinstance(source, os.PathLike) or (
+        isinstance(source, str) and "\n" not in source
+        and (source.endswith((".yaml", ".yml")) or os.path.isfile(source)))
+
+
 def scenario(source, *, base_dir=None, name=None):
     """A Scenario from a path, a dict (the YAML's structure) or YAML text.
 
@@ -118,9 +130,7 @@ def scenario(source, *, base_dir=None, name=None):
     """
     if isinstance(source, Scenario):
         return source
-    if isinstance(source, os.PathLike) or (
-            isinstance(source, str) and "\n" not in source
-            and (source.endswith((".yaml", ".yml")) or os.path.isfile(source))):
+    if _is_path(source):
         return _spar._load_scenario(os.fspath(source))
     if isinstance(source, dict):
         text, default_name = json.dumps(source), "<dict>"  # JSON is YAML
@@ -181,5 +191,5 @@ def plan_run(source, *, instances=16, max_nodes=200_000, max_steps=64, domain=No
                                      probability, chosen_extras))
 
 
-plan.__doc__ += _PLAN_OPTIONS_DOC + "\n" + _spar._plan.__doc__
-plan_run.__doc__ += _PLAN_OPTIONS_DOC + "\n" + _spar._plan_run.__doc__
+plan.__doc__ += _PLAN_OPTIONS_DOC + "\n" + _engine_doc(_spar._plan)
+plan_run.__doc__ += _PLAN_OPTIONS_DOC + "\n" + _engine_doc(_spar._plan_run)

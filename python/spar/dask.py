@@ -48,9 +48,7 @@ def scenario_payload(scenario, *, base_dir=None, name=None):
     """
     if isinstance(scenario, ScenarioPayload):
         return scenario
-    if isinstance(scenario, os.PathLike) or (
-            isinstance(scenario, str) and "\n" not in scenario
-            and (scenario.endswith((".yaml", ".yml")) or os.path.isfile(scenario))):
+    if spar._is_path(scenario):
         path = pathlib.Path(scenario)
         text, source, folder = path.read_text(encoding="utf-8"), str(scenario), path.parent
     elif isinstance(scenario, dict):

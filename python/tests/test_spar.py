@@ -201,6 +201,17 @@ def test_per_instance_analysis(face_down_run):
         face_down_run.analyse(face_down_run.instance_count)
 
 
+def test_analysis_with_extras_reproduces_the_reported_chosen_instance(face_down_run):
+    report = face_down_run.report
+    analysis = face_down_run.analyse(report["chosen"]["index"], extras=True)
+    reported = [p for s in report["chosen"]["steps"] for p in s.get("preconditions", [])]
+    analysed = [p for s in analysis["steps"] for p in s["preconditions"]]
+    keys = ["name", "kind", "expression", "relation", "lo", "hi", "inner_lo", "inner_hi",
+            "verdict"]
+    assert [{k: p[k] for k in keys} for p in analysed] == [{k: p[k] for k in keys}
+                                                          for p in reported]
+
+
 # ---- errors ----
 
 def test_errors_are_a_hierarchy_with_the_engine_messages():
