@@ -138,7 +138,7 @@ struct AnalysisOptions {
   // Chosen-instance extras:
   bool reverse{true};
   double max_scale{8.0};          // reverse analysis searches scales in [0, max_scale]
-  int reverse_iterations{20};     // bisection steps
+  int reverse_iterations{12};     // bisection steps (resolution max_scale / 4096)
   bool scale_manipulator{false};  // also scale the arm's variables
   bool blame{true};
   std::size_t samples{2000};  // Monte Carlo samples per precondition (0: off)
