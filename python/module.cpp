@@ -1,8 +1,10 @@
 // spar._spar: pybind11 bindings of the facade (python/facade.hpp). Only type conversion lives
 // here: 4x4 poses and joint vectors as NumPy arrays, box and witnesses as dicts, reports as
-// dict/list, spar's exceptions as the spar.Error hierarchy with the same messages. Long calls
-// (scenario loading, plan, instance analysis, bound) release the GIL. The package's Python part
-// (python/spar/__init__.py) wraps these in the public names.
+// dict/list, spar's exceptions as the spar.Error hierarchy with the same messages. Scenario
+// loading, planning, instance analysis, bounding, Expr's methods and UncertainPose's entry and
+// evaluate release the GIL (the facade's pool mutex serialises work on one pool), so a thread that
+// waits for a pool or a long computation never holds up the other Python threads. The package's
+// Python part (python/spar/__init__.py) wraps these in the public names.
 #include <pybind11/eigen.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -127,19 +129,19 @@ void bind_expressions(py::module_& m) {
            "Parses infix text (the grammar above); raises spar.SymbolicError naming the "
            "offending token and its column.")
       .def_static("parse", &parse_expression, "text"_a, "Same as Expr(text).")
-      .def("__str__", &expression_text)
+      .def("__str__", &expression_text, Release())
       .def("__repr__",
            [](const Expression& e) { return "spar.Expr('" + expression_text(e) + "')"; })
-      .def("simplify", &simplify_expression, doc::kSimplify)
-      .def("diff", &differentiate_expression, "variable"_a, doc::kOperations)
-      .def("evaluate", &evaluate_expression, "values"_a,
+      .def("simplify", &simplify_expression, Release(), doc::kSimplify)
+      .def("diff", &differentiate_expression, "variable"_a, Release(), doc::kOperations)
+      .def("evaluate", &evaluate_expression, "values"_a, Release(),
            "The value at a point: a dict of every variable's value (raises spar.SymbolicError "
            "naming a missing one).")
       .def_property_readonly("variables", &expression_variables,
                              "Names of the free variables, sorted.")
       // Not hashable (pybind11 sets __hash__ = None with __eq__): equal expressions of two
       // pools may print differently (see facade.hpp).
-      .def("__eq__", &same_expression)
+      .def("__eq__", &same_expression, Release())
       .def(py::pickle([](const Expression& e) { return expression_text(e); },
                       [](const std::string& text) { return parse_expression(text); }));
 
@@ -239,7 +241,7 @@ void bind_kinematics(py::module_& m) {
                             "A 4x4 transform whose entries are spar.Expr over the pose's "
                             "uncertainty variables (variables: name -> (lo, hi), usable as the "
                             "box of spar.bound).")
-      .def("entry", &pose_entry, "row"_a, "column"_a)
+      .def("entry", &pose_entry, "row"_a, "column"_a, Release())
       .def("__getitem__",
            [](const UncertainPose& pose, std::pair<int, int> index) {
              return pose_entry(pose, index.first, index.second);
@@ -259,7 +261,7 @@ void bind_kinematics(py::module_& m) {
                                  out[py::str(v.name)] = py::make_tuple(v.lower, v.upper);
                                return out;
                              })
-      .def("evaluate", &evaluate_pose, "values"_a,
+      .def("evaluate", &evaluate_pose, "values"_a, Release(),
            "The numeric pose (4x4 NumPy array) at a point: a dict of every variable's value.");
   m.def(
       "possible_object_pose",
