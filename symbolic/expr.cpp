@@ -1,7 +1,9 @@
 #include "symbolic/expr.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <unordered_map>
@@ -72,6 +74,38 @@ bool is_binary_function(Op op) {
   }
 }
 
+// The arena's storage: a vector whose elements never move. Chunk k holds kFirst·2^k elements, so
+// element i lives in chunk bit_width(i / kFirst + 1) - 1; growing allocates a new chunk instead
+// of copying, so references into the arena (Expr::constant(), Expr::factor()) stay valid while
+// nodes are built, for the pool's whole life, and a large pool is never copied.
+template <class T>
+class StableVector {
+ public:
+  [[nodiscard]] std::size_t size() const { return size_; }
+  T& operator[](std::size_t i) { return at(i); }
+  const T& operator[](std::size_t i) const { return const_cast<StableVector*>(this)->at(i); }
+  void push_back(T value) {
+    if (size_ == capacity_) {
+      chunks_.push_back(std::make_unique<T[]>(kFirst << chunks_.size()));
+      capacity_ += kFirst << (chunks_.size() - 1);
+    }
+    at(size_++) = std::move(value);
+  }
+  void pop_back() { --size_; }
+  void shrink_to(std::size_t size) { size_ = size; }  // size <= size()
+
+ private:
+  static constexpr std::size_t kFirst = 64;
+  T& at(std::size_t i) {
+    const std::size_t biased =
+        i + kFirst;  // chunk k holds biased indices [kFirst·2^k, kFirst·2^(k+1))
+    const int chunk = std::bit_width(biased) - 1 - std::countr_zero(kFirst);
+    return chunks_[chunk][biased - (kFirst << chunk)];
+  }
+  std::vector<std::unique_ptr<T[]>> chunks_;
+  std::size_t size_{0}, capacity_{0};
+};
+
 // Node layout. Invariants (checked by ExprPool::check_invariants):
 //  * operands of node n are operand_ids[begin, begin + count) with parallel factors; every operand
 //    id is smaller than n (the arena is topologically ordered: children are built first);
@@ -81,53 +115,61 @@ bool is_binary_function(Op op) {
 //    Pow: factors are all one;
 //  * partial: some real values of the variables are outside the node's domain (computed from
 //    the op and the operands on construction: see partial_node());
-//  * the hash table holds every node id exactly once, at the probe sequence of its hash.
-struct Node {
-  Op op;
-  std::uint32_t begin;
-  std::uint32_t count;
+//  * the hash table holds every node id exactly once, at the probe sequence of its hash, with
+//    the hash's upper 32 bits as its tag (a probe reads a node only when the tags match, so a
+//    lookup in a large pool costs one cache miss, not one per probe).
+struct Node {  // 72 bytes: the widest members first
   Number number;
   std::size_t hash;
+  std::uint32_t begin;
+  std::uint32_t count;
+  Op op;
   bool partial{false};
 };
 
 struct ExprPool::Impl {
-  std::vector<Node> nodes;
-  std::vector<std::uint32_t> operand_ids;
-  std::vector<Number> factors;
+  StableVector<Node> nodes;
+  StableVector<std::uint32_t> operand_ids;
+  StableVector<Number> factors;
   std::vector<std::string> names;
   std::unordered_map<std::string, std::uint32_t> variable_by_name;
-  std::vector<std::uint32_t> table = std::vector<std::uint32_t>(1024, kEmptySlot);
+  struct Slot {
+    std::uint32_t id{kEmptySlot};
+    std::uint32_t tag{0};
+  };
+  static std::uint32_t tag_of(std::size_t hash) { return static_cast<std::uint32_t>(hash >> 32); }
+  std::vector<Slot> table = std::vector<Slot>(1024);
   // Traversal marks: node n is visited in the current traversal iff marks[n] == epoch.
   std::vector<std::uint32_t> marks;
   std::uint32_t epoch = 0;
 
-  bool same_node(std::uint32_t a, std::uint32_t b) const {
-    const Node& x = nodes[a];
-    const Node& y = nodes[b];
-    if (x.hash != y.hash || x.op != y.op || x.count != y.count || !(x.number == y.number)) {
-      return false;
-    }
-    if (x.op == Op::kVariable) return x.begin == y.begin;
-    for (std::uint32_t i = 0; i < x.count; ++i) {
-      if (operand_ids[x.begin + i] != operand_ids[y.begin + i] ||
-          !(factors[x.begin + i] == factors[y.begin + i])) {
+  // Whether node `id` is (op, number, operands [begin, begin + count) or var_index) with `hash`.
+  bool matches(std::uint32_t id, Op op, const Number& number, std::size_t hash, std::uint32_t begin,
+               std::uint32_t count, std::uint32_t var_index) const {
+    const Node& x = nodes[id];
+    if (x.hash != hash || x.op != op || x.count != count || !(x.number == number)) return false;
+    if (op == Op::kVariable) return x.begin == var_index;
+    for (std::uint32_t i = 0; i < count; ++i) {
+      if (operand_ids[x.begin + i] != operand_ids[begin + i] ||
+          !(factors[x.begin + i] == factors[begin + i])) {
         return false;
       }
     }
     return true;
   }
+  bool same_node(std::uint32_t a, std::uint32_t b) const {
+    const Node& y = nodes[b];
+    return matches(a, y.op, y.number, y.hash, y.begin, y.count, y.begin);
+  }
 
   std::size_t slot_of(std::size_t hash) const { return hash & (table.size() - 1); }
 
   void grow_table() {
-    std::vector<std::uint32_t> old(table.size() * 2, kEmptySlot);
-    old.swap(table);
-    for (std::uint32_t id : old) {
-      if (id == kEmptySlot) continue;
+    table.assign(table.size() * 2, Slot{});
+    for (std::uint32_t id = 0; id < nodes.size(); ++id) {  // in id order: nodes read in sequence
       std::size_t s = slot_of(nodes[id].hash);
-      while (table[s] != kEmptySlot) s = (s + 1) & (table.size() - 1);
-      table[s] = id;
+      while (table[s].id != kEmptySlot) s = (s + 1) & (table.size() - 1);
+      table[s] = {id, tag_of(nodes[id].hash)};
     }
   }
 
@@ -141,22 +183,22 @@ struct ExprPool::Impl {
     for (std::uint32_t i = begin; i < begin + count; ++i) {
       h = mix(mix(h, operand_ids[i]), factors[i].hash());
     }
-    if (nodes.size() >= 0xFFFFFFF0u) throw SymbolicError("expression pool is full (2^32 nodes)");
-    const auto candidate = static_cast<std::uint32_t>(nodes.size());
-    nodes.push_back(Node{op, op == Op::kVariable ? var_index : begin, count, number, h,
-                         partial_node(op, begin, count)});
     std::size_t s = slot_of(h);
-    while (table[s] != kEmptySlot) {
-      if (same_node(table[s], candidate)) {
-        const std::uint32_t existing = table[s];
-        nodes.pop_back();
-        operand_ids.resize(begin);
-        factors.resize(begin);
-        return existing;
+    __builtin_prefetch(&table[s]);  // the one cache miss of a lookup in a large pool
+    const std::uint32_t tag = tag_of(h);
+    while (table[s].id != kEmptySlot) {
+      if (table[s].tag == tag && matches(table[s].id, op, number, h, begin, count, var_index)) {
+        operand_ids.shrink_to(begin);
+        factors.shrink_to(begin);
+        return table[s].id;
       }
       s = (s + 1) & (table.size() - 1);
     }
-    table[s] = candidate;
+    if (nodes.size() >= 0xFFFFFFF0u) throw SymbolicError("expression pool is full (2^32 nodes)");
+    const auto candidate = static_cast<std::uint32_t>(nodes.size());
+    nodes.push_back(Node{number, h, op == Op::kVariable ? var_index : begin, count, op,
+                         partial_node(op, begin, count)});
+    table[s] = {candidate, tag};
     if (nodes.size() * 2 > table.size()) grow_table();
     return candidate;
   }
@@ -276,8 +318,17 @@ using Entry = std::pair<std::uint32_t, Number>;
 // again from zero, so no real is rounded twice.
 template <class KeepZero>
 void sort_and_merge(std::vector<Entry>& entries, std::vector<Entry>& spilled, KeepZero keep_zero) {
-  std::sort(entries.begin(), entries.end(),
-            [](const Entry& a, const Entry& b) { return a.first < b.first; });
+  // Entries are often a few sorted runs (the operands of flattened sums or products, each
+  // canonical): one or two runs are merged in linear time.
+  const auto by_id = [](const Entry& a, const Entry& b) { return a.first < b.first; };
+  const auto first_run = std::is_sorted_until(entries.begin(), entries.end(), by_id);
+  if (first_run != entries.end()) {
+    if (std::is_sorted(first_run, entries.end(), by_id)) {
+      std::inplace_merge(entries.begin(), first_run, entries.end(), by_id);
+    } else {
+      std::sort(entries.begin(), entries.end(), by_id);
+    }
+  }
   std::size_t out = 0;
   for (std::size_t i = 0; i < entries.size();) {
     Number total;
@@ -726,11 +777,14 @@ void ExprPool::check_invariants() const {
     }
     if (n.partial != m.partial_node(n.op, n.begin, n.count)) fail(id, "wrong partial flag");
     std::size_t s = m.slot_of(n.hash);
-    while (m.table[s] != id) {
-      if (m.table[s] == kEmptySlot) fail(id, "missing from the hash-consing table");
-      if (m.same_node(m.table[s], id)) fail(id, "duplicate of node " + std::to_string(m.table[s]));
+    while (m.table[s].id != id) {
+      if (m.table[s].id == kEmptySlot) fail(id, "missing from the hash-consing table");
+      if (m.same_node(m.table[s].id, id)) {
+        fail(id, "duplicate of node " + std::to_string(m.table[s].id));
+      }
       s = (s + 1) & (m.table.size() - 1);
     }
+    if (m.table[s].tag != ExprPool::Impl::tag_of(n.hash)) fail(id, "wrong tag in the table");
   }
 }
 
@@ -777,7 +831,35 @@ const Number kOne = Number::integer(1);
 const Number kMinusOne = Number::integer(-1);
 }  // namespace
 
+namespace {
+
+bool is_exactly(Expr e, std::int64_t value) {
+  if (!e.is_constant()) return false;
+  const Number& n = e.constant();
+  return n.is_integer() && n.numerator() == value;
+}
+
+// Shortcuts that give what sum() and product() would, without building anything: a + 0 = a,
+// a·1 = a, and a·0 = 0 when a is defined everywhere (else 0·a keeps a as a guard).
+std::optional<Expr> trivial_sum(Expr a, Expr b) {
+  if (&a.pool() != &b.pool()) return std::nullopt;  // sum() reports the mix
+  if (is_exactly(b, 0)) return a;
+  if (is_exactly(a, 0)) return b;
+  return std::nullopt;
+}
+std::optional<Expr> trivial_product(Expr a, Expr b) {
+  if (&a.pool() != &b.pool()) return std::nullopt;
+  if (is_exactly(b, 1)) return a;
+  if (is_exactly(a, 1)) return b;
+  if (is_exactly(b, 0) && !a.is_partial()) return b;
+  if (is_exactly(a, 0) && !b.is_partial()) return a;
+  return std::nullopt;
+}
+
+}  // namespace
+
 Expr operator+(Expr a, Expr b) {
+  if (const auto trivial = trivial_sum(a, b)) return *trivial;
   const Term terms[] = {{a, kOne}, {b, kOne}};
   return a.pool().sum(Number(), terms);
 }
@@ -786,6 +868,7 @@ Expr operator-(Expr a, Expr b) {
   return a.pool().sum(Number(), terms);
 }
 Expr operator*(Expr a, Expr b) {
+  if (const auto trivial = trivial_product(a, b)) return *trivial;
   const Term factors[] = {{a, kOne}, {b, kOne}};
   return a.pool().product(kOne, factors);
 }

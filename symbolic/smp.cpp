@@ -418,6 +418,45 @@ std::optional<Expr> distribute_terms(Expr e, std::size_t max_terms) {
   return e.pool().sum(e.constant(), terms);
 }
 
+// c·N/D -> c·(a + r/D) when N = a·D + r for constants a and r (t/(t + 1) -> 1 - 1/(t + 1)):
+// D's variables then occur once instead of twice. N is the product of the other factors, read as
+// a sum (a lone term has coefficient 1); its terms must be D's terms, proportionally.
+std::optional<Expr> quotient(Expr e) {
+  if (e.op() != Op::kMul) return std::nullopt;
+  ExprPool& pool = e.pool();
+  for (std::size_t i = 0; i < e.operand_count(); ++i) {
+    const Expr d = e.operand(i);
+    if (d.op() != Op::kAdd || !e.factor(i).is_minus_one()) continue;
+    std::vector<Term> rest;
+    for (std::size_t j = 0; j < e.operand_count(); ++j) {
+      if (j != i) rest.push_back({e.operand(j), e.factor(j)});
+    }
+    if (rest.empty()) continue;
+    const Expr n = pool.product(kOne, rest);
+    const bool n_is_sum = n.op() == Op::kAdd;
+    const std::size_t n_terms = n_is_sum ? n.operand_count() : 1;
+    if (n_terms != d.operand_count()) continue;
+    Number a;
+    bool proportional = true;
+    for (std::size_t k = 0; k < n_terms && proportional; ++k) {
+      const Expr term = n_is_sum ? n.operand(k) : n;
+      const Number coefficient = n_is_sum ? n.factor(k) : kOne;
+      if (!(term == d.operand(k)) || d.factor(k).is_zero()) {
+        proportional = false;
+        break;
+      }
+      const Number ratio = coefficient / d.factor(k);
+      if (k == 0) a = ratio;
+      proportional = ratio == a;
+    }
+    if (!proportional) continue;
+    const Number remainder = (n_is_sum ? n.constant() : Number()) - a * d.constant();
+    const Term parts[] = {{pow(d, -1), remainder}};
+    return scaled(e.constant(), pool.sum(a, parts));
+  }
+  return std::nullopt;
+}
+
 // Rebuilds `root` bottom-up, replacing each rebuilt node n by node_rule(n).
 template <class NodeRule>
 Expr rewrite_bottom_up(Expr root, NodeRule&& node_rule) {
@@ -495,6 +534,7 @@ class Simplifier {
     try {
       if (e.op() == Op::kMul) {
         if (auto d = distribute(e, kMaxDistributeTerms)) candidates.push_back(*d);
+        if (auto q = quotient(e)) candidates.push_back(*q);
       } else if (e.op() == Op::kAdd) {
         for (auto rule : {pythagorean, angle_sum, harmonic, complete_square}) {
           if (auto c = rule(e)) candidates.push_back(*c);

@@ -21,6 +21,8 @@
 //   square         a·u² + b·u -> a·(u + b/(2a))² - b²/(4a)   for constant a, b
 //   factoring      Σ terms sharing a factor B^m -> B^m · Σ (term / B^m)   (x·y + x·z -> x·(y + z),
 //                  x/w + y/w -> (x + y)/w)
+//   quotient       c·N/D -> c·(a + r/D) when N = a·D + r for constant a, r: t/(t + 1) ->
+//                  1 - 1/(t + 1)  (N: the product of the other factors, as a sum)
 //   distribution   c·(s1 + s2)·P -> c·s1·P + c·s2·P when it cancels: w·(a/w + b) -> a + b·w;
 //                  w·(a/w)² -> a²/w is done by construction, which merges equal bases
 // A rewrite other than parity is kept only if it strictly lowers (cost, size) of the node it

@@ -93,6 +93,20 @@ TEST_F(SmpTest, HarmonicSumBecomesOneShiftedCosine) {
   EXPECT_DOUBLE_EQ(occurrence_cost(simplify(h + t)), 1.0);
 }
 
+// t/(t + c) = 1 - c/(t + c): one occurrence of t (FPBench intro-example, nonlin1), also with a
+// composite numerator proportional to the denominator's terms.
+TEST_F(SmpTest, QuotientOfProportionalSumsLeavesOneOccurrence) {
+  const Expr f = t / (t + 1);
+  const Expr g = simplify(f);
+  EXPECT_EQ(g, 1 - 1 / (t + 1));
+  expect_same_value(f, g);
+  const Expr h = (2 * x * y + 3) / (x * y - 5);  // 2 + 13/(x·y - 5)
+  EXPECT_EQ(simplify(h), 2 + 13 / (x * y - 5));
+  expect_same_value(h, simplify(h));
+  const Expr other = t / (x + 1);  // not proportional: left alone
+  EXPECT_EQ(simplify(other), other);
+}
+
 TEST_F(SmpTest, CancellationOfAFactorAgainstItsReciprocal) {
   EXPECT_EQ(simplify(w * pow(a / w, 2)), pow(a, 2) / w);
   const Expr f = w * (a / w + b);
