@@ -13,6 +13,7 @@
 #include <optional>
 #include <queue>
 #include <set>
+#include <unordered_map>
 
 #include "bounds/internal/checks.hpp"
 #include "bounds/internal/gradient.hpp"
@@ -136,11 +137,90 @@ struct Node {
   bool operator<(const Node& other) const { return bound < other.bound; }
 };
 
+// Per variable, whether f is affine in it (f = A·v + B with A and B free of v), so that over a
+// box f's extremes lie on v's end points. Decided from polynomial degrees on the DAG, capped at 2
+// ("2 or more, or not a polynomial in v"): a sum takes the largest degree of its terms, a product
+// adds its factors' degrees times their exponents when those are non-negative integers, and any
+// other use of v (a function's argument, a negative or fractional power) counts as 2. Degrees are
+// kept sparsely; past kMaxDegreeEntries entries in all it gives up (no variable is affine).
+std::vector<bool> affine_variables(Expr f, std::span<const Expr> variables) {
+  constexpr std::size_t kMaxDegreeEntries = 1'000'000;
+  constexpr std::uint8_t kNonAffine = 2;
+  using Degrees = std::vector<std::pair<std::uint32_t, std::uint8_t>>;  // (variable, degree)
+  std::unordered_map<std::uint32_t, std::uint32_t> index;
+  for (std::size_t i = 0; i < variables.size(); ++i) index[variables[i].id()] = i;
+  std::unordered_map<std::uint32_t, Degrees> degrees;
+  std::size_t entries = 0;
+  // merged = merged ⊕ d·scale, where ⊕ is max (sums) or + (products), capped at 2.
+  const auto merge = [](Degrees& merged, const Degrees& d, int scale, bool add) {
+    Degrees out;
+    std::size_t i = 0, j = 0;
+    const auto scaled = [&](std::uint8_t v) {
+      return static_cast<std::uint8_t>(std::min<int>(kNonAffine, v * scale));
+    };
+    while (i < merged.size() || j < d.size()) {
+      if (j == d.size() || (i < merged.size() && merged[i].first < d[j].first)) {
+        out.push_back(merged[i++]);
+      } else if (i == merged.size() || d[j].first < merged[i].first) {
+        out.emplace_back(d[j].first, scaled(d[j].second));
+        ++j;
+      } else {
+        const int v = add ? merged[i].second + scaled(d[j].second)
+                          : std::max<int>(merged[i].second, scaled(d[j].second));
+        out.emplace_back(merged[i].first, static_cast<std::uint8_t>(std::min<int>(kNonAffine, v)));
+        ++i;
+        ++j;
+      }
+    }
+    merged = std::move(out);
+  };
+  for (const Expr e : symbolic::topological_order(std::array{f})) {
+    Degrees d;
+    switch (e.op()) {
+      case symbolic::Op::kConstant:
+        break;
+      case symbolic::Op::kVariable:
+        d.emplace_back(index.at(e.id()), std::uint8_t{1});
+        break;
+      case symbolic::Op::kAdd:
+        for (std::size_t k = 0; k < e.operand_count(); ++k) {
+          merge(d, degrees.at(e.operand(k).id()), 1, false);
+        }
+        break;
+      case symbolic::Op::kMul:
+        for (std::size_t k = 0; k < e.operand_count(); ++k) {
+          const symbolic::Number exponent = e.factor(k);
+          const bool polynomial = exponent.is_integer() && exponent.numerator() >= 0;
+          const int scale =
+              polynomial
+                  ? static_cast<int>(std::min<std::int64_t>(kNonAffine, exponent.numerator()))
+                  : kNonAffine;
+          merge(d, degrees.at(e.operand(k).id()), scale, true);
+        }
+        break;
+      default:
+        for (std::size_t k = 0; k < e.operand_count(); ++k) {
+          merge(d, degrees.at(e.operand(k).id()), kNonAffine, false);
+        }
+        break;
+    }
+    entries += d.size();
+    if (entries > kMaxDegreeEntries) return std::vector<bool>(variables.size(), false);
+    degrees.emplace(e.id(), std::move(d));
+  }
+  std::vector<bool> affine(variables.size(), true);
+  for (const auto& [variable, degree] : degrees.at(f.id())) affine[variable] = degree <= 1;
+  return affine;
+}
+
 // One expression compiled over the problem's variables: its tape and the evaluators on it. Pinned
 // (the evaluators point into the tape), so it lives behind a unique_ptr.
 struct CompiledFunction {
   CompiledFunction(Expr f, std::span<const Expr> variables)
-      : tape(Tape::compile(std::array{f}, variables)), interval(tape), real(tape) {}
+      : tape(Tape::compile(std::array{f}, variables)),
+        interval(tape),
+        real(tape),
+        affine_in(affine_variables(f, variables)) {}
   CompiledFunction(const CompiledFunction&) = delete;
   CompiledFunction& operator=(const CompiledFunction&) = delete;
 
@@ -154,6 +234,7 @@ struct CompiledFunction {
   internal::GradientEvaluator<Interval> interval;  // on tape
   internal::GradientEvaluator<double> real;        // on tape
   std::optional<std::vector<std::optional<LinearForm>>> affine_forms;
+  std::vector<bool> affine_in;  // affine_in[i]: f is affine in variable i (affine_variables)
 };
 
 // A constraint `g relation 0` compiled over the problem's variables.
@@ -589,9 +670,14 @@ class Bounder {
         settled = std::max(settled, node.bound);
         continue;
       }
+      // f affine in the variable (and no constraints): its extremes over the box lie on the
+      // variable's end points, so the children are those two faces, one variable fewer each.
+      const bool faces = f_.affine_in[node.split] && constraints_.empty();
       for (int half = 0; half < 2; ++half) {
         std::vector<Interval> child = node.box;
-        child[node.split] = half == 0 ? Interval{range.lo, middle} : Interval{middle, range.hi};
+        child[node.split] = faces       ? Interval{half == 0 ? range.lo : range.hi}
+                            : half == 0 ? Interval{range.lo, middle}
+                                        : Interval{middle, range.hi};
         int child_split = 0;
         const double child_bound = std::min(evaluate_box(child, sign, child_split), node.bound);
         if (child_bound > inner()) {
@@ -808,6 +894,9 @@ struct BoundProblem::Impl {
   std::unique_ptr<CompiledFunction> compiled;
   CompiledConstraints constraints;
   std::vector<Rewrite> rewrites;  // most recently used first, at most kRewriteCacheSize
+  // SMP's rewrite of f (unit widths, a small budget) when it uses every variable once and f does
+  // not; computed on first use (single_use_rewrite). Null if there is none.
+  std::optional<std::unique_ptr<CompiledFunction>> single_use;
 
   BoundResult run(CompiledFunction& function, std::span<const Interval> ranges,
                   const BoundOptions& options) {
@@ -816,6 +905,24 @@ struct BoundProblem::Impl {
 
   // f with the staged effort of BoundOptions::simplify.
   BoundResult staged(std::span<const Interval> ranges, const BoundOptions& options);
+
+  // Tried only on small expressions (at most kMaxInstructions tape instructions): a large one
+  // (phase 2's preconditions) is almost never single-use after SMP, and this runs on every problem.
+  CompiledFunction* single_use_rewrite() {
+    constexpr std::size_t kBudget = 20'000;
+    constexpr std::size_t kMaxInstructions = 256;
+    if (!single_use) {
+      single_use.emplace();
+      if (compiled->tape.instructions().size() <= kMaxInstructions &&
+          symbolic::occurrence_cost(f) > 0) {
+        const Expr g = symbolic::simplify(f, {.budget = kBudget});
+        if (symbolic::occurrence_cost(g) == 0) {
+          *single_use = std::make_unique<CompiledFunction>(g, variables);
+        }
+      }
+    }
+    return single_use->get();
+  }
 
   // The compiled rewrite for these ranges' widths (null if SMP does not change f), from the cache
   // or built now. Equal widths give the same rewrite, so caching never changes a result.
@@ -896,7 +1003,32 @@ BoundResult BoundProblem::Impl::staged(std::span<const Interval> ranges,
   first.max_box_evaluations = std::max<std::size_t>(1, options.max_box_evaluations / 8);
   first.max_seconds = options.max_seconds / 8;
   first.max_work = std::max<std::size_t>(1, options.max_work / 8);
+  // A rewrite that uses every variable once (t/(t + 1) -> 1 - 1/(t + 1)) encloses f's range up
+  // to rounding: bounded first with the same share, it usually settles f alone, and exactly where
+  // f would only meet the tolerance. Its witnesses count only where f itself is defined there
+  // (refine_with evaluates f), and whether f may be undefined is asked of f's own natural
+  // extension too (SMP keeps domains, but the flag must not rest on that alone).
+  std::optional<BoundResult> single_use_result;
+  if (CompiledFunction* single = single_use_rewrite()) {
+    BoundResult settled;
+    settled.lo = -kInf;
+    settled.hi = kInf;
+    settled.status = BoundStatus::kEffortLimit;
+    const BoundResult other = run(*single, ranges, first);
+    settled.evaluations = other.evaluations;
+    settled.time_limited = other.time_limited;
+    settled.possibly_undefined =
+        other.possibly_undefined || f.interval.value(ranges).possibly_undefined;
+    refine_with(settled, other, f.interval, options.tolerance);
+    if (settled.status == BoundStatus::kConverged) return settled;
+    single_use_result = settled;
+  }
   BoundResult result = run(f, ranges, first);
+  if (single_use_result) {
+    // Its outer bounds hold for f: intersect them, and count its boxes.
+    result.evaluations += single_use_result->evaluations;
+    refine_with(result, *single_use_result, f.interval, options.tolerance);
+  }
   if (result.status != BoundStatus::kEffortLimit) return result;
   if (CompiledFunction* rewritten = rewrite(ranges)) {
     const BoundResult other = run(*rewritten, ranges, first);

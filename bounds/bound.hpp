@@ -7,6 +7,8 @@
 // fixed at an end point), the mean-value (centred) form, and best-first branch and bound that
 // bisects the variable with the largest |gradient| x width until `hi - inner_hi` and
 // `inner_lo - lo` are both <= tolerance x (inner_hi - inner_lo), or the effort limit is reached.
+// Where f is affine in that variable (a polynomial of degree <= 1 in it: f = A·v + B) and there
+// are no constraints, f's extremes lie on v's end points, so the box splits into those two faces.
 // Linear constraints contract every box; any constraint discards boxes where it certainly fails.
 // If that stops at the effort limit, SMP's rewrite of f (symbolic/smp.hpp, an identity wherever
 // f is defined) is bounded the same way and the outer bounds are intersected.
@@ -71,6 +73,9 @@ struct BoundOptions {
   // If f does not converge within 1/8 of the budget, bound SMP's rewrite of f (fewer repeated
   // variables, equal to f wherever f is defined) with another 1/8 and intersect the outer bounds;
   // only if that does not settle it does f get the whole budget (at most 1.25 budgets in all).
+  // Before all that, a small f (at most 256 tape instructions) that SMP rewrites to use every
+  // variable once (t/(t + 1) -> 1 - 1/(t + 1)) has that rewrite bounded with 1/8 first: it is
+  // exact up to rounding, so it usually settles f alone (at most 1.375 budgets in all).
   bool simplify{true};
 };
 

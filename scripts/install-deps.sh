@@ -10,7 +10,7 @@ packages=(
   libcli11-dev nlohmann-json3-dev libyaml-cpp-dev libfmt-dev
   libgtest-dev libgmock-dev librapidcheck-dev libbenchmark-dev
   libmpfi-dev                      # tests only: rigorous oracle for the Interval kernels
-  libginac-dev liborocos-kdl-dev   # benchmarks only: peers
+  libginac-dev liborocos-kdl-dev gappa  # benchmarks only: peers
   python3 python3-sympy python3-numpy  # benchmarks only: SymPy peer
   chromium                         # tests only: the HTML report in a real browser
   clang libclang-rt-14-dev llvm    # scripts/hunt.sh: ASan + UBSan build, libFuzzer, symbolizer
