@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <string>
+#include <utility>
+#include <vector>
 
 namespace spar::reports::internal {
 
@@ -166,9 +169,17 @@ std::string margin_text(const Json& report, const Json& precondition) {
   if (!precondition.contains("holds_up_to_scale")) return "";
   const Json& margin = precondition.at("margin");
   const Json& units = report.at("units");
-  return "x" + rounded(value(precondition.at("holds_up_to_scale")), 2) + " (±" +
-         rounded(value(margin.at("displacement")), 2) + " " + text(units, "length") + ", ±" +
-         rounded(value(margin.at("rotation")), 2) + " " + text(units, "angle") + ")";
+  // A component the precondition does not depend on (no such variable scaled) is left out:
+  // "±0 deg" would read as "no rotation allowed".
+  std::vector<std::string> parts;
+  for (const auto& [key, unit] : {std::pair{"displacement", "length"}, {"rotation", "angle"}}) {
+    const double half_width = value(margin.at(key));
+    if (half_width > 0) parts.push_back("±" + rounded(half_width, 2) + " " + text(units, unit));
+  }
+  std::string out = "x" + rounded(value(precondition.at("holds_up_to_scale")), 2);
+  for (std::size_t i = 0; i < parts.size(); ++i) out.append(i == 0 ? " (" : ", ").append(parts[i]);
+  if (!parts.empty()) out.append(")");
+  return out;
 }
 
 std::string repair_bound_text(const Json& report, const Json& entry) {
