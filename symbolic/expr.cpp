@@ -605,7 +605,9 @@ Expr ExprPool::product(const Number& coefficient, std::span<const Term> factors)
     if (entries.size() == 1 && entries[0].second.is_one()) {
       const Expr only(this, entries[0].first);
       if (c.is_one()) return only;
-      if (only.op() == Op::kAdd) {  // distribute the coefficient: 2·(x + y) -> 2x + 2y
+      // Distribute the coefficient: 2·(x + y) -> 2x + 2y. Not into a sum past the flattening
+      // limit: sum() would keep it whole and hand the lone scaled term back here.
+      if (only.op() == Op::kAdd && impl_->nodes[only.id_].count <= kFlattenLimit) {
         const Term scaled[] = {{only, c}};
         return sum(Number(), scaled);
       }

@@ -228,6 +228,21 @@ TEST_F(ExprTest, LargeSumInAnyOrderIsOneNode) {
   pool.check_invariants();
 }
 
+// Regression (bench/planner_bench's k-chain overflowed the stack): a coefficient times a sum
+// past the flattening limit went back and forth between product() and sum() without end.
+TEST_F(ExprTest, CoefficientTimesASumPastTheFlatteningLimitIsAProduct) {
+  std::vector<Expr> terms;
+  for (int i = 0; i < 100; ++i) terms.push_back(pool.variable("w" + std::to_string(i)));
+  const Expr wide = pool.sum(terms);
+  ASSERT_EQ(wide.op(), Op::kAdd);
+  const Expr scaled = wide * 3;
+  EXPECT_EQ(scaled.op(), Op::kMul);
+  EXPECT_EQ(scaled.constant(), Number::integer(3));
+  EXPECT_EQ(scaled * pool.constant(Number::rational(1, 3)), wide);
+  EXPECT_EQ((wide * 2 + x).op(), Op::kAdd);
+  pool.check_invariants();
+}
+
 TEST_F(ExprTest, DeepChainBuildsInLinearSpace) {
   Expr chain = x;
   for (int i = 0; i < 100000; ++i) chain = chain * sin(chain) + 1;
