@@ -21,6 +21,7 @@
 #include "symbolic/operations.hpp"
 #include "tests/planner/phase2_simulation.hpp"
 #include "tests/planner/plan_options.hpp"
+#include "tests/planner/random_placement.hpp"
 
 namespace spar::planner {
 namespace {
@@ -295,8 +296,7 @@ TEST(Phase2Soundness, ReverseMarginsHoldInTheScaledBox) {
 RC_GTEST_PROP(Phase2SoundnessProperty, RandomInstancesHoldWhereverReportedSatisfied, ()) {
   static const Scenario base = example("peg_block_face_down");
   Scenario scenario = base;
-  const std::vector<std::pair<double, double>> spots = {{20, 0}, {14, 12}, {24, 4}};
-  const auto spot_indices = *rc::gen::unique<std::vector<int>>(2, rc::gen::inRange(0, 3));
+  testing::place_objects_at_random(scenario);
   const double scale = *rc::gen::element(0.25, 1.0, 6.0);
   const double arm_scale = *rc::gen::element(1.0, 10.0);
   if (*rc::gen::inRange(0, 3) == 0) scenario.range_scan.reset();
@@ -304,18 +304,7 @@ RC_GTEST_PROP(Phase2SoundnessProperty, RandomInstancesHoldWhereverReportedSatisf
     u = {u.dx * by, u.dy * by, u.dz * by, u.dtheta * by};
   };
   scaled(scenario.robot.uncertainty, arm_scale);
-  for (std::size_t o = 0; o < scenario.objects.size(); ++o) {
-    ObjectSpec& object = scenario.objects[o];
-    const int pose = *rc::gen::inRange(0, static_cast<int>(object.stable_poses.size()));
-    const int yaw_step = *rc::gen::inRange(0, 8);
-    const auto [x, y] = spots[spot_indices[o]];
-    kinematics::Transform placed = kinematics::Transform::Identity();
-    placed.translate(Eigen::Vector3d(x * units::kInch, y * units::kInch, 0));
-    placed.rotate(Eigen::AngleAxisd(yaw_step * M_PI / 4, Eigen::Vector3d::UnitZ()));
-    object.initial_pose = placed * object.stable_poses[pose].object_to_world;
-    object.initial_stable_pose = pose;
-    scaled(object.uncertainty, scale);
-  }
+  for (ObjectSpec& object : scenario.objects) scaled(object.uncertainty, scale);
   PlanOptions options = quick_options(2);
   options.posting.max_nodes = 20'000;
   const PlanResult result = plan(scenario, builtin_domain(), options);

@@ -8,6 +8,7 @@
 #include <algorithm>
 
 #include "tests/planner/plan_checker.hpp"
+#include "tests/planner/random_placement.hpp"
 
 namespace spar::planner {
 namespace {
@@ -121,19 +122,7 @@ RC_GTEST_PROP(PlanProperty, RandomInitialPosesGiveValidPlans, ()) {
   static const Scenario base = example("peg_block_face_down");
   static const auto grasps = grasps_of(base);
   Scenario scenario = base;
-  const std::vector<std::pair<double, double>> spots = {{20, 0}, {14, 12}, {24, 4}};
-  const auto spot_indices = *rc::gen::unique<std::vector<int>>(2, rc::gen::inRange(0, 3));
-  for (std::size_t o = 0; o < scenario.objects.size(); ++o) {
-    ObjectSpec& object = scenario.objects[o];
-    const int pose = *rc::gen::inRange(0, static_cast<int>(object.stable_poses.size()));
-    const int yaw_step = *rc::gen::inRange(0, 8);
-    const auto [x, y] = spots[spot_indices[o]];
-    kinematics::Transform placed = kinematics::Transform::Identity();
-    placed.translate(Eigen::Vector3d(x * 0.0254, y * 0.0254, 0));
-    placed.rotate(Eigen::AngleAxisd(yaw_step * M_PI / 4, Eigen::Vector3d::UnitZ()));
-    object.initial_pose = placed * object.stable_poses[pose].object_to_world;
-    object.initial_stable_pose = pose;
-  }
+  testing::place_objects_at_random(scenario);
   PlanOptions options = phase1_only();
   options.max_instances = 4;
   options.posting.max_nodes = 20'000;
