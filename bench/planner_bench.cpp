@@ -26,6 +26,7 @@
 #include <string>
 #include <vector>
 
+#include "bench/timing.hpp"
 #include "bounds/bound.hpp"
 #include "bounds/condition_set.hpp"
 #include "bounds/inequality.hpp"
@@ -45,32 +46,10 @@ namespace {
 
 constexpr double kInch = 0.0254;
 
-double seconds_since(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v.empty() ? NAN : v[v.size() / 2];
-}
-
-// Median wall time of `repeats` calls of `work`, in seconds.
-double time_median(int repeats, const std::function<void()>& work) {
-  std::vector<double> times;
-  for (int r = 0; r < repeats; ++r) {
-    const auto start = std::chrono::steady_clock::now();
-    work();
-    times.push_back(seconds_since(start));
-  }
-  return median(times);
-}
-
-std::string load_average() {
-  std::ifstream in("/proc/loadavg");
-  std::string one, five, fifteen;
-  in >> one >> five >> fifteen;
-  return one + " " + five + " " + fifteen;
-}
+using spar::bench::load_average;
+using spar::bench::median;
+using spar::bench::seconds_since;
+using spar::bench::time_median;
 
 const char* kExamples[] = {"peg_block_face_down", "peg_block_on_sides", "peg_block_face_up",
                            "peg_block_on_back"};

@@ -29,6 +29,7 @@
 #include <string>
 #include <vector>
 
+#include "bench/timing.hpp"
 #include "bounds/condition_set.hpp"
 #include "planner/plan.hpp"
 #include "planner/uncertainty/probability.hpp"
@@ -41,28 +42,9 @@ using planner::LinearAlgebra;
 
 namespace {
 
-double seconds_since(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
-// Median wall time of `repeats` calls of `work`, in seconds.
-double time_median(int repeats, const std::function<void()>& work) {
-  std::vector<double> times;
-  for (int r = 0; r < repeats; ++r) {
-    const auto start = std::chrono::steady_clock::now();
-    work();
-    times.push_back(seconds_since(start));
-  }
-  std::sort(times.begin(), times.end());
-  return times[times.size() / 2];
-}
-
-std::string load_average() {
-  std::ifstream in("/proc/loadavg");
-  std::string one, five, fifteen;
-  in >> one >> five >> fifteen;
-  return one + " " + five + " " + fifteen;
-}
+using spar::bench::load_average;
+using spar::bench::seconds_since;
+using spar::bench::time_median;
 
 // N pairs on a grid (the tests' seed pickup layout: the peg on its side, the block hole up);
 // Propagation does not need the robot to reach them.
