@@ -3,10 +3,19 @@
 // recorded in the corpus file), and plain interval tape evaluation against MPFI (53-bit, the
 // same tape and boxes, in the same run). Then reuse: one compiled BoundProblem (ConditionSet)
 // bounding 1000 boxes against a fresh bound() per box, same boxes, same run, same results checked.
-// Usage: bounds_bench [--quick] [--per-record]
+// Gappa (the interval prover, Debian `gappa`) as a peer on the records it reads (+ - * / sqrt, no
+// constraints): each record is translated to a Gappa goal `EXPR in ?` under its box and run with
+// growing bisection hints; its enclosure and time are set against spar's on the same record, and
+// Gappa's start-up on a trivial goal is timed apart. Skipped, with a note, if gappa is missing.
+// Usage: bounds_bench [--quick] [--per-record] [--tol T] [--no-gappa] [--gappa-only]
+//   --tol T: the full pipeline's tolerance (default 1e-3, the corpus test's; 5e-4 puts the whole
+//   enclosure within 0.1% of the attained range)
 #include <mpfi.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -15,6 +24,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <set>
 #include <span>
 #include <string>
 #include <vector>
@@ -362,6 +372,273 @@ void run_reuse(const std::vector<nlohmann::json>& records, bool quick) {
               median(corpus.per_box_ratio));
 }
 
+// ---- Gappa peer ----------------------------------------------------------------------------
+
+// A double as a Gappa number, exactly: m b e (m · 2^e).
+std::string gappa_number(double value) {
+  if (value == 0) return "0";
+  int exponent = 0;
+  const double fraction = std::frexp(value, &exponent);  // value = fraction · 2^exponent
+  const auto mantissa = static_cast<long long>(std::ldexp(fraction, 53));
+  return std::to_string(mantissa) + "b" + std::to_string(exponent - 53);
+}
+
+// The record's expression in Gappa's syntax over variables v0, v1, ... (Gappa's own names could
+// clash), or nullopt if Gappa cannot read it: a function other than sqrt, a power, a constraint.
+std::optional<std::string> gappa_goal(const nlohmann::json& record) {
+  if (record.contains("constraints") && !record["constraints"].empty()) return std::nullopt;
+  std::vector<std::string> names;
+  std::string ranges;
+  for (const auto& [var, range] : record["vars"].items()) {
+    if (!ranges.empty()) ranges += " /\\ ";
+    ranges += std::string("v") + std::to_string(names.size()) + " in [" +
+              gappa_number(range[0].get<double>()) + ", " + gappa_number(range[1].get<double>()) +
+              "]";
+    names.push_back(var);
+  }
+  const std::string text = record["expr"].get<std::string>();
+  std::string expression;
+  for (std::size_t i = 0; i < text.size();) {
+    const char c = text[i];
+    if (std::isalpha(static_cast<unsigned char>(c)) || c == '_') {
+      std::size_t end = i;
+      while (end < text.size() &&
+             (std::isalnum(static_cast<unsigned char>(text[end])) || text[end] == '_')) {
+        ++end;
+      }
+      const std::string word = text.substr(i, end - i);
+      const auto known = std::find(names.begin(), names.end(), word);
+      if (known != names.end()) {
+        expression += 'v';
+        expression += std::to_string(known - names.begin());
+      } else if (word == "sqrt") {
+        expression += word;
+      } else {
+        return std::nullopt;  // another function or a named constant
+      }
+      i = end;
+    } else if (std::isdigit(static_cast<unsigned char>(c)) || c == '.') {
+      // A decimal literal, exponent included (Gappa reads 1.5e-3 as the exact decimal).
+      std::size_t end = i;
+      while (end < text.size() &&
+             (std::isdigit(static_cast<unsigned char>(text[end])) || text[end] == '.')) {
+        ++end;
+      }
+      if (end < text.size() && (text[end] == 'e' || text[end] == 'E')) {
+        ++end;
+        if (end < text.size() && (text[end] == '+' || text[end] == '-')) ++end;
+        while (end < text.size() && std::isdigit(static_cast<unsigned char>(text[end]))) ++end;
+      }
+      expression += text.substr(i, end - i);
+      i = end;
+    } else if (std::strchr("+-*/() \t", c) != nullptr) {
+      expression += c;
+      ++i;
+    } else {
+      return std::nullopt;  // ^, a comma, ...
+    }
+  }
+  return "{ " + ranges + " -> " + expression + " in ? }\n";
+}
+
+// Reads Gappa's number forms: "123b-4" (123 · 2^-4), a decimal, or an integer, to the nearest
+// double (Gappa's mantissas may have more than 53 bits): the enclosure is only measured here, and
+// rounding it outward would make Gappa look up to two ulps looser than it is.
+std::optional<double> parse_gappa_number(const std::string& token) {
+  const std::size_t b = token.find('b');
+  char* end = nullptr;
+  if (b == std::string::npos) {
+    const double value = std::strtod(token.c_str(), &end);
+    if (end == token.c_str()) return std::nullopt;
+    return value;
+  }
+  const long double mantissa = std::strtold(token.substr(0, b).c_str(), &end);
+  const long exponent = std::strtol(token.c_str() + b + 1, nullptr, 10);
+  return static_cast<double>(std::ldexp(mantissa, static_cast<int>(exponent)));
+}
+
+struct GappaRun {
+  bool ok{false};  // Gappa proved an enclosure
+  bool timed_out{false};
+  double lo{0}, hi{0};
+  double seconds{0};  // wall clock of the whole process (start-up included)
+};
+
+// Runs gappa on `input` (a file in `dir`) with a time limit; parses "... in [LO {..}, HI {..}]".
+GappaRun run_gappa(const std::string& dir, const std::string& input, double limit_seconds) {
+  const std::string file = dir + "/goal.g";
+  {
+    std::ofstream out(file);
+    out << input;
+  }
+  const std::string command =
+      std::string("timeout -k 1 ") + std::to_string(limit_seconds) + " gappa " + file + " 2>&1";
+  GappaRun run;
+  const auto start = std::chrono::steady_clock::now();
+  FILE* pipe = popen(command.c_str(), "r");
+  if (pipe == nullptr) return run;
+  std::string output;
+  char buffer[4096];
+  for (std::size_t n; (n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0;)
+    output.append(buffer, n);
+  const int status = pclose(pipe);
+  run.seconds = seconds_since(start);
+  run.timed_out = WIFEXITED(status) && (WEXITSTATUS(status) == 124 || WEXITSTATUS(status) == 137);
+  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) return run;
+  const std::size_t results = output.find("Results:");
+  const std::size_t open = output.find(" in [", results == std::string::npos ? 0 : results);
+  if (results == std::string::npos || open == std::string::npos) return run;
+  const std::size_t close = output.find(']', open);
+  std::string inside = output.substr(open + 5, close - open - 5);
+  // Drop the "{decimal, power}" comments.
+  std::string bare;
+  int depth = 0;
+  for (char c : inside) {
+    if (c == '{') ++depth;
+    if (depth == 0) bare += c;
+    if (c == '}') --depth;
+  }
+  const std::size_t comma = bare.find(',');
+  if (comma == std::string::npos) return run;
+  const auto trim = [](std::string t) {
+    t.erase(0, t.find_first_not_of(' '));
+    t.erase(t.find_last_not_of(' ') + 1);
+    return t;
+  };
+  const auto lo = parse_gappa_number(trim(bare.substr(0, comma)));
+  const auto hi = parse_gappa_number(trim(bare.substr(comma + 1)));
+  if (!lo || !hi) return run;
+  run.ok = true;
+  run.lo = *lo;
+  run.hi = *hi;
+  return run;
+}
+
+bool gappa_available() { return std::system("gappa --version > /dev/null 2>&1") == 0; }
+
+// spar's full pipeline (at `tolerance`) against Gappa on every record Gappa reads. Gappa runs
+// with bisection hints `$ v0 in k, v1 in k, ...` giving at most `pieces` sub-boxes in all, for
+// pieces = 1, 16, 256, 4096 (--quick: 1, 64), until a run times out or its enclosure is within
+// 0.1% of the true range; its enclosure is the intersection of its runs' (each one proved), its
+// time that of the run that gave the last improvement (the hint one would have had to know).
+void run_gappa_peer(const std::vector<nlohmann::json>& records, bool quick, double tolerance,
+                    bool per_record) {
+  std::printf("\ngappa peer: records Gappa reads (+ - * / sqrt, no constraints)\n");
+  if (!gappa_available()) {
+    std::printf("gappa is not installed (apt-get install gappa): peer skipped\n");
+    return;
+  }
+  char dir_template[] = "/tmp/bounds_bench_gappa_XXXXXX";
+  const char* dir = mkdtemp(dir_template);
+  if (dir == nullptr) {
+    std::printf("cannot make a temporary directory: gappa peer skipped\n");
+    return;
+  }
+  // Start-up: a trivial goal, median of 9 runs.
+  std::vector<double> startup;
+  for (int k = 0; k < 9; ++k) {
+    startup.push_back(run_gappa(dir, "{ x in [0, 1] -> x in ? }\n", 10).seconds);
+  }
+  const double startup_ms = 1e3 * median(startup);
+  std::printf("gappa start-up (trivial goal, median of 9): %.2f ms\n", startup_ms);
+  const std::vector<int> schedule =
+      quick ? std::vector<int>{1, 64} : std::vector<int>{1, 16, 256, 4096};
+  const double limit_seconds = quick ? 2 : 10;
+  if (per_record) {
+    std::printf("%-32s %5s %12s %12s %10s %10s %7s\n", "record", "vars", "spar/true", "gappa/true",
+                "spar_ms", "gappa_ms", "pieces");
+  }
+  std::size_t read = 0, spar_close = 0, gappa_close = 0, spar_tighter_or_equal = 0, spar_faster = 0,
+              gappa_proved = 0;
+  std::vector<double> spar_ms, gappa_ms, spar_ratios, gappa_ratios;
+  std::vector<std::string> looser;
+  for (const auto& record : records) {
+    const std::optional<std::string> goal = gappa_goal(record);
+    if (!goal || record.value("range_unbounded", false)) continue;
+    ++read;
+    const double width = record["ref_max"].get<double>() - record["ref_min"].get<double>();
+    symbolic::ExprPool pool;
+    spar::bounds::Box box;
+    for (const auto& [var, range] : record["vars"].items()) {
+      box.add(pool.variable(var), range[0].get<double>(), range[1].get<double>());
+    }
+    const symbolic::Expr f = symbolic::parse(pool, record["expr"].get<std::string>());
+    BoundResult r;
+    double spar_seconds = 1e300;
+    for (int k = 0; k < (quick ? 1 : 3); ++k) {
+      const auto start = std::chrono::steady_clock::now();
+      r = spar::bounds::bound(f, box, {.tolerance = tolerance});
+      spar_seconds = std::min(spar_seconds, seconds_since(start));
+    }
+    const double spar_ratio = (r.hi - r.lo) / width;
+    // Gappa with growing hints.
+    double lo = -HUGE_VAL, hi = HUGE_VAL, seconds = 0;
+    int pieces_used = 0;
+    const std::size_t n = box.variables.size();
+    for (int pieces : schedule) {
+      const int per_variable =
+          std::max(1, static_cast<int>(std::floor(std::pow(pieces, 1.0 / n) + 1e-9)));
+      std::string input = *goal;
+      if (per_variable > 1) {
+        input += "$ ";
+        for (std::size_t i = 0; i < n; ++i) {
+          input += std::string(i ? ", v" : "v") + std::to_string(i) + " in " +
+                   std::to_string(per_variable);
+        }
+        input += ";\n";
+      }
+      const GappaRun run = run_gappa(dir, input, limit_seconds);
+      if (run.ok && (run.lo > lo || run.hi < hi)) {
+        lo = std::max(lo, run.lo);
+        hi = std::min(hi, run.hi);
+        seconds = run.seconds;
+        pieces_used = static_cast<int>(std::pow(per_variable, n));
+      }
+      if (run.timed_out ||
+          (std::isfinite(lo) && std::isfinite(hi) && hi - lo <= (1 + 1e-3) * width)) {
+        break;
+      }
+    }
+    const bool proved = std::isfinite(lo) && std::isfinite(hi);
+    const double gappa_ratio = proved ? (hi - lo) / width : HUGE_VAL;
+    gappa_proved += proved ? 1 : 0;
+    spar_close += spar_ratio <= 1 + 1e-3 ? 1 : 0;
+    gappa_close += gappa_ratio <= 1 + 1e-3 ? 1 : 0;
+    // Ties within rounding (1e-12 of the width) count as ties.
+    if (r.hi - r.lo <= (proved ? (hi - lo) * (1 + 1e-12) : HUGE_VAL)) {
+      ++spar_tighter_or_equal;
+    } else {
+      looser.push_back(record["name"].get<std::string>());
+    }
+    spar_ms.push_back(1e3 * spar_seconds);
+    spar_ratios.push_back(spar_ratio);
+    gappa_ratios.push_back(gappa_ratio);
+    if (proved) {
+      gappa_ms.push_back(1e3 * seconds);
+      spar_faster += spar_seconds < seconds ? 1 : 0;
+    }
+    if (per_record) {
+      std::printf("%-32.32s %5zu %12.7g %12.7g %10.3f %10.1f %7d\n",
+                  record["name"].get<std::string>().c_str(), n, spar_ratio, gappa_ratio,
+                  1e3 * spar_seconds, proved ? 1e3 * seconds : NAN, pieces_used);
+    }
+  }
+  rmdir(dir);
+  std::printf(
+      "gappa reads %zu records, proves an enclosure on %zu; within 0.1%% of the true range: spar "
+      "%zu/%zu, gappa %zu/%zu\n",
+      read, gappa_proved, spar_close, read, gappa_close, read);
+  std::printf("spar at least as tight as gappa on %zu/%zu; faster on %zu/%zu\n",
+              spar_tighter_or_equal, read, spar_faster, gappa_proved);
+  for (const std::string& name : looser) std::printf("spar looser than gappa: %s\n", name.c_str());
+  std::printf(
+      "median width ratio (enclosure/true): spar %.7g, gappa %.7g; median ms: spar %.3f, gappa "
+      "%.1f (start-up %.2f included)\n",
+      median(spar_ratios), median(gappa_ratios), median(spar_ms), median(gappa_ms), startup_ms);
+  std::printf("ratio fpbench_gappa_records(median_ms) gappa %.3g\n",
+              median(gappa_ms) / median(spar_ms));
+}
+
 // Large inputs (issue 12): the effort limit holds in proportion to the input, memory stays
 // linear. Parse + bound with the default options; prints time and boxes.
 void run_large(bool quick) {
@@ -404,10 +681,14 @@ void run_large(bool quick) {
 }
 
 int main(int argc, char** argv) {
-  bool quick = false, per_record = false;
+  bool quick = false, per_record = false, gappa = true, gappa_only = false;
+  double tolerance = BoundOptions{}.tolerance;
   for (int i = 1; i < argc; ++i) {
     quick = quick || std::strcmp(argv[i], "--quick") == 0;
     per_record = per_record || std::strcmp(argv[i], "--per-record") == 0;
+    gappa = gappa && std::strcmp(argv[i], "--no-gappa") != 0;
+    gappa_only = gappa_only || std::strcmp(argv[i], "--gappa-only") == 0;
+    if (std::strcmp(argv[i], "--tol") == 0 && i + 1 < argc) tolerance = std::atof(argv[++i]);
   }
   // Each stage alone (no SMP rewrite, which `bound` otherwise tries after an effort limit), then
   // the full pipeline with the defaults.
@@ -432,7 +713,7 @@ int main(int argc, char** argv) {
         .simplify = false}},
       {"bb_natural",
        {.inner = true, .monotonicity = false, .centred_form = false, .simplify = false}},
-      {"full", {}},
+      {"full", {.tolerance = tolerance}},
   };
 
   std::ifstream in(std::string(SPAR_CORPUS_DIR) + "/fpbench.jsonl");
@@ -442,6 +723,11 @@ int main(int argc, char** argv) {
   }
   std::vector<nlohmann::json> records;
   for (std::string line; std::getline(in, line);) records.push_back(nlohmann::json::parse(line));
+  std::printf("full pipeline tolerance %g\n", tolerance);
+  if (gappa_only) {
+    run_gappa_peer(records, quick, tolerance, per_record);
+    return 0;
+  }
 
   std::vector<std::vector<double>> ratios(methods.size()), times(methods.size());
   std::vector<std::size_t> converged(methods.size(), 0);
@@ -534,7 +820,7 @@ int main(int argc, char** argv) {
                   spar::bounds::to_string(full_result.status));
     }
   }
-  std::printf("\n%-12s %14s %16s %14s %10s\n", "method", "median_ratio", "converged(0.1%)",
+  std::printf("\n%-12s %14s %16s %14s %10s\n", "method", "median_ratio", "converged(tol)",
               "median_us", "max_us");
   for (std::size_t m = 0; m < methods.size(); ++m) {
     std::printf("%-12s %14.6g %11zu/%zu %14.1f %10.0f\n", methods[m].name, median(ratios[m]),
@@ -559,6 +845,7 @@ int main(int argc, char** argv) {
               median(eval_ratios));
   std::printf("ratio fpbench_width(median) naive_interval %.3g\n",
               median(ratios[0]) / median(ratios.back()));
+  if (gappa) run_gappa_peer(records, quick, tolerance, per_record);
   run_reuse(records, quick);
   run_large(quick);
   return 0;
