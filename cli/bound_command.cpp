@@ -210,9 +210,13 @@ void run_single(const BoundArguments& arguments) {
     return;
   }
   std::cout.precision(17);
-  std::cout << "range    [" << r.lo << ", " << r.hi << "]   (sound)\n"
-            << "attained [" << r.inner_lo << ", " << r.inner_hi << "]\n"
-            << "status   " << bounds::to_string(r.status)
+  std::cout << "range    [" << r.lo << ", " << r.hi << "]   (sound)\n";
+  if (r.inner_lo <= r.inner_hi) {
+    std::cout << "attained [" << r.inner_lo << ", " << r.inner_hi << "]\n";
+  } else {  // no witness: the search met no point where the expression is defined
+    std::cout << "attained none (no point found where the expression is certainly defined)\n";
+  }
+  std::cout << "status   " << bounds::to_string(r.status)
             << (r.possibly_undefined ? " (possibly undefined somewhere in the box)" : "") << '\n';
   std::cout.precision(6);
   const double gap = r.relative_gap();
