@@ -6,10 +6,15 @@
 #include <mpfi.h>
 #include <rapidcheck/gtest.h>
 
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <functional>
+#include <limits>
 #include <numbers>
 #include <string>
+
+#include "bounds/internal/ulp.hpp"
 
 namespace spar::bounds {
 namespace {
@@ -185,6 +190,95 @@ RC_GTEST_PROP(Interval, EveryKernelContainsTrueValuesAtPoints, ()) {
     RC_ASSERT(mpfr_cmp_d(&image.value->left, ours.lo) >= 0);
     RC_ASSERT(mpfr_cmp_d(&image.value->right, ours.hi) <= 0);
   }
+}
+
+// The bit-pattern neighbours are std::nextafter's, on special values and random bit patterns
+// (every sign, exponent and payload).
+TEST(Interval, NextUpAndDownAgreeWithNextafter) {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  const auto same = [](double x, double y) {
+    return std::bit_cast<std::uint64_t>(x) == std::bit_cast<std::uint64_t>(y) ||
+           (std::isnan(x) && std::isnan(y));
+  };
+  const double specials[] = {0.0,
+                             -0.0,
+                             kInf,
+                             -kInf,
+                             std::numeric_limits<double>::quiet_NaN(),
+                             std::numeric_limits<double>::denorm_min(),
+                             -std::numeric_limits<double>::denorm_min(),
+                             std::numeric_limits<double>::min(),
+                             -std::numeric_limits<double>::min(),
+                             std::numeric_limits<double>::max(),
+                             -std::numeric_limits<double>::max(),
+                             1.0,
+                             -1.0};
+  for (const double x : specials) {
+    EXPECT_TRUE(same(internal::next_up(x), std::nextafter(x, kInf))) << x;
+    EXPECT_TRUE(same(internal::next_down(x), std::nextafter(x, -kInf))) << x;
+  }
+  std::uint64_t state = 20261201;
+  for (int k = 0; k < 100000; ++k) {
+    state = state * 6364136223846793005ull + 1442695040888963407ull;
+    const double x = std::bit_cast<double>(state);
+    ASSERT_TRUE(same(internal::next_up(x), std::nextafter(x, kInf))) << x;
+    ASSERT_TRUE(same(internal::next_down(x), std::nextafter(x, -kInf))) << x;
+  }
+}
+
+// A random end point: zero, tiny, huge, or an ordinary number, of either sign.
+double random_end_point() {
+  const int kind = *rc::gen::inRange(0, 6);
+  const double sign = *rc::gen::inRange(0, 2) ? 1.0 : -1.0;
+  const double mantissa = *rc::gen::inRange(1, 1000000) / 1000.0;
+  switch (kind) {
+    case 0:
+      return 0.0;
+    case 1:
+      return sign * mantissa * 1e-310;  // subnormal
+    case 2:
+      return sign * mantissa * 1e305;  // products overflow
+    default:
+      return sign * mantissa * std::pow(10.0, *rc::gen::inRange(-20, 21));
+  }
+}
+
+// Property: with finite bounds the product (end points chosen by the signs) contains MPFI's
+// 256-bit product and lies within the hull of the four end-point products; it is that hull, bit
+// for bit, unless an end-point product is tiny (below 2^-960 the kernels widen by one ulp
+// whatever the residual, so an end-point product that is not the extreme one may stick out).
+RC_GTEST_PROP(Interval, ProductIsTheHullOfTheEndPointProducts, ()) {
+  const auto random_interval = [] {
+    const double x = random_end_point(), y = random_end_point();
+    return Interval{std::min(x, y), std::max(x, y)};
+  };
+  const Interval a = random_interval(), b = random_interval();
+  const Interval product = a * b;
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  bool tiny = false;
+  for (const double x : {a.lo, a.hi}) {
+    for (const double y : {b.lo, b.hi}) {
+      const Interval point = Interval{x} * Interval{y};
+      lo = std::min(lo, point.lo);
+      hi = std::max(hi, point.hi);
+      tiny =
+          tiny || (x * y != 0 && std::fabs(x * y) < 0x1p-900) || (x != 0 && y != 0 && x * y == 0);
+    }
+  }
+  RC_LOG() << "a [" << a.lo << ", " << a.hi << "] b [" << b.lo << ", " << b.hi << "] product ["
+           << product.lo << ", " << product.hi << "] end points [" << lo << ", " << hi << "]\n";
+  RC_ASSERT(product.lo >= lo);
+  RC_ASSERT(product.hi <= hi);
+  if (!tiny) {
+    RC_ASSERT(std::bit_cast<std::uint64_t>(product.lo) == std::bit_cast<std::uint64_t>(lo));
+    RC_ASSERT(std::bit_cast<std::uint64_t>(product.hi) == std::bit_cast<std::uint64_t>(hi));
+  }
+  Mpfi x, y, exact;
+  mpfi_interv_d(x.value, a.lo, a.hi);
+  mpfi_interv_d(y.value, b.lo, b.hi);
+  mpfi_mul(exact.value, x.value, y.value);
+  RC_ASSERT(mpfr_cmp_d(&exact.value->left, product.lo) >= 0);
+  RC_ASSERT(mpfr_cmp_d(&exact.value->right, product.hi) <= 0);
 }
 
 // Tightness: on intervals inside a monotone piece, our width is within a few ulps of MPFI's.
