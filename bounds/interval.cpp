@@ -154,6 +154,10 @@ Interval intersect(const Interval& a, const Interval& b) {
 Interval operator+(const Interval& a, const Interval& b) {
   const bool undefined = a.possibly_undefined || b.possibly_undefined;
   if (a.is_empty() || b.is_empty()) return Interval::empty(undefined);
+  // Adding an exact zero is exact (gradient accumulation starts from zero adjoints); + 0.0 keeps
+  // what the rounded sum gives a -0 bound (+0).
+  if (b.lo == 0 && b.hi == 0) return make(a.lo + 0.0, a.hi + 0.0, undefined);
+  if (a.lo == 0 && a.hi == 0) return make(b.lo + 0.0, b.hi + 0.0, undefined);
   return make(add_down(a.lo, b.lo), add_up(a.hi, b.hi), undefined);
 }
 

@@ -80,6 +80,25 @@ TEST(Interval, DivisionByIntervalContainingZero) {
   EXPECT_TRUE((Interval{1.0} / Interval{0.0}).is_empty());
 }
 
+// Adding an exact zero (gradient accumulation does it all the time) is answered without the
+// rounded sum, with the same result: the interval unchanged, a -0 bound as +0, the flag kept.
+TEST(Interval, AddingExactZeroGivesTheRoundedSumsResult) {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  const Interval zero{0.0};
+  for (const Interval& x : {Interval{1.0 / 3, 2.0}, Interval{-kInf, 5.0}, Interval{-0.0, 1e-320},
+                            Interval{-3.0, -0.0, true}}) {
+    for (const Interval& sum : {x + zero, zero + x}) {
+      EXPECT_EQ(std::bit_cast<std::uint64_t>(sum.lo), std::bit_cast<std::uint64_t>(x.lo + 0.0));
+      EXPECT_EQ(std::bit_cast<std::uint64_t>(sum.hi), std::bit_cast<std::uint64_t>(x.hi + 0.0));
+      EXPECT_EQ(sum.possibly_undefined, x.possibly_undefined);
+    }
+  }
+  EXPECT_TRUE((zero + Interval{0.0, 0.0, true}).possibly_undefined);
+  EXPECT_TRUE((Interval::empty() + zero).is_empty());
+  const Interval sum = Interval{1.0 / 3, 1.0 / 3} + Interval{1.0 / 3, 1.0 / 3};
+  EXPECT_EQ(sum.lo, sum.hi);  // 2/3 of a double is exact: not widened either
+}
+
 TEST(Interval, ExactOperationsAreNotWidened) {
   const Interval r = Interval{1.0, 2.0} * Interval{3.0, 4.0} + Interval{0.5};
   EXPECT_EQ(r.lo, 3.5);
