@@ -195,26 +195,33 @@ IkAnswer inverse_kinematics(std::string_view robot, const Matrix4& flange) {
 
 // ---- uncertain poses ----
 
-UncertainPose possible_object_pose(const Matrix4& ideal,
-                                   const kinematics::PoseUncertainty& uncertainty,
-                                   std::string_view tag) {
+namespace {
+
+// An object's or the manipulator's possible pose (kinematics::UncertainObject or
+// UncertainManipulator: the same interface) in a pool of its own.
+template <class Uncertain>
+UncertainPose possible_pose(const Matrix4& ideal, const kinematics::PoseUncertainty& uncertainty,
+                            std::string_view tag) {
   const kinematics::Transform pose = rigid(ideal);
   auto pool = std::make_shared<SharedPool>();
   const std::lock_guard lock(pool->mutex);
-  const kinematics::UncertainObject object(pool->pool, uncertainty, tag);
-  const auto& variables = object.variables();
-  return UncertainPose{pool, object.possible_pose(pose), {variables.begin(), variables.end()}};
+  const Uncertain uncertain(pool->pool, uncertainty, tag);
+  const auto& variables = uncertain.variables();
+  return UncertainPose{pool, uncertain.possible_pose(pose), {variables.begin(), variables.end()}};
+}
+
+}  // namespace
+
+UncertainPose possible_object_pose(const Matrix4& ideal,
+                                   const kinematics::PoseUncertainty& uncertainty,
+                                   std::string_view tag) {
+  return possible_pose<kinematics::UncertainObject>(ideal, uncertainty, tag);
 }
 
 UncertainPose possible_manipulator_pose(const Matrix4& ideal,
                                         const kinematics::PoseUncertainty& uncertainty,
                                         std::string_view tag) {
-  const kinematics::Transform pose = rigid(ideal);
-  auto pool = std::make_shared<SharedPool>();
-  const std::lock_guard lock(pool->mutex);
-  const kinematics::UncertainManipulator gripper(pool->pool, uncertainty, tag);
-  const auto& variables = gripper.variables();
-  return UncertainPose{pool, gripper.possible_pose(pose), {variables.begin(), variables.end()}};
+  return possible_pose<kinematics::UncertainManipulator>(ideal, uncertainty, tag);
 }
 
 Expression pose_entry(const UncertainPose& pose, int row, int column) {
