@@ -217,10 +217,11 @@ std::vector<bool> affine_variables(Expr f, std::span<const Expr> variables) {
 // (the evaluators point into the tape), so it lives behind a unique_ptr.
 struct CompiledFunction {
   CompiledFunction(Expr f, std::span<const Expr> variables)
-      : tape(Tape::compile(std::array{f}, variables)),
+      : expression(f),
+        variables(variables.begin(), variables.end()),
+        tape(Tape::compile(std::array{f}, variables)),
         interval(tape),
-        real(tape),
-        affine_in(affine_variables(f, variables)) {}
+        real(tape) {}
   CompiledFunction(const CompiledFunction&) = delete;
   CompiledFunction& operator=(const CompiledFunction&) = delete;
 
@@ -230,11 +231,20 @@ struct CompiledFunction {
     return *affine_forms;
   }
 
+  // Whether f is affine in variable i (affine_variables), computed on first use: only branch and
+  // bound without constraints asks, and only once it splits a box (costs O(DAG x variables)).
+  bool affine_in(std::size_t i) {
+    if (!affine_by_variable) affine_by_variable = affine_variables(expression, variables);
+    return (*affine_by_variable)[i];
+  }
+
+  Expr expression;
+  std::vector<Expr> variables;
   Tape tape;
   internal::GradientEvaluator<Interval> interval;  // on tape
   internal::GradientEvaluator<double> real;        // on tape
   std::optional<std::vector<std::optional<LinearForm>>> affine_forms;
-  std::vector<bool> affine_in;  // affine_in[i]: f is affine in variable i (affine_variables)
+  std::optional<std::vector<bool>> affine_by_variable;  // see affine_in()
 };
 
 // A constraint `g relation 0` compiled over the problem's variables.
@@ -672,7 +682,7 @@ class Bounder {
       }
       // f affine in the variable (and no constraints): its extremes over the box lie on the
       // variable's end points, so the children are those two faces, one variable fewer each.
-      const bool faces = f_.affine_in[node.split] && constraints_.empty();
+      const bool faces = constraints_.empty() && f_.affine_in(node.split);
       for (int half = 0; half < 2; ++half) {
         std::vector<Interval> child = node.box;
         child[node.split] = faces       ? Interval{half == 0 ? range.lo : range.hi}
