@@ -623,6 +623,7 @@ void run_gappa_peer(const std::vector<nlohmann::json>& records, bool quick, doub
                   1e3 * spar_seconds, proved ? 1e3 * seconds : NAN, pieces_used);
     }
   }
+  std::remove((std::string(dir) + "/goal.g").c_str());
   rmdir(dir);
   std::printf(
       "gappa reads %zu records, proves an enclosure on %zu; within 0.1%% of the true range: spar "
