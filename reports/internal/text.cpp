@@ -22,8 +22,8 @@ double value(const Json& number) {
 std::string fixed(double value, int decimals) {
   if (std::isnan(value)) return "nan";
   if (std::isinf(value)) return value > 0 ? "inf" : "-inf";
-  char buffer[64];
-  std::snprintf(buffer, sizeof buffer, "%.*f", decimals, value);
+  char buffer[400];  // DBL_MAX has 309 integer digits; decimals are at most 15
+  std::snprintf(buffer, sizeof buffer, "%.*f", std::clamp(decimals, 0, 15), value);
   std::string out = buffer;
   if (out.find('.') != std::string::npos) {
     out.erase(out.find_last_not_of('0') + 1);
@@ -34,8 +34,14 @@ std::string fixed(double value, int decimals) {
 
 std::string rounded(double value, int digits) {
   if (!std::isfinite(value) || value == 0.0) return fixed(value, 0);
-  // Decimals so that `digits` significant digits show; none for large values.
+  // Decimals so that `digits` significant digits show; none for large values, and from 1e7 on
+  // scientific notation (fixed notation would print up to 309 digits).
   const int magnitude = static_cast<int>(std::floor(std::log10(std::fabs(value))));
+  if (magnitude >= 7) {
+    char buffer[32];
+    std::snprintf(buffer, sizeof buffer, "%.*g", std::max(digits, 1), value);
+    return buffer;
+  }
   return fixed(value, std::clamp(digits - 1 - magnitude, 0, 15));
 }
 
