@@ -194,6 +194,12 @@ TEST(ScenarioErrors, YamlSyntax) {
   expect_error(with("  peg:\n", "  peg: [\n"), 5, 9, "YAML syntax error");
 }
 
+// yaml-cpp's own message for this is "bad file".
+TEST(ScenarioErrors, NestingBeyondYamlCppsLimitIsNamed) {
+  const std::string deep = "objects: " + std::string(1000, '[') + std::string(1000, ']') + "\n";
+  expect_error(deep, 1, 2010, "YAML syntax error: nested too deeply");
+}
+
 TEST(ScenarioErrors, UnknownKeySuggestsTheNearestKnownOne) {
   expect_error(with("    builtin: peg\n", "    bultin: peg\n"), 4, 5,
                "objects.peg: unknown key 'bultin' (did you mean 'builtin'?)");
