@@ -44,7 +44,6 @@ std::vector<Phase2Step> phase2_steps(const Domain& domain, const PlanInstance& i
   return steps;
 }
 
-// Decides `preconditions` over the space's current ranges.
 // Decides `preconditions` over the space's current ranges: one tape for all of them, the natural
 // pass and a quick bound first (AnalysisOptions::quick), the full bound only for what is still
 // undecided.
