@@ -11,6 +11,8 @@
 //             {"file", "report"} or {"file", "error"}; a progress bar on stderr when it is a
 //             terminal; with --report, each report goes to DIR/<file stem>/. A bad scenario gives
 //             an error record and the batch goes on; the command fails at the end if any did.
+//   one scenario on a terminal: the stage planning is at on one line of stderr (phase 1, phase 2
+//             instance k of N, margins, probability), cleared when it ends.
 //   common options: --domain FILE, --instances N, --max-nodes N, --max-steps N, --samples N
 //             (Monte Carlo points of the failure-probability analysis; 0 turns it and the
 //             tolerance allocation off: planner/uncertainty/probability.hpp)
@@ -77,15 +79,38 @@ std::vector<reports::Format> html_first(std::vector<reports::Format> formats) {
   return formats;
 }
 
+// On a terminal, the stage plan() is at on one line of stderr, cleared when planning ends (or
+// fails, before the error is printed).
+class StageLine {
+ public:
+  explicit StageLine(planner::PlanOptions& options) : shown_(isatty(STDERR_FILENO) == 1) {
+    if (shown_)
+      options.progress = [](std::string_view stage) {
+        std::cerr << "\r\033[Kspar plan: " << stage << " ..." << std::flush;
+      };
+  }
+  StageLine(const StageLine&) = delete;
+  StageLine& operator=(const StageLine&) = delete;
+  ~StageLine() {
+    if (shown_) std::cerr << "\r\033[K" << std::flush;
+  }
+
+ private:
+  bool shown_;
+};
+
 void run_single(const PlanArguments& arguments, const planner::Domain& domain,
-                const planner::PlanOptions& options) {
+                planner::PlanOptions options) {
   const std::vector<reports::Format> formats =
       html_first(reports::parse_formats(arguments.formats));
-  const nlohmann::ordered_json report = plan_report(
-      arguments.demo
-          ? planner::parse_scenario(kDemoScenarioText, "peg_block_face_down.yaml (built in)", ".")
-          : planner::load_scenario(arguments.scenario),
-      domain, options);
+  const nlohmann::ordered_json report = [&] {
+    const StageLine stage_line(options);
+    return plan_report(
+        arguments.demo
+            ? planner::parse_scenario(kDemoScenarioText, "peg_block_face_down.yaml (built in)", ".")
+            : planner::load_scenario(arguments.scenario),
+        domain, options);
+  }();
   std::vector<fs::path> files;
   if (!arguments.report.empty()) files = reports::write_reports(report, arguments.report, formats);
   if (arguments.json) {

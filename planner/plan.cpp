@@ -19,6 +19,10 @@ const InstanceAnalysis* PlanResult::chosen_analysis() const {
 
 PlanResult plan(Scenario scenario, const Domain& domain, const PlanOptions& options) {
   if (options.max_instances == 0) throw PlanError("max_instances must be at least 1");
+  const auto stage = [&](std::string_view text) {
+    if (options.progress) options.progress(text);
+  };
+  stage("world model: grasps and reachability");
   PlanResult result{.world = WorldModel(std::move(scenario)),
                     .domain = domain,
                     .family = {},
@@ -27,16 +31,19 @@ PlanResult plan(Scenario scenario, const Domain& domain, const PlanOptions& opti
                     .chosen_index = 0,
                     .probability = {},
                     .tolerances = {}};
+  stage("phase 1: constraint posting");
   result.family = post_plan(result.world, result.domain, options.posting);
   if (!result.planned()) return result;
+  stage("phase 1: plan instances");
   result.instances =
       enumerate_instances(result.family, result.world, result.domain, options.max_instances);
   if (options.uncertainty && !result.instances.instances.empty()) {
     result.examined = analyse_instances(result.world, result.domain, result.instances.instances,
-                                        options.analysis);
+                                        options.analysis, options.progress);
     const InstanceAnalysis& chosen = result.examined[choose_instance(result.examined)];
     result.chosen_index = chosen.instance;
     if (options.probability) {
+      stage("probability: moments, Monte Carlo, tolerance allocation");
       result.probability = analyse_probability(chosen, *options.probability);
       result.tolerances = allocate_tolerances(result.world.scenario(), chosen,
                                               {.algebra = options.probability->algebra});

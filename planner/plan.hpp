@@ -13,7 +13,9 @@
 #pragma once
 
 #include <cstddef>
+#include <functional>
 #include <optional>
+#include <string_view>
 #include <vector>
 
 #include "planner/domain.hpp"
@@ -34,6 +36,9 @@ struct PlanOptions {
   // The chosen instance's probabilistic analysis and tolerance allocation
   // (planner/uncertainty/probability.hpp); nullopt: off.
   std::optional<ProbabilityOptions> probability{ProbabilityOptions{}};
+  // Called as each stage starts, with a short text for a progress display ("phase 1: constraint
+  // posting", "phase 2: plan instance 2 of 16", ...); from the calling thread. Empty: none.
+  std::function<void(std::string_view stage)> progress{};
 };
 
 struct PlanResult {

@@ -539,15 +539,22 @@ std::size_t choose_instance(const std::vector<InstanceAnalysis>& examined) {
   return best;
 }
 
-std::vector<InstanceAnalysis> analyse_instances(const WorldModel& world, const Domain& domain,
-                                                const std::vector<PlanInstance>& instances,
-                                                const AnalysisOptions& options) {
+std::vector<InstanceAnalysis> analyse_instances(
+    const WorldModel& world, const Domain& domain, const std::vector<PlanInstance>& instances,
+    const AnalysisOptions& options, const std::function<void(std::string_view)>& progress) {
+  const auto stage = [&](const std::string& text) {
+    if (progress) progress(text);
+  };
   std::vector<InstanceAnalysis> examined;
   for (const PlanInstance& instance : instances) {
+    stage("phase 2: plan instance " + std::to_string(examined.size() + 1) + " of " +
+          std::to_string(instances.size()));
     examined.push_back(analyse_instance(world, domain, instance, options));
     if (examined.back().errors == 0) break;
   }
-  if (!examined.empty()) add_margins(examined[choose_instance(examined)], options);
+  if (examined.empty()) return examined;
+  stage("phase 2: margins of the chosen instance (blame, reverse analysis, Monte Carlo)");
+  add_margins(examined[choose_instance(examined)], options);
   return examined;
 }
 

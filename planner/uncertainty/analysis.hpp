@@ -45,10 +45,12 @@
 #pragma once
 
 #include <cstddef>
+#include <functional>
 #include <map>
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "bounds/condition_set.hpp"
@@ -153,10 +155,12 @@ struct AnalysisOptions {
 [[nodiscard]] std::size_t choose_instance(const std::vector<InstanceAnalysis>& examined);
 
 // Examines `instances` in order until one has no error; returns every examined analysis. The
-// extras (reverse, blame, Monte Carlo) run on the chosen one only.
+// extras (reverse, blame, Monte Carlo) run on the chosen one only. `progress`, when set, is told
+// each stage as it starts ("phase 2: plan instance 2 of 16", then the chosen instance's margins).
 [[nodiscard]] std::vector<InstanceAnalysis> analyse_instances(
     const WorldModel& world, const Domain& domain, const std::vector<PlanInstance>& instances,
-    const AnalysisOptions& options = {});
+    const AnalysisOptions& options = {},
+    const std::function<void(std::string_view stage)>& progress = {});
 
 // Adds the chosen-instance extras to an analysis: a tight bound with inner values for every
 // precondition, blame, reverse analysis and Monte Carlo (as `options` enable them).

@@ -6,8 +6,12 @@
 #include <rapidcheck/gtest.h>
 
 #include <algorithm>
+#include <string>
+#include <string_view>
+#include <vector>
 
 #include "tests/planner/plan_checker.hpp"
+#include "tests/planner/plan_options.hpp"
 #include "tests/planner/random_placement.hpp"
 
 namespace spar::planner {
@@ -114,6 +118,22 @@ TEST(PlanFamily, StepLimitGivesNoPlan) {
   options.posting.max_steps = 3;  // the face-down task needs 6 actions
   const PlanResult result = plan(example("peg_block_face_down"), builtin_domain(), options);
   EXPECT_EQ(result.family.status, PostingStatus::kNoPlan);
+}
+
+TEST(PlanFamily, ProgressNamesEachStageInOrder) {
+  PlanOptions options = testing::quick_options(2);
+  std::vector<std::string> stages;
+  options.progress = [&](std::string_view stage) { stages.emplace_back(stage); };
+  const PlanResult result = plan(example("peg_block_face_down"), builtin_domain(), options);
+  ASSERT_TRUE(result.planned());
+  const std::vector<std::string> expected = {
+      "world model: grasps and reachability",
+      "phase 1: constraint posting",
+      "phase 1: plan instances",
+      "phase 2: plan instance 1 of 2",
+      "phase 2: margins of the chosen instance (blame, reverse analysis, Monte Carlo)",
+      "probability: moments, Monte Carlo, tolerance allocation"};
+  EXPECT_EQ(stages, expected);
 }
 
 // Every instance of every plan found from random initial stable poses, places and yaws passes the
