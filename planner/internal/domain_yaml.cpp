@@ -9,6 +9,7 @@
 
 #include "planner/domain.hpp"
 #include "planner/error.hpp"
+#include "planner/internal/yaml_syntax.hpp"
 
 namespace spar::planner {
 namespace {
@@ -270,7 +271,7 @@ class DomainReader {
     try {
       root = YAML::Load(std::string(text));
     } catch (const YAML::Exception& error) {
-      fail(error.mark, error.msg);
+      fail(error.mark, internal::yaml_syntax_error(error));
     }
     Domain domain;
     domain.source = source_;

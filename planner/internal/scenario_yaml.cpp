@@ -1,6 +1,5 @@
 #include "planner/internal/scenario_yaml.hpp"
 
-#include <yaml-cpp/depthguard.h>
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
@@ -19,6 +18,7 @@
 #include "geometry/stable_poses.hpp"
 #include "kinematics/ik.hpp"
 #include "planner/error.hpp"
+#include "planner/internal/yaml_syntax.hpp"
 
 namespace spar::planner::internal {
 namespace {
@@ -759,11 +759,7 @@ Scenario Reader::read(std::string_view document_text) {
                                   ? source_
                                   : source_ + ":" + std::to_string(error.mark.line + 1) + ":" +
                                         std::to_string(error.mark.column + 1);
-    // yaml-cpp says "bad file" when nesting exceeds its recursion limit: say what it means.
-    const bool too_deep = dynamic_cast<const YAML::DeepRecursion*>(&error) != nullptr;
-    throw ScenarioError(
-        where + ": YAML syntax error: " +
-        (too_deep ? "nested too deeply (a scenario needs about 5 levels)" : error.msg));
+    throw ScenarioError(where + ": YAML syntax error: " + yaml_syntax_error(error));
   }
   if (!document.IsDefined() || document.IsNull())
     throw ScenarioError(source_ + ":1:1: the scenario is empty (it needs at least 'objects')");

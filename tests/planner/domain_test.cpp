@@ -1,0 +1,117 @@
+// The domain loader (planner/domain.hpp): the built-in templates are SPAR's, the shipped file is
+// what is compiled in, a user's added action loads without recompiling, and every mistake in a
+// domain file is one DomainError naming file:line:col.
+#include "planner/domain.hpp"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "planner/error.hpp"
+#include "tests/common/expect_message.hpp"
+
+namespace spar::planner {
+namespace {
+
+std::string shipped_text() {
+  std::ifstream in(std::filesystem::path(SPAR_SOURCE_DIR) / "planner" / "domain.yaml");
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+TEST(Domain, BuiltInHasSparsTemplates) {
+  const Domain& domain = builtin_domain();
+  for (const char* name : {"pickup", "putdown", "assemble", "range-scan", "squeeze"})
+    EXPECT_NO_THROW((void)domain.action(name)) << name;
+  EXPECT_EQ(domain.action("range-scan").kind, ActionKind::kSensing);
+  EXPECT_EQ(domain.action("squeeze").kind, ActionKind::kReduction);
+  EXPECT_EQ(domain.action("assemble").uncertainty, std::vector<std::string>{"assemble"});
+  // Every verification an action names, and every recovery a verification names, exists.
+  for (const ActionTemplate& action : domain.actions)
+    for (const std::string& verification : action.verification)
+      for (const VerificationOutcome& outcome : domain.verification(verification).outcomes)
+        EXPECT_NO_THROW((void)domain.recovery(outcome.recovery)) << outcome.recovery;
+  EXPECT_THROW_MESSAGE(domain.action("weld"), "weld");
+}
+
+TEST(Domain, TheShippedFileIsWhatIsCompiledIn) {
+  const Domain shipped =
+      load_domain(std::filesystem::path(SPAR_SOURCE_DIR) / "planner" / "domain.yaml");
+  const Domain& built_in = builtin_domain();
+  ASSERT_EQ(shipped.actions.size(), built_in.actions.size());
+  for (std::size_t i = 0; i < shipped.actions.size(); ++i) {
+    EXPECT_EQ(shipped.actions[i].name, built_in.actions[i].name);
+    EXPECT_EQ(shipped.actions[i].operational, built_in.actions[i].operational);
+    EXPECT_EQ(shipped.actions[i].add, built_in.actions[i].add);
+    EXPECT_EQ(shipped.actions[i].del, built_in.actions[i].del);
+  }
+  EXPECT_EQ(shipped.verifications.size(), built_in.verifications.size());
+  EXPECT_EQ(shipped.recoveries.size(), built_in.recoveries.size());
+}
+
+TEST(Domain, AnActionAddedToTheFileLoads) {
+  std::string text = shipped_text();
+  const std::string anchor = "  - name: range-scan\n";
+  ASSERT_NE(text.find(anchor), std::string::npos);
+  text.insert(text.find(anchor),
+              "  - name: touch-probe\n"
+              "    kind: sensing\n"
+              "    parameters: {object: object, position: position(object)}\n"
+              "    operational: [\"gripper(empty)\", \"at(object, position)\"]\n"
+              "    add: []\n"
+              "    delete: []\n\n");
+  const Domain domain = parse_domain(text, "mine.yaml");
+  EXPECT_EQ(domain.action("touch-probe").kind, ActionKind::kSensing);
+  EXPECT_EQ(domain.actions.size(), builtin_domain().actions.size() + 1);
+}
+
+// ---- one test per class of mistake, each with file:line:col ----
+
+TEST(DomainErrors, YamlSyntax) {
+  EXPECT_THROW_MESSAGE(parse_domain("actions: [\n", "d.yaml"),
+                       "d.yaml:2:1: end of sequence flow not found");
+}
+
+TEST(DomainErrors, NestingBeyondYamlCppsLimitIsNamed) {
+  const std::string deep = "actions: " + std::string(1000, '[') + std::string(1000, ']') + "\n";
+  EXPECT_THROW_MESSAGE(parse_domain(deep, "d.yaml"), "d.yaml:1:2010: nested too deeply");
+}
+
+TEST(DomainErrors, UnknownTopLevelKey) {
+  EXPECT_THROW_MESSAGE(parse_domain("actions: []\nverbs: []\n", "d.yaml"),
+                       "d.yaml:2:1: unknown key 'verbs' in the domain file");
+}
+
+TEST(DomainErrors, AtomArgumentThatIsNotAParameter) {
+  EXPECT_THROW_MESSAGE(
+      parse_domain("actions:\n"
+                   "  - name: poke\n"
+                   "    parameters: {object: object}\n"
+                   "    operational: [\"at(object, where)\"]\n"
+                   "    add: []\n"
+                   "    delete: []\n",
+                   "d.yaml"),
+      "d.yaml:4:19: 'where' in at(object, where) is not a parameter of action 'poke'");
+}
+
+TEST(DomainErrors, UnknownParameterType) {
+  EXPECT_THROW_MESSAGE(parse_domain("actions:\n"
+                                    "  - name: poke\n"
+                                    "    parameters: {object: thing}\n"
+                                    "    add: []\n"
+                                    "    delete: []\n",
+                                    "d.yaml"),
+                       "d.yaml:3:26: parameter 'object' has unknown type 'thing'");
+}
+
+TEST(DomainErrors, MissingFileIsNamed) {
+  EXPECT_THROW_MESSAGE(load_domain("/nonexistent/domain.yaml"),
+                       "/nonexistent/domain.yaml: cannot open the domain file");
+}
+
+}  // namespace
+}  // namespace spar::planner
