@@ -3,6 +3,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <charconv>
 #include <cmath>
@@ -290,29 +291,28 @@ std::vector<double> Reader::numbers(const YAML::Node& node, const std::string& p
 
 void Reader::read_units(const YAML::Node& node, Units& units) const {
   const Fields fields(*this, node, "units", {"length", "angle"});
+  // The unit `value` names among `choices`, or the error listing them.
+  const auto named = [&](const YAML::Node& value, const std::string& quantity, auto choices) {
+    const std::string name = text(value, "units." + quantity);
+    std::vector<std::string> known;
+    for (const auto& [choice, unit] : choices) {
+      if (name == choice) return unit;
+      known.emplace_back(choice);
+    }
+    fail(value, "units." + quantity + ": unknown " + quantity + " unit '" + name + "'" +
+                    suggestion(name, known) + "; known: " + join(known));
+  };
   if (const YAML::Node length = fields.get("length"); length.IsDefined()) {
-    const std::string name = text(length, "units.length");
-    const std::vector<std::string> known{"m", "mm", "in"};
-    if (name == "m")
-      units.length = LengthUnit::kMetre;
-    else if (name == "mm")
-      units.length = LengthUnit::kMillimetre;
-    else if (name == "in")
-      units.length = LengthUnit::kInch;
-    else
-      fail(length, "units.length: unknown length unit '" + name + "'" + suggestion(name, known) +
-                       "; known: " + join(known));
+    units.length =
+        named(length, "length",
+              std::to_array<std::pair<const char*, LengthUnit>>({{"m", LengthUnit::kMetre},
+                                                                 {"mm", LengthUnit::kMillimetre},
+                                                                 {"in", LengthUnit::kInch}}));
   }
   if (const YAML::Node angle = fields.get("angle"); angle.IsDefined()) {
-    const std::string name = text(angle, "units.angle");
-    const std::vector<std::string> known{"rad", "deg"};
-    if (name == "rad")
-      units.angle = AngleUnit::kRadian;
-    else if (name == "deg")
-      units.angle = AngleUnit::kDegree;
-    else
-      fail(angle, "units.angle: unknown angle unit '" + name + "'" + suggestion(name, known) +
-                      "; known: " + join(known));
+    units.angle = named(angle, "angle",
+                        std::to_array<std::pair<const char*, AngleUnit>>(
+                            {{"rad", AngleUnit::kRadian}, {"deg", AngleUnit::kDegree}}));
   }
 }
 
