@@ -652,6 +652,12 @@ Expr ExprPool::power(Expr base, Expr exponent) {
   if (exponent.is_constant() && exponent.constant().is_rational()) {
     return power(base, exponent.constant());
   }
+  // A negative real exponent is -|r| (the product -1·|r|), the form the parser gives "-r", so
+  // that printing and parsing give back the same node (fuzz finding: merged exponents that
+  // overflow 64 bits become such a real).
+  if (exponent.is_constant() && std::signbit(exponent.constant().value())) {
+    return power(base, -constant(-exponent.constant()));
+  }
   if (base.is_constant() && base.constant().is_one()) {  // 1^b = 1 where b is defined
     const Term guard[] = {{exponent, Number()}};
     return sum(Number::integer(1), guard);
@@ -776,6 +782,12 @@ void ExprPool::check_invariants() const {
       if (n.count == 0 || n.number.is_zero()) fail(id, "degenerate product");
       if (n.count == 1 && n.number.is_one() && m.factors[n.begin].is_one())
         fail(id, "trivial product");
+    }
+    if (n.op == Op::kPow) {
+      const Node& exponent = m.nodes[m.operand_ids[n.begin + 1]];
+      if (exponent.op == Op::kConstant &&
+          (exponent.number.is_rational() || std::signbit(exponent.number.value())))
+        fail(id, "Pow with a rational or negative real constant exponent");
     }
     if (n.partial != m.partial_node(n.op, n.begin, n.count)) fail(id, "wrong partial flag");
     std::size_t s = m.slot_of(n.hash);

@@ -12,7 +12,8 @@
 //   Add       c0 + Σ ci·ti   (constant(), then operands ti with factor() ci)
 //   Mul       c · Π bi^ei    (constant() c, then operands bi with factor() ei, a Number exponent)
 //   Pow       a^b with a non-constant or a real (not rational) exponent b (rational exponents
-//             are Mul factors): x^pi, 2^pi, x^1.2345678901234567 are real powers
+//             are Mul factors): x^pi, 2^pi, x^1.2345678901234567 are real powers; a negative
+//             real exponent is the product -1·|r|, as the parser reads "x^(-r)"
 //   Sin Cos Tan Sqrt Exp Log Abs Atan Asin Acos   unary functions
 //   Atan2(y, x) Min(a, b) Max(a, b)                binary functions
 //
