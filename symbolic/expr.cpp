@@ -510,6 +510,11 @@ Expr ExprPool::product(const Number& coefficient, std::span<const Term> factors)
   // stays undefined where the input was (x/x is 1 + 0·x^-1, 0·log(x) is 0·log(x)).
   std::vector<std::pair<std::uint32_t, int>> required;
   std::vector<Expr> guards;
+  const auto all_factors_zero = [&](const Node& node) {
+    for (std::uint32_t i = node.begin; i < node.begin + node.count; ++i)
+      if (!impl_->factors[i].is_zero()) return false;
+    return true;
+  };
   for (const Term& factor : factors) {
     if (factor.expr.pool_ != this) throw SymbolicError("expressions from different pools mixed");
     const Number& e = factor.factor;
@@ -523,6 +528,15 @@ Expr ExprPool::product(const Number& coefficient, std::span<const Term> factors)
       fold(node.number, e.numerator());
     } else if (rational_constant && node.number.is_one()) {
       continue;
+    } else if (node.op == Op::kAdd && node.number.is_zero() && e.is_integer() &&
+               e.numerator() > 0 && all_factors_zero(node)) {
+      // A guard sum 0·t1 + ... (zero wherever defined) to a positive power: the product is zero
+      // and the t_i join its factors as the domain guard, as the parser reads "(0*t)*c" (0*t*c).
+      c = Number();
+      for (std::uint32_t i = node.begin; i < node.begin + node.count; ++i) {
+        entries.emplace_back(impl_->operand_ids[i], Number::integer(1));
+        required.emplace_back(impl_->operand_ids[i], 0);
+      }
     } else if (node.op == Op::kMul && e.is_integer() && node.count <= kFlattenLimit) {
       fold(node.number, e.numerator());
       for (std::uint32_t i = node.begin; i < node.begin + node.count; ++i) {

@@ -175,7 +175,10 @@ TEST(Print, OverflowedConstantsRoundTrip) {
         "x*2^62 + x*2^62 + x*2^62", "x^(2^62)*x^(2^62)*x^(2^62)", "9e18+9e18+9e18-x",
         // fuzz finding: merged exponents overflow to a negative real, which
         // must be the form the parser gives "-r" (-1 times |r|)
-        "y^-1415926897930*y^.14159265"}) {
+        "y^-1415926897930*y^.14159265",
+        // fuzz finding: a guard 0*t as a factor prints as "(0*t)*c", which the parser reads as
+        // 0*t*c
+        "-(a*+0*3.50^b)*c", "(0*log(x) + 0*log(y))*c", "(0*log(x))^2/c"}) {
     const Expr e = parse(pool, text);
     EXPECT_EQ(parse(pool, to_string(e)), e) << text << " printed as " << to_string(e);
   }
