@@ -4,7 +4,8 @@
 #   1. Build everything with AddressSanitizer + UndefinedBehaviorSanitizer (GCC, like the Release
 #      build; any report aborts) and run the WHOLE test suite in that build.
 #   2. Build the libFuzzer targets of tests/fuzz with clang (ASan + UBSan + fuzzer coverage; only
-#      the modules they fuzz) and run each for SPAR_FUZZ_SECONDS (default 45) from its seed corpus
+#      the modules they fuzz) and run each for SPAR_FUZZ_SECONDS (default 45) from its seed corpus,
+#      with libFuzzer seed SPAR_FUZZ_SEED (default fixed: reproducible; 0: random)
 #      (a scratch copy: the repository's corpus is never written). Any crash, hang (> 10 s on one
 #      input), leak, out-of-memory or sanitizer report fails the run; libFuzzer leaves the input
 #      that caused it in the fuzz build folder as <target>-crash-... (or -timeout-, -leak-, -oom-).
@@ -13,6 +14,9 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 build=${SPAR_HUNT_BUILD_DIR:-${SPAR_BUILD_DIR:-build}/hunt}
 seconds=${SPAR_FUZZ_SECONDS:-45}
+# libFuzzer's seed: fixed by default so that a CI run is reproducible (the same inputs, in the
+# same order, as a local run of this script); SPAR_FUZZ_SEED=0 draws a random one (exploration).
+seed=${SPAR_FUZZ_SEED:-20261201}
 
 # -O1 with line tables: fast enough to build and run, and every report has file:line frames.
 cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
@@ -41,7 +45,7 @@ for corpus in tests/fuzz/corpus/*/; do
   [ -f "tests/fuzz/$name.dict" ] && dictionary=("-dict=tests/fuzz/$name.dict")
   mkdir -p "$scratch/$name"
   echo "hunt: fuzzing $name for $seconds s"
-  "$fuzz_build/tests/fuzz/${name}_fuzz" -max_total_time="$seconds" -timeout=10 \
+  "$fuzz_build/tests/fuzz/${name}_fuzz" -seed="$seed" -max_total_time="$seconds" -timeout=10 \
     -rss_limit_mb=2048 -max_len=4096 -print_final_stats=1 -artifact_prefix="$fuzz_build/${name}_fuzz-" \
     "${dictionary[@]}" "$scratch/$name" "$corpus"
 done
