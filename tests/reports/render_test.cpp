@@ -39,7 +39,7 @@ TEST(Rounded, KeepsSignificantDigitsAndDropsTrailingZeros) {
   EXPECT_EQ(internal::rounded(2.0), "2");
   EXPECT_EQ(internal::rounded(-0.30479999999999990), "-0.305");
   EXPECT_EQ(internal::rounded(1234.56), "1235");
-  EXPECT_EQ(internal::rounded(-1e-30), "0");  // below the 15 decimals shown
+  EXPECT_EQ(internal::rounded(-1e-30), "0");           // below the 15 decimals shown
   EXPECT_EQ(internal::rounded(9999999.0), "9999999");  // below 1e7: fixed
   EXPECT_EQ(internal::rounded(12345678.0), "1.23e+07");
   EXPECT_EQ(internal::rounded(-2.54e306), "-2.54e+306");  // all of it, not 63 truncated digits
