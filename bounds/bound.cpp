@@ -14,6 +14,7 @@
 #include <queue>
 #include <set>
 #include <unordered_map>
+#include <utility>
 
 #include "bounds/internal/checks.hpp"
 #include "bounds/internal/gradient.hpp"
@@ -130,11 +131,14 @@ std::size_t tape_cost(const Tape& tape) {
 }
 
 // One node of the branch-and-bound queue: a box and an upper bound of s·f over it.
-struct Node {
-  double bound;
-  std::vector<Interval> box;
-  int split;  // variable to bisect next
-  bool operator<(const Node& other) const { return bound < other.bound; }
+// A box of the branch-and-bound tree. The tree does not depend on the direction: a box's split
+// variable and children follow from the box and f's gradient alone, so each box is evaluated once
+// for both directions, and the second direction's search reuses every box the first evaluated.
+struct TreeNode {
+  std::vector<Interval> box;    // released once no direction can still expand it (see release())
+  std::array<double, 2> bound;  // sound upper bounds of f ([0]) and of -f ([1]) on the box
+  int split{0};                 // variable to bisect next
+  std::size_t first_child{0};   // the children are first_child and first_child + 1; 0 = none yet
 };
 
 // Per variable, whether f is affine in it (f = A·v + B with A and B free of v), so that over a
@@ -518,13 +522,16 @@ class Bounder {
     return std::isfinite(value) ? flip * value + kMargin : 1e300;
   }
 
-  // An upper bound of sign·f over the box (after contraction), or -inf if the box is discarded.
-  // Also offers the box midpoint as a witness and picks the variable to bisect.
-  double evaluate_box(std::vector<Interval>& box, int sign, int& split) {
+  // Upper bounds of f ([0]) and of -f ([1]) over the box (after contraction), -inf if the box
+  // is discarded. One value-and-gradient pass serves both directions; the monotone face and the
+  // centred form are per direction. Also offers the box midpoint as a witness and picks the
+  // variable to bisect.
+  std::array<double, 2> evaluate_box(std::vector<Interval>& box, int& split) {
     ++evaluations_;
     work_ += kPassesPerBox * evaluation_cost_;
     split = widest(box);
-    if (!contract(box) || !may_be_feasible(box)) return -kInf;
+    constexpr std::array<double, 2> kDiscarded{-kInf, -kInf};
+    if (!contract(box) || !may_be_feasible(box)) return kDiscarded;
     const std::size_t n = box.size();
     Interval value;
     bool gradient_ok = false;
@@ -540,13 +547,13 @@ class Bounder {
     if (f_interval_.has_enclosures()) {
       // Tighter on the feasible points; the gradient (above) stays valid on the whole box.
       const Interval feasible = f_interval_.feasible_value(box);
-      if (feasible.is_empty()) return -kInf;  // the linear constraints exclude the whole box
+      if (feasible.is_empty()) return kDiscarded;  // the linear constraints exclude the whole box
       value = Interval{std::max(value.lo, feasible.lo), std::min(value.hi, feasible.hi),
                        feasible.possibly_undefined};
     }
     undefined_ = undefined_ || value.possibly_undefined;
-    if (value.is_empty()) return -kInf;  // f is defined nowhere in this box
-    double best = sign > 0 ? value.hi : -value.lo;
+    if (value.is_empty()) return kDiscarded;  // f is defined nowhere in this box
+    std::array<double, 2> best{value.hi, -value.lo};
     for (std::size_t i = 0; i < n; ++i) point_[i] = box[i].mid();
     offer(point_);
     if (!gradient_ok) return best;
@@ -560,9 +567,20 @@ class Bounder {
         split = static_cast<int>(i);
       }
     }
-    // Monotone variables sit at the end point that maximises sign·f: bound that face instead.
+    for (const int sign : {+1, -1}) {
+      double& bound = best[sign > 0 ? 0 : 1];
+      bound = std::min(bound, face_and_centred_bound(box, sign));
+    }
+    return best;
+  }
+
+  // After evaluate_box's gradient pass: monotone variables sit at the end point that maximises
+  // sign·f, so bound that face, by the natural extension and by the centred form on it.
+  double face_and_centred_bound(std::span<const Interval> box, int sign) {
+    const std::size_t n = box.size();
+    double best = kInf;
     std::vector<Interval>& face = face_;
-    face = box;
+    face.assign(box.begin(), box.end());
     bool fixed = false;
     if (options_.monotonicity) {
       for (std::size_t i = 0; i < n; ++i) {
@@ -631,9 +649,11 @@ class Bounder {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
   }
 
-  // Sound upper bound of sign·f over the feasible box; best-first bisection.
+  // Sound upper bound of sign·f over the feasible box; best-first bisection over tree_, which the
+  // first direction grows and the second reuses (a node expanded by either is never re-evaluated).
   double search(const std::vector<Interval>& root, int sign) {
     const int direction = sign > 0 ? 0 : 1;
+    direction_ = direction;
     const auto inner = [&] { return sign > 0 ? result_->inner_hi : -result_->inner_lo; };
     const auto target_gap = [&] {
       const double width = result_->inner_hi - result_->inner_lo;
@@ -641,64 +661,99 @@ class Bounder {
       return std::max(options_.tolerance * (std::isfinite(width) ? width : 0.0),
                       std::isfinite(scale) ? 1e-14 * scale : 0.0);
     };
-    std::priority_queue<Node> queue;
+    if (tree_.empty()) add_node(root, {kInf, kInf});
+    // (bound of sign·f, node); equal bounds pop the later node first, deterministically.
+    std::priority_queue<std::pair<double, std::size_t>> queue;
     double settled = -kInf;  // bound of boxes too small to bisect
-    std::vector<Interval> box = root;
-    int split = 0;
-    const double root_bound = evaluate_box(box, sign, split);
-    if (root_bound > -kInf) queue.push({root_bound, box, split});
-    // Intervals stored in the queue: memory stays proportional to the input (capped) however
-    // many variables there are.
-    std::size_t queued_intervals = queue.size() * root.size();
+    if (tree_[0].bound[direction] > -kInf) queue.push({tree_[0].bound[direction], 0});
     std::size_t pops = 0, next_polish = 64;
     while (!queue.empty()) {
-      const double top = std::max(queue.top().bound, settled);
+      const double top = std::max(queue.top().first, settled);
       if (top - inner() <= target_gap()) break;
+      // Boxes kept in the tree: memory stays proportional to the input (capped) however many
+      // variables there are.
       if (!options_.branch_and_bound || out_of_effort(direction) ||
-          queued_intervals > kMaxQueuedIntervals) {
+          stored_intervals_ > kMaxQueuedIntervals) {
         return std::max(top, inner());
       }
-      Node node = queue.top();
+      const auto [bound, index] = queue.top();
       queue.pop();
-      queued_intervals -= node.box.size();
+      // A box without variables (f is a constant) or too narrow to halve cannot be refined.
+      if (tree_[index].first_child == 0 && !expand(index)) {
+        settled = std::max(settled, bound);
+        continue;
+      }
+      const std::size_t first = tree_[index].first_child;
+      for (const std::size_t child : {first, first + 1}) {
+        if (tree_[child].bound[direction] > inner()) {
+          queue.push({tree_[child].bound[direction], child});
+        }
+      }
       // The best box is where the extremum most likely is: polish the inner bound from its
       // centre now and then (a loose inner bound stops convergence as surely as a loose outer).
       if (options_.inner && ++pops >= next_polish) {
-        next_polish *= 2;
-        std::vector<double> centre(node.box.size());
-        for (std::size_t i = 0; i < centre.size(); ++i) centre[i] = node.box[i].mid();
-        local_search(root, std::move(centre), sign);
-      }
-      // A box without variables (f is a constant) or too narrow to halve cannot be refined.
-      if (node.box.empty()) {
-        settled = std::max(settled, node.bound);
-        continue;
-      }
-      const Interval range = node.box[node.split];
-      const double middle = range.mid();
-      if (!(middle > range.lo && middle < range.hi)) {
-        settled = std::max(settled, node.bound);
-        continue;
-      }
-      // f affine in the variable (and no constraints): its extremes over the box lie on the
-      // variable's end points, so the children are those two faces, one variable fewer each.
-      const bool faces = constraints_.empty() && f_.affine_in(node.split);
-      for (int half = 0; half < 2; ++half) {
-        std::vector<Interval> child = node.box;
-        child[node.split] = faces       ? Interval{half == 0 ? range.lo : range.hi}
-                            : half == 0 ? Interval{range.lo, middle}
-                                        : Interval{middle, range.hi};
-        int child_split = 0;
-        const double child_bound = std::min(evaluate_box(child, sign, child_split), node.bound);
-        if (child_bound > inner()) {
-          queued_intervals += child.size();
-          queue.push({child_bound, std::move(child), child_split});
+        const std::size_t better =
+            tree_[first].bound[direction] >= tree_[first + 1].bound[direction] ? first : first + 1;
+        if (!tree_[better].box.empty()) {
+          next_polish *= 2;
+          std::vector<double> centre(tree_[better].box.size());
+          for (std::size_t i = 0; i < centre.size(); ++i) centre[i] = tree_[better].box[i].mid();
+          local_search(root, std::move(centre), sign);
         }
       }
     }
     converged_[direction] = true;
-    const double top = queue.empty() ? settled : std::max(queue.top().bound, settled);
+    const double top = queue.empty() ? settled : std::max(queue.top().first, settled);
     return std::max(top, inner());
+  }
+
+  // Evaluates a box into a new node whose bounds are at most `parent`'s; returns its index.
+  std::size_t add_node(std::vector<Interval> box, std::array<double, 2> parent) {
+    int split = 0;
+    const std::array<double, 2> own = evaluate_box(box, split);
+    stored_intervals_ += box.size();
+    tree_.push_back(
+        {std::move(box), {std::min(own[0], parent[0]), std::min(own[1], parent[1])}, split});
+    return tree_.size() - 1;
+  }
+
+  // Evaluates the two children of a node; false if it cannot be split (no variables, or its split
+  // variable too narrow to halve). The children come after every existing node, so first_child 0
+  // means "not expanded".
+  bool expand(std::size_t index) {
+    if (tree_[index].box.empty()) return false;
+    const Interval range = tree_[index].box[tree_[index].split];
+    const double middle = range.mid();
+    if (!(middle > range.lo && middle < range.hi)) return false;
+    // f affine in the variable (and no constraints): its extremes over the box lie on the
+    // variable's end points, so the children are those two faces, one variable fewer each.
+    const bool faces = constraints_.empty() && f_.affine_in(tree_[index].split);
+    for (int half = 0; half < 2; ++half) {
+      std::vector<Interval> child = tree_[index].box;
+      child[tree_[index].split] = faces       ? Interval{half == 0 ? range.lo : range.hi}
+                                  : half == 0 ? Interval{range.lo, middle}
+                                              : Interval{middle, range.hi};
+      const std::size_t added = add_node(std::move(child), tree_[index].bound);
+      if (half == 0) tree_[index].first_child = added;
+    }
+    release(index);
+    for (const std::size_t child : {tree_[index].first_child, tree_[index].first_child + 1}) {
+      if (!may_be_expanded(tree_[child])) release(child);
+    }
+    return true;
+  }
+
+  // Whether the search running or the one to come could pop the node and need its box: its bound,
+  // in a direction not yet finished, exceeds that direction's inner bound (inner bounds only
+  // improve, so a node that fails this never passes it later). Max (0) runs before min (1).
+  bool may_be_expanded(const TreeNode& node) const {
+    return (direction_ == 0 && node.bound[0] > result_->inner_hi) ||
+           node.bound[1] > -result_->inner_lo;
+  }
+
+  void release(std::size_t index) {
+    stored_intervals_ -= tree_[index].box.size();
+    tree_[index].box = {};
   }
 
   const BoundOptions& options_;
@@ -713,6 +768,9 @@ class Bounder {
   std::vector<Interval> gradient_, face_, centre_;
   std::vector<double> point_;
   BoundResult* result_{nullptr};
+  std::vector<TreeNode> tree_;       // both directions' branch-and-bound tree; tree_[0] is the root
+  std::size_t stored_intervals_{0};  // in tree_'s boxes
+  int direction_{0};                 // of the search running: 0 maximises f, 1 minimises it
   std::size_t evaluations_{0};
   std::size_t work_{0};             // tape instructions evaluated (approximately: see BoundOptions)
   std::size_t evaluation_cost_{1};  // one pass over f's and the constraints' tapes

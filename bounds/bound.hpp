@@ -7,6 +7,8 @@
 // fixed at an end point), the mean-value (centred) form, and best-first branch and bound that
 // bisects the variable with the largest |gradient| x width until `hi - inner_hi` and
 // `inner_lo - lo` are both <= tolerance x (inner_hi - inner_lo), or the effort limit is reached.
+// Both directions search one tree: a box's split follows from the box alone, so each box is
+// evaluated once (one value-and-gradient pass) and the second search reuses the first's boxes.
 // Where f is affine in that variable (a polynomial of degree <= 1 in it: f = A·v + B) and there
 // are no constraints, f's extremes lie on v's end points, so the box splits into those two faces.
 // Linear constraints contract every box; any constraint discards boxes where it certainly fails.
@@ -105,7 +107,7 @@ struct BoundResult {
   BoundStatus status{BoundStatus::kConverged};
   bool possibly_undefined{false};  // f may be undefined somewhere in the box (domain error)
   bool time_limited{false};        // BoundOptions::max_seconds stopped it (machine-dependent)
-  std::size_t evaluations{0};      // boxes evaluated
+  std::size_t evaluations{0};      // boxes evaluated (each once, for both directions)
   // Measured tightness: max(hi - inner_hi, inner_lo - lo) / (inner_hi - inner_lo).
   [[nodiscard]] double relative_gap() const;
   // Throws std::logic_error naming the broken invariant (see above).
