@@ -3,16 +3,22 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <cstdlib>
+#include <functional>
+#include <limits>
+#include <new>
 #include <optional>
 #include <stdexcept>
 #include <string>
-#include <unordered_map>
+#include <type_traits>
 #include <utility>
 
 namespace spar::symbolic {
 namespace {
 
 constexpr std::uint32_t kEmptySlot = 0xFFFFFFFFu;
+// Integers in [-kSmallInteger, kSmallInteger] find their index in a pool's numbers without hashing.
+constexpr std::int64_t kSmallInteger = 16;
 
 // A sum or product with more operands than this is not flattened into its parent: it stays one
 // opaque operand. Without the cap, building a deep chain one operation at a time (or
@@ -74,10 +80,46 @@ bool is_binary_function(Op op) {
   }
 }
 
-// The arena's storage: a vector whose elements never move. Chunk k holds kFirst·2^k elements, so
+// The arena's node, operand and factor arrays: a growable array of trivially copyable elements,
+// indexed with one load (no chunk arithmetic). Growing reallocates (large blocks are remapped by
+// the allocator, not copied), so element addresses are not stable: hold ids, never a Node& across
+// a call that may build a node. A fresh pool's arrays start small and allocate on first use.
+template <class T>
+class PodVector {
+  static_assert(std::is_trivially_copyable_v<T>);
+
+ public:
+  PodVector() = default;
+  PodVector(const PodVector&) = delete;
+  PodVector& operator=(const PodVector&) = delete;
+  ~PodVector() { std::free(data_); }
+
+  [[nodiscard]] std::size_t size() const { return size_; }
+  T& operator[](std::size_t i) { return data_[i]; }
+  const T& operator[](std::size_t i) const { return data_[i]; }
+  [[nodiscard]] const T* data() const { return data_; }
+  void push_back(const T& value) {
+    if (size_ == capacity_) grow();
+    data_[size_++] = value;
+  }
+  void shrink_to(std::size_t size) { size_ = size; }  // size <= size()
+
+ private:
+  void grow() {
+    const std::size_t capacity = capacity_ == 0 ? 16 : capacity_ * 2;
+    void* data = std::realloc(static_cast<void*>(data_), capacity * sizeof(T));
+    if (data == nullptr) throw std::bad_alloc();
+    data_ = static_cast<T*>(data);
+    capacity_ = capacity;
+  }
+  T* data_{nullptr};
+  std::size_t size_{0}, capacity_{0};
+};
+
+// The pool's numbers: a vector whose elements never move. Chunk k holds kFirst·2^k elements, so
 // element i lives in chunk bit_width(i / kFirst + 1) - 1; growing allocates a new chunk instead
-// of copying, so references into the arena (Expr::constant(), Expr::factor()) stay valid while
-// nodes are built, for the pool's whole life, and a large pool is never copied.
+// of copying, so references to its Numbers (Expr::constant(), Expr::factor()) stay valid for the
+// pool's whole life.
 template <class T>
 class StableVector {
  public:
@@ -91,11 +133,9 @@ class StableVector {
     }
     at(size_++) = std::move(value);
   }
-  void pop_back() { --size_; }
-  void shrink_to(std::size_t size) { size_ = size; }  // size <= size()
 
  private:
-  static constexpr std::size_t kFirst = 64;
+  static constexpr std::size_t kFirst = 16;
   T& at(std::size_t i) {
     const std::size_t biased =
         i + kFirst;  // chunk k holds biased indices [kFirst·2^k, kFirst·2^(k+1))
@@ -107,99 +147,203 @@ class StableVector {
 };
 
 // Node layout. Invariants (checked by ExprPool::check_invariants):
-//  * operands of node n are operand_ids[begin, begin + count) with parallel factors; every operand
-//    id is smaller than n (the arena is topologically ordered: children are built first);
+//  * operands of node n are operand_ids[begin, begin + count) with parallel factor_ids (indices
+//    into numbers); every operand id is smaller than n (the arena is topologically ordered:
+//    children are built first);
+//  * number and factor_ids index `numbers`, which holds each distinct Number (by ==) once, so
+//    two nodes are structurally equal iff their ops, number indices, operand ids and factor
+//    indices are equal;
 //  * Constant: count == 0, number is the value. Variable: count == 0, begin is the index into
 //    names. Add/Mul: the canonical forms of expr.hpp (operands sorted strictly by id, no zero
 //    exponent; no zero coefficient except on a partial term, a domain guard). Functions and
 //    Pow: factors are all one;
 //  * partial: some real values of the variables are outside the node's domain (computed from
 //    the op and the operands on construction: see partial_node());
-//  * the hash table holds every node id exactly once, at the probe sequence of its hash, with
-//    the hash's upper 32 bits as its tag (a probe reads a node only when the tags match, so a
-//    lookup in a large pool costs one cache miss, not one per probe).
-struct Node {  // 72 bytes: the widest members first
-  Number number;
-  std::size_t hash;
+//  * the node table holds every node id exactly once, under the 32-bit key of its node_hash();
+//    the variable table every Variable node's id, under the key of its name; the number table
+//    every index into numbers except the small integers', under the key of its Number::hash().
+struct Node {  // 16 bytes
   std::uint32_t begin;
   std::uint32_t count;
+  std::uint32_t number;  // index into numbers
   Op op;
   bool partial{false};
+  bool has_parent{false};  // some node has this one as an operand
 };
 
-struct ExprPool::Impl {
-  StableVector<Node> nodes;
-  StableVector<std::uint32_t> operand_ids;
-  StableVector<Number> factors;
-  std::vector<std::string> names;
-  std::unordered_map<std::string, std::uint32_t> variable_by_name;
+// A set of ids under 32-bit keys (hashes): open addressing with linear probing over a power-of-two
+// number of slots, at most half full. A slot keeps its id's key, whose low bits place it and whose
+// 32 bits filter a probe (a lookup in a large table reads one slot's cache line and, unless
+// keys collide, only the id it is after), and growing re-places slots by their keys, reading
+// nothing else. Invariant: every id is in the probe sequence that starts at its key's home slot.
+class HashIndex {
+ public:
   struct Slot {
     std::uint32_t id{kEmptySlot};
-    std::uint32_t tag{0};
+    std::uint32_t key{0};
   };
-  static std::uint32_t tag_of(std::size_t hash) { return static_cast<std::uint32_t>(hash >> 32); }
-  std::vector<Slot> table = std::vector<Slot>(1024);
+  explicit HashIndex(std::size_t slots = 0) : slots_(slots) {}
+  [[nodiscard]] std::size_t slot_count() const { return slots_.size(); }
+  [[nodiscard]] const Slot& slot(std::size_t s) const { return slots_[s]; }
+  [[nodiscard]] std::size_t home(std::uint32_t key) const { return key & (slots_.size() - 1); }
+  [[nodiscard]] std::size_t next(std::size_t s) const { return (s + 1) & (slots_.size() - 1); }
+  void prefetch(std::uint32_t key) const {
+    if (!slots_.empty()) __builtin_prefetch(&slots_[home(key)]);
+  }
+  // The id under `key` for which is(id) holds, or kEmptySlot.
+  template <class Is>
+  std::uint32_t find(std::uint32_t key, Is&& is) const {
+    if (slots_.empty()) return kEmptySlot;
+    for (std::size_t s = home(key); slots_[s].id != kEmptySlot; s = next(s)) {
+      if (slots_[s].key == key && is(slots_[s].id)) return slots_[s].id;
+    }
+    return kEmptySlot;
+  }
+  // Adds `id` (not present) under `key`, then doubles the slots if more than half full.
+  void insert(std::uint32_t id, std::uint32_t key) {
+    if (slots_.empty()) slots_.resize(16);
+    std::size_t s = home(key);
+    while (slots_[s].id != kEmptySlot) s = next(s);
+    slots_[s] = {id, key};
+    if (++count_ * 2 > slots_.size()) grow();
+  }
+
+ private:
+  void grow() {
+    if (slots_.size() >= (std::size_t{1} << 32)) return;  // 32-bit keys place no further
+    std::vector<Slot> old = std::exchange(slots_, std::vector<Slot>(slots_.size() * 2));
+    for (const Slot& slot : old) {
+      if (slot.id == kEmptySlot) continue;
+      std::size_t s = home(slot.key);
+      while (slots_[s].id != kEmptySlot) s = next(s);
+      slots_[s] = slot;
+    }
+  }
+  std::vector<Slot> slots_;
+  std::size_t count_{0};
+};
+
+// The 32-bit key of a 64-bit hash (mix() leaves its best bits on top).
+inline std::uint32_t key_of(std::size_t hash) { return static_cast<std::uint32_t>(hash >> 32); }
+
+struct ExprPool::Impl {
+  PodVector<Node> nodes;
+  PodVector<std::uint32_t> operand_ids;
+  PodVector<std::uint32_t> factor_ids;  // indices into numbers, parallel to operand_ids
+  StableVector<Number> numbers;         // each distinct Number once
+  std::vector<std::string> names;
+  HashIndex table{16};   // node ids, by node_hash()
+  HashIndex variables;   // Variable node ids, by name_key()
+  HashIndex number_ids;  // indices into numbers, by number_key(), except...
+  std::uint32_t small_integers[2 * kSmallInteger + 1]{};  // ...-16..16: index + 1, or 0 if new
   // Traversal marks: node n is visited in the current traversal iff marks[n] == epoch.
   std::vector<std::uint32_t> marks;
   std::uint32_t epoch = 0;
 
-  // Whether node `id` is (op, number, operands [begin, begin + count) or var_index) with `hash`.
-  bool matches(std::uint32_t id, Op op, const Number& number, std::size_t hash, std::uint32_t begin,
+  // The index of `value` in numbers, adding it if new.
+  std::uint32_t number_index(const Number& value) {
+    if (is_small_integer(value)) return number_index_of_small(value.numerator());
+    const std::uint32_t key = number_key(value);
+    std::uint32_t index = find_number(value, key);
+    if (index == kEmptySlot) {
+      index = add_number(value);
+      number_ids.insert(index, key);
+    }
+    return index;
+  }
+  static bool is_small_integer(const Number& value) {
+    return value.is_integer() && value.numerator() >= -kSmallInteger &&
+           value.numerator() <= kSmallInteger;
+  }
+  static std::uint32_t number_key(const Number& value) { return key_of(mix(0, value.hash())); }
+  // The index of `value` (not a small integer) in numbers, or kEmptySlot.
+  std::uint32_t find_number(const Number& value, std::uint32_t key) const {
+    return number_ids.find(key, [&](std::uint32_t i) { return numbers[i] == value; });
+  }
+  std::uint32_t add_number(const Number& value) {
+    numbers.push_back(value);
+    return static_cast<std::uint32_t>(numbers.size() - 1);
+  }
+  std::uint32_t one_index() { return number_index_of_small(1); }
+  std::uint32_t number_index_of_small(std::int64_t value) {
+    std::uint32_t& known = small_integers[value + kSmallInteger];
+    if (known == 0) known = add_number(Number::integer(value)) + 1;
+    return known - 1;
+  }
+  static std::uint32_t name_key(std::string_view name) {
+    return key_of(mix(0, std::hash<std::string_view>{}(name)));
+  }
+  // The Variable node named `name`, or kEmptySlot.
+  std::uint32_t find_variable(std::string_view name, std::uint32_t key) const {
+    return variables.find(key, [&](std::uint32_t id) { return names[nodes[id].begin] == name; });
+  }
+  const Number& number_of(const Node& node) const { return numbers[node.number]; }
+  const Number& factor(std::size_t i) const { return numbers[factor_ids[i]]; }
+  // Appends an operand of a node under construction.
+  void push_operand(std::uint32_t id, std::uint32_t factor_index) {
+    operand_ids.push_back(id);
+    factor_ids.push_back(factor_index);
+  }
+
+  // The hash of node (op, number, operands [begin, begin + count) or var_index).
+  std::size_t node_hash(Op op, std::uint32_t number, std::uint32_t begin, std::uint32_t count,
+                        std::uint32_t var_index) const {
+    std::size_t h = mix(static_cast<std::size_t>(op), number);
+    if (op == Op::kVariable) h = mix(h, var_index);
+    for (std::uint32_t i = begin; i < begin + count; ++i) {
+      h = mix(h, (static_cast<std::size_t>(factor_ids[i]) << 32) | operand_ids[i]);
+    }
+    return h;
+  }
+  std::size_t node_hash(std::uint32_t id) const {
+    const Node& n = nodes[id];
+    return node_hash(n.op, n.number, n.begin, n.count, n.begin);
+  }
+
+  // Whether node `id` is (op, number, operands [begin, begin + count) or var_index).
+  bool matches(std::uint32_t id, Op op, std::uint32_t number, std::uint32_t begin,
                std::uint32_t count, std::uint32_t var_index) const {
     const Node& x = nodes[id];
-    if (x.hash != hash || x.op != op || x.count != count || !(x.number == number)) return false;
+    if (x.op != op || x.count != count || x.number != number) return false;
     if (op == Op::kVariable) return x.begin == var_index;
-    for (std::uint32_t i = 0; i < count; ++i) {
-      if (operand_ids[x.begin + i] != operand_ids[begin + i] ||
-          !(factors[x.begin + i] == factors[begin + i])) {
-        return false;
-      }
-    }
-    return true;
+    return std::equal(operand_ids.data() + x.begin, operand_ids.data() + x.begin + count,
+                      operand_ids.data() + begin) &&
+           std::equal(factor_ids.data() + x.begin, factor_ids.data() + x.begin + count,
+                      factor_ids.data() + begin);
   }
   bool same_node(std::uint32_t a, std::uint32_t b) const {
     const Node& y = nodes[b];
-    return matches(a, y.op, y.number, y.hash, y.begin, y.count, y.begin);
-  }
-
-  std::size_t slot_of(std::size_t hash) const { return hash & (table.size() - 1); }
-
-  void grow_table() {
-    table.assign(table.size() * 2, Slot{});
-    for (std::uint32_t id = 0; id < nodes.size(); ++id) {  // in id order: nodes read in sequence
-      std::size_t s = slot_of(nodes[id].hash);
-      while (table[s].id != kEmptySlot) s = (s + 1) & (table.size() - 1);
-      table[s] = {id, tag_of(nodes[id].hash)};
-    }
+    return matches(a, y.op, y.number, y.begin, y.count, y.begin);
   }
 
   // Returns the id of the node (op, number, operands...), creating it if no equal node exists.
-  // `begin` marks where its operands were appended to operand_ids/factors; a duplicate's operands
-  // are popped again.
-  std::uint32_t intern(Op op, const Number& number, std::uint32_t begin, std::uint32_t var_index) {
+  // `begin` marks where its operands were appended to operand_ids/factor_ids; a duplicate's
+  // operands are popped again.
+  std::uint32_t intern(Op op, std::uint32_t number, std::uint32_t begin, std::uint32_t var_index) {
     const auto count = static_cast<std::uint32_t>(operand_ids.size() - begin);
-    std::size_t h = mix(static_cast<std::size_t>(op), number.hash());
-    if (op == Op::kVariable) h = mix(h, var_index);
-    for (std::uint32_t i = begin; i < begin + count; ++i) {
-      h = mix(mix(h, operand_ids[i]), factors[i].hash());
+    const std::uint32_t key = key_of(node_hash(op, number, begin, count, var_index));
+    table.prefetch(key);  // the one cache miss of a lookup in a large pool
+    // A node with an operand that is no node's operand yet is new: no lookup. (Inserting it still
+    // reads its slot, but nothing waits for that read.) In a growing chain most nodes are.
+    bool fresh = false;
+    for (std::uint32_t i = begin; i < begin + count && !fresh; ++i) {
+      fresh = !nodes[operand_ids[i]].has_parent;
     }
-    std::size_t s = slot_of(h);
-    __builtin_prefetch(&table[s]);  // the one cache miss of a lookup in a large pool
-    const std::uint32_t tag = tag_of(h);
-    while (table[s].id != kEmptySlot) {
-      if (table[s].tag == tag && matches(table[s].id, op, number, h, begin, count, var_index)) {
+    if (!fresh) {
+      const std::uint32_t found = table.find(
+          key, [&](std::uint32_t id) { return matches(id, op, number, begin, count, var_index); });
+      if (found != kEmptySlot) {
         operand_ids.shrink_to(begin);
-        factors.shrink_to(begin);
-        return table[s].id;
+        factor_ids.shrink_to(begin);
+        return found;
       }
-      s = (s + 1) & (table.size() - 1);
     }
     if (nodes.size() >= 0xFFFFFFF0u) throw SymbolicError("expression pool is full (2^32 nodes)");
     const auto candidate = static_cast<std::uint32_t>(nodes.size());
-    nodes.push_back(Node{number, h, op == Op::kVariable ? var_index : begin, count, op,
+    nodes.push_back(Node{op == Op::kVariable ? var_index : begin, count, number, op,
                          partial_node(op, begin, count)});
-    table[s] = {candidate, tag};
-    if (nodes.size() * 2 > table.size()) grow_table();
+    for (std::uint32_t i = begin; i < begin + count; ++i) nodes[operand_ids[i]].has_parent = true;
+    table.insert(candidate, key);
     return candidate;
   }
 
@@ -228,9 +372,9 @@ struct ExprPool::Impl {
       const Node& operand = nodes[operand_ids[i]];
       if (operand.partial) return true;
       if (op != Op::kMul) continue;
-      const Number& exponent = factors[i];
+      const Number& exponent = factor(i);
       if (operand.op == Op::kConstant) {
-        if (!exponent.is_integer() && operand.number.sign() <= 0) return true;
+        if (!exponent.is_integer() && number_of(operand).sign() <= 0) return true;
       } else if (exponent.is_negative() || !exponent.is_integer()) {
         return true;
       }
@@ -238,7 +382,7 @@ struct ExprPool::Impl {
     return false;
   }
 
-  std::uint32_t intern_leaf(Op op, const Number& number, std::uint32_t var_index = 0) {
+  std::uint32_t intern_leaf(Op op, std::uint32_t number, std::uint32_t var_index = 0) {
     return intern(op, number, static_cast<std::uint32_t>(operand_ids.size()), var_index);
   }
 };
@@ -247,7 +391,7 @@ struct ExprPool::Impl {
 // Expr accessors
 
 Op Expr::op() const { return pool_->impl_->nodes[id_].op; }
-const Number& Expr::constant() const { return pool_->impl_->nodes[id_].number; }
+const Number& Expr::constant() const { return pool_->impl_->number_of(pool_->impl_->nodes[id_]); }
 const std::string& Expr::name() const {
   const Node& n = pool_->impl_->nodes[id_];
   if (n.op != Op::kVariable) throw std::logic_error("Expr::name() of a non-variable");
@@ -259,7 +403,7 @@ Expr Expr::operand(std::size_t i) const {
 }
 bool Expr::is_partial() const { return pool_->impl_->nodes[id_].partial; }
 const Number& Expr::factor(std::size_t i) const {
-  return pool_->impl_->factors[pool_->impl_->nodes[id_].begin + i];
+  return pool_->impl_->factor(pool_->impl_->nodes[id_].begin + i);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -271,7 +415,7 @@ ExprPool::~ExprPool() = default;
 std::size_t ExprPool::size() const { return impl_->nodes.size(); }
 
 Expr ExprPool::constant(const Number& value) {
-  return Expr(this, impl_->intern_leaf(Op::kConstant, value));
+  return Expr(this, impl_->intern_leaf(Op::kConstant, impl_->number_index(value)));
 }
 
 Expr ExprPool::variable(std::string_view name) {
@@ -284,14 +428,15 @@ Expr ExprPool::variable(std::string_view name) {
                         "': use a letter or '_' followed by letters, digits or '_'" +
                         (ascii ? "" : std::string("; ") + kAsciiHint));
   }
-  const std::string key(name);
-  auto it = impl_->variable_by_name.find(key);
-  if (it == impl_->variable_by_name.end()) {
-    const auto index = static_cast<std::uint32_t>(impl_->names.size());
-    impl_->names.push_back(key);
-    it = impl_->variable_by_name.emplace(key, index).first;
-  }
-  return Expr(this, impl_->intern_leaf(Op::kVariable, Number(), it->second));
+  Impl& m = *impl_;
+  const std::uint32_t key = Impl::name_key(name);
+  std::uint32_t id = m.find_variable(name, key);
+  if (id != kEmptySlot) return Expr(this, id);
+  const auto index = static_cast<std::uint32_t>(m.names.size());
+  m.names.emplace_back(name);
+  id = m.intern_leaf(Op::kVariable, m.number_index_of_small(0), index);
+  m.variables.insert(id, key);
+  return Expr(this, id);
 }
 
 std::vector<Expr> ExprPool::variables() const {
@@ -331,6 +476,16 @@ void sort_and_merge(std::vector<Entry>& entries, std::vector<Entry>& spilled, Ke
   }
   std::size_t out = 0;
   for (std::size_t i = 0; i < entries.size();) {
+    // A lone rational entry is its own total (the loop below would add it to zero).
+    if ((i + 1 == entries.size() || entries[i + 1].first != entries[i].first) &&
+        entries[i].second.is_rational()) {
+      if (!entries[i].second.is_zero() || keep_zero(entries[i].first)) {
+        if (out != i) entries[out] = std::move(entries[i]);
+        ++out;
+      }
+      ++i;
+      continue;
+    }
     Number total;
     bool any = false;
     std::size_t j = i;
@@ -406,30 +561,30 @@ Expr ExprPool::sum(const Number& constant, std::span<const Term> terms) {
     const Node& node = impl_->nodes[term.expr.id_];
     switch (node.op) {
       case Op::kConstant:
-        if (!node.number.is_rational()) {
+        if (!impl_->number_of(node).is_rational()) {
           entries.emplace_back(term.expr.id_, term.factor);
           break;
         }
-        fold(term.factor * node.number);
+        fold(term.factor * impl_->number_of(node));
         break;
       case Op::kAdd:
         if (node.count > kFlattenLimit) {
           entries.emplace_back(term.expr.id_, term.factor);
           break;
         }
-        fold(term.factor * node.number);
+        fold(term.factor * impl_->number_of(node));
         for (std::uint32_t i = node.begin; i < node.begin + node.count; ++i) {
-          entries.emplace_back(impl_->operand_ids[i], term.factor * impl_->factors[i]);
+          entries.emplace_back(impl_->operand_ids[i], term.factor * impl_->factor(i));
         }
         break;
       case Op::kMul:
-        if (!node.number.is_one()) {
+        if (!impl_->number_of(node).is_one()) {
           // c·Π b^e as a term: the coefficient moves into the term's factor.
-          const Number coefficient = node.number;
+          const Number coefficient = impl_->number_of(node);
           std::vector<Term> bases;
           bases.reserve(node.count);
           for (std::uint32_t i = node.begin; i < node.begin + node.count; ++i) {
-            bases.push_back({Expr(this, impl_->operand_ids[i]), impl_->factors[i]});
+            bases.push_back({Expr(this, impl_->operand_ids[i]), impl_->factor(i)});
           }
           const Expr unit = product(Number::integer(1), bases);
           entries.emplace_back(unit.id_, term.factor * coefficient);
@@ -463,10 +618,9 @@ Expr ExprPool::sum(const Number& constant, std::span<const Term> terms) {
   }
   const auto begin = static_cast<std::uint32_t>(impl_->operand_ids.size());
   for (const Entry& e : entries) {
-    impl_->operand_ids.push_back(e.first);
-    impl_->factors.push_back(e.second);
+    impl_->push_operand(e.first, impl_->number_index(e.second));
   }
-  return Expr(this, impl_->intern(Op::kAdd, c0, begin, 0));
+  return Expr(this, impl_->intern(Op::kAdd, impl_->number_index(c0), begin, 0));
 }
 
 namespace {
@@ -512,7 +666,7 @@ Expr ExprPool::product(const Number& coefficient, std::span<const Term> factors)
   std::vector<Expr> guards;
   const auto all_factors_zero = [&](const Node& node) {
     for (std::uint32_t i = node.begin; i < node.begin + node.count; ++i)
-      if (!impl_->factors[i].is_zero()) return false;
+      if (!impl_->factor(i).is_zero()) return false;
     return true;
   };
   for (const Term& factor : factors) {
@@ -523,12 +677,12 @@ Expr ExprPool::product(const Number& coefficient, std::span<const Term> factors)
       if (node.partial) guards.push_back(factor.expr);
       continue;
     }
-    const bool rational_constant = node.op == Op::kConstant && node.number.is_rational();
+    const bool rational_constant = node.op == Op::kConstant && impl_->number_of(node).is_rational();
     if (rational_constant && e.is_integer()) {
-      fold(node.number, e.numerator());
-    } else if (rational_constant && node.number.is_one()) {
+      fold(impl_->number_of(node), e.numerator());
+    } else if (rational_constant && impl_->number_of(node).is_one()) {
       continue;
-    } else if (node.op == Op::kAdd && node.number.is_zero() && e.is_integer() &&
+    } else if (node.op == Op::kAdd && impl_->number_of(node).is_zero() && e.is_integer() &&
                e.numerator() > 0 && all_factors_zero(node)) {
       // A guard sum 0·t1 + ... (zero wherever defined) to a positive power: the product is zero
       // and the t_i join its factors as the domain guard, as the parser reads "(0*t)*c" (0*t*c).
@@ -538,9 +692,9 @@ Expr ExprPool::product(const Number& coefficient, std::span<const Term> factors)
         required.emplace_back(impl_->operand_ids[i], 0);
       }
     } else if (node.op == Op::kMul && e.is_integer() && node.count <= kFlattenLimit) {
-      fold(node.number, e.numerator());
+      fold(impl_->number_of(node), e.numerator());
       for (std::uint32_t i = node.begin; i < node.begin + node.count; ++i) {
-        const Number inner = impl_->factors[i];
+        const Number inner = impl_->factor(i);
         entries.emplace_back(impl_->operand_ids[i], e * inner);
         required.emplace_back(impl_->operand_ids[i],
                               domain_of_exponent(inner) | domain_of_exponent(e * inner));
@@ -576,7 +730,7 @@ Expr ExprPool::product(const Number& coefficient, std::span<const Term> factors)
     const int kept = present && merged->second.is_rational() ? domain_of_exponent(merged->second)
                                                              : (present ? needed : 0);
     const Node& base = impl_->nodes[id];
-    if (base.op == Op::kConstant) needed &= base.number.sign() <= 0 ? kNonNegative : 0;
+    if (base.op == Op::kConstant) needed &= impl_->number_of(base).sign() <= 0 ? kNonNegative : 0;
     const int lost = needed & ~kept;
     if (lost != 0) {
       const Number exponent = lost == (kNonZero | kNonNegative) ? Number::rational(-1, 2)
@@ -590,10 +744,11 @@ Expr ExprPool::product(const Number& coefficient, std::span<const Term> factors)
   // Merging may give a constant base an integer exponent (2^(1/2)·2^(1/2) = 2): fold it.
   std::erase_if(entries, [&](const Entry& entry) {
     const Node& node = impl_->nodes[entry.first];
-    if (node.op != Op::kConstant || !node.number.is_rational() || !entry.second.is_integer()) {
+    if (node.op != Op::kConstant || !impl_->number_of(node).is_rational() ||
+        !entry.second.is_integer()) {
       return false;
     }
-    fold(node.number, entry.second.numerator());
+    fold(impl_->number_of(node), entry.second.numerator());
     return true;
   });
   if (c.is_zero()) return zero();
@@ -628,10 +783,9 @@ Expr ExprPool::product(const Number& coefficient, std::span<const Term> factors)
     }
     const auto begin = static_cast<std::uint32_t>(impl_->operand_ids.size());
     for (const Entry& e : entries) {
-      impl_->operand_ids.push_back(e.first);
-      impl_->factors.push_back(e.second);
+      impl_->push_operand(e.first, impl_->number_index(e.second));
     }
-    return Expr(this, impl_->intern(Op::kMul, c, begin, 0));
+    return Expr(this, impl_->intern(Op::kMul, impl_->number_index(c), begin, 0));
   }();
   if (guards.empty()) return result;
   std::vector<Term> guarded{{result, Number::integer(1)}};
@@ -677,11 +831,9 @@ Expr ExprPool::power(Expr base, Expr exponent) {
     return sum(Number::integer(1), guard);
   }
   const auto begin = static_cast<std::uint32_t>(impl_->operand_ids.size());
-  impl_->operand_ids.push_back(base.id_);
-  impl_->factors.push_back(Number::integer(1));
-  impl_->operand_ids.push_back(exponent.id_);
-  impl_->factors.push_back(Number::integer(1));
-  return Expr(this, impl_->intern(Op::kPow, Number(), begin, 0));
+  impl_->push_operand(base.id_, impl_->one_index());
+  impl_->push_operand(exponent.id_, impl_->one_index());
+  return Expr(this, impl_->intern(Op::kPow, impl_->number_index_of_small(0), begin, 0));
 }
 
 Expr ExprPool::function(Op op, Expr argument) {
@@ -719,9 +871,8 @@ Expr ExprPool::function(Op op, Expr argument) {
     }
   }
   const auto begin = static_cast<std::uint32_t>(impl_->operand_ids.size());
-  impl_->operand_ids.push_back(argument.id_);
-  impl_->factors.push_back(Number::integer(1));
-  return Expr(this, impl_->intern(op, Number(), begin, 0));
+  impl_->push_operand(argument.id_, impl_->one_index());
+  return Expr(this, impl_->intern(op, impl_->number_index_of_small(0), begin, 0));
 }
 
 Expr ExprPool::function(Op op, Expr first, Expr second) {
@@ -741,10 +892,9 @@ Expr ExprPool::function(Op op, Expr first, Expr second) {
   }
   const auto begin = static_cast<std::uint32_t>(impl_->operand_ids.size());
   for (Expr e : {first, second}) {
-    impl_->operand_ids.push_back(e.id_);
-    impl_->factors.push_back(Number::integer(1));
+    impl_->push_operand(e.id_, impl_->one_index());
   }
-  return Expr(this, impl_->intern(op, Number(), begin, 0));
+  return Expr(this, impl_->intern(op, impl_->number_index_of_small(0), begin, 0));
 }
 
 void ExprPool::check_invariants() const {
@@ -752,8 +902,20 @@ void ExprPool::check_invariants() const {
   auto fail = [](std::uint32_t id, const std::string& what) {
     throw std::logic_error("expression node " + std::to_string(id) + ": " + what);
   };
+  std::vector<bool> has_parent(m.nodes.size(), false);
   for (std::uint32_t id = 0; id < m.nodes.size(); ++id) {
     const Node& n = m.nodes[id];
+    for (std::uint32_t i = n.begin; n.op != Op::kVariable && i < n.begin + n.count; ++i) {
+      if (m.operand_ids[i] < has_parent.size()) has_parent[m.operand_ids[i]] = true;
+    }
+  }
+  for (std::uint32_t id = 0; id < m.nodes.size(); ++id) {
+    const Node& n = m.nodes[id];
+    if (n.has_parent != has_parent[id]) fail(id, "wrong has_parent flag");
+    if (n.number >= m.numbers.size()) fail(id, "number index out of range");
+    for (std::uint32_t i = n.begin; n.op != Op::kVariable && i < n.begin + n.count; ++i) {
+      if (m.factor_ids[i] >= m.numbers.size()) fail(id, "factor index out of range");
+    }
     if (n.op == Op::kVariable || n.op == Op::kConstant) {
       if (n.count != 0) fail(id, "leaf with operands");
     } else {
@@ -763,56 +925,71 @@ void ExprPool::check_invariants() const {
             m.operand_ids[i] <= m.operand_ids[i - 1]) {
           fail(id, "operands not strictly sorted by id");
         }
-        if (m.factors[i].is_zero() && !(n.op == Op::kAdd && m.nodes[m.operand_ids[i]].partial)) {
+        if (m.factor(i).is_zero() && !(n.op == Op::kAdd && m.nodes[m.operand_ids[i]].partial)) {
           fail(id, "zero coefficient (on a term defined everywhere) or exponent");
         }
         const Node& child = m.nodes[m.operand_ids[i]];
         if (n.op == Op::kAdd) {
-          if (child.op == Op::kConstant && child.number.is_rational())
+          if (child.op == Op::kConstant && m.number_of(child).is_rational())
             fail(id, "constant sum term");
           if (child.op == Op::kAdd && child.count <= kFlattenLimit)
             fail(id, "unflattened sum term");
-          if (child.op == Op::kMul && !child.number.is_one()) fail(id, "sum term with coefficient");
+          if (child.op == Op::kMul && !m.number_of(child).is_one())
+            fail(id, "sum term with coefficient");
         }
         if (n.op == Op::kMul) {
-          if (child.op == Op::kConstant && child.number.is_rational() &&
-              m.factors[i].is_integer()) {
+          if (child.op == Op::kConstant && m.number_of(child).is_rational() &&
+              m.factor(i).is_integer()) {
             fail(id, "unfolded constant");
           }
-          if (child.op == Op::kMul && m.factors[i].is_integer() && child.count <= kFlattenLimit) {
+          if (child.op == Op::kMul && m.factor(i).is_integer() && child.count <= kFlattenLimit) {
             fail(id, "unflattened product");
           }
         }
       }
     }
-    if ((n.op == Op::kAdd || n.op == Op::kMul) && !n.number.is_rational()) {
+    if ((n.op == Op::kAdd || n.op == Op::kMul) && !m.number_of(n).is_rational()) {
       fail(id, "real constant folded into a sum or product");
     }
-    if (n.op == Op::kAdd &&
-        (n.count == 0 || (n.count == 1 && n.number.is_zero() && !m.factors[n.begin].is_zero()))) {
+    if (n.op == Op::kAdd && (n.count == 0 || (n.count == 1 && m.number_of(n).is_zero() &&
+                                              !m.factor(n.begin).is_zero()))) {
       fail(id, "degenerate sum");
     }
     if (n.op == Op::kMul) {
-      if (n.count == 0 || n.number.is_zero()) fail(id, "degenerate product");
-      if (n.count == 1 && n.number.is_one() && m.factors[n.begin].is_one())
+      if (n.count == 0 || m.number_of(n).is_zero()) fail(id, "degenerate product");
+      if (n.count == 1 && m.number_of(n).is_one() && m.factor(n.begin).is_one())
         fail(id, "trivial product");
     }
     if (n.op == Op::kPow) {
       const Node& exponent = m.nodes[m.operand_ids[n.begin + 1]];
       if (exponent.op == Op::kConstant &&
-          (exponent.number.is_rational() || std::signbit(exponent.number.value())))
+          (m.number_of(exponent).is_rational() || std::signbit(m.number_of(exponent).value())))
         fail(id, "Pow with a rational or negative real constant exponent");
     }
     if (n.partial != m.partial_node(n.op, n.begin, n.count)) fail(id, "wrong partial flag");
-    std::size_t s = m.slot_of(n.hash);
-    while (m.table[s].id != id) {
-      if (m.table[s].id == kEmptySlot) fail(id, "missing from the hash-consing table");
-      if (m.same_node(m.table[s].id, id)) {
-        fail(id, "duplicate of node " + std::to_string(m.table[s].id));
-      }
-      s = (s + 1) & (m.table.size() - 1);
+    const std::uint32_t key = key_of(m.node_hash(id));
+    std::size_t s = m.table.home(key);
+    for (; m.table.slot(s).id != id; s = m.table.next(s)) {
+      const std::uint32_t other = m.table.slot(s).id;
+      if (other == kEmptySlot) fail(id, "missing from the hash-consing table");
+      if (m.same_node(other, id)) fail(id, "duplicate of node " + std::to_string(other));
     }
-    if (m.table[s].tag != ExprPool::Impl::tag_of(n.hash)) fail(id, "wrong tag in the table");
+    if (m.table.slot(s).key != key) fail(id, "wrong key in the table");
+    if (n.op == Op::kVariable &&
+        m.find_variable(m.names[n.begin], ExprPool::Impl::name_key(m.names[n.begin])) != id) {
+      fail(id, "variable missing from the table of names");
+    }
+  }
+  // numbers: each distinct value once, found by its index.
+  for (std::uint32_t i = 0; i < m.numbers.size(); ++i) {
+    const Number& value = m.numbers[i];
+    const std::uint32_t found = ExprPool::Impl::is_small_integer(value)
+                                    ? m.small_integers[value.numerator() + kSmallInteger] - 1
+                                    : m.find_number(value, ExprPool::Impl::number_key(value));
+    if (found != i) {
+      throw std::logic_error("pool number " + std::to_string(i) + " (" + value.to_string() +
+                             ") stored twice or missing from its table");
+    }
   }
 }
 
