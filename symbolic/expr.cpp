@@ -321,6 +321,24 @@ struct ExprPool::Impl {
     return variables.find(key, [&](std::uint32_t id) { return names[nodes[id].begin] == name; });
   }
   const Number& number_of(const Node& node) const { return numbers[node.number]; }
+  // An upper bound on the entries sum() (op Add) or product() (op Mul) collects from `terms`:
+  // the operands of the sums or products it flattens (and of a product's guard sums, 0·t + ...),
+  // one entry for every other term.
+  std::size_t flattened_size(std::span<const Term> terms, Op op, const ExprPool* pool) const {
+    std::size_t size = 0;
+    for (const Term& term : terms) {
+      std::size_t entries = 1;
+      if (!term.expr.is_null() && &term.expr.pool() == pool) {
+        const Node& node = nodes[term.expr.id()];
+        if ((node.op == op && node.count <= kFlattenLimit) ||
+            (op == Op::kMul && node.op == Op::kAdd && number_of(node).is_zero())) {
+          entries = std::max<std::size_t>(node.count, 1);
+        }
+      }
+      size += entries;
+    }
+    return size;
+  }
   const Number& factor(std::size_t i) const { return numbers[factor_ids[i]]; }
   // Appends an operand of a node under construction.
   void push_operand(std::uint32_t id, std::uint32_t factor_index) {
@@ -592,7 +610,7 @@ Expr ExprPool::sum(const Number& constant, std::span<const Term> terms) {
     }
   };
   std::vector<Entry> entries;
-  entries.reserve(terms.size());
+  entries.reserve(impl_->flattened_size(terms, Op::kAdd, this));
   for (const Term& original : terms) {
     if (original.expr.pool_ != this) throw SymbolicError("expressions from different pools mixed");
     if (original.factor.is_zero() && !impl_->nodes[original.expr.id_].partial) continue;
@@ -703,11 +721,12 @@ Expr ExprPool::product(const Number& coefficient, std::span<const Term> factors)
     }
   };
   std::vector<Entry> entries;
-  entries.reserve(factors.size());
+  entries.reserve(impl_->flattened_size(factors, Op::kMul, this));
   // Domains: what the exponents of each base required (kNonZero / kNonNegative), and the
   // guards, partial factors that folding removes: they come back as 0·guard terms so the result
   // stays undefined where the input was (x/x is 1 + 0·x^-1, 0·log(x) is 0·log(x)).
   std::vector<std::pair<std::uint32_t, int>> required;
+  required.reserve(entries.capacity());
   std::vector<Expr> guards;
   const auto all_factors_zero = [&](const Node& node) {
     for (std::uint32_t i = node.begin; i < node.begin + node.count; ++i)
