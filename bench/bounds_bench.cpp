@@ -8,6 +8,7 @@
 // growing bisection hints; its enclosure and time are set against spar's on the same record, and
 // Gappa's start-up on a trivial goal is timed apart. Skipped, with a note, if gappa is missing.
 // Usage: bounds_bench [--quick] [--per-record] [--tol T] [--no-gappa] [--gappa-only]
+//                     [--record NAME]   (only the corpus records named NAME)
 //   --tol T: the full pipeline's tolerance (default 1e-3, the corpus test's; 5e-4 puts the whole
 //   enclosure within 0.1% of the attained range)
 #include <mpfi.h>
@@ -684,12 +685,14 @@ void run_large(bool quick) {
 int main(int argc, char** argv) {
   bool quick = false, per_record = false, gappa = true, gappa_only = false;
   double tolerance = BoundOptions{}.tolerance;
+  std::string only_record;
   for (int i = 1; i < argc; ++i) {
     quick = quick || std::strcmp(argv[i], "--quick") == 0;
     per_record = per_record || std::strcmp(argv[i], "--per-record") == 0;
     gappa = gappa && std::strcmp(argv[i], "--no-gappa") != 0;
     gappa_only = gappa_only || std::strcmp(argv[i], "--gappa-only") == 0;
     if (std::strcmp(argv[i], "--tol") == 0 && i + 1 < argc) tolerance = std::atof(argv[++i]);
+    if (std::strcmp(argv[i], "--record") == 0 && i + 1 < argc) only_record = argv[++i];
   }
   // Each stage alone (no SMP rewrite, which `bound` otherwise tries after an effort limit), then
   // the full pipeline with the defaults.
@@ -723,7 +726,14 @@ int main(int argc, char** argv) {
     return 1;
   }
   std::vector<nlohmann::json> records;
-  for (std::string line; std::getline(in, line);) records.push_back(nlohmann::json::parse(line));
+  for (std::string line; std::getline(in, line);) {
+    nlohmann::json record = nlohmann::json::parse(line);
+    if (only_record.empty() || record["name"] == only_record) records.push_back(std::move(record));
+  }
+  if (records.empty()) {
+    std::fprintf(stderr, "no corpus record named \"%s\"\n", only_record.c_str());
+    return 1;
+  }
   std::printf("full pipeline tolerance %g\n", tolerance);
   if (gappa_only) {
     run_gappa_peer(records, quick, tolerance, per_record);

@@ -134,11 +134,15 @@ std::size_t tape_cost(const Tape& tape) {
 // A box of the branch-and-bound tree. The tree does not depend on the direction: a box's split
 // variable and children follow from the box and f's gradient alone, so each box is evaluated once
 // for both directions, and the second direction's search reuses every box the first evaluated.
+// A direction's face and centred form need only the box and f's interval gradient on it, so they
+// are computed when that direction first needs the node (refine()), not for both at once.
 struct TreeNode {
-  std::vector<Interval> box;    // released once no direction can still expand it (see release())
-  std::array<double, 2> bound;  // sound upper bounds of f ([0]) and of -f ([1]) on the box
-  int split{0};                 // variable to bisect next
-  std::size_t first_child{0};   // the children are first_child and first_child + 1; 0 = none yet
+  std::vector<Interval> box;       // released once no direction can still expand it (release())
+  std::vector<Interval> gradient;  // f's on box while a direction may still refine with it
+  std::array<double, 2> bound;     // sound upper bounds of f ([0]) and of -f ([1]) on the box
+  std::array<bool, 2> refined;     // bound[d] includes direction d's face and centred form
+  int split{0};                    // variable to bisect next
+  std::size_t first_child{0};      // the children are first_child and first_child + 1; 0 = none
 };
 
 // Per variable, whether f is affine in it (f = A·v + B with A and B free of v), so that over a
@@ -522,14 +526,15 @@ class Bounder {
     return std::isfinite(value) ? flip * value + kMargin : 1e300;
   }
 
-  // Upper bounds of f ([0]) and of -f ([1]) over the box (after contraction), -inf if the box
-  // is discarded. One value-and-gradient pass serves both directions; the monotone face and the
-  // centred form are per direction. Also offers the box midpoint as a witness and picks the
-  // variable to bisect.
+  // Upper bounds of f ([0]) and of -f ([1]) over the box (after contraction) by the natural
+  // extension, -inf if the box is discarded; one value-and-gradient pass serves both directions.
+  // Leaves f's gradient on the box in gradient_ (usable if gradient_ok_) for refine(). Also offers
+  // the box midpoint as a witness and picks the variable to bisect.
   std::array<double, 2> evaluate_box(std::vector<Interval>& box, int& split) {
     ++evaluations_;
     work_ += kPassesPerBox * evaluation_cost_;
     split = widest(box);
+    gradient_ok_ = false;
     constexpr std::array<double, 2> kDiscarded{-kInf, -kInf};
     if (!contract(box) || !may_be_feasible(box)) return kDiscarded;
     const std::size_t n = box.size();
@@ -553,10 +558,10 @@ class Bounder {
     }
     undefined_ = undefined_ || value.possibly_undefined;
     if (value.is_empty()) return kDiscarded;  // f is defined nowhere in this box
-    std::array<double, 2> best{value.hi, -value.lo};
+    const std::array<double, 2> natural{value.hi, -value.lo};
     for (std::size_t i = 0; i < n; ++i) point_[i] = box[i].mid();
     offer(point_);
-    if (!gradient_ok) return best;
+    if (!gradient_ok) return natural;
     // Smear rule: bisect where |gradient| x width is largest.
     double largest = -1;
     for (std::size_t i = 0; i < n; ++i) {
@@ -567,16 +572,15 @@ class Bounder {
         split = static_cast<int>(i);
       }
     }
-    for (const int sign : {+1, -1}) {
-      double& bound = best[sign > 0 ? 0 : 1];
-      bound = std::min(bound, face_and_centred_bound(box, sign));
-    }
-    return best;
+    gradient_ok_ = true;
+    return natural;
   }
 
-  // After evaluate_box's gradient pass: monotone variables sit at the end point that maximises
-  // sign·f, so bound that face, by the natural extension and by the centred form on it.
-  double face_and_centred_bound(std::span<const Interval> box, int sign) {
+  // An upper bound of sign·f over the box from f's interval gradient on it: monotone variables
+  // sit at the end point that maximises sign·f, so bound that face, by the natural extension and
+  // by the centred form on it.
+  double face_and_centred_bound(std::span<const Interval> box, std::span<const Interval> gradient,
+                                int sign) {
     const std::size_t n = box.size();
     double best = kInf;
     std::vector<Interval>& face = face_;
@@ -584,7 +588,7 @@ class Bounder {
     bool fixed = false;
     if (options_.monotonicity) {
       for (std::size_t i = 0; i < n; ++i) {
-        const Interval g = sign > 0 ? gradient_[i] : -gradient_[i];
+        const Interval g = sign > 0 ? gradient[i] : -gradient[i];
         if (g.lo >= 0 && box[i].width() > 0) {
           face[i] = Interval{box[i].hi};
           fixed = true;
@@ -605,7 +609,7 @@ class Bounder {
       for (std::size_t i = 0; i < n; ++i) centre[i] = Interval{face[i].mid()};
       Interval centred = f_interval_.value(centre);
       for (std::size_t i = 0; i < n; ++i) {
-        if (face[i].width() > 0) centred = centred + gradient_[i] * (face[i] - centre[i]);
+        if (face[i].width() > 0) centred = centred + gradient[i] * (face[i] - centre[i]);
       }
       if (!centred.is_empty() && !centred.possibly_undefined) {
         best = std::min(best, sign > 0 ? centred.hi : -centred.lo);
@@ -662,6 +666,7 @@ class Bounder {
                       std::isfinite(scale) ? 1e-14 * scale : 0.0);
     };
     if (tree_.empty()) add_node(root, {kInf, kInf});
+    refine(0, direction);
     // (bound of sign·f, node); equal bounds pop the later node first, deterministically.
     std::priority_queue<std::pair<double, std::size_t>> queue;
     double settled = -kInf;  // bound of boxes too small to bisect
@@ -685,6 +690,7 @@ class Bounder {
       }
       const std::size_t first = tree_[index].first_child;
       for (const std::size_t child : {first, first + 1}) {
+        if (tree_[child].bound[direction] > inner()) refine(child, direction);
         if (tree_[child].bound[direction] > inner()) {
           queue.push({tree_[child].bound[direction], child});
         }
@@ -711,10 +717,33 @@ class Bounder {
   std::size_t add_node(std::vector<Interval> box, std::array<double, 2> parent) {
     int split = 0;
     const std::array<double, 2> own = evaluate_box(box, split);
-    stored_intervals_ += box.size();
-    tree_.push_back(
-        {std::move(box), {std::min(own[0], parent[0]), std::min(own[1], parent[1])}, split});
+    TreeNode node{std::move(box),
+                  {},
+                  {std::min(own[0], parent[0]), std::min(own[1], parent[1])},
+                  {true, true},
+                  split};
+    if (gradient_ok_ && (options_.monotonicity || options_.centred_form)) {
+      node.gradient = gradient_;
+      node.refined = {false, false};
+    }
+    stored_intervals_ += node.box.size() + node.gradient.size();
+    tree_.push_back(std::move(node));
     return tree_.size() - 1;
+  }
+
+  // Tightens a node's bound in a direction with its face and centred form (once; not after its
+  // box is released, when the looser bound only orders the queue).
+  void refine(std::size_t index, int direction) {
+    TreeNode& node = tree_[index];
+    if (node.refined[direction] || node.box.empty()) return;
+    node.bound[direction] =
+        std::min(node.bound[direction],
+                 face_and_centred_bound(node.box, node.gradient, direction == 0 ? +1 : -1));
+    node.refined[direction] = true;
+    if (node.refined[0] && node.refined[1]) {
+      stored_intervals_ -= node.gradient.size();
+      node.gradient = {};
+    }
   }
 
   // Evaluates the two children of a node; false if it cannot be split (no variables, or its split
@@ -725,6 +754,9 @@ class Bounder {
     const Interval range = tree_[index].box[tree_[index].split];
     const double middle = range.mid();
     if (!(middle > range.lo && middle < range.hi)) return false;
+    // The box is released below, and its bounds cap its children's: refine it now for the search
+    // to come if that may pop it.
+    if (direction_ == 0 && tree_[index].bound[1] > -result_->inner_lo) refine(index, 1);
     // f affine in the variable (and no constraints): its extremes over the box lie on the
     // variable's end points, so the children are those two faces, one variable fewer each.
     const bool faces = constraints_.empty() && f_.affine_in(tree_[index].split);
@@ -752,8 +784,9 @@ class Bounder {
   }
 
   void release(std::size_t index) {
-    stored_intervals_ -= tree_[index].box.size();
+    stored_intervals_ -= tree_[index].box.size() + tree_[index].gradient.size();
     tree_[index].box = {};
+    tree_[index].gradient = {};
   }
 
   const BoundOptions& options_;
@@ -776,6 +809,7 @@ class Bounder {
   std::size_t evaluation_cost_{1};  // one pass over f's and the constraints' tapes
   bool time_limited_{false};
   bool undefined_{false};
+  bool gradient_ok_{false};  // evaluate_box's last gradient_ is usable
   bool converged_[2]{false, false};
   std::chrono::steady_clock::time_point start_;
 };
