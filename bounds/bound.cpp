@@ -606,7 +606,9 @@ class Bounder {
       // f(X) ⊆ f(c) + Σ G_i (X_i - c_i) on the face (G over the box encloses G over the face).
       std::vector<Interval>& centre = centre_;
       centre.resize(n);
-      for (std::size_t i = 0; i < n; ++i) centre[i] = Interval{face[i].mid()};
+      for (std::size_t i = 0; i < n; ++i) {
+        centre[i] = Interval{optimal_centre(face[i], sign > 0 ? gradient[i] : -gradient[i])};
+      }
       Interval centred = f_interval_.value(centre);
       for (std::size_t i = 0; i < n; ++i) {
         if (face[i].width() > 0) centred = centred + gradient[i] * (face[i] - centre[i]);
@@ -616,6 +618,16 @@ class Bounder {
       }
     }
     return best;
+  }
+
+  // Baumann's optimal centre for an upper bound: the point c of x where max over x' in x and g'
+  // in g of g'·(x' - c) is smallest, (g.hi·x.hi - g.lo·x.lo)/(g.hi - g.lo) when g.lo < 0 < g.hi
+  // (for a g of one sign the face fixed the variable), else the midpoint. The centred form is
+  // sound for any centre in the box.
+  static double optimal_centre(const Interval& x, const Interval& g) {
+    if (!(g.lo < 0 && g.hi > 0) || !g.is_bounded()) return x.mid();
+    const double c = (g.hi * x.hi - g.lo * x.lo) / (g.hi - g.lo);
+    return std::isfinite(c) ? std::clamp(c, x.lo, x.hi) : x.mid();
   }
 
   static int widest(std::span<const Interval> box) {

@@ -337,6 +337,21 @@ TEST(Bound, AffineVariablesSplitIntoEndFaces) {
   EXPECT_EQ(parabola.status, BoundStatus::kConverged);
 }
 
+// Both directions search one tree, so the root box is evaluated once: a function monotone in every
+// variable is settled both ways by that one box (the two searches used to evaluate it once each).
+TEST(Bound, OneRootBoxSettlesBothDirections) {
+  ExprPool pool;
+  Box box;
+  box.add(pool.variable("x"), 1, 2);
+  box.add(pool.variable("y"), -3, 4);
+  box.add(pool.variable("z"), 0, 1);
+  const BoundResult r = bound(symbolic::parse(pool, "x + 2*exp(y) - z^3"), box);
+  EXPECT_EQ(r.status, BoundStatus::kConverged);
+  EXPECT_EQ(r.evaluations, 1u);
+  EXPECT_LE(r.lo, 2 * std::exp(-3.0));
+  EXPECT_GE(r.hi, 2 + 2 * std::exp(4.0));
+}
+
 // Property: a random multilinear polynomial (a sum of products of distinct variables, each
 // affine in every variable) attains its extremes at corners; the bound contains every corner's
 // value and, converged, is within the tolerance of the corners' range. Some terms also carry a
