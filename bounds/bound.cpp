@@ -35,6 +35,7 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr unsigned kMaxGlobalVariables = 32;
 constexpr std::size_t kMaxSlsqpVariables = 64;
 constexpr std::size_t kPassesPerBox = 6;
+constexpr std::size_t kPassesPerFaceGradient = 3;  // value and gradient again on a narrower face
 constexpr std::size_t kMaxQueuedIntervals = std::size_t{1} << 22;
 
 using internal::LinearForm;
@@ -576,42 +577,69 @@ class Bounder {
     return natural;
   }
 
-  // An upper bound of sign·f over the box from f's interval gradient on it: monotone variables
-  // sit at the end point that maximises sign·f, so bound that face, by the natural extension and
-  // by the centred form on it.
+  // An upper bound of sign·f over the box from f's interval gradient on it. Monotone variables
+  // sit at the end point that maximises sign·f, so bound that face instead: by the natural
+  // extension, and by the centred form on it (at Baumann's centre). Fixing variables narrows the
+  // face, and f's gradient over the narrower face may show more variables monotone, so the
+  // gradient is taken again on each new face while that fixes more (the extremum over a face lies
+  // on the next); each gradient is intersected with the box's, which also holds on the face.
   double face_and_centred_bound(std::span<const Interval> box, std::span<const Interval> gradient,
                                 int sign) {
     const std::size_t n = box.size();
     double best = kInf;
     std::vector<Interval>& face = face_;
+    std::vector<Interval>& on_face_gradient = face_gradient_;
     face.assign(box.begin(), box.end());
-    bool fixed = false;
+    on_face_gradient.assign(gradient.begin(), gradient.end());
     if (options_.monotonicity) {
-      for (std::size_t i = 0; i < n; ++i) {
-        const Interval g = sign > 0 ? gradient[i] : -gradient[i];
-        if (g.lo >= 0 && box[i].width() > 0) {
-          face[i] = Interval{box[i].hi};
-          fixed = true;
-        } else if (g.hi <= 0 && box[i].width() > 0) {
-          face[i] = Interval{box[i].lo};
-          fixed = true;
+      bool fixed_any = false;
+      for (std::size_t round = 0; round < n; ++round) {
+        bool fixed = false;
+        std::size_t free = 0;
+        for (std::size_t i = 0; i < n; ++i) {
+          if (!(face[i].width() > 0)) continue;
+          const Interval g = sign > 0 ? on_face_gradient[i] : -on_face_gradient[i];
+          if (g.lo >= 0) {
+            face[i] = Interval{face[i].hi};
+            fixed = true;
+          } else if (g.hi <= 0) {
+            face[i] = Interval{face[i].lo};
+            fixed = true;
+          } else {
+            ++free;
+          }
+        }
+        fixed_any = fixed_any || fixed;
+        if (!fixed || free == 0) break;
+        work_ += kPassesPerFaceGradient * evaluation_cost_;
+        const Interval value = f_interval_.value_and_gradient(face, on_face_gradient);
+        bool usable = !value.possibly_undefined;
+        for (std::size_t i = 0; i < n && usable; ++i) {
+          on_face_gradient[i] = intersect(on_face_gradient[i], gradient[i]);
+          usable = on_face_gradient[i].is_bounded() && !on_face_gradient[i].possibly_undefined &&
+                   !on_face_gradient[i].is_empty();
+        }
+        if (!usable) {  // the box's gradient still encloses f's on the face
+          on_face_gradient.assign(gradient.begin(), gradient.end());
+          break;
         }
       }
-      if (fixed) {
+      if (fixed_any) {
         const Interval on_face = f_interval_.value(face);
         if (!on_face.is_empty()) best = std::min(best, sign > 0 ? on_face.hi : -on_face.lo);
       }
     }
     if (options_.centred_form) {
-      // f(X) ⊆ f(c) + Σ G_i (X_i - c_i) on the face (G over the box encloses G over the face).
+      // f(X) ⊆ f(c) + Σ G_i (X_i - c_i) on the face, G enclosing f's gradient there.
       std::vector<Interval>& centre = centre_;
       centre.resize(n);
       for (std::size_t i = 0; i < n; ++i) {
-        centre[i] = Interval{optimal_centre(face[i], sign > 0 ? gradient[i] : -gradient[i])};
+        const Interval& g = on_face_gradient[i];
+        centre[i] = Interval{optimal_centre(face[i], sign > 0 ? g : -g)};
       }
       Interval centred = f_interval_.value(centre);
       for (std::size_t i = 0; i < n; ++i) {
-        if (face[i].width() > 0) centred = centred + gradient[i] * (face[i] - centre[i]);
+        if (face[i].width() > 0) centred = centred + on_face_gradient[i] * (face[i] - centre[i]);
       }
       if (!centred.is_empty() && !centred.possibly_undefined) {
         best = std::min(best, sign > 0 ? centred.hi : -centred.lo);
@@ -810,7 +838,7 @@ class Bounder {
   std::span<const LinearForm> linear_;
   Objective objective_{};  // NLopt callback data: stable addresses while an optimiser runs
   std::vector<Objective> constraint_data_;
-  std::vector<Interval> gradient_, face_, centre_;
+  std::vector<Interval> gradient_, face_, face_gradient_, centre_;
   std::vector<double> point_;
   BoundResult* result_{nullptr};
   std::vector<TreeNode> tree_;       // both directions' branch-and-bound tree; tree_[0] is the root
