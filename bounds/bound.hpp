@@ -4,7 +4,8 @@
 //   lo <= inner_lo <= inner_hi <= hi   with   [inner_lo, inner_hi] ⊆ f(feasible box) ⊆ [lo, hi].
 // [lo, hi] is always sound (outward-rounded interval arithmetic, every method intersected):
 // natural interval extension on the tape, monotonicity from interval gradients (a variable is
-// fixed at an end point), the mean-value (centred) form, and best-first branch and bound that
+// fixed at an end point; the gradient is taken again on the narrower face while that fixes more),
+// the mean-value (centred) form at Baumann's optimal centre, and best-first branch and bound that
 // bisects the variable with the largest |gradient| x width until `hi - inner_hi` and
 // `inner_lo - lo` are both <= tolerance x (inner_hi - inner_lo), or the effort limit is reached.
 // Both directions search one tree: a box's split follows from the box alone, so each box is
