@@ -321,6 +321,20 @@ struct ExprPool::Impl {
     return variables.find(key, [&](std::uint32_t id) { return names[nodes[id].begin] == name; });
   }
   const Number& number_of(const Node& node) const { return numbers[node.number]; }
+  // A guard sum 0·t1 + ... : zero wherever it is defined.
+  bool is_guard(std::uint32_t id) const {
+    const Node& node = nodes[id];
+    if (node.op != Op::kAdd || !number_of(node).is_zero()) return false;
+    for (std::uint32_t i = node.begin; i < node.begin + node.count; ++i)
+      if (!factor(i).is_zero()) return false;
+    return true;
+  }
+  // The one form of a product undefined everywhere, G^-1 for a guard sum G (see product()).
+  bool is_undefined_product(std::uint32_t id) const {
+    const Node& node = nodes[id];
+    return node.op == Op::kMul && node.count == 1 && number_of(node).is_one() &&
+           factor(node.begin) == Number::integer(-1) && is_guard(operand_ids[node.begin]);
+  }
   // An upper bound on the entries sum() (op Add) or product() (op Mul) collects from `terms`:
   // the operands of the sums or products it flattens (and of a product's guard sums, 0·t + ...),
   // one entry for every other term.
@@ -661,6 +675,10 @@ Expr ExprPool::sum(const Number& constant, std::span<const Term> terms) {
   // 0·t stays where t may be undefined: log(x) - log(x) is 0·log(x), undefined for x <= 0.
   std::vector<Entry> spilled;
   sort_and_merge(entries, spilled, [&](std::uint32_t id) { return impl_->nodes[id].partial; });
+  // k·U is U for a product U undefined everywhere (product() gives U for k·U): its factor is 1.
+  for (Entry& entry : entries) {
+    if (impl_->is_undefined_product(entry.first)) entry.second = Number::integer(1);
+  }
   // Overflowed constants and coefficients: build again, so that the entry point above turns
   // each real into an operand (Add factors stay rational).
   if (!overflowed.empty() || !spilled.empty()) {
@@ -728,11 +746,13 @@ Expr ExprPool::product(const Number& coefficient, std::span<const Term> factors)
   std::vector<std::pair<std::uint32_t, int>> required;
   required.reserve(entries.capacity());
   std::vector<Expr> guards;
-  const auto all_factors_zero = [&](const Node& node) {
-    for (std::uint32_t i = node.begin; i < node.begin + node.count; ++i)
-      if (!impl_->factor(i).is_zero()) return false;
-    return true;
-  };
+  // A guard sum 0·t1 + ... is zero wherever it is defined. To a positive integer power it makes
+  // the product zero: the t_i join its factors as the domain guard, as the parser reads
+  // "(0*t)*c" (0*t*c). To a negative power it makes the product undefined everywhere (see
+  // undefined_product below).
+  const auto is_guard = [&](std::uint32_t id) { return impl_->is_guard(id); };
+  const auto positive_integer = [](const Number& e) { return e.is_integer() && e.numerator() > 0; };
+  bool undefined = false;
   for (const Term& factor : factors) {
     if (factor.expr.pool_ != this) throw SymbolicError("expressions from different pools mixed");
     const Number& e = factor.factor;
@@ -746,10 +766,7 @@ Expr ExprPool::product(const Number& coefficient, std::span<const Term> factors)
       fold(impl_->number_of(node), e.numerator());
     } else if (rational_constant && impl_->number_of(node).is_one()) {
       continue;
-    } else if (node.op == Op::kAdd && impl_->number_of(node).is_zero() && e.is_integer() &&
-               e.numerator() > 0 && all_factors_zero(node)) {
-      // A guard sum 0·t1 + ... (zero wherever defined) to a positive power: the product is zero
-      // and the t_i join its factors as the domain guard, as the parser reads "(0*t)*c" (0*t*c).
+    } else if (positive_integer(e) && is_guard(factor.expr.id_)) {
       c = Number();
       for (std::uint32_t i = node.begin; i < node.begin + node.count; ++i) {
         entries.emplace_back(impl_->operand_ids[i], Number::integer(1));
@@ -759,15 +776,35 @@ Expr ExprPool::product(const Number& coefficient, std::span<const Term> factors)
       fold(impl_->number_of(node), e.numerator());
       for (std::uint32_t i = node.begin; i < node.begin + node.count; ++i) {
         const Number inner = impl_->factor(i);
+        // A guard under a negative power stays undefined whatever power the product is raised to.
+        if (inner.is_negative() && is_guard(impl_->operand_ids[i])) undefined = true;
         entries.emplace_back(impl_->operand_ids[i], e * inner);
         required.emplace_back(impl_->operand_ids[i],
                               domain_of_exponent(inner) | domain_of_exponent(e * inner));
       }
     } else {
+      if (e.is_negative() && is_guard(factor.expr.id_)) undefined = true;
       entries.emplace_back(factor.expr.id_, e);
       required.emplace_back(factor.expr.id_, domain_of_exponent(e));
     }
   }
+  // Undefined everywhere: one form, (0·s1 + ...)^-1 over the terms s_j of every guard met,
+  // whatever else the product held, so that a printed denominator "c/(a*(0*t))", which the
+  // parser reads as c/(0*a*t), gives back the same node.
+  const auto undefined_product = [&] {
+    std::vector<Term> guard_terms;
+    for (const Entry& entry : entries) {
+      if (!is_guard(entry.first)) continue;
+      const Node& guard = impl_->nodes[entry.first];
+      for (std::uint32_t i = guard.begin; i < guard.begin + guard.count; ++i)
+        guard_terms.push_back({Expr(this, impl_->operand_ids[i]), Number()});
+    }
+    const Expr guard = sum(Number(), guard_terms);
+    const auto begin = static_cast<std::uint32_t>(impl_->operand_ids.size());
+    impl_->push_operand(guard.id_, impl_->number_index(Number::integer(-1)));
+    return Expr(this, impl_->intern(Op::kMul, impl_->one_index(), begin, 0));
+  };
+  if (undefined) return undefined_product();
   // c = 0: the product is 0 wherever it is defined.
   const auto zero = [&] {
     std::vector<Term> guard_terms;
@@ -780,6 +817,12 @@ Expr ExprPool::product(const Number& coefficient, std::span<const Term> factors)
   if (c.is_zero()) return zero();
   std::vector<Entry> spilled;
   sort_and_merge(entries, spilled);
+  // Flattening or merging may give a guard a positive integer power (G^(1/2)·G^(1/2)): zero.
+  if (std::ranges::any_of(entries, [&](const Entry& entry) {
+        return positive_integer(entry.second) && is_guard(entry.first);
+      })) {
+    return zero();
+  }
   // A merged exponent may need less than its parts did (x·x^-1 = x^0, sqrt(x)^2 = x): guard the
   // base with the condition it lost, as b^-1 (b != 0), b^(1/2) (b >= 0) or b^(-1/2) (b > 0).
   std::sort(required.begin(), required.end());

@@ -178,7 +178,16 @@ TEST(Print, OverflowedConstantsRoundTrip) {
         "y^-1415926897930*y^.14159265",
         // fuzz finding: a guard 0*t as a factor prints as "(0*t)*c", which the parser reads as
         // 0*t*c
-        "-(a*+0*3.50^b)*c", "(0*log(x) + 0*log(y))*c", "(0*log(x))^2/c"}) {
+        "-(a*+0*3.50^b)*c", "(0*log(x) + 0*log(y))*c", "(0*log(x))^2/c",
+        // fuzz finding: the same guard under a negative power, in a printed denominator
+        // "c/(a*(0*t)*b)" that the parser reads as c/(0*a*t*b); 1/(0*t) is undefined everywhere
+        "3/-(a*+0*3-50^-(a*+0*3.*b)\n*(a*+0*3.**50^b)*cA13f/Aa11/A131/A12fc503^b)*c/a/A3fafa/"
+        "A3fa3e2-I003",
+        "3*c/(a*(0*log(x))*b)", "x/(0*log(y))^2/z", "(0*log(x))^(-1/2)/y", "(1/(0*log(x)))^-1*c",
+        "x*(1/(0*log(x)))^(1/2)", "((0*log(x))^(1/2)*y)^2*c", "(0*log(x))^(1/2)*(0*log(x))^(1/2)*y",
+        "(0*log(x))^(1/2)*(0*log(x))^(-1/2)*y", "-3/(4*x*(0*log(x)))",
+        // and as a term: k·U is U for U undefined everywhere
+        "3*e + 2/(0*log(x))", "1/(0*log(x)) - 1/(0*log(x)) + y", "x + 0/(0*log(x))*x"}) {
     const Expr e = parse(pool, text);
     EXPECT_EQ(parse(pool, to_string(e)), e) << text << " printed as " << to_string(e);
   }
