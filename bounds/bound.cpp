@@ -31,12 +31,12 @@ using symbolic::Tape;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 // NLopt's global stage (DIRECT) runs up to this many variables; SLSQP (the local stage) up to
 // kMaxSlsqpVariables, MMA above. A box evaluation costs about kPassesPerBox tape passes (value and
-// gradient forward and back, the face, the centre); queues hold at most kMaxQueuedIntervals.
+// gradient forward and back, the face, the centre); the tree keeps at most kMaxStoredIntervals.
 constexpr unsigned kMaxGlobalVariables = 32;
 constexpr std::size_t kMaxSlsqpVariables = 64;
 constexpr std::size_t kPassesPerBox = 6;
 constexpr std::size_t kPassesPerFaceGradient = 3;  // value and gradient again on a narrower face
-constexpr std::size_t kMaxQueuedIntervals = std::size_t{1} << 22;
+constexpr std::size_t kMaxStoredIntervals = std::size_t{1} << 22;
 
 using internal::LinearForm;
 
@@ -131,7 +131,6 @@ std::size_t tape_cost(const Tape& tape) {
   return cost;
 }
 
-// One node of the branch-and-bound queue: a box and an upper bound of s·f over it.
 // A box of the branch-and-bound tree. The tree does not depend on the direction: a box's split
 // variable and children follow from the box and f's gradient alone, so each box is evaluated once
 // for both directions, and the second direction's search reuses every box the first evaluated.
@@ -527,17 +526,24 @@ class Bounder {
     return std::isfinite(value) ? flip * value + kMargin : 1e300;
   }
 
-  // Upper bounds of f ([0]) and of -f ([1]) over the box (after contraction) by the natural
-  // extension, -inf if the box is discarded; one value-and-gradient pass serves both directions.
-  // Leaves f's gradient on the box in gradient_ (usable if gradient_ok_) for refine(). Also offers
-  // the box midpoint as a witness and picks the variable to bisect.
-  std::array<double, 2> evaluate_box(std::vector<Interval>& box, int& split) {
+  // A box's evaluation: upper bounds of f ([0]) and of -f ([1]) by the natural extension (-inf
+  // if the box is discarded), the variable to bisect, and whether gradient_ now holds a usable
+  // interval gradient of f on the box.
+  struct BoxEvaluation {
+    std::array<double, 2> bound{-kInf, -kInf};
+    int split{0};
+    bool gradient_ok{false};
+  };
+
+  // Evaluates the box (after contraction): one value-and-gradient pass serves both directions.
+  // Also offers the box midpoint as a witness.
+  BoxEvaluation evaluate_box(std::vector<Interval>& box) {
     ++evaluations_;
     work_ += kPassesPerBox * evaluation_cost_;
-    split = widest(box);
-    gradient_ok_ = false;
-    constexpr std::array<double, 2> kDiscarded{-kInf, -kInf};
-    if (!contract(box) || !may_be_feasible(box)) return kDiscarded;
+    BoxEvaluation result;
+    result.split = widest(box);
+    const BoxEvaluation discarded = result;
+    if (!contract(box) || !may_be_feasible(box)) return discarded;
     const std::size_t n = box.size();
     Interval value;
     bool gradient_ok = false;
@@ -553,16 +559,16 @@ class Bounder {
     if (f_interval_.has_enclosures()) {
       // Tighter on the feasible points; the gradient (above) stays valid on the whole box.
       const Interval feasible = f_interval_.feasible_value(box);
-      if (feasible.is_empty()) return kDiscarded;  // the linear constraints exclude the whole box
+      if (feasible.is_empty()) return discarded;  // the linear constraints exclude the whole box
       value = Interval{std::max(value.lo, feasible.lo), std::min(value.hi, feasible.hi),
                        feasible.possibly_undefined};
     }
     undefined_ = undefined_ || value.possibly_undefined;
-    if (value.is_empty()) return kDiscarded;  // f is defined nowhere in this box
-    const std::array<double, 2> natural{value.hi, -value.lo};
+    if (value.is_empty()) return discarded;  // f is defined nowhere in this box
+    result.bound = {value.hi, -value.lo};
     for (std::size_t i = 0; i < n; ++i) point_[i] = box[i].mid();
     offer(point_);
-    if (!gradient_ok) return natural;
+    if (!gradient_ok) return result;
     // Smear rule: bisect where |gradient| x width is largest.
     double largest = -1;
     for (std::size_t i = 0; i < n; ++i) {
@@ -570,11 +576,11 @@ class Bounder {
           std::max(std::fabs(gradient_[i].lo), std::fabs(gradient_[i].hi)) * box[i].width();
       if (smear > largest && box[i].width() > 0) {
         largest = smear;
-        split = static_cast<int>(i);
+        result.split = static_cast<int>(i);
       }
     }
-    gradient_ok_ = true;
-    return natural;
+    result.gradient_ok = true;
+    return result;
   }
 
   // An upper bound of sign·f over the box from f's interval gradient on it. Monotone variables
@@ -718,7 +724,7 @@ class Bounder {
       // Boxes kept in the tree: memory stays proportional to the input (capped) however many
       // variables there are.
       if (!options_.branch_and_bound || out_of_effort(direction) ||
-          stored_intervals_ > kMaxQueuedIntervals) {
+          stored_intervals_ > kMaxStoredIntervals) {
         return std::max(top, inner());
       }
       const auto [bound, index] = queue.top();
@@ -755,14 +761,13 @@ class Bounder {
 
   // Evaluates a box into a new node whose bounds are at most `parent`'s; returns its index.
   std::size_t add_node(std::vector<Interval> box, std::array<double, 2> parent) {
-    int split = 0;
-    const std::array<double, 2> own = evaluate_box(box, split);
+    const BoxEvaluation own = evaluate_box(box);
     TreeNode node{std::move(box),
                   {},
-                  {std::min(own[0], parent[0]), std::min(own[1], parent[1])},
+                  {std::min(own.bound[0], parent[0]), std::min(own.bound[1], parent[1])},
                   {true, true},
-                  split};
-    if (gradient_ok_ && (options_.monotonicity || options_.centred_form)) {
+                  own.split};
+    if (own.gradient_ok) {
       node.gradient = gradient_;
       node.refined = {false, false};
     }
@@ -849,7 +854,6 @@ class Bounder {
   std::size_t evaluation_cost_{1};  // one pass over f's and the constraints' tapes
   bool time_limited_{false};
   bool undefined_{false};
-  bool gradient_ok_{false};  // evaluate_box's last gradient_ is usable
   bool converged_[2]{false, false};
   std::chrono::steady_clock::time_point start_;
 };

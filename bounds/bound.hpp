@@ -62,8 +62,9 @@ struct BoundOptions {
   // or load: at most max_box_evaluations boxes (both directions together) and at most max_work
   // work units (one per arithmetic tape instruction, 10 per transcendental one; a box costs about
   // 6 passes over f's and the constraints' tapes, an NLopt evaluation one), so a huge expression
-  // stops in proportion to its size: the default is a few seconds of work on this machine. Queued
-  // boxes are capped at about 4M stored intervals (100 MB) whatever the number of variables.
+  // stops in proportion to its size: the default is a few seconds of work on this machine.
+  // The boxes kept in the search tree are capped at about 4M intervals (100 MB) whatever the
+  // number of variables.
   std::size_t max_box_evaluations{200'000};
   std::size_t max_work{100'000'000};
   // Optional wall-clock limit in seconds; 0 (the default) is none. When it fires the result says

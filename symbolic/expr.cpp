@@ -117,9 +117,9 @@ struct BlockAllocator {
 };
 
 // The arena's node, operand and factor arrays: a growable array of trivially copyable elements,
-// indexed with one load (no chunk arithmetic). Growing reallocates (large blocks are remapped by
-// the allocator, not copied), so element addresses are not stable: hold ids, never a Node& across
-// a call that may build a node. A fresh pool's arrays start small and allocate on first use.
+// indexed with one load (no chunk arithmetic). Growing moves the elements (realloc, or a copy into
+// a fresh huge-page block from 2 MiB on), so element addresses are not stable: hold ids, never a
+// Node& across a call that may build a node. A fresh pool's arrays allocate on first use.
 template <class T>
 class PodVector {
   static_assert(std::is_trivially_copyable_v<T>);
@@ -134,7 +134,7 @@ class PodVector {
   T& operator[](std::size_t i) { return data_[i]; }
   const T& operator[](std::size_t i) const { return data_[i]; }
   [[nodiscard]] const T* data() const { return data_; }
-  void push_back(const T& value) {
+  void push_back(T value) {  // by value: an element of this array stays valid across grow()
     if (size_ == capacity_) grow();
     data_[size_++] = value;
   }
