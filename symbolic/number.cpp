@@ -430,6 +430,7 @@ std::size_t Number::hash() const {
 std::string Number::to_string() const {
   if (is_rational()) {
     if (denominator_ == 1) return std::to_string(numerator_);
+    const std::string fraction = std::to_string(numerator_) + "/" + std::to_string(denominator_);
     // Terminating decimals print exactly as decimals when short: 1/10 -> "0.1".
     std::int64_t d = denominator_;
     int twos = 0, fives = 0;
@@ -443,10 +444,11 @@ std::string Number::to_string() const {
       for (int k = twos; k < places; ++k) scaled *= 2;
       for (int k = fives; k < places; ++k) scaled *= 5;
       const bool negative = scaled < 0;
-      std::string digits = std::to_string(static_cast<long long>(negative ? -scaled : scaled));
-      if (static_cast<int>(digits.size()) > kMaxExactDecimalDigits) {
-        return std::to_string(numerator_) + "/" + std::to_string(denominator_);
-      }
+      const __int128 magnitude = negative ? -scaled : scaled;
+      // Past 64 bits the digits are too many anyway (and would not survive the conversion).
+      if (!fits_int64(magnitude)) return fraction;
+      std::string digits = std::to_string(static_cast<std::int64_t>(magnitude));
+      if (static_cast<int>(digits.size()) > kMaxExactDecimalDigits) return fraction;
       if (static_cast<int>(digits.size()) <= places) {
         digits.insert(0, places - digits.size() + 1, '0');
       }
@@ -455,7 +457,7 @@ std::string Number::to_string() const {
       text.append(digits, 0, point).append(1, '.').append(digits, point);
       return text;
     }
-    return std::to_string(numerator_) + "/" + std::to_string(denominator_);
+    return fraction;
   }
   // A real whose nearest double is 0 (an underflowed literal such as 1e-400, enclosed by
   // [-min, +min] subnormal): digits that are all zeros read back as the exact 0, so it prints as

@@ -96,6 +96,11 @@ TEST(Number, PrintsTerminatingFractionsAsDecimals) {
   EXPECT_EQ(Number::rational(-3, 8).to_string(), "-0.375");
   EXPECT_EQ(Number::rational(1, 3).to_string(), "1/3");
   EXPECT_EQ(Number::integer(-7).to_string(), "-7");
+  // Regression (fuzz, "3.413099*6151055^2"): a decimal whose digits pass 64 bits printed as
+  // another number (9022289571.153163); it prints as the fraction.
+  EXPECT_EQ(Number::rational(5165449232221520579, 40000).to_string(), "5165449232221520579/40000");
+  EXPECT_EQ(Number::rational(-5165449232221520579, 40000).to_string(),
+            "-5165449232221520579/40000");
 }
 
 class ExprTest : public ::testing::Test {

@@ -187,7 +187,9 @@ TEST(Print, OverflowedConstantsRoundTrip) {
         "x*(1/(0*log(x)))^(1/2)", "((0*log(x))^(1/2)*y)^2*c", "(0*log(x))^(1/2)*(0*log(x))^(1/2)*y",
         "(0*log(x))^(1/2)*(0*log(x))^(-1/2)*y", "-3/(4*x*(0*log(x)))",
         // and as a term: k·U is U for U undefined everywhere
-        "3*e + 2/(0*log(x))", "1/(0*log(x)) - 1/(0*log(x)) + y", "x + 0/(0*log(x))*x"}) {
+        "3*e + 2/(0*log(x))", "1/(0*log(x)) - 1/(0*log(x)) + y", "x + 0/(0*log(x))*x",
+        // fuzz finding: a decimal whose digits pass 64 bits printed as another number
+        "3.413099*6151055^2"}) {
     const Expr e = parse(pool, text);
     EXPECT_EQ(parse(pool, to_string(e)), e) << text << " printed as " << to_string(e);
   }
