@@ -5,6 +5,7 @@
 //       seeded within 0.3 rad of the answer, as in the corpus's peer_check_orocos_kdl notes)
 // Prints a table and `ratio <workload> <peer> <peer_time/our_time>` lines. `--quick` runs fewer
 // repetitions (well under 60 s).
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -21,6 +22,7 @@
 #include "common/units.hpp"
 #include "kinematics/ik.hpp"
 #include "kinematics/pickup_check.hpp"
+#include "kinematics/pickup_template.hpp"
 #include "kinematics/puma.hpp"
 #include "symbolic/tape.hpp"
 
@@ -170,6 +172,65 @@ void run_numeric_kinematics(const BenchOptions& options) {
   std::printf("(checksum %.6g)\n", checksum);
 }
 
+// A rigid transform with interval entries (the bottom row 0 0 0 1 is exact and left out): the
+// direct interval implementation of the pickup check multiplies these, no symbolic work at all.
+struct IntervalPose {
+  spar::bounds::Interval rotation[3][3];
+  spar::bounds::Interval translation[3];
+};
+
+IntervalPose interval_pose(const Transform& pose) {
+  IntervalPose result;
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) result.rotation[i][j] = pose.linear()(i, j);
+    result.translation[i] = pose.translation()(i);
+  }
+  return result;
+}
+
+// trans(x, y, z) rotz(theta).
+IntervalPose interval_pose(const spar::bounds::Interval& x, const spar::bounds::Interval& y,
+                           const spar::bounds::Interval& z, const spar::bounds::Interval& theta) {
+  IntervalPose result;
+  const spar::bounds::Interval c = cos(theta), s = sin(theta);
+  result.rotation[0][0] = c;
+  result.rotation[0][1] = -s;
+  result.rotation[1][0] = s;
+  result.rotation[1][1] = c;
+  result.rotation[2][2] = 1.0;
+  result.translation[0] = x;
+  result.translation[1] = y;
+  result.translation[2] = z;
+  return result;
+}
+
+IntervalPose operator*(const IntervalPose& a, const IntervalPose& b) {
+  IntervalPose result;
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) {
+      result.rotation[i][j] = a.rotation[i][0] * b.rotation[0][j] +
+                              a.rotation[i][1] * b.rotation[1][j] +
+                              a.rotation[i][2] * b.rotation[2][j];
+    }
+    result.translation[i] = a.rotation[i][0] * b.translation[0] +
+                            a.rotation[i][1] * b.translation[1] +
+                            a.rotation[i][2] * b.translation[2] + a.translation[i];
+  }
+  return result;
+}
+
+// (R, t)^-1 = (R^T, -R^T t).
+IntervalPose rigid_inverse(const IntervalPose& a) {
+  IntervalPose result;
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) result.rotation[i][j] = a.rotation[j][i];
+    result.translation[i] =
+        -(a.rotation[0][i] * a.translation[0] + a.rotation[1][i] * a.translation[1] +
+          a.rotation[2][i] * a.translation[2]);
+  }
+  return result;
+}
+
 // SPAR's pickup preconditions (the peg example, Table 2 bounds), decided per plan instance. The
 // example is in metres; widths are printed in inches, like the paper's.
 //   ours, fresh: a fresh pool, the uncertain poses, the four inequalities built right to left
@@ -181,6 +242,12 @@ void run_numeric_kinematics(const BenchOptions& options) {
 //   naive: the same poses multiplied as full 4x4 products left to right, (P^-1 C) as a matrix,
 //          compiled to a tape and bounded by one natural interval evaluation (SPAR-era plain
 //          interval check), in the same run.
+//   ours, template: PickupTemplate (kinematics/pickup_template.hpp) built once per pair of
+//          uncertainty models (its one-time cost timed apart); per instance only the geometry's
+//          parameters and the check. Instances alternate between three geometries (the example,
+//          its grasp shifted 0.5 in along the peg, the peg turned 40 degrees) so none is a repeat
+//   naive direct: the same 4x4 products with bounds::Interval entries (interval sin/cos of the
+//          angle boxes, rigid inverses), no symbolic work at all: a direct interval implementation
 // Also times the phases of the fresh path separately: build only, build + compile.
 void run_pickup_preconditions(const BenchOptions& options) {
   using namespace spar::kinematics;
@@ -270,6 +337,69 @@ void run_pickup_preconditions(const BenchOptions& options) {
     }
   });
 
+  int template_built = 0;
+  const double template_build = seconds_per_call(repetitions / 10, 1, [&](int) {
+    const PickupTemplate built(kTable2Gripper, kTable2Object);
+    template_built += static_cast<int>(built.variables().size());
+  });
+  PickupTemplate pickup(kTable2Gripper, kTable2Object);
+  std::array<PickupGeometry, 3> instances{geometry, geometry, geometry};
+  instances[1].grasp = Eigen::Translation3d(0.5 * spar::units::kInch, 0, 0) * geometry.grasp;
+  instances[2].object_pose = Eigen::Translation3d(geometry.object_pose.translation()) *
+                             Eigen::AngleAxisd(40 * spar::units::kDegree, Eigen::Vector3d::UnitZ());
+  // Widths are summed over the example's instances only, to compare with the rows above.
+  int template_proved = 0, template_full_bounds = 0, template_examples = 0;
+  double template_width = 0.0;
+  const int template_repetitions = repetitions * 10;
+  std::size_t next_instance = 0;
+  const double templated = seconds_per_call(template_repetitions, 1, [&](int) {
+    const std::size_t index = next_instance++ % instances.size();
+    template_examples += index == 0 ? 1 : 0;
+    for (const PickupCheck& check : pickup.check(instances[index])) {
+      template_proved += check.verdict == Verdict::kSatisfied ? 1 : 0;
+      template_full_bounds += check.bound.evaluations > 1 ? 1 : 0;
+      if (index == 0) template_width += check.bound.hi - check.bound.lo;
+    }
+  });
+
+  int direct_proved = 0, direct_examples = 0;
+  double direct_width = 0.0;
+  const int direct_repetitions = repetitions * 10;
+  next_instance = 0;
+  const double direct = seconds_per_call(direct_repetitions, 1, [&](int) {
+    const std::size_t index = next_instance++ % instances.size();
+    direct_examples += index == 0 ? 1 : 0;
+    const PickupGeometry& instance = instances[index];
+    const auto box = [](double half_width) { return Interval{-half_width, half_width}; };
+    const IntervalPose manipulator_error =
+        interval_pose(box(kTable2Gripper.dx), box(kTable2Gripper.dy), box(kTable2Gripper.dz),
+                      box(kTable2Gripper.dtheta));
+    // T_O+Δ = Tr_ΔO Tr_O R_ΔO R_O.
+    const Eigen::Vector3d& t_o = instance.object_pose.translation();
+    Transform r_o = Transform::Identity();
+    r_o.linear() = instance.object_pose.linear();
+    const IntervalPose object =
+        interval_pose(box(kTable2Object.dx) + t_o.x(), box(kTable2Object.dy) + t_o.y(),
+                      box(kTable2Object.dz) + t_o.z(), box(kTable2Object.dtheta)) *
+        interval_pose(r_o);
+    const IntervalPose grasp = interval_pose(instance.grasp);
+    const IntervalPose gripper = interval_pose(instance.object_pose) * grasp * manipulator_error;
+    const double half_opening = instance.finger_opening / 2, half_width = instance.object_width / 2;
+    int condition = 0;
+    for (const double finger : {-half_opening, half_opening}) {
+      const IntervalPose inverse =
+          rigid_inverse(gripper * interval_pose(Transform(Eigen::Translation3d(0, finger, 0))));
+      for (const double contact : {half_width, -half_width}) {
+        const IntervalPose in_finger =
+            inverse * object * grasp *
+            interval_pose(Transform(Eigen::Translation3d(0, contact, 0)));
+        const Interval y = in_finger.translation[1];
+        direct_proved += (condition++ < 2 ? y.lo > 0 : y.hi < 0) ? 1 : 0;
+        if (index == 0) direct_width += y.hi - y.lo;
+      }
+    }
+  });
+
   char note[160];
   std::printf("\npickup preconditions, one plan instance = build + decide 4 inequalities\n");
   std::snprintf(note, sizeof note, "proved %.2f/4, full bound() on %.2f/4, mean width %.4f in",
@@ -286,12 +416,26 @@ void run_pickup_preconditions(const BenchOptions& options) {
                 static_cast<double>(naive_proved) / repetitions,
                 naive_width / (4.0 * repetitions) / spar::units::kInch);
   print_row("pickup", "naive 4x4 products + interval tape", naive, note);
+  std::snprintf(note, sizeof note,
+                "proved %.2f/4, full bound() on %.2f/4, mean width %.4f in (on the example)",
+                static_cast<double>(template_proved) / template_repetitions,
+                static_cast<double>(template_full_bounds) / template_repetitions,
+                template_width / (4.0 * template_examples) / spar::units::kInch);
+  print_row("pickup", "spar template: fresh geometry, check", templated, note);
+  std::snprintf(note, sizeof note, "once per pair of uncertainty models (checksum %d)",
+                template_built / (repetitions / 10));
+  print_row("pickup", "  spar template: one-time build", template_build, note);
+  std::snprintf(note, sizeof note, "proved %.2f/4, mean width %.4f in (on the example)",
+                static_cast<double>(direct_proved) / direct_repetitions,
+                direct_width / (4.0 * direct_examples) / spar::units::kInch);
+  print_row("pickup", "naive direct interval 4x4", direct, note);
   std::printf(
       "per inequality: spar fresh %.3f us, spar reused %.3f us, naive %.3f us "
       "(target: well under ~8 us)\n",
       ours * 1e6 / 4, reused * 1e6 / 4, naive * 1e6 / 4);
   std::printf("ratio pickup_instance naive_interval %.2f\n", naive / ours);
   std::printf("ratio pickup_recheck naive_interval %.2f\n", naive / reused);
+  std::printf("ratio pickup_template naive_interval %.2f\n", naive / templated);
   std::printf("(pickup checksum %zu)\n", nodes);
 }
 

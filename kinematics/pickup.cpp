@@ -2,6 +2,7 @@
 
 #include <numbers>
 
+#include "kinematics/internal/pickup_validation.hpp"
 #include "symbolic/operations.hpp"
 #include "symbolic/smp.hpp"
 
@@ -9,6 +10,14 @@ namespace spar::kinematics {
 
 using symbolic::Expr;
 using symbolic::ExprPool;
+
+void internal::check_pickup_geometry(const PickupGeometry& geometry) {
+  if (!(geometry.finger_opening > 0.0) || !(geometry.object_width > 0.0)) {
+    throw KinematicsError("pickup: finger opening and object width must be > 0 (got " +
+                          std::to_string(geometry.finger_opening) + " and " +
+                          std::to_string(geometry.object_width) + ")");
+  }
+}
 
 bool PickupCondition::holds_at(const std::map<std::string, double>& values) const {
   const double value = symbolic::evaluate(expression, values);
@@ -19,11 +28,7 @@ std::array<PickupCondition, 4> pickup_conditions(const PickupGeometry& geometry,
                                                  const PoseError& manipulator,
                                                  const PoseError& object,
                                                  const PickupOptions& options) {
-  if (!(geometry.finger_opening > 0.0) || !(geometry.object_width > 0.0)) {
-    throw KinematicsError("pickup: finger opening and object width must be > 0 (got " +
-                          std::to_string(geometry.finger_opening) + " and " +
-                          std::to_string(geometry.object_width) + ")");
-  }
+  internal::check_pickup_geometry(geometry);
   ExprPool& pool = manipulator.dx.pool();
   if (&object.dx.pool() != &pool) {
     throw KinematicsError("pickup: gripper and object uncertainties use different pools");

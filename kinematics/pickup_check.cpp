@@ -2,6 +2,8 @@
 
 #include <string>
 
+#include "kinematics/internal/pickup_validation.hpp"
+
 namespace spar::kinematics {
 
 namespace {
@@ -21,6 +23,26 @@ bounds::ConditionSet condition_set(const PickupPreconditions& preconditions) {
 
 }  // namespace
 
+void internal::pickup_ranges(std::span<const UncertaintyVariable> expected,
+                             std::span<const UncertaintyVariable> given,
+                             std::span<bounds::Interval> ranges) {
+  if (given.size() != expected.size()) {
+    throw KinematicsError("pickup check: expected " + std::to_string(expected.size()) +
+                          " uncertainty variables, got " + std::to_string(given.size()));
+  }
+  for (std::size_t i = 0; i < given.size(); ++i) {
+    const UncertaintyVariable& v = given[i];
+    if (v.name != expected[i].name) {
+      throw KinematicsError("pickup check: variable " + std::to_string(i) + " is '" + v.name +
+                            "', expected '" + expected[i].name + "'");
+    }
+    if (!(v.lower <= v.upper)) {
+      throw KinematicsError("pickup check: empty range for '" + v.name + "'");
+    }
+    ranges[i] = bounds::Interval{v.lower, v.upper};
+  }
+}
+
 bounds::Box uncertainty_box(symbolic::ExprPool& pool,
                             std::span<const UncertaintyVariable> variables) {
   bounds::Box box;
@@ -38,23 +60,8 @@ PickupChecker::PickupChecker(const PickupPreconditions& preconditions)
 
 std::array<PickupCheck, 4> PickupChecker::check(std::span<const UncertaintyVariable> variables,
                                                 const bounds::BoundOptions& full) {
-  if (variables.size() != preconditions_.variables.size()) {
-    throw KinematicsError("pickup check: expected " +
-                          std::to_string(preconditions_.variables.size()) +
-                          " uncertainty variables, got " + std::to_string(variables.size()));
-  }
-  std::vector<bounds::Interval> ranges(variables.size());
-  for (std::size_t i = 0; i < variables.size(); ++i) {
-    const UncertaintyVariable& v = variables[i];
-    if (v.name != preconditions_.variables[i].name) {
-      throw KinematicsError("pickup check: variable " + std::to_string(i) + " is '" + v.name +
-                            "', expected '" + preconditions_.variables[i].name + "'");
-    }
-    if (!(v.lower <= v.upper)) {
-      throw KinematicsError("pickup check: empty range for '" + v.name + "'");
-    }
-    ranges[i] = bounds::Interval{v.lower, v.upper};
-  }
+  std::vector<bounds::Interval> ranges(preconditions_.variables.size());
+  internal::pickup_ranges(preconditions_.variables, variables, ranges);
   const std::vector<bounds::ConditionCheck> decided =
       conditions_.check(ranges, full, bounds::Escalation::kNotSatisfied);
   std::array<PickupCheck, 4> checks;
