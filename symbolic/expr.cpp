@@ -116,10 +116,29 @@ struct BlockAllocator {
   friend bool operator==(const BlockAllocator&, const BlockAllocator&) { return true; }
 };
 
+// Address space for a large array: a range reserved once (no memory committed until written) that
+// the array then grows in place, so that growing copies nothing and the kernel zeroes each page
+// once, when first written. On Linux; returns nullptr elsewhere or when refused (a strict
+// overcommit policy, a small RLIMIT_AS), and the array keeps growing by copying.
+constexpr std::size_t kReservation = std::size_t{1} << 34;  // 16 GiB per array, moved if outgrown
+void* reserve_range(std::size_t bytes) {
+#ifdef __linux__
+  void* range = mmap(nullptr, bytes, PROT_READ | PROT_WRITE,
+                     MAP_PRIVATE | MAP_ANONYMOUS | MAP_NORESERVE, -1, 0);
+  if (range == MAP_FAILED) return nullptr;
+  madvise(range, bytes, MADV_HUGEPAGE);  // advice only: may be ignored
+  return range;
+#else
+  (void)bytes;
+  return nullptr;
+#endif
+}
+
 // The arena's node, operand and factor arrays: a growable array of trivially copyable elements,
-// indexed with one load (no chunk arithmetic). Growing moves the elements (realloc, or a copy into
-// a fresh huge-page block from 2 MiB on), so element addresses are not stable: hold ids, never a
-// Node& across a call that may build a node. A fresh pool's arrays allocate on first use.
+// indexed with one load (no chunk arithmetic). A fresh pool's arrays allocate on first use and
+// grow by realloc; from 2 MiB on an array moves once into a reserved range (reserve_range) and
+// grows there without copying. Growing may move the elements, so element addresses are not
+// stable: hold ids, never a Node& across a call that may build a node.
 template <class T>
 class PodVector {
   static_assert(std::is_trivially_copyable_v<T>);
@@ -128,7 +147,15 @@ class PodVector {
   PodVector() = default;
   PodVector(const PodVector&) = delete;
   PodVector& operator=(const PodVector&) = delete;
-  ~PodVector() { std::free(data_); }
+  ~PodVector() {
+#ifdef __linux__
+    if (reserved_ != 0) {
+      munmap(data_, reserved_);
+      return;
+    }
+#endif
+    std::free(data_);
+  }
 
   [[nodiscard]] std::size_t size() const { return size_; }
   T& operator[](std::size_t i) { return data_[i]; }
@@ -139,17 +166,37 @@ class PodVector {
     data_[size_++] = value;
   }
   void shrink_to(std::size_t size) { size_ = size; }  // size <= size()
+  // Malloc'd memory of at most `bytes` (an array worth keeping as a spare, see SpareArrays).
+  [[nodiscard]] bool small(std::size_t bytes) const {
+    return reserved_ == 0 && capacity_ * sizeof(T) <= bytes;
+  }
+  void swap(PodVector& other) noexcept {
+    std::swap(data_, other.data_);
+    std::swap(size_, other.size_);
+    std::swap(capacity_, other.capacity_);
+    std::swap(reserved_, other.reserved_);
+  }
 
  private:
   [[gnu::noinline]] void grow() {  // out of line, so that push_back inlines
     const std::size_t capacity = capacity_ == 0 ? 16 : capacity_ * 2;
-    if (capacity * sizeof(T) >= kHugePage) {
-      T* data = static_cast<T*>(allocate_block(capacity * sizeof(T)));
-      if (size_ != 0) std::memcpy(static_cast<void*>(data), data_, size_ * sizeof(T));
+    const std::size_t bytes = capacity * sizeof(T);
+    if (reserved_ != 0) {
+#ifdef __linux__
+      if (bytes > reserved_) {  // outgrown: move the range (page tables move, no copy)
+        void* moved = mremap(data_, reserved_, reserved_ * 2, MREMAP_MAYMOVE);
+        if (moved == MAP_FAILED) throw std::bad_alloc();
+        data_ = static_cast<T*>(moved);
+        reserved_ *= 2;
+      }
+#endif
+    } else if (void* range = bytes >= kHugePage ? reserve_range(kReservation) : nullptr) {
+      if (size_ != 0) std::memcpy(range, static_cast<const void*>(data_), size_ * sizeof(T));
       std::free(data_);
-      data_ = data;
+      data_ = static_cast<T*>(range);
+      reserved_ = kReservation;
     } else {
-      void* data = std::realloc(static_cast<void*>(data_), capacity * sizeof(T));
+      void* data = std::realloc(static_cast<void*>(data_), bytes);
       if (data == nullptr) throw std::bad_alloc();
       data_ = static_cast<T*>(data);
     }
@@ -157,6 +204,7 @@ class PodVector {
   }
   T* data_{nullptr};
   std::size_t size_{0}, capacity_{0};
+  std::size_t reserved_{0};  // bytes of the reserved range data_ starts, 0 if data_ is malloc's
 };
 
 // The pool's numbers: a vector whose elements never move. Chunk k holds kFirst·2^k elements, so
@@ -242,6 +290,18 @@ class HashIndex {
     }
     return kEmptySlot;
   }
+  // Emptied with its slots kept when at least 1/8 full and at most `bytes` (a spare, see
+  // SpareArrays), so that emptying costs no more than filling did.
+  [[nodiscard]] bool empty_as_spare(std::size_t bytes) {
+    if (slots_.size() * sizeof(Slot) > bytes || count_ * 8 < slots_.size()) return false;
+    std::fill(slots_.begin(), slots_.end(), Slot{});
+    count_ = 0;
+    return true;
+  }
+  void swap(HashIndex& other) noexcept {
+    slots_.swap(other.slots_);
+    std::swap(count_, other.count_);
+  }
   // Adds `id` (not present) under `key`, then doubles the slots if more than half full.
   void insert(std::uint32_t id, std::uint32_t key) {
     if (slots_.empty()) slots_.resize(16);
@@ -269,13 +329,52 @@ class HashIndex {
 // The 32-bit key of a 64-bit hash (mix() leaves its best bits on top).
 inline std::uint32_t key_of(std::size_t hash) { return static_cast<std::uint32_t>(hash >> 32); }
 
+// The node, operand and factor arrays and the node table of a thread's last pool, emptied with
+// their memory kept: the thread's next pool starts from them, so that building many fresh pools in
+// a row (a planner's instances, a benchmark's repetitions) neither regrows their arrays nor faults
+// their memory in again. Arrays over kMaxSpareBytes are freed instead: a thread keeps < 1 MiB.
+struct SpareArrays {
+  static constexpr std::size_t kMaxSpareBytes = std::size_t{256} << 10;
+  PodVector<Node> nodes;
+  PodVector<std::uint32_t> operand_ids, factor_ids;
+  HashIndex table;
+  bool full{false};  // holds a pool's arrays, not yet taken
+  ~SpareArrays();
+};
+// Set once the thread's SpareArrays is destroyed (a pool that outlives it frees its own arrays).
+thread_local bool spare_arrays_gone = false;
+thread_local SpareArrays spare_arrays;
+SpareArrays::~SpareArrays() { spare_arrays_gone = true; }
+
 struct ExprPool::Impl {
+  Impl() {
+    if (spare_arrays_gone || !spare_arrays.full) return;
+    nodes.swap(spare_arrays.nodes);
+    operand_ids.swap(spare_arrays.operand_ids);
+    factor_ids.swap(spare_arrays.factor_ids);
+    if (spare_arrays.table.slot_count() != 0) table.swap(spare_arrays.table);
+    spare_arrays.full = false;
+  }
+  ~Impl() {
+    if (spare_arrays_gone || spare_arrays.full) return;
+    constexpr std::size_t kMax = SpareArrays::kMaxSpareBytes;
+    // What is not kept stays here, and the spare's previous (empty) arrays come back with it.
+    if (nodes.small(kMax)) nodes.shrink_to(0), nodes.swap(spare_arrays.nodes);
+    if (operand_ids.small(kMax))
+      operand_ids.shrink_to(0), operand_ids.swap(spare_arrays.operand_ids);
+    if (factor_ids.small(kMax)) factor_ids.shrink_to(0), factor_ids.swap(spare_arrays.factor_ids);
+    if (table.empty_as_spare(kMax)) table.swap(spare_arrays.table);
+    spare_arrays.full = true;
+  }
+  Impl(const Impl&) = delete;
+  Impl& operator=(const Impl&) = delete;
+
   PodVector<Node> nodes;
   PodVector<std::uint32_t> operand_ids;
   PodVector<std::uint32_t> factor_ids;  // indices into numbers, parallel to operand_ids
   StableVector<Number> numbers;         // each distinct Number once
   std::vector<std::string> names;
-  HashIndex table{16};   // node ids, by node_hash()
+  HashIndex table;       // node ids, by node_hash()
   HashIndex variables;   // Variable node ids, by name_key()
   HashIndex number_ids;  // indices into numbers, by number_key(), except...
   std::uint32_t small_integers[2 * kSmallInteger + 1]{};  // ...-16..16: index + 1, or 0 if new
@@ -321,6 +420,11 @@ struct ExprPool::Impl {
     return variables.find(key, [&](std::uint32_t id) { return names[nodes[id].begin] == name; });
   }
   const Number& number_of(const Node& node) const { return numbers[node.number]; }
+  // Whether node `id` is the constant `value` (-16..16, which has one index in numbers).
+  bool is_integer_constant(std::uint32_t id, std::int64_t value) const {
+    const Node& node = nodes[id];
+    return node.op == Op::kConstant && small_integers[value + kSmallInteger] == node.number + 1;
+  }
   // A guard sum 0·t1 + ... : zero wherever it is defined.
   bool is_guard(std::uint32_t id) const {
     const Node& node = nodes[id];
@@ -753,6 +857,7 @@ Expr ExprPool::product(const Number& coefficient, std::span<const Term> factors)
   const auto is_guard = [&](std::uint32_t id) { return impl_->is_guard(id); };
   const auto positive_integer = [](const Number& e) { return e.is_integer() && e.numerator() > 0; };
   bool undefined = false;
+  bool may_hold_guard = false;  // some entry's base may be a guard sum
   for (const Term& factor : factors) {
     if (factor.expr.pool_ != this) throw SymbolicError("expressions from different pools mixed");
     const Number& e = factor.factor;
@@ -774,15 +879,19 @@ Expr ExprPool::product(const Number& coefficient, std::span<const Term> factors)
       }
     } else if (node.op == Op::kMul && e.is_integer() && node.count <= kFlattenLimit) {
       fold(impl_->number_of(node), e.numerator());
+      may_hold_guard = may_hold_guard || node.partial;  // a guard is partial, and so its products
       for (std::uint32_t i = node.begin; i < node.begin + node.count; ++i) {
         const Number inner = impl_->factor(i);
         // A guard under a negative power stays undefined whatever power the product is raised to.
-        if (inner.is_negative() && is_guard(impl_->operand_ids[i])) undefined = true;
+        if (node.partial && inner.is_negative() && is_guard(impl_->operand_ids[i])) {
+          undefined = true;
+        }
         entries.emplace_back(impl_->operand_ids[i], e * inner);
         required.emplace_back(impl_->operand_ids[i],
                               domain_of_exponent(inner) | domain_of_exponent(e * inner));
       }
     } else {
+      may_hold_guard = may_hold_guard || (node.op == Op::kAdd && node.partial);
       if (e.is_negative() && is_guard(factor.expr.id_)) undefined = true;
       entries.emplace_back(factor.expr.id_, e);
       required.emplace_back(factor.expr.id_, domain_of_exponent(e));
@@ -818,7 +927,7 @@ Expr ExprPool::product(const Number& coefficient, std::span<const Term> factors)
   std::vector<Entry> spilled;
   sort_and_merge(entries, spilled);
   // Flattening or merging may give a guard a positive integer power (G^(1/2)·G^(1/2)): zero.
-  if (std::ranges::any_of(entries, [&](const Entry& entry) {
+  if (may_hold_guard && std::ranges::any_of(entries, [&](const Entry& entry) {
         return positive_integer(entry.second) && is_guard(entry.first);
       })) {
     return zero();
@@ -1143,35 +1252,15 @@ const Number kOne = Number::integer(1);
 const Number kMinusOne = Number::integer(-1);
 }  // namespace
 
-namespace {
-
-bool is_exactly(Expr e, std::int64_t value) {
-  if (!e.is_constant()) return false;
-  const Number& n = e.constant();
-  return n.is_integer() && n.numerator() == value;
-}
-
 // Shortcuts that give what sum() and product() would, without building anything: a + 0 = a,
-// a·1 = a, and a·0 = 0 when a is defined everywhere (else 0·a keeps a as a guard).
-std::optional<Expr> trivial_sum(Expr a, Expr b) {
-  if (&a.pool() != &b.pool()) return std::nullopt;  // sum() reports the mix
-  if (is_exactly(b, 0)) return a;
-  if (is_exactly(a, 0)) return b;
-  return std::nullopt;
-}
-std::optional<Expr> trivial_product(Expr a, Expr b) {
-  if (&a.pool() != &b.pool()) return std::nullopt;
-  if (is_exactly(b, 1)) return a;
-  if (is_exactly(a, 1)) return b;
-  if (is_exactly(b, 0) && !a.is_partial()) return b;
-  if (is_exactly(a, 0) && !b.is_partial()) return a;
-  return std::nullopt;
-}
-
-}  // namespace
-
+// a·1 = a, and a·0 = 0 when a is defined everywhere (else 0·a keeps a as a guard). Mixed pools
+// go on to sum() and product(), which report them.
 Expr operator+(Expr a, Expr b) {
-  if (const auto trivial = trivial_sum(a, b)) return *trivial;
+  if (&a.pool() == &b.pool()) {
+    const ExprPool::Impl& m = *a.pool().impl_;
+    if (m.is_integer_constant(b.id(), 0)) return a;
+    if (m.is_integer_constant(a.id(), 0)) return b;
+  }
   const Term terms[] = {{a, kOne}, {b, kOne}};
   return a.pool().sum(Number(), terms);
 }
@@ -1180,7 +1269,13 @@ Expr operator-(Expr a, Expr b) {
   return a.pool().sum(Number(), terms);
 }
 Expr operator*(Expr a, Expr b) {
-  if (const auto trivial = trivial_product(a, b)) return *trivial;
+  if (&a.pool() == &b.pool()) {
+    const ExprPool::Impl& m = *a.pool().impl_;
+    if (m.is_integer_constant(b.id(), 1)) return a;
+    if (m.is_integer_constant(a.id(), 1)) return b;
+    if (m.is_integer_constant(b.id(), 0) && !m.nodes[a.id()].partial) return b;
+    if (m.is_integer_constant(a.id(), 0) && !m.nodes[b.id()].partial) return a;
+  }
   const Term factors[] = {{a, kOne}, {b, kOne}};
   return a.pool().product(kOne, factors);
 }

@@ -194,6 +194,8 @@ class ExprPool {
  private:
   friend class Expr;
   friend std::vector<Expr> topological_order(std::span<const Expr> roots);
+  friend Expr operator+(Expr a, Expr b);
+  friend Expr operator*(Expr a, Expr b);
   // (node id, factor) pairs of a sum or product under construction, as terms of this pool.
   [[nodiscard]] std::vector<Term> terms_of(
       std::span<const std::pair<std::uint32_t, Number>> entries);

@@ -4,7 +4,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
+#include <memory>
 #include <random>
+#include <string>
+#include <thread>
+#include <tuple>
 
 #include "symbolic/operations.hpp"
 #include "symbolic/parse.hpp"
@@ -253,6 +258,30 @@ TEST_F(ExprTest, DeepChainBuildsInLinearSpace) {
   for (int i = 0; i < 100000; ++i) chain = chain * sin(chain) + 1;
   EXPECT_LT(pool.size(), 500000u);
   pool.check_invariants();
+}
+
+// A pool starts from the emptied arrays of the thread's last pool (SpareArrays in expr.cpp): what
+// it builds must not depend on them, whatever their size, and a pool may die on another thread.
+TEST(ExprPoolReuse, PoolsBuiltAfterOthersAreTheSame) {
+  const auto build = [](ExprPool& pool, int n) {
+    Expr acc = pool.variable("x");
+    for (int i = 0; i < n; ++i)
+      acc = acc * sin(acc + pool.variable("y" + std::to_string(i % 7))) + i;
+    pool.check_invariants();  // ids are positions in the arena: equal ids, equal builds
+    return std::tuple{acc.id(), pool.size(), n <= 5 ? to_string(acc) : ""};
+  };
+  std::map<int, std::tuple<std::uint32_t, std::size_t, std::string>> first;
+  for (int n : {3000, 1, 200, 3000, 5, 20000, 2}) {
+    ExprPool pool;
+    const auto built = build(pool, n);
+    const auto [known, inserted] = first.emplace(n, built);
+    if (!inserted) EXPECT_EQ(built, known->second) << "n = " << n;
+  }
+  auto elsewhere = std::make_unique<ExprPool>();
+  const auto before = build(*elsewhere, 300);
+  std::thread([&] { elsewhere.reset(); }).join();  // its arrays become that thread's spare
+  ExprPool again;
+  EXPECT_EQ(build(again, 300), before);
 }
 
 }  // namespace
