@@ -436,6 +436,7 @@ void run_pickup_preconditions(const BenchOptions& options) {
   std::printf("ratio pickup_instance naive_interval %.2f\n", naive / ours);
   std::printf("ratio pickup_recheck naive_interval %.2f\n", naive / reused);
   std::printf("ratio pickup_template naive_interval %.2f\n", naive / templated);
+  std::printf("ratio pickup_template naive_direct_interval %.2f\n", direct / templated);
   std::printf("(pickup checksum %zu)\n", nodes);
 }
 
