@@ -143,6 +143,8 @@ BoundAnswer bound_expression(const Expression& f, const std::vector<BoxRange>& b
                      .hi = result.hi,
                      .inner_lo = result.inner_lo,
                      .inner_hi = result.inner_hi,
+                     .argmin = {},  // filled below, by name
+                     .argmax = {},
                      .status = bounds::to_string(result.status),
                      .possibly_undefined = result.possibly_undefined,
                      .time_limited = result.time_limited,

@@ -275,7 +275,9 @@ TEST(ExprPoolReuse, PoolsBuiltAfterOthersAreTheSame) {
     ExprPool pool;
     const auto built = build(pool, n);
     const auto [known, inserted] = first.emplace(n, built);
-    if (!inserted) EXPECT_EQ(built, known->second) << "n = " << n;
+    if (!inserted) {
+      EXPECT_EQ(built, known->second) << "n = " << n;
+    }
   }
   auto elsewhere = std::make_unique<ExprPool>();
   const auto before = build(*elsewhere, 300);
