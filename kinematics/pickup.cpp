@@ -2,7 +2,7 @@
 
 #include <numbers>
 
-#include "kinematics/internal/pickup_validation.hpp"
+#include "kinematics/internal/pickup_shared.hpp"
 #include "symbolic/operations.hpp"
 #include "symbolic/smp.hpp"
 
@@ -17,6 +17,32 @@ void internal::check_pickup_geometry(const PickupGeometry& geometry) {
                           std::to_string(geometry.finger_opening) + " and " +
                           std::to_string(geometry.object_width) + ")");
   }
+}
+
+std::array<PickupCondition, 4> internal::conditions_from_contacts(
+    const std::array<SymbolicPoint, 2>& in_ideal, const SymbolicTransform& manipulator_error,
+    const std::array<SymbolicTransform, 2>& finger_offsets) {
+  ExprPool& pool = manipulator_error.rotation(0, 0).pool();
+  // T_ΔM^-1 (T_O T_G)^-1 C per contact; the finger offsets only shift its y coordinate, so x and
+  // y are all that is built of it.
+  std::array<SymbolicPoint, 2> in_gripper;
+  for (int contact = 0; contact < 2; ++contact) {
+    for (int row = 0; row < 2; ++row) {
+      in_gripper[contact][row] = manipulator_error.apply_inverse_coordinate(in_ideal[contact], row);
+    }
+    in_gripper[contact][2] = pool.integer(0);  // z: not needed for [0,1,0,0]
+  }
+  std::array<PickupCondition, 4> conditions;
+  for (int finger = 0; finger < 2; ++finger) {
+    for (int contact = 0; contact < 2; ++contact) {
+      const bool positive = finger == 0;
+      conditions[finger * 2 + contact] = {
+          std::string(positive ? "0 < " : "0 > ") + "[0,1,0,0] P" + std::to_string(finger + 1) +
+              "^-1 C" + std::to_string(contact + 1),
+          finger_offsets[finger].apply_inverse_coordinate(in_gripper[contact], 1), positive};
+    }
+  }
+  return conditions;
 }
 
 bool PickupCondition::holds_at(const std::map<std::string, double>& values) const {
@@ -41,31 +67,20 @@ std::array<PickupCondition, 4> pickup_conditions(const PickupGeometry& geometry,
   const double half_opening = geometry.finger_opening / 2, half_width = geometry.object_width / 2;
   const SymbolicPoint contacts[2] = {grasp.apply(constant_point(pool, 0, +half_width, 0)),
                                      grasp.apply(constant_point(pool, 0, -half_width, 0))};
-  const SymbolicTransform finger_offsets[2] = {trans(pool, 0, -half_opening, 0),
-                                               trans(pool, 0, +half_opening, 0)};
-  symbolic::SimplifyOptions simplify_options;
-  for (const auto& [name, width] : options.widths) simplify_options.widths[name] = width;
-  // T_ΔM^-1 (T_O T_G)^-1 C per contact, C in object-frame coordinates until then; the finger
-  // offsets only shift its y coordinate, so x and y are all that is built of it.
-  std::array<SymbolicPoint, 2> in_gripper;
+  const std::array<SymbolicTransform, 2> finger_offsets = {trans(pool, 0, -half_opening, 0),
+                                                           trans(pool, 0, +half_opening, 0)};
+  std::array<SymbolicPoint, 2> in_ideal;
   for (int contact = 0; contact < 2; ++contact) {
-    const SymbolicPoint in_ideal =
+    in_ideal[contact] =
         possible_object_point_in(ideal_gripper, geometry.object_pose, contacts[contact], object);
-    for (int row = 0; row < 2; ++row) {
-      in_gripper[contact][row] = manipulator_error.apply_inverse_coordinate(in_ideal, row);
-    }
-    in_gripper[contact][2] = pool.integer(0);  // z: not needed for [0,1,0,0]
   }
-  std::array<PickupCondition, 4> conditions;
-  for (int finger = 0; finger < 2; ++finger) {
-    for (int contact = 0; contact < 2; ++contact) {
-      const Expr y = finger_offsets[finger].apply_inverse_coordinate(in_gripper[contact], 1);
-      const bool positive = finger == 0;
-      conditions[finger * 2 + contact] = {
-          std::string(positive ? "0 < " : "0 > ") + "[0,1,0,0] P" + std::to_string(finger + 1) +
-              "^-1 C" + std::to_string(contact + 1),
-          options.simplify ? symbolic::simplify(y, simplify_options) : y, positive};
-    }
+  std::array<PickupCondition, 4> conditions =
+      internal::conditions_from_contacts(in_ideal, manipulator_error, finger_offsets);
+  if (options.simplify) {
+    symbolic::SimplifyOptions simplify_options;
+    for (const auto& [name, width] : options.widths) simplify_options.widths[name] = width;
+    for (PickupCondition& c : conditions)
+      c.expression = symbolic::simplify(c.expression, simplify_options);
   }
   return conditions;
 }

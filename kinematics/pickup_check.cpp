@@ -2,7 +2,7 @@
 
 #include <string>
 
-#include "kinematics/internal/pickup_validation.hpp"
+#include "kinematics/internal/pickup_shared.hpp"
 
 namespace spar::kinematics {
 

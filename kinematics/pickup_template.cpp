@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "bounds/condition_set.hpp"
-#include "kinematics/internal/pickup_validation.hpp"
+#include "kinematics/internal/pickup_shared.hpp"
 #include "symbolic/operations.hpp"
 #include "symbolic/tape.hpp"
 
@@ -55,12 +55,10 @@ std::array<PickupCondition, 4> parametric_conditions(const UncertainManipulator&
                                                      const std::array<Expr, kParameterCount>& p) {
   ExprPool& pool = gripper.dx().pool();
   const Expr zero = pool.integer(0);
-  const SymbolicTransform& manipulator_error = gripper.error();
   const Expr atoms[5] = {object.dx(), object.dy(), object.dz(), cos(object.dtheta()),
                          sin(object.dtheta())};
-  std::array<SymbolicPoint, 2> in_gripper;
+  std::array<SymbolicPoint, 2> in_ideal;  // (T_O T_G)^-1 C: z is not needed (T_ΔM^-1 rows 0, 1)
   for (int contact = 0; contact < 2; ++contact) {
-    SymbolicPoint in_ideal;  // (T_O T_G)^-1 C: z is not needed (T_ΔM^-1 rows 0, 1 skip it)
     for (int row = 0; row < 2; ++row) {
       const Expr terms[6] = {p[contact_parameter(row, contact, 2)],
                              p[rotation_parameter(row, 0)] * atoms[0],
@@ -68,28 +66,14 @@ std::array<PickupCondition, 4> parametric_conditions(const UncertainManipulator&
                              p[rotation_parameter(row, 2)] * atoms[2],
                              p[contact_parameter(row, contact, 0)] * atoms[3],
                              p[contact_parameter(row, contact, 1)] * atoms[4]};
-      in_ideal[row] = pool.sum(terms);
+      in_ideal[contact][row] = pool.sum(terms);
     }
-    in_ideal[2] = zero;
-    for (int row = 0; row < 2; ++row) {
-      in_gripper[contact][row] = manipulator_error.apply_inverse_coordinate(in_ideal, row);
-    }
-    in_gripper[contact][2] = zero;
+    in_ideal[contact][2] = zero;
   }
   const Expr half_opening = p[kHalfOpening];
-  const SymbolicTransform finger_offsets[2] = {trans(zero, -half_opening, zero),
-                                               trans(zero, half_opening, zero)};
-  std::array<PickupCondition, 4> conditions;
-  for (int finger = 0; finger < 2; ++finger) {
-    for (int contact = 0; contact < 2; ++contact) {
-      const bool positive = finger == 0;
-      conditions[finger * 2 + contact] = {
-          std::string(positive ? "0 < " : "0 > ") + "[0,1,0,0] P" + std::to_string(finger + 1) +
-              "^-1 C" + std::to_string(contact + 1),
-          finger_offsets[finger].apply_inverse_coordinate(in_gripper[contact], 1), positive};
-    }
-  }
-  return conditions;
+  return internal::conditions_from_contacts(
+      in_ideal, gripper.error(),
+      {trans(zero, -half_opening, zero), trans(zero, half_opening, zero)});
 }
 
 // Enclosures of the exact parameters of `geometry` (its doubles taken as exact reals, as

@@ -166,9 +166,12 @@ class PodVector {
     data_[size_++] = value;
   }
   void shrink_to(std::size_t size) { size_ = size; }  // size <= size()
-  // Malloc'd memory of at most `bytes` (an array worth keeping as a spare, see SpareArrays).
-  [[nodiscard]] bool small(std::size_t bytes) const {
-    return reserved_ == 0 && capacity_ * sizeof(T) <= bytes;
+  // Emptied with its memory kept when that is malloc'd and at most `bytes` (a spare, see
+  // SpareArrays).
+  [[nodiscard]] bool empty_as_spare(std::size_t bytes) {
+    if (reserved_ != 0 || capacity_ * sizeof(T) > bytes) return false;
+    size_ = 0;
+    return true;
   }
   void swap(PodVector& other) noexcept {
     std::swap(data_, other.data_);
@@ -361,10 +364,9 @@ struct ExprPool::Impl {
     if (spare_arrays_gone || spare_arrays.full) return;
     constexpr std::size_t kMax = SpareArrays::kMaxSpareBytes;
     // What is not kept stays here, and the spare's previous (empty) arrays come back with it.
-    if (nodes.small(kMax)) nodes.shrink_to(0), nodes.swap(spare_arrays.nodes);
-    if (operand_ids.small(kMax))
-      operand_ids.shrink_to(0), operand_ids.swap(spare_arrays.operand_ids);
-    if (factor_ids.small(kMax)) factor_ids.shrink_to(0), factor_ids.swap(spare_arrays.factor_ids);
+    if (nodes.empty_as_spare(kMax)) nodes.swap(spare_arrays.nodes);
+    if (operand_ids.empty_as_spare(kMax)) operand_ids.swap(spare_arrays.operand_ids);
+    if (factor_ids.empty_as_spare(kMax)) factor_ids.swap(spare_arrays.factor_ids);
     if (table.empty_as_spare(kMax)) table.swap(spare_arrays.table);
     spare_arrays.full = true;
   }
@@ -731,6 +733,7 @@ Expr ExprPool::sum(const Number& constant, std::span<const Term> terms) {
   };
   std::vector<Entry> entries;
   entries.reserve(impl_->flattened_size(terms, Op::kAdd, this));
+  bool may_hold_undefined = false;  // U is a partial product, and a sum holding one is partial
   for (const Term& original : terms) {
     if (original.expr.pool_ != this) throw SymbolicError("expressions from different pools mixed");
     if (original.factor.is_zero() && !impl_->nodes[original.expr.id_].partial) continue;
@@ -740,6 +743,7 @@ Expr ExprPool::sum(const Number& constant, std::span<const Term> terms) {
       term = {product(term.factor, unit), Number::integer(1)};
     }
     const Node& node = impl_->nodes[term.expr.id_];
+    may_hold_undefined = may_hold_undefined || node.partial;
     switch (node.op) {
       case Op::kConstant:
         if (!impl_->number_of(node).is_rational()) {
@@ -782,8 +786,10 @@ Expr ExprPool::sum(const Number& constant, std::span<const Term> terms) {
   std::vector<Entry> spilled;
   sort_and_merge(entries, spilled, [&](std::uint32_t id) { return impl_->nodes[id].partial; });
   // k·U is U for a product U undefined everywhere (product() gives U for k·U): its factor is 1.
-  for (Entry& entry : entries) {
-    if (impl_->is_undefined_product(entry.first)) entry.second = Number::integer(1);
+  if (may_hold_undefined) {
+    for (Entry& entry : entries) {
+      if (impl_->is_undefined_product(entry.first)) entry.second = Number::integer(1);
+    }
   }
   // Overflowed constants and coefficients: build again, so that the entry point above turns
   // each real into an operand (Add factors stay rational).
