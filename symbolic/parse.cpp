@@ -318,6 +318,9 @@ class Parser {
           } else {
             pending_.pop_back();
             --depth_;
+            // The group is one operand: "(a*b)*c" builds a*b, then multiplies it by c, as the tree
+            // reads (not one product of a, b and c, which differs if a*b is too long to flatten).
+            operands_.back() = {value(operands_.back())};
           }
         } else {
           operand_expected = true;  // the next argument
@@ -522,7 +525,9 @@ std::string to_string(Expr root, double max_tree_nodes) {
           if (!inverse && count == 0) first_numerator = i;
           if (count++ > 0) side.text("*");
           if (magnitude.is_one()) {
-            side.child(e.operand(i), base.precedence < kProduct);
+            // A product that is a factor of a product was too long to flatten (expr.hpp): without
+            // parentheses it would re-parse as factors of this product, a different node.
+            side.child(e.operand(i), base.precedence < kProduct || e.operand(i).op() == Op::kMul);
           } else {
             side.child(e.operand(i), base.precedence < kAtom);
             side.text("^");

@@ -195,6 +195,22 @@ TEST(Print, OverflowedConstantsRoundTrip) {
   }
 }
 
+// Fuzz finding (tests/fuzz/corpus/parse/regression-long-product): a product of more factors than
+// flattening takes (expr.hpp) stays one factor of its parent; printed without parentheses, it
+// re-parsed as the parent's own factors, a different node.
+TEST(Print, ProductsTooLongToFlattenRoundTrip) {
+  ExprPool pool;
+  std::string factors = "v0";
+  for (int i = 1; i < 20; ++i) factors += "*v" + std::to_string(i);
+  const Expr long_product = parse(pool, factors);
+  ASSERT_EQ(long_product.operand_count(), 20u);
+  const Expr y = pool.variable("y");
+  for (const Expr e : {long_product * y, y / long_product, 3 * long_product * y * y,
+                       -long_product / (y * pool.variable("z")), long_product * long_product}) {
+    EXPECT_EQ(parse(pool, to_string(e)), e) << "printed as " << to_string(e);
+  }
+}
+
 TEST(Print, EveryCorpusExpressionRoundTrips) {
   std::ifstream corpus(std::string(SPAR_CORPUS_DIR) + "/fpbench.jsonl");
   ASSERT_TRUE(corpus) << "corpus not found";
