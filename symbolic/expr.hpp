@@ -28,7 +28,7 @@
 //     1); c = 0 gives 0; 1·b^1 is b; a constant coefficient times a sum is distributed (2·(x + y)
 //     -> 2x + 2y). A base is a rational Constant only under a non-integer exponent (2^(1/2));
 //     real Constants may be bases with any exponent.
-//   * Flattening stops at 64 operands: a larger sum or product stays one operand of its parent
+//   * Flattening stops at 16 operands: a larger sum or product stays one operand of its parent
 //     (and a coefficient is not distributed into such a sum: c·s stays a product),
 //     so deep chains build in linear time (canonical forms above hold below that size).
 //   * Operands of Add and Mul are sorted by node id, so the order of operands never matters. (One

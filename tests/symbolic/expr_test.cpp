@@ -253,6 +253,22 @@ TEST_F(ExprTest, CoefficientTimesASumPastTheFlatteningLimitIsAProduct) {
   pool.check_invariants();
 }
 
+// expr.hpp: flattening stops at 16 operands. A sum of 16 joins its parent's operands (and like
+// terms across them merge); a sum of 17 stays one operand.
+TEST_F(ExprTest, FlatteningStopsAtSixteenOperands) {
+  std::vector<Expr> terms;
+  for (int i = 0; i < 17; ++i) terms.push_back(pool.variable("v" + std::to_string(i)));
+  const Expr sixteen = pool.sum(std::span(terms).first(16));
+  const Expr seventeen = pool.sum(terms);
+  EXPECT_EQ((sixteen + x).operand_count(), 17u);
+  EXPECT_EQ((sixteen - terms[0]).operand_count(), 15u);
+  EXPECT_EQ((seventeen + x).operand_count(), 2u);
+  EXPECT_EQ((seventeen - terms[0]).operand_count(), 2u);
+  EXPECT_EQ((2 * sixteen).op(), Op::kAdd);  // the coefficient is distributed
+  EXPECT_EQ((2 * seventeen).op(), Op::kMul);
+  pool.check_invariants();
+}
+
 TEST_F(ExprTest, DeepChainBuildsInLinearSpace) {
   Expr chain = x;
   for (int i = 0; i < 100000; ++i) chain = chain * sin(chain) + 1;
