@@ -179,7 +179,7 @@ class Parser {
   // limit).
   struct Operand {
     Expr expr;                // when terms is empty
-    std::vector<Term> terms;  // coefficients (sum) or exponents (product) of +1 / -1
+    std::vector<Term> terms{};  // coefficients (sum) or exponents (product) of +1 / -1
     bool product{false};
   };
 

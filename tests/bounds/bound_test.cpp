@@ -210,7 +210,9 @@ TEST(Bound, HugeIntegerPowersKeepTheirParity) {
     EXPECT_FALSE(r.possibly_undefined) << c.text;
     EXPECT_LE(r.lo, c.lo * (1 + 1e-9 * (c.lo > 0 ? 1 : -1))) << c.text;
     EXPECT_GE(r.hi, c.hi * (1 - 1e-9 * (c.hi > 0 ? 1 : -1))) << c.text;
-    if (std::isfinite(c.lo)) EXPECT_GT(r.lo, c.lo * (1 - 1e-6 * (c.lo > 0 ? 1 : -1))) << c.text;
+    if (std::isfinite(c.lo)) {
+      EXPECT_GT(r.lo, c.lo * (1 - 1e-6 * (c.lo > 0 ? 1 : -1))) << c.text;
+    }
     EXPECT_LT(r.hi, c.hi * (1 + 1e-6 * (c.hi > 0 ? 1 : -1))) << c.text;
   }
 }

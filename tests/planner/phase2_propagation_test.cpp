@@ -210,9 +210,11 @@ TEST(Propagation, EveryEffectMatchesTheSimulationForEveryGrasp) {
     }
     const std::vector<SpaceVariable>& variables = propagation.space().variables();
     // The scan moves no arm: it allocates the sensor's four, the others the arm's four each.
-    for (const SpaceVariable& v : variables)
-      if (v.provenance.step == 1)
+    for (const SpaceVariable& v : variables) {
+      if (v.provenance.step == 1) {
         EXPECT_EQ(v.provenance.source, UncertaintySource::kSensor) << v.name;
+      }
+    }
     EXPECT_EQ(variables.size(), 4u * world.object_count() + 4 + 4 * 6);
     for (int sample = 0; sample < 12; ++sample) {
       std::map<std::string, double> values;

@@ -259,7 +259,9 @@ TEST(Phase2Soundness, ReverseMarginsHoldInTheScaledBox) {
       for (std::size_t b = 0; b < p.blame.size(); ++b) {
         EXPECT_GE(p.blame[b].share, 0.0);
         EXPECT_LE(p.blame[b].share, 1.0);
-        if (b > 0) EXPECT_GE(p.blame[b - 1].share, p.blame[b].share);
+        if (b > 0) {
+          EXPECT_GE(p.blame[b - 1].share, p.blame[b].share);
+        }
       }
       if (p.verdict == Verdict::kSatisfied) {
         ASSERT_TRUE(p.holds_up_to_scale.has_value());
