@@ -566,7 +566,8 @@ double timed_build(int n) {
 
 // Median build times of chains of n1 and n2 transforms, their builds alternated so that both
 // meet the same machine: the rows' builds of one n run seconds apart from the other's, and on
-// a shared VM a burst of noise in one of those stretches moved their ratio by up to 1.6x.
+// a shared VM the machine's speed changes between such stretches (their ratio ranged 1.2-3.7
+// with one binary whose alternated ratio was 2.0-2.1; bench/RESULTS.md, issue 13, session 7).
 std::pair<double, double> paired_build_times(int n1, int n2) {
   std::vector<double> t1, t2;
   for (int rep = 0; rep < kBuildRepetitions; ++rep) {
