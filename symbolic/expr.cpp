@@ -25,15 +25,14 @@ constexpr std::uint32_t kEmptySlot = 0xFFFFFFFFu;
 // Integers in [-kSmallInteger, kSmallInteger] find their index in a pool's numbers without hashing.
 constexpr std::int64_t kSmallInteger = 16;
 
-// A sum or product with more operands than this is not flattened into its parent: it stays one
-// opaque operand. Without the cap, building a deep chain one operation at a time (or
+// kFlattenLimit (expr.hpp): a sum or product with more operands stays one opaque operand of its
+// parent. Without the cap, building a deep chain one operation at a time (or
 // differentiating one: d sin(u) = cos(u)·du nests products n deep) copies O(n) operands per
 // step, O(n²) in all. Below the cap, canonical forms are exactly as documented in expr.hpp.
 // The cap is also the cost of a step: a sum grown one term at a time (a chain's translation
 // entries) copies about cap/2 operands per step. At 64 that copying was half of a deep chain's
 // memory and the reason a 48-transform chain cost more per transform than a 24-transform one
 // (bench/RESULTS.md, issue 13); at 16 neither is true, and no test or benchmark bound widened.
-constexpr std::uint32_t kFlattenLimit = 16;
 
 std::size_t mix(std::size_t h, std::size_t v) {
   return (h ^ (v + 0x9E3779B97F4A7C15ull + (h << 6) + (h >> 2))) * 0xBF58476D1CE4E5B9ull;

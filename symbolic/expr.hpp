@@ -79,6 +79,10 @@
 
 namespace spar::symbolic {
 
+// A sum or product with more operands than this is not flattened into its parent (see
+// "Flattening stops" above).
+inline constexpr std::uint32_t kFlattenLimit = 16;
+
 // The functions come from the one table (symbolic/functions.hpp): unary ones, then binary ones.
 enum class Op : std::uint8_t {
   kConstant,

@@ -178,7 +178,7 @@ class Parser {
   // sums (each interned in the pool for good: memory quadratic in the chain up to the flattening
   // limit).
   struct Operand {
-    Expr expr;                // when terms is empty
+    Expr expr;                  // when terms is empty
     std::vector<Term> terms{};  // coefficients (sum) or exponents (product) of +1 / -1
     bool product{false};
   };
@@ -515,6 +515,12 @@ std::string to_string(Expr root, double max_tree_nodes) {
         Layout numerator, denominator;
         std::size_t numerator_count = 0, denominator_count = 0;
         std::size_t first_numerator = e.operand_count();
+        // A denominator of more factors than flattening takes prints as "/a/b/c...": grouped as
+        // "/(a*b*c...)", it would re-parse as one product too long to flatten into this one.
+        std::size_t inverse_count = 0;
+        for (std::size_t i = 0; i < e.operand_count(); ++i)
+          inverse_count += e.factor(i).is_negative();
+        const bool divide_each = inverse_count > kFlattenLimit;
         for (std::size_t i = 0; i < e.operand_count(); ++i) {
           const Number& exponent = e.factor(i);
           const Layout& base = get(e.operand(i));
@@ -523,7 +529,7 @@ std::string to_string(Expr root, double max_tree_nodes) {
           Layout& side = inverse ? denominator : numerator;
           std::size_t& count = inverse ? denominator_count : numerator_count;
           if (!inverse && count == 0) first_numerator = i;
-          if (count++ > 0) side.text("*");
+          if (count++ > 0) side.text(inverse && divide_each ? "/" : "*");
           if (magnitude.is_one()) {
             // A product that is a factor of a product was too long to flatten (expr.hpp): without
             // parentheses it would re-parse as factors of this product, a different node.
@@ -536,10 +542,11 @@ std::string to_string(Expr root, double max_tree_nodes) {
         }
         Layout rest = numerator;
         if (denominator_count > 0) {
+          const bool grouped = denominator_count > 1 && !divide_each;
           rest.text("/");
-          if (denominator_count > 1) rest.text("(");
+          if (grouped) rest.text("(");
           rest.append(denominator);
-          if (denominator_count > 1) rest.text(")");
+          if (grouped) rest.text(")");
         }
         const bool starts_with_sum =
             numerator_count > 0 && e.operand(first_numerator).op() == Op::kAdd;

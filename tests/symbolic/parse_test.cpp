@@ -209,6 +209,18 @@ TEST(Print, ProductsTooLongToFlattenRoundTrip) {
                        -long_product / (y * pool.variable("z")), long_product * long_product}) {
     EXPECT_EQ(parse(pool, to_string(e)), e) << "printed as " << to_string(e);
   }
+  // Found by SymbolicProperty.LongSumsAndProductsKeepValueAndRoundTrip: a flat product with more
+  // than 16 factors in its denominator printed them grouped, "y/(v0*v1*...)", which re-parses as
+  // y over one product too long to flatten. It prints as "y/v0/v1/..." now.
+  std::vector<Term> terms{{y, Number::integer(1)}};
+  for (int i = 0; i < 20; ++i)
+    terms.push_back({pool.variable("v" + std::to_string(i)), Number::integer(-1)});
+  const Expr long_denominator = pool.product(Number::integer(1), terms);
+  ASSERT_EQ(long_denominator.operand_count(), 21u);
+  EXPECT_EQ(to_string(long_denominator).find("/("), std::string::npos);
+  for (const Expr e : {long_denominator, long_denominator * long_product, 2 * long_denominator}) {
+    EXPECT_EQ(parse(pool, to_string(e)), e) << "printed as " << to_string(e);
+  }
 }
 
 TEST(Print, EveryCorpusExpressionRoundTrips) {

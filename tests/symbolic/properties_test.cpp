@@ -245,5 +245,70 @@ RC_GTEST_PROP(SymbolicProperty, DerivativeMatchesFiniteDifferences, ()) {
   RC_ASSERT(std::fabs(derivative - fd) <= 1e-5 * std::max({1.0, std::fabs(fd), built.magnitude}));
 }
 
+// Sums and products on both sides of the flattening limit (16 operands, expr.hpp), combined so
+// that a short operand is flattened into its parent and a long one is not, and so that terms
+// cancel across them: the value is kept, operand order does not matter, and print then parse
+// gives back the same node.
+RC_GTEST_PROP(SymbolicProperty, LongSumsAndProductsKeepValueAndRoundTrip, ()) {
+  const int n = *rc::gen::inRange(1, 40), m = *rc::gen::inRange(1, 40);
+  const auto raw = *rc::gen::container<std::vector<int>>(static_cast<std::size_t>(n + m),
+                                                         rc::gen::inRange(1, 2000));
+  ExprPool pool;
+  std::map<std::string, double> point;
+  std::vector<Expr> vars;
+  for (int i = 0; i < n + m; ++i) {
+    const std::string name = "w" + std::to_string(i);
+    point[name] = raw[static_cast<std::size_t>(i)] / 1000.0;  // in (0, 2]: no pole below
+    vars.push_back(pool.variable(name));
+  }
+  const Number coefficients[] = {Number::integer(1), Number::integer(2), Number::integer(-1),
+                                 Number::rational(1, 3)};
+  // a: n terms of w0.. ; b: m terms, the first min(n, m) of them a's own terms negated.
+  std::vector<Term> a_terms, b_terms, a_factors, b_factors;
+  for (int i = 0; i < n; ++i) {
+    a_terms.push_back({vars[i], coefficients[i % 4]});
+    a_factors.push_back({vars[i], Number::integer(i % 3 == 2 ? -1 : 1 + i % 2)});
+  }
+  for (int j = 0; j < m; ++j) {
+    const bool shared = j < n && *rc::gen::arbitrary<bool>();
+    const Expr v = shared ? vars[j] : vars[n + j];
+    b_terms.push_back({v, shared ? -coefficients[j % 4] : coefficients[(j + 1) % 4]});
+    b_factors.push_back({v, Number::integer(shared ? -1 : 1)});
+  }
+  auto value_of = [&](const std::vector<Term>& terms, bool product) {
+    double r = product ? 1.0 : 0.0;
+    for (const Term& t : terms) {
+      const double v = point.at(t.expr.name());
+      r = product ? r * std::pow(v, t.factor.value()) : r + t.factor.value() * v;
+    }
+    return r;
+  };
+  const Expr a = pool.sum(Number(), a_terms), b = pool.sum(Number(), b_terms);
+  const Expr p = pool.product(Number::integer(1), a_factors);
+  const Expr q = pool.product(Number::integer(1), b_factors);
+  const double av = value_of(a_terms, false), bv = value_of(b_terms, false);
+  const double pv = value_of(a_factors, true), qv = value_of(b_factors, true);
+  const std::pair<Expr, double> cases[] = {{a + b, av + bv},
+                                           {a - b, av - bv},
+                                           {3 * a - b * 2, 3 * av - 2 * bv},
+                                           {p * q, pv * qv},
+                                           {p / q, pv / qv},
+                                           {a * p + b * q - a, av * pv + bv * qv - av},
+                                           {(a + p) / (q * q), (av + pv) / (qv * qv)}};
+  for (const auto& [e, reference] : cases) {
+    const double scale = std::max({1.0, std::fabs(av), std::fabs(bv), std::fabs(pv), std::fabs(qv),
+                                   std::fabs(pv * qv), std::fabs(pv / qv)});
+    RC_ASSERT(close(evaluate_by_nodes(e, point), reference, scale, 1e-8));
+    RC_ASSERT(parse(pool, to_string(e)) == e);
+  }
+  std::vector<Term> shuffled = a_terms;
+  std::reverse(shuffled.begin(), shuffled.end());
+  RC_ASSERT(pool.sum(Number(), shuffled) == a);
+  shuffled = b_factors;
+  std::rotate(shuffled.begin(), shuffled.begin() + *rc::gen::inRange(0, m), shuffled.end());
+  RC_ASSERT(pool.product(Number::integer(1), shuffled) == q);
+  pool.check_invariants();
+}
+
 }  // namespace
 }  // namespace spar::symbolic
