@@ -79,7 +79,7 @@ inline BuiltExpr build_random_expr(ExprPool& pool, const std::vector<int>& recip
         case 4:
           if (n == 0 && u == 0) continue;
           e = pow(a, static_cast<std::int64_t>(n));
-          r = std::pow(u, n);
+          r = std::isnan(u) ? u : std::pow(u, n);  // libm's pow(NaN, 0) is 1; spar keeps undefined
           break;
         case 5:
           e = sin(a);
@@ -119,11 +119,11 @@ inline BuiltExpr build_random_expr(ExprPool& pool, const std::vector<int>& recip
           break;
         case 14:
           e = min(a, b);
-          r = std::fmin(u, v);
+          r = std::isnan(u) || std::isnan(v) ? NAN : std::fmin(u, v);  // fmin drops one NaN
           break;
         case 15:
           e = max(a, b);
-          r = std::fmax(u, v);
+          r = std::isnan(u) || std::isnan(v) ? NAN : std::fmax(u, v);
           break;
         case 16:
           e = atan2(a, b);

@@ -235,7 +235,10 @@ bool same_where_defined(Expr f, Expr g, const std::map<std::string, double>& poi
 
 // Two random expressions p, q combined into one of the shapes SMP rewrites, so every rule fires
 // on random arguments, not only on the hand-written cases above.
+// A draw whose q is an exact zero makes shapes 4 and 6 divide by zero, which construction
+// refuses (SymbolicError, number.hpp): such a draw is discarded.
 Expr trig_shape(ExprPool& pool, int shape, Expr p, Expr q, int m, int n) {
+  RC_PRE(!(q.is_constant() && q.constant().is_zero()));
   const Expr mp = pool.integer(m), np = pool.integer(n);
   switch (shape % 7) {
     case 0:
