@@ -14,8 +14,12 @@
 // Names are ASCII identifiers; a non-ASCII character (x², x−1, Δx) is refused with a hint.
 // Constants print as they parse: rationals exactly, reals (pi, 17-digit literals) with 17 digits,
 // and a real exponent stays a real (x^pi is a Pow node), so `to_string(parse(pool, s))` re-parses
-// to the same node. Parsing uses explicit stacks, not recursion, and allows kMaxParseDepth levels
-// of nesting (the message names the limit); printing is iterative too and works at any depth.
+// to the same node. A parenthesised group is one operand: "(a*b)*c" is a*b times c, the node
+// a*b*c unless a*b has more than kFlattenLimit factors (expr.hpp); printing parenthesises such
+// an unflattened factor and writes a denominator of more factors than that as "/a/b/...", so
+// that it re-parses to the same node. Parsing uses explicit stacks, not recursion, and allows
+// kMaxParseDepth levels of nesting (the message names the limit); printing is iterative too and
+// works at any depth.
 //
 // Example:
 //   ExprPool pool;
