@@ -30,10 +30,10 @@
 #include <string>
 #include <vector>
 
-#include "bounds/bound.hpp"
-#include "bounds/condition_set.hpp"
-#include "symbolic/parse.hpp"
-#include "symbolic/tape.hpp"
+#include "spar/bounds/bound.hpp"
+#include "spar/bounds/condition_set.hpp"
+#include "spar/symbolic/parse.hpp"
+#include "spar/symbolic/tape.hpp"
 
 using spar::bounds::BoundOptions;
 using spar::bounds::BoundResult;

@@ -25,10 +25,10 @@
 #include <string>
 #include <vector>
 
-#include "geometry/grasps.hpp"
-#include "geometry/mesh.hpp"
-#include "geometry/object.hpp"
-#include "geometry/stable_poses.hpp"
+#include "spar/geometry/grasps.hpp"
+#include "spar/geometry/mesh.hpp"
+#include "spar/geometry/object.hpp"
+#include "spar/geometry/stable_poses.hpp"
 
 namespace {
 

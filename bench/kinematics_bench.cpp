@@ -18,13 +18,13 @@
 #include <span>
 #include <vector>
 
-#include "bounds/interval.hpp"
-#include "common/units.hpp"
-#include "kinematics/ik.hpp"
-#include "kinematics/pickup_check.hpp"
-#include "kinematics/pickup_template.hpp"
-#include "kinematics/puma.hpp"
-#include "symbolic/tape.hpp"
+#include "spar/bounds/interval.hpp"
+#include "spar/common/units.hpp"
+#include "spar/kinematics/ik.hpp"
+#include "spar/kinematics/pickup_check.hpp"
+#include "spar/kinematics/pickup_template.hpp"
+#include "spar/kinematics/puma.hpp"
+#include "spar/symbolic/tape.hpp"
 
 namespace {
 

@@ -27,13 +27,13 @@
 #include <vector>
 
 #include "bench/timing.hpp"
-#include "bounds/bound.hpp"
-#include "bounds/condition_set.hpp"
-#include "bounds/inequality.hpp"
-#include "bounds/interval.hpp"
-#include "planner/plan.hpp"
-#include "planner/uncertainty/propagation.hpp"
-#include "symbolic/operations.hpp"
+#include "spar/bounds/bound.hpp"
+#include "spar/bounds/condition_set.hpp"
+#include "spar/bounds/inequality.hpp"
+#include "spar/bounds/interval.hpp"
+#include "spar/planner/plan.hpp"
+#include "spar/planner/uncertainty/propagation.hpp"
+#include "spar/symbolic/operations.hpp"
 
 namespace planner = spar::planner;
 namespace symbolic = spar::symbolic;

@@ -30,11 +30,11 @@
 #include <vector>
 
 #include "bench/timing.hpp"
-#include "bounds/condition_set.hpp"
-#include "planner/plan.hpp"
-#include "planner/uncertainty/probability.hpp"
-#include "planner/uncertainty/propagation.hpp"
-#include "symbolic/operations.hpp"
+#include "spar/bounds/condition_set.hpp"
+#include "spar/planner/plan.hpp"
+#include "spar/planner/uncertainty/probability.hpp"
+#include "spar/planner/uncertainty/propagation.hpp"
+#include "spar/symbolic/operations.hpp"
 
 namespace planner = spar::planner;
 namespace symbolic = spar::symbolic;

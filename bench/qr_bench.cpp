@@ -20,7 +20,7 @@
 #include <string>
 #include <vector>
 
-#include "qr/match_strike.hpp"
+#include "spar/qr/match_strike.hpp"
 
 namespace {
 

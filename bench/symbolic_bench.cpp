@@ -35,9 +35,9 @@
 #include <string>
 #include <vector>
 
-#include "symbolic/expr.hpp"
-#include "symbolic/operations.hpp"
-#include "symbolic/tape.hpp"
+#include "spar/symbolic/expr.hpp"
+#include "spar/symbolic/operations.hpp"
+#include "spar/symbolic/tape.hpp"
 
 namespace {
 

@@ -1,5 +1,5 @@
 // bound(): natural extension, monotonicity, centred form, branch and bound, inner search.
-#include "bounds/bound.hpp"
+#include "spar/bounds/bound.hpp"
 
 #include <algorithm>
 #include <array>
@@ -16,12 +16,12 @@
 #include <unordered_map>
 #include <utility>
 
-#include "bounds/internal/checks.hpp"
-#include "bounds/internal/gradient.hpp"
-#include "bounds/internal/linear_enclosure.hpp"
-#include "symbolic/operations.hpp"
-#include "symbolic/smp.hpp"
-#include "symbolic/tape.hpp"
+#include "spar/bounds/internal/checks.hpp"
+#include "spar/bounds/internal/gradient.hpp"
+#include "spar/bounds/internal/linear_enclosure.hpp"
+#include "spar/symbolic/operations.hpp"
+#include "spar/symbolic/smp.hpp"
+#include "spar/symbolic/tape.hpp"
 
 namespace spar::bounds {
 namespace {

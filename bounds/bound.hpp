@@ -33,9 +33,9 @@
 #include <string>
 #include <vector>
 
-#include "bounds/error.hpp"
-#include "bounds/interval.hpp"
-#include "symbolic/expr.hpp"
+#include "spar/bounds/error.hpp"
+#include "spar/bounds/interval.hpp"
+#include "spar/symbolic/expr.hpp"
 
 namespace spar::bounds {
 

@@ -1,11 +1,11 @@
-#include "bounds/condition_set.hpp"
+#include "spar/bounds/condition_set.hpp"
 
 #include <cmath>
 #include <limits>
 #include <string>
 
-#include "bounds/internal/checks.hpp"
-#include "symbolic/tape.hpp"
+#include "spar/bounds/internal/checks.hpp"
+#include "spar/symbolic/tape.hpp"
 
 namespace spar::bounds {
 namespace {

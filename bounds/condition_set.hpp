@@ -24,10 +24,10 @@
 #include <span>
 #include <vector>
 
-#include "bounds/bound.hpp"
-#include "bounds/inequality.hpp"
-#include "bounds/interval.hpp"
-#include "symbolic/expr.hpp"
+#include "spar/bounds/bound.hpp"
+#include "spar/bounds/inequality.hpp"
+#include "spar/bounds/interval.hpp"
+#include "spar/symbolic/expr.hpp"
 
 namespace spar::bounds {
 

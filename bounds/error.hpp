@@ -12,7 +12,7 @@
 //   }
 #pragma once
 
-#include "common/error.hpp"
+#include "spar/common/error.hpp"
 
 namespace spar::bounds {
 

@@ -1,4 +1,4 @@
-#include "bounds/inequality.hpp"
+#include "spar/bounds/inequality.hpp"
 
 namespace spar::bounds {
 

@@ -28,8 +28,8 @@
 #include <string>
 #include <vector>
 
-#include "bounds/bound.hpp"
-#include "symbolic/expr.hpp"
+#include "spar/bounds/bound.hpp"
+#include "spar/symbolic/expr.hpp"
 
 namespace spar::bounds {
 

@@ -1,12 +1,12 @@
 // Outward-rounded interval kernels. Directed rounding comes from the sign of the exact error of
 // each double operation (two-sum, fma residuals), so the FPU rounding mode is never changed.
-#include "bounds/interval.hpp"
+#include "spar/bounds/interval.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <numbers>
 
-#include "bounds/internal/ulp.hpp"
+#include "spar/bounds/internal/ulp.hpp"
 
 namespace spar::bounds {
 namespace {

@@ -23,8 +23,8 @@
 
 #include <limits>
 
-#include "symbolic/number.hpp"
-#include "symbolic/tape.hpp"
+#include "spar/symbolic/number.hpp"
+#include "spar/symbolic/tape.hpp"
 
 namespace spar::bounds {
 

@@ -1,4 +1,4 @@
-#include "bounds/shostak.hpp"
+#include "spar/bounds/shostak.hpp"
 
 #include <algorithm>
 #include <map>
@@ -8,8 +8,8 @@
 #include <unordered_map>
 #include <utility>
 
-#include "symbolic/operations.hpp"
-#include "symbolic/parse.hpp"
+#include "spar/symbolic/operations.hpp"
+#include "spar/symbolic/parse.hpp"
 
 namespace spar::bounds {
 namespace {

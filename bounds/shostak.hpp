@@ -38,8 +38,8 @@
 #include <string_view>
 #include <vector>
 
-#include "bounds/error.hpp"
-#include "symbolic/expr.hpp"
+#include "spar/bounds/error.hpp"
+#include "spar/symbolic/expr.hpp"
 
 namespace spar::bounds {
 

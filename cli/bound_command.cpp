@@ -17,14 +17,14 @@
 #include <string>
 #include <vector>
 
-#include "bounds/bound.hpp"
-#include "bounds/shostak.hpp"
+#include "spar/bounds/bound.hpp"
+#include "spar/bounds/shostak.hpp"
 #include "cli/bound_json.hpp"
 #include "cli/commands.hpp"
 #include "cli/options.hpp"
-#include "common/number.hpp"
-#include "symbolic/operations.hpp"
-#include "symbolic/parse.hpp"
+#include "spar/common/number.hpp"
+#include "spar/symbolic/operations.hpp"
+#include "spar/symbolic/parse.hpp"
 
 namespace spar::cli {
 namespace {

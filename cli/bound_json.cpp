@@ -6,8 +6,8 @@
 #include <vector>
 
 #include "cli/options.hpp"
-#include "common/number.hpp"
-#include "symbolic/parse.hpp"
+#include "spar/common/number.hpp"
+#include "spar/symbolic/parse.hpp"
 
 namespace spar::cli {
 

@@ -22,7 +22,7 @@
 #include <string>
 #include <string_view>
 
-#include "bounds/bound.hpp"
+#include "spar/bounds/bound.hpp"
 
 namespace spar::cli {
 

@@ -16,10 +16,10 @@
 
 #include "cli/commands.hpp"
 #include "cli/options.hpp"
-#include "common/number.hpp"
-#include "kinematics/ik.hpp"
-#include "kinematics/puma.hpp"
-#include "reports/json_values.hpp"
+#include "spar/common/number.hpp"
+#include "spar/kinematics/ik.hpp"
+#include "spar/kinematics/puma.hpp"
+#include "spar/reports/json_values.hpp"
 
 namespace spar::cli {
 namespace {

@@ -18,11 +18,11 @@
 
 #include "cli/commands.hpp"
 #include "cli/options.hpp"
-#include "common/units.hpp"
-#include "geometry/builtin_objects.hpp"
-#include "geometry/grasps.hpp"
-#include "geometry/mesh_io.hpp"
-#include "geometry/stable_poses.hpp"
+#include "spar/common/units.hpp"
+#include "spar/geometry/builtin_objects.hpp"
+#include "spar/geometry/grasps.hpp"
+#include "spar/geometry/mesh_io.hpp"
+#include "spar/geometry/stable_poses.hpp"
 
 namespace spar::cli {
 namespace {

@@ -35,8 +35,8 @@
 #include <string>
 #include <vector>
 
-#include "common/error.hpp"
-#include "common/number.hpp"
+#include "spar/common/error.hpp"
+#include "spar/common/number.hpp"
 
 namespace spar::cli {
 

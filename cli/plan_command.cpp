@@ -34,10 +34,10 @@
 #include "cli/commands.hpp"
 #include "cli/demo_scenario.hpp"
 #include "cli/options.hpp"
-#include "planner/plan.hpp"
-#include "reports/markdown.hpp"
-#include "reports/plan_json.hpp"
-#include "reports/write.hpp"
+#include "spar/planner/plan.hpp"
+#include "spar/reports/markdown.hpp"
+#include "spar/reports/plan_json.hpp"
+#include "spar/reports/write.hpp"
 
 namespace spar::cli {
 namespace {

@@ -16,8 +16,8 @@
 
 #include "cli/commands.hpp"
 #include "cli/options.hpp"
-#include "qr/match_strike.hpp"
-#include "reports/qr_svg.hpp"
+#include "spar/qr/match_strike.hpp"
+#include "spar/reports/qr_svg.hpp"
 
 namespace spar::cli {
 namespace {

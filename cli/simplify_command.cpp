@@ -2,8 +2,8 @@
 #include <string>
 
 #include "cli/commands.hpp"
-#include "symbolic/parse.hpp"
-#include "symbolic/smp.hpp"
+#include "spar/symbolic/parse.hpp"
+#include "spar/symbolic/smp.hpp"
 
 namespace spar::cli {
 

@@ -1,4 +1,4 @@
-#include "common/error.hpp"
+#include "spar/common/error.hpp"
 
 namespace spar {
 

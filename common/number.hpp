@@ -27,7 +27,7 @@
 #include <string>
 #include <string_view>
 
-#include "common/error.hpp"
+#include "spar/common/error.hpp"
 
 namespace spar {
 

@@ -1,10 +1,10 @@
-#include "geometry/builtin_objects.hpp"
+#include "spar/geometry/builtin_objects.hpp"
 
 #include <cmath>
 #include <numbers>
 #include <regex>
 
-#include "common/units.hpp"
+#include "spar/common/units.hpp"
 
 namespace spar::geometry {
 namespace {

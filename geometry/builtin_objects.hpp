@@ -25,8 +25,8 @@
 #include <string>
 #include <vector>
 
-#include "geometry/mesh.hpp"
-#include "geometry/object.hpp"
+#include "spar/geometry/mesh.hpp"
+#include "spar/geometry/object.hpp"
 
 namespace spar::geometry {
 

@@ -10,7 +10,7 @@
 //   }
 #pragma once
 
-#include "common/error.hpp"
+#include "spar/common/error.hpp"
 
 namespace spar::geometry {
 

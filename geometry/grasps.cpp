@@ -1,4 +1,4 @@
-#include "geometry/grasps.hpp"
+#include "spar/geometry/grasps.hpp"
 
 #include <algorithm>
 #include <array>
@@ -9,8 +9,8 @@
 #include <utility>
 #include <vector>
 
-#include "geometry/internal/polygon2d.hpp"
-#include "geometry/internal/triangle_tree.hpp"
+#include "spar/geometry/internal/polygon2d.hpp"
+#include "spar/geometry/internal/triangle_tree.hpp"
 
 namespace spar::geometry {
 namespace {

@@ -44,9 +44,9 @@
 #include <string_view>
 #include <vector>
 
-#include "common/units.hpp"
-#include "geometry/object.hpp"
-#include "geometry/stable_poses.hpp"
+#include "spar/common/units.hpp"
+#include "spar/geometry/object.hpp"
+#include "spar/geometry/stable_poses.hpp"
 
 namespace spar::geometry {
 

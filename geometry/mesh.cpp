@@ -1,4 +1,4 @@
-#include "geometry/mesh.hpp"
+#include "spar/geometry/mesh.hpp"
 
 #include <Eigen/Geometry>
 #include <Eigen/SVD>
@@ -9,8 +9,8 @@
 #include <sstream>
 #include <utility>
 
-#include "geometry/internal/convex_hull.hpp"
-#include "geometry/internal/self_intersection.hpp"
+#include "spar/geometry/internal/convex_hull.hpp"
+#include "spar/geometry/internal/self_intersection.hpp"
 
 namespace spar::geometry {
 namespace {

@@ -26,7 +26,7 @@
 #include <string>
 #include <vector>
 
-#include "geometry/error.hpp"
+#include "spar/geometry/error.hpp"
 
 namespace spar::geometry {
 

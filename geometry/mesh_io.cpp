@@ -1,4 +1,4 @@
-#include "geometry/mesh_io.hpp"
+#include "spar/geometry/mesh_io.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -12,7 +12,7 @@
 #include <sstream>
 #include <vector>
 
-#include "common/number.hpp"
+#include "spar/common/number.hpp"
 
 namespace spar::geometry {
 namespace {

@@ -16,7 +16,7 @@
 #include <iosfwd>
 #include <string>
 
-#include "geometry/mesh.hpp"
+#include "spar/geometry/mesh.hpp"
 
 namespace spar::geometry {
 

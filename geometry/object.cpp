@@ -1,4 +1,4 @@
-#include "geometry/object.hpp"
+#include "spar/geometry/object.hpp"
 
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -9,8 +9,8 @@
 #include <numeric>
 #include <unordered_map>
 
-#include "geometry/internal/convex_hull.hpp"
-#include "geometry/internal/polygon2d.hpp"
+#include "spar/geometry/internal/convex_hull.hpp"
+#include "spar/geometry/internal/polygon2d.hpp"
 
 namespace spar::geometry {
 namespace {

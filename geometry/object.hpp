@@ -24,7 +24,7 @@
 #include <string>
 #include <vector>
 
-#include "geometry/mesh.hpp"
+#include "spar/geometry/mesh.hpp"
 
 namespace spar::geometry {
 

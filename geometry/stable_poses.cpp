@@ -1,4 +1,4 @@
-#include "geometry/stable_poses.hpp"
+#include "spar/geometry/stable_poses.hpp"
 
 #include <algorithm>
 #include <climits>

@@ -25,7 +25,7 @@
 #include <string>
 #include <vector>
 
-#include "geometry/object.hpp"
+#include "spar/geometry/object.hpp"
 
 namespace spar::geometry {
 

@@ -1,4 +1,4 @@
-#include "kinematics/dh.hpp"
+#include "spar/kinematics/dh.hpp"
 
 #include <cmath>
 #include <numbers>

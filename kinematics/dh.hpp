@@ -21,7 +21,7 @@
 #include <string>
 #include <vector>
 
-#include "kinematics/error.hpp"
+#include "spar/kinematics/error.hpp"
 
 namespace spar::kinematics {
 

@@ -1,4 +1,4 @@
-#include "kinematics/ik.hpp"
+#include "spar/kinematics/ik.hpp"
 
 #include <algorithm>
 #include <cmath>

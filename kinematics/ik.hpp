@@ -33,7 +33,7 @@
 #include <string>
 #include <string_view>
 
-#include "kinematics/dh.hpp"
+#include "spar/kinematics/dh.hpp"
 
 namespace spar::kinematics {
 

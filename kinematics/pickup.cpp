@@ -1,10 +1,10 @@
-#include "kinematics/pickup.hpp"
+#include "spar/kinematics/pickup.hpp"
 
 #include <numbers>
 
-#include "kinematics/internal/pickup_shared.hpp"
-#include "symbolic/operations.hpp"
-#include "symbolic/smp.hpp"
+#include "spar/kinematics/internal/pickup_shared.hpp"
+#include "spar/symbolic/operations.hpp"
+#include "spar/symbolic/smp.hpp"
 
 namespace spar::kinematics {
 

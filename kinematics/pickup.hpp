@@ -32,8 +32,8 @@
 #include <string>
 #include <vector>
 
-#include "common/units.hpp"
-#include "kinematics/uncertain_pose.hpp"
+#include "spar/common/units.hpp"
+#include "spar/kinematics/uncertain_pose.hpp"
 
 namespace spar::kinematics {
 

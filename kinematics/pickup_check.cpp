@@ -1,8 +1,8 @@
-#include "kinematics/pickup_check.hpp"
+#include "spar/kinematics/pickup_check.hpp"
 
 #include <string>
 
-#include "kinematics/internal/pickup_shared.hpp"
+#include "spar/kinematics/internal/pickup_shared.hpp"
 
 namespace spar::kinematics {
 

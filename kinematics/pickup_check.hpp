@@ -22,10 +22,10 @@
 #include <span>
 #include <vector>
 
-#include "bounds/bound.hpp"
-#include "bounds/condition_set.hpp"
-#include "bounds/inequality.hpp"
-#include "kinematics/pickup.hpp"
+#include "spar/bounds/bound.hpp"
+#include "spar/bounds/condition_set.hpp"
+#include "spar/bounds/inequality.hpp"
+#include "spar/kinematics/pickup.hpp"
 
 namespace spar::kinematics {
 

@@ -1,14 +1,14 @@
-#include "kinematics/pickup_template.hpp"
+#include "spar/kinematics/pickup_template.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <string>
 #include <vector>
 
-#include "bounds/condition_set.hpp"
-#include "kinematics/internal/pickup_shared.hpp"
-#include "symbolic/operations.hpp"
-#include "symbolic/tape.hpp"
+#include "spar/bounds/condition_set.hpp"
+#include "spar/kinematics/internal/pickup_shared.hpp"
+#include "spar/symbolic/operations.hpp"
+#include "spar/symbolic/tape.hpp"
 
 namespace spar::kinematics {
 

@@ -37,9 +37,9 @@
 #include <memory>
 #include <span>
 
-#include "bounds/bound.hpp"
-#include "kinematics/pickup.hpp"
-#include "kinematics/pickup_check.hpp"
+#include "spar/bounds/bound.hpp"
+#include "spar/kinematics/pickup.hpp"
+#include "spar/kinematics/pickup_check.hpp"
 
 namespace spar::kinematics {
 

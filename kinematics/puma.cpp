@@ -1,4 +1,4 @@
-#include "kinematics/puma.hpp"
+#include "spar/kinematics/puma.hpp"
 
 #include <numbers>
 #include <string>

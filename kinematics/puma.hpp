@@ -1,6 +1,6 @@
 // The robots built into spar: standard-DH tables of the Unimation Puma 560 and (a community model
 // of) the Puma 762 that SPAR ran on. The tables are in code so the CLI works without the corpus;
-// tests check them against ../shared/corpus/puma560.json, which cites the same sources.
+// tests check them against data/puma560.json, which cites the same sources.
 //
 // Both use Paul's alpha signs (alpha = +90, 0, -90, +90, -90, 0 degrees; the negative of Lee's), so
 // q = 0 is a "righty" configuration, and the same closed-form solver (kinematics/ik.hpp) applies.
@@ -13,7 +13,7 @@
 #include <string_view>
 #include <vector>
 
-#include "kinematics/dh.hpp"
+#include "spar/kinematics/dh.hpp"
 
 namespace spar::kinematics {
 

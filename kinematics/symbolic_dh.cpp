@@ -1,4 +1,4 @@
-#include "kinematics/symbolic_dh.hpp"
+#include "spar/kinematics/symbolic_dh.hpp"
 
 #include <cmath>
 #include <numbers>

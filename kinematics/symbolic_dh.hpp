@@ -21,7 +21,7 @@
 #include <string>
 #include <vector>
 
-#include "kinematics/uncertain_pose.hpp"
+#include "spar/kinematics/uncertain_pose.hpp"
 
 namespace spar::kinematics {
 

@@ -1,9 +1,9 @@
-#include "kinematics/symbolic_transform.hpp"
+#include "spar/kinematics/symbolic_transform.hpp"
 
 #include <utility>
 #include <vector>
 
-#include "symbolic/operations.hpp"
+#include "spar/symbolic/operations.hpp"
 
 namespace spar::kinematics {
 

@@ -22,8 +22,8 @@
 #include <map>
 #include <string>
 
-#include "kinematics/dh.hpp"
-#include "symbolic/expr.hpp"
+#include "spar/kinematics/dh.hpp"
+#include "spar/symbolic/expr.hpp"
 
 namespace spar::kinematics {
 

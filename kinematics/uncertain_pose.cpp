@@ -1,4 +1,4 @@
-#include "kinematics/uncertain_pose.hpp"
+#include "spar/kinematics/uncertain_pose.hpp"
 
 #include <cctype>
 #include <vector>

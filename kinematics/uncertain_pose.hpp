@@ -20,7 +20,7 @@
 #include <string>
 #include <string_view>
 
-#include "kinematics/symbolic_transform.hpp"
+#include "spar/kinematics/symbolic_transform.hpp"
 
 namespace spar::kinematics {
 

@@ -1,8 +1,8 @@
-#include "planner/domain.hpp"
+#include "spar/planner/domain.hpp"
 
 #include <algorithm>
 
-#include "planner/error.hpp"
+#include "spar/planner/error.hpp"
 #include "planner/internal/builtin_domain_text.hpp"
 
 namespace spar::planner {

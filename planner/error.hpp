@@ -2,7 +2,7 @@
 // act on. Scenario and domain files report `file:line:col: what is wrong`.
 #pragma once
 
-#include "common/error.hpp"
+#include "spar/common/error.hpp"
 
 namespace spar::planner {
 

@@ -1,6 +1,6 @@
-#include "planner/instances.hpp"
+#include "spar/planner/instances.hpp"
 
-#include "planner/error.hpp"
+#include "spar/planner/error.hpp"
 
 namespace spar::planner {
 

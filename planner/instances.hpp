@@ -24,7 +24,7 @@
 #include <string>
 #include <vector>
 
-#include "planner/posting.hpp"
+#include "spar/planner/posting.hpp"
 
 namespace spar::planner {
 

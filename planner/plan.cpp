@@ -1,6 +1,6 @@
-#include "planner/plan.hpp"
+#include "spar/planner/plan.hpp"
 
-#include "planner/error.hpp"
+#include "spar/planner/error.hpp"
 
 namespace spar::planner {
 

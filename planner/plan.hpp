@@ -18,13 +18,13 @@
 #include <string_view>
 #include <vector>
 
-#include "planner/domain.hpp"
-#include "planner/instances.hpp"
-#include "planner/posting.hpp"
-#include "planner/scenario.hpp"
-#include "planner/uncertainty/analysis.hpp"
-#include "planner/uncertainty/probability.hpp"
-#include "planner/world.hpp"
+#include "spar/planner/domain.hpp"
+#include "spar/planner/instances.hpp"
+#include "spar/planner/posting.hpp"
+#include "spar/planner/scenario.hpp"
+#include "spar/planner/uncertainty/analysis.hpp"
+#include "spar/planner/uncertainty/probability.hpp"
+#include "spar/planner/world.hpp"
 
 namespace spar::planner {
 

@@ -1,11 +1,11 @@
-#include "planner/posting.hpp"
+#include "spar/planner/posting.hpp"
 
 #include <algorithm>
 #include <chrono>
 #include <limits>
 #include <queue>
 
-#include "planner/error.hpp"
+#include "spar/planner/error.hpp"
 
 namespace spar::planner {
 namespace {

@@ -44,10 +44,10 @@
 #include <string>
 #include <vector>
 
-#include "planner/cms/constraint_network.hpp"
-#include "planner/cms/ordering_graph.hpp"
-#include "planner/domain.hpp"
-#include "planner/world.hpp"
+#include "spar/planner/cms/constraint_network.hpp"
+#include "spar/planner/cms/ordering_graph.hpp"
+#include "spar/planner/domain.hpp"
+#include "spar/planner/world.hpp"
 
 namespace spar::planner {
 

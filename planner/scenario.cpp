@@ -1,11 +1,11 @@
-#include "planner/scenario.hpp"
+#include "spar/planner/scenario.hpp"
 
 #include <fstream>
 #include <sstream>
 
-#include "common/units.hpp"
-#include "planner/error.hpp"
-#include "planner/internal/scenario_yaml.hpp"
+#include "spar/common/units.hpp"
+#include "spar/planner/error.hpp"
+#include "spar/planner/internal/scenario_yaml.hpp"
 
 namespace spar::planner {
 

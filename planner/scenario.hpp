@@ -35,11 +35,11 @@
 #include <variant>
 #include <vector>
 
-#include "geometry/grasps.hpp"
-#include "geometry/object.hpp"
-#include "kinematics/dh.hpp"
-#include "kinematics/puma.hpp"
-#include "kinematics/uncertain_pose.hpp"
+#include "spar/geometry/grasps.hpp"
+#include "spar/geometry/object.hpp"
+#include "spar/kinematics/dh.hpp"
+#include "spar/kinematics/puma.hpp"
+#include "spar/kinematics/uncertain_pose.hpp"
 
 namespace spar::planner {
 

@@ -1,9 +1,9 @@
-#include "planner/world.hpp"
+#include "spar/planner/world.hpp"
 
 #include <cmath>
 
-#include "geometry/stable_poses.hpp"
-#include "planner/error.hpp"
+#include "spar/geometry/stable_poses.hpp"
+#include "spar/planner/error.hpp"
 
 namespace spar::planner {
 namespace {

@@ -35,9 +35,9 @@
 #include <string>
 #include <vector>
 
-#include "geometry/grasps.hpp"
-#include "kinematics/ik.hpp"
-#include "planner/scenario.hpp"
+#include "spar/geometry/grasps.hpp"
+#include "spar/kinematics/ik.hpp"
+#include "spar/planner/scenario.hpp"
 
 namespace spar::planner {
 

@@ -3,16 +3,16 @@
 #include <algorithm>
 #include <stdexcept>
 
-#include "bounds/bound.hpp"
-#include "bounds/error.hpp"
-#include "bounds/inequality.hpp"
-#include "kinematics/ik.hpp"
-#include "kinematics/puma.hpp"
-#include "reports/json_values.hpp"
-#include "reports/plan_json.hpp"
-#include "symbolic/operations.hpp"
-#include "symbolic/parse.hpp"
-#include "symbolic/smp.hpp"
+#include "spar/bounds/bound.hpp"
+#include "spar/bounds/error.hpp"
+#include "spar/bounds/inequality.hpp"
+#include "spar/kinematics/ik.hpp"
+#include "spar/kinematics/puma.hpp"
+#include "spar/reports/json_values.hpp"
+#include "spar/reports/plan_json.hpp"
+#include "spar/symbolic/operations.hpp"
+#include "spar/symbolic/parse.hpp"
+#include "spar/symbolic/smp.hpp"
 
 namespace spar::python {
 namespace {

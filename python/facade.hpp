@@ -37,10 +37,10 @@
 #include <tuple>
 #include <vector>
 
-#include "kinematics/symbolic_transform.hpp"
-#include "kinematics/uncertain_pose.hpp"
-#include "planner/plan.hpp"
-#include "symbolic/expr.hpp"
+#include "spar/kinematics/symbolic_transform.hpp"
+#include "spar/kinematics/uncertain_pose.hpp"
+#include "spar/planner/plan.hpp"
+#include "spar/symbolic/expr.hpp"
 
 namespace spar::python {
 

@@ -10,18 +10,18 @@
 #include <pybind11/stl.h>
 #include <pybind11/stl/filesystem.h>
 
-#include "bounds/error.hpp"
-#include "bounds/shostak.hpp"
-#include "common/number.hpp"
-#include "geometry/error.hpp"
-#include "kinematics/error.hpp"
-#include "planner/cms/error.hpp"
-#include "planner/error.hpp"
+#include "spar/bounds/error.hpp"
+#include "spar/bounds/shostak.hpp"
+#include "spar/common/number.hpp"
+#include "spar/geometry/error.hpp"
+#include "spar/kinematics/error.hpp"
+#include "spar/planner/cms/error.hpp"
+#include "spar/planner/error.hpp"
 #include "python/docstrings.hpp"
 #include "python/facade.hpp"
-#include "qr/error.hpp"
-#include "reports/error.hpp"
-#include "symbolic/error.hpp"
+#include "spar/qr/error.hpp"
+#include "spar/reports/error.hpp"
+#include "spar/symbolic/error.hpp"
 
 namespace py = pybind11;
 using namespace pybind11::literals;

@@ -1,4 +1,4 @@
-#include "qr/match_strike.hpp"
+#include "spar/qr/match_strike.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -6,7 +6,7 @@
 #include <optional>
 #include <sstream>
 
-#include "common/number.hpp"
+#include "spar/common/number.hpp"
 
 namespace spar::qr {
 namespace {

@@ -32,7 +32,7 @@
 #include <string>
 #include <vector>
 
-#include "qr/planner.hpp"
+#include "spar/qr/planner.hpp"
 
 namespace spar::qr {
 

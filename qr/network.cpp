@@ -1,4 +1,4 @@
-#include "qr/network.hpp"
+#include "spar/qr/network.hpp"
 
 namespace spar::qr {
 

@@ -26,7 +26,7 @@
 #include <string>
 #include <vector>
 
-#include "qr/qualitative.hpp"
+#include "spar/qr/qualitative.hpp"
 
 namespace spar::qr {
 

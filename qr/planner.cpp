@@ -1,4 +1,4 @@
-#include "qr/planner.hpp"
+#include "spar/qr/planner.hpp"
 
 #include <algorithm>
 #include <array>

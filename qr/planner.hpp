@@ -57,7 +57,7 @@
 #include <string>
 #include <vector>
 
-#include "qr/network.hpp"
+#include "spar/qr/network.hpp"
 
 namespace spar::qr {
 

@@ -1,4 +1,4 @@
-#include "qr/qualitative.hpp"
+#include "spar/qr/qualitative.hpp"
 
 #include <cmath>
 #include <string>
@@ -13,7 +13,7 @@ constexpr Potentials kAmbiguous{1, 1, 1};
 
 // ---------------------------------------------------------------------------------------------
 // The embedded relation tables: our reconstruction of the seed's lost Figure 3, identical to the
-// definite rows of ../shared/corpus/qr_relation_tables.json (a test checks the agreement, and that
+// definite rows of data/qr_relation_tables.json (a test checks the agreement, and that
 // the `?` rows computed by table_entry() match the corpus's `?` rows).
 //
 // Row order is + 0 -, entry (i, j) at index 3*i + j; each triple gives the potentials of a

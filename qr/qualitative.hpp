@@ -36,7 +36,7 @@
 #include <string>
 #include <vector>
 
-#include "qr/error.hpp"
+#include "spar/qr/error.hpp"
 
 namespace spar::qr {
 

@@ -2,7 +2,7 @@
 // spar-report/1), an unknown output format, or a report folder that cannot be written.
 #pragma once
 
-#include "common/error.hpp"
+#include "spar/common/error.hpp"
 
 namespace spar::reports {
 

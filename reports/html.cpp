@@ -1,4 +1,4 @@
-#include "reports/html.hpp"
+#include "spar/reports/html.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -6,10 +6,10 @@
 #include <map>
 #include <sstream>
 
-#include "reports/internal/check.hpp"
-#include "reports/internal/layout.hpp"
-#include "reports/internal/text.hpp"
-#include "reports/markdown.hpp"
+#include "spar/reports/internal/check.hpp"
+#include "spar/reports/internal/layout.hpp"
+#include "spar/reports/internal/text.hpp"
+#include "spar/reports/markdown.hpp"
 
 namespace spar::reports {
 namespace {

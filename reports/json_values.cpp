@@ -1,4 +1,4 @@
-#include "reports/json_values.hpp"
+#include "spar/reports/json_values.hpp"
 
 #include <cmath>
 

@@ -1,9 +1,9 @@
-#include "reports/markdown.hpp"
+#include "spar/reports/markdown.hpp"
 
 #include <sstream>
 
-#include "reports/internal/check.hpp"
-#include "reports/internal/text.hpp"
+#include "spar/reports/internal/check.hpp"
+#include "spar/reports/internal/text.hpp"
 
 namespace spar::reports {
 namespace {

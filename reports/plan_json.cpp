@@ -1,8 +1,8 @@
-#include "reports/plan_json.hpp"
+#include "spar/reports/plan_json.hpp"
 
 #include <algorithm>
 
-#include "reports/json_values.hpp"
+#include "spar/reports/json_values.hpp"
 
 namespace spar::reports {
 namespace {

@@ -23,7 +23,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "planner/plan.hpp"
+#include "spar/planner/plan.hpp"
 
 namespace spar::reports {
 

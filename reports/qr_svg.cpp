@@ -1,4 +1,4 @@
-#include "reports/qr_svg.hpp"
+#include "spar/reports/qr_svg.hpp"
 
 #include <sstream>
 #include <string>

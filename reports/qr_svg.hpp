@@ -15,7 +15,7 @@
 
 #include <string>
 
-#include "qr/match_strike.hpp"
+#include "spar/qr/match_strike.hpp"
 
 namespace spar::reports {
 

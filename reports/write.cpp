@@ -1,4 +1,4 @@
-#include "reports/write.hpp"
+#include "spar/reports/write.hpp"
 
 #include <algorithm>
 #include <cerrno>
@@ -6,9 +6,9 @@
 #include <fstream>
 #include <system_error>
 
-#include "reports/error.hpp"
-#include "reports/html.hpp"
-#include "reports/markdown.hpp"
+#include "spar/reports/error.hpp"
+#include "spar/reports/html.hpp"
+#include "spar/reports/markdown.hpp"
 
 namespace spar::reports {
 namespace fs = std::filesystem;

@@ -7,6 +7,9 @@ packages=(
   build-essential cmake ninja-build pkg-config
   libeigen3-dev libcgal-dev libgmp-dev libmpfr-dev
   libnlopt-cxx-dev libsuitesparse-dev
+  libfcl-dev                       # geometry/: collision and distance between posed meshes
+  liburdfdom-dev libkdl-parser-dev # kinematics/: URDF robots (KDL is also the IK peer in bench/)
+  libboost-math-dev                # planner/: normal quantile, Wilson interval
   libcli11-dev nlohmann-json3-dev libyaml-cpp-dev libfmt-dev
   libgtest-dev libgmock-dev librapidcheck-dev libbenchmark-dev
   libmpfi-dev                      # tests only: rigorous oracle for the Interval kernels

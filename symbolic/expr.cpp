@@ -1,4 +1,4 @@
-#include "symbolic/expr.hpp"
+#include "spar/symbolic/expr.hpp"
 
 #include <algorithm>
 #include <bit>

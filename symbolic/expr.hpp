@@ -74,8 +74,8 @@
 #include <utility>
 #include <vector>
 
-#include "symbolic/functions.hpp"
-#include "symbolic/number.hpp"
+#include "spar/symbolic/functions.hpp"
+#include "spar/symbolic/number.hpp"
 
 namespace spar::symbolic {
 

@@ -1,4 +1,4 @@
-#include "symbolic/number.hpp"
+#include "spar/symbolic/number.hpp"
 
 #include <algorithm>
 #include <bit>

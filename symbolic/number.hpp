@@ -30,7 +30,7 @@
 #include <string>
 #include <string_view>
 
-#include "symbolic/error.hpp"
+#include "spar/symbolic/error.hpp"
 
 namespace spar::symbolic {
 

@@ -1,10 +1,10 @@
-#include "symbolic/operations.hpp"
+#include "spar/symbolic/operations.hpp"
 
 #include <algorithm>
 #include <stdexcept>
 #include <unordered_map>
 
-#include "symbolic/tape.hpp"
+#include "spar/symbolic/tape.hpp"
 
 namespace spar::symbolic {
 namespace {

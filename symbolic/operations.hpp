@@ -19,7 +19,7 @@
 #include <utility>
 #include <vector>
 
-#include "symbolic/expr.hpp"
+#include "spar/symbolic/expr.hpp"
 
 namespace spar::symbolic {
 

@@ -1,4 +1,4 @@
-#include "symbolic/parse.hpp"
+#include "spar/symbolic/parse.hpp"
 
 #include <cctype>
 #include <cmath>
@@ -9,7 +9,7 @@
 #include <unordered_map>
 #include <vector>
 
-#include "symbolic/operations.hpp"
+#include "spar/symbolic/operations.hpp"
 
 namespace spar::symbolic {
 namespace {

@@ -1,6 +1,6 @@
 // Infix syntax: parsing and printing.
 //
-// Grammar (the syntax of ../shared/corpus/fpbench.jsonl and of the `spar` command):
+// Grammar (the syntax of data/fpbench.jsonl and of the `spar` command):
 //   expr    := term (('+' | '-') term)*
 //   term    := unary (('*' | '/') unary)*
 //   unary   := ('-' | '+') unary | power
@@ -31,7 +31,7 @@
 #include <string>
 #include <string_view>
 
-#include "symbolic/expr.hpp"
+#include "spar/symbolic/expr.hpp"
 
 namespace spar::symbolic {
 

@@ -1,4 +1,4 @@
-#include "symbolic/smp.hpp"
+#include "spar/symbolic/smp.hpp"
 
 #include <algorithm>
 #include <initializer_list>
@@ -8,7 +8,7 @@
 #include <utility>
 #include <vector>
 
-#include "symbolic/operations.hpp"
+#include "spar/symbolic/operations.hpp"
 
 namespace spar::symbolic {
 namespace {

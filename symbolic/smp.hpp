@@ -48,7 +48,7 @@
 #include <span>
 #include <string>
 
-#include "symbolic/expr.hpp"
+#include "spar/symbolic/expr.hpp"
 
 namespace spar::symbolic {
 

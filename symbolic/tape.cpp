@@ -1,4 +1,4 @@
-#include "symbolic/tape.hpp"
+#include "spar/symbolic/tape.hpp"
 
 #include <algorithm>
 #include <stdexcept>

@@ -31,7 +31,7 @@
 #include <span>
 #include <vector>
 
-#include "symbolic/expr.hpp"
+#include "spar/symbolic/expr.hpp"
 
 namespace spar::symbolic {
 

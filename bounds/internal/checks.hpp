@@ -6,9 +6,9 @@
 #include <span>
 #include <string>
 
-#include "bounds/bound.hpp"
-#include "bounds/interval.hpp"
-#include "symbolic/expr.hpp"
+#include "spar/bounds/bound.hpp"
+#include "spar/bounds/interval.hpp"
+#include "spar/symbolic/expr.hpp"
 
 namespace spar::bounds::internal {
 

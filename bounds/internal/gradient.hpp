@@ -13,9 +13,9 @@
 #include <type_traits>
 #include <vector>
 
-#include "bounds/internal/linear_enclosure.hpp"
-#include "bounds/interval.hpp"
-#include "symbolic/tape.hpp"
+#include "spar/bounds/internal/linear_enclosure.hpp"
+#include "spar/bounds/interval.hpp"
+#include "spar/symbolic/tape.hpp"
 
 namespace spar::bounds::internal {
 

@@ -22,8 +22,8 @@
 #include <span>
 #include <vector>
 
-#include "bounds/interval.hpp"
-#include "symbolic/tape.hpp"
+#include "spar/bounds/interval.hpp"
+#include "spar/symbolic/tape.hpp"
 
 namespace spar::bounds::internal {
 

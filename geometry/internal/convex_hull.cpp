@@ -1,7 +1,7 @@
 // CGAL::convex_hull_3 with the EPICK kernel (exact predicates, so the hull's combinatorics are
 // right even for near-coplanar input) into a Surface_mesh; this is the only translation unit that
 // includes CGAL.
-#include "geometry/internal/convex_hull.hpp"
+#include "spar/geometry/internal/convex_hull.hpp"
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Surface_mesh.h>

@@ -1,4 +1,4 @@
-#include "geometry/internal/polygon2d.hpp"
+#include "spar/geometry/internal/polygon2d.hpp"
 
 #include <Eigen/Geometry>
 #include <algorithm>

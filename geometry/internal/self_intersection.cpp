@@ -1,4 +1,4 @@
-#include "geometry/internal/self_intersection.hpp"
+#include "spar/geometry/internal/self_intersection.hpp"
 
 #include <CGAL/Bbox_3.h>
 #include <CGAL/Box_intersection_d/Box_with_info_d.h>

@@ -1,4 +1,4 @@
-#include "geometry/internal/triangle_tree.hpp"
+#include "spar/geometry/internal/triangle_tree.hpp"
 
 #include <algorithm>
 #include <numeric>

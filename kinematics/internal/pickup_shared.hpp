@@ -6,8 +6,8 @@
 #include <array>
 #include <span>
 
-#include "bounds/interval.hpp"
-#include "kinematics/pickup.hpp"
+#include "spar/bounds/interval.hpp"
+#include "spar/kinematics/pickup.hpp"
 
 namespace spar::kinematics::internal {
 

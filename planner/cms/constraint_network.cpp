@@ -1,10 +1,10 @@
-#include "planner/cms/constraint_network.hpp"
+#include "spar/planner/cms/constraint_network.hpp"
 
 #include <algorithm>
 #include <stdexcept>
 #include <string>
 
-#include "planner/cms/error.hpp"
+#include "spar/planner/cms/error.hpp"
 
 namespace spar::planner::cms {
 

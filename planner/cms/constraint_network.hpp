@@ -46,8 +46,8 @@
 #include <utility>
 #include <vector>
 
-#include "planner/cms/internal/bitset.hpp"
-#include "planner/cms/internal/search.hpp"
+#include "spar/planner/cms/internal/bitset.hpp"
+#include "spar/planner/cms/internal/search.hpp"
 
 namespace spar::planner::cms {
 

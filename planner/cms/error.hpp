@@ -4,7 +4,7 @@
 // plan inconsistent is not an error: the operation returns false or Consistency::kInconsistent.
 #pragma once
 
-#include "common/error.hpp"
+#include "spar/common/error.hpp"
 
 namespace spar::planner::cms {
 

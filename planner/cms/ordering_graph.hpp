@@ -25,7 +25,7 @@
 #include <utility>
 #include <vector>
 
-#include "planner/cms/internal/bitset.hpp"
+#include "spar/planner/cms/internal/bitset.hpp"
 
 namespace spar::planner::cms {
 

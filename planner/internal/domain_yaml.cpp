@@ -7,9 +7,9 @@
 #include <set>
 #include <sstream>
 
-#include "planner/domain.hpp"
-#include "planner/error.hpp"
-#include "planner/internal/yaml_syntax.hpp"
+#include "spar/planner/domain.hpp"
+#include "spar/planner/error.hpp"
+#include "spar/planner/internal/yaml_syntax.hpp"
 
 namespace spar::planner {
 namespace {

@@ -1,4 +1,4 @@
-#include "planner/internal/scenario_yaml.hpp"
+#include "spar/planner/internal/scenario_yaml.hpp"
 
 #include <yaml-cpp/yaml.h>
 
@@ -13,13 +13,13 @@
 #include <set>
 #include <utility>
 
-#include "common/units.hpp"
-#include "geometry/builtin_objects.hpp"
-#include "geometry/mesh_io.hpp"
-#include "geometry/stable_poses.hpp"
-#include "kinematics/ik.hpp"
-#include "planner/error.hpp"
-#include "planner/internal/yaml_syntax.hpp"
+#include "spar/common/units.hpp"
+#include "spar/geometry/builtin_objects.hpp"
+#include "spar/geometry/mesh_io.hpp"
+#include "spar/geometry/stable_poses.hpp"
+#include "spar/kinematics/ik.hpp"
+#include "spar/planner/error.hpp"
+#include "spar/planner/internal/yaml_syntax.hpp"
 
 namespace spar::planner::internal {
 namespace {

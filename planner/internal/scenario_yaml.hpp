@@ -18,7 +18,7 @@
 #include <string>
 #include <string_view>
 
-#include "planner/scenario.hpp"
+#include "spar/planner/scenario.hpp"
 
 namespace spar::planner::internal {
 

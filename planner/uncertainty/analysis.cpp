@@ -1,4 +1,4 @@
-#include "planner/uncertainty/analysis.hpp"
+#include "spar/planner/uncertainty/analysis.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -6,11 +6,11 @@
 #include <random>
 #include <set>
 
-#include "bounds/interval.hpp"
-#include "planner/error.hpp"
-#include "symbolic/operations.hpp"
-#include "symbolic/parse.hpp"
-#include "symbolic/tape.hpp"
+#include "spar/bounds/interval.hpp"
+#include "spar/planner/error.hpp"
+#include "spar/symbolic/operations.hpp"
+#include "spar/symbolic/parse.hpp"
+#include "spar/symbolic/tape.hpp"
 
 namespace spar::planner {
 namespace {

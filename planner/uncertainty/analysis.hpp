@@ -53,9 +53,9 @@
 #include <string_view>
 #include <vector>
 
-#include "bounds/condition_set.hpp"
-#include "planner/instances.hpp"
-#include "planner/uncertainty/propagation.hpp"
+#include "spar/bounds/condition_set.hpp"
+#include "spar/planner/instances.hpp"
+#include "spar/planner/uncertainty/propagation.hpp"
 
 namespace spar::planner {
 

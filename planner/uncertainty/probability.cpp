@@ -1,4 +1,4 @@
-#include "planner/uncertainty/probability.hpp"
+#include "spar/planner/uncertainty/probability.hpp"
 
 #include <cholmod.h>
 
@@ -18,11 +18,11 @@
 #include <tuple>
 #include <type_traits>
 
-#include "bounds/inequality.hpp"
-#include "planner/error.hpp"
-#include "planner/uncertainty/analysis.hpp"
-#include "symbolic/operations.hpp"
-#include "symbolic/tape.hpp"
+#include "spar/bounds/inequality.hpp"
+#include "spar/planner/error.hpp"
+#include "spar/planner/uncertainty/analysis.hpp"
+#include "spar/symbolic/operations.hpp"
+#include "spar/symbolic/tape.hpp"
 
 namespace spar::planner {
 namespace {

@@ -70,9 +70,9 @@
 #include <string>
 #include <vector>
 
-#include "bounds/bound.hpp"
-#include "planner/scenario.hpp"
-#include "planner/uncertainty/space.hpp"
+#include "spar/bounds/bound.hpp"
+#include "spar/planner/scenario.hpp"
+#include "spar/planner/uncertainty/space.hpp"
 
 namespace spar::planner {
 

@@ -1,10 +1,10 @@
-#include "planner/uncertainty/propagation.hpp"
+#include "spar/planner/uncertainty/propagation.hpp"
 
 #include <cmath>
 
-#include "kinematics/pickup.hpp"
-#include "planner/error.hpp"
-#include "planner/uncertainty/probability.hpp"
+#include "spar/kinematics/pickup.hpp"
+#include "spar/planner/error.hpp"
+#include "spar/planner/uncertainty/probability.hpp"
 
 namespace spar::planner {
 namespace {

@@ -53,11 +53,11 @@
 #include <string>
 #include <vector>
 
-#include "bounds/inequality.hpp"
-#include "kinematics/symbolic_transform.hpp"
-#include "planner/domain.hpp"
-#include "planner/uncertainty/space.hpp"
-#include "planner/world.hpp"
+#include "spar/bounds/inequality.hpp"
+#include "spar/kinematics/symbolic_transform.hpp"
+#include "spar/planner/domain.hpp"
+#include "spar/planner/uncertainty/space.hpp"
+#include "spar/planner/world.hpp"
 
 namespace spar::planner {
 

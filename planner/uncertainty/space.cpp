@@ -1,9 +1,9 @@
-#include "planner/uncertainty/space.hpp"
+#include "spar/planner/uncertainty/space.hpp"
 
 #include <algorithm>
 #include <cmath>
 
-#include "planner/error.hpp"
+#include "spar/planner/error.hpp"
 
 namespace spar::planner {
 

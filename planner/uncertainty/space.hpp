@@ -26,9 +26,9 @@
 #include <string_view>
 #include <vector>
 
-#include "bounds/interval.hpp"
-#include "kinematics/uncertain_pose.hpp"
-#include "symbolic/expr.hpp"
+#include "spar/bounds/interval.hpp"
+#include "spar/kinematics/uncertain_pose.hpp"
+#include "spar/symbolic/expr.hpp"
 
 namespace spar::planner {
 

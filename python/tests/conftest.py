@@ -11,7 +11,7 @@ import pytest
 
 SOURCE_DIR = pathlib.Path(os.environ.get("SPAR_SOURCE_DIR",
                                          pathlib.Path(__file__).resolve().parents[2]))
-CORPUS_DIR = pathlib.Path(os.environ.get("SPAR_CORPUS_DIR", SOURCE_DIR.parent / "shared/corpus"))
+CORPUS_DIR = pathlib.Path(os.environ.get("SPAR_CORPUS_DIR", SOURCE_DIR / "data"))
 EXAMPLES = SOURCE_DIR / "examples"
 
 

@@ -8,8 +8,8 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "reports/error.hpp"
-#include "reports/plan_json.hpp"
+#include "spar/reports/error.hpp"
+#include "spar/reports/plan_json.hpp"
 
 namespace spar::reports::internal {
 

@@ -1,4 +1,4 @@
-#include "reports/internal/layout.hpp"
+#include "spar/reports/internal/layout.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "reports/internal/text.hpp"
+#include "spar/reports/internal/text.hpp"
 
 #include <algorithm>
 #include <cmath>

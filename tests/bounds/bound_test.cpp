@@ -1,6 +1,6 @@
 // bound(): regressions, constraints, unbounded results, bad input, and RapidCheck soundness of
 // every method on random expressions over random boxes.
-#include "bounds/bound.hpp"
+#include "spar/bounds/bound.hpp"
 
 #include <gtest/gtest.h>
 #include <rapidcheck/gtest.h>
@@ -9,13 +9,13 @@
 #include <limits>
 #include <string>
 
-#include "bounds/inequality.hpp"
-#include "bounds/internal/gradient.hpp"
-#include "bounds/internal/linear_enclosure.hpp"
+#include "spar/bounds/inequality.hpp"
+#include "spar/bounds/internal/gradient.hpp"
+#include "spar/bounds/internal/linear_enclosure.hpp"
 #include "random_expression.hpp"
-#include "symbolic/operations.hpp"
-#include "symbolic/parse.hpp"
-#include "symbolic/tape.hpp"
+#include "spar/symbolic/operations.hpp"
+#include "spar/symbolic/parse.hpp"
+#include "spar/symbolic/tape.hpp"
 
 namespace spar::bounds {
 namespace {

@@ -1,7 +1,7 @@
 // BoundProblem (a compiled, reusable bound) and ConditionSet (many inequalities, one tape, natural
 // pass first, escalation of the rest): same answers as the free bound(), whatever the order of
 // calls, and the natural pass decides what it can without escalating.
-#include "bounds/condition_set.hpp"
+#include "spar/bounds/condition_set.hpp"
 
 #include <gtest/gtest.h>
 #include <rapidcheck/gtest.h>
@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "random_expression.hpp"
-#include "symbolic/parse.hpp"
+#include "spar/symbolic/parse.hpp"
 
 namespace spar::bounds {
 namespace {

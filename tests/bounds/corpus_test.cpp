@@ -7,9 +7,9 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "bounds/bound.hpp"
-#include "symbolic/parse.hpp"
-#include "symbolic/tape.hpp"
+#include "spar/bounds/bound.hpp"
+#include "spar/symbolic/parse.hpp"
+#include "spar/symbolic/tape.hpp"
 
 namespace spar::bounds {
 namespace {

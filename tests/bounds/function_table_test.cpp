@@ -7,11 +7,11 @@
 #include <string>
 #include <vector>
 
-#include "bounds/internal/gradient.hpp"
-#include "bounds/interval.hpp"
-#include "symbolic/operations.hpp"
-#include "symbolic/parse.hpp"
-#include "symbolic/tape.hpp"
+#include "spar/bounds/internal/gradient.hpp"
+#include "spar/bounds/interval.hpp"
+#include "spar/symbolic/operations.hpp"
+#include "spar/symbolic/parse.hpp"
+#include "spar/symbolic/tape.hpp"
 
 namespace spar::bounds {
 namespace {

@@ -1,14 +1,14 @@
 // decide(): the verdict table for every relation, strict and non-strict, at and around the
 // boundary, plus the cases that must never be "satisfied" (possibly undefined, infeasible) and
 // never "violated" (no witness).
-#include "bounds/inequality.hpp"
+#include "spar/bounds/inequality.hpp"
 
 #include <gtest/gtest.h>
 
 #include <limits>
 #include <string>
 
-#include "symbolic/expr.hpp"
+#include "spar/symbolic/expr.hpp"
 
 namespace spar::bounds {
 namespace {

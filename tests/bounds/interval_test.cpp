@@ -1,6 +1,6 @@
 // Interval kernels: special ranges (periods, poles, domains, division by zero) and RapidCheck
 // soundness against MPFI at 256 bits as the oracle for true values at points of the interval.
-#include "bounds/interval.hpp"
+#include "spar/bounds/interval.hpp"
 
 #include <gtest/gtest.h>
 #include <mpfi.h>
@@ -14,7 +14,7 @@
 #include <numbers>
 #include <string>
 
-#include "bounds/internal/ulp.hpp"
+#include "spar/bounds/internal/ulp.hpp"
 
 namespace spar::bounds {
 namespace {

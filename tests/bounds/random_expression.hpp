@@ -6,7 +6,7 @@
 
 #include <vector>
 
-#include "symbolic/expr.hpp"
+#include "spar/symbolic/expr.hpp"
 
 namespace spar::bounds::testing {
 

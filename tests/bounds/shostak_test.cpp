@@ -1,4 +1,4 @@
-#include "bounds/shostak.hpp"
+#include "spar/bounds/shostak.hpp"
 
 #include <gtest/gtest.h>
 #include <rapidcheck/gtest.h>
@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
-#include "symbolic/operations.hpp"
-#include "symbolic/parse.hpp"
+#include "spar/symbolic/operations.hpp"
+#include "spar/symbolic/parse.hpp"
 #include "tests/common/expect_message.hpp"
 
 namespace spar::bounds {

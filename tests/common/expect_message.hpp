@@ -12,7 +12,7 @@
 #include <exception>
 #include <string>
 
-#include "common/error.hpp"
+#include "spar/common/error.hpp"
 
 #define EXPECT_THROW_MESSAGE(statement, fragment)                                  \
   do {                                                                             \

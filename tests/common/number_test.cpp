@@ -1,4 +1,4 @@
-#include "common/number.hpp"
+#include "spar/common/number.hpp"
 
 #include <gtest/gtest.h>
 #include <rapidcheck/gtest.h>

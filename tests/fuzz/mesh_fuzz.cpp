@@ -6,11 +6,11 @@
 #include <cstdint>
 #include <string>
 
-#include "common/error.hpp"
-#include "geometry/grasps.hpp"
-#include "geometry/mesh_io.hpp"
-#include "geometry/object.hpp"
-#include "geometry/stable_poses.hpp"
+#include "spar/common/error.hpp"
+#include "spar/geometry/grasps.hpp"
+#include "spar/geometry/mesh_io.hpp"
+#include "spar/geometry/object.hpp"
+#include "spar/geometry/stable_poses.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   if (size == 0) return 0;

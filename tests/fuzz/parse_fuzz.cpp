@@ -7,8 +7,8 @@
 #include <cstdlib>
 #include <string_view>
 
-#include "common/error.hpp"
-#include "symbolic/parse.hpp"
+#include "spar/common/error.hpp"
+#include "spar/symbolic/parse.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string_view text(reinterpret_cast<const char*>(data), size);

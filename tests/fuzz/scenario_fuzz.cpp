@@ -6,8 +6,8 @@
 #include <cstdint>
 #include <string_view>
 
-#include "common/error.hpp"
-#include "planner/scenario.hpp"
+#include "spar/common/error.hpp"
+#include "spar/planner/scenario.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string_view text(reinterpret_cast<const char*>(data), size);

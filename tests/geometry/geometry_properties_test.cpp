@@ -4,8 +4,8 @@
 #include <gtest/gtest.h>
 #include <rapidcheck/gtest.h>
 
-#include "geometry/grasps.hpp"
-#include "geometry/stable_poses.hpp"
+#include "spar/geometry/grasps.hpp"
+#include "spar/geometry/stable_poses.hpp"
 
 namespace spar::geometry {
 namespace {

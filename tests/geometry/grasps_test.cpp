@@ -1,12 +1,12 @@
-#include "geometry/grasps.hpp"
+#include "spar/geometry/grasps.hpp"
 
 #include <gtest/gtest.h>
 
 #include <map>
 #include <set>
 
-#include "common/units.hpp"
-#include "geometry/builtin_objects.hpp"
+#include "spar/common/units.hpp"
+#include "spar/geometry/builtin_objects.hpp"
 
 namespace spar::geometry {
 namespace {

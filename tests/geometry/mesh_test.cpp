@@ -1,11 +1,11 @@
-#include "geometry/mesh.hpp"
+#include "spar/geometry/mesh.hpp"
 
 #include <gtest/gtest.h>
 
 #include <sstream>
 
-#include "geometry/mesh_io.hpp"
-#include "geometry/object.hpp"
+#include "spar/geometry/mesh_io.hpp"
+#include "spar/geometry/object.hpp"
 #include "tests/common/expect_message.hpp"
 
 namespace spar::geometry {

@@ -5,10 +5,10 @@
 
 #include <string>
 
-#include "geometry/builtin_objects.hpp"
-#include "geometry/mesh.hpp"
-#include "geometry/mesh_io.hpp"
-#include "geometry/object.hpp"
+#include "spar/geometry/builtin_objects.hpp"
+#include "spar/geometry/mesh.hpp"
+#include "spar/geometry/mesh_io.hpp"
+#include "spar/geometry/object.hpp"
 #include "tests/common/expect_message.hpp"
 
 namespace spar::geometry {

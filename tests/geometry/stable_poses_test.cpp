@@ -1,4 +1,4 @@
-#include "geometry/stable_poses.hpp"
+#include "spar/geometry/stable_poses.hpp"
 
 #include <gtest/gtest.h>
 
@@ -6,7 +6,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "geometry/builtin_objects.hpp"
+#include "spar/geometry/builtin_objects.hpp"
 
 namespace spar::geometry {
 namespace {

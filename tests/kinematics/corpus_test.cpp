@@ -1,4 +1,4 @@
-// The built-in robots against ../shared/corpus/puma560.json: DH tables, every FK vector (to 1e-9)
+// The built-in robots against data/puma560.json: DH tables, every FK vector (to 1e-9)
 // and every listed IK solution (found, with the same label and the same joint-limit verdict).
 #include <gtest/gtest.h>
 
@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "kinematics/ik.hpp"
-#include "kinematics/puma.hpp"
+#include "spar/kinematics/ik.hpp"
+#include "spar/kinematics/puma.hpp"
 
 namespace spar::kinematics {
 namespace {

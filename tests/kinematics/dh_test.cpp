@@ -1,4 +1,4 @@
-#include "kinematics/dh.hpp"
+#include "spar/kinematics/dh.hpp"
 
 #include <gtest/gtest.h>
 
@@ -6,7 +6,7 @@
 #include <numbers>
 #include <vector>
 
-#include "kinematics/puma.hpp"
+#include "spar/kinematics/puma.hpp"
 #include "tests/common/expect_message.hpp"
 
 namespace spar::kinematics {

@@ -1,4 +1,4 @@
-#include "kinematics/ik.hpp"
+#include "spar/kinematics/ik.hpp"
 
 #include <gtest/gtest.h>
 #include <rapidcheck/gtest.h>
@@ -8,7 +8,7 @@
 #include <span>
 #include <vector>
 
-#include "kinematics/puma.hpp"
+#include "spar/kinematics/puma.hpp"
 #include "tests/common/expect_message.hpp"
 
 namespace spar::kinematics {

@@ -1,7 +1,7 @@
 // PickupTemplate (kinematics/pickup_template.hpp) against the per-instance path
 // check_pickup(pickup_preconditions(...)): same verdicts and bounds up to rounding, sound bounds
 // at random points of the box, the same argument errors.
-#include "kinematics/pickup_template.hpp"
+#include "spar/kinematics/pickup_template.hpp"
 
 #include <gtest/gtest.h>
 #include <rapidcheck/gtest.h>
@@ -14,9 +14,9 @@
 #include <string>
 #include <vector>
 
-#include "common/units.hpp"
-#include "symbolic/operations.hpp"
-#include "symbolic/tape.hpp"
+#include "spar/common/units.hpp"
+#include "spar/symbolic/operations.hpp"
+#include "spar/symbolic/tape.hpp"
 #include "tests/common/expect_message.hpp"
 
 namespace spar::kinematics {

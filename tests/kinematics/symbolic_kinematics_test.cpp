@@ -10,15 +10,15 @@
 #include <string>
 #include <vector>
 
-#include "common/units.hpp"
-#include "kinematics/pickup.hpp"
-#include "kinematics/pickup_check.hpp"
-#include "kinematics/puma.hpp"
-#include "kinematics/symbolic_dh.hpp"
-#include "kinematics/symbolic_transform.hpp"
-#include "kinematics/uncertain_pose.hpp"
-#include "symbolic/operations.hpp"
-#include "symbolic/smp.hpp"
+#include "spar/common/units.hpp"
+#include "spar/kinematics/pickup.hpp"
+#include "spar/kinematics/pickup_check.hpp"
+#include "spar/kinematics/puma.hpp"
+#include "spar/kinematics/symbolic_dh.hpp"
+#include "spar/kinematics/symbolic_transform.hpp"
+#include "spar/kinematics/uncertain_pose.hpp"
+#include "spar/symbolic/operations.hpp"
+#include "spar/symbolic/smp.hpp"
 #include "tests/common/expect_message.hpp"
 
 namespace spar::kinematics {

@@ -11,10 +11,10 @@
 #include <utility>
 #include <vector>
 
-#include "planner/cms/constraint_network.hpp"
-#include "planner/cms/error.hpp"
-#include "planner/cms/internal/bitset.hpp"
-#include "planner/cms/ordering_graph.hpp"
+#include "spar/planner/cms/constraint_network.hpp"
+#include "spar/planner/cms/error.hpp"
+#include "spar/planner/cms/internal/bitset.hpp"
+#include "spar/planner/cms/ordering_graph.hpp"
 
 namespace spar::planner::cms {
 namespace {

@@ -1,7 +1,7 @@
 // The domain loader (planner/domain.hpp): the built-in templates are SPAR's, the shipped file is
 // what is compiled in, a user's added action loads without recompiling, and every mistake in a
 // domain file is one DomainError naming file:line:col.
-#include "planner/domain.hpp"
+#include "spar/planner/domain.hpp"
 
 #include <gtest/gtest.h>
 
@@ -10,7 +10,7 @@
 #include <sstream>
 #include <string>
 
-#include "planner/error.hpp"
+#include "spar/planner/error.hpp"
 #include "tests/common/expect_message.hpp"
 
 namespace spar::planner {

@@ -10,11 +10,11 @@
 #include <string>
 #include <vector>
 
-#include "common/units.hpp"
-#include "planner/error.hpp"
-#include "planner/plan.hpp"
-#include "planner/uncertainty/propagation.hpp"
-#include "symbolic/operations.hpp"
+#include "spar/common/units.hpp"
+#include "spar/planner/error.hpp"
+#include "spar/planner/plan.hpp"
+#include "spar/planner/uncertainty/propagation.hpp"
+#include "spar/symbolic/operations.hpp"
 #include "tests/planner/phase2_simulation.hpp"
 
 namespace spar::planner {

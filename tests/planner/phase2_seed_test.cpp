@@ -12,9 +12,9 @@
 #include <string>
 #include <vector>
 
-#include "common/units.hpp"
-#include "planner/plan.hpp"
-#include "symbolic/operations.hpp"
+#include "spar/common/units.hpp"
+#include "spar/planner/plan.hpp"
+#include "spar/symbolic/operations.hpp"
 #include "tests/planner/plan_options.hpp"
 
 namespace spar::planner {

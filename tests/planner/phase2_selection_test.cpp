@@ -6,9 +6,9 @@
 #include <string>
 #include <vector>
 
-#include "common/units.hpp"
-#include "planner/error.hpp"
-#include "planner/plan.hpp"
+#include "spar/common/units.hpp"
+#include "spar/planner/error.hpp"
+#include "spar/planner/plan.hpp"
 #include "tests/planner/plan_options.hpp"
 
 namespace spar::planner {

@@ -23,8 +23,8 @@
 #include <string>
 #include <vector>
 
-#include "planner/uncertainty/analysis.hpp"
-#include "planner/world.hpp"
+#include "spar/planner/uncertainty/analysis.hpp"
+#include "spar/planner/world.hpp"
 
 namespace spar::planner::testing {
 

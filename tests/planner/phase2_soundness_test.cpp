@@ -16,9 +16,9 @@
 #include <string>
 #include <vector>
 
-#include "common/units.hpp"
-#include "planner/plan.hpp"
-#include "symbolic/operations.hpp"
+#include "spar/common/units.hpp"
+#include "spar/planner/plan.hpp"
+#include "spar/symbolic/operations.hpp"
 #include "tests/planner/phase2_simulation.hpp"
 #include "tests/planner/plan_options.hpp"
 #include "tests/planner/random_placement.hpp"

@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "planner/error.hpp"
-#include "planner/uncertainty/space.hpp"
+#include "spar/planner/error.hpp"
+#include "spar/planner/uncertainty/space.hpp"
 
 namespace spar::planner {
 namespace {

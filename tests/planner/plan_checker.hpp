@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-#include "planner/plan.hpp"
+#include "spar/planner/plan.hpp"
 
 namespace spar::planner::testing {
 

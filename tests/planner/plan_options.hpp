@@ -3,7 +3,7 @@
 
 #include <cstddef>
 
-#include "planner/plan.hpp"
+#include "spar/planner/plan.hpp"
 
 namespace spar::planner::testing {
 

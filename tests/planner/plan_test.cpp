@@ -1,6 +1,6 @@
 // Phase 1 of the planner on the seed's four peg-and-block experiments, every instance checked by an
 // independent simulation (plan_checker.hpp), and a property over random initial poses.
-#include "planner/plan.hpp"
+#include "spar/planner/plan.hpp"
 
 #include <gtest/gtest.h>
 #include <rapidcheck/gtest.h>

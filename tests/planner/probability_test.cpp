@@ -3,7 +3,7 @@
 // ones, Monte Carlo against first order on the seed's pickup, zero probability for proved
 // preconditions, sensor fusion against the closed form, and tolerance allocation proved by the
 // sound bounds (and plugged back into the scenario).
-#include "planner/uncertainty/probability.hpp"
+#include "spar/planner/uncertainty/probability.hpp"
 
 #include <gtest/gtest.h>
 
@@ -12,12 +12,12 @@
 #include <string>
 #include <vector>
 
-#include "bounds/bound.hpp"
-#include "common/units.hpp"
-#include "planner/error.hpp"
-#include "planner/plan.hpp"
-#include "symbolic/operations.hpp"
-#include "symbolic/parse.hpp"
+#include "spar/bounds/bound.hpp"
+#include "spar/common/units.hpp"
+#include "spar/planner/error.hpp"
+#include "spar/planner/plan.hpp"
+#include "spar/symbolic/operations.hpp"
+#include "spar/symbolic/parse.hpp"
 
 namespace spar::planner {
 namespace {

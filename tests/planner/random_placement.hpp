@@ -9,8 +9,8 @@
 #include <utility>
 #include <vector>
 
-#include "common/units.hpp"
-#include "planner/scenario.hpp"
+#include "spar/common/units.hpp"
+#include "spar/planner/scenario.hpp"
 
 namespace spar::planner::testing {
 

@@ -1,7 +1,7 @@
 // The scenario loader (planner/scenario.hpp): the four seed experiments load with their units
 // converted, their objects and places are within the robot's reach, and every class of mistake
 // gives one ScenarioError whose message starts with `file:line:col:` and says what is wrong.
-#include "planner/scenario.hpp"
+#include "spar/planner/scenario.hpp"
 
 #include <gtest/gtest.h>
 
@@ -9,10 +9,10 @@
 #include <regex>
 #include <string>
 
-#include "common/units.hpp"
-#include "geometry/stable_poses.hpp"
-#include "kinematics/ik.hpp"
-#include "planner/error.hpp"
+#include "spar/common/units.hpp"
+#include "spar/geometry/stable_poses.hpp"
+#include "spar/kinematics/ik.hpp"
+#include "spar/planner/error.hpp"
 
 namespace spar::planner {
 namespace {

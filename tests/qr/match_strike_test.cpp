@@ -1,4 +1,4 @@
-#include "qr/match_strike.hpp"
+#include "spar/qr/match_strike.hpp"
 
 #include <gtest/gtest.h>
 #include <rapidcheck/gtest.h>

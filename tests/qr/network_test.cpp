@@ -1,8 +1,8 @@
-#include "qr/network.hpp"
+#include "spar/qr/network.hpp"
 
 #include <gtest/gtest.h>
 
-#include "qr/match_strike.hpp"
+#include "spar/qr/match_strike.hpp"
 
 namespace spar::qr {
 namespace {

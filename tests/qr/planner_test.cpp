@@ -1,9 +1,9 @@
-#include "qr/planner.hpp"
+#include "spar/qr/planner.hpp"
 
 #include <gtest/gtest.h>
 #include <rapidcheck/gtest.h>
 
-#include "qr/match_strike.hpp"
+#include "spar/qr/match_strike.hpp"
 
 namespace spar::qr {
 namespace {

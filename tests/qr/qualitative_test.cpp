@@ -1,4 +1,4 @@
-#include "qr/qualitative.hpp"
+#include "spar/qr/qualitative.hpp"
 
 #include <gtest/gtest.h>
 

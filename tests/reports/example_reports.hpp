@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "planner/plan.hpp"
-#include "reports/plan_json.hpp"
+#include "spar/planner/plan.hpp"
+#include "spar/reports/plan_json.hpp"
 
 namespace spar::reports::testing {
 

@@ -13,7 +13,7 @@
 #include <regex>
 #include <sstream>
 
-#include "reports/write.hpp"
+#include "spar/reports/write.hpp"
 #include "tests/reports/example_reports.hpp"
 
 namespace spar::reports::testing {

@@ -1,5 +1,5 @@
 // reports/qr_svg.hpp: the match-striking search drawn as SVG from qr's data.
-#include "reports/qr_svg.hpp"
+#include "spar/reports/qr_svg.hpp"
 
 #include <gtest/gtest.h>
 

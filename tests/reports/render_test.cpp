@@ -7,12 +7,12 @@
 #include <future>
 #include <regex>
 
-#include "reports/error.hpp"
-#include "reports/html.hpp"
-#include "reports/internal/layout.hpp"
-#include "reports/internal/text.hpp"
-#include "reports/markdown.hpp"
-#include "reports/write.hpp"
+#include "spar/reports/error.hpp"
+#include "spar/reports/html.hpp"
+#include "spar/reports/internal/layout.hpp"
+#include "spar/reports/internal/text.hpp"
+#include "spar/reports/markdown.hpp"
+#include "spar/reports/write.hpp"
 #include "tests/common/expect_message.hpp"
 #include "tests/reports/example_reports.hpp"
 

@@ -1,4 +1,4 @@
-#include "symbolic/expr.hpp"
+#include "spar/symbolic/expr.hpp"
 
 #include <gtest/gtest.h>
 
@@ -11,8 +11,8 @@
 #include <thread>
 #include <tuple>
 
-#include "symbolic/operations.hpp"
-#include "symbolic/parse.hpp"
+#include "spar/symbolic/operations.hpp"
+#include "spar/symbolic/parse.hpp"
 
 namespace spar::symbolic {
 namespace {

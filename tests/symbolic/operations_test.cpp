@@ -1,4 +1,4 @@
-#include "symbolic/operations.hpp"
+#include "spar/symbolic/operations.hpp"
 
 #include <gtest/gtest.h>
 
@@ -7,8 +7,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "symbolic/parse.hpp"
-#include "symbolic/tape.hpp"
+#include "spar/symbolic/parse.hpp"
+#include "spar/symbolic/tape.hpp"
 
 namespace spar::symbolic {
 namespace {

@@ -1,4 +1,4 @@
-#include "symbolic/parse.hpp"
+#include "spar/symbolic/parse.hpp"
 
 #include <gtest/gtest.h>
 
@@ -6,7 +6,7 @@
 #include <fstream>
 #include <string>
 
-#include "symbolic/operations.hpp"
+#include "spar/symbolic/operations.hpp"
 #include "tests/common/expect_message.hpp"
 
 namespace spar::symbolic {

@@ -9,9 +9,9 @@
 #include <unordered_map>
 
 #include "random_expr.hpp"
-#include "symbolic/operations.hpp"
-#include "symbolic/parse.hpp"
-#include "symbolic/tape.hpp"
+#include "spar/symbolic/operations.hpp"
+#include "spar/symbolic/parse.hpp"
+#include "spar/symbolic/tape.hpp"
 
 namespace spar::symbolic {
 namespace {

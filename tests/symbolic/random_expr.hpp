@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "symbolic/expr.hpp"
+#include "spar/symbolic/expr.hpp"
 
 namespace spar::symbolic::testing {
 

@@ -1,6 +1,6 @@
 // Tests of SMP, the on-request simplifier: one unit test per rewrite listed in smp.hpp, then
 // properties over random expressions (values preserved, occurrence cost never raised).
-#include "symbolic/smp.hpp"
+#include "spar/symbolic/smp.hpp"
 
 #include <gtest/gtest.h>
 #include <rapidcheck/gtest.h>
@@ -12,8 +12,8 @@
 #include <vector>
 
 #include "random_expr.hpp"
-#include "symbolic/operations.hpp"
-#include "symbolic/parse.hpp"
+#include "spar/symbolic/operations.hpp"
+#include "spar/symbolic/parse.hpp"
 
 namespace spar::symbolic {
 namespace {

@@ -1,4 +1,4 @@
-#include "planner/cms/internal/search.hpp"
+#include "spar/planner/cms/internal/search.hpp"
 
 #include <utility>
 

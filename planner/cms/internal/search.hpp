@@ -8,7 +8,7 @@
 #include <span>
 #include <vector>
 
-#include "planner/cms/internal/bitset.hpp"
+#include "spar/planner/cms/internal/bitset.hpp"
 
 namespace spar::planner::cms::internal {
 

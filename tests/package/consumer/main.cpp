@@ -1,10 +1,10 @@
 // Bounds an expression and plans a scenario with an installed spar (tests/package).
 #include <iostream>
 
-#include "bounds/bound.hpp"
-#include "planner/plan.hpp"
-#include "reports/plan_json.hpp"
-#include "symbolic/parse.hpp"
+#include "spar/bounds/bound.hpp"
+#include "spar/planner/plan.hpp"
+#include "spar/reports/plan_json.hpp"
+#include "spar/symbolic/parse.hpp"
 
 int main(int argc, char** argv) {
   if (argc != 2) {
