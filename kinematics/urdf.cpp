@@ -342,7 +342,7 @@ class Importer {
     if (const auto cached = meshes_.find(key.str()); cached != meshes_.end()) return cached->second;
     geometry::Mesh loaded;
     try {
-      loaded = geometry::read_mesh_file(file.string());
+      loaded = geometry::read_triangle_soup(file.string());
     } catch (const geometry::GeometryError& error) {
       fail(line, "link '" + link + "': bad collision mesh " + file.string() + ": " + error.what());
     }
