@@ -95,8 +95,9 @@ struct RobotOptions {
 };
 
 void add_robot_options(CLI::App* command, RobotOptions& options) {
-  command->add_option("--robot", options.robot,
-                      "Built-in robot (puma560, puma762, ur5, panda) or a URDF file")
+  command
+      ->add_option("--robot", options.robot,
+                   "Built-in robot (puma560, puma762, ur5, panda) or a URDF file")
       ->capture_default_str();
   command->add_option("--tip", options.tip,
                       "Tip link of a URDF robot (default: the built-in's, else the end of the "
@@ -115,7 +116,8 @@ RobotModel robot_named(const RobotOptions& options) {
     std::error_code error;
     if (!std::filesystem::is_regular_file(options.robot, error)) {
       std::string known;
-      for (const std::string_view name : names) known += (known.empty() ? "" : ", ") + std::string(name);
+      for (const std::string_view name : names)
+        known += (known.empty() ? "" : ", ") + std::string(name);
       throw UsageError("--robot: unknown robot '" + options.robot + "' (built-in: " + known +
                        "; or a URDF file)");
     }
@@ -205,7 +207,8 @@ void run_ik(const RobotOptions& options, const std::string& pose_text, double ma
   int within = 0;
   std::uint8_t singularities = kinematics::kNoSingularity;
   for (const kinematics::JointSolution& solution : found) {
-    const double residual = (robot.forward(solution.q).matrix() - pose.matrix()).cwiseAbs().maxCoeff();
+    const double residual =
+        (robot.forward(solution.q).matrix() - pose.matrix()).cwiseAbs().maxCoeff();
     within += solution.within_limits ? 1 : 0;
     singularities |= solution.singularities;
     solutions.push_back({{"configuration", solution.configuration},

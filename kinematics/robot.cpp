@@ -177,8 +177,7 @@ RobotModel RobotModel::from_dh(const DhChain& chain) {
 void RobotModel::require_joint_values(std::span<const double> q) const {
   if (q.size() != joints_.size())
     throw KinematicsError("robot '" + name_ + "' has " + std::to_string(joints_.size()) +
-                          " joints but " + std::to_string(q.size()) +
-                          " joint values were given");
+                          " joints but " + std::to_string(q.size()) + " joint values were given");
   for (std::size_t i = 0; i < q.size(); ++i)
     if (!std::isfinite(q[i]))
       throw KinematicsError("robot '" + name_ + "': the value of joint " + std::to_string(i + 1) +

@@ -130,7 +130,7 @@ struct RobotDescription {
 // One moving joint of the model, after fixed joints were folded in.
 struct MovingJoint {
   std::string name{};
-  JointType type{JointType::kRevolute};  // kRevolute or kPrismatic
+  JointType type{JointType::kRevolute};     // kRevolute or kPrismatic
   Transform origin{Transform::Identity()};  // joint frame in the previous body's frame
   Eigen::Vector3d axis{Eigen::Vector3d::UnitZ()};
   JointLimits limits{};
@@ -206,8 +206,8 @@ class RobotModel {
                                                    const InverseOptions& options = {}) const;
   // The numeric solver (kNumeric above) whatever the chain: for chains near a closed form's
   // geometry but not on it, and to compare the two.
-  [[nodiscard]] std::vector<JointSolution> inverse_numeric(const Transform& tip_pose,
-                                                           const InverseOptions& options = {}) const;
+  [[nodiscard]] std::vector<JointSolution> inverse_numeric(
+      const Transform& tip_pose, const InverseOptions& options = {}) const;
 
  private:
   void require_joint_values(std::span<const double> q) const;

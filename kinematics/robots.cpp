@@ -41,7 +41,8 @@ RobotModel load_builtin(std::string_view name, const UrdfOptions& given) {
     return model;
   }
   const DhChain& chain = builtin_robot(name);  // throws for an unknown name
-  if ((!given.tip.empty() && given.tip != "flange") || (!given.base.empty() && given.base != "link0"))
+  if ((!given.tip.empty() && given.tip != "flange") ||
+      (!given.base.empty() && given.base != "link0"))
     throw KinematicsError("robot '" + std::string(name) +
                           "' is a DH table: its base is link0 and its tip is flange");
   return RobotModel::from_dh(chain);
@@ -49,7 +50,8 @@ RobotModel load_builtin(std::string_view name, const UrdfOptions& given) {
 
 std::string known_robots() {
   std::string known;
-  for (const std::string_view name : robot_model_names()) known += (known.empty() ? "" : ", ") + std::string(name);
+  for (const std::string_view name : robot_model_names())
+    known += (known.empty() ? "" : ", ") + std::string(name);
   return known;
 }
 
@@ -81,8 +83,8 @@ const RobotModel& builtin_robot_model(std::string_view name) {
   bool known = false;
   for (const std::string_view candidate : robot_model_names()) known |= candidate == name;
   if (!known)
-    throw KinematicsError("unknown robot '" + std::string(name) + "'; built-in robots: " +
-                          known_robots());
+    throw KinematicsError("unknown robot '" + std::string(name) +
+                          "'; built-in robots: " + known_robots());
   return loaded.emplace(std::string(name), load_builtin(name, {})).first->second;
 }
 
@@ -96,8 +98,8 @@ RobotModel load_robot(std::string_view name_or_path, const UrdfOptions& options)
   std::error_code error;
   if (name_or_path.ends_with(".urdf") || fs::is_regular_file(fs::path(name_or_path), error))
     return load_urdf(fs::path(name_or_path), options);
-  throw KinematicsError("unknown robot '" + std::string(name_or_path) + "'; built-in robots: " +
-                        known_robots() + "; or the path of a URDF file");
+  throw KinematicsError("unknown robot '" + std::string(name_or_path) +
+                        "'; built-in robots: " + known_robots() + "; or the path of a URDF file");
 }
 
 }  // namespace spar::kinematics

@@ -159,8 +159,7 @@ class Importer {
     for (const auto& [name, link] : model_->links_)
       for (std::size_t i = 0; i < link->collision_array.size(); ++i) {
         const urdf::CollisionSharedPtr& collision = link->collision_array[i];
-        if (!collision || !collision->geometry ||
-            collision->geometry->type != urdf::Geometry::MESH)
+        if (!collision || !collision->geometry || collision->geometry->type != urdf::Geometry::MESH)
           continue;
         const auto& mesh = static_cast<const urdf::Mesh&>(*collision->geometry);
         (void)mesh_file(mesh.filename, name, i);
@@ -176,8 +175,8 @@ class Importer {
                      "' is on no folder of robot.package_path or ROS_PACKAGE_PATH");
     std::error_code error;
     if (!fs::is_regular_file(file, error))
-      fail(line, "link '" + link + "': collision mesh '" + uri + "' not found (" + file.string() +
-                     ")");
+      fail(line,
+           "link '" + link + "': collision mesh '" + uri + "' not found (" + file.string() + ")");
     return file;
   }
 
@@ -213,8 +212,7 @@ class Importer {
         stack.emplace_back(model_->getLink(joint->child_link_name), count);
       }
     }
-    if (ends.empty())
-      fail(where_.robot, "no joint moves below the base link '" + base->name + "'");
+    if (ends.empty()) fail(where_.robot, "no joint moves below the base link '" + base->name + "'");
     if (ends.size() > 1) {
       std::sort(ends.begin(), ends.end());
       std::string listed;
@@ -271,10 +269,10 @@ class Importer {
 
   static Transform transform_of(const urdf::Pose& pose) {
     Transform transform = Transform::Identity();
-    transform.linear() = Eigen::Quaterniond(pose.rotation.w, pose.rotation.x, pose.rotation.y,
-                                            pose.rotation.z)
-                             .normalized()
-                             .toRotationMatrix();
+    transform.linear() =
+        Eigen::Quaterniond(pose.rotation.w, pose.rotation.x, pose.rotation.y, pose.rotation.z)
+            .normalized()
+            .toRotationMatrix();
     transform.translation() << pose.position.x, pose.position.y, pose.position.z;
     return transform;
   }
@@ -432,13 +430,15 @@ fs::path resolve_mesh_uri(std::string_view uri, const fs::path& base_dir,
   const std::string_view rest = uri.substr(kPackage.size());
   const std::size_t slash = rest.find('/');
   const std::string package(rest.substr(0, slash));
-  const fs::path inside(slash == std::string_view::npos ? std::string_view() : rest.substr(slash + 1));
+  const fs::path inside(slash == std::string_view::npos ? std::string_view()
+                                                        : rest.substr(slash + 1));
   std::vector<fs::path> folders = package_path;
   for (const fs::path& folder : split_path_list(std::getenv("ROS_PACKAGE_PATH")))
     folders.push_back(folder);
   std::error_code error;
   for (const fs::path& folder : folders) {
-    if (fs::is_directory(folder / package, error)) return (folder / package / inside).lexically_normal();
+    if (fs::is_directory(folder / package, error))
+      return (folder / package / inside).lexically_normal();
     if (folder.lexically_normal().filename() == package && fs::is_directory(folder, error))
       return (folder / inside).lexically_normal();
   }

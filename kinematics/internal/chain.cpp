@@ -25,7 +25,8 @@ double wrap_small_angle(double angle) {
 Transform chain_forward(std::span<const MovingJoint> joints, const Transform& tip,
                         std::span<const double> q) {
   Transform pose = Transform::Identity();
-  for (std::size_t i = 0; i < joints.size(); ++i) pose = pose * joints[i].origin * joint_motion(joints[i], q[i]);
+  for (std::size_t i = 0; i < joints.size(); ++i)
+    pose = pose * joints[i].origin * joint_motion(joints[i], q[i]);
   return pose * tip;
 }
 
@@ -132,8 +133,8 @@ bool choose_representatives(std::span<const MovingJoint> joints, std::span<doubl
     if (joints[i].type == JointType::kRevolute) {
       within &= choose_representative(q[i], joints[i].limits, tolerance);
     } else {
-      within &= q[i] >= joints[i].limits.lower - tolerance &&
-                q[i] <= joints[i].limits.upper + tolerance;
+      within &=
+          q[i] >= joints[i].limits.lower - tolerance && q[i] <= joints[i].limits.upper + tolerance;
     }
   }
   return within;
@@ -157,9 +158,8 @@ double limit_margin(std::span<const MovingJoint> joints, std::span<const double>
 bool same_configuration(std::span<const MovingJoint> joints, std::span<const double> a,
                         std::span<const double> b, double tolerance) {
   for (std::size_t i = 0; i < joints.size(); ++i) {
-    const double difference = joints[i].type == JointType::kRevolute
-                                  ? wrap_small_angle(a[i] - b[i])
-                                  : a[i] - b[i];
+    const double difference =
+        joints[i].type == JointType::kRevolute ? wrap_small_angle(a[i] - b[i]) : a[i] - b[i];
     if (std::abs(difference) > tolerance) return false;
   }
   return true;

@@ -47,9 +47,8 @@ double angle_about(const Eigen::Matrix3d& rotation, const Eigen::Vector3d& axis)
 // Whether a sub-problem's two solutions (nearly) coincide: a singular configuration.
 bool singular(const Angles& angles) {
   if (angles.tangent || angles.degenerate) return true;
-  return angles.count == 2 &&
-         std::abs(std::remainder(angles.values[0] - angles.values[1], 2 * std::numbers::pi)) <
-             2 * kSingular;
+  return angles.count == 2 && std::abs(std::remainder(angles.values[0] - angles.values[1],
+                                                      2 * std::numbers::pi)) < 2 * kSingular;
 }
 
 // A closed-form answer on the exact chain: polished if it misses the pose, representatives chosen.
@@ -162,14 +161,14 @@ class UrIk final : public IkSolver {
           height[e] = (to_elbow - to_elbow.dot(line) * line).dot(h[0]);
         }
         if (height[0] < height[1]) std::swap(arms[0], arms[1]);  // 'u' first
-        const std::uint8_t flags =
-            (shoulder_singular ? kShoulderSingularity : 0) | (elbow_singular ? kElbowSingularity : 0) |
-            (wrist_singular || sixth.degenerate ? kWristSingularity : 0);
+        const std::uint8_t flags = (shoulder_singular ? kShoulderSingularity : 0) |
+                                   (elbow_singular ? kElbowSingularity : 0) |
+                                   (wrist_singular || sixth.degenerate ? kWristSingularity : 0);
         for (std::size_t e = 0; e < 2; ++e) {
           const std::string label{"lr"[s], "ud"[e], "nf"[w]};
-          found[4 * s + 2 * e + w] = finish(joints_, tip_, target,
-                                            {q1, arms[e][0], arms[e][1], arms[e][2], q5, q6},
-                                            label, flags);
+          found[4 * s + 2 * e + w] =
+              finish(joints_, tip_, target, {q1, arms[e][0], arms[e][1], arms[e][2], q5, q6}, label,
+                     flags);
         }
       }
     }
@@ -334,10 +333,9 @@ class RedundantIk final : public IkSolver {
         q.push_back(q7);
         // Most branches leave the limits: drop them before verifying the pose.
         if (!choose_representatives(joints_, q, 1e-9)) continue;
-        JointSolution solution =
-            finish(joints_, tip_, target, std::move(q),
-                   std::string(branch.label.begin(), branch.label.end()) + suffix,
-                   branch.singularities);
+        JointSolution solution = finish(
+            joints_, tip_, target, std::move(q),
+            std::string(branch.label.begin(), branch.label.end()) + suffix, branch.singularities);
         if (!solution.within_limits) continue;
         const double margin = limit_margin(joints_, solution.q);
         ranked.push_back({std::move(solution), margin, q7});

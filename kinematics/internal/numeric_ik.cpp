@@ -110,7 +110,8 @@ std::vector<JointSolution> solve_numerically(std::span<const MovingJoint> joints
                      return limit_margin(joints, a.q) > limit_margin(joints, b.q);
                    });
   for (std::size_t i = 0; i < solutions.size(); ++i)
-    solutions[i].configuration = std::string(1, 'n').append(std::to_string(i + 1));  // GCC 12 warns on "n" + s
+    solutions[i].configuration =
+        std::string(1, 'n').append(std::to_string(i + 1));  // GCC 12 warns on "n" + s
   return solutions;
 }
 

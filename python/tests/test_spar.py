@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import spar
-from conftest import EXAMPLES, without_wall_clock
+from conftest import CORPUS_DIR, EXAMPLES, without_wall_clock
 
 FACE_DOWN = EXAMPLES / "peg_block_face_down.yaml"
 

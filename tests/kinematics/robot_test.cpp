@@ -37,13 +37,13 @@ double pose_error(const Transform& a, const Transform& b) {
 // UR5, base_link -> tool0, composed by hand from ur5_robot.urdf's joint origins and axes (exact
 // quarter turns where the file writes 1.57079632679).
 Transform ur5_by_hand(const std::vector<double>& q) {
-  return translation(0, 0, 0.089159) * rot_z(q[0]) *                          // shoulder_pan
-         translation(0, 0.13585, 0) * rot_y(kPi / 2) * rot_y(q[1]) *          // shoulder_lift
-         translation(0, -0.1197, 0.425) * rot_y(q[2]) *                       // elbow
-         translation(0, 0, 0.39225) * rot_y(kPi / 2) * rot_y(q[3]) *          // wrist_1
-         translation(0, 0.093, 0) * rot_z(q[4]) *                             // wrist_2
-         translation(0, 0, 0.09465) * rot_y(q[5]) *                           // wrist_3
-         translation(0, 0.0823, 0) * rot_x(-kPi / 2);                         // tool0
+  return translation(0, 0, 0.089159) * rot_z(q[0]) *                  // shoulder_pan
+         translation(0, 0.13585, 0) * rot_y(kPi / 2) * rot_y(q[1]) *  // shoulder_lift
+         translation(0, -0.1197, 0.425) * rot_y(q[2]) *               // elbow
+         translation(0, 0, 0.39225) * rot_y(kPi / 2) * rot_y(q[3]) *  // wrist_1
+         translation(0, 0.093, 0) * rot_z(q[4]) *                     // wrist_2
+         translation(0, 0, 0.09465) * rot_y(q[5]) *                   // wrist_3
+         translation(0, 0.0823, 0) * rot_x(-kPi / 2);                 // tool0
 }
 
 // Panda, panda_link0 -> panda_link8, from Franka's published modified-DH table (Craig:
@@ -74,28 +74,26 @@ bool same_joints(const std::vector<double>& a, const std::vector<double>& b, dou
   return true;
 }
 
-TEST(RobotModel, Ur5ForwardKinematicsMatchesTheUrdfComposedByHand) {
-  const RobotModel& ur5 = builtin_robot_model("ur5");
-  EXPECT_EQ(ur5.base_link(), "base_link");
-  EXPECT_EQ(ur5.tip_link(), "tool0");
-  ASSERT_EQ(ur5.dof(), 6u);
+// The built-in robot's ends and its FK against `by_hand` at random joint values within limits.
+void expect_forward_kinematics(const char* name, const char* base, const char* tip,
+                               std::size_t dof, Transform (*by_hand)(const std::vector<double>&)) {
+  const RobotModel& robot = builtin_robot_model(name);
+  EXPECT_EQ(robot.base_link(), base);
+  EXPECT_EQ(robot.tip_link(), tip);
+  ASSERT_EQ(robot.dof(), dof);
   std::mt19937_64 random(23);
   for (int trial = 0; trial < 200; ++trial) {
-    const std::vector<double> q = random_within_limits(ur5, random);
-    EXPECT_LT(pose_error(ur5.forward(q), ur5_by_hand(q)), 1e-9);
+    const std::vector<double> q = random_within_limits(robot, random);
+    EXPECT_LT(pose_error(robot.forward(q), by_hand(q)), 1e-9);
   }
 }
 
+TEST(RobotModel, Ur5ForwardKinematicsMatchesTheUrdfComposedByHand) {
+  expect_forward_kinematics("ur5", "base_link", "tool0", 6, ur5_by_hand);
+}
+
 TEST(RobotModel, PandaForwardKinematicsMatchesFrankasDhTable) {
-  const RobotModel& panda = builtin_robot_model("panda");
-  EXPECT_EQ(panda.base_link(), "panda_link0");
-  EXPECT_EQ(panda.tip_link(), "panda_link8");
-  ASSERT_EQ(panda.dof(), 7u);
-  std::mt19937_64 random(23);
-  for (int trial = 0; trial < 200; ++trial) {
-    const std::vector<double> q = random_within_limits(panda, random);
-    EXPECT_LT(pose_error(panda.forward(q), panda_by_hand(q)), 1e-9);
-  }
+  expect_forward_kinematics("panda", "panda_link0", "panda_link8", 7, panda_by_hand);
 }
 
 TEST(RobotModel, BuiltInRobotsChooseTheirSolvers) {
@@ -157,9 +155,9 @@ TEST(RobotModel, PandaSolutionsAreWithinLimitsAndSortedByMargin) {
     double smallest = 1.0;
     for (std::size_t i = 0; i < 7; ++i) {
       const JointLimits& limits = panda.joints()[i].limits;
-      smallest = std::min(smallest, std::min(solution.q[i] - limits.lower,
-                                             limits.upper - solution.q[i]) /
-                                        (limits.upper - limits.lower));
+      smallest =
+          std::min(smallest, std::min(solution.q[i] - limits.lower, limits.upper - solution.q[i]) /
+                                 (limits.upper - limits.lower));
     }
     return smallest;
   };
@@ -188,18 +186,17 @@ TEST(RobotModel, ForwardKinematicsRefusesBadJointValues) {
 }
 
 TEST(RobotModel, RejectsBrokenChains) {
-  RobotDescription description{.name = "arm",
-                               .source = "test",
-                               .base_link = "base",
-                               .tip_link = "tip",
-                               .chain = {{.name = "j1", .parent_link = "base", .child_link = "l1"},
-                                         {.name = "j2", .parent_link = "elsewhere",
-                                          .child_link = "tip"}},
-                               .attachments = {},
-                               .links = {},
-                               .dh = nullptr};
-  EXPECT_THROW_MESSAGE(RobotModel{description},
-                       "joint 'j2' hangs from 'elsewhere', not from 'l1'");
+  RobotDescription description{
+      .name = "arm",
+      .source = "test",
+      .base_link = "base",
+      .tip_link = "tip",
+      .chain = {{.name = "j1", .parent_link = "base", .child_link = "l1"},
+                {.name = "j2", .parent_link = "elsewhere", .child_link = "tip"}},
+      .attachments = {},
+      .links = {},
+      .dh = nullptr};
+  EXPECT_THROW_MESSAGE(RobotModel{description}, "joint 'j2' hangs from 'elsewhere', not from 'l1'");
   description.chain[1].parent_link = "l1";
   description.chain[1].limits = {1.0, -1.0};
   EXPECT_THROW_MESSAGE(RobotModel{description}, "joint 'j2' has its lower limit");

@@ -40,8 +40,8 @@ class Urdf : public ::testing::Test {
   }
   // A URDF with `links` and `joints` between the <robot> tags.
   fs::path robot(const std::string& body) const {
-    return write("robot.urdf", "<?xml version=\"1.0\"?>\n<robot name=\"arm\">\n" + body +
-                                   "</robot>\n");
+    return write("robot.urdf",
+                 "<?xml version=\"1.0\"?>\n<robot name=\"arm\">\n" + body + "</robot>\n");
   }
   // "<folder>/robot.urdf:<number of the first line containing `text`>"
   std::string line_of(const std::string& text) const {
@@ -62,6 +62,12 @@ std::string revolute(const std::string& name, const std::string& parent, const s
   return "  <joint name=\"" + name + "\" type=\"revolute\">\n    <parent link=\"" + parent +
          "\"/>\n    <child link=\"" + child + "\"/>\n    " + extra +
          "\n    <limit lower=\"-2\" upper=\"2\" effort=\"1\" velocity=\"1\"/>\n  </joint>\n";
+}
+
+// base -j-> tip, the tip with one <collision> of `geometry` (on its own line).
+std::string tip_colliding_as(const std::string& geometry) {
+  return "  <link name=\"base\"/>\n  <link name=\"tip\">\n    <collision><geometry>" + geometry +
+         "</geometry></collision>\n  </link>\n" + revolute("j", "base", "tip");
 }
 
 // base -shoulder(z)-> upper -elbow(y, at 0.5 up, turned 90 deg about x)-> fore -fixed-> tip.
@@ -156,15 +162,18 @@ TEST_F(Urdf, PackageNamesResolveThroughPackagePathThenRosPackagePath) {
   EXPECT_EQ(resolve_mesh_uri(uri, folder_, {}), folder_ / "second/cell/meshes/tetra.off");
   const fs::path file = robot(
       "  <link name=\"base\"/>\n  <link name=\"tip\"><collision><geometry>"
-      "<mesh filename=\"" + uri + "\"/></geometry></collision></link>\n" +
-      revolute("j", "base", "tip"));
+      "<mesh filename=\"" +
+      uri + "\"/></geometry></collision></link>\n" + revolute("j", "base", "tip"));
   EXPECT_EQ(load_urdf(file).links()[1].collision.size(), 1u);
-  if (saved) ::setenv("ROS_PACKAGE_PATH", saved_value.c_str(), 1); else ::unsetenv("ROS_PACKAGE_PATH");
+  if (saved)
+    ::setenv("ROS_PACKAGE_PATH", saved_value.c_str(), 1);
+  else
+    ::unsetenv("ROS_PACKAGE_PATH");
 }
 
 TEST_F(Urdf, TheDefaultTipEndsTheLongestChainOfMovingJoints) {
-  const fs::path ur5 = robot_data_directory() /
-                       "example-robot-data/robots/ur_description/urdf/ur5_robot.urdf";
+  const fs::path ur5 =
+      robot_data_directory() / "example-robot-data/robots/ur_description/urdf/ur5_robot.urdf";
   const RobotModel model = load_urdf(ur5, {.package_path = {robot_data_directory()}});
   EXPECT_EQ(model.base_link(), "world");  // the file's root
   EXPECT_EQ(model.tip_link(), "wrist_3_link");
@@ -178,8 +187,8 @@ TEST_F(Urdf, TheArmHasTheLinksFixedToItsChainButNotThoseBeyondTheTip) {
       if (link.name == name) return true;
     return false;
   };
-  EXPECT_TRUE(has(ur5, "ee_link"));     // fixed to wrist_3_link beside tool0
-  EXPECT_FALSE(has(ur5, "world"));      // above the base
+  EXPECT_TRUE(has(ur5, "ee_link"));  // fixed to wrist_3_link beside tool0
+  EXPECT_FALSE(has(ur5, "world"));   // above the base
   const RobotModel& panda = builtin_robot_model("panda");
   EXPECT_FALSE(has(panda, "panda_hand"));  // beyond panda_link8: the tool's
   EXPECT_TRUE(has(panda, "panda_link7"));
@@ -188,11 +197,13 @@ TEST_F(Urdf, TheArmHasTheLinksFixedToItsChainButNotThoseBeyondTheTip) {
 // ---- one test per class of mistake ----
 
 TEST_F(Urdf, UnreadableFile) {
-  EXPECT_THROW_MESSAGE(load_urdf(folder_ / "absent.urdf"), "absent.urdf: cannot read the URDF file");
+  EXPECT_THROW_MESSAGE(load_urdf(folder_ / "absent.urdf"),
+                       "absent.urdf: cannot read the URDF file");
 }
 
 TEST_F(Urdf, XmlSyntaxErrorHasLineAndColumn) {
-  const fs::path file = write("robot.urdf", "<robot name=\"arm\">\n  <link name=\"base\">\n</robot>\n");
+  const fs::path file =
+      write("robot.urdf", "<robot name=\"arm\">\n  <link name=\"base\">\n</robot>\n");
   EXPECT_THROW_MESSAGE(load_urdf(file), file.string() + ":");
   EXPECT_THROW_MESSAGE(load_urdf(file), "XML syntax error");
 }
@@ -205,21 +216,21 @@ TEST_F(Urdf, RootMustBeRobot) {
 }
 
 TEST_F(Urdf, WhatUrdfdomRejectsGetsTheLineOfTheJoint) {
-  robot("  <link name=\"base\"/>\n  <link name=\"tip\"/>\n"
-        "  <joint name=\"hinge\" type=\"swivel\">\n"
-        "    <parent link=\"base\"/><child link=\"tip\"/>\n  </joint>\n");
+  robot(
+      "  <link name=\"base\"/>\n  <link name=\"tip\"/>\n"
+      "  <joint name=\"hinge\" type=\"swivel\">\n"
+      "    <parent link=\"base\"/><child link=\"tip\"/>\n  </joint>\n");
   EXPECT_THROW_MESSAGE(load_urdf(folder_ / "robot.urdf"),
                        at("name=\"hinge\"") + " urdfdom: Joint [hinge] has no known type [swivel]");
 }
 
 TEST_F(Urdf, MalformedCollisionUrdfdomWouldDropIsAnError) {
-  robot("  <link name=\"base\"/>\n  <link name=\"tip\">\n    <collision><geometry>"
-        "<box size=\"1 1\"/></geometry></collision>\n  </link>\n" +
-        revolute("j", "base", "tip"));
+  robot(tip_colliding_as("<box size=\"1 1\"/>"));
   EXPECT_THROW_MESSAGE(load_urdf(folder_ / "robot.urdf"),
-                       at("name=\"tip\"") + " urdfdom: Parser found 2 elements but 3 expected "
-                                            "while parsing vector [1 1]; Could not parse "
-                                            "collision element for Link [tip]");
+                       at("name=\"tip\"") +
+                           " urdfdom: Parser found 2 elements but 3 expected "
+                           "while parsing vector [1 1]; Could not parse "
+                           "collision element for Link [tip]");
 }
 
 TEST_F(Urdf, JointToAMissingLinkIsRejected) {
@@ -231,9 +242,10 @@ TEST_F(Urdf, JointToAMissingLinkIsRejected) {
 }
 
 TEST_F(Urdf, FloatingJointOnTheChain) {
-  robot("  <link name=\"base\"/>\n  <link name=\"tip\"/>\n"
-        "  <joint name=\"free\" type=\"floating\">\n"
-        "    <parent link=\"base\"/><child link=\"tip\"/>\n  </joint>\n");
+  robot(
+      "  <link name=\"base\"/>\n  <link name=\"tip\"/>\n"
+      "  <joint name=\"free\" type=\"floating\">\n"
+      "    <parent link=\"base\"/><child link=\"tip\"/>\n  </joint>\n");
   EXPECT_THROW_MESSAGE(load_urdf(folder_ / "robot.urdf", {.tip = "tip"}),
                        at("name=\"free\"") +
                            " joint 'free' is floating or planar: a chain takes revolute, "
@@ -245,18 +257,21 @@ TEST_F(Urdf, MimicJointOnTheChain) {
         revolute("a", "base", "mid") +
         revolute("b", "mid", "tip", "<axis xyz=\"0 0 1\"/><mimic joint=\"a\"/>"));
   EXPECT_THROW_MESSAGE(load_urdf(folder_ / "robot.urdf"),
-                       at("name=\"b\"") + " joint 'b' mimics 'a': a chain's joints must move "
-                                          "independently");
+                       at("name=\"b\"") +
+                           " joint 'b' mimics 'a': a chain's joints must move "
+                           "independently");
 }
 
 TEST_F(Urdf, LimitsOutOfOrder) {
-  robot("  <link name=\"base\"/>\n  <link name=\"tip\"/>\n"
-        "  <joint name=\"j\" type=\"revolute\">\n"
-        "    <parent link=\"base\"/><child link=\"tip\"/><axis xyz=\"0 0 1\"/>\n"
-        "    <limit lower=\"1\" upper=\"-1\" effort=\"1\" velocity=\"1\"/>\n  </joint>\n");
+  robot(
+      "  <link name=\"base\"/>\n  <link name=\"tip\"/>\n"
+      "  <joint name=\"j\" type=\"revolute\">\n"
+      "    <parent link=\"base\"/><child link=\"tip\"/><axis xyz=\"0 0 1\"/>\n"
+      "    <limit lower=\"1\" upper=\"-1\" effort=\"1\" velocity=\"1\"/>\n  </joint>\n");
   EXPECT_THROW_MESSAGE(load_urdf(folder_ / "robot.urdf"),
-                       at("name=\"j\"") + " joint 'j': limits [1.000000, -1.000000] are not a "
-                                          "finite interval with lower <= upper");
+                       at("name=\"j\"") +
+                           " joint 'j': limits [1.000000, -1.000000] are not a "
+                           "finite interval with lower <= upper");
 }
 
 TEST_F(Urdf, ZeroAxis) {
@@ -275,9 +290,9 @@ TEST_F(Urdf, UnknownBaseOrTipLink) {
 
 TEST_F(Urdf, TipNotBelowTheBase) {
   robot(kArm);
-  EXPECT_THROW_MESSAGE(load_urdf(folder_ / "robot.urdf", {.base = "fore", .tip = "upper"}),
-                       at("name=\"upper\"") +
-                           " the tip link 'upper' is not below the base link 'fore'");
+  EXPECT_THROW_MESSAGE(
+      load_urdf(folder_ / "robot.urdf", {.base = "fore", .tip = "upper"}),
+      at("name=\"upper\"") + " the tip link 'upper' is not below the base link 'fore'");
 }
 
 TEST_F(Urdf, SeveralEndsOfTheLongestChainNeedATip) {
@@ -290,31 +305,33 @@ TEST_F(Urdf, SeveralEndsOfTheLongestChainNeedATip) {
 }
 
 TEST_F(Urdf, MissingCollisionMeshNamesTheFileAndLine) {
-  robot("  <link name=\"base\"/>\n  <link name=\"tip\">\n"
-        "    <visual><geometry><mesh filename=\"meshes/absent.dae\"/></geometry></visual>\n"
-        "    <collision>\n      <geometry><mesh filename=\"meshes/absent.stl\"/></geometry>\n"
-        "    </collision>\n  </link>\n" +
-        revolute("j", "base", "tip"));
+  robot(
+      "  <link name=\"base\"/>\n  <link name=\"tip\">\n"
+      "    <visual><geometry><mesh filename=\"meshes/absent.dae\"/></geometry></visual>\n"
+      "    <collision>\n      <geometry><mesh filename=\"meshes/absent.stl\"/></geometry>\n"
+      "    </collision>\n  </link>\n" +
+      revolute("j", "base", "tip"));
   EXPECT_THROW_MESSAGE(load_urdf(folder_ / "robot.urdf"),
-                       at("<collision>") + " link 'tip': collision mesh 'meshes/absent.stl' not "
-                                           "found (" + (folder_ / "meshes/absent.stl").string());
+                       at("<collision>") +
+                           " link 'tip': collision mesh 'meshes/absent.stl' not "
+                           "found (" +
+                           (folder_ / "meshes/absent.stl").string());
 }
 
 TEST_F(Urdf, MissingCollisionMeshOffTheArmIsAnErrorToo) {
-  robot("  <link name=\"base\"/>\n  <link name=\"tip\"/>\n"
-        "  <link name=\"hand\"><collision><geometry><mesh filename=\"gone.stl\"/></geometry>"
-        "</collision></link>\n" +
-        revolute("j", "base", "tip") +
-        "  <joint name=\"mount\" type=\"fixed\"><parent link=\"tip\"/><child link=\"hand\"/>"
-        "</joint>\n");
+  robot(
+      "  <link name=\"base\"/>\n  <link name=\"tip\"/>\n"
+      "  <link name=\"hand\"><collision><geometry><mesh filename=\"gone.stl\"/></geometry>"
+      "</collision></link>\n" +
+      revolute("j", "base", "tip") +
+      "  <joint name=\"mount\" type=\"fixed\"><parent link=\"tip\"/><child link=\"hand\"/>"
+      "</joint>\n");
   EXPECT_THROW_MESSAGE(load_urdf(folder_ / "robot.urdf", {.tip = "tip"}),
                        at("name=\"hand\"") + " link 'hand': collision mesh 'gone.stl' not found");
 }
 
 TEST_F(Urdf, UnknownPackage) {
-  robot("  <link name=\"base\"/>\n  <link name=\"tip\">\n    <collision><geometry>"
-        "<mesh filename=\"package://nopackage/m.stl\"/></geometry></collision>\n  </link>\n" +
-        revolute("j", "base", "tip"));
+  robot(tip_colliding_as("<mesh filename=\"package://nopackage/m.stl\"/>"));
   EXPECT_THROW_MESSAGE(load_urdf(folder_ / "robot.urdf"),
                        at("<collision>") +
                            " link 'tip': collision mesh 'package://nopackage/m.stl': package "
@@ -324,30 +341,25 @@ TEST_F(Urdf, UnknownPackage) {
 
 TEST_F(Urdf, UnsupportedMeshFormat) {
   write("meshes/part.dae", "<COLLADA/>");
-  robot("  <link name=\"base\"/>\n  <link name=\"tip\">\n    <collision><geometry>"
-        "<mesh filename=\"meshes/part.dae\"/></geometry></collision>\n  </link>\n" +
-        revolute("j", "base", "tip"));
+  robot(tip_colliding_as("<mesh filename=\"meshes/part.dae\"/>"));
   EXPECT_THROW_MESSAGE(load_urdf(folder_ / "robot.urdf"),
-                       at("<collision>") + " link 'tip': collision mesh 'meshes/part.dae': spar "
-                                           "reads STL, OBJ and OFF meshes, not .dae");
+                       at("<collision>") +
+                           " link 'tip': collision mesh 'meshes/part.dae': spar "
+                           "reads STL, OBJ and OFF meshes, not .dae");
 }
 
 TEST_F(Urdf, BadMeshFile) {
   write("meshes/broken.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n");
-  robot("  <link name=\"base\"/>\n  <link name=\"tip\">\n    <collision><geometry>"
-        "<mesh filename=\"meshes/broken.off\"/></geometry></collision>\n  </link>\n" +
-        revolute("j", "base", "tip"));
+  robot(tip_colliding_as("<mesh filename=\"meshes/broken.off\"/>"));
   EXPECT_THROW_MESSAGE(load_urdf(folder_ / "robot.urdf"),
                        at("<collision>") + " link 'tip': bad collision mesh ");
 }
 
 TEST_F(Urdf, ShapeWithoutSize) {
-  robot("  <link name=\"base\"/>\n  <link name=\"tip\">\n    <collision><geometry>"
-        "<sphere radius=\"0\"/></geometry></collision>\n  </link>\n" +
-        revolute("j", "base", "tip"));
-  EXPECT_THROW_MESSAGE(load_urdf(folder_ / "robot.urdf"),
-                       at("<collision>") +
-                           " link 'tip': a collision box, cylinder or sphere needs sizes > 0");
+  robot(tip_colliding_as("<sphere radius=\"0\"/>"));
+  EXPECT_THROW_MESSAGE(
+      load_urdf(folder_ / "robot.urdf"),
+      at("<collision>") + " link 'tip': a collision box, cylinder or sphere needs sizes > 0");
 }
 
 TEST_F(Urdf, UnknownRobotName) {
