@@ -47,10 +47,7 @@ kinematics::Transform rigid(const Matrix4& matrix) {
 Matrix4 matrix(const kinematics::Transform& pose) { return pose.matrix(); }
 
 bounds::Relation relation_named(std::string_view text) {
-  if (text == "<") return bounds::Relation::kLess;
-  if (text == "<=") return bounds::Relation::kLessEqual;
-  if (text == ">") return bounds::Relation::kGreater;
-  if (text == ">=") return bounds::Relation::kGreaterEqual;
+  if (const std::optional<Relation> relation = relation_from_name(text)) return *relation;
   throw bounds::BoundsError("unknown relation '" + std::string(text) +
                             "' in a constraint: use <, <=, > or >=");
 }
@@ -274,16 +271,16 @@ planner::PlanOptions plan_options(const PlanSettings& settings) {
   return options;
 }
 
-ordered_json precondition_json(const planner::PreconditionResult& result) {
+ordered_json precondition_json(const planner::PreconditionResult& result,
+                               const planner::InstanceAnalysis& analysis) {
   ordered_json box = ordered_json::object(), witness = ordered_json::object();
   for (std::size_t i = 0; i < result.variables.size(); ++i) {
-    box[result.variables[i]] = {reports::number_json(result.box[i].lo),
-                                reports::number_json(result.box[i].hi)};
-    if (i < result.witness.size())
-      witness[result.variables[i]] = reports::number_json(result.witness[i]);
+    const std::string& name = analysis.variables.at(result.variables[i].index).name;
+    box[name] = {reports::number_json(result.box[i].lo), reports::number_json(result.box[i].hi)};
+    if (i < result.witness.size()) witness[name] = reports::number_json(result.witness[i]);
   }
   return {{"name", result.inequality.name},
-          {"kind", result.kind},
+          {"kind", std::string(planner::to_string(result.kind))},
           {"expression", result.expression},
           {"relation", bounds::to_string(result.inequality.relation)},
           {"threshold", reports::number_json(result.inequality.threshold)},
@@ -326,9 +323,10 @@ ordered_json analyse_instance_json(const PlanRun& run, std::size_t index, bool e
   for (const planner::AnalysedStep& step : analysis.steps) {
     ordered_json preconditions = ordered_json::array();
     for (const planner::PreconditionResult& result : step.preconditions)
-      preconditions.push_back(precondition_json(result));
+      preconditions.push_back(precondition_json(result, analysis));
     steps.push_back(
         {{"action", step.action},
+         {"effect", std::string(planner::to_string(step.step.effect))},
          {"object", step.step.object >= 0 ? ordered_json(scenario.objects[step.step.object].name)
                                           : ordered_json(nullptr)},
          {"inserted", step.inserted},

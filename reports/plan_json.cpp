@@ -42,6 +42,9 @@ ordered_json family_json(const planner::PlanResult& result) {
     steps.push_back({{"id", step.id},
                      {"action", step.action < 0 ? (step.id == 0 ? "start" : "finish")
                                                 : result.domain.actions[step.action].name},
+                     {"effect", step.action < 0 ? ordered_json(nullptr)
+                                                : ordered_json(std::string(planner::to_string(
+                                                      result.domain.actions[step.action].effect)))},
                      {"args", args},
                      {"text", family.describe(step, result.world, result.domain)}});
   }
@@ -90,10 +93,12 @@ ordered_json family_json(const planner::PlanResult& result) {
 ordered_json step_json(const planner::PlanResult& result, const planner::InstanceStep& step) {
   const planner::Scenario& scenario = result.world.scenario();
   const double scale = 1.0 / scenario.units.metres_per_length_unit();
-  ordered_json out = {{"id", step.step},
-                      {"action", step.action_name},
-                      {"object", step.object >= 0 ? ordered_json(scenario.objects[step.object].name)
-                                                  : ordered_json(nullptr)}};
+  ordered_json out = {
+      {"id", step.step},
+      {"action", step.action_name},
+      {"effect", std::string(planner::to_string(result.domain.actions.at(step.action).effect))},
+      {"object", step.object >= 0 ? ordered_json(scenario.objects[step.object].name)
+                                  : ordered_json(nullptr)}};
   if (step.grasp >= 0) {
     const geometry::Grasp& grasp = result.world.object(step.object).grasps[step.grasp];
     out["grasp"] = {{"label", grasp.label},
@@ -138,16 +143,18 @@ ordered_json precondition_json(const planner::Scenario& scenario,
                                const planner::PreconditionResult& result,
                                const std::vector<planner::SpaceVariable>& space) {
   ordered_json witness = ordered_json::object();
+  const auto name_of = [&](planner::VariableId id) { return space.at(id.index).name; };
   for (std::size_t v = 0; v < result.witness.size() && v < result.variables.size(); ++v)
-    witness[result.variables[v]] = number_json(result.witness[v]);
+    witness[name_of(result.variables[v])] = number_json(result.witness[v]);
   ordered_json box = ordered_json::object();
   for (std::size_t v = 0; v < result.variables.size(); ++v)
-    box[result.variables[v]] = {number_json(result.box[v].lo), number_json(result.box[v].hi)};
+    box[name_of(result.variables[v])] = {number_json(result.box[v].lo),
+                                         number_json(result.box[v].hi)};
   const std::string unit = precondition_unit(result);
   const double scale = unit == "m" ? 1.0 / scenario.units.metres_per_length_unit() : 1.0;
   const auto shown = [&](double value) { return number_json(value * scale); };
   ordered_json out = {{"name", result.inequality.name},
-                      {"kind", result.kind},
+                      {"kind", std::string(planner::to_string(result.kind))},
                       {"relation", bounds::to_string(result.inequality.relation)},
                       {"threshold", number_json(result.inequality.threshold)},
                       {"unit", unit},
@@ -170,7 +177,7 @@ ordered_json precondition_json(const planner::Scenario& scenario,
   if (!result.blame.empty()) {
     ordered_json blame = ordered_json::array();
     for (const auto& entry : result.blame)
-      blame.push_back({{"variable", entry.variable}, {"share", number_json(entry.share)}});
+      blame.push_back({{"variable", name_of(entry.variable)}, {"share", number_json(entry.share)}});
     out["blame"] = blame;
   }
   if (result.holds_up_to_scale) {
@@ -179,14 +186,10 @@ ordered_json precondition_json(const planner::Scenario& scenario,
     const double s = *result.holds_up_to_scale;
     double displacement = 0.0, rotation = 0.0;
     for (std::size_t v = 0; v < result.variables.size(); ++v) {
-      const auto found = std::find_if(space.begin(), space.end(), [&](const auto& variable) {
-        return variable.name == result.variables[v];
-      });
-      if (found == space.end() ||
-          found->provenance.source == planner::UncertaintySource::kManipulator)
-        continue;
+      const planner::SpaceVariable& variable = space.at(result.variables[v].index);
+      if (variable.provenance.source == planner::UncertaintySource::kManipulator) continue;
       const double half_width = std::max(-result.box[v].lo, result.box[v].hi) * s;
-      double& widest = found->component == 't' ? rotation : displacement;
+      double& widest = variable.angle() ? rotation : displacement;
       widest = std::max(widest, half_width);
     }
     out["holds_up_to_scale"] = number_json(s);
@@ -257,8 +260,8 @@ ordered_json chosen_steps_json(const planner::PlanResult& result) {
       out = step_json(result, instance.steps[analysed.step.instance_step]);
     }
     out["inserted"] = analysed.inserted;
-    if (analysed.step.grasp >= 0 && (analysed.step.effect == planner::StepEffect::kGrasp ||
-                                     analysed.step.effect == planner::StepEffect::kSqueeze))
+    if (analysed.step.grasp >= 0 && (analysed.step.effect == planner::Effect::kGrasp ||
+                                     analysed.step.effect == planner::Effect::kReduce))
       out["finger_opening"] = result.world.gripper().max_opening /
                               result.world.scenario().units.metres_per_length_unit();
     ordered_json preconditions = ordered_json::array();
@@ -326,7 +329,7 @@ ordered_json repairs_json(const planner::PlanResult& result,
 
 // A variable's range in the scenario's units.
 ordered_json display_range(const planner::Units& units, const planner::SpaceVariable& variable) {
-  const bool angle = variable.component == 't';
+  const bool angle = variable.angle();
   const auto convert = [&](double value) {
     return number_json(angle ? units.to_file_angle(value) : units.to_file_length(value));
   };
@@ -343,7 +346,7 @@ ordered_json variables_json(const planner::PlanResult& result,
         {{"name", v.name},
          {"lo", number_json(v.lower)},
          {"hi", number_json(v.upper)},
-         {"unit", v.component == 't' ? "rad" : "m"},
+         {"unit", v.angle() ? "rad" : "m"},
          {"source", planner::to_string(v.provenance.source)},
          {"object", v.provenance.object >= 0
                         ? ordered_json(result.world.scenario().objects[v.provenance.object].name)
@@ -405,7 +408,7 @@ ordered_json probability_json(const planner::PlanResult& result,
   }
   ordered_json parameters = ordered_json::array();
   for (const planner::ToleranceParameter& q : t.parameters) {
-    const bool angle = q.component == 't';
+    const bool angle = is_angle(q.component);
     const auto shown = [&](double value) {
       return number_json(angle ? units.to_file_angle(value) : units.to_file_length(value));
     };
