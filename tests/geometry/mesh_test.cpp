@@ -141,8 +141,10 @@ TEST(MeshIo, NonConvexPolygonIsRejected) {
 }
 
 TEST(MeshIo, MissingFileAndUnknownExtension) {
-  EXPECT_THROW_MESSAGE((void)read_mesh_file("/nonexistent/thing.off"), "cannot open the file");
-  EXPECT_THROW_MESSAGE((void)read_mesh_file("thing.stl"), "unknown mesh format '.stl'");
+  EXPECT_THROW_MESSAGE((void)read_mesh_file("/nonexistent/thing.off"),
+                       "/nonexistent/thing.off: no such mesh file");
+  EXPECT_THROW_MESSAGE((void)read_mesh_file(SPAR_SOURCE_DIR "/README.md"),
+                       "unknown mesh format '.md'");
 }
 
 TEST(MeshIo, WriteThenReadKeepsFacesAndNames) {
