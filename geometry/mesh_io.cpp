@@ -193,9 +193,10 @@ Mesh read_mesh_file(const std::string& path) {
     throw GeometryError(error.what());
   }
   const std::string extension = lower(path.substr(std::min(path.size(), path.rfind('.'))));
-  if (extension != ".off" && extension != ".obj")
+  if (extension != ".off" && extension != ".obj" && extension != ".stl")
     throw GeometryError(source + ": unknown mesh format " + single_quoted(extension) +
-                        " (expected .off or .obj)");
+                        " (expected .off, .obj or .stl)");
+  if (extension == ".stl") return parse_stl(text, source);
   return extension == ".off" ? parse_off(text, source) : parse_obj(text, source);
 }
 

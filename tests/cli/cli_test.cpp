@@ -104,6 +104,11 @@ const fs::path& scratch() {
     write_text(root / "huge.off",
                "OFF\n4 4 0\n0 0 0\n1e300 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n");
     fs::create_directory(root / "folder.off");
+    write_text(root / "bad_mass.json",
+               "{\"frame\": [\"a\", \"b\"],\n \"sources\": [[{\"set\": [\"a\"], \"mass\": 1.5}]]}");
+    write_text(root / "conflict.json",
+               "{\"frame\": [\"a\", \"b\"], \"sources\": [[{\"set\": [\"a\"], \"mass\": 1}],"
+               " [{\"set\": [\"b\"], \"mass\": 1}]]}");
     return root;
   }();
   return dir;
@@ -327,6 +332,16 @@ const std::vector<Case> kCases = {
    "overlap.off:[0-9]+: the mesh intersects itself"},
   {"MeshFromExamples", {"object", "@SRC@/examples/objects/block.off", "--json"}, 0,
    "\"stable_poses\"", ""},
+  // Dempster-Shafer evidence.
+  {"Evidence", {"evidence", "@SRC@/examples/evidence_identity.json"}, 0,
+   "conflict K = 0.322\n[^]*cube +0.728614 +0.825959 +0.775811", ""},
+  {"EvidenceJson", {"evidence", "@SRC@/examples/evidence_identity.json", "--json"}, 0,
+   "\"pignistic\": \\{[^]*\"ambiguity\": 0.9694551", ""},
+  {"EvidenceMissing", {"evidence", "@DIR@/none.json"}, kError, "",
+   "none.json: cannot read the evidence file: no such file"},
+  {"EvidenceBadMass", {"evidence", "@DIR@/bad_mass.json"}, kError, "",
+   "bad_mass.json: sources\\[0\\]\\[0\\].mass: must be a number in \\[0, 1\\], got 1.5"},
+  {"EvidenceTotalConflict", {"evidence", "@DIR@/conflict.json"}, kError, "", "total conflict"},
   // Output that cannot be written fails the command.
   {"SimplifyFull", {"simplify", "x+x"}, kError, "", kLost, kFull},
   {"BoundFull", {"bound", "x", "--var", "x=0:1"}, kError, "", kLost, kFull},

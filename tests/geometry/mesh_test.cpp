@@ -144,7 +144,7 @@ TEST(MeshIo, MissingFileAndUnknownExtension) {
   EXPECT_THROW_MESSAGE((void)read_mesh_file("/nonexistent/thing.off"),
                        "/nonexistent/thing.off: no such mesh file");
   EXPECT_THROW_MESSAGE((void)read_mesh_file(SPAR_SOURCE_DIR "/README.md"),
-                       "unknown mesh format '.md'");
+                       "unknown mesh format '.md' (expected .off, .obj or .stl)");
 }
 
 TEST(MeshIo, WriteThenReadKeepsFacesAndNames) {

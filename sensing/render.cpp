@@ -1,0 +1,351 @@
+#include "spar/sensing/render.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <span>
+#include <vector>
+
+#include "spar/sensing/error.hpp"
+#include "spar/sensing/internal/item_buffer.hpp"
+
+namespace spar::sensing {
+namespace {
+
+constexpr int kTile = 16;  // pixels per side of a tile of the edge-occlusion grid
+
+// The points p with normal · p + offset >= 0 (camera frame).
+struct HalfSpace {
+  Eigen::Vector3d normal;
+  double offset{0};
+  [[nodiscard]] double at(const Eigen::Vector3d& p) const { return normal.dot(p) + offset; }
+};
+
+// Cyrus-Beck: shrinks [t0, t1] to the parameters of p + t d inside every half-space; false when
+// nothing is left.
+bool clip(const Eigen::Vector3d& p, const Eigen::Vector3d& d, std::span<const HalfSpace> spaces,
+          double& t0, double& t1) {
+  for (const HalfSpace& space : spaces) {
+    const double start = space.at(p), rate = space.normal.dot(d);
+    if (rate == 0) {
+      if (start < 0) return false;
+      continue;
+    }
+    const double t = -start / rate;
+    if (rate > 0) {
+      t0 = std::max(t0, t);
+    } else {
+      t1 = std::min(t1, t);
+    }
+    if (t0 >= t1) return false;
+  }
+  return true;
+}
+
+// The view volume of a camera in its own frame: the image rectangle and the near plane.
+std::array<HalfSpace, 5> view_volume(const Camera& camera) {
+  const Intrinsics& k = camera.intrinsics();
+  const double w = k.width, h = k.height;
+  if (camera.projection() == Projection::kPinhole)
+    return {{{{0, 0, 1}, -kNearPlane},
+             {{k.fx, 0, k.cx}, 0},
+             {{-k.fx, 0, w - k.cx}, 0},
+             {{0, k.fy, k.cy}, 0},
+             {{0, -k.fy, h - k.cy}, 0}}};
+  return {{{{0, 0, 1}, 0},
+           {{k.fx, 0, 0}, k.cx},
+           {{-k.fx, 0, 0}, w - k.cx},
+           {{0, k.fy, 0}, k.cy},
+           {{0, -k.fy, 0}, h - k.cy}}};
+}
+
+// Sutherland-Hodgman against z >= near: the part of a camera-frame triangle in front of the
+// camera (0, 3 or 4 corners).
+std::vector<Eigen::Vector3d> clip_near(const std::array<Eigen::Vector3d, 3>& triangle,
+                                       double near) {
+  std::vector<Eigen::Vector3d> out;
+  for (int i = 0; i < 3; ++i) {
+    const Eigen::Vector3d& p = triangle[i];
+    const Eigen::Vector3d& q = triangle[(i + 1) % 3];
+    const bool p_in = p.z() >= near, q_in = q.z() >= near;
+    if (p_in) out.push_back(p);
+    if (p_in != q_in) out.push_back(p + (q - p) * ((near - p.z()) / (q.z() - p.z())));
+  }
+  return out;
+}
+
+// Depth key of a camera-frame point (internal/item_buffer.hpp): smaller is nearer.
+double depth_key(const Camera& camera, const Eigen::Vector3d& p) {
+  return camera.projection() == Projection::kPinhole ? -1.0 / p.z() : p.z();
+}
+
+// The camera with `factor` samples per pixel side.
+Camera supersampled(const Camera& camera, int factor) {
+  Intrinsics k = camera.intrinsics();
+  k.fx *= factor;
+  k.fy *= factor;
+  k.cx *= factor;
+  k.cy *= factor;
+  k.width *= factor;
+  k.height *= factor;
+  return Camera(camera.projection(), k, camera.pose());
+}
+
+// A front-facing triangle of the scene in camera coordinates.
+struct Occluder {
+  std::array<Eigen::Vector3d, 3> corners;
+  Eigen::Vector3d normal;           // outward, unnormalised
+  std::array<HalfSpace, 4> shadow;  // the shadow volume (render.hpp), built on first use
+  bool shadow_built{false};
+};
+
+void build_shadow(Occluder& occluder, const Camera& camera, double tolerance) {
+  const auto& [a, b, c] = occluder.corners;
+  const bool pinhole = camera.projection() == Projection::kPinhole;
+  const Eigen::Vector3d view = Eigen::Vector3d::UnitZ();
+  const std::array<std::pair<Eigen::Vector3d, Eigen::Vector3d>, 3> sides = {
+      {{a, b}, {b, c}, {c, a}}};
+  const std::array<Eigen::Vector3d, 3> opposite = {c, a, b};
+  for (int i = 0; i < 3; ++i) {
+    const auto& [p, q] = sides[i];
+    // Plane through the eye (pinhole: the origin) or along the view, and the side p-q.
+    HalfSpace side;
+    side.normal = pinhole ? p.cross(q) : (q - p).cross(view);
+    side.offset = pinhole ? 0.0 : -side.normal.dot(p);
+    if (side.at(opposite[i]) < 0) {
+      side.normal = -side.normal;
+      side.offset = -side.offset;
+    }
+    occluder.shadow[i] = side;
+  }
+  // Behind the triangle's plane (seen from the eye) by more than the tolerance.
+  const Eigen::Vector3d unit = occluder.normal.normalized();
+  occluder.shadow[3] = {-unit, unit.dot(a) - tolerance};
+  occluder.shadow_built = true;
+}
+
+struct FaceSums {
+  int samples{0};
+  double area{0};
+  Eigen::Vector3d weighted{Eigen::Vector3d::Zero()};  // sum of area * point (camera frame)
+};
+
+}  // namespace
+
+Rendering render(const Scene& scene, const Camera& camera, const RenderOptions& options) {
+  if (options.supersampling < 1 || options.supersampling > 8)
+    throw SensingError("render: supersampling must be 1 to 8, got " +
+                       std::to_string(options.supersampling));
+  const double scale = std::max(scene.scale(), 1e-12);
+  const double tolerance = 1e-9 * scale;
+  const bool pinhole = camera.projection() == Projection::kPinhole;
+  const Eigen::Matrix3d to_camera_rotation = camera.pose().linear().transpose();
+
+  // Camera-frame vertices, and which faces are turned toward the camera.
+  struct Prepared {
+    std::vector<Eigen::Vector3d> vertices;
+    std::vector<char> front;               // [face id - 1]
+    std::vector<Eigen::Vector3d> normals;  // [face id - 1], camera frame
+  };
+  std::vector<Prepared> prepared(scene.objects().size());
+  for (std::size_t o = 0; o < scene.objects().size(); ++o) {
+    const SceneObject& object = scene.objects()[o];
+    Prepared& p = prepared[o];
+    for (const Eigen::Vector3d& v : object.vertices) p.vertices.push_back(camera.to_camera(v));
+    for (std::size_t f = 0; f < object.face_normals.size(); ++f) {
+      const Eigen::Vector3d& n = object.face_normals[f];
+      // Plane n · x = offset; the eye sees its front when it is on the positive side.
+      const double side = pinhole ? n.dot(camera.pose().translation()) - object.face_offsets[f]
+                                  : -n.dot(camera.pose().linear().col(2));
+      p.front.push_back(side > 0);
+      p.normals.push_back(to_camera_rotation * n);
+    }
+  }
+
+  // Every front-facing triangle, globally numbered.
+  struct TriangleRef {
+    int object, triangle, face;
+  };
+  std::vector<TriangleRef> triangles;
+  for (std::size_t o = 0; o < scene.objects().size(); ++o) {
+    const SceneObject& object = scene.objects()[o];
+    const auto& faces_of = object.features->triangle_face;
+    for (std::size_t t = 0; t < faces_of.size(); ++t)
+      if (prepared[o].front[static_cast<std::size_t>(faces_of[t] - 1)])
+        triangles.push_back({static_cast<int>(o), static_cast<int>(t), faces_of[t]});
+  }
+  const auto corners_of = [&](const TriangleRef& ref) {
+    const auto& indices = scene.objects()[ref.object].model->mesh().triangles[ref.triangle];
+    const auto& vertices = prepared[ref.object].vertices;
+    return std::array<Eigen::Vector3d, 3>{vertices[indices[0]], vertices[indices[1]],
+                                          vertices[indices[2]]};
+  };
+
+  Rendering out;
+  if (options.faces) {
+    const Camera fine = supersampled(camera, options.supersampling);
+    const Intrinsics& k = fine.intrinsics();
+    internal::ItemBuffer buffer(k.width, k.height);
+    for (std::size_t i = 0; i < triangles.size(); ++i) {
+      const std::vector<Eigen::Vector3d> polygon =
+          clip_near(corners_of(triangles[i]), fine.near_depth());
+      for (std::size_t j = 2; j < polygon.size(); ++j) {
+        const std::array<Eigen::Vector3d, 3> fan = {polygon[0], polygon[j - 1], polygon[j]};
+        buffer.draw(
+            {fine.project_camera(fan[0]), fine.project_camera(fan[1]), fine.project_camera(fan[2])},
+            {depth_key(fine, fan[0]), depth_key(fine, fan[1]), depth_key(fine, fan[2])},
+            static_cast<int>(i));
+      }
+    }
+    std::map<std::pair<int, int>, FaceSums> sums;
+    for (int y = 0; y < k.height; ++y)
+      for (int x = 0; x < k.width; ++x) {
+        const int item = buffer.item(x, y);
+        if (item < 0) continue;
+        const TriangleRef& ref = triangles[static_cast<std::size_t>(item)];
+        const Eigen::Vector3d& normal =
+            prepared[ref.object].normals[static_cast<std::size_t>(ref.face - 1)];
+        // The sample's ray (z component 1 for a pinhole) and surface point; its footprint on the
+        // face's plane: z^2 / (fx fy |n · r|) for a pinhole, 1 / (fx fy |n_z|) orthographic.
+        const double u = x + 0.5, v = y + 0.5;
+        Eigen::Vector3d point;
+        double footprint;
+        if (pinhole) {
+          const double z = -1.0 / buffer.depth(x, y);
+          const Eigen::Vector3d ray((u - k.cx) / k.fx, (v - k.cy) / k.fy, 1.0);
+          point = ray * z;
+          footprint = z * z / (k.fx * k.fy * std::abs(normal.dot(ray)));
+        } else {
+          point = {(u - k.cx) / k.fx, (v - k.cy) / k.fy, buffer.depth(x, y)};
+          footprint = 1.0 / (k.fx * k.fy * std::abs(normal.z()));
+        }
+        FaceSums& sum = sums[{ref.object, ref.face}];
+        ++sum.samples;
+        sum.area += footprint;
+        sum.weighted += footprint * point;
+      }
+    for (const auto& [key, sum] : sums) {
+      const auto& [object_index, face_id] = key;
+      const SceneObject& object = scene.objects()[static_cast<std::size_t>(object_index)];
+      const geometry::Face& face = object.model->face(face_id);
+      FaceView view{.object = object_index, .face = face_id, .samples = sum.samples};
+      view.visible_area = sum.area;
+      view.visible_fraction = sum.area / face.area;
+      view.centroid = camera.pose() * (sum.weighted / sum.area);
+      const Eigen::Vector3d world_centroid = object.pose * face.centroid;
+      view.angle =
+          std::acos(std::clamp(object.face_normals[static_cast<std::size_t>(face_id - 1)].dot(
+                                   camera.toward_viewer(world_centroid)),
+                               -1.0, 1.0));
+      out.faces.push_back(view);
+    }
+  }
+
+  if (options.edges) {
+    const Intrinsics& k = camera.intrinsics();
+    const int columns = (k.width + kTile - 1) / kTile, rows = (k.height + kTile - 1) / kTile;
+    std::vector<std::vector<int>> tiles(static_cast<std::size_t>(columns * rows));
+    std::vector<Occluder> occluders(triangles.size());
+    for (std::size_t i = 0; i < triangles.size(); ++i) {
+      Occluder& occluder = occluders[i];
+      occluder.corners = corners_of(triangles[i]);
+      occluder.normal = (occluder.corners[1] - occluder.corners[0])
+                            .cross(occluder.corners[2] - occluder.corners[0]);
+      // Its screen box (the whole image when part of it is behind a pinhole's near plane).
+      double x0 = 0, x1 = k.width, y0 = 0, y1 = k.height;
+      const bool behind =
+          std::any_of(occluder.corners.begin(), occluder.corners.end(),
+                      [&](const Eigen::Vector3d& p) { return p.z() < camera.near_depth(); });
+      if (!behind) {
+        x0 = y0 = std::numeric_limits<double>::infinity();
+        x1 = y1 = -x0;
+        for (const Eigen::Vector3d& p : occluder.corners) {
+          const Eigen::Vector2d uv = camera.project_camera(p);
+          x0 = std::min(x0, uv.x());
+          x1 = std::max(x1, uv.x());
+          y0 = std::min(y0, uv.y());
+          y1 = std::max(y1, uv.y());
+        }
+      }
+      const int c0 = std::max(0, static_cast<int>(std::floor(x0 / kTile)));
+      const int c1 = std::min(columns - 1, static_cast<int>(std::floor(x1 / kTile)));
+      const int r0 = std::max(0, static_cast<int>(std::floor(y0 / kTile)));
+      const int r1 = std::min(rows - 1, static_cast<int>(std::floor(y1 / kTile)));
+      for (int r = r0; r <= r1; ++r)
+        for (int c = c0; c <= c1; ++c)
+          tiles[static_cast<std::size_t>(r * columns + c)].push_back(static_cast<int>(i));
+    }
+
+    const std::array<HalfSpace, 5> volume = view_volume(camera);
+    std::vector<int> stamp(triangles.size(), -1);
+    int stamp_value = 0;
+    for (std::size_t o = 0; o < scene.objects().size(); ++o) {
+      const SceneObject& object = scene.objects()[o];
+      const Prepared& p = prepared[o];
+      for (const ModelEdge& edge : object.features->edges) {
+        const bool front_a = p.front[static_cast<std::size_t>(edge.face_a - 1)];
+        const bool front_b = p.front[static_cast<std::size_t>(edge.face_b - 1)];
+        if (!front_a && !front_b) continue;
+        const Eigen::Vector3d start = camera.to_camera(object.pose * edge.p0);
+        const Eigen::Vector3d direction = camera.to_camera(object.pose * edge.p1) - start;
+        double t_in = 0, t_out = 1;
+        if (!clip(start, direction, volume, t_in, t_out)) continue;
+        // Occluders whose tiles the clipped segment's screen box touches.
+        const Eigen::Vector2d a = camera.project_camera(start + t_in * direction);
+        const Eigen::Vector2d b = camera.project_camera(start + t_out * direction);
+        const int c0 = std::clamp(static_cast<int>(std::floor(std::min(a.x(), b.x()) / kTile)), 0,
+                                  columns - 1);
+        const int c1 = std::clamp(static_cast<int>(std::floor(std::max(a.x(), b.x()) / kTile)), 0,
+                                  columns - 1);
+        const int r0 =
+            std::clamp(static_cast<int>(std::floor(std::min(a.y(), b.y()) / kTile)), 0, rows - 1);
+        const int r1 =
+            std::clamp(static_cast<int>(std::floor(std::max(a.y(), b.y()) / kTile)), 0, rows - 1);
+        ++stamp_value;
+        std::vector<std::pair<double, double>> hidden;
+        for (int r = r0; r <= r1; ++r)
+          for (int c = c0; c <= c1; ++c)
+            for (const int i : tiles[static_cast<std::size_t>(r * columns + c)]) {
+              if (stamp[static_cast<std::size_t>(i)] == stamp_value) continue;
+              stamp[static_cast<std::size_t>(i)] = stamp_value;
+              Occluder& occluder = occluders[static_cast<std::size_t>(i)];
+              if (!occluder.shadow_built) build_shadow(occluder, camera, tolerance);
+              double h0 = t_in, h1 = t_out;
+              if (clip(start, direction, occluder.shadow, h0, h1)) hidden.emplace_back(h0, h1);
+            }
+        std::sort(hidden.begin(), hidden.end());
+        // The complement of the hidden intervals inside [t_in, t_out].
+        const double length = direction.norm();
+        double cursor = t_in;
+        const auto emit = [&](double from, double to) {
+          if ((to - from) * length <= tolerance) return;
+          EdgeView view{.object = static_cast<int>(o), .edge = edge.id};
+          view.p0 = camera.pose() * (start + from * direction);
+          view.p1 = camera.pose() * (start + to * direction);
+          view.u0 = camera.project_camera(start + from * direction);
+          view.u1 = camera.project_camera(start + to * direction);
+          view.silhouette = front_a != front_b;
+          if (view.silhouette) {
+            view.contrast = 1.0;
+          } else {
+            const Eigen::Vector3d toward = camera.toward_viewer(0.5 * (view.p0 + view.p1));
+            view.contrast = std::abs(
+                object.face_normals[static_cast<std::size_t>(edge.face_a - 1)].dot(toward) -
+                object.face_normals[static_cast<std::size_t>(edge.face_b - 1)].dot(toward));
+          }
+          out.edges.push_back(view);
+        };
+        for (const auto& [h0, h1] : hidden) {
+          if (h0 > cursor) emit(cursor, h0);
+          cursor = std::max(cursor, h1);
+        }
+        if (cursor < t_out) emit(cursor, t_out);
+      }
+    }
+  }
+  return out;
+}
+
+}  // namespace spar::sensing
