@@ -184,11 +184,15 @@ Mesh parse_obj(const std::string& text, const std::string& source) {
   return std::move(builder).build();
 }
 
-Mesh read_mesh_file(const std::string& path) {
-  const std::string source = printable(path);
-  std::string text;
+namespace {
+
+// The file's bytes (through the one input-file reader) and its lower-case extension, one of the
+// three formats; `source` is the path as messages print it.
+std::pair<std::string, std::string> mesh_file_content(const std::string& path,
+                                                      const std::string& source) {
+  std::string content;
   try {
-    text = read_input_file(path, "mesh file", kMaxMeshFileBytes);
+    content = read_input_file(path, "mesh file", kMaxMeshFileBytes);
   } catch (const InputError& error) {
     throw GeometryError(error.what());
   }
@@ -196,8 +200,23 @@ Mesh read_mesh_file(const std::string& path) {
   if (extension != ".off" && extension != ".obj" && extension != ".stl")
     throw GeometryError(source + ": unknown mesh format " + single_quoted(extension) +
                         " (expected .off, .obj or .stl)");
-  if (extension == ".stl") return parse_stl(text, source);
-  return extension == ".off" ? parse_off(text, source) : parse_obj(text, source);
+  return {content, extension};
+}
+
+}  // namespace
+
+Mesh read_mesh_file(const std::string& path) {
+  const std::string source = printable(path);
+  const auto [content, extension] = mesh_file_content(path, source);
+  if (extension == ".stl") return parse_stl(content, source);
+  return extension == ".off" ? parse_off(content, source) : parse_obj(content, source);
+}
+
+Mesh read_triangle_soup(const std::string& path) {
+  const std::string source = printable(path);
+  const auto [content, extension] = mesh_file_content(path, source);
+  if (extension == ".stl") return parse_stl_soup(content, source);
+  return extension == ".off" ? parse_off(content, source) : parse_obj(content, source);
 }
 
 void write_off(const Mesh& mesh, std::ostream& out, const std::string& header) {
