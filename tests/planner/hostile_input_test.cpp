@@ -263,7 +263,8 @@ std::string domain_with(const std::string& operational) {
          operational +
          "]\n"
          "    add: []\n"
-         "    delete: []\n";
+         "    delete: []\n"
+         "    effect: none\n";
 }
 
 TEST(HostileDomain, EachIsRefusedAtFileLineColumn) {
@@ -277,11 +278,11 @@ TEST(HostileDomain, EachIsRefusedAtFileLineColumn) {
        "d.yaml:4:35: 'near(object, position)' has 2 argument(s), but near takes 1 (its first use "
        "at d.yaml:4:19)"},
       {"not UTF-8", domain_with("\"at(object, position)\"") + "# \xc3\x28\n",
-       "d.yaml:7:3: invalid UTF-8 (byte 0xc3)"},
+       "d.yaml:8:3: invalid UTF-8 (byte 0xc3)"},
       {"a control character from an escape", domain_with("\"at(object,\\0position)\""),
        "d.yaml:4:19: operational atom 'at(object,\\0position)' holds a control character"},
       {"two documents", domain_with("") + "---\nactions: []\n",
-       "d.yaml:8:1: a second YAML document (after '---')"},
+       "d.yaml:9:1: a second YAML document (after '---')"},
       {"a key that is not a name", "actions:\n  - {[a]: 1}\n",
        "d.yaml:2:6: a key of action must be a text"},
   };
