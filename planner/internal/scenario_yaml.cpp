@@ -771,7 +771,8 @@ std::vector<CameraSensor> Reader::read_cameras(const YAML::Node& node) const {
   std::vector<CameraSensor> cameras;
   const YAML::Node list = sensors.get("cameras");
   if (!list.IsDefined()) return cameras;
-  for (std::size_t i = 0; i < expect_list(list, "sensors.cameras").size(); ++i) {
+  check_count(expect_list(list, "sensors.cameras"), "sensors.cameras", "sensors.cameras");
+  for (std::size_t i = 0; i < list.size(); ++i) {
     CameraSensor camera = read_camera(list[i], "sensors.cameras[" + std::to_string(i) + "]");
     for (const CameraSensor& other : cameras)
       if (other.name == camera.name)
@@ -804,34 +805,20 @@ CameraSensor Reader::read_camera(const YAML::Node& node, const std::string& path
   }
   const Fields k(*this, fields.require("intrinsics"), fields.path("intrinsics"),
                  {"fx", "fy", "cx", "cy", "width", "height"});
-  const auto pixels = [&](const char* key, bool must_be_positive) {
-    const YAML::Node value = k.require(key);
-    const double x = number(value, k.path(key));
-    return must_be_positive ? positive(x, value, k.path(key)) : x;
+  const auto pixels = [&](const char* key, std::string_view limit_key) {
+    return quantity(k.require(key), k.path(key), limit_key);
   };
-  const auto side = [&](const char* key) {
-    const YAML::Node value = k.require(key);
-    const int x = integer(value, k.path(key));
-    if (x < 1 || x > sensing::kMaxImageSide)
-      fail(value, k.path(key) + ": must be a whole number of pixels from 1 to " +
-                      std::to_string(sensing::kMaxImageSide) + ", got " + value.Scalar());
-    return x;
-  };
-  camera.intrinsics = {.fx = pixels("fx", true),
-                       .fy = pixels("fy", true),
-                       .cx = pixels("cx", false),
-                       .cy = pixels("cy", false),
-                       .width = side("width"),
-                       .height = side("height")};
+  camera.intrinsics = {.fx = pixels("fx", "camera.focal"),
+                       .fy = pixels("fy", "camera.focal"),
+                       .cx = pixels("cx", "camera.principal_point"),
+                       .cy = pixels("cy", "camera.principal_point"),
+                       .width = static_cast<int>(pixels("width", "camera.image_side")),
+                       .height = static_cast<int>(pixels("height", "camera.image_side"))};
   if (const YAML::Node value = fields.get("noise_px"); value.IsDefined())
-    camera.noise_px = non_negative(number(value, fields.path("noise_px")), value,
-                                   fields.path("noise_px"));
-  if (const YAML::Node value = fields.get("detection_probability"); value.IsDefined()) {
-    camera.detection_probability = number(value, fields.path("detection_probability"));
-    if (!(camera.detection_probability > 0 && camera.detection_probability <= 1))
-      fail(value, fields.path("detection_probability") + ": must be in (0, 1], got " +
-                      value.Scalar());
-  }
+    camera.noise_px = quantity(value, fields.path("noise_px"), "camera.noise_px");
+  if (const YAML::Node value = fields.get("detection_probability"); value.IsDefined())
+    camera.detection_probability =
+        quantity(value, fields.path("detection_probability"), "camera.detection_probability");
   if (fields.has("uncertainty"))
     camera.uncertainty = uncertainty(fields.get("uncertainty"), fields.path("uncertainty"),
                                      camera.uncertainty_model);

@@ -9,10 +9,12 @@
 #include <regex>
 #include <string>
 
+#include "spar/common/limits.hpp"
 #include "spar/common/units.hpp"
 #include "spar/geometry/stable_poses.hpp"
 #include "spar/kinematics/ik.hpp"
 #include "spar/planner/error.hpp"
+#include "spar/sensing/camera.hpp"
 
 namespace spar::planner {
 namespace {
@@ -159,20 +161,31 @@ TEST(ScenarioErrors, CameraMistakesNameTheKey) {
     return kValid + replaced(camera, from, to);
   };
   expect_error(broken("fx: 800", "fx: 0"), 16, 59,
-               "sensors.cameras[0].intrinsics.fx: must be > 0, got 0");
+               "sensors.cameras[0].intrinsics.fx: must be a number > 0 and <= 1e+06 (a focal length "
+               "in pixels), got 0");
   expect_error(broken("width: 640", "width: 64.5"), 16, 98,
-               "sensors.cameras[0].intrinsics.width: expected a whole number, got '64.5'");
+               "sensors.cameras[0].intrinsics.width: must be a whole number >= 1 and <= 16384 (an "
+               "image side in pixels), got 64.5");
   expect_error(broken("height: 480", "height: 0"), 16, 111,
-               "sensors.cameras[0].intrinsics.height: must be a whole number of pixels from 1 to "
-               "16384, got 0");
+               "sensors.cameras[0].intrinsics.height: must be a whole number >= 1 and <= 16384 (an "
+               "image side in pixels), got 0");
   expect_error(broken("}}", "}, detection_probability: 1.5}"), 16, 140,
-               "sensors.cameras[0].detection_probability: must be in (0, 1], got 1.5");
+               "sensors.cameras[0].detection_probability: must be a number > 0 and <= 1 (a "
+               "probability), got 1.5");
+  expect_error(broken("}}", "}, noise_px: -1}"), 16, 127,
+               "sensors.cameras[0].noise_px: must be a number >= 0 and <= 100 (an edge detector's "
+               "noise in pixels), got -1");
   expect_error(broken("}}", "}, projection: pinhol}"), 16, 129,
                "unknown projection 'pinhol' (did you mean 'pinhole'?)");
   expect_error(broken("}}", "}, noise: 1}"), 16, 117, "sensors.cameras[0]: unknown key 'noise'");
   expect_error(kValid + camera + "    - {name: c, pose: {}, intrinsics: {fx: 1, fy: 1, cx: 0, cy: 0, "
                                  "width: 1, height: 1}}\n",
                17, 7, "sensors.cameras[1].name: duplicate camera name 'c'");
+}
+
+// common/limits.cpp cannot include sensing/, so its image side must be checked against it here.
+TEST(ScenarioLimits, TheImageSideIsTheRenderersLimit) {
+  EXPECT_EQ(numeric_limit("camera.image_side").high, sensing::kMaxImageSide);
 }
 
 TEST(Scenario, UnitsConvertBothWays) {
