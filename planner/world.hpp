@@ -71,7 +71,7 @@ struct Reach {
   bool reachable{false};  // an in-limit solution exists and the approach axis points down
   double tilt{0.0};       // angle between the gripper z axis and world -z
   // The first in-limit solution in the robot's order (kinematics/robot.hpp: Puma and UR arms by
-  // label, lun first; a 7-joint arm's largest limit margin first).
+  // label, lun first; a 7-joint arm's largest limit margin first); none when the tilt fails.
   std::optional<kinematics::JointSolution> solution;
 };
 

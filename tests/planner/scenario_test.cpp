@@ -282,9 +282,9 @@ TEST(ScenarioErrors, UrdfRobotMistakes) {
 
 TEST(Scenario, RobotsByNameUrdfFileOrAnyDhTable) {
   const auto robot_of = [](const std::string& robot, const std::filesystem::path& folder) {
-    return parse_scenario("robot: " + robot +
-                              "\nobjects: {cube: {builtin: cube, pose: {xyz: [0.5, 0, 0]}}}\n",
-                          "test.yaml", folder)
+    return parse_scenario(
+               "robot: " + robot + "\nobjects: {cube: {builtin: cube, pose: {xyz: [0.5, 0, 0]}}}\n",
+               "test.yaml", folder)
         .robot;
   };
   const RobotSpec ur5 = robot_of("{model: ur5}", ".");
