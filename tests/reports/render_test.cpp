@@ -6,6 +6,7 @@
 #include <fstream>
 #include <future>
 #include <regex>
+#include <sstream>
 
 #include "spar/reports/error.hpp"
 #include "spar/reports/html.hpp"
@@ -98,20 +99,172 @@ TEST(Html, OneRowAndOneBarPerPrecondition) {
 
 TEST(Html, TimelineMarksInsertedStepsAndVerification) {
   const std::string face_down = render_html(example_report("peg_block_face_down"));
-  EXPECT_EQ(count(face_down, "<g class=\"step inserted\">"), 2u);  // the two range-scans
-  EXPECT_EQ(count(face_down, ">verify</text>"), 0u);
+  EXPECT_EQ(count(face_down, "<li class=\"step inserted\""), 2u);  // the two range-scans
+  EXPECT_EQ(count(face_down, "<span class=\"verify\">"), 0u);
   const std::string on_back = render_html(example_report("peg_block_on_back"));
-  EXPECT_EQ(count(on_back, ">verify</text>"), 1u);
-  for (const char* section : {"id=\"timeline\"", "id=\"preconditions\"", "id=\"ordering\"",
-                              "id=\"network\"", "id=\"instances\"", "id=\"uncertainty\""})
+  EXPECT_EQ(count(on_back, "<li class=\"step failed\""), 1u);
+  EXPECT_EQ(count(on_back, "<span class=\"verify\">verify</span>"), 1u);
+  for (const char* section :
+       {"id=\"timeline\"", "id=\"cell\"", "id=\"preconditions\"", "id=\"ordering\"",
+        "id=\"network\"", "id=\"instances\"", "id=\"uncertainty\""})
     EXPECT_NE(face_down.find(section), std::string::npos) << section;
+}
+
+// Every "#k action object" a report writes names the k-th step of the chosen plan, in both back
+// ends, and no step is named another way (its family id, "step 2", "2.").
+TEST(Numbering, EveryStepReferenceIsItsExecutionPosition) {
+  const std::regex label(R"(#(\d+) ([a-z][a-z-]*) ([A-Za-z_][A-Za-z0-9_]*))");
+  for (const std::string& name : example_names()) {
+    const Report report = report_from_json(example_report(name));
+    const std::vector<Step>& steps = report.chosen->steps;
+    for (const std::string& text : {render_markdown(report), render_html(report)}) {
+      std::size_t references = 0;
+      for (auto it = std::sregex_iterator(text.begin(), text.end(), label);
+           it != std::sregex_iterator(); ++it, ++references) {
+        const std::size_t k = std::stoul((*it)[1]);
+        ASSERT_TRUE(k >= 1 && k <= steps.size()) << name << ": " << it->str();
+        EXPECT_EQ((*it)[2], steps[k - 1].action) << name << ": " << it->str();
+        EXPECT_EQ((*it)[3], steps[k - 1].object.value_or("")) << name << ": " << it->str();
+      }
+      EXPECT_GE(references, steps.size()) << name;
+      EXPECT_FALSE(std::regex_search(text, std::regex(R"((for|- ) ?step \d)"))) << name;
+      EXPECT_FALSE(std::regex_search(text, std::regex(R"(\| \d+\. [a-z])"))) << name;
+    }
+  }
+}
+
+TEST(Numbering, OrderingGraphAndNetworkUseThePlanNumbers) {
+  const Report report = report_from_json(example_report("peg_block_face_down"));
+  const std::string html = render_html(report);
+  const std::string ordering = html.substr(html.find("id=\"ordering\""));
+  for (std::size_t k = 0; k < report.chosen->steps.size(); ++k)
+    if (!report.chosen->steps[k].inserted.value_or(false))  // inserted steps are not in the family
+      EXPECT_NE(ordering.find(">" + step_label(*report.chosen, k) + "<"), std::string::npos) << k;
+  EXPECT_NE(ordering.find(">initial state<"), std::string::npos);
+  EXPECT_NE(ordering.find(">goal<"), std::string::npos);
+  // Labels are never cut: every family step's text is there in full.
+  for (const FamilyStep& step : report.family.steps)
+    EXPECT_NE(ordering.find(">" + internal::html_escape(step.text) + "<"), std::string::npos)
+        << step.text;
+  EXPECT_EQ(ordering.find("...<"), std::string::npos);
+  const std::string network = html.substr(html.find("id=\"network\""));
+  for (const PlanVariable& variable : report.family.variables)
+    EXPECT_NE(network.find(">" + internal::variable_users(report, variable.name) + "<"),
+              std::string::npos)
+        << variable.name;
+}
+
+TEST(Wording, ACappedMarginSaysSoAndAZeroToleranceIsARequirement) {
+  const std::string face_down = render_markdown(example_report("peg_block_face_down"));
+  EXPECT_NE(face_down.find("| ≥ x8, search cap ("), std::string::npos);
+  EXPECT_EQ(face_down.find("| x8 ("), std::string::npos);
+  const std::string on_back = render_markdown(example_report("peg_block_on_back"));
+  EXPECT_NE(on_back.find("| peg.dy | 0.11 in | must be exact |"), std::string::npos);
+  EXPECT_FALSE(std::regex_search(on_back, std::regex(R"(\| 0 in \|)")));
+}
+
+TEST(Wording, DroppedRepairsAreOneLine) {
+  const std::string on_back = render_markdown(example_report("peg_block_on_back"));
+  const std::string section = on_back.substr(
+      on_back.find("## Inserted"), on_back.find("## Verification") - on_back.find("## Inserted"));
+  EXPECT_EQ(count(section, "\n- "), 1u) << section;
+  EXPECT_NE(section.find("- Tried and dropped (they did not help): range-scan block for "
+                         "#4 assemble peg, range-scan peg for #4 assemble peg, squeeze peg for #4 "
+                         "assemble peg (x4).\n"),
+            std::string::npos)
+      << section;
+}
+
+// The work cell: a view of the initial state and after every pickup, putdown and assembly, with
+// one outline per object, the gripper after a step, and the held object's region after a pickup.
+TEST(Cell, AViewPerStateWithEveryObjectTheGripperAndTheHeldRegion) {
+  for (const std::string& name : example_names()) {
+    const Report report = report_from_json(example_report(name));
+    ASSERT_TRUE(report.cell.has_value()) << name;
+    const std::vector<Step>& steps = report.chosen->steps;
+    std::size_t moves = 0;
+    for (const Step& step : steps)
+      moves += step.action == "pickup" || step.action == "putdown" || step.action == "assemble";
+    const std::vector<CellView>& views = report.cell->views;
+    ASSERT_EQ(views.size(), moves + 1) << name;
+    EXPECT_EQ(views[0].title, "initial state");
+    EXPECT_FALSE(views[0].gripper.has_value());
+    for (std::size_t v = 1; v < views.size(); ++v) {
+      const std::size_t k = std::size_t(*views[v].after) - 1;
+      EXPECT_EQ(views[v].title, "after " + step_label(*report.chosen, k)) << name;
+      EXPECT_TRUE(views[v].gripper.has_value()) << name << " " << views[v].title;
+      if (steps[k].action == "pickup") {
+        ASSERT_TRUE(views[v].region.has_value()) << name << " " << views[v].title;
+        EXPECT_EQ(views[v].region->object, *steps[k].object);
+        for (int axis = 0; axis < 3; ++axis)
+          EXPECT_LT(views[v].region->lo[axis], views[v].region->hi[axis]) << name;
+        const auto held = std::find_if(views[v].objects.begin(), views[v].objects.end(),
+                                       [](const CellObject& o) { return o.held; });
+        ASSERT_NE(held, views[v].objects.end());
+        EXPECT_EQ(held->name, *steps[k].object);
+      }
+    }
+    const std::string html = render_html(report);
+    EXPECT_EQ(count(html, "<svg xmlns=\"http://www.w3.org/2000/svg\" class=\"cell-view\""),
+              views.size())
+        << name;
+    const std::size_t objects = views[0].objects.size();
+    EXPECT_EQ(count(html, "<path class=\"object"), 2 * objects * views.size()) << name;
+    EXPECT_EQ(count(html, "<path class=\"gripper\""), 2 * (views.size() - 1)) << name;
+  }
+}
+
+TEST(Cell, InsertedSensingIsMarkedOnTheNextView) {
+  const Report report = report_from_json(example_report("peg_block_face_down"));
+  std::vector<std::string> sensed;
+  for (const CellView& view : report.cell->views)
+    for (const CellSensing& sensing : view.sensed) sensed.push_back(sensing.step);
+  EXPECT_EQ(sensed, (std::vector<std::string>{"#5 range-scan block", "#6 range-scan peg"}));
+  EXPECT_EQ(count(render_html(report), "<g class=\"sensing\">"), 2u);
+}
+
+// A region bounds the pose error over a box that contains 0 (every error variable's range does),
+// so it contains the ideal pose: the one the step leaves the object at.
+TEST(Cell, TheRegionContainsTheIdealPose) {
+  const Report report = report_from_json(example_report("peg_block_face_up"));
+  for (const CellView& view : report.cell->views) {
+    if (!view.region) continue;
+    const std::size_t k = std::size_t(*view.after) - 1;
+    const Step& step = report.chosen->steps[k];
+    const Matrix& pose = step.fixed_object ? *step.held_pose : *step.object_pose;
+    for (int axis = 0; axis < 3; ++axis) {
+      EXPECT_LE(view.region->lo[axis], pose[axis][3]) << view.title;
+      EXPECT_GE(view.region->hi[axis], pose[axis][3]) << view.title;
+    }
+  }
+}
+
+TEST(WriteReports, TheMarkdownsDrawingsAreWrittenBesideIt) {
+  const fs::path folder = fs::temp_directory_path() / "spar_reports_test_cell";
+  fs::remove_all(folder);
+  const Report report = report_from_json(example_report("peg_block_face_up"));
+  (void)write_reports(report, folder, {Format::kMarkdown});
+  const std::string markdown = render_markdown(report);
+  for (std::size_t v = 0; v < report.cell->views.size(); ++v) {
+    const std::string file = "cell-" + std::to_string(v) + ".svg";
+    EXPECT_NE(markdown.find("](" + file + ")"), std::string::npos) << file;
+    std::ifstream in(folder / file);
+    std::stringstream text;
+    text << in.rdbuf();
+    EXPECT_EQ(text.str().rfind("<?xml", 0), 0u) << file;
+    EXPECT_NE(text.str().find("class=\"cell-view\""), std::string::npos) << file;
+  }
+  (void)write_reports(report, folder / "html", {Format::kHtml});  // inlines them: no files
+  EXPECT_FALSE(fs::exists(folder / "html" / "cell-0.svg"));
+  fs::remove_all(folder);
 }
 
 TEST(Html, ShowsBlameAndReverseMargin) {
   const std::string html = render_html(example_report("peg_block_face_down"));
   EXPECT_NE(html.find("class=\"blame\""), std::string::npos);
-  EXPECT_TRUE(
-      std::regex_search(html, std::regex(R"(<td>x[0-9.]+ \(±[0-9.]+ in, ±[0-9.]+ deg\)</td>)")));
+  EXPECT_TRUE(std::regex_search(
+      html,
+      std::regex(R"(<td data-label="holds up to">x[0-9.]+ \(±[0-9.]+ in, ±[0-9.]+ deg\)</td>)")));
 }
 
 TEST(Renderers, RefuseADocumentThatIsNotAReport) {
@@ -169,7 +322,11 @@ TEST(WriteReports, WritesEveryFormatAndNoTemporaries) {
   for (const auto& entry : fs::directory_iterator(folder / "nested"))
     names.push_back(entry.path().filename().string());
   std::sort(names.begin(), names.end());
-  EXPECT_EQ(names, (std::vector<std::string>{"report.html", "report.json", "report.md"}));
+  std::vector<std::string> expected = {"report.html", "report.json", "report.md"};
+  for (std::size_t v = 0; v < report_from_json(report).cell->views.size(); ++v)
+    expected.push_back("cell-" + std::to_string(v) + ".svg");  // the Markdown's drawings
+  std::sort(expected.begin(), expected.end());
+  EXPECT_EQ(names, expected);
   std::ifstream in(files[0]);
   EXPECT_EQ(Json::parse(in), report);
   fs::remove_all(folder);
