@@ -83,7 +83,10 @@ double reach_of(const planner::RobotSpec& robot) {
 class Replay {
  public:
   Replay(const planner::PlanResult& result, const planner::InstanceAnalysis& analysis)
-      : world_(&result.world), analysis_(&analysis), state_(result.world, pool_) {}
+      : world_(&result.world),
+        analysis_(&analysis),
+        state_(result.world, result.domain, pool_),
+        release_action_(release_action(result.domain)) {}
 
   // Applies step k (0-based) as phase 2 did.
   void advance(std::size_t k) { (void)state_.step(analysis_->steps.at(k).step, int(k) + 1); }
@@ -93,20 +96,32 @@ class Replay {
   std::optional<UncertaintyRegion> region(int object, std::optional<std::size_t> grasp_step,
                                           double scale) {
     if (!grasp_step) return region_on_table(state_, object, scale);
+    if (!release_action_) return std::nullopt;  // a domain without a putdown
     planner::Propagation released = state_;
     planner::Phase2Step release = analysis_->steps.at(*grasp_step).step;
-    release.effect = planner::StepEffect::kRelease;
+    release.action = *release_action_;
+    release.effect = planner::Effect::kRelease;
     (void)released.step(release, kReleaseIndex);
     return region_on_table(released, object, scale);
   }
 
  private:
+  // The domain's first action that only releases (no precondition builders), for the imagined
+  // release of a held object.
+  static std::optional<int> release_action(const planner::Domain& domain) {
+    for (std::size_t a = 0; a < domain.actions.size(); ++a)
+      if (domain.actions[a].effect == planner::Effect::kRelease &&
+          domain.actions[a].uncertainty.empty())
+        return int(a);
+    return std::nullopt;
+  }
+
   // An index no step of the plan has: the arm error of the imagined release gets its own names.
   static constexpr int kReleaseIndex = 1'000'000;
 
   std::optional<UncertaintyRegion> region_on_table(const planner::Propagation& state, int object,
                                                    double scale) const {
-    const std::optional<planner::Propagation::TableState>& table = state.on_table(object);
+    const std::optional<planner::TableState>& table = state.on_table(object);
     if (!table) return std::nullopt;
     const Vector3d origin = table->ideal.translation();
     UncertaintyRegion out{world_->scenario().objects.at(object).name, {}, {}};
@@ -124,7 +139,7 @@ class Replay {
                                               symbolic::Expr f) {
     bounds::Box box;
     for (const symbolic::Expr v : symbolic::free_variables(f)) {
-      const planner::SpaceVariable& meta = space.variables().at(space.index_of(v));
+      const planner::SpaceVariable& meta = space.variable(space.id_of(v).value());
       box.add(v, meta.lower, meta.upper);
     }
     return bounds::bound(f, box, {.tolerance = 1e-2, .max_box_evaluations = 300, .inner = false});
@@ -134,11 +149,12 @@ class Replay {
   const planner::InstanceAnalysis* analysis_;
   symbolic::ExprPool pool_;
   planner::Propagation state_;
+  std::optional<int> release_action_;
 };
 
 // Where a step leaves things, from phase 2's step (or the instance's, without phase 2).
 struct StepMotion {
-  planner::StepEffect effect{planner::StepEffect::kNone};
+  planner::Effect effect{planner::Effect::kNone};
   int object{-1};
   int grasp{-1};
   Transform object_pose{Transform::Identity()};  // where it is or goes (assemblies: T_f Ta)
@@ -154,7 +170,7 @@ std::vector<StepMotion> motions(const planner::PlanResult& result,
     return out;
   }
   for (const planner::InstanceStep& step : instance.steps)
-    out.push_back({planner::step_effect(result.domain.actions.at(step.action)), step.object,
+    out.push_back({result.domain.actions.at(step.action).effect, step.object,
                    step.grasp, step.is_assembly() ? step.held_pose : step.object_pose});
   return out;
 }
@@ -205,23 +221,23 @@ Cell build_cell(const planner::PlanResult& result, const Chosen& chosen,
         step.grasp >= 0 ? result.world.object(step.object).grasps[step.grasp].width : 0.0;
     const double open = scenario.robot.gripper.max_opening;
     switch (step.effect) {
-      case planner::StepEffect::kGrasp:
+      case planner::Effect::kGrasp:
         held = step.object;
         held_since = k;
         view(k, gripper_at(pose[step.object]), std::max(width, 1e-6), step.object);
         break;
-      case planner::StepEffect::kRelease:
-      case planner::StepEffect::kInsert:
+      case planner::Effect::kRelease:
+      case planner::Effect::kInsert:
         pose[step.object] = step.object_pose;
         held = -1;
         held_since.reset();
         view(k, gripper_at(step.object_pose), open, step.object);
         break;
-      case planner::StepEffect::kRangeScan:
+      case planner::Effect::kSense:
         sensed.push_back({step_label(chosen, k), scenario.objects.at(step.object).name});
         break;
-      case planner::StepEffect::kSqueeze:
-      case planner::StepEffect::kNone:
+      case planner::Effect::kReduce:
+      case planner::Effect::kNone:
         break;
     }
   }
