@@ -30,9 +30,10 @@ std::size_t count(const std::string& text, const std::string& what) {
   return n;
 }
 
-std::size_t precondition_count(const Json& report) {
+std::size_t precondition_count(const Report& report) {
   std::size_t n = 0;
-  for (const Json& step : report["chosen"]["steps"]) n += step["preconditions"].size();
+  for (const Step& step : report.chosen->steps)
+    n += step.preconditions.value_or(std::vector<Precondition>{}).size();
   return n;
 }
 
@@ -49,7 +50,7 @@ TEST(Rounded, KeepsSignificantDigitsAndDropsTrailingZeros) {
 }
 
 TEST(Markdown, HasOneTableRowPerPreconditionInTheScenarioUnit) {
-  const Json& report = example_report("peg_block_face_down");
+  const Report& report = golden_report("peg_block_face_down");
   const std::string markdown = render_markdown(report);
   const std::string preconditions =
       markdown.substr(markdown.find("## Preconditions"),
@@ -60,13 +61,13 @@ TEST(Markdown, HasOneTableRowPerPreconditionInTheScenarioUnit) {
 }
 
 TEST(Markdown, FailedStepShowsVerificationAndRecovery) {
-  const Json& report = example_report("peg_block_on_back");
-  ASSERT_GT(report["chosen"]["errors"].get<int>(), 0);
+  const Report& report = golden_report("peg_block_on_back");
+  ASSERT_GT(report.chosen->errors.value_or(0), 0);
   const std::string markdown = render_markdown(report);
   const std::string section = markdown.substr(markdown.find("## Verification and recovery"));
   EXPECT_NE(section.find("- verify: "), std::string::npos);
   EXPECT_NE(section.find("recovery `"), std::string::npos);
-  EXPECT_NE(summary(report_from_json(report)).find("errors: 1"), std::string::npos);
+  EXPECT_NE(summary(report).find("errors: 1"), std::string::npos);
 }
 
 TEST(Markdown, NoPlanGivesTheReason) {
@@ -76,7 +77,7 @@ TEST(Markdown, NoPlanGivesTheReason) {
 }
 
 TEST(Html, IsSelfContained) {
-  const std::string html = render_html(example_report("peg_block_face_down"));
+  const std::string html = render_html(golden_report("peg_block_face_down"));
   EXPECT_EQ(html.find("<script"), std::string::npos);
   EXPECT_EQ(html.find("<link"), std::string::npos);
   EXPECT_EQ(html.find("src="), std::string::npos);
@@ -90,7 +91,7 @@ TEST(Html, IsSelfContained) {
 
 TEST(Html, OneRowAndOneBarPerPrecondition) {
   for (const std::string& name : example_names()) {
-    const Json& report = example_report(name);
+    const Report& report = golden_report(name);
     const std::string html = render_html(report);
     EXPECT_EQ(count(html, "<tr class=\"precondition\""), precondition_count(report)) << name;
     EXPECT_EQ(count(html, "class=\"bound-bar\""), precondition_count(report)) << name;
@@ -98,10 +99,10 @@ TEST(Html, OneRowAndOneBarPerPrecondition) {
 }
 
 TEST(Html, TimelineMarksInsertedStepsAndVerification) {
-  const std::string face_down = render_html(example_report("peg_block_face_down"));
+  const std::string face_down = render_html(golden_report("peg_block_face_down"));
   EXPECT_EQ(count(face_down, "<li class=\"step inserted\""), 2u);  // the two range-scans
   EXPECT_EQ(count(face_down, "<span class=\"verify\">"), 0u);
-  const std::string on_back = render_html(example_report("peg_block_on_back"));
+  const std::string on_back = render_html(golden_report("peg_block_on_back"));
   EXPECT_EQ(count(on_back, "<li class=\"step failed\""), 1u);
   EXPECT_EQ(count(on_back, "<span class=\"verify\">verify</span>"), 1u);
   for (const char* section :
@@ -115,7 +116,7 @@ TEST(Html, TimelineMarksInsertedStepsAndVerification) {
 TEST(Numbering, EveryStepReferenceIsItsExecutionPosition) {
   const std::regex label(R"(#(\d+) ([a-z][a-z-]*) ([A-Za-z_][A-Za-z0-9_]*))");
   for (const std::string& name : example_names()) {
-    const Report report = report_from_json(example_report(name));
+    const Report& report = golden_report(name);
     const std::vector<Step>& steps = report.chosen->steps;
     for (const std::string& text : {render_markdown(report), render_html(report)}) {
       std::size_t references = 0;
@@ -134,7 +135,7 @@ TEST(Numbering, EveryStepReferenceIsItsExecutionPosition) {
 }
 
 TEST(Numbering, OrderingGraphAndNetworkUseThePlanNumbers) {
-  const Report report = report_from_json(example_report("peg_block_face_down"));
+  const Report& report = golden_report("peg_block_face_down");
   const std::string html = render_html(report);
   const std::string ordering = html.substr(html.find("id=\"ordering\""));
   for (std::size_t k = 0; k < report.chosen->steps.size(); ++k)
@@ -155,16 +156,16 @@ TEST(Numbering, OrderingGraphAndNetworkUseThePlanNumbers) {
 }
 
 TEST(Wording, ACappedMarginSaysSoAndAZeroToleranceIsARequirement) {
-  const std::string face_down = render_markdown(example_report("peg_block_face_down"));
+  const std::string face_down = render_markdown(golden_report("peg_block_face_down"));
   EXPECT_NE(face_down.find("| ≥ x8, search cap ("), std::string::npos);
   EXPECT_EQ(face_down.find("| x8 ("), std::string::npos);
-  const std::string on_back = render_markdown(example_report("peg_block_on_back"));
+  const std::string on_back = render_markdown(golden_report("peg_block_on_back"));
   EXPECT_NE(on_back.find("| peg.dy | 0.11 in | must be exact |"), std::string::npos);
   EXPECT_FALSE(std::regex_search(on_back, std::regex(R"(\| 0 in \|)")));
 }
 
 TEST(Wording, DroppedRepairsAreOneLine) {
-  const std::string on_back = render_markdown(example_report("peg_block_on_back"));
+  const std::string on_back = render_markdown(golden_report("peg_block_on_back"));
   const std::string section = on_back.substr(
       on_back.find("## Inserted"), on_back.find("## Verification") - on_back.find("## Inserted"));
   EXPECT_EQ(count(section, "\n- "), 1u) << section;
@@ -179,7 +180,7 @@ TEST(Wording, DroppedRepairsAreOneLine) {
 // one outline per object, the gripper after a step, and the held object's region after a pickup.
 TEST(Cell, AViewPerStateWithEveryObjectTheGripperAndTheHeldRegion) {
   for (const std::string& name : example_names()) {
-    const Report report = report_from_json(example_report(name));
+    const Report& report = golden_report(name);
     ASSERT_TRUE(report.cell.has_value()) << name;
     const std::vector<Step>& steps = report.chosen->steps;
     std::size_t moves = 0;
@@ -215,7 +216,7 @@ TEST(Cell, AViewPerStateWithEveryObjectTheGripperAndTheHeldRegion) {
 }
 
 TEST(Cell, InsertedSensingIsMarkedOnTheNextView) {
-  const Report report = report_from_json(example_report("peg_block_face_down"));
+  const Report& report = golden_report("peg_block_face_down");
   std::vector<std::string> sensed;
   for (const CellView& view : report.cell->views)
     for (const CellSensing& sensing : view.sensed) sensed.push_back(sensing.step);
@@ -226,7 +227,7 @@ TEST(Cell, InsertedSensingIsMarkedOnTheNextView) {
 // A region bounds the pose error over a box that contains 0 (every error variable's range does),
 // so it contains the ideal pose: the one the step leaves the object at.
 TEST(Cell, TheRegionContainsTheIdealPose) {
-  const Report report = report_from_json(example_report("peg_block_face_up"));
+  const Report& report = golden_report("peg_block_face_up");
   for (const CellView& view : report.cell->views) {
     if (!view.region) continue;
     const std::size_t k = std::size_t(*view.after) - 1;
@@ -242,7 +243,7 @@ TEST(Cell, TheRegionContainsTheIdealPose) {
 TEST(WriteReports, TheMarkdownsDrawingsAreWrittenBesideIt) {
   const fs::path folder = fs::temp_directory_path() / "spar_reports_test_cell";
   fs::remove_all(folder);
-  const Report report = report_from_json(example_report("peg_block_face_up"));
+  const Report& report = golden_report("peg_block_face_up");
   (void)write_reports(report, folder, {Format::kMarkdown});
   const std::string markdown = render_markdown(report);
   for (std::size_t v = 0; v < report.cell->views.size(); ++v) {
@@ -260,7 +261,7 @@ TEST(WriteReports, TheMarkdownsDrawingsAreWrittenBesideIt) {
 }
 
 TEST(Html, ShowsBlameAndReverseMargin) {
-  const std::string html = render_html(example_report("peg_block_face_down"));
+  const std::string html = render_html(golden_report("peg_block_face_down"));
   EXPECT_NE(html.find("class=\"blame\""), std::string::npos);
   EXPECT_TRUE(std::regex_search(
       html,
@@ -270,17 +271,17 @@ TEST(Html, ShowsBlameAndReverseMargin) {
 TEST(Renderers, RefuseADocumentThatIsNotAReport) {
   EXPECT_THROW_MESSAGE(render_html(Json::parse(R"({"status": "planned"})")),
                        "cannot render HTML: not a spar-report/1 report");
-  Json broken = example_report("peg_block_face_up");
+  Json broken = golden_json("peg_block_face_up");
   broken.erase("units");
   EXPECT_THROW_MESSAGE(render_markdown(broken), "cannot render Markdown: malformed report");
 }
 
 TEST(ReportJson, AMissingOrMistypedMemberIsNamedByItsPath) {
-  Json broken = example_report("peg_block_on_back");
+  Json broken = golden_json("peg_block_on_back");
   broken["chosen"]["steps"][2].erase("action");
   EXPECT_THROW_MESSAGE(report_from_json(broken),
                        "malformed report: chosen.steps[2].action: missing");
-  broken = example_report("peg_block_on_back");
+  broken = golden_json("peg_block_on_back");
   broken["chosen"]["steps"][0]["preconditions"][1]["lo"] = "low";
   EXPECT_THROW_MESSAGE(report_from_json(broken),
                        "malformed report: chosen.steps[0].preconditions[1].lo: expected a number");
@@ -294,7 +295,7 @@ TEST(ReportJson, OptionalMembersStayAbsentAndNullablesNull) {
   const Json again = to_json(report);
   EXPECT_TRUE(again.at("chosen").is_null());
   EXPECT_TRUE(again.contains("reason"));
-  const Report planned = report_from_json(example_report("peg_block_face_up"));
+  const Report& planned = golden_report("peg_block_face_up");
   EXPECT_FALSE(to_json(planned).contains("reason"));
   EXPECT_EQ(step_label(*planned.chosen, 0), "#1 range-scan block");  // phase 2 inserted it
 }
@@ -314,27 +315,27 @@ fs::path fresh_folder(const std::string& name) {
 
 TEST(WriteReports, WritesEveryFormatAndNoTemporaries) {
   const fs::path folder = fresh_folder("write");
-  const Json& report = example_report("peg_block_face_up");
-  const auto files = write_reports(report_from_json(report), folder / "nested",
-                                   {Format::kJson, Format::kMarkdown, Format::kHtml});
+  const Report& report = golden_report("peg_block_face_up");
+  const auto files =
+      write_reports(report, folder / "nested", {Format::kJson, Format::kMarkdown, Format::kHtml});
   ASSERT_EQ(files.size(), 3u);
   std::vector<std::string> names;
   for (const auto& entry : fs::directory_iterator(folder / "nested"))
     names.push_back(entry.path().filename().string());
   std::sort(names.begin(), names.end());
   std::vector<std::string> expected = {"report.html", "report.json", "report.md"};
-  for (std::size_t v = 0; v < report_from_json(report).cell->views.size(); ++v)
+  for (std::size_t v = 0; v < report.cell->views.size(); ++v)
     expected.push_back("cell-" + std::to_string(v) + ".svg");  // the Markdown's drawings
   std::sort(expected.begin(), expected.end());
   EXPECT_EQ(names, expected);
   std::ifstream in(files[0]);
-  EXPECT_EQ(Json::parse(in), report);
+  EXPECT_EQ(Json::parse(in), to_json(report));
   fs::remove_all(folder);
 }
 
 TEST(WriteReports, AReportThatCannotBeRenderedWritesNothing) {
   const fs::path folder = fresh_folder("bad");
-  Report broken = report_from_json(example_report("peg_block_face_up"));
+  Report broken = golden_report("peg_block_face_up");
   broken.chosen->probability->preconditions[0].step = 99;  // past the steps: cannot be rendered
   EXPECT_THROW((void)write_reports(broken, folder, {Format::kJson, Format::kHtml}), ReportError);
   EXPECT_FALSE(fs::exists(folder / "report.json"));
@@ -345,9 +346,9 @@ TEST(WriteReports, AReportThatCannotBeRenderedWritesNothing) {
 TEST(WriteReports, AnUnwritableFolderIsAnErrorNamingIt) {
   const fs::path folder = fresh_folder("file");
   std::ofstream(folder.string()) << "a file, not a folder";
-  EXPECT_THROW_MESSAGE(write_reports(report_from_json(example_report("peg_block_face_up")),
-                                     folder / "sub", {Format::kJson}),
-                       "cannot create the report folder");
+  EXPECT_THROW_MESSAGE(
+      write_reports(golden_report("peg_block_face_up"), folder / "sub", {Format::kJson}),
+      "cannot create the report folder");
   fs::remove(folder);
 }
 
