@@ -152,22 +152,18 @@ std::string repair_title(const Chosen& chosen, const Repair& repair,
 }
 
 std::string dropped_repairs(const Chosen& chosen) {
-  // Equal titles counted together, in the order they were first tried.
-  std::vector<std::pair<std::string, int>> titles;
-  for (const Repair& repair : chosen.repairs.value_or(std::vector<Repair>{})) {
-    if (repair.helped) continue;
-    const std::string title = repair_title(chosen, repair, std::nullopt);
-    const auto found = std::find_if(titles.begin(), titles.end(),
-                                    [&](const auto& entry) { return entry.first == title; });
-    if (found == titles.end())
-      titles.emplace_back(title, 1);
-    else
-      ++found->second;
-  }
   std::string out;
-  for (const auto& [title, count] : titles)
-    out +=
-        (out.empty() ? "" : ", ") + title + (count > 1 ? " (x" + std::to_string(count) + ")" : "");
+  for (const RepairSearch& search : chosen.repair_searches.value_or(std::vector<RepairSearch>{})) {
+    std::string kinds;
+    for (const auto& [kind, count] : search.dropped)
+      if (count > 0) kinds += (kinds.empty() ? "" : " and ") + std::to_string(count) + " " + kind;
+    if (kinds.empty()) continue;
+    const auto target = step_position(chosen, search.for_step);
+    out += (out.empty() ? "" : "; ") + kinds + " for " +
+           (target ? step_label(chosen, *target) : "step " + std::to_string(search.for_step)) +
+           " (" + std::to_string(search.sets_tried) + " sets of " +
+           std::to_string(search.candidates) + " candidates tried)";
+  }
   return out;
 }
 

@@ -48,8 +48,9 @@ namespace spar::reports::internal {
 // "#5 range-scan block, for #8 assemble peg" (kept) / "range-scan block for #8 assemble peg".
 [[nodiscard]] std::string repair_title(const Chosen& chosen, const Repair& repair,
                                        std::optional<std::size_t> position);
-// The repairs phase 2 tried and dropped, in one line: "squeeze block for #3 pickup block (x3),
-// range-scan peg for #8 assemble peg"; "" when none was dropped.
+// The repair candidates phase 2 searched and dropped (chosen.repair_searches), in one line:
+// "1 range-scan and 4 squeeze for #5 assemble peg (19 sets of 6 candidates tried)"; "" when none
+// was dropped.
 [[nodiscard]] std::string dropped_repairs(const Chosen& chosen);
 
 // "grasp G4 (faces 3/5, width 3 in), object at (20, 0, 1.5) in, stable pose P6, arm lun".
