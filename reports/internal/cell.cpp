@@ -69,13 +69,25 @@ Silhouette gripper_outline(const geometry::GripperSpec& spec, double opening, co
   return silhouette_of(faces, scale);
 }
 
-// An upper bound of the gripper's distance from the shoulder: the links' lengths after the first
-// joint, and the tool's offset.
+// The shoulder: joint 2's frame at q = 0 (body 1's origin composed with joint 2's; on joint 1's
+// axis for the Puma, UR and Panda arms, so it does not move with q1).
+Vector3d shoulder_of(const kinematics::RobotModel& arm) {
+  const std::vector<double> zero(arm.dof(), 0.0);
+  const std::vector<kinematics::Transform> bodies = arm.body_poses(zero);
+  if (arm.dof() < 2) return bodies.back().translation();
+  return (bodies[1] * arm.joints()[1].origin).translation();
+}
+
+// An upper bound of the gripper's distance from the shoulder: the joint offsets after joint 2,
+// prismatic joints at full stroke, the tip's and the tool's offsets.
 double reach_of(const planner::RobotSpec& robot) {
-  const auto& joints = robot.chain.joints();
-  double reach = robot.tool.translation().norm();
-  for (std::size_t i = 0; i < joints.size(); ++i)
-    reach += i == 0 ? std::fabs(joints[i].a) : std::hypot(joints[i].a, joints[i].d);
+  const auto& joints = robot.arm.joints();
+  double reach = robot.arm.tip_offset().translation().norm() + robot.tool.translation().norm();
+  for (std::size_t i = 2; i < joints.size(); ++i) {
+    reach += joints[i].origin.translation().norm();
+    if (joints[i].type == kinematics::JointType::kPrismatic)
+      reach += std::max(std::fabs(joints[i].limits.lower), std::fabs(joints[i].limits.upper));
+  }
   return reach;
 }
 
@@ -259,7 +271,7 @@ Cell build_cell(const planner::PlanResult& result, const Chosen& chosen,
   const Vector3d base = scenario.robot.base.translation();
   cell.robot_base = {shown(base.x(), scale), shown(base.y(), scale), shown(base.z(), scale)};
   cell.reach = shown(reach_of(scenario.robot), scale);
-  cell.shoulder = shown(scenario.robot.chain.joints().front().d, scale);
+  cell.shoulder = shown(shoulder_of(scenario.robot.arm).z(), scale);  // above the base
   return cell;
 }
 
