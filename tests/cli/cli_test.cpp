@@ -342,7 +342,9 @@ const std::vector<Case> kCases = {
    "^scene belief 0.00 \\(threshold 0.50\\): rejected\n", ""},
   {"VisionSimulate", {"vision", "simulate", kSidewalk, "--camera", "front", "--seed", "3",
                       "--perturb", "split=0.1,clutter=5"}, 0,
-   "^\\{\n *\"camera\": \"front\",\n *\"edges\": \\[[^]*\"truth\": \"walk/e", ""},
+   // No [^]* across the whole output: libstdc++'s regex recurses once per character and
+   // overflows the stack under AddressSanitizer on these ~100 KB.
+   "\n *\"truth\": \"walk/e[0-9]+\"\n", ""},
   {"VisionUnknownCamera", {"vision", "render", kSidewalk, "--camera", "back"}, kError, "",
    "scenario 'pseiki_sidewalk' has no camera 'back' \\(cameras: front\\)"},
   {"VisionImageMissing", {"vision", "match", kSidewalk, "--camera", "front", "--image",
