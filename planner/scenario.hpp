@@ -134,11 +134,11 @@ struct RangeScanSensor {
   UncertaintyModel residual_model{};  // how the residual is distributed (probability only)
 };
 
-// A camera (sensors.cameras, normative): where it is, how it images (sensing/camera.hpp: the optical
-// frame, +z the viewing direction, +x right, +y down), how noisy its edges are and how often an
-// edge it should see is found. `uncertainty` (optional): the pose's half-widths as an object's
-// (eq. 2: displacement in the world, dtheta about world z through the camera), for a camera on a
-// mobile robot whose position is not known exactly.
+// A camera (sensors.cameras, normative): where it is, how it images (sensing/camera.hpp: the
+// optical frame, +z the viewing direction, +x right, +y down), how noisy its edges are and how
+// often an edge it should see is found. `uncertainty` (optional): the pose's half-widths as an
+// object's (eq. 2: displacement in the world, dtheta about world z through the camera), for a
+// camera on a mobile robot whose position is not known exactly.
 struct CameraSensor {
   std::string name;
   sensing::Projection projection{sensing::Projection::kPinhole};
@@ -179,7 +179,7 @@ struct Scenario {
   std::vector<ObjectSpec> objects;  // in file order
   std::vector<Place> places;        // in file order
   std::optional<RangeScanSensor> range_scan;
-  std::vector<CameraSensor> cameras;  // in file order, unique names
+  std::vector<CameraSensor> cameras;       // in file order, unique names
   geometry::GraspQuantization grasping{};  // how grasps are quantized (SPAR's grasp labels)
   std::vector<Goal> goals;                 // in file order
   // "file:line:col: ..." for what loads but looks wrong (a mesh whose size is implausible in the
