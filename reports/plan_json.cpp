@@ -1,6 +1,7 @@
 #include "spar/reports/plan_json.hpp"
 
 #include <algorithm>
+#include <tuple>
 
 #include "spar/reports/json_values.hpp"
 
@@ -125,6 +126,16 @@ ordered_json step_json(const planner::PlanResult& result, const planner::Instanc
     out["fixed_pose"] = matrix_json(step.fixed_pose, scale);
     out["held_pose"] = matrix_json(step.held_pose, scale);
   }
+  // Issue 21 (normative): the step's clearance in metres and what it carries.
+  out["clearance"] =
+      step.grasp < 0 ? ordered_json(nullptr)
+                     : ordered_json{{"min_distance", number_json(step.collision.clearance)},
+                                    {"to", step.collision.nearest >= 0
+                                               ? ordered_json(scenario.objects[step.collision.nearest].name)
+                                               : ordered_json(nullptr)}};
+  ordered_json carried = ordered_json::array();
+  for (const int part : step.carried) carried.push_back(scenario.objects[part].name);
+  out["carried"] = carried;
   return out;
 }
 
@@ -247,10 +258,13 @@ ordered_json chosen_steps_json(const planner::PlanResult& result) {
     return steps;
   }
   int next_id = static_cast<int>(result.family.steps.size());
-  for (const planner::AnalysedStep& analysed : analysis->steps) {
+  for (std::size_t k = 0; k < analysis->steps.size(); ++k) {
+    const planner::AnalysedStep& analysed = analysis->steps[k];
     ordered_json out;
     if (analysed.inserted) {
-      out = step_json(result, inserted_step(result, analysed));
+      planner::InstanceStep step = inserted_step(result, analysed);
+      std::tie(step.collision, step.carried) = result.chosen_checks.at(k);
+      out = step_json(result, step);
       out["id"] = next_id++;
       out["stable_pose"] = nullptr;
     } else {
