@@ -10,6 +10,7 @@
 
 #include "spar/planner/error.hpp"
 #include "spar/planner/plan.hpp"
+#include "tests/planner/collision_checker.hpp"
 #include "tests/planner/plan_checker.hpp"
 
 namespace spar::planner {
@@ -61,11 +62,23 @@ std::string error_of(const std::string& yaml) {
   return "";
 }
 
+// Phase 1 only; every instance of a plan found passes the independent checkers.
 PlanResult plan_phase1(const Scenario& scenario) {
   PlanOptions options;
   options.uncertainty = false;
   options.max_instances = 4;
-  return plan(scenario, builtin_domain(), options);
+  PlanResult result = plan(scenario, builtin_domain(), options);
+  std::vector<std::vector<geometry::Grasp>> grasps;
+  for (std::size_t o = 0; o < scenario.objects.size(); ++o)
+    grasps.push_back(result.world.object(static_cast<int>(o)).grasps);
+  const testing::IndependentCollisionChecker collisions(scenario, grasps);
+  for (const PlanInstance& instance : result.instances.instances) {
+    const std::vector<std::string> problems = testing::check_instance(scenario, grasps, instance);
+    EXPECT_TRUE(problems.empty()) << "instance " << instance.index << ": " << problems.front();
+    const std::vector<std::string> hits = collisions.check(instance);
+    EXPECT_TRUE(hits.empty()) << "instance " << instance.index << ": " << hits.front();
+  }
+  return result;
 }
 
 std::vector<std::string> actions(const Scenario& scenario, const PlanInstance& instance) {
