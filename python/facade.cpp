@@ -1,6 +1,7 @@
 #include "python/facade.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <stdexcept>
 
 #include "spar/bounds/bound.hpp"
@@ -8,7 +9,8 @@
 #include "spar/bounds/inequality.hpp"
 #include "spar/kinematics/ik.hpp"
 #include "spar/kinematics/puma.hpp"
-#include "spar/reports/json_values.hpp"
+#include "spar/kinematics/robots.hpp"
+#include "spar/reports/build.hpp"
 #include "spar/reports/plan_json.hpp"
 #include "spar/symbolic/operations.hpp"
 #include "spar/symbolic/parse.hpp"
@@ -116,9 +118,9 @@ bool same_expression(const Expression& a, const Expression& b) {
 
 // ---- bounds ----
 
-BoundAnswer bound_expression(const Expression& f, const std::vector<BoxRange>& box,
-                             const std::vector<ConstraintSpec>& constraints,
-                             const BoundSettings& settings) {
+reports::BoundRecord bound_expression(const Expression& f, const std::vector<BoxRange>& box,
+                                      const std::vector<ConstraintSpec>& constraints,
+                                      const BoundSettings& settings) {
   SharedPool& pool = *f.pool;
   std::vector<Foreign> constraint_gs;
   for (const ConstraintSpec& spec : constraints)
@@ -138,60 +140,75 @@ BoundAnswer bound_expression(const Expression& f, const std::vector<BoxRange>& b
   options.max_box_evaluations = settings.max_box_evaluations;
   options.max_seconds = settings.max_seconds;
   options.inner = settings.inner;
+  const auto start = std::chrono::steady_clock::now();
   const bounds::BoundResult result = bounds::bound(f.expr, bound_box, options, parsed);
-  BoundAnswer answer{.lo = result.lo,
-                     .hi = result.hi,
-                     .inner_lo = result.inner_lo,
-                     .inner_hi = result.inner_hi,
-                     .argmin = {},  // filled below, by name
-                     .argmax = {},
-                     .status = bounds::to_string(result.status),
-                     .possibly_undefined = result.possibly_undefined,
-                     .time_limited = result.time_limited,
-                     .evaluations = result.evaluations,
-                     .relative_gap = result.relative_gap()};
-  for (std::size_t i = 0; i < result.argmin.size(); ++i)
-    answer.argmin[std::string(bound_box.variables[i].name())] = result.argmin[i];
-  for (std::size_t i = 0; i < result.argmax.size(); ++i)
-    answer.argmax[std::string(bound_box.variables[i].name())] = result.argmax[i];
-  return answer;
+  const std::chrono::duration<double> elapsed = std::chrono::steady_clock::now() - start;
+  return reports::bound_record(bound_box, result, elapsed.count());
 }
 
 // ---- kinematics ----
 
 std::vector<std::string> robot_names() {
   std::vector<std::string> names;
-  for (const std::string_view name : kinematics::builtin_robot_names()) names.emplace_back(name);
+  for (const std::string_view name : kinematics::robot_model_names()) names.emplace_back(name);
   return names;
 }
 
-RobotInfo robot_info(std::string_view robot) {
-  const kinematics::DhChain& chain = kinematics::builtin_robot(robot);
-  RobotInfo info{.name = chain.name(), .source = chain.source(), .joints = {}};
-  for (const kinematics::DhJoint& joint : chain.joints())
-    info.joints.push_back(
-        {joint.d, joint.a, joint.alpha, joint.offset, joint.limits.lower, joint.limits.upper});
+namespace {
+
+kinematics::RobotModel load(const RobotRef& robot) {
+  kinematics::UrdfOptions options{.base = {}, .tip = robot.tip, .package_path = {}};
+  for (const std::string& folder : robot.package_path) options.package_path.emplace_back(folder);
+  return kinematics::load_robot(robot.robot, options);
+}
+
+}  // namespace
+
+RobotInfo robot_info(const RobotRef& robot) {
+  const kinematics::RobotModel model = load(robot);
+  RobotInfo info{.name = model.name(),
+                 .source = model.source(),
+                 .base = model.base_link(),
+                 .tip = model.tip_link(),
+                 .method = std::string(kinematics::to_string(model.ik_method())),
+                 .joints = {}};
+  const std::vector<std::string_view> dh_robots = kinematics::builtin_robot_names();
+  const bool dh = std::find(dh_robots.begin(), dh_robots.end(), robot.robot) != dh_robots.end();
+  for (std::size_t i = 0; i < model.dof(); ++i) {
+    const kinematics::MovingJoint& joint = model.joints()[i];
+    JointInfo entry{.name = joint.name,
+                    .type = std::string(kinematics::to_string(joint.type)),
+                    .lower = joint.limits.lower,
+                    .upper = joint.limits.upper,
+                    .dh = std::nullopt};
+    if (dh) {
+      const kinematics::DhJoint& row = kinematics::builtin_robot(robot.robot).joint(i);
+      entry.dh = std::array<double, 4>{row.d, row.a, row.alpha, row.offset};
+    }
+    info.joints.push_back(std::move(entry));
+  }
   return info;
 }
 
-Matrix4 forward_kinematics(std::string_view robot, const std::vector<double>& q) {
-  return matrix(kinematics::builtin_robot(robot).forward(q));
+Matrix4 forward_kinematics(const RobotRef& robot, const std::vector<double>& q) {
+  return matrix(load(robot).forward(q));
 }
 
-IkAnswer inverse_kinematics(std::string_view robot, const Matrix4& flange) {
-  const kinematics::PumaIk solver(kinematics::builtin_robot(robot));
-  const kinematics::IkResult result = solver.solve(rigid(flange));
-  IkAnswer answer{.solved = result.solved(),
-                  .singularities = kinematics::singularity_names(result.singularities),
-                  .solutions = {}};
-  if (!result.solved()) return answer;
-  for (const kinematics::IkSolution& solution : result.solutions) {
-    IkSolutionInfo info{.configuration = solution.configuration.label(),
-                        .within_limits = solution.within_limits,
-                        .singularities = kinematics::singularity_names(solution.singularities)};
-    for (int j = 0; j < 6; ++j) info.q[j] = solution.q[j];
-    answer.solutions.push_back(info);
+IkAnswer inverse_kinematics(const RobotRef& robot, const Matrix4& pose, double redundancy_step) {
+  const kinematics::Transform target = rigid(pose);
+  const kinematics::RobotModel model = load(robot);
+  const std::vector<kinematics::JointSolution> found =
+      model.inverse(target, {.redundancy_step = redundancy_step});
+  IkAnswer answer{.solved = !found.empty(), .singularities = {}, .solutions = {}};
+  std::uint8_t flags = kinematics::kNoSingularity;
+  for (const kinematics::JointSolution& solution : found) {
+    flags |= solution.singularities;
+    answer.solutions.push_back({.configuration = solution.configuration,
+                                .q = solution.q,
+                                .within_limits = solution.within_limits,
+                                .singularities = kinematics::singularity_names(solution.singularities)});
   }
+  answer.singularities = kinematics::singularity_names(flags);
   return answer;
 }
 
@@ -274,28 +291,6 @@ planner::PlanOptions plan_options(const PlanSettings& settings) {
   return options;
 }
 
-ordered_json precondition_json(const planner::PreconditionResult& result) {
-  ordered_json box = ordered_json::object(), witness = ordered_json::object();
-  for (std::size_t i = 0; i < result.variables.size(); ++i) {
-    box[result.variables[i]] = {reports::number_json(result.box[i].lo),
-                                reports::number_json(result.box[i].hi)};
-    if (i < result.witness.size())
-      witness[result.variables[i]] = reports::number_json(result.witness[i]);
-  }
-  return {{"name", result.inequality.name},
-          {"kind", result.kind},
-          {"expression", result.expression},
-          {"relation", bounds::to_string(result.inequality.relation)},
-          {"threshold", reports::number_json(result.inequality.threshold)},
-          {"verdict", bounds::to_string(result.verdict)},
-          {"lo", reports::number_json(result.bound.lo)},
-          {"hi", reports::number_json(result.bound.hi)},
-          {"inner_lo", reports::number_json(result.bound.inner_lo)},
-          {"inner_hi", reports::number_json(result.bound.inner_hi)},
-          {"box", box},
-          {"witness", witness}};
-}
-
 }  // namespace
 
 PlanRun::PlanRun(planner::PlanResult planned, PlanSettings used)
@@ -321,31 +316,7 @@ ordered_json analyse_instance_json(const PlanRun& run, std::size_t index, bool e
   planner::InstanceAnalysis analysis = planner::analyse_instance(
       run.result.world, run.result.domain, run.result.instances.instances[index], options);
   if (extras) planner::add_margins(analysis, options);
-  const planner::Scenario& scenario = run.result.world.scenario();
-  ordered_json steps = ordered_json::array();
-  for (const planner::AnalysedStep& step : analysis.steps) {
-    ordered_json preconditions = ordered_json::array();
-    for (const planner::PreconditionResult& result : step.preconditions)
-      preconditions.push_back(precondition_json(result));
-    steps.push_back(
-        {{"action", step.action},
-         {"object", step.step.object >= 0 ? ordered_json(scenario.objects[step.step.object].name)
-                                          : ordered_json(nullptr)},
-         {"inserted", step.inserted},
-         {"failed", step.failed},
-         {"preconditions", preconditions}});
-  }
-  ordered_json repairs = ordered_json::array();
-  for (const planner::RepairAttempt& repair : analysis.repairs)
-    repairs.push_back(
-        {{"action", repair.action},
-         {"object", repair.object >= 0 ? ordered_json(scenario.objects[repair.object].name)
-                                       : ordered_json(nullptr)},
-         {"helped", repair.helped}});
-  return {{"index", analysis.instance},
-          {"errors", analysis.errors},
-          {"steps", steps},
-          {"repairs", repairs}};
+  return reports::to_json(reports::build_chosen(run.result, index, &analysis));
 }
 
 }  // namespace spar::python

@@ -5,11 +5,16 @@
 // evaluate release the GIL (the facade's pool mutex serialises work on one pool), so a thread that
 // waits for a pool or a long computation never holds up the other Python threads. The package's
 // Python part (python/spar/__init__.py) wraps these in the public names.
+#include <numbers>
+#include <optional>
+
 #include <pybind11/eigen.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 #include <pybind11/stl/filesystem.h>
 
+#include "python/docstrings.hpp"
+#include "python/facade.hpp"
 #include "spar/bounds/error.hpp"
 #include "spar/bounds/shostak.hpp"
 #include "spar/common/number.hpp"
@@ -17,8 +22,6 @@
 #include "spar/kinematics/error.hpp"
 #include "spar/planner/cms/error.hpp"
 #include "spar/planner/error.hpp"
-#include "python/docstrings.hpp"
-#include "python/facade.hpp"
 #include "spar/qr/error.hpp"
 #include "spar/reports/error.hpp"
 #include "spar/symbolic/error.hpp"
@@ -101,26 +104,65 @@ kinematics::PoseUncertainty uncertainty_from(const std::map<std::string, double>
   return out;
 }
 
-py::dict bound_dict(const BoundAnswer& r) {
-  return py::dict("lo"_a = r.lo, "hi"_a = r.hi, "inner_lo"_a = r.inner_lo,
-                  "inner_hi"_a = r.inner_hi, "argmin"_a = r.argmin, "argmax"_a = r.argmax,
-                  "status"_a = r.status, "possibly_undefined"_a = r.possibly_undefined,
-                  "time_limited"_a = r.time_limited, "evaluations"_a = r.evaluations,
-                  "relative_gap"_a = r.relative_gap);
+// A bound record's member as Python: numbers as floats (inf and nan included), witnesses as
+// dicts in the box's order.
+template <class T>
+py::object member_to_python(const T& value) {
+  return py::cast(value);
+}
+py::object member_to_python(const reports::NamedValues<double>& values) {
+  py::dict out;
+  for (const auto& [name, value] : values) out[py::str(name)] = value;
+  return out;
+}
+template <class T>
+void member_from_python(const py::handle& value, T& out) {
+  out = value.cast<T>();
+}
+void member_from_python(const py::handle& value, reports::NamedValues<double>& out) {
+  out.clear();
+  for (const auto& [name, number] : value.cast<py::dict>())
+    out.emplace_back(name.cast<std::string>(), number.cast<double>());
 }
 
-BoundAnswer bound_from_dict(const py::dict& d) {
-  return BoundAnswer{.lo = d["lo"].cast<double>(),
-                     .hi = d["hi"].cast<double>(),
-                     .inner_lo = d["inner_lo"].cast<double>(),
-                     .inner_hi = d["inner_hi"].cast<double>(),
-                     .argmin = d["argmin"].cast<std::map<std::string, double>>(),
-                     .argmax = d["argmax"].cast<std::map<std::string, double>>(),
-                     .status = d["status"].cast<std::string>(),
-                     .possibly_undefined = d["possibly_undefined"].cast<bool>(),
-                     .time_limited = d["time_limited"].cast<bool>(),
-                     .evaluations = d["evaluations"].cast<std::size_t>(),
-                     .relative_gap = d["relative_gap"].cast<double>()};
+// The bound record as a dict with the keys of `spar bound --json` (name only when it has one).
+py::dict bound_dict(const reports::BoundRecord& r) {
+  py::dict out;
+  reports::BoundRecord::fields(r, [&]<class M>(const char* key, const M& member) {
+    if constexpr (std::is_same_v<M, std::optional<std::string>>) {
+      if (member) out[key] = *member;
+    } else {
+      out[key] = member_to_python(member);
+    }
+  });
+  return out;
+}
+
+reports::BoundRecord bound_from_dict(const py::dict& d) {
+  reports::BoundRecord r;
+  reports::BoundRecord::fields(r, [&]<class M>(const char* key, M& member) {
+    if (d.contains(key)) member_from_python(d[key], member);
+  });
+  return r;
+}
+
+// BoundResult's attributes: one read-only property per member of the bound record.
+void bind_bound_record(py::class_<reports::BoundRecord>& cls) {
+  const reports::BoundRecord names;
+  reports::BoundRecord::fields(names, [&](const char* key, const auto&) {
+    cls.def_property_readonly(key, [key](const reports::BoundRecord& r) {
+      py::object out = py::none();
+      reports::BoundRecord::fields(r, [&]<class M>(const char* name, const M& member) {
+        if (std::string_view(name) != key) return;
+        if constexpr (std::is_same_v<M, std::optional<std::string>>) {
+          if (member) out = py::str(*member);
+        } else {
+          out = member_to_python(member);
+        }
+      });
+      return out;
+    });
+  });
 }
 
 void bind_expressions(py::module_& m) {
@@ -145,29 +187,22 @@ void bind_expressions(py::module_& m) {
       .def(py::pickle([](const Expression& e) { return expression_text(e); },
                       [](const std::string& text) { return parse_expression(text); }));
 
-  py::class_<BoundAnswer>(m, "BoundResult",
-                          "Sound bounds [lo, hi] of an expression over a box, the attained inner "
-                          "range [inner_lo, inner_hi] and its witnesses argmin/argmax (dicts), "
-                          "status (converged | effort_limit | unbounded | infeasible).")
-      .def_readonly("lo", &BoundAnswer::lo)
-      .def_readonly("hi", &BoundAnswer::hi)
-      .def_readonly("inner_lo", &BoundAnswer::inner_lo)
-      .def_readonly("inner_hi", &BoundAnswer::inner_hi)
-      .def_readonly("argmin", &BoundAnswer::argmin)
-      .def_readonly("argmax", &BoundAnswer::argmax)
-      .def_readonly("status", &BoundAnswer::status)
-      .def_readonly("possibly_undefined", &BoundAnswer::possibly_undefined)
-      .def_readonly("time_limited", &BoundAnswer::time_limited)
-      .def_readonly("evaluations", &BoundAnswer::evaluations)
-      .def_readonly("relative_gap", &BoundAnswer::relative_gap)
-      .def("as_dict", &bound_dict, "The fields as a dict.")
+  py::class_<reports::BoundRecord> bound_result(
+      m, "BoundResult",
+      "Sound bounds [lo, hi] of an expression over a box, the attained inner range [inner_lo, "
+      "inner_hi] and its witnesses argmin/argmax (dicts), status (converged | effort_limit | "
+      "unbounded | infeasible), possibly_undefined, time_limited, relative_gap, evaluations (box "
+      "evaluations) and seconds (wall-clock): the keys of `spar bound --json`.");
+  bind_bound_record(bound_result);
+  bound_result.def("as_dict", &bound_dict, "The fields as a dict: the keys of `spar bound --json`.")
       .def("__repr__",
-           [](const BoundAnswer& r) {
+           [](const reports::BoundRecord& r) {
              return "spar.BoundResult(lo=" + py::repr(py::float_(r.lo)).cast<std::string>() +
                     ", hi=" + py::repr(py::float_(r.hi)).cast<std::string>() + ", status='" +
                     r.status + "')";
            })
-      .def(py::pickle([](const BoundAnswer& r) { return bound_dict(r); }, &bound_from_dict));
+      .def(py::pickle([](const reports::BoundRecord& r) { return bound_dict(r); },
+                      &bound_from_dict));
 
   py::class_<ConstraintSpec>(m, "_Constraint")
       .def(py::init([](const Expression& g, const std::string& relation) {
@@ -195,25 +230,50 @@ void bind_expressions(py::module_& m) {
 
 void bind_kinematics(py::module_& m) {
   m.def("robots", &robot_names, "Names of the built-in robots.");
+  const auto package_path = [](const std::optional<std::vector<std::string>>& folders) {
+    return folders.value_or(std::vector<std::string>{});
+  };
   m.def(
       "robot",
-      [](const std::string& name) {
-        const RobotInfo info = robot_info(name);
+      [package_path](const std::string& robot, const std::string& tip,
+                     const std::optional<std::vector<std::string>>& folders) {
+        const RobotInfo info = robot_info({robot, tip, package_path(folders)});
         py::list joints;
-        for (const JointInfo& j : info.joints)
-          joints.append(py::dict("d"_a = j.d, "a"_a = j.a, "alpha"_a = j.alpha,
-                                 "offset"_a = j.offset, "lower"_a = j.lower, "upper"_a = j.upper));
-        return py::dict("name"_a = info.name, "source"_a = info.source, "joints"_a = joints);
+        for (const JointInfo& j : info.joints) {
+          py::dict joint("name"_a = j.name, "type"_a = j.type, "lower"_a = j.lower,
+                         "upper"_a = j.upper);
+          if (j.dh) {
+            joint["d"] = (*j.dh)[0];
+            joint["a"] = (*j.dh)[1];
+            joint["alpha"] = (*j.dh)[2];
+            joint["offset"] = (*j.dh)[3];
+          }
+          joints.append(joint);
+        }
+        return py::dict("name"_a = info.name, "source"_a = info.source, "base"_a = info.base,
+                        "tip"_a = info.tip, "method"_a = info.method, "joints"_a = joints);
       },
-      "robot"_a, doc::kPuma);
-  m.def("fk", &forward_kinematics, "robot"_a, "q"_a, doc::kDh);
+      "robot"_a, "tip"_a = "", "package_path"_a = py::none(), doc::kRobots);
+  m.def(
+      "fk",
+      [package_path](const std::string& robot, const std::vector<double>& q,
+                     const std::string& tip,
+                     const std::optional<std::vector<std::string>>& folders) {
+        return forward_kinematics({robot, tip, package_path(folders)}, q);
+      },
+      "robot"_a, "q"_a, "tip"_a = "", "package_path"_a = py::none(), doc::kRobot);
 
   py::class_<IkSolutionInfo>(m, "IkSolution",
-                             "One closed-form configuration: its label (l|r, u|d, n|f), joint "
-                             "angles q (radians, NumPy), within_limits, singularities.")
+                             "One solution: its configuration label (\"run\", \"run@q7=35deg\", "
+                             "\"n1\"), joint values q (radians, NumPy), within_limits, "
+                             "singularities.")
       .def_readonly("configuration", &IkSolutionInfo::configuration)
       .def_property_readonly(
-          "q", [](const IkSolutionInfo& s) { return Eigen::Matrix<double, 6, 1>(s.q.data()); })
+          "q",
+          [](const IkSolutionInfo& s) {
+            return Eigen::VectorXd(Eigen::Map<const Eigen::VectorXd>(
+                s.q.data(), static_cast<Eigen::Index>(s.q.size())));
+          })
       .def_readonly("within_limits", &IkSolutionInfo::within_limits)
       .def_readonly("singularities", &IkSolutionInfo::singularities)
       .def("__repr__", [](const IkSolutionInfo& s) {
@@ -221,8 +281,9 @@ void bind_kinematics(py::module_& m) {
                "', within_limits=" + (s.within_limits ? "True" : "False") + ")";
       });
   py::class_<IkAnswer>(m, "IkResult",
-                       "All eight solutions (solutions, in the order lun luf ldn ldf run ruf rdn "
-                       "rdf) when solved; none when the pose is out of reach.")
+                       "Every solution (solutions, in the robot's order: lun luf ldn ldf run ruf "
+                       "rdn rdf for Puma and UR arms) when solved; none when the pose is out of "
+                       "reach.")
       .def_readonly("solved", &IkAnswer::solved)
       .def_readonly("singularities", &IkAnswer::singularities)
       .def_readonly("solutions", &IkAnswer::solutions)
@@ -235,7 +296,15 @@ void bind_kinematics(py::module_& m) {
             throw py::key_error("no solution '" + configuration + "'");
           },
           "configuration"_a);
-  m.def("ik", &inverse_kinematics, "robot"_a, "pose"_a, doc::kIk);
+  m.def(
+      "ik",
+      [package_path](const std::string& robot, const Matrix4& pose, const std::string& tip,
+                     const std::optional<std::vector<std::string>>& folders,
+                     double redundancy_step) {
+        return inverse_kinematics({robot, tip, package_path(folders)}, pose, redundancy_step);
+      },
+      "robot"_a, "pose"_a, "tip"_a = "", "package_path"_a = py::none(),
+      "redundancy_step"_a = 5.0 * std::numbers::pi / 180.0, Release(), doc::kRobot);
 
   py::class_<UncertainPose>(m, "UncertainPose",
                             "A 4x4 transform whose entries are spar.Expr over the pose's "

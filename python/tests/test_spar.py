@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import spar
-from conftest import EXAMPLES, without_wall_clock
+from conftest import CORPUS_DIR, EXAMPLES, without_wall_clock
 
 FACE_DOWN = EXAMPLES / "peg_block_face_down.yaml"
 
@@ -73,7 +73,26 @@ def test_bound_of_the_first_record_is_tight(fpbench):
     assert r.hi == pytest.approx(100 * math.sqrt(2), rel=1e-6)
     assert r.argmin == {"x": 1.0, "y": 1.0} and r.argmax == {"x": 100.0, "y": 100.0}
     assert pickle.loads(pickle.dumps(r)).as_dict() == r.as_dict()
-    assert spar.bound_record(record, tolerance=1e-6) == {"name": record["name"], **r.as_dict()}
+    # Everything but the wall-clock time is deterministic.
+    again = spar.bound_record(record, tolerance=1e-6)
+    assert again.pop("seconds") >= 0
+    assert again == {"name": record["name"], **{k: v for k, v in r.as_dict().items()
+                                                if k != "seconds"}}
+
+
+def test_bound_record_has_the_keys_of_the_cli_json():
+    r = spar.bound("x^2 - x", {"x": (0, 1)})
+    assert list(r.as_dict()) == ["lo", "hi", "inner_lo", "inner_hi", "argmin", "argmax",
+                                 "status", "possibly_undefined", "time_limited", "relative_gap",
+                                 "evaluations", "seconds"]
+    assert r.evaluations > 0 and r.seconds >= 0 and r.time_limited is False
+    cli = os.environ.get("SPAR_CLI")
+    if cli:
+        out = subprocess.run([cli, "bound", "x^2 - x", "--var", "x=0:1", "--json"], check=True,
+                             capture_output=True, text=True).stdout
+        cli_record = json.loads(out)
+        assert list(cli_record) == list(r.as_dict())
+        assert cli_record["lo"] == r.lo and cli_record["argmax"] == r.argmax
 
 
 def test_bound_constraints_in_three_forms():
@@ -119,10 +138,36 @@ def test_ik_gives_the_corpus_solutions(puma_corpus):
 
 
 def test_robots_and_joint_limits():
-    assert spar.robots() == ["puma560", "puma762"]
+    assert spar.robots() == ["puma560", "puma762", "ur5", "panda"]
     robot = spar.robot("puma560")
     assert len(robot["joints"]) == 6
     assert robot["joints"][0]["upper"] == pytest.approx(math.radians(160))
+    assert robot["joints"][0]["d"] == pytest.approx(0.67183)
+    panda = spar.robot("panda")
+    assert (panda["base"], panda["tip"]) == ("panda_link0", "panda_link8")
+    assert panda["method"].startswith("closed form over q7")
+    assert panda["joints"][3]["name"] == "panda_joint4"
+
+
+def test_ur5_and_panda_round_trip_by_name_and_by_urdf_path():
+    ur5_file = (CORPUS_DIR / "robots/example-robot-data/robots/ur_description/urdf/"
+                "ur5_robot.urdf")
+    q = [0.3, -1.1, 1.4, -0.9, 1.2, 0.4]
+    pose = spar.fk("ur5", q)
+    by_path = spar.fk(str(ur5_file), q, tip="tool0", package_path=[str(CORPUS_DIR / "robots")])
+    np.testing.assert_allclose(by_path, pose, atol=1e-12)  # the file's root is world = base_link
+    result = spar.ik("ur5", pose)
+    assert [s.configuration for s in result.solutions] == [
+        "lun", "luf", "ldn", "ldf", "run", "ruf", "rdn", "rdf"]
+    assert any(max(abs(wrapped(a - b)) for a, b in zip(s.q, q)) < 1e-7 for s in result.solutions)
+    q7 = [0.2, -0.4, 0.1, -2.0, 0.3, 1.8, math.radians(20)]
+    panda_pose = spar.fk("panda", q7)
+    solutions = spar.ik("panda", panda_pose, redundancy_step=math.radians(10)).solutions
+    assert solutions and all(s.within_limits for s in solutions)
+    for s in solutions:
+        assert s.q.shape == (7,)
+        np.testing.assert_allclose(spar.fk("panda", s.q), panda_pose, atol=1e-9)
+    assert any(max(abs(a - b) for a, b in zip(s.q, q7)) < 1e-7 for s in solutions)
 
 
 def test_uncertain_object_pose_evaluates_and_bounds():
@@ -210,6 +255,18 @@ def test_analysis_with_extras_reproduces_the_reported_chosen_instance(face_down_
             "verdict"]
     assert [{k: p[k] for k in keys} for p in analysed] == [{k: p[k] for k in keys}
                                                           for p in reported]
+
+
+def test_analysis_gives_the_report_records(face_down_run):
+    # PlanRun.analyse(i) is the report's `chosen` record for instance i: the same keys.
+    report = face_down_run.report
+    analysis = face_down_run.analyse(report["chosen"]["index"], extras=True)
+    chosen = report["chosen"]
+    assert [list(s) for s in analysis["steps"]] == [list(s) for s in chosen["steps"]]
+    reported = [p for s in chosen["steps"] for p in s.get("preconditions", [])]
+    analysed = [p for s in analysis["steps"] for p in s["preconditions"]]
+    assert [list(p) for p in analysed] == [list(p) for p in reported]
+    assert list(analysis) == [k for k in chosen if k != "probability"]
 
 
 # ---- errors ----

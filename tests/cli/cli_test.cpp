@@ -103,6 +103,11 @@ const fs::path& scratch() {
     write_text(root / "overlap.off", cubes);
     write_text(root / "huge.off",
                "OFF\n4 4 0\n0 0 0\n1e300 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n");
+    // A cube to be put at a place 5 m out, beyond the robot's reach: no plan (issue 21).
+    write_text(root / "no_plan.yaml",
+               "objects:\n  cube: {builtin: cube, pose: {stable: P1, at: [0.5, 0]}}\n"
+               "places: [{name: far, at: [5, 0]}]\n"
+               "goals: [{at: {object: cube, place: far}}]\n");
     fs::create_directory(root / "folder.off");
     write_text(root / "bad_mass.json",
                "{\"frame\": [\"a\", \"b\"],\n \"sources\": [[{\"set\": [\"a\"], \"mass\": 1.5}]]}");
@@ -269,6 +274,9 @@ const std::vector<Case> kCases = {
    "--max-opening: must be a positive number, got 'nan'"},
   {"DemoFormatWithoutReport", {"demo", "--format", "md"}, kError, "",
    "^spar: error: --format needs --report DIR\n$"},
+  // No plan is a result, not a success: the report says why, the exit status is 2.
+  {"PlanNoPlanExitsTwo", {"plan", "@DIR@/no_plan.yaml", "--json", "--samples", "0"}, 2,
+   "\"status\": \"no_plan\",\\s*\"reason\": \"no_plan: .*goal at\\(cube, far\\)", ""},
   {"PlanInstancesZero", {"plan", "@SRC@/examples/peg_block_face_up.yaml", "--instances", "0"},
    kError, "", "--instances: must be a whole number from 1 to 100000, got '0'"},
   {"PlanSamplesNegative", {"plan", "@SRC@/examples/peg_block_face_up.yaml", "--samples", "-1"},
@@ -293,11 +301,11 @@ const std::vector<Case> kCases = {
    kError, "", "unknown report format 'pdf'"},
   // JSONL batches: a bad line is an error record with its line number; the batch goes on.
   {"JsonlBadLinesAreRecords", {"bound", "--jsonl", "@DIR@/batch.jsonl"}, kError,
-   "\"error\":\"\\[json.exception.parse_error.101\\][^\n]*\"line\":2[^\n]*\n"
-   "\\{\"error\":\"\\\\\"expr\\\\\" must be a string\",\"line\":3,\"name\":\"c\"\\}\n"
-   "\\{\"error\":\"missing \\\\\"expr\\\\\" string\",\"line\":4,\"name\":\"d\"\\}\n"
-   "\\{\"error\":\"a record must be a JSON object\",\"line\":5,\"name\":\"\"\\}\n"
-   "\\{\"argmax\"[^\n]*\"name\":\"last\"",
+   "\\{\"line\":2,\"name\":\"[^\n]*\"error\":\"\\[json.exception.parse_error.101\\][^\n]*\n"
+   "\\{\"line\":3,\"name\":\"c\",\"error\":\"\\\\\"expr\\\\\" must be a string\"\\}\n"
+   "\\{\"line\":4,\"name\":\"d\",\"error\":\"missing \\\\\"expr\\\\\" string\"\\}\n"
+   "\\{\"line\":5,\"name\":\"\",\"error\":\"a record must be a JSON object\"\\}\n"
+   "\\{\"name\":\"last\",\"lo\"",
    "4 line\\(s\\) of '[^']*batch.jsonl' could not be bounded"},
   {"JsonlDirectory", {"bound", "--jsonl", "@DIR@"}, kError, "", "is a directory"},
   {"JsonlWithExpression", {"bound", "x+1", "--var", "x=0:1", "--jsonl", "@DIR@/good.jsonl"},
@@ -355,7 +363,8 @@ const std::vector<Case> kCases = {
   {"MissingExpression", {"bound"}, kError, "", "give an expression or --jsonl FILE"},
   {"UnknownObject", {"object", "sphere"}, kError, "", "no such file, nor a built-in object"},
   {"UnknownRobot", {"fk", "--robot", "puma999", "--q", "0 0 0 0 0 0"}, kError, "",
-   "--robot: unknown robot 'puma999' \\(built-in: puma560, puma762\\)"},
+   "--robot: unknown robot 'puma999' \\(built-in: puma560, puma762, ur5, panda; or a URDF "
+   "file\\)"},
   {"UnknownVariable", {"bound", "x+y", "--var", "x=0:1"}, kError, "",
    "unknown variable 'y' in the expression: give it a range"},
 };

@@ -47,7 +47,8 @@ struct Triangles {
 
 inline Triangles posed(const Triangles& local, const kinematics::Transform& pose) {
   Triangles out{.faces = {}, .closed = local.closed};
-  for (const auto& face : local.faces) out.faces.push_back({pose * face[0], pose * face[1], pose * face[2]});
+  for (const auto& face : local.faces)
+    out.faces.push_back({pose * face[0], pose * face[1], pose * face[2]});
   return out;
 }
 
@@ -171,7 +172,8 @@ class IndependentCollisionChecker {
   IndependentCollisionChecker(const Scenario& scenario,
                               std::vector<std::vector<geometry::Grasp>> grasps)
       : scenario_(scenario), grasps_(std::move(grasps)) {
-    for (const ObjectSpec& object : scenario.objects) meshes_.push_back(mesh_triangles(object.model));
+    for (const ObjectSpec& object : scenario.objects)
+      meshes_.push_back(mesh_triangles(object.model));
   }
 
   // Every collision of the instance, as text; empty when there is none.
@@ -222,15 +224,16 @@ class IndependentCollisionChecker {
         // The gripper (+ h's parts) against f; h's patch against f's patch.
         std::vector<Triangles> gripper = gripper_triangles(spec, grasp.width);
         for (std::size_t k = 1; k < moving.size(); ++k)
-          gripper.push_back(posed(meshes_[moving[k]], t.inverse(Eigen::Isometry) * poses[moving[k]]));
+          gripper.push_back(
+              posed(meshes_[moving[k]], t.inverse(Eigen::Isometry) * poses[moving[k]]));
         const std::string& fixed_name = scenario_.objects[step.fixed_object].name;
         sweep(problems, where + "the gripper inserting, ", gripper, start, d * m,
               {{fixed_name, posed(meshes_[step.fixed_object], poses[step.fixed_object])}});
         const Triangles held_patch =
             mesh_triangles(scenario_.objects[step.object].model, goal.held_faces);
-        const Triangles fixed_patch = posed(
-            mesh_triangles(scenario_.objects[step.fixed_object].model, goal.fixed_faces),
-            poses[step.fixed_object]);
+        const Triangles fixed_patch =
+            posed(mesh_triangles(scenario_.objects[step.fixed_object].model, goal.fixed_faces),
+                  poses[step.fixed_object]);
         sweep(problems, where + "outside the mating faces, ", {held_patch},
               Eigen::Translation3d(-d * m) * step.held_pose, d * m, {{fixed_name, fixed_patch}});
         // Released: the open gripper back along its axis, against all but h.

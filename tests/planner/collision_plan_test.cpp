@@ -99,18 +99,18 @@ TEST(CollisionPlanning, OccupiedGoalPlaceIsClearedFirst) {
 TEST(CollisionPlanning, GraspAvoidsANeighbour) {
   // b stands 0.1 in from a's +y face: fingers closing on a along world y would hit b, so a is
   // grasped across its other pair of side faces (or from above).
-  std::string yaml = replaced(kCubes, "  - at: {object: b, place: left}\n",
-                              "  - at: {object: a, place: right}\n");
-  yaml = replaced(yaml, "    pose: {stable: P1, at: [20, 4]}", "    pose: {stable: P1, at: [16, -10.9]}");
+  std::string yaml =
+      replaced(kCubes, "  - at: {object: b, place: left}\n", "  - at: {object: a, place: right}\n");
+  yaml = replaced(yaml, "    pose: {stable: P1, at: [20, 4]}",
+                  "    pose: {stable: P1, at: [16, -10.9]}");
   const Scenario scenario = scenario_of(yaml);
   const PlanResult result = plan_checked(scenario);
   ASSERT_TRUE(result.planned()) << result.family.reason;
   const InstanceStep& pickup = result.chosen().steps[0];
   ASSERT_EQ(pickup.object, 0);
   const Eigen::Vector3d closing = pickup.gripper_pose.linear().col(1);
-  EXPECT_LT(std::abs(closing.y()), 1e-6) << "grasp "
-                                         << result.world.object(0).grasps[pickup.grasp].label
-                                         << " closes toward b";
+  EXPECT_LT(std::abs(closing.y()), 1e-6)
+      << "grasp " << result.world.object(0).grasps[pickup.grasp].label << " closes toward b";
 }
 
 TEST(CollisionPlanning, ClearanceAndNearestObjectAreReported) {
@@ -134,11 +134,13 @@ TEST(InitialWorld, ObjectsThatMeetAreAnErrorAtTheirPoses) {
 }
 
 TEST(InitialWorld, ObjectBelowTheTableOrFloatingIsAnError) {
-  EXPECT_EQ(error_of(replaced(kCubes, "pose: {stable: P1, at: [20, 4]}", "pose: {xyz: [20, 4, -0.5]}")),
-            "objects.b.pose (test.yaml:13:11): b reaches 0.5 in below the table (the plane z = 0)");
-  EXPECT_EQ(error_of(replaced(kCubes, "pose: {stable: P1, at: [20, 4]}", "pose: {xyz: [20, 4, 2]}")),
-            "objects.b.pose (test.yaml:13:11): b floats 2 in above the table: an object rests on "
-            "the table or sits assembled in another (an assembled goal that holds at the start)");
+  EXPECT_EQ(
+      error_of(replaced(kCubes, "pose: {stable: P1, at: [20, 4]}", "pose: {xyz: [20, 4, -0.5]}")),
+      "objects.b.pose (test.yaml:13:11): b reaches 0.5 in below the table (the plane z = 0)");
+  EXPECT_EQ(
+      error_of(replaced(kCubes, "pose: {stable: P1, at: [20, 4]}", "pose: {xyz: [20, 4, 2]}")),
+      "objects.b.pose (test.yaml:13:11): b floats 2 in above the table: an object rests on "
+      "the table or sits assembled in another (an assembled goal that holds at the start)");
 }
 
 TEST(IndependentChecker, FindsACollisionPlantedInAPlan) {
@@ -168,13 +170,14 @@ Scenario random_scene() {
   static const Scenario base = scenario_of(kCubes);
   static const std::vector<ObjectSpec> shapes = [] {
     std::string yaml = kCubes;
-    yaml = replaced(yaml, "  b:\n    builtin: cube\n    pose: {stable: P1, at: [20, 4]}\n",
-                    "  b:\n    builtin: cube\n    pose: {stable: P1, at: [20, 4]}\n"
-                    "  peg:\n    builtin: peg\n    features: {shaft: [11, 12, 13, 14, 15, 16, 17, 18, 19]}\n"
-                    "    pose: {stable: P1, at: [14, 12]}\n"
-                    "  block:\n    builtin: block\n    features: {hole: [2, 6, 10, 12, 16]}\n"
-                    "    pose: {stable: P5, at: [24, 10]}\n"
-                    "  l:\n    builtin: l-shape\n    pose: {stable: P1, at: [12, 4]}\n");
+    yaml = replaced(
+        yaml, "  b:\n    builtin: cube\n    pose: {stable: P1, at: [20, 4]}\n",
+        "  b:\n    builtin: cube\n    pose: {stable: P1, at: [20, 4]}\n"
+        "  peg:\n    builtin: peg\n    features: {shaft: [11, 12, 13, 14, 15, 16, 17, 18, 19]}\n"
+        "    pose: {stable: P1, at: [14, 12]}\n"
+        "  block:\n    builtin: block\n    features: {hole: [2, 6, 10, 12, 16]}\n"
+        "    pose: {stable: P5, at: [24, 10]}\n"
+        "  l:\n    builtin: l-shape\n    pose: {stable: P1, at: [12, 4]}\n");
     return scenario_of(yaml).objects;
   }();
   Scenario scene = base;
@@ -202,31 +205,35 @@ Scenario random_scene() {
   }
   for (int p = 0; p < 3; ++p) {
     const auto [x, y] = spots[chosen[count + p]];
-    scene.places.push_back({.name = "p" + std::to_string(p), .x = x * 0.0254, .y = y * 0.0254,
-                            .yaws = {0.0, M_PI / 2}, .location = {}});
+    scene.places.push_back({.name = "p" + std::to_string(p),
+                            .x = x * 0.0254,
+                            .y = y * 0.0254,
+                            .yaws = {0.0, M_PI / 2},
+                            .location = {}});
   }
   // One or two objects go to places; a peg goes into a block when there are both.
   const int movers = *rc::gen::inRange(1, 3);
   for (int k = 0; k < movers && k < count; ++k)
-    scene.goals.emplace_back(AtGoal{.object = "o" + std::to_string(k),
-                                    .place = "p" + std::to_string(k), .location = {}});
+    scene.goals.emplace_back(AtGoal{
+        .object = "o" + std::to_string(k), .place = "p" + std::to_string(k), .location = {}});
   const auto shaped = [&](const std::string& shape, int from) {
     for (int i = from; i < count; ++i)
       if (scene.objects[i].shape == "builtin: " + shape) return i;
     return -1;
   };
-  if (const int peg = shaped("peg", movers), block = shaped("block", movers); peg >= 0 && block >= 0)
-    scene.goals.emplace_back(AssembledGoal{
-        .held = scene.objects[peg].name,
-        .fixed = scene.objects[block].name,
-        .held_faces = scene.objects[peg].features.at("shaft"),
-        .fixed_faces = scene.objects[block].features.at("hole"),
-        .relative = Eigen::Translation3d(0, 0, 6 * 0.0254) *
-                    Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX()),
-        .mating_vector = {0, 0, -1},
-        .clearance = 0.05 * 0.0254,
-        .angular_clearance = 0,
-        .location = {}});
+  if (const int peg = shaped("peg", movers), block = shaped("block", movers);
+      peg >= 0 && block >= 0)
+    scene.goals.emplace_back(
+        AssembledGoal{.held = scene.objects[peg].name,
+                      .fixed = scene.objects[block].name,
+                      .held_faces = scene.objects[peg].features.at("shaft"),
+                      .fixed_faces = scene.objects[block].features.at("hole"),
+                      .relative = Eigen::Translation3d(0, 0, 6 * 0.0254) *
+                                  Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX()),
+                      .mating_vector = {0, 0, -1},
+                      .clearance = 0.05 * 0.0254,
+                      .angular_clearance = 0,
+                      .location = {}});
   return scene;
 }
 

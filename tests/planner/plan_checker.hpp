@@ -174,7 +174,8 @@ inline std::vector<std::string> check_instance(
         turned |= same_pose(poses[o], Eigen::Translation3d(place.x, place.y, 0) *
                                           Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) *
                                           stable.object_to_world);
-    if (!there || !turned) problems.push_back("goal at(" + at.object + ", " + at.place + ") not reached");
+    if (!there || !turned)
+      problems.push_back("goal at(" + at.object + ", " + at.place + ") not reached");
   }
   if (held != -1) problems.push_back("the plan ends holding an object");
   return problems;

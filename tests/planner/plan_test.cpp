@@ -174,7 +174,8 @@ TEST(PlanFamily, NoPlanNamesTheObjectOutOfReach) {
   peg.initial_pose.translation().x() += 3.0;  // 3 m further out: beyond the Puma's reach
   const PlanResult result = plan(scenario, builtin_domain(), phase1_only());
   EXPECT_EQ(result.family.status, PostingStatus::kNoPlan);
-  EXPECT_NE(result.family.reason.find("peg: no grasp reaches it at its initial pose"), std::string::npos)
+  EXPECT_NE(result.family.reason.find("peg: no grasp reaches it at its initial pose"),
+            std::string::npos)
       << result.family.reason;
 }
 
