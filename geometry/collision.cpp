@@ -213,10 +213,25 @@ CollisionShape CollisionShape::box(const Eigen::Vector3d& low, const Eigen::Vect
   return ShapeAccess::make(std::move(data));
 }
 
-CollisionShape CollisionShape::surface(const Mesh& mesh, std::span<const int> triangles) {
+CollisionShape CollisionShape::surface(const Mesh& mesh, std::span<const int> triangles,
+                                       double inset) {
+  std::vector<Eigen::Vector3d> corners;
   std::vector<std::array<int, 3>> kept;
-  for (const int t : triangles) kept.push_back(mesh.triangles.at(t));
-  auto data = shape_data(mesh.vertices, kept, mesh.source);
+  for (const int t : triangles) {
+    const std::array<int, 3>& triangle = mesh.triangles.at(t);
+    const Eigen::Vector3d centroid =
+        (mesh.vertices[triangle[0]] + mesh.vertices[triangle[1]] + mesh.vertices[triangle[2]]) / 3;
+    std::array<int, 3> own{};
+    for (int c = 0; c < 3; ++c) {
+      const Eigen::Vector3d& v = mesh.vertices[triangle[c]];
+      const double reach = (v - centroid).norm();
+      corners.push_back(reach > inset ? Eigen::Vector3d(v + (centroid - v) * (inset / reach))
+                                      : centroid);
+      own[c] = static_cast<int>(corners.size()) - 1;
+    }
+    kept.push_back(own);
+  }
+  auto data = shape_data(corners, kept, mesh.source);
   data->closed = false;
   return ShapeAccess::make(std::move(data));
 }

@@ -78,9 +78,12 @@ class CollisionShape {
   // in every coordinate.
   [[nodiscard]] static CollisionShape box(const Eigen::Vector3d& low, const Eigen::Vector3d& high);
   // Some triangles of a closed mesh (indices into mesh.triangles): a surface only, never asked
-  // whether something lies inside it (an object without its mating faces). Throws GeometryError
-  // when `triangles` is empty.
-  [[nodiscard]] static CollisionShape surface(const Mesh& mesh, std::span<const int> triangles);
+  // whether something lies inside it (an object without its mating faces). Each triangle is
+  // pulled in toward its centroid by `inset` (>= 0, metres), so that surfaces meeting only along
+  // the triangles' edges or at their corners no longer touch. Throws GeometryError when
+  // `triangles` is empty.
+  [[nodiscard]] static CollisionShape surface(const Mesh& mesh, std::span<const int> triangles,
+                                              double inset = 0);
 
   [[nodiscard]] const Eigen::AlignedBox3d& bounds() const;  // in the shape's frame
   [[nodiscard]] std::span<const Eigen::Vector3d> vertices() const;

@@ -89,6 +89,9 @@ class Planner {
   [[nodiscard]] bool post_geometric(PartialPlan& node, const FamilyStep& step,
                                     const GeometricPrecondition& geometric) const;
   [[nodiscard]] bool separate_places(PartialPlan& node, int step, int variable) const;
+  // Once assemble(h, f) has run, f carries h: every step ordered after it that takes f must use a
+  // grasp that clears h (GoalWorld::grasp_clears_assembled). False when that empties a domain.
+  [[nodiscard]] bool grasps_clear_assembled(PartialPlan& node) const;
   // Whether a step handling `object` (and `partner`, the fixed object of an insertion, or -1)
   // must keep clear of `other` where it starts: not a fixed object (the world's tables already
   // avoid those), not one of them or what starts assembled into them (those move with them; the
@@ -134,6 +137,8 @@ class Planner {
   const PostingOptions& options_;
   const WorldState start_state_{world_.initial_state()};
   mutable std::size_t budget_refusals_{0};
+  // The last constraint that refused a refinement, for the no-plan reason.
+  mutable std::string last_refusal_;
 };
 
 bool Planner::possibly_equal(const PartialPlan& node, const Term& a, const Term& b) const {
@@ -289,12 +294,16 @@ bool Planner::post_geometric(PartialPlan& node, const FamilyStep& step,
       break;
     }
   }
-  if (!ok) return false;
   std::string condition = geometric.str();
   for (std::size_t i = 0; i < geometric.args.size(); ++i) {
     const std::string& from = geometric.args[i];
     const std::string& to = node.plan.variables[variable(i)].name;
     condition.replace(condition.find(from), from.size(), to);
+  }
+  if (!ok) {
+    last_refusal_ = node.plan.describe(step, world_, domain_) + ": " + condition +
+                    " leaves no consistent labels (collisions included)";
+    return false;
   }
   node.plan.satisfied.push_back(
       {SatisfiedGoal::Level::kGeometric, condition, step.id, "constraint posted"});
@@ -323,6 +332,46 @@ bool Planner::separate_places(PartialPlan& node, int step, int variable) const {
         unary[label][0] = conflicts[label][0];
       if (!clear_of_start(node, step, variable, -1, static_cast<int>(other), unary)) return false;
     }
+  return true;
+}
+
+bool Planner::grasps_clear_assembled(PartialPlan& node) const {
+  for (const FamilyStep& assembly : node.plan.steps) {
+    if (assembly.action < 0) continue;
+    const ActionTemplate& action = domain_.actions[assembly.action];
+    const auto joins = std::find_if(action.add.begin(), action.add.end(),
+                                    [](const Atom& atom) { return atom.predicate == "assembled"; });
+    if (joins == action.add.end() || joins->args.size() != 2) continue;
+    const int held = assembly.args[action.parameter_index(joins->args[0])].index;
+    const int fixed = assembly.args[action.parameter_index(joins->args[1])].index;
+    const GoalWorld* goal = world_.goal(held, fixed);
+    if (goal == nullptr) continue;
+    std::vector<int> clear;
+    for (std::size_t g = 0; g < goal->grasp_clears_assembled.size(); ++g)
+      if (goal->grasp_clears_assembled[g]) clear.push_back(static_cast<int>(g));
+    for (const FamilyStep& later : node.plan.steps) {
+      if (later.action < 0 || !node.plan.ordering.precedes(assembly.id, later.id)) continue;
+      const ActionTemplate& taking = domain_.actions[later.action];
+      for (std::size_t p = 0; p < taking.parameters.size(); ++p) {
+        const Parameter& parameter = taking.parameters[p];
+        if (parameter.type != ParameterType::kGrasp ||
+            later.args[taking.parameter_index(parameter.of)].index != fixed)
+          continue;
+        const int variable = later.args[p].index;
+        cms::ConstraintNetwork& network = node.plan.network;
+        bool narrower = false;
+        for (const int label : network.labels(variable))
+          narrower |= std::find(clear.begin(), clear.end(), label) == clear.end();
+        if (narrower && (clear.empty() || !accepted(network.restrict(variable, clear, budget())))) {
+          last_refusal_ = node.plan.describe(later, world_, domain_) + " after " +
+                          node.plan.describe(assembly, world_, domain_) + ": no grasp of " +
+                          world_.scenario().objects[fixed].name + " clears " +
+                          world_.scenario().objects[held].name + " assembled into it";
+          return false;
+        }
+      }
+    }
+  }
   return true;
 }
 
@@ -690,6 +739,7 @@ PlanFamily Planner::run() {
     ++stats.expanded;
     std::erase_if(node.threats, [&](const Threat& t) { return !is_threat(node, t); });
     children.clear();
+    if (!grasps_clear_assembled(node)) continue;
     if (!node.threats.empty()) {
       resolve(node, node.threats.front(), children);
     } else if (!node.open.empty()) {
@@ -723,6 +773,9 @@ PlanFamily Planner::run() {
                        " actions reaches the goals (every refinement was inconsistent)";
   if (const std::optional<std::string> obstacle = world_.relaxed_obstacle())
     reason += ": " + *obstacle;
+  else if (!last_refusal_.empty())
+    reason +=
+        "; each goal is reachable alone, but not together: the last refusal was " + last_refusal_;
   if (stats.refused > 0)
     reason += "; " + std::to_string(stats.refused) +
               " complete plan families were refused, the first because " + first_refusal;

@@ -49,20 +49,19 @@ std::vector<PositionLabel> position_labels(const Scenario& scenario, const Objec
   return labels;
 }
 
-// An object's mesh without its faces `faces` (ids), as a surface-only collision body; nullopt when
-// nothing is left.
-std::optional<geometry::Body> patch_without(const ObjectSpec& object,
-                                            const std::vector<int>& faces) {
+// An object's faces other than `faces` (ids), as a surface whose triangles are pulled in by a
+// micrometre (geometry::CollisionShape::surface); nullopt when nothing is left.
+std::optional<geometry::Body> other_faces(const ObjectSpec& object, const std::vector<int>& faces) {
   const geometry::Mesh& mesh = object.model.mesh();
-  std::vector<char> dropped(mesh.triangles.size(), 0);
+  std::vector<char> mating(mesh.triangles.size(), 0);
   for (const int id : faces)
-    for (const int t : object.model.face(id).triangles) dropped[t] = 1;
-  std::vector<int> kept;
+    for (const int t : object.model.face(id).triangles) mating[t] = 1;
+  std::vector<int> rest;
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
-    if (!dropped[t]) kept.push_back(static_cast<int>(t));
-  if (kept.empty()) return std::nullopt;
-  return geometry::Body(object.name + " without its mating faces",
-                        geometry::CollisionShape::surface(mesh, kept));
+    if (!mating[t]) rest.push_back(static_cast<int>(t));
+  if (rest.empty()) return std::nullopt;
+  return geometry::Body(object.name + " but its mating faces",
+                        geometry::CollisionShape::surface(mesh, rest, 1e-6));
 }
 
 // A placed body moved by `offset` (world frame).
@@ -167,16 +166,16 @@ WorldModel::WorldModel(Scenario scenario)
         if (positions[p].place == tables.place) tables.at_place.push_back(static_cast<int>(p));
       tables.initially_true = positions[0].place == tables.place;
       goals_.push_back(std::move(tables));
-      held_patch_.emplace_back();
-      fixed_patch_.emplace_back();
+      held_rest_.emplace_back();
+      fixed_rest_.emplace_back();
       pair_conflict_.emplace_back();
       continue;
     }
     const AssembledGoal& assembled = std::get<AssembledGoal>(goal);
     tables.held = object_index(assembled.held);
     tables.fixed = object_index(assembled.fixed);
-    held_patch_.push_back(patch_without(scenario_.objects[tables.held], assembled.held_faces));
-    fixed_patch_.push_back(patch_without(scenario_.objects[tables.fixed], assembled.fixed_faces));
+    held_rest_.push_back(other_faces(scenario_.objects[tables.held], assembled.held_faces));
+    fixed_rest_.push_back(other_faces(scenario_.objects[tables.fixed], assembled.fixed_faces));
     const ObjectWorld& held = objects_[tables.held];
     const ObjectWorld& fixed = objects_[tables.fixed];
     const ObjectSpec& fixed_spec = scenario_.objects[tables.fixed];
@@ -196,6 +195,17 @@ WorldModel::WorldModel(Scenario scenario)
     std::vector<int> except = movable;
     except.push_back(tables.fixed);
     const std::vector<Obstacle> fixed_objects = obstacles(fixed_only, except);
+    // The gripper taking f with h in it: the same relative geometry wherever f is.
+    for (std::size_t g = 0; g < fixed.grasps.size(); ++g) {
+      const kinematics::Transform gripper = fixed.grasps[g].gripper_in_object;
+      const Eigen::Vector3d approach = scenario_.robot.approach_distance * gripper.linear().col(2);
+      const geometry::PlacedBody part{&bodies_[tables.held], assembled.relative};
+      tables.grasp_clears_assembled.push_back(
+          geometry::sweep({&*open_gripper_, Eigen::Translation3d(-approach) * gripper}, approach,
+                          std::span(&part, 1), margin())
+              .clear &&
+          !geometry::collide({&closed_[tables.fixed][g], gripper}, part, margin()));
+    }
     const int goal_index = static_cast<int>(goals_.size());
     goals_.push_back(tables);  // insertion_check reads the goal's objects
     // The insertion's motions relative to f, per grasp of h (f's pose does not change them).
@@ -509,13 +519,20 @@ std::optional<std::string> WorldModel::insertion_pair_conflict(
                                            Eigen::Translation3d(-insertion) * gripper_pose};
   if (first_hit(gripper_start, insertion, fixed_alone, margin()) >= 0)
     return "the gripper, inserting " + held_name + ", hits " + fixed_name;
-  // h against f without their mating faces.
-  if (held_patch_[goal] && fixed_patch_[goal]) {
-    const std::vector<Obstacle> fixed_rest = {{tables.fixed, {&*fixed_patch_[goal], fixed_pose}}};
-    const geometry::PlacedBody patch_start{&*held_patch_[goal],
-                                           Eigen::Translation3d(-insertion) * held_pose};
-    if (first_hit(patch_start, insertion, fixed_rest, margin()) >= 0)
-      return held_name + " meets " + fixed_name + " outside their mating faces";
+  // h against f: they may touch on their mating faces (that is the joint), and where those meet
+  // the faces around them; elsewhere their surfaces may not meet (the faces other than the
+  // mating ones, each triangle pulled in by a micrometre, sampled along the insertion at most a
+  // margin apart, at least 100 samples).
+  if (held_rest_[goal] && fixed_rest_[goal]) {
+    const geometry::PlacedBody fixed_at{&*fixed_rest_[goal], fixed_pose};
+    const int samples = static_cast<int>(std::ceil(
+        std::max(100.0, margin() > 0 ? scenario_.robot.approach_distance / margin() : 0.0)));
+    for (int k = 0; k <= samples; ++k) {
+      const kinematics::Transform held_at =
+          Eigen::Translation3d(-insertion * (1.0 - static_cast<double>(k) / samples)) * held_pose;
+      if (geometry::collide({&*held_rest_[goal], held_at}, fixed_at, 0.0))
+        return held_name + " meets " + fixed_name + " outside their mating faces";
+    }
   }
   // Released, the open gripper back along its axis, against f.
   const geometry::PlacedBody open_end{&*open_gripper_, gripper_pose};

@@ -39,8 +39,11 @@
 // closer than the margin, so no point of the path closer than half of it), and its ends against
 // the table (nothing below z = 0). Exempt: the gripper and the object it grasps (the grasp is
 // dropped if the open gripper's approach hits its own object), and in an insertion h and f at
-// their mating faces (their other faces keep the margin from each other); objects assembled
-// together (a subassembly) move as one and are not checked against each other.
+// their mating faces: there they may touch (they are being joined), and elsewhere their surfaces
+// may not meet at all (their other faces, each triangle pulled in by a micrometre so that faces
+// meeting the joint along an edge do not count, sampled along the insertion at most a margin
+// apart); objects assembled together (a subassembly) move as one and are not checked against
+// each other.
 // The tables above include what never changes: `reachable` and `mate_reachable` are false where a
 // motion hits a fixed object or goes through the table, and a position where the object would
 // meet a fixed object is nobody's destination. What depends on the order of the steps (where the
@@ -100,6 +103,10 @@ struct GoalWorld {
   std::vector<std::vector<char>> mate_reachable;  // [held grasp][fixed position]
   int place{-1};                                  // an at goal's place
   std::vector<int> at_place;                      // the object's position labels at it
+  // [fixed grasp]: the gripper can still take the fixed object with the held one in it (the open
+  // gripper's approach and the closed gripper keep the margin from it). Once the assembly is
+  // made, only these grasps move the fixed object.
+  std::vector<char> grasp_clears_assembled;
 };
 
 // Where every object is at one moment of a plan instance.
@@ -223,13 +230,13 @@ class WorldModel {
   std::vector<GoalWorld> goals_;      // same order as scenario_.goals
   // Collision bodies: each object's mesh; the gripper open, and closed on each object with each
   // grasp (held_[o][g]: the gripper at width W_g joined with o at T_G^-1, in the gripper frame;
-  // closed_[o][g]: the same gripper alone); per assembled goal the held and fixed objects' faces
-  // other than their mating faces (nullopt when every face mates).
+  // closed_[o][g]: the same gripper alone); per assembled goal the held and fixed objects' other
+  // faces than their mating ones, each triangle pulled in by a micrometre (nullopt when none).
   std::vector<geometry::Body> bodies_;
   std::optional<geometry::Body> open_gripper_;
   std::vector<std::vector<geometry::Body>> held_;
   std::vector<std::vector<geometry::Body>> closed_;  // [o][g]: the gripper closed to W_g alone
-  std::vector<std::optional<geometry::Body>> held_patch_, fixed_patch_;  // [goal]
+  std::vector<std::optional<geometry::Body>> held_rest_, fixed_rest_;  // [goal]
   // [goal][held grasp]: insertion_pair_conflict with nothing assembled into h yet.
   std::vector<std::vector<std::optional<std::string>>> pair_conflict_;
   std::shared_ptr<Caches> caches_;  // memo of the conflict tables, shared by copies

@@ -274,6 +274,13 @@ const std::vector<Case> kCases = {
    "--max-opening: must be a positive number, got 'nan'"},
   {"DemoFormatWithoutReport", {"demo", "--format", "md"}, kError, "",
    "^spar: error: --format needs --report DIR\n$"},
+  // Issue 21's examples plan and render their reports.
+  {"PlanFixtureExampleReports", {"plan", "@SRC@/examples/fixture_two_pins.yaml", "--samples", "0",
+   "--report", "@DIR@/fixture"}, 0, "planned", ""},
+  {"PlanStackExampleReports", {"plan", "@SRC@/examples/stack_in_tray.yaml", "--samples", "0",
+   "--report", "@DIR@/stack"}, 0, "planned", ""},
+  {"PlanCrowdedExampleReports", {"plan", "@SRC@/examples/crowded_table.yaml", "--samples", "0",
+   "--instances", "2", "--report", "@DIR@/crowded"}, 0, "planned", ""},
   // No plan is a result, not a success: the report says why, the exit status is 2.
   {"PlanNoPlanExitsTwo", {"plan", "@DIR@/no_plan.yaml", "--json", "--samples", "0"}, 2,
    "\"status\": \"no_plan\",\\s*\"reason\": \"no_plan: .*goal at\\(cube, far\\)", ""},

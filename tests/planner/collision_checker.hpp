@@ -20,8 +20,10 @@
 //                              object (with what is assembled into it) between T and T - d a;
 //   assemble h into f:         the closed gripper with h from T - d m to T (m the mating vector
 //                              in the world) against everything but h and f, the gripper against
-//                              f, h's non-mating faces against f's non-mating faces; then the
-//                              open gripper from T to T - d a against everything but h.
+//                              f, h's faces other than its mating ones against f's (each triangle
+//                              pulled in by 1 um: faces meeting the joint along an edge do not
+//                              count; h and f touch at the joint by design); then the open
+//                              gripper from T to T - d a against everything but h.
 // Each motion is checked at samples `kStep` apart (0.25 mm, a quarter of the default margin: an
 // overlap the planner's sweep let through, which keeps half the margin everywhere, would show).
 // The table: no body below z = -1e-6 m at a motion's ends (translations: the lowest point is at
@@ -56,18 +58,26 @@ inline void append(Triangles& to, const Triangles& more) {
   to.faces.insert(to.faces.end(), more.faces.begin(), more.faces.end());
 }
 
-// The mesh's triangles, optionally without the faces listed (a patch is not closed).
+// The mesh's triangles; with `without`, all but those faces, each triangle pulled in toward its
+// centroid by `inset` (a patch: not closed; faces that meet the missing ones only along an edge
+// then do not touch them).
 inline Triangles mesh_triangles(const geometry::ObjectModel& model,
-                                const std::vector<int>& without = {}) {
+                                const std::vector<int>& without = {}, double inset = 0) {
   std::vector<char> dropped(model.mesh().triangles.size(), 0);
   for (const int id : without)
     for (const int t : model.face(id).triangles) dropped[t] = 1;
   Triangles out{.faces = {}, .closed = without.empty()};
   const auto& mesh = model.mesh();
-  for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
-    if (!dropped[t])
-      out.faces.push_back({mesh.vertices[mesh.triangles[t][0]], mesh.vertices[mesh.triangles[t][1]],
-                           mesh.vertices[mesh.triangles[t][2]]});
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    if (dropped[t]) continue;
+    std::array<Eigen::Vector3d, 3> face = {mesh.vertices[mesh.triangles[t][0]],
+                                           mesh.vertices[mesh.triangles[t][1]],
+                                           mesh.vertices[mesh.triangles[t][2]]};
+    const Eigen::Vector3d centroid = (face[0] + face[1] + face[2]) / 3;
+    for (Eigen::Vector3d& corner : face)
+      corner += (centroid - corner) * std::min(1.0, inset / (centroid - corner).norm());
+    out.faces.push_back(face);
+  }
   return out;
 }
 
@@ -230,10 +240,10 @@ class IndependentCollisionChecker {
         sweep(problems, where + "the gripper inserting, ", gripper, start, d * m,
               {{fixed_name, posed(meshes_[step.fixed_object], poses[step.fixed_object])}});
         const Triangles held_patch =
-            mesh_triangles(scenario_.objects[step.object].model, goal.held_faces);
-        const Triangles fixed_patch =
-            posed(mesh_triangles(scenario_.objects[step.fixed_object].model, goal.fixed_faces),
-                  poses[step.fixed_object]);
+            mesh_triangles(scenario_.objects[step.object].model, goal.held_faces, 1e-6);
+        const Triangles fixed_patch = posed(
+            mesh_triangles(scenario_.objects[step.fixed_object].model, goal.fixed_faces, 1e-6),
+            poses[step.fixed_object]);
         sweep(problems, where + "outside the mating faces, ", {held_patch},
               Eigen::Translation3d(-d * m) * step.held_pose, d * m, {{fixed_name, fixed_patch}});
         // Released: the open gripper back along its axis, against all but h.

@@ -161,6 +161,57 @@ TEST(IndependentChecker, FindsACollisionPlantedInAPlan) {
   EXPECT_TRUE(check_collisions(planted, result.world, result.domain).has_value());
 }
 
+// --- the examples of issue 21 ---
+
+Scenario example(const std::string& name) {
+  return load_scenario(std::string(SPAR_SOURCE_DIR) + "/examples/" + name + ".yaml");
+}
+
+TEST(Examples, FixtureBaseIsTurnedRoundToClearTheWall) {
+  const Scenario scenario = example("fixture_two_pins");
+  const PlanResult result = plan_checked(scenario);
+  ASSERT_TRUE(result.planned()) << result.family.reason;
+  const int base = result.world.object_index("base");
+  bool turned = false;
+  for (const InstanceStep& step : result.chosen().steps)
+    if (step.action_name == "putdown" && step.object == base)
+      turned = result.world.object(base).positions[step.position].name == "P3@station/180";
+  EXPECT_TRUE(turned);
+  // Offered yaw 0 only, the part cannot go in beside the wall, and the base cannot move with
+  // the part on it: no plan, and the reason says what refused it.
+  Scenario one_yaw = scenario;
+  one_yaw.places[0].yaws = {0.0};
+  const PlanResult refused = plan_checked(one_yaw);
+  EXPECT_FALSE(refused.planned());
+  EXPECT_NE(refused.family.reason.find("no grasp of base clears part assembled into it"),
+            std::string::npos)
+      << refused.family.reason;
+}
+
+TEST(Examples, StackedBlockCarriesTheCubeIntoTheTray) {
+  const Scenario scenario = example("stack_in_tray");
+  const PlanResult result = plan_checked(scenario);
+  ASSERT_TRUE(result.planned()) << result.family.reason;
+  const std::vector<std::string> expected = {"pickup cube", "assemble cube", "pickup block",
+                                             "assemble block"};
+  EXPECT_EQ(actions(scenario, result.chosen()), expected);
+  const int cube = result.world.object_index("cube");
+  EXPECT_EQ(result.chosen().steps[2].carried, std::vector<int>{cube});
+  EXPECT_EQ(result.chosen().steps[3].carried, std::vector<int>{cube});
+}
+
+TEST(Examples, CrowdedTableClearsTheOccupiedPlaceFirst) {
+  const Scenario scenario = example("crowded_table");
+  const PlanResult result = plan_checked(scenario, 2);
+  ASSERT_TRUE(result.planned()) << result.family.reason;
+  const std::vector<std::string> steps = actions(scenario, result.chosen());
+  const auto at = [&](const std::string& step) {
+    return std::find(steps.begin(), steps.end(), step) - steps.begin();
+  };
+  EXPECT_LT(at("pickup red"), at("putdown green"));
+  EXPECT_EQ(steps.back(), "putdown green");
+}
+
 // --- random scenes ---
 
 // 2-6 objects (cubes, pegs, blocks, L-shapes) at random spots of a grid in front of the robot,
