@@ -20,6 +20,7 @@
 #include <cstring>
 #include <fstream>
 #include <functional>
+#include <iterator>
 #include <map>
 #include <numbers>
 #include <optional>
@@ -405,35 +406,35 @@ class NaivePeer {
 
   // The enclosures of the step's preconditions, in spar's order (Propagation::step).
   std::vector<Interval> step(const planner::Phase2Step& step) {
-    using planner::StepEffect;
+    using planner::Effect;
     std::vector<Interval> values;
     const IntervalError arm = scaled_box(world_.scenario().robot.uncertainty);
     switch (step.effect) {
-      case StepEffect::kGrasp:
+      case Effect::kGrasp:
         values = pickup(step, arm);
         held_[step.object] = Held{grasp_frame(step, arm)};
         table_[step.object].reset();
         break;
-      case StepEffect::kSqueeze: {
+      case Effect::kReduce: {
         values = pickup(step, arm);
         planner::Phase2Step in_place = step;
         in_place.object_pose = table_[step.object]->ideal;
         table_[step.object] = released(in_place, arm, grasp_frame(step, arm));
         break;
       }
-      case StepEffect::kRelease:
+      case Effect::kRelease:
         table_[step.object] = released(step, arm, held_[step.object]->grip);
         held_[step.object].reset();
         break;
-      case StepEffect::kInsert:
+      case Effect::kInsert:
         values = assemble(step, arm);
         held_[step.object].reset();
         break;
-      case StepEffect::kRangeScan:
+      case Effect::kSense:
         table_[step.object]->error =
             scaled_box(world_.scenario().range_scan.value_or(planner::RangeScanSensor{}).residual);
         break;
-      case StepEffect::kNone:
+      case Effect::kNone:
         break;
     }
     return values;
@@ -685,11 +686,9 @@ ConditionInputs condition_inputs(const std::vector<planner::Precondition>& preco
     in.inequalities.push_back(p.inequality);
     roots.push_back(p.inequality.expression);
   }
-  in.variables = symbolic::free_variables(roots);
-  std::sort(in.variables.begin(), in.variables.end(), [&](symbolic::Expr a, symbolic::Expr b) {
-    return space.index_of(a) < space.index_of(b);
-  });
-  in.box = space.ranges(in.variables);
+  const std::vector<planner::VariableId> ids = planner::variables_of(roots, space);
+  for (const planner::VariableId id : ids) in.variables.push_back(space.symbol(id));
+  in.box = space.ranges(ids);
   return in;
 }
 
@@ -704,7 +703,7 @@ void decide_breakdown(const planner::WorldModel& world, const planner::InstanceA
   };
   std::map<std::string, Tally> by_kind;
   symbolic::ExprPool pool;
-  planner::Propagation propagation(world, pool);
+  planner::Propagation propagation(world, planner::builtin_domain(), pool);
   const planner::AnalysisOptions options;
   for (std::size_t s = 0; s < analysis.steps.size(); ++s) {
     const std::vector<planner::Precondition> preconditions =
@@ -715,7 +714,7 @@ void decide_breakdown(const planner::WorldModel& world, const planner::InstanceA
     const double seconds = time_median(repeats, [&] {
       decided = decide_like_phase2(in.inequalities, in.variables, in.box, options);
     });
-    Tally& tally = by_kind[preconditions.front().kind];
+    Tally& tally = by_kind[std::string(planner::to_string(preconditions.front().kind))];
     tally.count += static_cast<int>(preconditions.size());
     tally.natural += decided.natural;
     tally.full += decided.full;
@@ -736,7 +735,7 @@ std::vector<planner::Phase2Step> phase2_steps(const planner::Domain& domain,
   for (std::size_t i = 0; i < instance.steps.size(); ++i) {
     const planner::InstanceStep& source = instance.steps[i];
     steps.push_back({.action = source.action,
-                     .effect = planner::step_effect(domain.actions[source.action]),
+                     .effect = domain.actions[source.action].effect,
                      .object = source.object,
                      .grasp = source.grasp,
                      .fixed_object = source.fixed_object,
@@ -772,7 +771,7 @@ void seed_phase2(int repeats, Comparison& all, double& our_seconds, double& peer
     const std::vector<planner::Phase2Step> steps = phase2_steps(domain, instance);
     const double build = time_median(repeats, [&] {
       symbolic::ExprPool pool;
-      planner::Propagation propagation(world, pool);
+      planner::Propagation propagation(world, planner::builtin_domain(), pool);
       for (std::size_t k = 0; k < steps.size(); ++k)
         (void)propagation.step(steps[k], static_cast<int>(k) + 1);
     });
@@ -834,9 +833,9 @@ void seed_phase2(int repeats, Comparison& all, double& our_seconds, double& peer
 // The k-chain: the peg of peg_block_on_back picked up at its initial pose and put down at a free
 // place, k times back and forth, then picked up once more; the last pickup's four preconditions.
 
-int action_with(const planner::Domain& domain, planner::StepEffect effect) {
+int action_with(const planner::Domain& domain, planner::Effect effect) {
   for (std::size_t a = 0; a < domain.actions.size(); ++a)
-    if (planner::step_effect(domain.actions[a]) == effect) return static_cast<int>(a);
+    if (domain.actions[a].effect == effect) return static_cast<int>(a);
   return -1;
 }
 
@@ -884,13 +883,13 @@ struct ChainRun {
 
 std::vector<planner::Phase2Step> chain_steps(const ChainSetup& setup, int k) {
   const planner::Domain& domain = planner::builtin_domain();
-  planner::Phase2Step grasp{.action = action_with(domain, planner::StepEffect::kGrasp),
-                            .effect = planner::StepEffect::kGrasp,
+  planner::Phase2Step grasp{.action = action_with(domain, planner::Effect::kGrasp),
+                            .effect = planner::Effect::kGrasp,
                             .object = setup.object,
                             .grasp = setup.grasp};
   planner::Phase2Step release = grasp;
-  release.action = action_with(domain, planner::StepEffect::kRelease);
-  release.effect = planner::StepEffect::kRelease;
+  release.action = action_with(domain, planner::Effect::kRelease);
+  release.effect = planner::Effect::kRelease;
   std::vector<planner::Phase2Step> steps;
   for (int trip = 0; trip <= k; ++trip) {
     grasp.object_pose = trip % 2 == 0 ? setup.a : setup.b;
@@ -912,7 +911,7 @@ ChainRun run_chain(const planner::WorldModel& world, const ChainSetup& setup, in
   std::vector<planner::Precondition> last;
   run.build = time_median(repeats, [&] {
     pool = std::make_unique<symbolic::ExprPool>();
-    propagation.emplace(world, *pool);
+    propagation.emplace(world, planner::builtin_domain(), *pool);
     for (std::size_t s = 0; s < steps.size(); ++s)
       last = propagation->step(steps[s], static_cast<int>(s) + 1);
   });
@@ -980,7 +979,7 @@ void chain_scales(const planner::WorldModel& world, const ChainSetup& setup,
   for (const int k : ks) {
     const std::vector<planner::Phase2Step> steps = chain_steps(setup, k);
     symbolic::ExprPool pool;
-    planner::Propagation propagation(world, pool);
+    planner::Propagation propagation(world, planner::builtin_domain(), pool);
     std::vector<planner::Precondition> last;
     for (std::size_t s = 0; s < steps.size(); ++s)
       last = propagation.step(steps[s], static_cast<int>(s) + 1);
@@ -1055,6 +1054,77 @@ void k_chain(bool quick, int repeats, Comparison& decided, Comparison& tight, do
 
 }  // namespace
 
+// ---------------------------------------------------------------------------------------------
+// The scale sweep (issue 24): every uncertainty half-width of a seed experiment (objects, robot,
+// range-scan residual, sigmas alike) times s; the chosen plan's errors and violated preconditions
+// must not grow as s shrinks (the repair search is monotone).
+
+planner::Scenario scaled_scenario(planner::Scenario scenario, double s) {
+  const auto scale = [s](spar::kinematics::PoseUncertainty& u) {
+    u.dx *= s;
+    u.dy *= s;
+    u.dz *= s;
+    u.dtheta *= s;
+  };
+  for (planner::ObjectSpec& object : scenario.objects) {
+    scale(object.uncertainty);
+    scale(object.uncertainty_model.sigma);
+  }
+  scale(scenario.robot.uncertainty);
+  scale(scenario.robot.uncertainty_model.sigma);
+  if (scenario.range_scan) {
+    scale(scenario.range_scan->residual);
+    scale(scenario.range_scan->residual_model.sigma);
+  }
+  return scenario;
+}
+
+// Returns whether every example was monotone.
+bool scale_sweep() {
+  const double scales[] = {0.1, 0.25, 0.5, 0.75, 1.0, 1.25, 1.5, 2.0};
+  std::printf(
+      "\n## phase 2: scale sweep (every half-width x s; errors / violated / inserted steps of the "
+      "chosen plan)\n\n| experiment |");
+  for (const double s : scales) std::printf(" s = %g |", s);
+  std::printf(" monotone |\n|---|");
+  for (std::size_t i = 0; i <= std::size(scales); ++i) std::printf("---|");
+  std::printf("\n");
+  planner::PlanOptions options;
+  options.probability.reset();
+  options.analysis.reverse = false;
+  options.analysis.blame = false;
+  options.analysis.samples = 0;
+  bool all_monotone = true;
+  for (const char* name : kExamples) {
+    const planner::Scenario base = planner::load_scenario(example_path(name));
+    std::printf("| %s |", name);
+    int last_errors = -1, last_violated = -1;
+    bool monotone = true;
+    for (const double s : scales) {
+      const planner::PlanResult result =
+          planner::plan(scaled_scenario(base, s), planner::builtin_domain(), options);
+      const planner::InstanceAnalysis* chosen = result.chosen_analysis();
+      int errors = 0, violated = 0, inserted = 0;
+      if (chosen != nullptr) {
+        errors = chosen->errors;
+        for (const planner::AnalysedStep& step : chosen->steps) {
+          inserted += step.inserted;
+          for (const planner::PreconditionResult& p : step.preconditions)
+            violated += p.verdict == Verdict::kViolated;
+        }
+      }
+      // Scales ascend: a later (wider) one may not be better than an earlier (narrower) one.
+      monotone = monotone && errors >= last_errors && violated >= last_violated;
+      last_errors = errors;
+      last_violated = violated;
+      std::printf(" %d / %d / %d |", errors, violated, inserted);
+    }
+    std::printf(" %s |\n", monotone ? "yes" : "NO");
+    all_monotone = all_monotone && monotone;
+  }
+  return all_monotone;
+}
+
 int main(int argc, char** argv) {
   bool quick = false;
   std::string scenario_dir;
@@ -1088,6 +1158,7 @@ int main(int argc, char** argv) {
     double chain_ratio = 0;
     int max_k = 0;
     k_chain(quick, repeats, chain, chain_tight, chain_ratio, max_k);
+    const bool monotone = scale_sweep();
 
     std::printf("\n## summary\n\n");
     const double expanded_rate = (seed_expanded + scale_expanded) / (seed_seconds + scale_seconds);
@@ -1114,6 +1185,8 @@ int main(int argc, char** argv) {
     std::printf("ratio phase2_width(kchain,median) naive_interval_4x4 %.3g\n",
                 median(chain.width_ratios));
     std::printf("(the width lines are width ratios peer/spar, not times)\n");
+    std::printf("scale sweep monotone (errors and violated never grow as the widths shrink): %s\n",
+                monotone ? "yes" : "NO");
   } catch (const std::exception& error) {
     std::fprintf(stderr, "planner_bench: %s\n", error.what());
     return 1;

@@ -49,10 +49,7 @@ kinematics::Transform rigid(const Matrix4& matrix) {
 Matrix4 matrix(const kinematics::Transform& pose) { return pose.matrix(); }
 
 bounds::Relation relation_named(std::string_view text) {
-  if (text == "<") return bounds::Relation::kLess;
-  if (text == "<=") return bounds::Relation::kLessEqual;
-  if (text == ">") return bounds::Relation::kGreater;
-  if (text == ">=") return bounds::Relation::kGreaterEqual;
+  if (const std::optional<Relation> relation = relation_from_name(text)) return *relation;
   throw bounds::BoundsError("unknown relation '" + std::string(text) +
                             "' in a constraint: use <, <=, > or >=");
 }

@@ -3,10 +3,13 @@
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
-#include <fstream>
+#include <map>
+#include <optional>
 #include <set>
 #include <sstream>
 
+#include "spar/common/input_file.hpp"
+#include "spar/common/text.hpp"
 #include "spar/planner/domain.hpp"
 #include "spar/planner/error.hpp"
 #include "spar/planner/internal/yaml_syntax.hpp"
@@ -17,16 +20,21 @@ namespace {
 // Constants an atom may use besides parameter names.
 const std::set<std::string, std::less<>> kConstants = {"empty"};
 
+// The predicates the planner states itself (the initial state, goals and phase 2's effects) and
+// their arities: gripper(empty), at(object, position), holding(object, grasp), assembled(held,
+// fixed).
+const std::map<std::string, std::size_t, std::less<>> kPlannerPredicates = {
+    {"gripper", 1}, {"at", 2}, {"holding", 2}, {"assembled", 2}};
+
 class DomainReader {
  public:
-  explicit DomainReader(std::string source) : source_(std::move(source)) {}
+  // `source` may come from the file system: it is kept printable (common/text.hpp).
+  explicit DomainReader(const std::string& source) : source_(printable(source)) {}
 
+  // What a message echoes from the file passes through printable() (control characters that
+  // YAML escapes produce).
   [[noreturn]] void fail(const YAML::Mark& mark, const std::string& what) const {
-    std::ostringstream out;
-    out << source_;
-    if (!mark.is_null()) out << ':' << mark.line + 1 << ':' << mark.column + 1;
-    out << ": " << what;
-    throw DomainError(out.str());
+    throw DomainError(internal::yaml_where(source_, mark) + ": " + printable(what));
   }
 
   // Checks that `node` is a map whose keys are all in `allowed`.
@@ -34,7 +42,7 @@ class DomainReader {
                   std::initializer_list<std::string_view> allowed) const {
     if (!node.IsMap()) fail(node.Mark(), what + " must be a map");
     for (const auto& entry : node) {
-      const std::string key = entry.first.as<std::string>();
+      const std::string key = scalar(entry.first, "a key of " + what);
       if (std::find(allowed.begin(), allowed.end(), key) == allowed.end()) {
         std::string known;
         for (std::string_view k : allowed) known += (known.empty() ? "" : ", ") + std::string(k);
@@ -44,9 +52,14 @@ class DomainReader {
     }
   }
 
+  // One line of text: no control characters (a NUL or a backspace from a YAML escape would print
+  // as something else in every report).
   std::string scalar(const YAML::Node& node, const std::string& what) const {
     if (!node.IsScalar()) fail(node.Mark(), what + " must be a text");
-    return node.as<std::string>();
+    if (find_control_character(node.Scalar()))
+      fail(node.Mark(), what + " " + single_quoted(node.Scalar()) +
+                            " holds a control character: texts must be printable");
+    return node.Scalar();
   }
 
   std::vector<std::string> scalars(const YAML::Node& node, const std::string& what) const {
@@ -138,6 +151,7 @@ class DomainReader {
     GeometricPrecondition geometric;
     geometric.establishes = parse_atom(node["for"], "'for' goal");
     check_arguments(action, geometric.establishes, node["for"]);
+    check_arity(geometric.establishes, node["for"]);
     const std::string text = constraint.str();
     const auto expect_arguments = [&](std::size_t count) {
       if (constraint.args.size() != count)
@@ -185,41 +199,129 @@ class DomainReader {
     for (const auto& item : node) {
       atoms.push_back(parse_atom(item, what + " atom"));
       check_arguments(action, atoms.back(), item);
+      check_arity(atoms.back(), item);
     }
     return atoms;
   }
 
+  // A predicate the planner states itself has its arity (kPlannerPredicates); any other keeps the
+  // arity of its first use in the file, so at(object) cannot silently never match at(o, p).
+  void check_arity(const Atom& atom, const YAML::Node& node) const {
+    std::size_t expected = atom.args.size();
+    std::string where = "the planner's " + atom.predicate + "(...)";
+    if (const auto known = kPlannerPredicates.find(atom.predicate);
+        known != kPlannerPredicates.end()) {
+      expected = known->second;
+    } else if (const auto [first, inserted] =
+                   arities_.try_emplace(atom.predicate, atom.args.size(), node.Mark());
+               !inserted) {
+      expected = first->second.first;
+      where = "its first use at " + internal::yaml_where(source_, first->second.second);
+    }
+    if (atom.args.size() != expected)
+      fail(node.Mark(), single_quoted(atom.str()) + " has " + std::to_string(atom.args.size()) +
+                            " argument(s), but " + atom.predicate + " takes " +
+                            std::to_string(expected) + " (" + where + ")");
+  }
+
+  // The first parameter of `type` (position also finds a placement), or nullptr: the instance
+  // steps read the handled object and its position from these (planner/instances.cpp).
+  static const Parameter* first_of(const ActionTemplate& action, ParameterType type) {
+    for (const Parameter& parameter : action.parameters)
+      if (parameter.type == type ||
+          (type == ParameterType::kPosition && parameter.type == ParameterType::kPlacement))
+        return &parameter;
+    return nullptr;
+  }
+
+  // What an effect or builder (`what`) needs of the action's parameters.
+  void check_requirements(const ActionTemplate& action, const Requirements& needs,
+                          const std::string& what, const YAML::Mark& mark) const {
+    const Parameter* grasp = first_of(action, ParameterType::kGrasp);
+    const Parameter* position = first_of(action, ParameterType::kPosition);
+    const std::string where = " (action '" + action.name + "')";
+    if (needs.object && !first_of(action, ParameterType::kObject))
+      fail(mark, what + " needs an object parameter" + where);
+    if ((needs.grasp || needs.own_position || needs.other_position) && grasp == nullptr)
+      fail(mark, what + " needs a grasp parameter, grasp(<object>)" + where);
+    if (needs.own_position && (position == nullptr || position->of != grasp->of))
+      fail(mark, what + " needs a position or placement of the grasped object '" + grasp->of + "'" +
+                     where);
+    if (needs.other_position && (position == nullptr || position->of == grasp->of))
+      fail(mark, what + " needs a position of the fixed object (another object than the grasped '" +
+                     grasp->of + "')" + where);
+  }
+
+  // `effect:` (required) and the `kind:` it implies (a given kind must agree).
+  void parse_effect(ActionTemplate& action, const YAML::Node& node) const {
+    const YAML::Node effect = node["effect"];
+    if (!effect)
+      fail(node.Mark(),
+           "action '" + action.name + "' needs 'effect' (one of " + known_effects() + ")");
+    const std::string name = scalar(effect, "effect");
+    const std::optional<Effect> parsed = effect_from_name(name);
+    if (!parsed)
+      fail(effect.Mark(), "unknown effect '" + name + "' (known: " + known_effects() + ")");
+    action.effect = *parsed;
+    action.kind = action.effect == Effect::kSense    ? ActionKind::kSensing
+                  : action.effect == Effect::kReduce ? ActionKind::kReduction
+                                                     : ActionKind::kManipulation;
+    check_requirements(action, requirements_of(action.effect), "effect " + name, effect.Mark());
+    if (const YAML::Node kind = node["kind"]) {
+      static const std::pair<std::string_view, ActionKind> kKinds[] = {
+          {"manipulation", ActionKind::kManipulation},
+          {"sensing", ActionKind::kSensing},
+          {"reduction", ActionKind::kReduction}};
+      const std::string text = scalar(kind, "kind");
+      const auto found = std::find_if(std::begin(kKinds), std::end(kKinds),
+                                      [&](const auto& entry) { return entry.first == text; });
+      if (found == std::end(kKinds))
+        fail(kind.Mark(), "unknown kind '" + text + "' (known: manipulation, sensing, reduction)");
+      if (found->second != action.kind)
+        fail(kind.Mark(), "kind '" + text + "' disagrees with effect " + name +
+                              " (effect sense is kind sensing, reduce is reduction, the others "
+                              "manipulation; the kind may be left out)");
+    }
+  }
+
+  // `uncertainty:` builders, in order: known, listed once, fitting the effect and the parameters.
+  void parse_builders(ActionTemplate& action, const YAML::Node& list) const {
+    const std::vector<std::string> names = scalars(list, "uncertainty");
+    for (std::size_t i = 0; i < names.size(); ++i) {
+      const YAML::Mark mark = list[i].Mark();
+      const std::optional<Builder> builder = builder_from_name(names[i]);
+      if (!builder)
+        fail(mark,
+             "unknown uncertainty builder '" + names[i] + "' (known: " + known_builders() + ")");
+      if (std::find(action.uncertainty.begin(), action.uncertainty.end(), *builder) !=
+          action.uncertainty.end())
+        fail(mark, "uncertainty builder '" + names[i] + "' is listed twice");
+      if (const std::string conflict = builder_conflict(*builder, action.effect); !conflict.empty())
+        fail(mark, conflict + " (action '" + action.name + "')");
+      check_requirements(action, requirements_of(*builder), "builder " + names[i], mark);
+      action.uncertainty.push_back(*builder);
+    }
+  }
+
   ActionTemplate parse_action(const YAML::Node& node) const {
     expect_map(node, "action",
-               {"name", "kind", "parameters", "operational", "geometric", "uncertainty", "add",
-                "delete", "verification"});
+               {"name", "kind", "effect", "parameters", "operational", "geometric", "uncertainty",
+                "add", "delete", "verification"});
     if (!node["name"]) fail(node.Mark(), "an action needs a 'name'");
     ActionTemplate action;
     action.name = scalar(node["name"], "action name");
-    if (const YAML::Node kind = node["kind"]) {
-      const std::string text = scalar(kind, "kind");
-      if (text == "manipulation")
-        action.kind = ActionKind::kManipulation;
-      else if (text == "sensing")
-        action.kind = ActionKind::kSensing;
-      else if (text == "reduction")
-        action.kind = ActionKind::kReduction;
-      else
-        fail(kind.Mark(), "unknown kind '" + text + "' (known: manipulation, sensing, reduction)");
-    }
     const YAML::Node parameters = node["parameters"];
     if (!parameters || !parameters.IsMap())
       fail(parameters ? parameters.Mark() : node.Mark(),
            "action '" + action.name + "' needs 'parameters' as a map name: type");
     for (const auto& entry : parameters) {
-      const std::string name = entry.first.as<std::string>();
+      const std::string name = scalar(entry.first, "parameter name");
       if (action.parameter_index(name) >= 0)
         fail(entry.first.Mark(), "parameter '" + name + "' appears twice");
       action.parameters.push_back(parse_parameter(name, entry.second));
     }
     for (const auto& entry : parameters) {
-      const Parameter& parameter =
-          action.parameters[action.parameter_index(entry.first.as<std::string>())];
+      const Parameter& parameter = action.parameters[action.parameter_index(entry.first.Scalar())];
       if (parameter.type == ParameterType::kObject) continue;
       const int owner = action.parameter_index(parameter.of);
       if (owner < 0 || action.parameters[owner].type != ParameterType::kObject)
@@ -231,13 +333,8 @@ class DomainReader {
       if (!geometric.IsSequence()) fail(geometric.Mark(), "'geometric' must be a list");
       for (const auto& item : geometric) action.geometric.push_back(parse_geometric(action, item));
     }
-    action.uncertainty = scalars(node["uncertainty"], "uncertainty");
-    for (std::size_t i = 0; i < action.uncertainty.size(); ++i) {
-      const std::string& builder = action.uncertainty[i];
-      if (builder != "pickup" && builder != "squeeze" && builder != "assemble")
-        fail(node["uncertainty"][i].Mark(),
-             "unknown uncertainty builder '" + builder + "' (known: pickup, squeeze, assemble)");
-    }
+    parse_effect(action, node);
+    parse_builders(action, node["uncertainty"]);
     action.add = parse_atoms(action, node["add"], "add");
     action.del = parse_atoms(action, node["delete"], "delete");
     action.verification = scalars(node["verification"], "verification");
@@ -267,12 +364,7 @@ class DomainReader {
   }
 
   Domain parse(std::string_view text) const {
-    YAML::Node root;
-    try {
-      root = YAML::Load(std::string(text));
-    } catch (const YAML::Exception& error) {
-      fail(error.mark, internal::yaml_syntax_error(error));
-    }
+    const YAML::Node root = internal::load_yaml_document<DomainError>(text, source_);
     Domain domain;
     domain.source = source_;
     expect_map(root, "the domain file", {"actions", "verifications", "recoveries"});
@@ -322,6 +414,8 @@ class DomainReader {
 
  private:
   std::string source_;
+  // Predicate -> arity and where it was first used (check_arity).
+  mutable std::map<std::string, std::pair<std::size_t, YAML::Mark>> arities_;
 };
 
 }  // namespace
@@ -331,14 +425,13 @@ Domain parse_domain(std::string_view text, const std::string& source) {
 }
 
 Domain load_domain(const std::filesystem::path& path) {
-  std::error_code error;
-  if (std::filesystem::is_directory(path, error))
-    throw DomainError(path.string() + ": is a directory, not a domain file");
-  std::ifstream in(path);
-  if (!in) throw DomainError(path.string() + ": cannot open the domain file");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return parse_domain(text.str(), path.string());
+  std::string text;
+  try {
+    text = read_input_file(path, "domain file", kMaxYamlFileBytes);
+  } catch (const InputError& error) {
+    throw DomainError(error.what());
+  }
+  return parse_domain(text, path.string());
 }
 
 }  // namespace spar::planner

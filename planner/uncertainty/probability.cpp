@@ -7,6 +7,7 @@
 #include <Eigen/SparseCore>
 #include <SuiteSparseQR.hpp>
 #include <algorithm>
+#include <boost/math/distributions/normal.hpp>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -42,44 +43,14 @@ double normal_mass(double a, double b) {
   if (b <= 0) return normal_cdf(b) - normal_cdf(a);
   return 1 - normal_cdf(a) - 0.5 * std::erfc(b / std::numbers::sqrt2);
 }
-// Φ^-1(p), p in (0, 1): Acklam's rational approximation (relative error 1.2e-9) refined by one
-// Halley step on erfc (then accurate to a few ulps).
-double normal_quantile(double p) {
-  static constexpr double a[] = {-3.969683028665376e+01, 2.209460984245205e+02,
-                                 -2.759285104469687e+02, 1.383577518672690e+02,
-                                 -3.066479806614716e+01, 2.506628277459239e+00};
-  static constexpr double b[] = {-5.447609879822406e+01, 1.615858368580409e+02,
-                                 -1.556989798598866e+02, 6.680131188771972e+01,
-                                 -1.328068155288572e+01};
-  static constexpr double c[] = {-7.784894002430293e-03, -3.223964580411365e-01,
-                                 -2.400758277161838e+00, -2.549732539343734e+00,
-                                 4.374664141464968e+00,  2.938163982698783e+00};
-  static constexpr double d[] = {7.784695709041462e-03, 3.224671290700398e-01,
-                                 2.445134137142996e+00, 3.754408661907416e+00};
-  const double tail = 0.02425;
-  double x = 0;
-  if (p < tail) {
-    const double q = std::sqrt(-2 * std::log(p));
-    x = (((((c[0] * q + c[1]) * q + c[2]) * q + c[3]) * q + c[4]) * q + c[5]) /
-        ((((d[0] * q + d[1]) * q + d[2]) * q + d[3]) * q + 1);
-  } else if (p <= 1 - tail) {
-    const double q = p - 0.5, r = q * q;
-    x = (((((a[0] * r + a[1]) * r + a[2]) * r + a[3]) * r + a[4]) * r + a[5]) * q /
-        (((((b[0] * r + b[1]) * r + b[2]) * r + b[3]) * r + b[4]) * r + 1);
-  } else {
-    const double q = std::sqrt(-2 * std::log(1 - p));
-    x = -(((((c[0] * q + c[1]) * q + c[2]) * q + c[3]) * q + c[4]) * q + c[5]) /
-        ((((d[0] * q + d[1]) * q + d[2]) * q + d[3]) * q + 1);
-  }
-  const double e = normal_cdf(x) - p;
-  const double u = e * std::sqrt(2 * std::numbers::pi) * std::exp(0.5 * x * x);
-  return x - u / (1 + 0.5 * x * u);
-}
+// Φ^-1(p), p in (0, 1) (Boost.Math).
+double normal_quantile(double p) { return boost::math::quantile(boost::math::normal(), p); }
 
 // Wilson score interval (95%) of `k` successes in `n` trials.
 std::pair<double, double> wilson(std::size_t k, std::size_t n) {
   if (n == 0) return {0.0, 1.0};
-  const double z = 1.959963984540054, p = static_cast<double>(k) / n, z2n = z * z / n;
+  static const double z = normal_quantile(0.975);  // 1.95996...
+  const double p = static_cast<double>(k) / n, z2n = z * z / n;
   const double centre = (p + z2n / 2) / (1 + z2n);
   const double half = z / (1 + z2n) * std::sqrt(p * (1 - p) / n + z2n / (4 * n));
   return {std::max(0.0, centre - half), std::min(1.0, centre + half)};
@@ -99,9 +70,6 @@ bool violated(const bounds::Inequality& inequality, double value) {
       return !(value >= t);
   }
   return true;
-}
-bool upper_limit(bounds::Relation relation) {  // f < t or f <= t: violations lie above t
-  return relation == bounds::Relation::kLess || relation == bounds::Relation::kLessEqual;
 }
 
 // P(violation) of N(mean, sigma^2) truncated to the support [lo, hi] of f (the sound bound).
@@ -254,7 +222,7 @@ Eigen::VectorXd min_norm_solve(Csc& m, const Eigen::VectorXd& r, LinearAlgebra a
 // The expressions of a precondition's variables (the pool's variables of those names).
 std::vector<Expr> inputs_of(const InstanceAnalysis& analysis, const PreconditionResult& result) {
   std::vector<Expr> inputs;
-  for (const std::string& name : result.variables) inputs.push_back(analysis.pool->variable(name));
+  for (const VariableId id : result.variables) inputs.push_back(analysis.symbols.at(id.index));
   return inputs;
 }
 
@@ -284,9 +252,6 @@ double Sensitivities::density() const {
 
 Sensitivities sensitivities(const InstanceAnalysis& analysis) {
   Sensitivities out;
-  std::map<std::string, std::size_t> column;
-  for (std::size_t j = 0; j < analysis.variables.size(); ++j)
-    column[analysis.variables[j].name] = j;
   out.cols = analysis.variables.size();
   std::vector<Triplet> triplets;
   for (std::size_t s = 0; s < analysis.steps.size(); ++s)
@@ -312,12 +277,13 @@ Sensitivities sensitivities(const InstanceAnalysis& analysis) {
       double trace = 0;
       for (std::size_t j = 0; j < inputs.size(); ++j) {
         const double first = values[1 + j], second = values[1 + inputs.size() + j];
-        const SpaceVariable& variable = analysis.variables[column.at(result.variables[j])];
+        const std::size_t column = result.variables[j].index;
+        const SpaceVariable& variable = analysis.variables[column];
         if (!std::isfinite(first)) {
           ++out.non_differentiable;
           continue;
         }
-        if (first != 0) triplets.push_back({row, column.at(result.variables[j]), first});
+        if (first != 0) triplets.push_back({row, column, first});
         const VariableMoments moments = variable_moments(variable);
         if (std::isfinite(second))
           trace += 0.5 * second * (moments.variance + moments.mean * moments.mean);
@@ -414,9 +380,8 @@ ProbabilityAnalysis analyse_probability(const InstanceAnalysis& analysis,
   if (options.samples == 0 || jacobian.rows == 0) return out;
 
   // Monte Carlo: every precondition on one tape over every variable, blocks of points.
-  std::vector<Expr> inputs, outputs;
-  for (const SpaceVariable& v : analysis.variables)
-    inputs.push_back(analysis.pool->variable(v.name));
+  std::vector<Expr> outputs;
+  const std::vector<Expr>& inputs = analysis.symbols;
   for (const PreconditionResult* result : results) outputs.push_back(result->inequality.expression);
   const symbolic::Tape tape = symbolic::Tape::compile(outputs, inputs);
   std::vector<Sampler> samplers;
@@ -576,19 +541,6 @@ namespace {
 constexpr double kinematics::PoseUncertainty::*kComponentMember[] = {
     &kinematics::PoseUncertainty::dx, &kinematics::PoseUncertainty::dy,
     &kinematics::PoseUncertainty::dz, &kinematics::PoseUncertainty::dtheta};
-constexpr const char* kComponentName[] = {"dx", "dy", "dz", "dtheta"};
-int component_index(char component) {
-  switch (component) {
-    case 'x':
-      return 0;
-    case 'y':
-      return 1;
-    case 'z':
-      return 2;
-    default:
-      return 3;
-  }
-}
 
 // The scenario block a variable's half-width comes from (its half-widths, model and name), or
 // nullopt when the scenario has none (no range-scan sensor). S is Scenario or const Scenario.
@@ -626,7 +578,7 @@ Scenario ToleranceAllocation::apply(Scenario scenario) const {
   for (const ToleranceParameter& p : parameters) {
     const auto block = block_of(scenario, p.source, p.object);
     if (!block) throw PlanError("tolerance allocation: " + p.name + " is not in the scenario");
-    const int c = component_index(p.component);
+    const int c = index_of(p.component);
     double& width = block->widths->*kComponentMember[c];
     double& sigma = block->model->sigma.*kComponentMember[c];
     if (width > 0) sigma *= p.allocated / width;
@@ -654,7 +606,7 @@ ToleranceAllocation allocate_tolerances(const Scenario& scenario, const Instance
     const Provenance& from = v.provenance;
     const int object = from.source == UncertaintySource::kInitial ? from.object : -1;
     const auto block = block_of(scenario, from.source, object);
-    const int c = component_index(v.component);
+    const int c = index_of(v.component);
     if (!block || !(block->widths->*kComponentMember[c] > 0)) continue;
     const auto key = std::make_tuple(static_cast<int>(from.source), object, c);
     auto [it, fresh] = parameter_of.emplace(key, out.parameters.size());
@@ -663,7 +615,7 @@ ToleranceAllocation allocate_tolerances(const Scenario& scenario, const Instance
       out.parameters.push_back({.source = from.source,
                                 .object = object,
                                 .component = v.component,
-                                .name = block->name + "." + kComponentName[c],
+                                .name = block->name + "." + std::string(to_string(v.component)),
                                 .half_width = width,
                                 .cost = block->model->cost.*kComponentMember[c],
                                 .allocated = width});
@@ -712,13 +664,9 @@ ToleranceAllocation allocate_tolerances(const Scenario& scenario, const Instance
 
   std::vector<bounds::BoundProblem> problems;
   std::vector<std::vector<std::size_t>> variable_index(rows);  // result.variables -> space index
-  std::map<std::string, std::size_t> column;
-  for (std::size_t j = 0; j < analysis.variables.size(); ++j)
-    column[analysis.variables[j].name] = j;
   for (std::size_t k = 0; k < rows && options.verify; ++k) {
     problems.emplace_back(results[k]->inequality.expression, inputs_of(analysis, *results[k]));
-    for (const std::string& name : results[k]->variables)
-      variable_index[k].push_back(column.at(name));
+    for (const VariableId id : results[k]->variables) variable_index[k].push_back(id.index);
   }
 
   const auto violated_rows = [&](const Eigen::VectorXd& p) {
