@@ -110,6 +110,9 @@ void run(const ObjectOptions& options) {
     return metres / unit;
   };
   std::string builtin_name;
+  // On a terminal, what a large mesh is at: each step is O(n log n), but seconds at 200k triangles.
+  const StatusLine status("spar object");
+  status.show("reading the mesh, its faces, convex hull and face pairs");
   const geometry::ObjectModel object = load_object(options.object, unit, builtin_name);
   if (!options.write_off.empty()) {
     write_file(options.write_off, "the mesh", [&](std::ostream& file) {
@@ -118,8 +121,11 @@ void run(const ObjectOptions& options) {
                                                : geometry::builtin_description(builtin_name));
     });
   }
+  status.show("stable poses");
   const auto poses = geometry::stable_poses(object);
+  status.show("grasps");
   const auto grasps = geometry::compute_grasps(object, gripper, quantization);
+  status.clear();
   const auto usable_in = [&](const geometry::Grasp& grasp) {
     std::vector<std::string> labels;
     for (const auto& pose : poses)

@@ -1,5 +1,6 @@
 #include "spar/planner/plan.hpp"
 
+#include "spar/common/deadline.hpp"
 #include "spar/planner/error.hpp"
 
 namespace spar::planner {
@@ -19,7 +20,10 @@ const InstanceAnalysis* PlanResult::chosen_analysis() const {
 
 PlanResult plan(Scenario scenario, const Domain& domain, const PlanOptions& options) {
   if (options.max_instances == 0) throw PlanError("max_instances must be at least 1");
-  const auto stage = [&](std::string_view text) {
+  // Every stage (and every phase 2 instance) is also where a time limit is checked
+  // (common/deadline.hpp: `spar plan --time-limit`); the long loops inside check it too.
+  const std::function<void(std::string_view)> stage = [&](std::string_view text) {
+    check_deadline();
     if (options.progress) options.progress(text);
   };
   stage("world model: grasps and reachability");
@@ -50,7 +54,7 @@ PlanResult plan(Scenario scenario, const Domain& domain, const PlanOptions& opti
       enumerate_instances(result.family, result.world, result.domain, options.max_instances);
   if (options.uncertainty && !result.instances.instances.empty()) {
     result.examined = analyse_instances(result.world, result.domain, result.instances.instances,
-                                        options.analysis, options.progress);
+                                        options.analysis, stage);
     const InstanceAnalysis& chosen = result.examined[choose_instance(result.examined)];
     result.chosen_index = chosen.instance;
     // The chosen plan's collision checks in phase 2's order: a squeeze phase 2 inserted happens

@@ -5,6 +5,7 @@
 #include <limits>
 #include <queue>
 
+#include "spar/common/deadline.hpp"
 #include "spar/planner/error.hpp"
 
 namespace spar::planner {
@@ -723,6 +724,7 @@ PlanFamily Planner::run() {
   std::vector<PartialPlan> children;
   std::string first_refusal;  // why the first complete family was refused
   while (!queue.empty()) {
+    check_deadline();  // a batch's --time-limit (common/deadline.hpp); cheap without one
     if (stats.expanded >= options_.max_nodes)
       return finish(
           std::move(store[queue.top().index].plan), PostingStatus::kNodeLimit,

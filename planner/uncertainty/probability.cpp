@@ -20,6 +20,7 @@
 #include <type_traits>
 
 #include "spar/bounds/inequality.hpp"
+#include "spar/common/deadline.hpp"
 #include "spar/planner/error.hpp"
 #include "spar/planner/uncertainty/analysis.hpp"
 #include "spar/symbolic/operations.hpp"
@@ -392,6 +393,7 @@ ProbabilityAnalysis analyse_probability(const InstanceAnalysis& analysis,
   std::vector<std::size_t> violations(outputs.size(), 0);
   std::size_t plan_violations = 0;
   for (std::size_t done = 0; done < options.samples; done += kBlock) {
+    check_deadline();  // a batch's --time-limit (common/deadline.hpp); cheap without one
     const std::size_t n = std::min(kBlock, options.samples - done);
     for (std::size_t p = 0; p < n; ++p)  // point-major draws: independent of the block size
       for (std::size_t j = 0; j < inputs.size(); ++j) points[j * n + p] = samplers[j](random);
