@@ -35,7 +35,8 @@ PlanResult plan(Scenario scenario, const Domain& domain, const PlanOptions& opti
                     .chosen_index = 0,
                     .probability = {},
                     .tolerances = {},
-                    .chosen_checks = {}};
+                    .chosen_checks = {},
+                    .analysis = options.analysis};
   stage("phase 1: constraint posting");
   PostingOptions posting = options.posting;
   // A complete family counts only if one of its instances is collision-free.

@@ -56,6 +56,8 @@ struct PlanResult {
   // check and what it carries: an instance step's own, a squeeze's where phase 2 put it. Empty
   // unless phase 2 ran.
   std::vector<std::pair<StepCheck, std::vector<int>>> chosen_checks;
+  // The options phase 2 ran with (a report says when a margin is its search's cap, max_scale).
+  AnalysisOptions analysis{};
   // The chosen instance's analysis, or nullptr when phase 2 did not run.
   [[nodiscard]] const InstanceAnalysis* chosen_analysis() const;
 

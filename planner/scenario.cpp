@@ -89,6 +89,15 @@ const SourceLocation& location(const Goal& goal) {
   return std::visit([](const auto& g) -> const SourceLocation& { return g.location; }, goal);
 }
 
+const CameraSensor& Scenario::camera(std::string_view name) const {
+  for (const CameraSensor& camera : cameras)
+    if (camera.name == name) return camera;
+  std::string known;
+  for (const CameraSensor& camera : cameras) known += (known.empty() ? "" : ", ") + camera.name;
+  throw ScenarioError("scenario '" + this->name + "' has no camera '" + std::string(name) +
+                      "' (cameras: " + (known.empty() ? "none" : known) + ")");
+}
+
 Scenario load_scenario(const std::filesystem::path& path) {
   std::string text;
   try {
