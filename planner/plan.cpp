@@ -34,7 +34,8 @@ PlanResult plan(Scenario scenario, const Domain& domain, const PlanOptions& opti
                     .examined = {},
                     .chosen_index = 0,
                     .probability = {},
-                    .tolerances = {}};
+                    .tolerances = {},
+                    .analysis = options.analysis};
   stage("phase 1: constraint posting");
   result.family = post_plan(result.world, result.domain, options.posting);
   if (!result.planned()) return result;

@@ -424,6 +424,7 @@ void bind_planner(py::module_& m) {
 
 PYBIND11_MODULE(_spar, m) {
   m.doc() = spar::python::doc::kModule;
+  m.attr("__version__") = SPAR_VERSION;
   spar::python::register_errors(m);
   spar::python::bind_expressions(m);
   spar::python::bind_kinematics(m);

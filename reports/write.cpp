@@ -17,6 +17,7 @@
 
 #include "spar/reports/error.hpp"
 #include "spar/reports/html.hpp"
+#include "spar/reports/internal/cell_svg.hpp"
 #include "spar/reports/json.hpp"
 #include "spar/reports/markdown.hpp"
 
@@ -168,8 +169,13 @@ int write_new_file(const fs::path& path, const std::string& text) {
 std::vector<fs::path> write_reports(const Report& report, const fs::path& folder,
                                     const std::vector<Format>& formats) {
   if (folder.empty()) throw ReportError("the report folder is empty: give a folder name");
-  std::vector<std::string> texts;
-  for (const Format format : formats) texts.push_back(render(report, format));
+  // Every file: the formats' (returned), then the cell's views the Markdown links to.
+  std::vector<std::pair<std::string, std::string>> files;
+  for (const Format format : formats) files.emplace_back(file_name(format), render(report, format));
+  const std::size_t reports = files.size();
+  if (report.cell && std::find(formats.begin(), formats.end(), Format::kMarkdown) != formats.end())
+    for (std::size_t v = 0; v < report.cell->views.size(); ++v)
+      files.emplace_back(internal::cell_view_file(v), internal::cell_view_svg(report, v, true));
   std::error_code error;
   fs::create_directories(folder, error);
   if (error)
@@ -192,10 +198,9 @@ std::vector<fs::path> write_reports(const Report& report, const fs::path& folder
     discard();
     throw ReportError(what);
   };
-  for (std::size_t i = 0; i < formats.size(); ++i) {
-    const std::string name = file_name(formats[i]);
+  for (const auto& [name, text] : files) {
     members.push_back({unique_name(folder, name, "tmp"), folder / name, {}});
-    if (const int failure = write_new_file(members.back().temporary, texts[i]))
+    if (const int failure = write_new_file(members.back().temporary, text))
       fail("cannot write " + members.back().temporary.string() + ": " + system_reason(failure));
     if (WriterScope::interrupted()) fail("interrupted: the old report is kept");
   }
@@ -232,14 +237,25 @@ std::vector<fs::path> write_reports(const Report& report, const fs::path& folder
   }
   for (const Member& member : members)
     if (!member.backup.empty()) ::unlink(member.backup.c_str());
-  std::vector<fs::path> finals;
-  for (const Member& member : members) finals.push_back(member.final);
-  for (const Format stale : {Format::kJson, Format::kMarkdown, Format::kHtml}) {
-    if (std::find(formats.begin(), formats.end(), stale) != formats.end()) continue;
-    const fs::path old = folder / file_name(stale);
+  // Files of an older report this one does not have: formats not written, and cell views past
+  // this report's (all of them without the Markdown).
+  const auto remove_stale = [&](const std::string& name) {
+    for (const auto& file : files)
+      if (file.first == name) return;
+    const fs::path old = folder / name;
     struct stat info {};
     if (::lstat(old.c_str(), &info) == 0 && !S_ISDIR(info.st_mode)) ::unlink(old.c_str());
+  };
+  for (const Format format : {Format::kJson, Format::kMarkdown, Format::kHtml})
+    remove_stale(file_name(format));
+  for (const auto& entry : fs::directory_iterator(folder, error)) {
+    const std::string name = entry.path().filename().string();
+    if (name.size() > 9 && name.starts_with("cell-") && name.ends_with(".svg") &&
+        name.find_first_not_of("0123456789", 5) == name.size() - 4)
+      remove_stale(name);
   }
+  std::vector<fs::path> finals;
+  for (std::size_t i = 0; i < reports; ++i) finals.push_back(members[i].final);
   return finals;
 }
 

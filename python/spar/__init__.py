@@ -42,6 +42,7 @@ from spar._spar import (  # noqa: F401 (re-exported)
     ShostakError,
     SymbolicError,
     UncertainPose,
+    __version__,
     fk,
     ik,
     possible_manipulator_pose,

@@ -280,6 +280,14 @@ def test_analysis_gives_the_report_records(face_down_run):
     assert list(analysis) == [k for k in chosen if k != "probability"]
 
 
+def test_version_is_the_cli_version():
+    assert spar.__version__.count(".") == 2
+    cli = os.environ.get("SPAR_CLI")
+    if cli:
+        out = subprocess.run([cli, "--version"], check=True, capture_output=True, text=True).stdout
+        assert out == spar.__version__ + "\n"
+
+
 # ---- errors ----
 
 def test_errors_are_a_hierarchy_with_the_engine_messages():

@@ -43,10 +43,12 @@ std::string read(const fs::path& path) {
   return text.str();
 }
 
+// The folder's file names but the cell views (cell-<k>.svg, written with the Markdown).
 std::vector<std::string> names_in(const fs::path& folder) {
   std::vector<std::string> names;
   for (const auto& entry : fs::directory_iterator(folder))
-    names.push_back(entry.path().filename().string());
+    if (!entry.path().filename().string().starts_with("cell-"))
+      names.push_back(entry.path().filename().string());
   std::sort(names.begin(), names.end());
   return names;
 }
@@ -89,6 +91,7 @@ TEST(WriteReportSet, RemovesTheOlderReportsOtherFormats) {
   (void)write_reports(face_up(), folder, kAll);
   (void)write_reports(on_back(), folder, {Format::kJson});
   EXPECT_EQ(names_in(folder), (std::vector<std::string>{"report.json"}));
+  EXPECT_FALSE(fs::exists(folder / "cell-0.svg"));  // the Markdown's drawings went with it
   EXPECT_EQ(read(folder / "report.json"), render(on_back(), Format::kJson));
   fs::remove_all(folder);
 }
