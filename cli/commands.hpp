@@ -26,5 +26,6 @@ void add_object_command(CLI::App& app);
 void add_bound_command(CLI::App& app);
 void add_plan_command(CLI::App& app, int& exit_status);
 void add_evidence_command(CLI::App& app);
+void add_vision_command(CLI::App& app);
 
 }  // namespace spar::cli

@@ -62,11 +62,19 @@ constexpr std::array kNumericLimits{
                  "an insertion's angular clearance"},
     NumericLimit{"goal.mating_vector", kNumber, -1e6, 1e6, false,
                  "a direction (only its sense matters)"},
+    // sensors.cameras[] (planner::CameraSensor): intrinsics and noise in pixels. The image side's
+    // bound is sensing::kMaxImageSide (common/ cannot include sensing/; the scenario test checks).
+    NumericLimit{"camera.focal", kNumber, 0, 1e6, true, "a focal length in pixels"},
+    NumericLimit{"camera.principal_point", kNumber, -1e6, 1e6, false, "a pixel coordinate"},
+    NumericLimit{"camera.image_side", kCount, 1, 16384, false, "an image side in pixels"},
+    NumericLimit{"camera.noise_px", kNumber, 0, 100, false, "an edge detector's noise in pixels"},
+    NumericLimit{"camera.detection_probability", kNumber, 0, 1, true, "a probability"},
     // How many entries a scenario's lists and maps may hold: the geometric level tries every
     // place for every object, stable pose and grasp, and every object's mesh is processed.
     NumericLimit{"scenario.objects", kCount, 1, 100, false, "each object is a mesh to process"},
     NumericLimit{"scenario.places", kCount, 0, 1000, false,
                  "every place is tried with every object, stable pose and grasp"},
+    NumericLimit{"sensors.cameras", kCount, 0, 100, false, "each camera renders the whole scene"},
     NumericLimit{"scenario.goals", kCount, 0, 100, false, "each goal is a subplan"},
 };
 

@@ -55,6 +55,15 @@ const ObjectSpec& Scenario::object(std::string_view name) const {
                       "' (objects: " + (known.empty() ? "none" : known) + ")");
 }
 
+const CameraSensor& Scenario::camera(std::string_view name) const {
+  for (const CameraSensor& camera : cameras)
+    if (camera.name == name) return camera;
+  std::string known;
+  for (const CameraSensor& camera : cameras) known += (known.empty() ? "" : ", ") + camera.name;
+  throw ScenarioError("scenario '" + this->name + "' has no camera '" + std::string(name) +
+                      "' (cameras: " + (known.empty() ? "none" : known) + ")");
+}
+
 Scenario load_scenario(const std::filesystem::path& path) {
   std::string text;
   try {

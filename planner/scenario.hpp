@@ -41,6 +41,7 @@
 #include "spar/kinematics/dh.hpp"
 #include "spar/kinematics/robots.hpp"
 #include "spar/kinematics/uncertain_pose.hpp"
+#include "spar/sensing/camera.hpp"
 
 namespace spar::planner {
 
@@ -133,6 +134,23 @@ struct RangeScanSensor {
   UncertaintyModel residual_model{};  // how the residual is distributed (probability only)
 };
 
+// A camera (sensors.cameras, normative): where it is, how it images (sensing/camera.hpp: the
+// optical frame, +z the viewing direction, +x right, +y down), how noisy its edges are and how
+// often an edge it should see is found. `uncertainty` (optional): the pose's half-widths as an
+// object's (eq. 2: displacement in the world, dtheta about world z through the camera), for a
+// camera on a mobile robot whose position is not known exactly.
+struct CameraSensor {
+  std::string name;
+  sensing::Projection projection{sensing::Projection::kPinhole};
+  sensing::Intrinsics intrinsics{};  // pixels (orthographic fx, fy: pixels per metre)
+  kinematics::Transform pose{kinematics::Transform::Identity()};  // camera frame in the world
+  double noise_px{0.0};               // standard deviation of an edge end point, pixels
+  double detection_probability{1.0};  // in (0, 1]
+  kinematics::PoseUncertainty uncertainty{};
+  UncertaintyModel uncertainty_model{};
+  SourceLocation location;  // of the camera's entry
+};
+
 // SPAR's assembled(held, fixed, [held faces, fixed faces], Ta, mating vector).
 struct AssembledGoal {
   std::string held;              // the object the robot holds and moves
@@ -161,6 +179,7 @@ struct Scenario {
   std::vector<ObjectSpec> objects;  // in file order
   std::vector<Place> places;        // in file order
   std::optional<RangeScanSensor> range_scan;
+  std::vector<CameraSensor> cameras;       // in file order, unique names
   geometry::GraspQuantization grasping{};  // how grasps are quantized (SPAR's grasp labels)
   std::vector<Goal> goals;                 // in file order
   // "file:line:col: ..." for what loads but looks wrong (a mesh whose size is implausible in the
@@ -169,6 +188,8 @@ struct Scenario {
 
   // Throws ScenarioError naming the known objects when there is none called `name`.
   [[nodiscard]] const ObjectSpec& object(std::string_view name) const;
+  // The same for cameras.
+  [[nodiscard]] const CameraSensor& camera(std::string_view name) const;
 };
 
 // Reads and validates a scenario file; mesh paths are relative to the file's folder.

@@ -211,6 +211,8 @@ class Reader {
                                        const ObjectSpec& object, bool features) const;
   [[nodiscard]] std::vector<Place> read_places(const YAML::Node& node) const;
   [[nodiscard]] std::optional<RangeScanSensor> read_sensors(const YAML::Node& node) const;
+  [[nodiscard]] std::vector<CameraSensor> read_cameras(const YAML::Node& sensors) const;
+  [[nodiscard]] CameraSensor read_camera(const YAML::Node& node, const std::string& path) const;
   [[nodiscard]] AssembledGoal read_assembled(const YAML::Node& node, const std::string& path,
                                              const Scenario& scenario) const;
 
@@ -781,13 +783,72 @@ std::vector<Place> Reader::read_places(const YAML::Node& node) const {
 }
 
 std::optional<RangeScanSensor> Reader::read_sensors(const YAML::Node& node) const {
-  const Fields sensors(*this, node, "sensors", {"range_scan"});
+  const Fields sensors(*this, node, "sensors", {"range_scan", "cameras"});
   if (!sensors.has("range_scan")) return std::nullopt;
   const Fields range_scan(*this, sensors.get("range_scan"), "sensors.range_scan", {"residual"});
   RangeScanSensor sensor;
   sensor.residual = uncertainty(range_scan.require("residual"), range_scan.path("residual"),
                                 sensor.residual_model);
   return sensor;
+}
+
+std::vector<CameraSensor> Reader::read_cameras(const YAML::Node& node) const {
+  const Fields sensors(*this, node, "sensors", {"range_scan", "cameras"});
+  std::vector<CameraSensor> cameras;
+  const YAML::Node list = sensors.get("cameras");
+  if (!list.IsDefined()) return cameras;
+  check_count(expect_list(list, "sensors.cameras"), "sensors.cameras", "sensors.cameras");
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    CameraSensor camera = read_camera(list[i], "sensors.cameras[" + std::to_string(i) + "]");
+    for (const CameraSensor& other : cameras)
+      if (other.name == camera.name)
+        fail(list[i], "sensors.cameras[" + std::to_string(i) + "].name: duplicate camera name '" +
+                          camera.name + "'");
+    cameras.push_back(std::move(camera));
+  }
+  return cameras;
+}
+
+// {name, pose: {xyz, rpy}, intrinsics: {fx, fy, cx, cy, width, height}, noise_px,
+// detection_probability, projection, uncertainty}: intrinsics in pixels, the pose in the file's
+// units.
+CameraSensor Reader::read_camera(const YAML::Node& node, const std::string& path) const {
+  const Fields fields(*this, node, path,
+                      {"name", "pose", "intrinsics", "noise_px", "detection_probability",
+                       "projection", "uncertainty"});
+  CameraSensor camera;
+  camera.name = identifier(fields.require("name"), fields.path("name"));
+  camera.location = where(node);
+  camera.pose = rigid_pose(fields.require("pose"), fields.path("pose"));
+  if (const YAML::Node kind = fields.get("projection"); kind.IsDefined()) {
+    const std::string name = text(kind, fields.path("projection"));
+    const std::vector<std::string> known = {"pinhole", "orthographic"};
+    if (name == "orthographic")
+      camera.projection = sensing::Projection::kOrthographic;
+    else if (name != "pinhole")
+      fail(kind, fields.path("projection") + ": unknown projection '" + name + "'" +
+                     suggestion(name, known) + "; known: " + join(known));
+  }
+  const Fields k(*this, fields.require("intrinsics"), fields.path("intrinsics"),
+                 {"fx", "fy", "cx", "cy", "width", "height"});
+  const auto pixels = [&](const char* key, std::string_view limit_key) {
+    return quantity(k.require(key), k.path(key), limit_key);
+  };
+  camera.intrinsics = {.fx = pixels("fx", "camera.focal"),
+                       .fy = pixels("fy", "camera.focal"),
+                       .cx = pixels("cx", "camera.principal_point"),
+                       .cy = pixels("cy", "camera.principal_point"),
+                       .width = static_cast<int>(pixels("width", "camera.image_side")),
+                       .height = static_cast<int>(pixels("height", "camera.image_side"))};
+  if (const YAML::Node value = fields.get("noise_px"); value.IsDefined())
+    camera.noise_px = quantity(value, fields.path("noise_px"), "camera.noise_px");
+  if (const YAML::Node value = fields.get("detection_probability"); value.IsDefined())
+    camera.detection_probability =
+        quantity(value, fields.path("detection_probability"), "camera.detection_probability");
+  if (fields.has("uncertainty"))
+    camera.uncertainty = uncertainty(fields.get("uncertainty"), fields.path("uncertainty"),
+                                     camera.uncertainty_model);
+  return camera;
 }
 
 AssembledGoal Reader::read_assembled(const YAML::Node& node, const std::string& path,
@@ -864,7 +925,10 @@ Scenario Reader::read(std::string_view document_text) {
     scenario.objects.push_back(read_object(key, entry.second));
   }
   if (top.has("places")) scenario.places = read_places(top.get("places"));
-  if (top.has("sensors")) scenario.range_scan = read_sensors(top.get("sensors"));
+  if (top.has("sensors")) {
+    scenario.range_scan = read_sensors(top.get("sensors"));
+    scenario.cameras = read_cameras(top.get("sensors"));
+  }
   scenario.warnings = warnings_;  // after every object's mesh
   if (const YAML::Node goals = top.get("goals"); goals.IsDefined()) {
     check_count(expect_list(goals, "goals"), "goals", "scenario.goals");

@@ -182,8 +182,8 @@ std::vector<StepMotion> motions(const planner::PlanResult& result,
     return out;
   }
   for (const planner::InstanceStep& step : instance.steps)
-    out.push_back({result.domain.actions.at(step.action).effect, step.object,
-                   step.grasp, step.is_assembly() ? step.held_pose : step.object_pose});
+    out.push_back({result.domain.actions.at(step.action).effect, step.object, step.grasp,
+                   step.is_assembly() ? step.held_pose : step.object_pose});
   return out;
 }
 

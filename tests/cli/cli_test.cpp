@@ -83,6 +83,13 @@ const fs::path& scratch() {
     write_text(root / "huge.off",
                "OFF\n4 4 0\n0 0 0\n1e300 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n");
     fs::create_directory(root / "folder.off");
+    // Image files for `spar vision match`: three edges that are nothing the sidewalk camera
+    // expects, and an edge without its end.
+    write_text(root / "clutter_only.json",
+               R"({"edges": [{"id": 1, "p0": [10, 10], "p1": [200, 30]},
+                             {"id": 2, "p0": [600, 400], "p1": [420, 300]},
+                             {"id": 3, "p0": [100, 450], "p1": [110, 300]}]})");
+    write_text(root / "bad_image.json", R"({"edges": [{"id": "a", "p0": [1, 2]}]})");
     write_text(root / "bad_mass.json",
                "{\"frame\": [\"a\", \"b\"],\n \"sources\": [[{\"set\": [\"a\"], \"mass\": 1.5}]]}");
     write_text(root / "conflict.json",
@@ -177,6 +184,8 @@ TEST_P(CliCase, ExitStatusAndMessages) {
 constexpr int kError = 1;
 const std::string kFull = "/dev/full";
 const std::string kLost = "cannot write the output to standard output: No space left on device";
+const std::string kSidewalk = "@SRC@/examples/vision/pseiki_sidewalk.yaml";
+const std::string kSidewalkImage = "@SRC@/examples/vision/pseiki_sidewalk_image.json";
 const std::string kPose =
     "1 0 0 0.5 0 -1 0 0.1 0 0 -1 0.2 0 0 0 1";  // a flange pose spar ik solves
 
@@ -331,6 +340,37 @@ const std::vector<Case> kCases = {
   {"EvidenceBadMass", {"evidence", "@DIR@/bad_mass.json"}, kError, "",
    "bad_mass.json: sources\\[0\\]\\[0\\].mass: must be a number in \\[0, 1\\], got 1.5"},
   {"EvidenceTotalConflict", {"evidence", "@DIR@/conflict.json"}, kError, "", "total conflict"},
+  // PSEIKI verification vision (issue 27) on the survey's sidewalk example.
+  {"VisionRender", {"vision", "render", kSidewalk, "--camera", "front", "--json"}, 0,
+   "\"edges\": \\[\n *\\{\n *\"id\": \"walk/e1\",\n *\"object\": \"walk\",\n *\"faces\": "
+   "\\[\n *\"walk/f1\"\n *\\],\n *\"p0\": \\[", ""},
+  {"VisionMatch", {"vision", "match", kSidewalk, "--camera", "front", "--image", kSidewalkImage,
+                   "--json"}, 0,
+   "\"scene\": \\{\n *\"belief\": 0.85[0-9]*,\n *\"disbelief\": [0-9.e-]+,\n *\"accepted\": "
+   "true[^]*\"pose_correction\": \\{\n *\"object\": \"front\"", ""},
+  {"VisionMatchText", {"vision", "match", kSidewalk, "--camera", "front", "--image",
+                       kSidewalkImage}, 0,
+   "^scene belief 0.85 \\(threshold 0.50\\): accepted\n", ""},
+  {"VisionMatchRejects", {"vision", "match", kSidewalk, "--camera", "front", "--image",
+                          "@DIR@/clutter_only.json"}, 0,
+   "^scene belief 0.00 \\(threshold 0.50\\): rejected\n", ""},
+  {"VisionSimulate", {"vision", "simulate", kSidewalk, "--camera", "front", "--seed", "3",
+                      "--perturb", "split=0.1,clutter=5"}, 0,
+   // No [^]* across the whole output: libstdc++'s regex recurses once per character and
+   // overflows the stack under AddressSanitizer on these ~100 KB.
+   "\n *\"truth\": \"walk/e[0-9]+\"\n", ""},
+  {"VisionUnknownCamera", {"vision", "render", kSidewalk, "--camera", "back"}, kError, "",
+   "scenario 'pseiki_sidewalk' has no camera 'back' \\(cameras: front\\)"},
+  {"VisionImageMissing", {"vision", "match", kSidewalk, "--camera", "front", "--image",
+                          "@DIR@/none.json"}, kError, "",
+   "none.json: cannot read the image file: no such file"},
+  {"VisionImageBadEdge", {"vision", "match", kSidewalk, "--camera", "front", "--image",
+                          "@DIR@/bad_image.json"}, kError, "",
+   "bad_image.json: edges\\[0\\]: missing key 'p1'"},
+  {"VisionPerturbUnknownKey", {"vision", "simulate", kSidewalk, "--camera", "front", "--perturb",
+                               "shade=1"}, kError, "", "--perturb: unknown key 'shade'"},
+  {"VisionRenderFull", {"vision", "render", kSidewalk, "--camera", "front"}, kError, "", kLost,
+   kFull},
   // Output that cannot be written fails the command.
   {"SimplifyFull", {"simplify", "x+x"}, kError, "", kLost, kFull},
   {"BoundFull", {"bound", "x", "--var", "x=0:1"}, kError, "", kLost, kFull},
