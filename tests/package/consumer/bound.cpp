@@ -1,8 +1,9 @@
 // Bounds an expression with an installed spar's symbolic and bounds libraries (tests/package;
 // the shared-library install links only these two).
+#include "spar/bounds/bound.hpp"
+
 #include <iostream>
 
-#include "spar/bounds/bound.hpp"
 #include "spar/symbolic/parse.hpp"
 
 int main() {

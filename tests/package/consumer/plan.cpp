@@ -1,7 +1,8 @@
 // Plans a scenario with an installed spar (tests/package).
+#include "spar/planner/plan.hpp"
+
 #include <iostream>
 
-#include "spar/planner/plan.hpp"
 #include "spar/reports/plan_json.hpp"
 
 int main(int argc, char** argv) {
