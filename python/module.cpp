@@ -110,6 +110,10 @@ template <class T>
 py::object member_to_python(const T& value) {
   return py::cast(value);
 }
+py::object member_to_python(const reports::Nullable<double>& value) {
+  if (!value) return py::none();
+  return py::float_(*value);
+}
 py::object member_to_python(const reports::NamedValues<double>& values) {
   py::dict out;
   for (const auto& [name, value] : values) out[py::str(name)] = value;
@@ -118,6 +122,10 @@ py::object member_to_python(const reports::NamedValues<double>& values) {
 template <class T>
 void member_from_python(const py::handle& value, T& out) {
   out = value.cast<T>();
+}
+void member_from_python(const py::handle& value, reports::Nullable<double>& out) {
+  out = value.is_none() ? reports::Nullable<double>()
+                        : reports::Nullable<double>(value.cast<double>());
 }
 void member_from_python(const py::handle& value, reports::NamedValues<double>& out) {
   out.clear();
@@ -150,18 +158,21 @@ reports::BoundRecord bound_from_dict(const py::dict& d) {
 void bind_bound_record(py::class_<reports::BoundRecord>& cls) {
   const reports::BoundRecord names;
   reports::BoundRecord::fields(names, [&](const char* key, const auto&) {
-    cls.def_property_readonly(key, [key](const reports::BoundRecord& r) {
-      py::object out = py::none();
-      reports::BoundRecord::fields(r, [&]<class M>(const char* name, const M& member) {
-        if (std::string_view(name) != key) return;
-        if constexpr (std::is_same_v<M, std::optional<std::string>>) {
-          if (member) out = py::str(*member);
-        } else {
-          out = member_to_python(member);
-        }
-      });
-      return out;
-    }, doc::of(std::string("BoundResult.") + key));
+    cls.def_property_readonly(
+        key,
+        [key](const reports::BoundRecord& r) {
+          py::object out = py::none();
+          reports::BoundRecord::fields(r, [&]<class M>(const char* name, const M& member) {
+            if (std::string_view(name) != key) return;
+            if constexpr (std::is_same_v<M, std::optional<std::string>>) {
+              if (member) out = py::str(*member);
+            } else {
+              out = member_to_python(member);
+            }
+          });
+          return out;
+        },
+        doc::of(std::string("BoundResult.") + key));
   });
 }
 
@@ -182,8 +193,7 @@ void bind_expressions(py::module_& m) {
       .def(py::pickle([](const Expression& e) { return expression_text(e); },
                       [](const std::string& text) { return parse_expression(text); }));
 
-  py::class_<reports::BoundRecord> bound_result(
-      m, "BoundResult", doc::of("BoundResult"));
+  py::class_<reports::BoundRecord> bound_result(m, "BoundResult", doc::of("BoundResult"));
   bind_bound_record(bound_result);
   bound_result.def("as_dict", &bound_dict, doc::of("BoundResult.as_dict"))
       .def("__repr__",
@@ -256,12 +266,13 @@ void bind_kinematics(py::module_& m) {
   py::class_<IkSolutionInfo>(m, "IkSolution", doc::of("IkSolution"))
       .def_readonly("configuration", &IkSolutionInfo::configuration,
                     doc::of("IkSolution.configuration"))
-      .def_property_readonly("q",
-                             [](const IkSolutionInfo& s) {
-                               return Eigen::VectorXd(Eigen::Map<const Eigen::VectorXd>(
-                                   s.q.data(), static_cast<Eigen::Index>(s.q.size())));
-                             },
-                             doc::of("IkSolution.q"))
+      .def_property_readonly(
+          "q",
+          [](const IkSolutionInfo& s) {
+            return Eigen::VectorXd(Eigen::Map<const Eigen::VectorXd>(
+                s.q.data(), static_cast<Eigen::Index>(s.q.size())));
+          },
+          doc::of("IkSolution.q"))
       .def_readonly("within_limits", &IkSolutionInfo::within_limits,
                     doc::of("IkSolution.within_limits"))
       .def_readonly("singularities", &IkSolutionInfo::singularities,
@@ -295,30 +306,31 @@ void bind_kinematics(py::module_& m) {
 
   py::class_<UncertainPose>(m, "UncertainPose", doc::of("UncertainPose"))
       .def("entry", &pose_entry, "row"_a, "column"_a, Release(), doc::of("UncertainPose.entry"))
-      .def("__getitem__",
-           [](const UncertainPose& pose, std::pair<int, int> index) {
-             return pose_entry(pose, index.first, index.second);
-           },
-           "index"_a)
-      .def_property_readonly("matrix",
-                             [](const UncertainPose& pose) {
-                               std::vector<std::vector<Expression>> rows(4);
-                               for (int r = 0; r < 4; ++r)
-                                 for (int c = 0; c < 4; ++c)
-                                   rows[r].push_back(pose_entry(pose, r, c));
-                               return rows;
-                             },
-                             doc::of("UncertainPose.matrix"))
-      .def_property_readonly("variables",
-                             [](const UncertainPose& pose) {
-                               py::dict out;
-                               for (const auto& v : pose.variables)
-                                 out[py::str(v.name)] = py::make_tuple(v.lower, v.upper);
-                               return out;
-                             },
-                             doc::of("UncertainPose.variables"))
-      .def("evaluate", &evaluate_pose, "values"_a, Release(),
-           doc::of("UncertainPose.evaluate"));
+      .def(
+          "__getitem__",
+          [](const UncertainPose& pose, std::pair<int, int> index) {
+            return pose_entry(pose, index.first, index.second);
+          },
+          "index"_a)
+      .def_property_readonly(
+          "matrix",
+          [](const UncertainPose& pose) {
+            std::vector<std::vector<Expression>> rows(4);
+            for (int r = 0; r < 4; ++r)
+              for (int c = 0; c < 4; ++c) rows[r].push_back(pose_entry(pose, r, c));
+            return rows;
+          },
+          doc::of("UncertainPose.matrix"))
+      .def_property_readonly(
+          "variables",
+          [](const UncertainPose& pose) {
+            py::dict out;
+            for (const auto& v : pose.variables)
+              out[py::str(v.name)] = py::make_tuple(v.lower, v.upper);
+            return out;
+          },
+          doc::of("UncertainPose.variables"))
+      .def("evaluate", &evaluate_pose, "values"_a, Release(), doc::of("UncertainPose.evaluate"));
   m.def(
       "possible_object_pose",
       [](const Matrix4& ideal, const std::map<std::string, double>& uncertainty,
@@ -338,8 +350,7 @@ void bind_kinematics(py::module_& m) {
 void bind_planner(py::module_& m) {
   py::class_<planner::Scenario>(m, "Scenario", doc::of("Scenario"))
       .def_readonly("name", &planner::Scenario::name, doc::of("Scenario.name"))
-      .def_readonly("description", &planner::Scenario::description,
-                    doc::of("Scenario.description"))
+      .def_readonly("description", &planner::Scenario::description, doc::of("Scenario.description"))
       .def_property_readonly("meshes", &scenario_mesh_files, doc::of("Scenario.meshes"))
       .def_readonly("warnings", &planner::Scenario::warnings, doc::of("Scenario.warnings"));
   m.def("_load_scenario", &load_scenario_file, "path"_a, Release());

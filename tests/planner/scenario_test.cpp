@@ -116,8 +116,7 @@ TEST(Scenario, ValidTextLoadsWithDefaultsAndConvertedUnits) {
 // sensors.cameras (normative): intrinsics in pixels, the pose in the file's units; the lookup by
 // name lists the known cameras.
 TEST(Scenario, CamerasLoadWithIntrinsicsInPixelsAndThePoseInTheFilesUnits) {
-  const Scenario scenario = parse_scenario(
-      kValid + R"(sensors:
+  const Scenario scenario = parse_scenario(kValid + R"(sensors:
   cameras:
     - name: overhead
       pose: {xyz: [20, 0, 30], rpy: [180, 0, 0]}
@@ -128,7 +127,7 @@ TEST(Scenario, CamerasLoadWithIntrinsicsInPixelsAndThePoseInTheFilesUnits) {
     - {name: side, pose: {xyz: [0, 0, 10]}, projection: orthographic,
        intrinsics: {fx: 100, fy: 100, cx: 64, cy: 64, width: 128, height: 128}}
 )",
-      "cell.yaml", ".");
+                                           "cell.yaml", ".");
   ASSERT_EQ(scenario.cameras.size(), 2u);
   const CameraSensor& overhead = scenario.camera("overhead");
   EXPECT_EQ(overhead.projection, sensing::Projection::kPinhole);
@@ -160,9 +159,10 @@ TEST(ScenarioErrors, CameraMistakesNameTheKey) {
   const auto broken = [&](const std::string& from, const std::string& to) {
     return kValid + replaced(camera, from, to);
   };
-  expect_error(broken("fx: 800", "fx: 0"), 16, 59,
-               "sensors.cameras[0].intrinsics.fx: must be a number > 0 and <= 1e+06 (a focal length "
-               "in pixels), got 0");
+  expect_error(
+      broken("fx: 800", "fx: 0"), 16, 59,
+      "sensors.cameras[0].intrinsics.fx: must be a number > 0 and <= 1e+06 (a focal length "
+      "in pixels), got 0");
   expect_error(broken("width: 640", "width: 64.5"), 16, 98,
                "sensors.cameras[0].intrinsics.width: must be a whole number >= 1 and <= 16384 (an "
                "image side in pixels), got 64.5");
@@ -178,8 +178,9 @@ TEST(ScenarioErrors, CameraMistakesNameTheKey) {
   expect_error(broken("}}", "}, projection: pinhol}"), 16, 129,
                "unknown projection 'pinhol' (did you mean 'pinhole'?)");
   expect_error(broken("}}", "}, noise: 1}"), 16, 117, "sensors.cameras[0]: unknown key 'noise'");
-  expect_error(kValid + camera + "    - {name: c, pose: {}, intrinsics: {fx: 1, fy: 1, cx: 0, cy: 0, "
-                                 "width: 1, height: 1}}\n",
+  expect_error(kValid + camera +
+                   "    - {name: c, pose: {}, intrinsics: {fx: 1, fy: 1, cx: 0, cy: 0, "
+                   "width: 1, height: 1}}\n",
                17, 7, "sensors.cameras[1].name: duplicate camera name 'c'");
 }
 
@@ -559,7 +560,8 @@ TEST(SeedExperiments, EveryInitialPoseAndEveryPlaceIsWithinReach) {
         for (const geometry::StablePose& stable : object.stable_poses) {
           const kinematics::Transform pose =
               Eigen::Translation3d(place.x, place.y, 0) *
-              Eigen::AngleAxisd(place.yaw, Eigen::Vector3d::UnitZ()) * stable.object_to_world;
+              Eigen::AngleAxisd(place.yaws.front(), Eigen::Vector3d::UnitZ()) *
+              stable.object_to_world;
           EXPECT_TRUE(some_grasp_reachable(scenario, stable, pose, grasps, gripper))
               << object.name << " " << stable.label << " at " << place.name;
         }
@@ -573,7 +575,7 @@ TEST(SeedExperiments, EveryInitialPoseAndEveryPlaceIsWithinReach) {
     for (const Place& place : scenario.places) {
       const kinematics::Transform block_pose =
           Eigen::Translation3d(place.x, place.y, 0) *
-          Eigen::AngleAxisd(place.yaw, Eigen::Vector3d::UnitZ()) * hole_up.object_to_world;
+          Eigen::AngleAxisd(place.yaws.front(), Eigen::Vector3d::UnitZ()) * hole_up.object_to_world;
       bool mate_reachable = false;
       for (const geometry::Grasp& grasp : peg_grasps)
         mate_reachable |=
