@@ -3,7 +3,8 @@
 # tests, so a failure here is a sanitizer or fuzzer finding, not an ordinary test failure.
 # ONE build, with clang: everything (modules, CLI, tests, the libFuzzer targets of tests/fuzz)
 # with AddressSanitizer + UndefinedBehaviorSanitizer and libFuzzer's coverage instrumentation
-# (any report aborts). Two separate builds (GCC for the tests, clang for the fuzz targets) cost
+# (any report aborts); the tests' own sources are not instrumented (tests/CMakeLists.txt), the
+# spar code they call is. Two separate builds (GCC for the tests, clang for the fuzz targets) cost
 # ~8 of CI's minutes for nothing the one build misses.
 #   1. The WHOLE test suite in that build, except the README tour (readme: it runs the same CLI
 #      the CLI tests run here, serially, and the Release stage runs it), with every property's

@@ -325,24 +325,39 @@ class IndependentCollisionChecker {
   }
 
   // `parts` (each in the frame `from`) placed at translate(s motion) from for s from 0 to 1, at
-  // samples kStep apart, against `obstacles` (world); the table at both ends.
+  // samples kStep apart, against `obstacles` (world); the table at both ends. The motion is a pure
+  // translation, so a part's box at a sample is its start box moved along: a sample whose moved
+  // box (grown by kBoxSlack against rounding) misses an obstacle's box cannot meet it, and only
+  // the others are posed and tested exactly.
   void sweep(std::vector<std::string>& problems, const std::string& what,
              const std::vector<Triangles>& parts, const kinematics::Transform& from,
              const Eigen::Vector3d& motion,
              const std::vector<std::pair<std::string, Triangles>>& obstacles) const {
+    constexpr double kBoxSlack = 1e-9;
+    std::vector<Eigen::AlignedBox3d> start_boxes, obstacle_boxes;
+    std::vector<double> start_lowest;
+    for (const Triangles& part : parts) {
+      const Triangles start = posed(part, from);
+      start_boxes.push_back(box_of(start));
+      start_lowest.push_back(lowest(start));
+    }
+    for (const auto& obstacle : obstacles) obstacle_boxes.push_back(box_of(obstacle.second));
     const int samples = std::max(1, static_cast<int>(std::ceil(motion.norm() / kStep)));
     for (int k = 0; k <= samples; ++k) {
-      const kinematics::Transform at =
-          Eigen::Translation3d(motion * (static_cast<double>(k) / samples)) * from;
-      for (const Triangles& part : parts) {
-        const Triangles placed = posed(part, at);
-        if ((k == 0 || k == samples) && lowest(placed) < -1e-6) {
+      const Eigen::Vector3d shift = motion * (static_cast<double>(k) / samples);
+      const kinematics::Transform at = Eigen::Translation3d(shift) * from;
+      for (std::size_t p = 0; p < parts.size(); ++p) {
+        if ((k == 0 || k == samples) && start_lowest[p] + shift.z() < -1e-6) {
           problems.push_back(what + "goes below the table");
           return;
         }
-        for (const auto& [name, obstacle] : obstacles)
-          if (interpenetrate(placed, obstacle)) {
-            problems.push_back(what + "meets " + name);
+        Eigen::AlignedBox3d moved(start_boxes[p].min() + shift, start_boxes[p].max() + shift);
+        moved.min().array() -= kBoxSlack;
+        moved.max().array() += kBoxSlack;
+        for (std::size_t o = 0; o < obstacles.size(); ++o)
+          if (moved.intersects(obstacle_boxes[o]) &&
+              interpenetrate(posed(parts[p], at), obstacles[o].second)) {
+            problems.push_back(what + "meets " + obstacles[o].first);
             return;
           }
       }
