@@ -17,8 +17,12 @@
 //                split, 0.5 px noise) with c clutter edges added (c = 0..400): time against the
 //                number of image edges and of expected (model) edges.
 //
+//   labels       issue 27's label criteria (tests/sensing/pseiki/label_score.hpp) over seeds 1..40
+//                of its simulated image, on the tests' two boxes and on 4 and 8 boxes.
+//
 //   pseiki_bench [--quick]
 // Prints `ratio pseiki_combination flat_dempster <flat / hierarchical>` per size, and tables.
+#include <algorithm>
 #include <cstdio>
 #include <cstring>
 #include <string>
@@ -30,6 +34,7 @@
 #include "spar/sensing/pseiki/hierarchical_evidence.hpp"
 #include "spar/sensing/pseiki/matcher.hpp"
 #include "spar/sensing/pseiki/simulate.hpp"
+#include "tests/sensing/pseiki/label_score.hpp"
 #include "tests/sensing/pseiki/scenes.hpp"
 
 namespace {
@@ -121,8 +126,7 @@ void matching(bool quick) {
           .pose_scale = 1, .noise_px = 0.5, .drop = 0.2, .split = 0.1, .clutter = clutter};
       const pseiki::SimulatedImage image =
           pseiki::simulate(test.scene, test.camera, test.uncertainty, perturbation, 7);
-      std::vector<pseiki::ImageEdgeInput> inputs;
-      for (const pseiki::SimulatedEdge& edge : image.edges) inputs.push_back(edge.edge);
+      const std::vector<pseiki::ImageEdgeInput> inputs = pseiki::testing::inputs_of(image);
       pseiki::MatchOptions options;
       options.detection_probability = 0.8;
       bool accepted = false;
@@ -136,6 +140,41 @@ void matching(bool quick) {
   }
 }
 
+// Issue 27's label criteria over many seeds of its simulated image (label_score.hpp): the share of
+// surviving edges with their true label (mean and worst seed; the issue asks >= 90%), clutter and
+// shadow edges labelled with belief >= 0.2 (the issue asks none), accepted interpretations.
+void labels(bool quick) {
+  const int seeds = quick ? 10 : 40;
+  std::printf("\n== labels: seeds 1..%d of the issue's simulated image ==\n", seeds);
+  std::printf("%12s %9s %9s %10s %18s %9s\n", "scene", "mean_acc", "min_acc", "seeds<90%",
+              "clutter_believed", "accepted");
+  for (const int k : {0, 4, 8}) {
+    // Built in place: the scene refers to the models the TestScene holds.
+    const pseiki::testing::TestScene test = k == 0 ? pseiki::testing::two_boxes() : boxes(k);
+    const std::string name = k == 0 ? "two_boxes" : "boxes" + std::to_string(k);
+    pseiki::MatchOptions options;
+    options.detection_probability = 0.8;
+    double sum = 0, worst = 1;
+    int below = 0, believed = 0, clutter = 0, accepted = 0;
+    for (int seed = 1; seed <= seeds; ++seed) {
+      const pseiki::SimulatedImage image =
+          pseiki::simulate(test.scene, test.camera, test.uncertainty,
+                           pseiki::testing::kIssuePerturbation, static_cast<std::uint64_t>(seed));
+      const pseiki::Verification result = pseiki::verify(
+          test.scene, test.camera, test.uncertainty, pseiki::testing::inputs_of(image), options);
+      const pseiki::testing::LabelScore score = pseiki::testing::score(result, image);
+      sum += score.accuracy();
+      worst = std::min(worst, score.accuracy());
+      below += score.accuracy() < 0.9 ? 1 : 0;
+      believed += score.clutter_believed;
+      clutter += score.clutter;
+      accepted += result.accepted ? 1 : 0;
+    }
+    std::printf("%12s %9.4f %9.4f %10d %11d of %4d %6d/%d\n", name.c_str(), sum / seeds, worst,
+                below, believed, clutter, accepted, seeds);
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -144,4 +183,5 @@ int main(int argc, char** argv) {
               quick ? " --quick" : "", spar::bench::load_average().c_str());
   combination(quick);
   matching(quick);
+  labels(quick);
 }
