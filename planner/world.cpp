@@ -484,17 +484,9 @@ StepCheck WorldModel::grasp_check(int object, int grasp, const kinematics::Trans
     if (geometry::collide(closed, part.placed, margin()))
       return fail("the gripper, closed on " + name + ", hits " +
                   scenario_.objects[part.object].name + " assembled into it");
-  std::optional<geometry::Body> with_parts;
-  const geometry::Body* moving = &held_[object][grasp];
-  if (!parts.empty()) {
-    with_parts = held_[object][grasp];
-    for (const Obstacle& part : parts)
-      with_parts = with_parts->joined(*part.placed.body,
-                                      gripper_pose.inverse(Eigen::Isometry) * part.placed.pose,
-                                      with_parts->name());
-    moving = &*with_parts;
-  }
-  const geometry::PlacedBody held{moving, gripper_pose};
+  const std::optional<geometry::Body> with_parts =
+      carrying(held_[object][grasp], gripper_pose, parts);
+  const geometry::PlacedBody held{with_parts ? &*with_parts : &held_[object][grasp], gripper_pose};
   if (const int hit = first_hit(held, -approach, others, margin()); hit >= 0)
     return fail(name + " in the gripper hits " + scenario_.objects[others[hit].object].name);
   if (below_table(held, -approach)) return fail(name + " in the gripper goes below the table");
@@ -507,31 +499,43 @@ StepCheck WorldModel::grasp_check(int object, int grasp, const kinematics::Trans
   return check;
 }
 
+WorldModel::InsertionFrame WorldModel::insertion_frame(
+    int goal, int grasp, const kinematics::Transform& fixed_pose) const {
+  const GoalWorld& tables = goals_[goal];
+  const AssembledGoal& assembled = std::get<AssembledGoal>(scenario_.goals[goal]);
+  const kinematics::Transform held_pose = fixed_pose * assembled.relative;
+  return {.held_name = scenario_.objects[tables.held].name,
+          .fixed_name = scenario_.objects[tables.fixed].name,
+          .held_pose = held_pose,
+          .gripper_pose = held_pose * objects_[tables.held].grasps[grasp].gripper_in_object,
+          .insertion = scenario_.robot.approach_distance *
+                       (fixed_pose.linear() * assembled.mating_vector).normalized()};
+}
+
+std::optional<geometry::Body> WorldModel::carrying(const geometry::Body& body,
+                                                   const kinematics::Transform& gripper_pose,
+                                                   const std::vector<Obstacle>& parts) {
+  if (parts.empty()) return std::nullopt;
+  geometry::Body joined = body;
+  for (const Obstacle& part : parts)
+    joined = joined.joined(*part.placed.body,
+                           gripper_pose.inverse(Eigen::Isometry) * part.placed.pose, body.name());
+  return joined;
+}
+
 std::optional<std::string> WorldModel::insertion_pair_conflict(
     int goal, int grasp, const kinematics::Transform& fixed_pose,
     const std::vector<Obstacle>& held_parts) const {
   const GoalWorld& tables = goals_[goal];
-  const AssembledGoal& assembled = std::get<AssembledGoal>(scenario_.goals[goal]);
-  const std::string& held_name = scenario_.objects[tables.held].name;
-  const std::string& fixed_name = scenario_.objects[tables.fixed].name;
-  const kinematics::Transform held_pose = fixed_pose * assembled.relative;
-  const kinematics::Transform gripper_pose =
-      held_pose * objects_[tables.held].grasps[grasp].gripper_in_object;
-  const Eigen::Vector3d insertion = scenario_.robot.approach_distance *
-                                    (fixed_pose.linear() * assembled.mating_vector).normalized();
+  const auto [held_name, fixed_name, held_pose, gripper_pose, insertion] =
+      insertion_frame(goal, grasp, fixed_pose);
   const std::vector<Obstacle> fixed_alone = {{tables.fixed, {&bodies_[tables.fixed], fixed_pose}}};
   // The gripper (with h's parts) along the mating vector against f.
-  std::optional<geometry::Body> with_parts;
-  const geometry::Body* gripper_only = &closed_[tables.held][grasp];
-  if (!held_parts.empty()) {
-    with_parts = *gripper_only;
-    for (const Obstacle& part : held_parts)
-      with_parts = with_parts->joined(
-          *part.placed.body, gripper_pose.inverse(Eigen::Isometry) * part.placed.pose, "gripper");
-    gripper_only = &*with_parts;
-  }
-  const geometry::PlacedBody gripper_start{gripper_only,
-                                           Eigen::Translation3d(-insertion) * gripper_pose};
+  const std::optional<geometry::Body> with_parts =
+      carrying(closed_[tables.held][grasp], gripper_pose, held_parts);
+  const geometry::PlacedBody gripper_start{
+      with_parts ? &*with_parts : &closed_[tables.held][grasp],
+      Eigen::Translation3d(-insertion) * gripper_pose};
   if (first_hit(gripper_start, insertion, fixed_alone, margin()) >= 0)
     return "the gripper, inserting " + held_name + ", hits " + fixed_name;
   // h against f: they may touch on their mating faces (that is the joint), and where those meet
@@ -561,14 +565,8 @@ StepCheck WorldModel::insertion_check(int goal, int grasp, const kinematics::Tra
                                       const std::vector<Obstacle>& others,
                                       const std::vector<Obstacle>& held_parts, bool measure) const {
   const GoalWorld& tables = goals_[goal];
-  const AssembledGoal& assembled = std::get<AssembledGoal>(scenario_.goals[goal]);
-  const std::string& held_name = scenario_.objects[tables.held].name;
-  const std::string& fixed_name = scenario_.objects[tables.fixed].name;
-  const kinematics::Transform held_pose = fixed_pose * assembled.relative;
-  const kinematics::Transform gripper_pose =
-      held_pose * objects_[tables.held].grasps[grasp].gripper_in_object;
-  const Eigen::Vector3d insertion = scenario_.robot.approach_distance *
-                                    (fixed_pose.linear() * assembled.mating_vector).normalized();
+  const auto [held_name, fixed_name, held_pose, gripper_pose, insertion] =
+      insertion_frame(goal, grasp, fixed_pose);
   const Eigen::Vector3d retreat = -scenario_.robot.approach_distance * gripper_pose.linear().col(2);
   StepCheck check;
   const auto fail = [&](std::string what) {
@@ -588,16 +586,9 @@ StepCheck WorldModel::insertion_check(int goal, int grasp, const kinematics::Tra
                          : insertion_pair_conflict(goal, grasp, fixed_pose, held_parts);
   if (pair) return fail(*pair);
   // The gripper with h (and h's parts) along the mating vector among the others.
-  std::optional<geometry::Body> with_parts;
-  const geometry::Body* moving = &held_[tables.held][grasp];
-  if (!held_parts.empty()) {
-    with_parts = *moving;
-    for (const Obstacle& part : held_parts)
-      with_parts = with_parts->joined(*part.placed.body,
-                                      gripper_pose.inverse(Eigen::Isometry) * part.placed.pose,
-                                      with_parts->name());
-    moving = &*with_parts;
-  }
+  const std::optional<geometry::Body> with_parts =
+      carrying(held_[tables.held][grasp], gripper_pose, held_parts);
+  const geometry::Body* moving = with_parts ? &*with_parts : &held_[tables.held][grasp];
   const geometry::PlacedBody held_start{moving, Eigen::Translation3d(-insertion) * gripper_pose};
   if (const int hit = first_hit(held_start, insertion, others, margin()); hit >= 0)
     return fail(held_name + ", inserted into " + fixed_name + ", hits " +

@@ -217,6 +217,23 @@ class WorldModel {
                                           const std::vector<Obstacle>& others,
                                           const std::vector<Obstacle>& held_parts,
                                           bool measure = false) const;
+  // An insertion of goal `goal`'s held object h with grasp `grasp` into f at `fixed_pose`: the
+  // objects' names, h's and the gripper's poses at the end, and the motion into f (the mating
+  // vector, approach_distance long).
+  struct InsertionFrame {
+    const std::string& held_name;
+    const std::string& fixed_name;
+    kinematics::Transform held_pose, gripper_pose;
+    Eigen::Vector3d insertion;
+  };
+  [[nodiscard]] InsertionFrame insertion_frame(int goal, int grasp,
+                                               const kinematics::Transform& fixed_pose) const;
+  // `body` (gripper frame, the gripper at `gripper_pose`) joined with `parts` (world poses): what
+  // moves when the gripper carries an object with what is assembled into it; nullopt without
+  // parts (`body` moves alone).
+  [[nodiscard]] static std::optional<geometry::Body> carrying(
+      const geometry::Body& body, const kinematics::Transform& gripper_pose,
+      const std::vector<Obstacle>& parts);
   // What an insertion hits of its fixed object (the gripper, h's parts, h outside its mating
   // faces, the open gripper leaving), or nullopt.
   [[nodiscard]] std::optional<std::string> insertion_pair_conflict(
