@@ -367,6 +367,19 @@ struct Recovery {
   }
 };
 
+// How close a step's robot comes to the other objects (issue 21): at the step's configuration,
+// the distance in metres (whatever the scenario's unit; inf when there is no other object) from
+// the gripper and what it moves to the nearest other object, and that object.
+struct Clearance {
+  double min_distance{0.0};
+  Nullable<std::string> to;
+  template <class Self, class Field>
+  static void fields(Self& s, Field&& field) {
+    field("min_distance", s.min_distance);
+    field("to", s.to);
+  }
+};
+
 // One step of the chosen instance, in execution order. The presence of a member follows the
 // step's kind: a grasp for manipulations, poses where the step has a position, the fixed object
 // for assemblies, phase 2's results when phase 2 ran.
@@ -395,6 +408,8 @@ struct Step {
   std::optional<std::string> fixed_object;              // assemblies
   std::optional<Matrix> fixed_pose;
   std::optional<Matrix> held_pose;
+  Nullable<Clearance> clearance;     // null for steps that do not move the gripper (sensing)
+  std::vector<std::string> carried;  // objects assembled into `object` that move with it
   // Phase 2:
   std::optional<bool> inserted;
   // Inserted steps: the preconditions it turned to satisfied (never empty).
@@ -420,6 +435,8 @@ struct Step {
     field("fixed_object", s.fixed_object);
     field("fixed_pose", s.fixed_pose);
     field("held_pose", s.held_pose);
+    field("clearance", s.clearance);
+    field("carried", s.carried);
     field("inserted", s.inserted);
     field("turned", s.turned);
     field("finger_opening", s.finger_opening);
@@ -793,13 +810,13 @@ struct Report {
 // ---- sound bounds of one expression: `spar bound --json`, each line of `--jsonl`, spar.bound ----
 
 struct BoundRecord {
-  std::optional<std::string> name;      // a corpus record's name
-  double lo{0.0}, hi{0.0};              // sound: every value over the (constrained) box lies inside
+  std::optional<std::string> name;  // a corpus record's name
+  double lo{0.0}, hi{0.0};          // sound: every value over the (constrained) box lies inside
   // Attained at argmin / argmax; null when no attained range is known (no_inner_range says why).
   Nullable<double> inner_lo, inner_hi;
   std::optional<std::string> no_inner_range;
   NamedValues<double> argmin, argmax;  // empty when there is no witness
-  std::string status;                   // converged | effort_limit | unbounded | infeasible
+  std::string status;                  // converged | effort_limit | unbounded | infeasible
   bool possibly_undefined{false};
   bool time_limited{false};  // stopped by the time limit (the answer depends on the machine)
   double relative_gap{0.0};
