@@ -337,7 +337,7 @@ class Bounder {
       result.status =
           converged_[0] && converged_[1] ? BoundStatus::kConverged : BoundStatus::kEffortLimit;
     }
-    internal::order_inner_bounds(result);
+    order_inner_bounds(result);
     return result;
   }
 
@@ -348,7 +348,7 @@ class Bounder {
     result.argmin.clear();
     result.argmax.clear();
     result.argmin_value = result.argmax_value = Interval::empty();
-    internal::order_inner_bounds(result);
+    order_inner_bounds(result);
     result.status = BoundStatus::kInfeasible;
     result.evaluations = evaluations_;
     return result;
@@ -930,7 +930,7 @@ void refine_with(BoundResult& result, const BoundResult& other,
     }
   }
   result.time_limited = result.time_limited || other.time_limited;
-  internal::order_inner_bounds(result);
+  order_inner_bounds(result);
   if (usable && result.status == BoundStatus::kEffortLimit && result.relative_gap() <= tolerance) {
     result.status = BoundStatus::kConverged;
   }
@@ -986,6 +986,16 @@ void offer_witness(BoundResult& result, std::span<const double> point, const Int
   }
 }
 
+void check_uses_only(Expr expression, std::span<const Expr> variables, const std::string& what) {
+  for (Expr v : symbolic::free_variables(expression)) {
+    if (std::find(variables.begin(), variables.end(), v) == variables.end()) {
+      throw BoundsError("unknown variable '" + v.name() + "' in " + what + ": give it a range");
+    }
+  }
+}
+
+}  // namespace internal
+
 void order_inner_bounds(BoundResult& result) {
   if (result.argmin_value.is_empty() || result.argmax_value.is_empty()) {
     result.inner_lo = result.hi;
@@ -1010,16 +1020,6 @@ void order_inner_bounds(BoundResult& result) {
   result.inner_lo = result.hi;
   result.inner_hi = result.lo;
 }
-
-void check_uses_only(Expr expression, std::span<const Expr> variables, const std::string& what) {
-  for (Expr v : symbolic::free_variables(expression)) {
-    if (std::find(variables.begin(), variables.end(), v) == variables.end()) {
-      throw BoundsError("unknown variable '" + v.name() + "' in " + what + ": give it a range");
-    }
-  }
-}
-
-}  // namespace internal
 
 void Box::add(Expr variable, double lo, double hi) {
   internal::check_variable(variable, variables);

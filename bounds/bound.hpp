@@ -143,6 +143,13 @@ struct BoundResult {
   void check_invariants() const;
 };
 
+// Final inner bounds from the witnesses' enclosures (BoundResult's rule, the one every bound
+// uses): without witnesses inner_lo = hi and inner_hi = lo; else argmin_value.hi and
+// argmax_value.lo clamped into [lo, hi], and their midpoint for both if they cross by a rounding
+// (1e-12 relative); crossing by more, inner_lo = hi and inner_hi = lo (nothing attained known).
+// For code that re-encloses the witnesses' values (kinematics' pickup template).
+void order_inner_bounds(BoundResult& result);
+
 // f and its constraints compiled once over an ordered list of variables, bounded over any number
 // of boxes: the tapes, their evaluators, the linear constraints' forms and (lazily, per box widths)
 // SMP's rewrite of f are built once and reused. bound(ranges) gives exactly what the free bound()

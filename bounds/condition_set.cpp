@@ -97,7 +97,7 @@ std::vector<ConditionCheck> ConditionSet::check(std::span<const Interval> ranges
     if (!centre.is_empty() && !centre.possibly_undefined) {
       internal::offer_witness(bound, centre_point, centre);
     }
-    internal::order_inner_bounds(bound);
+    order_inner_bounds(bound);
     check.verdict = natural.is_empty() ? Verdict::kUndecided : decide(inequality, bound);
     const bool escalate =
         check.verdict == Verdict::kUndecided ||

@@ -77,8 +77,7 @@ geometry::ObjectModel load_object(const std::string& argument, double unit,
   }
   if (std::filesystem::exists(argument)) {
     const std::string name = std::filesystem::path(argument).stem().string();
-    return geometry::ObjectModel(name,
-                                 geometry::scale_mesh(geometry::read_mesh_file(argument), unit));
+    return geometry::ObjectModel(name, geometry::read_mesh_file(argument, unit));
   }
   const auto names = geometry::builtin_object_names();
   if (std::find(names.begin(), names.end(), argument) != names.end()) {

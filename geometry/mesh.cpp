@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 #include <Eigen/SVD>
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <map>
@@ -182,12 +183,31 @@ void MeshBuilder::add_polygon(std::span<const int> loop, const std::string& name
   }
 }
 
-Mesh MeshBuilder::build() && {
+Mesh MeshBuilder::build(double scale) && {
+  if (scale != 1.0) mesh_ = scale_mesh(std::move(mesh_), scale);
   validate_closed_mesh(mesh_);
   return std::move(mesh_);
 }
 
+std::uint64_t content_digest(const Mesh& mesh) {
+  std::uint64_t digest = 0;
+  const auto add = [&](std::uint64_t word) {  // splitmix64's step and finalizer, chained
+    digest = (digest ^ word) + 0x9e3779b97f4a7c15ULL;
+    digest = (digest ^ (digest >> 30)) * 0xbf58476d1ce4e5b9ULL;
+    digest = (digest ^ (digest >> 27)) * 0x94d049bb133111ebULL;
+    digest ^= digest >> 31;
+  };
+  add(mesh.vertices.size());
+  for (const Eigen::Vector3d& v : mesh.vertices)
+    for (int axis = 0; axis < 3; ++axis) add(std::bit_cast<std::uint64_t>(v[axis]));
+  add(mesh.triangles.size());
+  for (const auto& t : mesh.triangles)
+    for (const int index : t) add(static_cast<std::uint32_t>(index));
+  return digest | 1;  // never 0, which means "not validated"
+}
+
 void validate_closed_mesh(Mesh& mesh) {
+  if (mesh.validated_digest != 0 && mesh.validated_digest == content_digest(mesh)) return;
   if (mesh.triangles.size() < 4)
     throw GeometryError(mesh.source + ": a closed mesh needs at least 4 triangles, got " +
                         std::to_string(mesh.triangles.size()));
@@ -237,6 +257,7 @@ void validate_closed_mesh(Mesh& mesh) {
   check_one_solid(mesh, edges);
   if (volume < 0)  // consistently inward: the same solid, so turn every triangle outward
     for (auto& triangle : mesh.triangles) std::swap(triangle[1], triangle[2]);
+  mesh.validated_digest = content_digest(mesh);
 }
 
 VolumeProperties volume_properties(const Mesh& mesh) {

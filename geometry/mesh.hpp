@@ -22,6 +22,7 @@
 
 #include <Eigen/Core>
 #include <array>
+#include <cstdint>
 #include <span>
 #include <string>
 #include <vector>
@@ -36,6 +37,10 @@ struct Mesh {
   std::vector<std::array<int, 3>> triangles;  // counter-clockwise seen from outside
   std::vector<std::string> triangle_names;    // same size as triangles; "" when unnamed
   std::vector<int> triangle_lines;            // same size; source line of the polygon, 0 if none
+  // content_digest() when validate_closed_mesh last accepted the mesh (0: never). A mesh changed
+  // since then has another digest and is checked again; an unchanged one is not checked twice
+  // (a builder's or file's mesh handed to ObjectModel).
+  std::uint64_t validated_digest{0};
 
   // "file:line" (or just the source) for triangle `t`, used to prefix error messages.
   [[nodiscard]] std::string where(int t) const;
@@ -50,7 +55,9 @@ class MeshBuilder {
   // Throws GeometryError (with `line`) when it has fewer than 3 vertices, an index is out of range,
   // or it is not convex (fan triangles would flip).
   void add_polygon(std::span<const int> loop, const std::string& name, int line = 0);
-  [[nodiscard]] Mesh build() &&;
+  // Multiplies every vertex by `scale` (finite and > 0, else GeometryError: from the polygons'
+  // length unit to metres), then validates (validate_closed_mesh) the scaled mesh.
+  [[nodiscard]] Mesh build(double scale = 1.0) &&;
   [[nodiscard]] const std::vector<Eigen::Vector3d>& vertices() const { return mesh_.vertices; }
 
  private:
@@ -60,8 +67,12 @@ class MeshBuilder {
 // Checks closedness, consistent orientation, non-degenerate triangles, non-zero volume and that no
 // two triangles cross (exact predicates; triangles meeting only at a shared edge or vertex do not
 // count), so volume and centre of mass are those of a real solid; flips every triangle if the mesh
-// is consistently oriented inward. Throws GeometryError otherwise.
+// is consistently oriented inward. Throws GeometryError otherwise. Cost: O(n log n) in the
+// triangles, dominated by the self-crossing search; O(n) (a digest) for a mesh it accepted before
+// and that has not changed since.
 void validate_closed_mesh(Mesh& mesh);
+// A 64-bit digest of the vertices and triangles (what validity depends on; not names or lines).
+[[nodiscard]] std::uint64_t content_digest(const Mesh& mesh);
 
 // Signed volume (positive for an outward mesh) and centre of the enclosed volume.
 struct VolumeProperties {

@@ -105,7 +105,7 @@ std::string lower(std::string text) {
 
 }  // namespace
 
-Mesh parse_off(const std::string& text, const std::string& source) {
+Mesh parse_off(const std::string& text, const std::string& source, double scale) {
   const std::vector<Line> lines = tokenize(text, source);
   if (lines.empty()) throw GeometryError(source + ": empty file: expected an OFF mesh");
   std::size_t cursor = 0;
@@ -148,10 +148,10 @@ Mesh parse_off(const std::string& text, const std::string& source) {
   }
   if (cursor != lines.size())
     throw GeometryError(at(source, lines[cursor]) + "unexpected data after the last polygon");
-  return std::move(builder).build();
+  return std::move(builder).build(scale);
 }
 
-Mesh parse_obj(const std::string& text, const std::string& source) {
+Mesh parse_obj(const std::string& text, const std::string& source, double scale) {
   MeshBuilder builder(source);
   std::string current_name;
   int vertex_count = 0;
@@ -181,7 +181,7 @@ Mesh parse_obj(const std::string& text, const std::string& source) {
       throw GeometryError(at(source, line) + "unknown OBJ statement " + single_quoted(keyword));
     }
   }
-  return std::move(builder).build();
+  return std::move(builder).build(scale);
 }
 
 namespace {
@@ -205,11 +205,12 @@ std::pair<std::string, std::string> mesh_file_content(const std::string& path,
 
 }  // namespace
 
-Mesh read_mesh_file(const std::string& path) {
+Mesh read_mesh_file(const std::string& path, double scale) {
   const std::string source = printable(path);
   const auto [content, extension] = mesh_file_content(path, source);
-  if (extension == ".stl") return parse_stl(content, source);
-  return extension == ".off" ? parse_off(content, source) : parse_obj(content, source);
+  if (extension == ".stl") return parse_stl(content, source, scale);
+  return extension == ".off" ? parse_off(content, source, scale)
+                             : parse_obj(content, source, scale);
 }
 
 Mesh read_triangle_soup(const std::string& path) {

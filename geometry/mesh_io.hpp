@@ -23,13 +23,17 @@
 
 namespace spar::geometry {
 
-// By extension (.off, .obj or .stl, any case).
-[[nodiscard]] Mesh read_mesh_file(const std::string& path);
+// By extension (.off, .obj or .stl, any case). `scale` (finite, > 0) multiplies every vertex
+// before the mesh is validated, once (from the file's length unit to metres; MeshBuilder::build).
+[[nodiscard]] Mesh read_mesh_file(const std::string& path, double scale = 1.0);
 // `source` names the text in error messages (normally the file name).
-[[nodiscard]] Mesh parse_off(const std::string& text, const std::string& source);
-[[nodiscard]] Mesh parse_obj(const std::string& text, const std::string& source);
+[[nodiscard]] Mesh parse_off(const std::string& text, const std::string& source,
+                             double scale = 1.0);
+[[nodiscard]] Mesh parse_obj(const std::string& text, const std::string& source,
+                             double scale = 1.0);
 // `bytes`: the whole file, ASCII or binary.
-[[nodiscard]] Mesh parse_stl(const std::string& bytes, const std::string& source);
+[[nodiscard]] Mesh parse_stl(const std::string& bytes, const std::string& source,
+                             double scale = 1.0);
 // A triangle soup for collision only (robot links' meshes, kinematics/urdf.hpp): a link's mesh
 // need not be closed or free of self-crossings (collision.hpp measures distances between any
 // triangles), so STL is read as its triangles with identical points welded and degenerate ones

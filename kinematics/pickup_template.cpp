@@ -187,12 +187,7 @@ struct PickupTemplate::Impl {
       bound.argmax_value = values_at(bound.argmax)[condition];
       bound.argmax.resize(kVariableCount);
     }
-    if (bound.argmin_value.is_empty() || bound.argmax_value.is_empty()) return;
-    bound.inner_lo = std::min(bound.argmin_value.hi, bound.hi);
-    bound.inner_hi = std::max(bound.argmax_value.lo, bound.lo);
-    if (bound.inner_lo > bound.inner_hi) {
-      bound.inner_lo = bound.inner_hi = bound.inner_hi + (bound.inner_lo - bound.inner_hi) / 2;
-    }
+    bounds::order_inner_bounds(bound);
   }
 
   std::array<PickupCheck, 4> check(const PickupGeometry& geometry,

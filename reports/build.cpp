@@ -155,8 +155,12 @@ Precondition build_precondition(const planner::Scenario& scenario,
   out.nodes = result.nodes;
   out.lo = result.bound.lo;
   out.hi = result.bound.hi;
-  out.inner_lo = result.bound.inner_lo;
-  out.inner_hi = result.bound.inner_hi;
+  if (result.bound.has_inner_range()) {
+    out.inner_lo = result.bound.inner_lo;
+    out.inner_hi = result.bound.inner_hi;
+  } else {
+    out.no_inner_range = std::string(result.bound.why_no_inner_range());
+  }
   out.verdict = bounds::to_string(result.verdict);
   const auto name_of = [&](planner::VariableId id) { return space.at(id.index).name; };
   for (std::size_t v = 0; v < result.witness.size() && v < result.variables.size(); ++v)
@@ -167,11 +171,12 @@ Precondition build_precondition(const planner::Scenario& scenario,
   const bool length = out.unit == "m";
   const double scale = length ? 1.0 / scenario.units.metres_per_length_unit() : 1.0;
   out.display = {length ? std::string(scenario.units.length_name()) : out.unit,
-                 result.inequality.threshold * scale,
-                 result.bound.lo * scale,
-                 result.bound.hi * scale,
-                 result.bound.inner_lo * scale,
-                 result.bound.inner_hi * scale};
+                 result.inequality.threshold * scale, result.bound.lo * scale,
+                 result.bound.hi * scale};
+  if (out.inner_lo) {
+    out.display.inner_lo = *out.inner_lo * scale;
+    out.display.inner_hi = *out.inner_hi * scale;
+  }
   if (!result.blame.empty()) {
     out.blame.emplace();
     for (const auto& entry : result.blame)

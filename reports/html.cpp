@@ -117,7 +117,8 @@ void timeline_section(const Report& report, std::ostringstream& out) {
 std::string bound_bar(const Precondition& precondition) {
   const DisplayBounds& display = precondition.display;
   const double lo = display.lo, hi = display.hi;
-  const double inner_lo = display.inner_lo, inner_hi = display.inner_hi;
+  const bool attained = display.inner_lo.has_value();  // else no inner bar (nothing attained)
+  const double inner_lo = display.inner_lo.value_or(lo), inner_hi = display.inner_hi.value_or(hi);
   const double threshold = display.threshold;
   const std::string& relation = precondition.relation;
   const bool below_ok = relation == "<" || relation == "<=";
@@ -146,8 +147,10 @@ std::string bound_bar(const Precondition& precondition) {
   std::ostringstream svg;
   svg << "<svg xmlns=\"http://www.w3.org/2000/svg\" class=\"bound-bar\" viewBox=\"0 0 " << kWidth
       << " 40\" width=\"" << kWidth << "\" height=\"40\"><title>sound bound [" << rounded(lo, 8)
-      << ", " << rounded(hi, 8) << "]" << unit << "; inner bound [" << rounded(inner_lo, 8) << ", "
-      << rounded(inner_hi, 8) << "]" << unit << "; requirement " << html_escape(relation) << " "
+      << ", " << rounded(hi, 8) << "]" << unit << "; inner bound "
+      << (attained ? "[" + rounded(inner_lo, 8) + ", " + rounded(inner_hi, 8) + "]" + unit
+                   : html_escape(internal::bound_text(precondition, true)))
+      << "; requirement " << html_escape(relation) << " "
       << rounded(threshold, 8) << unit << "</title>\n";
   const double t = at(threshold);
   if (below_ok)
@@ -158,10 +161,12 @@ std::string bound_bar(const Precondition& precondition) {
         << "\" height=\"22\" fill=\"#fbe9e7\"/>";
   svg << "<rect x=\"" << px(at(lo)) << "\" y=\"7\" width=\"" << px(std::max(1.0, at(hi) - at(lo)))
       << "\" height=\"16\" fill=\"" << fill << "\" stroke=\"" << inner
-      << "\" stroke-width=\"0.8\"/>"
-      << "<rect x=\"" << px(at(inner_lo)) << "\" y=\"11\" width=\""
-      << px(std::max(1.0, at(inner_hi) - at(inner_lo))) << "\" height=\"8\" fill=\"" << inner
-      << "\"/><line x1=\"" << px(t) << "\" y1=\"1\" x2=\"" << px(t)
+      << "\" stroke-width=\"0.8\"/>";
+  if (attained)
+    svg << "<rect x=\"" << px(at(inner_lo)) << "\" y=\"11\" width=\""
+        << px(std::max(1.0, at(inner_hi) - at(inner_lo))) << "\" height=\"8\" fill=\"" << inner
+        << "\"/>";
+  svg << "<line x1=\"" << px(t) << "\" y1=\"1\" x2=\"" << px(t)
       << "\" y2=\"29\" stroke=\"#1d2430\" stroke-width=\"1.5\" stroke-dasharray=\"3,2\"/>";
   // The ends' values under the bar, or one "lo .. hi" label where the bar is too short for two.
   if (at(hi) - at(lo) >= 60)

@@ -234,7 +234,8 @@ struct Grasp {
 // A precondition's bounds in the scenario's units, for reading.
 struct DisplayBounds {
   std::string unit;  // the length unit, or "1" (dimensionless)
-  double threshold{0.0}, lo{0.0}, hi{0.0}, inner_lo{0.0}, inner_hi{0.0};
+  double threshold{0.0}, lo{0.0}, hi{0.0};
+  Nullable<double> inner_lo, inner_hi;  // null as the precondition's
   template <class Self, class Field>
   static void fields(Self& s, Field&& field) {
     field("unit", s.unit);
@@ -276,8 +277,12 @@ struct Precondition {
   std::string unit;  // SI unit of the expression: m, or 1 (a cosine)
   std::string expression;
   std::size_t nodes{0};
-  double lo{0.0}, hi{0.0}, inner_lo{0.0}, inner_hi{0.0};  // SI
-  std::string verdict;                                    // satisfied | violated | undecided
+  double lo{0.0}, hi{0.0};  // SI
+  // Attained at the witnesses (SI); null when no attained range is known (no_inner_range says
+  // why: no witness, or witness values enclosed too loosely), never a swapped [hi, lo].
+  Nullable<double> inner_lo, inner_hi;
+  std::optional<std::string> no_inner_range;
+  std::string verdict;  // satisfied | violated | undecided
   NamedValues<double> witness;                            // the worst point found (SI)
   NamedValues<std::array<double, 2>> box;                 // the ranges the bound holds over
   DisplayBounds display;
@@ -300,6 +305,7 @@ struct Precondition {
     field("hi", s.hi);
     field("inner_lo", s.inner_lo);
     field("inner_hi", s.inner_hi);
+    field("no_inner_range", s.no_inner_range);
     field("verdict", s.verdict);
     field("witness", s.witness);
     field("box", s.box);

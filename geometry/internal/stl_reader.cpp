@@ -30,14 +30,14 @@ void read_stl(const std::string& bytes, const std::string& source, std::vector<P
 
 }  // namespace
 
-Mesh parse_stl(const std::string& bytes, const std::string& source) {
+Mesh parse_stl(const std::string& bytes, const std::string& source, double scale) {
   std::vector<Point> points;
   std::vector<std::array<int, 3>> facets;
   read_stl(bytes, source, points, facets);
   MeshBuilder builder(source);
   for (const Point& p : points) builder.add_vertex({p.x(), p.y(), p.z()});
   for (const std::array<int, 3>& facet : facets) builder.add_polygon(facet, "");
-  return std::move(builder).build();
+  return std::move(builder).build(scale);
 }
 
 Mesh parse_stl_soup(const std::string& bytes, const std::string& source) {

@@ -599,8 +599,8 @@ geometry::ObjectModel Reader::object_model(const Fields& entry, const std::strin
   if (const std::string problem = input_file_problem(resolved, "mesh file"); !problem.empty())
     fail(mesh, entry.path("mesh") + ": " + printable(resolved.string()) + ": " + problem);
   try {
-    geometry::Mesh scaled = geometry::scale_mesh(geometry::read_mesh_file(resolved.string()),
-                                                 units_.metres_per_length_unit());
+    geometry::Mesh scaled =
+        geometry::read_mesh_file(resolved.string(), units_.metres_per_length_unit());
     check_mesh_size(scaled, mesh, entry.path("mesh"));
     return geometry::ObjectModel(name, std::move(scaled));
   } catch (const geometry::GeometryError& problem) {

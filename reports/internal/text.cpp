@@ -207,8 +207,10 @@ std::string requirement_text(const Precondition& precondition) {
 
 std::string bound_text(const Precondition& precondition, bool inner) {
   const DisplayBounds& display = precondition.display;
-  const double lo = inner ? display.inner_lo : display.lo;
-  const double hi = inner ? display.inner_hi : display.hi;
+  if (inner && !display.inner_lo)
+    return "none (" + precondition.no_inner_range.value_or("no witness") + ")";
+  const double lo = inner ? *display.inner_lo : display.lo;
+  const double hi = inner ? *display.inner_hi : display.hi;
   return "[" + rounded(lo) + ", " + rounded(hi) + "]" + unit_suffix(display.unit);
 }
 

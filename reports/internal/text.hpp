@@ -57,7 +57,8 @@ namespace spar::reports::internal {
 [[nodiscard]] std::string step_details(const Units& units, const Step& step);
 // A precondition's requirement in display units: "< 0 in", ">= 0.999 (cosine)".
 [[nodiscard]] std::string requirement_text(const Precondition& precondition);
-// "[lo, hi] unit" from a precondition's display values (`inner` picks inner_lo, inner_hi).
+// "[lo, hi] unit" from a precondition's display values (`inner` picks inner_lo, inner_hi; without
+// an attained range "none (why)", never the swapped [hi, lo]).
 [[nodiscard]] std::string bound_text(const Precondition& precondition, bool inner = false);
 // The reverse-analysis margin: "x2.3 (+-0.25 in, +-13 deg)", "≥ x8, search cap (...)" when the
 // search stopped at its cap, or "" when not computed.

@@ -3,6 +3,7 @@
 // ordinary solids, convex or not.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <string>
 
 #include "spar/geometry/builtin_objects.hpp"
@@ -79,6 +80,33 @@ TEST(MeshValidation, NonConvexBuiltInsAreNotSelfIntersecting) {
   for (const std::string& name : builtin_object_names()) {
     EXPECT_NO_THROW((void)make_builtin_object(name)) << name;
   }
+}
+
+// A mesh is validated once (issue 22: the self-crossing search ran twice per object): an accepted
+// mesh remembers its digest, and any later change of a vertex or a triangle is checked again.
+TEST(MeshValidation, AChangedMeshIsCheckedAgain) {
+  Mesh box = make_box({1, 1, 1});
+  ASSERT_NE(box.validated_digest, 0u);
+  EXPECT_EQ(box.validated_digest, content_digest(box));
+  Eigen::Vector3d& corner = box.vertices[box.triangles[0][0]];
+  corner.x() = std::nextafter(corner.x(), 2.0);  // one ulp: another digest
+  EXPECT_NE(content_digest(box), box.validated_digest);
+  corner = box.vertices[box.triangles[0][1]];  // two corners of a triangle in one point
+  EXPECT_THROW_MESSAGE(validate_closed_mesh(box), "degenerate triangle");
+}
+
+// read_mesh_file's and the parsers' scale (a file's unit to metres) comes before the one
+// validation, so what is checked is the mesh spar computes with: a scale that merges the
+// vertices is refused, not accepted as the unscaled file was.
+TEST(MeshValidation, TheScaledMeshIsTheOneValidated) {
+  const std::string tetrahedron =
+      "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
+  const Mesh half = parse_off(tetrahedron, "tet.off", 0.5);
+  EXPECT_EQ(half.vertices[1], Eigen::Vector3d(0.5, 0, 0));
+  EXPECT_NEAR(volume_properties(half).volume, 1.0 / 48, 1e-15);
+  EXPECT_THROW_MESSAGE((void)parse_off(tetrahedron, "tet.off", 1e-320), "degenerate triangle");
+  EXPECT_THROW_MESSAGE((void)parse_off(tetrahedron, "tet.off", 0),
+                       "tet.off: scale factor must be finite and > 0, got 0");
 }
 
 TEST(MeshIo, DirectoryIsReportedAsSuch) {

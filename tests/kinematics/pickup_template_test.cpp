@@ -62,6 +62,13 @@ TEST(PickupTemplate, PaperExampleMatchesThePerInstancePath) {
     EXPECT_TRUE(close(ours[k].bound.hi, theirs[k].bound.hi, scale))
         << ours[k].bound.hi << " vs " << theirs[k].bound.hi;
     EXPECT_EQ(ours[k].bound.argmin.size(), 8u);  // the uncertainty coordinates only
+    // The inner bounds follow bounds::order_inner_bounds, the rule the per-instance path uses.
+    EXPECT_NO_THROW(ours[k].bound.check_invariants());
+    ASSERT_TRUE(ours[k].bound.has_inner_range());
+    EXPECT_TRUE(close(ours[k].bound.inner_lo, theirs[k].bound.inner_lo, scale))
+        << ours[k].bound.inner_lo << " vs " << theirs[k].bound.inner_lo;
+    EXPECT_TRUE(close(ours[k].bound.inner_hi, theirs[k].bound.inner_hi, scale))
+        << ours[k].bound.inner_hi << " vs " << theirs[k].bound.inner_hi;
   }
 }
 

@@ -76,6 +76,35 @@ TEST(Markdown, NoPlanGivesTheReason) {
   EXPECT_EQ(markdown.find("## Preconditions"), std::string::npos);
 }
 
+// Issue 22: a precondition whose bound found no attained range (no witness, or witness values
+// enclosed too loosely) read "inner bound [inf, -inf]" (hi above lo, swapped) in every format.
+// The JSON now says null and why, Markdown and HTML say "none (why)" and draw no inner bar.
+TEST(Renderers, APreconditionWithoutAWitnessShowsNoSwappedInnerBound) {
+  Report report = golden_report("peg_block_face_down");
+  Precondition* first = nullptr;
+  for (Step& step : report.chosen->steps)
+    if (step.preconditions && !step.preconditions->empty() && !first)
+      first = &step.preconditions->front();
+  ASSERT_NE(first, nullptr);
+  const std::string why = "no point was found where the expression is certainly defined";
+  first->inner_lo = first->inner_hi = first->display.inner_lo = first->display.inner_hi =
+      std::nullopt;
+  first->no_inner_range = why;
+  const Json json = to_json(report);
+  const Report again = report_from_json(json);
+  const std::string markdown = render_markdown(again);
+  EXPECT_NE(markdown.find("| none (" + why + ") |"), std::string::npos);
+  const std::string html = render_html(again);
+  EXPECT_NE(html.find("inner bound none (" + why + ")"), std::string::npos);
+  EXPECT_EQ(count(html, "class=\"bound-bar\""), precondition_count(again));
+  for (const std::string& text : {markdown, html}) EXPECT_EQ(text.find("inf, -inf"), std::string::npos);
+  std::string precondition = json.dump();
+  precondition = precondition.substr(precondition.find("\"no_inner_range\"") - 200, 400);
+  EXPECT_NE(precondition.find("\"inner_lo\":null,\"inner_hi\":null,\"no_inner_range\":\"" + why),
+            std::string::npos)
+      << precondition;
+}
+
 TEST(Html, IsSelfContained) {
   const std::string html = render_html(golden_report("peg_block_face_down"));
   EXPECT_EQ(html.find("<script"), std::string::npos);

@@ -4,6 +4,7 @@
 // and every field the schema declares is produced by some example.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <fstream>
 #include <regex>
 #include <set>
@@ -47,12 +48,31 @@ std::set<std::string> documented_fields() {
   return fields;
 }
 
+// Every example's preconditions have an attained range, so none writes no_inner_range: the writer's
+// form of a face-up report whose first precondition has none (what build_report makes when the
+// bounds give no witness enclosure), so the schema's field is checked as written.
+const nlohmann::ordered_json& no_inner_range_report() {
+  static const nlohmann::ordered_json document = [] {
+    Report report = golden_report("peg_block_face_up");
+    const auto step = std::ranges::find_if(report.chosen->steps, [](const Step& s) {
+      return s.preconditions && !s.preconditions->empty();
+    });
+    Precondition& precondition = step->preconditions->front();
+    precondition.inner_lo.reset();
+    precondition.inner_hi.reset();
+    precondition.no_inner_range = "no witness";
+    return to_json(report);
+  }();
+  return document;
+}
+
 std::vector<const nlohmann::ordered_json*> all_reports() {
   std::vector<const nlohmann::ordered_json*> reports;
   for (const std::string& name : example_names()) reports.push_back(&example_report(name));
   reports.push_back(&no_plan_report());
   // A robot read from a URDF file (issue 23): robot.urdf, base_link, tip and joint_names.
   reports.push_back(&example_report("panda_peg_block"));
+  reports.push_back(&no_inner_range_report());
   return reports;
 }
 
