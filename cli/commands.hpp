@@ -19,5 +19,6 @@ void add_object_command(CLI::App& app);
 void add_bound_command(CLI::App& app);
 void add_plan_command(CLI::App& app);
 void add_evidence_command(CLI::App& app);
+void add_aspects_command(CLI::App& app);
 
 }  // namespace spar::cli

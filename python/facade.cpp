@@ -1,6 +1,7 @@
 #include "python/facade.hpp"
 
 #include <algorithm>
+#include <numbers>
 #include <stdexcept>
 
 #include "spar/bounds/bound.hpp"
@@ -10,6 +11,9 @@
 #include "spar/kinematics/puma.hpp"
 #include "spar/reports/json_values.hpp"
 #include "spar/reports/plan_json.hpp"
+#include "spar/geometry/builtin_objects.hpp"
+#include "spar/sensing/aspects_json.hpp"
+#include "spar/sensing/evidence_json.hpp"
 #include "spar/symbolic/operations.hpp"
 #include "spar/symbolic/parse.hpp"
 #include "spar/symbolic/smp.hpp"
@@ -346,6 +350,36 @@ ordered_json analyse_instance_json(const PlanRun& run, std::size_t index, bool e
           {"errors", analysis.errors},
           {"steps", steps},
           {"repairs", repairs}};
+}
+
+// ---- sensing ----
+
+namespace {
+
+nlohmann::ordered_json combined_evidence(const sensing::EvidenceInput& input) {
+  return sensing::evidence_json(input.frame, sensing::combine(input.sources, input.frame.size()));
+}
+
+}  // namespace
+
+nlohmann::ordered_json evidence_text_json(std::string_view text, const std::string& source) {
+  return combined_evidence(sensing::parse_evidence_json(text, source));
+}
+
+nlohmann::ordered_json evidence_file_json(const std::filesystem::path& path) {
+  return combined_evidence(sensing::load_evidence_file(path));
+}
+
+nlohmann::ordered_json object_aspects_json(const std::string& object,
+                                           const AspectSettings& settings) {
+  const geometry::ObjectModel model = geometry::load_object(object, settings.metres_per_unit);
+  sensing::AspectOptions options;
+  options.max_angle = settings.max_angle_degrees * std::numbers::pi / 180;
+  options.view_sphere_level = settings.level;
+  options.resolution = settings.resolution;
+  options.force_view_sphere = settings.view_sphere;
+  return sensing::aspects_json(model, sensing::compute_aspects(model, options), options,
+                               settings.units, settings.metres_per_unit);
 }
 
 }  // namespace spar::python

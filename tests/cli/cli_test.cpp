@@ -104,6 +104,9 @@ const fs::path& scratch() {
     write_text(root / "huge.off",
                "OFF\n4 4 0\n0 0 0\n1e300 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n");
     fs::create_directory(root / "folder.off");
+    write_text(root / "tetrahedron.off",
+               "OFF\n4 4 0\n1 1 1\n1 -1 -1\n-1 1 -1\n-1 -1 1\n3 0 1 2\n3 0 3 1\n3 0 2 3\n"
+               "3 1 3 2\n");
     write_text(root / "bad_mass.json",
                "{\"frame\": [\"a\", \"b\"],\n \"sources\": [[{\"set\": [\"a\"], \"mass\": 1.5}]]}");
     write_text(root / "conflict.json",
@@ -337,6 +340,15 @@ const std::vector<Case> kCases = {
   {"EvidenceBadMass", {"evidence", "@DIR@/bad_mass.json"}, kError, "",
    "bad_mass.json: sources\\[0\\]\\[0\\].mass: must be a number in \\[0, 1\\], got 1.5"},
   {"EvidenceTotalConflict", {"evidence", "@DIR@/conflict.json"}, kError, "", "total conflict"},
+  // Aspects.
+  {"AspectsCube", {"aspects", "cube"}, 0, "^object cube: 26 aspects \\(exact arrangement\\)", ""},
+  {"AspectsTetrahedronJson", {"aspects", "@DIR@/tetrahedron.off", "--json"}, 0,
+   "\"method\": \"exact arrangement\"[^]*\"label\": \"A14\"", ""},
+  {"AspectsBlock", {"aspects", "@SRC@/examples/objects/block.off", "--units", "in"}, 0,
+   "aspects \\(view sphere, 1280 view directions", ""},
+  {"AspectsMaxAngleZero", {"aspects", "cube", "--max-angle", "0"}, kError, "",
+   "--max-angle: must be a number > 0 and <= 90, got '0'"},
+  {"AspectsUnknown", {"aspects", "teapot"}, kError, "", "teapot: no such file, nor a built-in"},
   // Output that cannot be written fails the command.
   {"SimplifyFull", {"simplify", "x+x"}, kError, "", kLost, kFull},
   {"BoundFull", {"bound", "x", "--var", "x=0:1"}, kError, "", kLost, kFull},
