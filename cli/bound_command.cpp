@@ -17,11 +17,11 @@
 #include <string>
 #include <vector>
 
-#include "spar/bounds/bound.hpp"
-#include "spar/bounds/shostak.hpp"
 #include "cli/bound_json.hpp"
 #include "cli/commands.hpp"
 #include "cli/options.hpp"
+#include "spar/bounds/bound.hpp"
+#include "spar/bounds/shostak.hpp"
 #include "spar/common/number.hpp"
 #include "spar/symbolic/operations.hpp"
 #include "spar/symbolic/parse.hpp"
@@ -109,7 +109,7 @@ void run_jsonl(const BoundArguments& arguments) {
     bool ok = true;
     // Invalid UTF-8 (in a name or an error quoting the line) is written as U+FFFD, not thrown.
     std::cout << bound_record(line, line_number, options(arguments), ok)
-                     .dump(-1, ' ', false, nlohmann::json::error_handler_t::replace)
+                     .dump(-1, ' ', false, nlohmann::ordered_json::error_handler_t::replace)
               << std::endl;
     if (!std::cout) flush_standard_output();  // throws: the output is lost, stop now
     failures += ok ? 0 : 1;
@@ -198,8 +198,7 @@ void run_single(const BoundArguments& arguments) {
   }
   const auto start = std::chrono::steady_clock::now();
   const bounds::BoundResult r = bounds::bound(f, box, options(arguments), constraints);
-  const std::chrono::duration<double, std::micro> elapsed =
-      std::chrono::steady_clock::now() - start;
+  const std::chrono::duration<double> elapsed = std::chrono::steady_clock::now() - start;
   if (arguments.json) {
     std::cout << bound_result_json("", box, r, elapsed.count()).dump(2) << '\n';
     return;
@@ -226,7 +225,7 @@ void run_single(const BoundArguments& arguments) {
   } else {
     std::cout << "none measurable (unbounded or a single attained value)";
   }
-  std::cout << ", " << r.evaluations << " boxes, " << std::round(elapsed.count()) << " us\n";
+  std::cout << ", " << r.evaluations << " boxes, " << std::round(elapsed.count() * 1e6) << " us\n";
   const auto print_point = [&](const char* label, const std::vector<double>& x) {
     if (x.empty()) return;
     std::cout << label;

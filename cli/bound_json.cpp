@@ -7,6 +7,8 @@
 
 #include "cli/options.hpp"
 #include "spar/common/number.hpp"
+#include "spar/reports/build.hpp"
+#include "spar/reports/json.hpp"
 #include "spar/symbolic/parse.hpp"
 
 namespace spar::cli {
@@ -19,38 +21,10 @@ bounds::Relation relation_named(const std::string& text) {
   throw UsageError("unknown relation '" + text + "' (use <, <=, >, >=)");
 }
 
-namespace {
-
-nlohmann::json number(double value) {
-  if (std::isfinite(value)) return value;
-  if (std::isnan(value)) return "nan";
-  return value > 0 ? "inf" : "-inf";
-}
-
-nlohmann::json point(const bounds::Box& box, const std::vector<double>& values) {
-  nlohmann::json object = nlohmann::json::object();
-  for (std::size_t i = 0; i < values.size(); ++i) object[box.variables[i].name()] = values[i];
-  return object;
-}
-
-}  // namespace
-
-nlohmann::json bound_result_json(const std::string& name, const bounds::Box& box,
-                                 const bounds::BoundResult& r, double microseconds) {
-  nlohmann::json out;
-  if (!name.empty()) out["name"] = name;
-  out["lo"] = number(r.lo);
-  out["hi"] = number(r.hi);
-  out["inner_lo"] = number(r.inner_lo);
-  out["inner_hi"] = number(r.inner_hi);
-  out["argmin"] = point(box, r.argmin);
-  out["argmax"] = point(box, r.argmax);
-  out["status"] = bounds::to_string(r.status);
-  out["possibly_undefined"] = r.possibly_undefined;
-  out["relative_gap"] = number(r.relative_gap());
-  out["evals"] = r.evaluations;
-  out["time_us"] = std::round(microseconds);
-  return out;
+nlohmann::ordered_json bound_result_json(const std::string& name, const bounds::Box& box,
+                                         const bounds::BoundResult& r, double seconds) {
+  return reports::to_json(reports::bound_record(
+      box, r, seconds, name.empty() ? std::nullopt : std::optional<std::string>(name)));
 }
 
 namespace {
@@ -78,8 +52,8 @@ const std::string& string_field(const nlohmann::json& object, const char* key) {
 
 }  // namespace
 
-nlohmann::json bound_record(std::string_view line, std::size_t line_number,
-                            const bounds::BoundOptions& options, bool& ok) {
+nlohmann::ordered_json bound_record(std::string_view line, std::size_t line_number,
+                                    const bounds::BoundOptions& options, bool& ok) {
   std::string name;
   try {
     const auto record = nlohmann::json::parse(line);
@@ -111,12 +85,11 @@ nlohmann::json bound_record(std::string_view line, std::size_t line_number,
     }
     const auto start = std::chrono::steady_clock::now();
     const bounds::BoundResult result = bounds::bound(f, box, options, constraints);
-    const std::chrono::duration<double, std::micro> elapsed =
-        std::chrono::steady_clock::now() - start;
+    const std::chrono::duration<double> elapsed = std::chrono::steady_clock::now() - start;
     return bound_result_json(name, box, result, elapsed.count());
   } catch (const std::exception& error) {
     ok = false;
-    nlohmann::json out;
+    nlohmann::ordered_json out;
     out["line"] = line_number;
     out["name"] = name;
     out["error"] = error.what();

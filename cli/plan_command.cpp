@@ -1,5 +1,5 @@
 // `spar plan`: plans scenario files with SPAR's two phases and reports on them. Everything it
-// prints is rendered from the report's JSON (reports/plan_json.hpp), never from planner internals.
+// prints is written from the report model (reports/model.hpp), never from planner internals.
 //
 //   spar plan SCENARIO                      the Markdown report on standard output
 //   spar plan SCENARIO --report DIR         writes DIR/report.{json,md,html} atomically (nothing
@@ -35,8 +35,9 @@
 #include "cli/demo_scenario.hpp"
 #include "cli/options.hpp"
 #include "spar/planner/plan.hpp"
+#include "spar/reports/build.hpp"
+#include "spar/reports/json.hpp"
 #include "spar/reports/markdown.hpp"
-#include "spar/reports/plan_json.hpp"
 #include "spar/reports/write.hpp"
 
 namespace spar::cli {
@@ -59,9 +60,9 @@ struct PlanArguments {
   std::uint64_t samples{20'000};  // probabilistic analysis (0: off)
 };
 
-nlohmann::ordered_json plan_report(const planner::Scenario& scenario, const planner::Domain& domain,
-                                   const planner::PlanOptions& options) {
-  return reports::plan_json(planner::plan(scenario, domain, options));
+reports::Report plan_report(const planner::Scenario& scenario, const planner::Domain& domain,
+                            const planner::PlanOptions& options) {
+  return reports::build_report(planner::plan(scenario, domain, options));
 }
 
 // "wrote report/report.html (and report.json, report.md)".
@@ -103,7 +104,7 @@ void run_single(const PlanArguments& arguments, const planner::Domain& domain,
                 planner::PlanOptions options) {
   const std::vector<reports::Format> formats =
       html_first(reports::parse_formats(arguments.formats));
-  const nlohmann::ordered_json report = [&] {
+  const reports::Report report = [&] {
     const StageLine stage_line(options);
     return plan_report(
         arguments.demo
@@ -114,7 +115,7 @@ void run_single(const PlanArguments& arguments, const planner::Domain& domain,
   std::vector<fs::path> files;
   if (!arguments.report.empty()) files = reports::write_reports(report, arguments.report, formats);
   if (arguments.json) {
-    std::cout << report.dump(2) << '\n';
+    std::cout << reports::to_json(report).dump(2) << '\n';
     if (!files.empty()) std::cerr << written_text(files) << '\n';
   } else if (!files.empty()) {
     std::cout << reports::summary(report) << written_text(files) << '\n';
@@ -184,10 +185,12 @@ void run_batch(const PlanArguments& arguments, const planner::Domain& domain,
       nlohmann::ordered_json record = {{"file", files[i]}};
       bool failed = false;
       try {
-        record["report"] = plan_report(planner::load_scenario(files[i]), domain, options);
+        const reports::Report report =
+            plan_report(planner::load_scenario(files[i]), domain, options);
+        record["report"] = reports::to_json(report);
         if (!arguments.report.empty())
           (void)reports::write_reports(
-              record["report"], fs::path(arguments.report) / fs::path(files[i]).stem(), formats);
+              report, fs::path(arguments.report) / fs::path(files[i]).stem(), formats);
       } catch (const std::exception& error) {
         record.erase("report");
         record["error"] = error.what();

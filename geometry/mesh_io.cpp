@@ -172,14 +172,16 @@ Mesh parse_obj(const std::string& text, const std::string& source) {
 
 Mesh read_mesh_file(const std::string& path) {
   if (std::filesystem::is_directory(path))
-    throw GeometryError(path + ": is a directory, not a mesh file (.off or .obj)");
+    throw GeometryError(path + ": is a directory, not a mesh file (.off, .obj or .stl)");
   const std::string extension = lower(path.substr(std::min(path.size(), path.rfind('.'))));
-  if (extension != ".off" && extension != ".obj")
-    throw GeometryError(path + ": unknown mesh format '" + extension + "' (expected .off or .obj)");
-  std::ifstream file(path);
+  if (extension != ".off" && extension != ".obj" && extension != ".stl")
+    throw GeometryError(path + ": unknown mesh format '" + extension +
+                        "' (expected .off, .obj or .stl)");
+  std::ifstream file(path, std::ios::binary);
   if (!file) throw GeometryError(path + ": cannot open the file");
   std::stringstream content;
   content << file.rdbuf();
+  if (extension == ".stl") return parse_stl(content.str(), path);
   return extension == ".off" ? parse_off(content.str(), path) : parse_obj(content.str(), path);
 }
 

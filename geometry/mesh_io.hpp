@@ -1,4 +1,4 @@
-// Reading and writing object meshes: OFF and Wavefront OBJ.
+// Reading and writing object meshes: OFF, Wavefront OBJ and STL (read only).
 //
 // OFF: an optional `OFF` header, the counts `vertices faces edges`, vertex lines `x y z`, then
 // polygon lines `n i1 ... in` (0-based indices, counter-clockwise seen from outside, convex;
@@ -6,7 +6,10 @@
 // other `#` comments are ignored. OBJ: `v x y z`, `f a b c ...` (1-based or negative indices,
 // `a/t/n` forms accepted), and `g name` / `o name` name the polygons that follow; other statements
 // (vt, vn, s, usemtl, mtllib) are ignored. Both are validated as closed meshes (mesh.hpp): any
-// mistake throws GeometryError with "file:line: what is wrong".
+// mistake throws GeometryError with "file:line: what is wrong". STL, ASCII or binary, is read by
+// CGAL's STL reader (identical points become one vertex; the file's normals are ignored, the
+// triangles' order of corners gives the orientation, and an inward mesh is turned outward). STL
+// triangles have no names and no lines: errors name the file.
 //
 // Example:
 //   Mesh mesh = read_mesh_file("examples/objects/block.off");
@@ -20,11 +23,13 @@
 
 namespace spar::geometry {
 
-// By extension (.off or .obj, any case).
+// By extension (.off, .obj or .stl, any case).
 [[nodiscard]] Mesh read_mesh_file(const std::string& path);
 // `source` names the text in error messages (normally the file name).
 [[nodiscard]] Mesh parse_off(const std::string& text, const std::string& source);
 [[nodiscard]] Mesh parse_obj(const std::string& text, const std::string& source);
+// `bytes`: the whole file, ASCII or binary.
+[[nodiscard]] Mesh parse_stl(const std::string& bytes, const std::string& source);
 // Writes triangles with their names as comments; `header` lines become leading `#` comments.
 void write_off(const Mesh& mesh, std::ostream& out, const std::string& header);
 

@@ -1,6 +1,7 @@
 #include "python/facade.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <numbers>
 #include <stdexcept>
 
@@ -9,9 +10,9 @@
 #include "spar/bounds/inequality.hpp"
 #include "spar/kinematics/ik.hpp"
 #include "spar/kinematics/puma.hpp"
-#include "spar/reports/json_values.hpp"
-#include "spar/reports/plan_json.hpp"
+#include "spar/reports/build.hpp"
 #include "spar/geometry/builtin_objects.hpp"
+#include "spar/reports/plan_json.hpp"
 #include "spar/sensing/aspects_json.hpp"
 #include "spar/sensing/evidence_json.hpp"
 #include "spar/symbolic/operations.hpp"
@@ -120,9 +121,9 @@ bool same_expression(const Expression& a, const Expression& b) {
 
 // ---- bounds ----
 
-BoundAnswer bound_expression(const Expression& f, const std::vector<BoxRange>& box,
-                             const std::vector<ConstraintSpec>& constraints,
-                             const BoundSettings& settings) {
+reports::BoundRecord bound_expression(const Expression& f, const std::vector<BoxRange>& box,
+                                      const std::vector<ConstraintSpec>& constraints,
+                                      const BoundSettings& settings) {
   SharedPool& pool = *f.pool;
   std::vector<Foreign> constraint_gs;
   for (const ConstraintSpec& spec : constraints)
@@ -142,23 +143,10 @@ BoundAnswer bound_expression(const Expression& f, const std::vector<BoxRange>& b
   options.max_box_evaluations = settings.max_box_evaluations;
   options.max_seconds = settings.max_seconds;
   options.inner = settings.inner;
+  const auto start = std::chrono::steady_clock::now();
   const bounds::BoundResult result = bounds::bound(f.expr, bound_box, options, parsed);
-  BoundAnswer answer{.lo = result.lo,
-                     .hi = result.hi,
-                     .inner_lo = result.inner_lo,
-                     .inner_hi = result.inner_hi,
-                     .argmin = {},  // filled below, by name
-                     .argmax = {},
-                     .status = bounds::to_string(result.status),
-                     .possibly_undefined = result.possibly_undefined,
-                     .time_limited = result.time_limited,
-                     .evaluations = result.evaluations,
-                     .relative_gap = result.relative_gap()};
-  for (std::size_t i = 0; i < result.argmin.size(); ++i)
-    answer.argmin[std::string(bound_box.variables[i].name())] = result.argmin[i];
-  for (std::size_t i = 0; i < result.argmax.size(); ++i)
-    answer.argmax[std::string(bound_box.variables[i].name())] = result.argmax[i];
-  return answer;
+  const std::chrono::duration<double> elapsed = std::chrono::steady_clock::now() - start;
+  return reports::bound_record(bound_box, result, elapsed.count());
 }
 
 // ---- kinematics ----
@@ -278,28 +266,6 @@ planner::PlanOptions plan_options(const PlanSettings& settings) {
   return options;
 }
 
-ordered_json precondition_json(const planner::PreconditionResult& result) {
-  ordered_json box = ordered_json::object(), witness = ordered_json::object();
-  for (std::size_t i = 0; i < result.variables.size(); ++i) {
-    box[result.variables[i]] = {reports::number_json(result.box[i].lo),
-                                reports::number_json(result.box[i].hi)};
-    if (i < result.witness.size())
-      witness[result.variables[i]] = reports::number_json(result.witness[i]);
-  }
-  return {{"name", result.inequality.name},
-          {"kind", result.kind},
-          {"expression", result.expression},
-          {"relation", bounds::to_string(result.inequality.relation)},
-          {"threshold", reports::number_json(result.inequality.threshold)},
-          {"verdict", bounds::to_string(result.verdict)},
-          {"lo", reports::number_json(result.bound.lo)},
-          {"hi", reports::number_json(result.bound.hi)},
-          {"inner_lo", reports::number_json(result.bound.inner_lo)},
-          {"inner_hi", reports::number_json(result.bound.inner_hi)},
-          {"box", box},
-          {"witness", witness}};
-}
-
 }  // namespace
 
 PlanRun::PlanRun(planner::PlanResult planned, PlanSettings used)
@@ -325,31 +291,7 @@ ordered_json analyse_instance_json(const PlanRun& run, std::size_t index, bool e
   planner::InstanceAnalysis analysis = planner::analyse_instance(
       run.result.world, run.result.domain, run.result.instances.instances[index], options);
   if (extras) planner::add_margins(analysis, options);
-  const planner::Scenario& scenario = run.result.world.scenario();
-  ordered_json steps = ordered_json::array();
-  for (const planner::AnalysedStep& step : analysis.steps) {
-    ordered_json preconditions = ordered_json::array();
-    for (const planner::PreconditionResult& result : step.preconditions)
-      preconditions.push_back(precondition_json(result));
-    steps.push_back(
-        {{"action", step.action},
-         {"object", step.step.object >= 0 ? ordered_json(scenario.objects[step.step.object].name)
-                                          : ordered_json(nullptr)},
-         {"inserted", step.inserted},
-         {"failed", step.failed},
-         {"preconditions", preconditions}});
-  }
-  ordered_json repairs = ordered_json::array();
-  for (const planner::RepairAttempt& repair : analysis.repairs)
-    repairs.push_back(
-        {{"action", repair.action},
-         {"object", repair.object >= 0 ? ordered_json(scenario.objects[repair.object].name)
-                                       : ordered_json(nullptr)},
-         {"helped", repair.helped}});
-  return {{"index", analysis.instance},
-          {"errors", analysis.errors},
-          {"steps", steps},
-          {"repairs", repairs}};
+  return reports::to_json(reports::build_chosen(run.result, index, &analysis));
 }
 
 // ---- sensing ----

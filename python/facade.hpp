@@ -17,7 +17,7 @@
 //
 // Example:
 //   const Expression f = parse_expression("x^2 - y");
-//   const BoundAnswer r = bound_expression(f, {{"x", -1, 2}, {"y", 0, 1}}, {}, {});
+//   const reports::BoundRecord r = bound_expression(f, {{"x", -1, 2}, {"y", 0, 1}}, {}, {});
 //   // r.lo <= -1, r.hi >= 4, r.argmax == {{"x", 2}, {"y", 0}}
 //   const PlanRun run = plan_scenario(load_scenario_file("examples/peg_block_face_down.yaml"), {});
 //   std::cout << run.report.dump(2);   // what `spar plan --json` prints
@@ -40,6 +40,7 @@
 #include "spar/kinematics/symbolic_transform.hpp"
 #include "spar/kinematics/uncertain_pose.hpp"
 #include "spar/planner/plan.hpp"
+#include "spar/reports/model.hpp"
 #include "spar/symbolic/expr.hpp"
 
 namespace spar::python {
@@ -92,22 +93,13 @@ struct BoundSettings {
   bool inner{true};
 };
 
-// bounds::BoundResult with the witnesses as name -> value maps.
-struct BoundAnswer {
-  double lo{0.0}, hi{0.0}, inner_lo{0.0}, inner_hi{0.0};
-  std::map<std::string, double> argmin, argmax;  // empty when there is no witness
-  std::string status;                            // bounds::to_string(BoundStatus)
-  bool possibly_undefined{false};
-  bool time_limited{false};
-  std::size_t evaluations{0};
-  double relative_gap{0.0};
-};
-
-// bounds::bound(f, box, ...). Throws bounds::BoundsError (bad range, a variable of f not in the
-// box, a bad relation) or symbolic::SymbolicError (a constraint's text).
-[[nodiscard]] BoundAnswer bound_expression(const Expression& f, const std::vector<BoxRange>& box,
-                                           const std::vector<ConstraintSpec>& constraints,
-                                           const BoundSettings& settings);
+// bounds::bound(f, box, ...) as the bound record `spar bound --json` writes (witnesses named,
+// the wall-clock time in seconds). Throws bounds::BoundsError (bad range, a variable of f not in
+// the box, a bad relation) or symbolic::SymbolicError (a constraint's text).
+[[nodiscard]] reports::BoundRecord bound_expression(const Expression& f,
+                                                    const std::vector<BoxRange>& box,
+                                                    const std::vector<ConstraintSpec>& constraints,
+                                                    const BoundSettings& settings);
 
 // ---- kinematics (numeric: 4x4 homogeneous matrices, metres and radians) ----
 
@@ -205,10 +197,9 @@ struct PlanRun {
 // Number of plan instances enumerated (up to PlanSettings::instances).
 [[nodiscard]] std::size_t instance_count(const PlanRun& run);
 // Phase 2 on instance `index` on its own (whether or not the run examined it), with the chosen
-// instance's extras when `extras`: {index, errors, steps: [{action, inserted, failed,
-// preconditions: [{name, kind, expression, relation, threshold, verdict, lo, hi, inner_lo,
-// inner_hi, box: {variable: [lo, hi]}, witness: {variable: value}}]}], repairs: [{action, object,
-// helped}]}, in SI units; non-finite numbers as "inf", "-inf", "nan" (as in the report).
+// instance's extras (blame, reverse analysis, Monte Carlo) when `extras`: the report's `chosen`
+// record for that instance (reports::build_chosen: index, steps with their preconditions, errors,
+// repairs, uncertainty_variables), the same keys and units as `spar plan --json`.
 // Throws std::out_of_range for an index >= instance_count(run).
 [[nodiscard]] nlohmann::ordered_json analyse_instance_json(const PlanRun& run, std::size_t index,
                                                            bool extras);

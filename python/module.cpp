@@ -10,6 +10,8 @@
 #include <pybind11/stl.h>
 #include <pybind11/stl/filesystem.h>
 
+#include "python/docstrings.hpp"
+#include "python/facade.hpp"
 #include "spar/bounds/error.hpp"
 #include "spar/bounds/shostak.hpp"
 #include "spar/common/number.hpp"
@@ -17,8 +19,6 @@
 #include "spar/kinematics/error.hpp"
 #include "spar/planner/cms/error.hpp"
 #include "spar/planner/error.hpp"
-#include "python/docstrings.hpp"
-#include "python/facade.hpp"
 #include "spar/qr/error.hpp"
 #include "spar/reports/error.hpp"
 #include "spar/sensing/error.hpp"
@@ -103,26 +103,65 @@ kinematics::PoseUncertainty uncertainty_from(const std::map<std::string, double>
   return out;
 }
 
-py::dict bound_dict(const BoundAnswer& r) {
-  return py::dict("lo"_a = r.lo, "hi"_a = r.hi, "inner_lo"_a = r.inner_lo,
-                  "inner_hi"_a = r.inner_hi, "argmin"_a = r.argmin, "argmax"_a = r.argmax,
-                  "status"_a = r.status, "possibly_undefined"_a = r.possibly_undefined,
-                  "time_limited"_a = r.time_limited, "evaluations"_a = r.evaluations,
-                  "relative_gap"_a = r.relative_gap);
+// A bound record's member as Python: numbers as floats (inf and nan included), witnesses as
+// dicts in the box's order.
+template <class T>
+py::object member_to_python(const T& value) {
+  return py::cast(value);
+}
+py::object member_to_python(const reports::NamedValues<double>& values) {
+  py::dict out;
+  for (const auto& [name, value] : values) out[py::str(name)] = value;
+  return out;
+}
+template <class T>
+void member_from_python(const py::handle& value, T& out) {
+  out = value.cast<T>();
+}
+void member_from_python(const py::handle& value, reports::NamedValues<double>& out) {
+  out.clear();
+  for (const auto& [name, number] : value.cast<py::dict>())
+    out.emplace_back(name.cast<std::string>(), number.cast<double>());
 }
 
-BoundAnswer bound_from_dict(const py::dict& d) {
-  return BoundAnswer{.lo = d["lo"].cast<double>(),
-                     .hi = d["hi"].cast<double>(),
-                     .inner_lo = d["inner_lo"].cast<double>(),
-                     .inner_hi = d["inner_hi"].cast<double>(),
-                     .argmin = d["argmin"].cast<std::map<std::string, double>>(),
-                     .argmax = d["argmax"].cast<std::map<std::string, double>>(),
-                     .status = d["status"].cast<std::string>(),
-                     .possibly_undefined = d["possibly_undefined"].cast<bool>(),
-                     .time_limited = d["time_limited"].cast<bool>(),
-                     .evaluations = d["evaluations"].cast<std::size_t>(),
-                     .relative_gap = d["relative_gap"].cast<double>()};
+// The bound record as a dict with the keys of `spar bound --json` (name only when it has one).
+py::dict bound_dict(const reports::BoundRecord& r) {
+  py::dict out;
+  reports::BoundRecord::fields(r, [&]<class M>(const char* key, const M& member) {
+    if constexpr (std::is_same_v<M, std::optional<std::string>>) {
+      if (member) out[key] = *member;
+    } else {
+      out[key] = member_to_python(member);
+    }
+  });
+  return out;
+}
+
+reports::BoundRecord bound_from_dict(const py::dict& d) {
+  reports::BoundRecord r;
+  reports::BoundRecord::fields(r, [&]<class M>(const char* key, M& member) {
+    if (d.contains(key)) member_from_python(d[key], member);
+  });
+  return r;
+}
+
+// BoundResult's attributes: one read-only property per member of the bound record.
+void bind_bound_record(py::class_<reports::BoundRecord>& cls) {
+  const reports::BoundRecord names;
+  reports::BoundRecord::fields(names, [&](const char* key, const auto&) {
+    cls.def_property_readonly(key, [key](const reports::BoundRecord& r) {
+      py::object out = py::none();
+      reports::BoundRecord::fields(r, [&]<class M>(const char* name, const M& member) {
+        if (std::string_view(name) != key) return;
+        if constexpr (std::is_same_v<M, std::optional<std::string>>) {
+          if (member) out = py::str(*member);
+        } else {
+          out = member_to_python(member);
+        }
+      });
+      return out;
+    });
+  });
 }
 
 void bind_expressions(py::module_& m) {
@@ -147,29 +186,22 @@ void bind_expressions(py::module_& m) {
       .def(py::pickle([](const Expression& e) { return expression_text(e); },
                       [](const std::string& text) { return parse_expression(text); }));
 
-  py::class_<BoundAnswer>(m, "BoundResult",
-                          "Sound bounds [lo, hi] of an expression over a box, the attained inner "
-                          "range [inner_lo, inner_hi] and its witnesses argmin/argmax (dicts), "
-                          "status (converged | effort_limit | unbounded | infeasible).")
-      .def_readonly("lo", &BoundAnswer::lo)
-      .def_readonly("hi", &BoundAnswer::hi)
-      .def_readonly("inner_lo", &BoundAnswer::inner_lo)
-      .def_readonly("inner_hi", &BoundAnswer::inner_hi)
-      .def_readonly("argmin", &BoundAnswer::argmin)
-      .def_readonly("argmax", &BoundAnswer::argmax)
-      .def_readonly("status", &BoundAnswer::status)
-      .def_readonly("possibly_undefined", &BoundAnswer::possibly_undefined)
-      .def_readonly("time_limited", &BoundAnswer::time_limited)
-      .def_readonly("evaluations", &BoundAnswer::evaluations)
-      .def_readonly("relative_gap", &BoundAnswer::relative_gap)
-      .def("as_dict", &bound_dict, "The fields as a dict.")
+  py::class_<reports::BoundRecord> bound_result(
+      m, "BoundResult",
+      "Sound bounds [lo, hi] of an expression over a box, the attained inner range [inner_lo, "
+      "inner_hi] and its witnesses argmin/argmax (dicts), status (converged | effort_limit | "
+      "unbounded | infeasible), possibly_undefined, time_limited, relative_gap, evaluations (box "
+      "evaluations) and seconds (wall-clock): the keys of `spar bound --json`.");
+  bind_bound_record(bound_result);
+  bound_result.def("as_dict", &bound_dict, "The fields as a dict: the keys of `spar bound --json`.")
       .def("__repr__",
-           [](const BoundAnswer& r) {
+           [](const reports::BoundRecord& r) {
              return "spar.BoundResult(lo=" + py::repr(py::float_(r.lo)).cast<std::string>() +
                     ", hi=" + py::repr(py::float_(r.hi)).cast<std::string>() + ", status='" +
                     r.status + "')";
            })
-      .def(py::pickle([](const BoundAnswer& r) { return bound_dict(r); }, &bound_from_dict));
+      .def(py::pickle([](const reports::BoundRecord& r) { return bound_dict(r); },
+                      &bound_from_dict));
 
   py::class_<ConstraintSpec>(m, "_Constraint")
       .def(py::init([](const Expression& g, const std::string& relation) {

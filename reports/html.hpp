@@ -1,5 +1,5 @@
 // The HTML report: one self-contained file (no network, no scripts, no external fonts or styles)
-// with inline SVG, rendered from the report's JSON only (reports/plan_json.hpp).
+// with inline SVG, written from the report model (reports/model.hpp).
 //
 // Sections, each an element with a stable id that tests and readers can find:
 //   #summary        scenario, status, verdict counts, errors, instances
@@ -16,16 +16,20 @@
 // Units are shown on every value; numbers are rounded for reading (the JSON keeps exact values).
 //
 // Example:
-//   const nlohmann::ordered_json report = plan_json(planner::plan(scenario, domain));
+//   const Report report = build_report(planner::plan(scenario, domain));
 //   std::ofstream("report.html") << render_html(report);
 #pragma once
 
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "spar/reports/model.hpp"
+
 namespace spar::reports {
 
-// Throws ReportError when `report` is not a spar-report/1 document.
+// Throws ReportError when the model's parts do not fit together (an index past its array).
+[[nodiscard]] std::string render_html(const Report& report);
+// A report read back from its JSON; throws ReportError when it is not a spar-report/1 document.
 [[nodiscard]] std::string render_html(const nlohmann::ordered_json& report);
 
 }  // namespace spar::reports

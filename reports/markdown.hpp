@@ -1,5 +1,5 @@
-// The Markdown report: what a person reads in a terminal or a pull request. Rendered from the
-// report's JSON only (reports/plan_json.hpp), so the same JSON always gives the same bytes.
+// The Markdown report: what a person reads in a terminal or a pull request, written from the
+// report model (reports/model.hpp); the same model always gives the same bytes.
 //
 // Sections: title and summary (status, steps, verdict counts, errors, instances), the chosen plan
 // in execution order, the per-precondition verdict table (bounds rounded to 3 significant digits,
@@ -8,7 +8,7 @@
 // gives the few lines `spar plan` prints.
 //
 // Example:
-//   const nlohmann::ordered_json report = plan_json(planner::plan(scenario, domain));
+//   const Report report = build_report(planner::plan(scenario, domain));
 //   std::ofstream("report.md") << render_markdown(report);
 //   std::cout << summary(report);
 #pragma once
@@ -16,11 +16,15 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "spar/reports/model.hpp"
+
 namespace spar::reports {
 
-// Throws ReportError when `report` is not a spar-report/1 document.
+// Throws ReportError when the model's parts do not fit together (an index past its array).
+[[nodiscard]] std::string render_markdown(const Report& report);
+// A report read back from its JSON; throws ReportError when it is not a spar-report/1 document.
 [[nodiscard]] std::string render_markdown(const nlohmann::ordered_json& report);
 // A few lines: status, steps with inserted ones, verdict counts, errors, instances.
-[[nodiscard]] std::string summary(const nlohmann::ordered_json& report);
+[[nodiscard]] std::string summary(const Report& report);
 
 }  // namespace spar::reports

@@ -8,6 +8,7 @@
 
 #include "spar/reports/error.hpp"
 #include "spar/reports/html.hpp"
+#include "spar/reports/json.hpp"
 #include "spar/reports/markdown.hpp"
 
 namespace spar::reports {
@@ -49,10 +50,10 @@ std::string file_name(Format format) {
   return "report";
 }
 
-std::string render(const nlohmann::ordered_json& report, Format format) {
+std::string render(const Report& report, Format format) {
   switch (format) {
     case Format::kJson:
-      return report.dump(2) + "\n";
+      return to_json(report).dump(2) + "\n";
     case Format::kMarkdown:
       return render_markdown(report);
     case Format::kHtml:
@@ -61,7 +62,7 @@ std::string render(const nlohmann::ordered_json& report, Format format) {
   return {};
 }
 
-std::vector<fs::path> write_reports(const nlohmann::ordered_json& report, const fs::path& folder,
+std::vector<fs::path> write_reports(const Report& report, const fs::path& folder,
                                     const std::vector<Format>& formats) {
   std::vector<std::string> texts;
   for (const Format format : formats) texts.push_back(render(report, format));

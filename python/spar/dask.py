@@ -165,7 +165,8 @@ def bound_many(client, records, *, chunk_size=32, on_result=None, **options):
     """spar.bound_record on every FPBench-style record on the cluster, in input order.
 
     `options` are spar.bound's keywords (tolerance, max_box_evaluations, ...). Bounding is
-    deterministic (its effort limits count work, not time), so the results equal serial ones.
+    deterministic (its effort limits count work, not time), so the results equal serial ones
+    but for `seconds`, the wall-clock time each bound took.
     """
     return map_chunks(client, _bound_chunk, records, chunk_size=chunk_size, options=options,
                       on_result=on_result)

@@ -70,7 +70,11 @@ def test_meshes_travel_by_content(client, tmp_path):
 def test_bound_many_equals_serial(client, fpbench):
     records = fpbench[:30] + [{"name": "bad", "expr": "x +", "vars": {"x": [0, 1]}}]
     results = spar.dask.bound_many(client, records, chunk_size=7, max_box_evaluations=5000)
-    assert results == [spar.bound_record(r, max_box_evaluations=5000) for r in records]
+    serial = [spar.bound_record(r, max_box_evaluations=5000) for r in records]
+    # Equal but for the wall-clock time each bound took.
+    for result in results + serial:
+        result.pop("seconds", None)
+    assert results == serial
     assert results[-1]["error_type"] == "SymbolicError"
 
 

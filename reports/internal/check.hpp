@@ -1,27 +1,25 @@
-// Guards of the renderers (reports/ only): a document must say it is a spar-report/1 before it is
-// read, and a missing or mistyped member becomes a ReportError naming what is wrong.
+// The renderers' guard (reports/ only): a document is read into the model first (a JSON document
+// must say it is a spar-report/1 and have every required member), and a model whose parts do not
+// fit together (an index past its array) becomes a ReportError naming the format, never a crash.
 //
 // Example:
-//   return guarded("Markdown", report, [&] { return render(report); });
+//   return guarded("Markdown", [&] { return markdown(report); });
 #pragma once
 
-#include <nlohmann/json.hpp>
+#include <exception>
 #include <string>
 
 #include "spar/reports/error.hpp"
-#include "spar/reports/plan_json.hpp"
 
 namespace spar::reports::internal {
 
 template <typename Render>
-[[nodiscard]] std::string guarded(const char* format, const nlohmann::ordered_json& report,
-                                  Render render) {
-  if (!report.is_object() || !report.contains("schema") || report["schema"] != kReportSchema)
-    throw ReportError(std::string("cannot render ") + format + ": not a " + kReportSchema +
-                      " report (its \"schema\" member must say so)");
+[[nodiscard]] std::string guarded(const char* format, Render render) {
   try {
     return render();
-  } catch (const nlohmann::json::exception& error) {
+  } catch (const ReportError& error) {
+    throw ReportError(std::string("cannot render ") + format + ": " + error.what());
+  } catch (const std::exception& error) {
     throw ReportError(std::string("cannot render ") + format +
                       ": malformed report: " + error.what());
   }

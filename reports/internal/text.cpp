@@ -9,16 +9,6 @@
 
 namespace spar::reports::internal {
 
-double value(const Json& number) {
-  if (number.is_number()) return number.get<double>();
-  if (number.is_string()) {
-    const std::string& word = number.get_ref<const std::string&>();
-    if (word == "inf") return HUGE_VAL;
-    if (word == "-inf") return -HUGE_VAL;
-  }
-  return std::nan("");
-}
-
 std::string fixed(double value, int decimals) {
   if (std::isnan(value)) return "nan";
   if (std::isinf(value)) return value > 0 ? "inf" : "-inf";
@@ -43,12 +33,6 @@ std::string rounded(double value, int digits) {
     return buffer;
   }
   return fixed(value, std::clamp(digits - 1 - magnitude, 0, 15));
-}
-
-std::string text(const Json& object, std::string_view key, std::string_view fallback) {
-  const auto found = object.find(key);
-  if (found == object.end() || !found->is_string()) return std::string(fallback);
-  return found->get<std::string>();
 }
 
 std::string html_escape(std::string_view text) {
@@ -91,33 +75,23 @@ std::string cell_escape(std::string_view text) {
   return out;
 }
 
-double to_length_unit(const Json& report, double metres) {
-  return metres / value(report.at("units").at("metres_per_length"));
+double to_length_unit(const Units& units, double metres) {
+  return metres / units.metres_per_length;
 }
 
-double to_angle_unit(const Json& report, double radians) {
-  return radians / value(report.at("units").at("radians_per_angle"));
+double to_angle_unit(const Units& units, double radians) {
+  return radians / units.radians_per_angle;
 }
 
-std::string half_width_text(const Json& variable) {
-  const Json& display = variable.at("display");
-  const double lo = value(display.at("lo")), hi = value(display.at("hi"));
-  const std::string unit = text(display, "unit");
-  if (lo == -hi) return "±" + rounded(hi) + " " + unit;
-  return "[" + rounded(lo) + ", " + rounded(hi) + "] " + unit;
+std::string half_width_text(const UncertaintyVariable& variable) {
+  const RangeDisplay& display = variable.display;
+  if (display.lo == -display.hi) return "±" + rounded(display.hi) + " " + display.unit;
+  return "[" + rounded(display.lo) + ", " + rounded(display.hi) + "] " + display.unit;
 }
 
-const Json* step_by_id(const Json& report, int id) {
-  const Json& chosen = report.at("chosen");
-  if (!chosen.is_object()) return nullptr;
-  for (const Json& step : chosen.at("steps"))
-    if (step.at("id") == id) return &step;
-  return nullptr;
-}
-
-std::string step_title(const Json& step) {
-  std::string title = text(step, "action") + " " + text(step, "object");
-  if (step.contains("fixed_object")) title += " into " + text(step, "fixed_object");
+std::string step_title(const Step& step) {
+  std::string title = step.action + " " + step.object.value_or("");
+  if (step.fixed_object) title += " into " + *step.fixed_object;
   return title;
 }
 
@@ -130,117 +104,112 @@ std::string unit_suffix(const std::string& unit) {
 
 }  // namespace
 
-std::string step_details(const Json& report, const Json& step) {
-  const std::string length = report.at("units").at("length").get<std::string>();
+std::string step_details(const Units& units, const Step& step) {
+  const std::string& length = units.length;
   std::string out;
   const auto add = [&](const std::string& part) { out += (out.empty() ? "" : ", ") + part; };
-  if (step.contains("grasp")) {
-    const Json& grasp = step.at("grasp");
-    add("grasp " + text(grasp, "label") + " (faces " + grasp.at("faces").at(0).dump() + "/" +
-        grasp.at("faces").at(1).dump() + ", width " + rounded(value(grasp.at("width"))) + " " +
-        length + ")");
+  if (step.grasp) {
+    const Grasp& grasp = *step.grasp;
+    add("grasp " + grasp.label + " (faces " + std::to_string(grasp.faces[0]) + "/" +
+        std::to_string(grasp.faces[1]) + ", width " + rounded(grasp.width) + " " + length + ")");
   }
-  const auto position = [&](const Json& pose) {
-    return "(" + fixed(value(pose.at(0).at(3))) + ", " + fixed(value(pose.at(1).at(3))) + ", " +
-           fixed(value(pose.at(2).at(3))) + ") " + length;
+  const auto position = [&](const Matrix& pose) {
+    return "(" + fixed(pose[0][3]) + ", " + fixed(pose[1][3]) + ", " + fixed(pose[2][3]) + ") " +
+           length;
   };
-  if (step.contains("fixed_object")) {
-    add(text(step, "fixed_object") + " at " + position(step.at("fixed_pose")));
-    add(text(step, "object") + " to " + position(step.at("held_pose")));
-  } else if (step.contains("object_pose")) {
-    add(std::string(text(step, "action") == "putdown" ? "to " : "at ") +
-        position(step.at("object_pose")));
+  if (step.fixed_object) {
+    add(*step.fixed_object + " at " + position(*step.fixed_pose));
+    add(step.object.value_or("") + " to " + position(*step.held_pose));
+  } else if (step.object_pose) {
+    add(std::string(step.action == "putdown" ? "to " : "at ") + position(*step.object_pose));
   }
-  if (step.contains("stable_pose") && step.at("stable_pose").is_string())
-    add("stable pose " + text(step, "stable_pose"));
-  if (step.contains("configuration") && step.at("configuration").is_string())
-    add("arm " + text(step, "configuration"));
+  if (step.stable_pose && *step.stable_pose) add("stable pose " + **step.stable_pose);
+  if (step.configuration && *step.configuration) add("arm " + **step.configuration);
   return out;
 }
 
-std::string requirement_text(const Json& precondition) {
-  const Json& display = precondition.at("display");
-  return text(precondition, "relation") + " " + rounded(value(display.at("threshold")), 6) +
-         unit_suffix(text(display, "unit"));
+std::string requirement_text(const Precondition& precondition) {
+  return precondition.relation + " " + rounded(precondition.display.threshold, 6) +
+         unit_suffix(precondition.display.unit);
 }
 
-std::string bound_text(const Json& precondition, bool inner) {
-  const Json& display = precondition.at("display");
-  const double lo = value(display.at(inner ? "inner_lo" : "lo"));
-  const double hi = value(display.at(inner ? "inner_hi" : "hi"));
-  return "[" + rounded(lo) + ", " + rounded(hi) + "]" + unit_suffix(text(display, "unit"));
+std::string bound_text(const Precondition& precondition, bool inner) {
+  const DisplayBounds& display = precondition.display;
+  const double lo = inner ? display.inner_lo : display.lo;
+  const double hi = inner ? display.inner_hi : display.hi;
+  return "[" + rounded(lo) + ", " + rounded(hi) + "]" + unit_suffix(display.unit);
 }
 
-std::string margin_text(const Json& report, const Json& precondition) {
-  if (!precondition.contains("holds_up_to_scale")) return "";
-  const Json& margin = precondition.at("margin");
-  const Json& units = report.at("units");
+std::string margin_text(const Units& units, const Precondition& precondition) {
+  if (!precondition.holds_up_to_scale) return "";
+  const Margin& margin = *precondition.margin;
   // A component the precondition does not depend on (no such variable scaled) is left out:
   // "±0 deg" would read as "no rotation allowed".
   std::vector<std::string> parts;
-  for (const auto& [key, unit] : {std::pair{"displacement", "length"}, {"rotation", "angle"}}) {
-    const double half_width = value(margin.at(key));
-    if (half_width > 0) parts.push_back("±" + rounded(half_width, 2) + " " + text(units, unit));
-  }
-  std::string out = "x" + rounded(value(precondition.at("holds_up_to_scale")), 2);
+  if (margin.displacement > 0)
+    parts.push_back("±" + rounded(margin.displacement, 2) + " " + units.length);
+  if (margin.rotation > 0) parts.push_back("±" + rounded(margin.rotation, 2) + " " + units.angle);
+  std::string out = "x" + rounded(*precondition.holds_up_to_scale, 2);
   for (std::size_t i = 0; i < parts.size(); ++i) out.append(i == 0 ? " (" : ", ").append(parts[i]);
   if (!parts.empty()) out.append(")");
   return out;
 }
 
-std::string repair_bound_text(const Json& report, const Json& entry) {
-  const bool length = entry.at("unit") == "m";
-  const auto shown = [&](const char* key) {
-    const double v = value(entry.at(key));
-    return rounded(length ? to_length_unit(report, v) : v);
-  };
-  return "[" + shown("lo") + ", " + shown("hi") + "]" +
-         (length ? " " + report.at("units").at("length").get<std::string>() : std::string());
+std::string repair_bound_text(const Units& units, const RepairBound& entry) {
+  const bool length = entry.unit && *entry.unit == "m";
+  const auto shown = [&](double v) { return rounded(length ? to_length_unit(units, v) : v); };
+  return "[" + shown(entry.lo) + ", " + shown(entry.hi) + "]" +
+         (length ? " " + units.length : std::string());
 }
 
-std::string sensor_residual_text(const Json& report, const Json& needed) {
-  const Json& units = report.at("units");
-  const double largest =
-      std::max({value(needed.at("dx")), value(needed.at("dy")), value(needed.at("dz"))});
-  return "a range-scan with a residual of ±" + rounded(largest, 2) + " " + text(units, "length") +
-         ", ±" + rounded(value(needed.at("dtheta")), 2) + " " + text(units, "angle") + " (x" +
-         rounded(value(needed.at("scale")), 2) +
+std::string sensor_residual_text(const Units& units, const SensorResidual& needed) {
+  const double largest = std::max({needed.dx, needed.dy, needed.dz});
+  return "a range-scan with a residual of ±" + rounded(largest, 2) + " " + units.length + ", ±" +
+         rounded(needed.dtheta, 2) + " " + units.angle + " (x" + rounded(needed.scale, 2) +
          " of the scenario's sensor) would make this step hold";
 }
 
-VerdictCounts verdict_counts(const Json& report) {
-  VerdictCounts counts;
-  const Json& chosen = report.at("chosen");
-  if (!chosen.is_object()) return counts;
-  for (const Json& step : chosen.at("steps"))
-    for (const Json& precondition : step.value("preconditions", Json::array())) {
-      const std::string verdict = text(precondition, "verdict");
-      (verdict == "satisfied"  ? counts.satisfied
-       : verdict == "violated" ? counts.violated
-                               : counts.undecided)++;
+std::pair<int, int> holding(const Step& step) {
+  int holds = 0, total = 0;
+  if (step.preconditions)
+    for (const Precondition& precondition : *step.preconditions) {
+      ++total;
+      holds += precondition.verdict == "satisfied" ? 1 : 0;
     }
+  return {holds, total};
+}
+
+VerdictCounts verdict_counts(const Report& report) {
+  VerdictCounts counts;
+  if (!report.chosen) return counts;
+  for (const Step& step : report.chosen->steps)
+    if (step.preconditions)
+      for (const Precondition& precondition : *step.preconditions) {
+        const std::string& verdict = precondition.verdict;
+        (verdict == "satisfied"  ? counts.satisfied
+         : verdict == "violated" ? counts.violated
+                                 : counts.undecided)++;
+      }
   return counts;
 }
 
-// ---- chosen.probability (issue 15) ----
+// ---- chosen.probability ----
 
-const Json& probability_precondition(const Json& report, const Json& entry) {
-  return report.at("chosen")
-      .at("steps")
-      .at(entry.at("step").get<std::size_t>())
-      .at("preconditions")
-      .at(entry.at("index").get<std::size_t>());
+const Precondition& probability_precondition(const Chosen& chosen,
+                                             const PreconditionProbability& entry) {
+  return chosen.steps.at(entry.step).preconditions.value().at(entry.index);
 }
 
-double precondition_display(const Json& report, const Json& entry, double si) {
-  return text(probability_precondition(report, entry), "unit") == "m" ? to_length_unit(report, si)
-                                                                      : si;
+double precondition_display(const Report& report, const PreconditionProbability& entry, double si) {
+  return probability_precondition(*report.chosen, entry).unit == "m"
+             ? to_length_unit(report.units, si)
+             : si;
 }
 
-std::string sigma_text(const Json& report, const Json& entry) {
-  const bool length = text(probability_precondition(report, entry), "unit") == "m";
-  return "σ " + rounded(precondition_display(report, entry, value(entry.at("sigma")))) +
-         (length ? " " + report.at("units").at("length").get<std::string>() : std::string());
+std::string sigma_text(const Report& report, const PreconditionProbability& entry) {
+  const bool length = probability_precondition(*report.chosen, entry).unit == "m";
+  return "σ " + rounded(precondition_display(report, entry, entry.sigma)) +
+         (length ? " " + report.units.length : std::string());
 }
 
 std::string probability_text(double probability, bool proved) {
@@ -249,24 +218,22 @@ std::string probability_text(double probability, bool proved) {
   return rounded(100 * probability) + "%";
 }
 
-std::string monte_carlo_text(const Json& entry, bool proved) {
-  const Json& ci = entry.at("ci");
-  return probability_text(value(entry.at("p_monte_carlo")), proved) + " [" +
-         probability_text(value(ci.at(0)), false) + ", " +
-         probability_text(value(ci.at(1)), false) + "]";
+std::string monte_carlo_text(double p, const std::array<double, 2>& ci, bool proved) {
+  return probability_text(p, proved) + " [" + probability_text(ci[0], false) + ", " +
+         probability_text(ci[1], false) + "]";
 }
 
-std::string allocation_text(const Json& tolerances) {
-  const std::string status = text(tolerances, "status");
+std::string allocation_text(const Tolerances& tolerances) {
+  const std::string& status = tolerances.status;
   if (status == "not_needed")
     return "not needed: every precondition is proved over the scenario's box";
   if (status == "infeasible")
     return "infeasible: some precondition fails at the nominal point, whatever the tolerances";
-  const std::string rounds = std::to_string(tolerances.at("rounds").get<int>());
+  const std::string rounds = std::to_string(tolerances.rounds);
   return (status == "proved" ? "proved by the sound bounds"
                              : "NOT proved by the sound bounds (see the misses)") +
          std::string(" after ") + rounds + " round" + (rounds == "1" ? "" : "s") + ", cost " +
-         rounded(value(tolerances.at("cost")));
+         rounded(tolerances.cost);
 }
 
 }  // namespace spar::reports::internal

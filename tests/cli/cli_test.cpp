@@ -296,11 +296,11 @@ const std::vector<Case> kCases = {
    kError, "", "unknown report format 'pdf'"},
   // JSONL batches: a bad line is an error record with its line number; the batch goes on.
   {"JsonlBadLinesAreRecords", {"bound", "--jsonl", "@DIR@/batch.jsonl"}, kError,
-   "\"error\":\"\\[json.exception.parse_error.101\\][^\n]*\"line\":2[^\n]*\n"
-   "\\{\"error\":\"\\\\\"expr\\\\\" must be a string\",\"line\":3,\"name\":\"c\"\\}\n"
-   "\\{\"error\":\"missing \\\\\"expr\\\\\" string\",\"line\":4,\"name\":\"d\"\\}\n"
-   "\\{\"error\":\"a record must be a JSON object\",\"line\":5,\"name\":\"\"\\}\n"
-   "\\{\"argmax\"[^\n]*\"name\":\"last\"",
+   "\\{\"line\":2,\"name\":\"[^\n]*\"error\":\"\\[json.exception.parse_error.101\\][^\n]*\n"
+   "\\{\"line\":3,\"name\":\"c\",\"error\":\"\\\\\"expr\\\\\" must be a string\"\\}\n"
+   "\\{\"line\":4,\"name\":\"d\",\"error\":\"missing \\\\\"expr\\\\\" string\"\\}\n"
+   "\\{\"line\":5,\"name\":\"\",\"error\":\"a record must be a JSON object\"\\}\n"
+   "\\{\"name\":\"last\",\"lo\"",
    "4 line\\(s\\) of '[^']*batch.jsonl' could not be bounded"},
   {"JsonlDirectory", {"bound", "--jsonl", "@DIR@"}, kError, "", "is a directory"},
   {"JsonlWithExpression", {"bound", "x+1", "--var", "x=0:1", "--jsonl", "@DIR@/good.jsonl"},

@@ -16,8 +16,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   std::string line;
   for (std::size_t number = 1; std::getline(lines, line); ++number) {
     bool ok = true;
-    const nlohmann::json result = spar::cli::bound_record(line, number, options, ok);
-    (void)result.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+    const nlohmann::ordered_json result = spar::cli::bound_record(line, number, options, ok);
+    (void)result.dump(-1, ' ', false, nlohmann::ordered_json::error_handler_t::replace);
   }
   return 0;
 }

@@ -142,7 +142,8 @@ TEST(MeshIo, NonConvexPolygonIsRejected) {
 
 TEST(MeshIo, MissingFileAndUnknownExtension) {
   EXPECT_THROW_MESSAGE((void)read_mesh_file("/nonexistent/thing.off"), "cannot open the file");
-  EXPECT_THROW_MESSAGE((void)read_mesh_file("thing.stl"), "unknown mesh format '.stl'");
+  EXPECT_THROW_MESSAGE((void)read_mesh_file("thing.ply"),
+                       "unknown mesh format '.ply' (expected .off, .obj or .stl)");
 }
 
 TEST(MeshIo, WriteThenReadKeepsFacesAndNames) {

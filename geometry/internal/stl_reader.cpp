@@ -1,0 +1,31 @@
+// parse_stl (mesh_io.hpp) on CGAL's STL reader (CGAL::IO::read_STL: ASCII or binary, told apart
+// by the `solid` keyword with a fall-back to the other form; identical points welded into one
+// vertex). Like convex_hull.cpp, this translation unit keeps CGAL's headers to itself.
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/IO/STL.h>
+
+#include <array>
+#include <sstream>
+#include <vector>
+
+#include "spar/geometry/mesh_io.hpp"
+
+namespace spar::geometry {
+
+Mesh parse_stl(const std::string& bytes, const std::string& source) {
+  using Point = CGAL::Exact_predicates_inexact_constructions_kernel::Point_3;
+  std::vector<Point> points;
+  std::vector<std::array<int, 3>> facets;
+  std::istringstream stream(bytes, std::ios::in | std::ios::binary);
+  if (!CGAL::IO::read_STL(stream, points, facets))
+    throw GeometryError(source + ": not an STL file (CGAL's reader took it for neither ASCII " +
+                        "'solid ... facet ... endsolid' nor binary: 80-byte header, count, " +
+                        "50 bytes per triangle)");
+  if (facets.empty()) throw GeometryError(source + ": the STL file has no triangles");
+  MeshBuilder builder(source);
+  for (const Point& p : points) builder.add_vertex({p.x(), p.y(), p.z()});
+  for (const std::array<int, 3>& facet : facets) builder.add_polygon(facet, "");
+  return std::move(builder).build();
+}
+
+}  // namespace spar::geometry

@@ -1,0 +1,448 @@
+#include "spar/reports/build.hpp"
+
+#include <algorithm>
+
+namespace spar::reports {
+namespace {
+
+using planner::ParameterType;
+
+Matrix matrix(const Eigen::Isometry3d& pose, double length_scale) {
+  Matrix out{};
+  const Eigen::Matrix4d m = pose.matrix();
+  for (int row = 0; row < 4; ++row)
+    for (int column = 0; column < 4; ++column)
+      out[row][column] = column == 3 && row < 3 ? m(row, column) * length_scale : m(row, column);
+  return out;
+}
+
+// Lengths in the scenario's unit: metres times this.
+double length_scale(const planner::PlanResult& result) {
+  return 1.0 / result.world.scenario().units.metres_per_length_unit();
+}
+
+const char* type_name(ParameterType type) {
+  switch (type) {
+    case ParameterType::kObject:
+      return "object";
+    case ParameterType::kGrasp:
+      return "grasp";
+    case ParameterType::kPosition:
+      return "position";
+    case ParameterType::kPlacement:
+      return "placement";
+  }
+  return "?";
+}
+
+// The name of label `label` of plan variable `variable`.
+std::string label_name(const planner::PlanResult& result, int variable, int label) {
+  const planner::PlanVariable& meta = result.family.variables.at(variable);
+  const planner::ObjectWorld& object = result.world.object(meta.object);
+  return meta.type == ParameterType::kGrasp ? object.grasps.at(label).label
+                                            : object.positions.at(label).name;
+}
+
+Family build_family(const planner::PlanResult& result) {
+  const planner::PlanFamily& family = result.family;
+  Family out;
+  for (const planner::FamilyStep& step : family.steps) {
+    FamilyStep& row = out.steps.emplace_back();
+    row.id = step.id;
+    row.action = step.action < 0 ? (step.id == 0 ? "start" : "finish")
+                                 : result.domain.actions[step.action].name;
+    for (const planner::Term& term : step.args)
+      row.args.push_back(family.term_name(term, result.world));
+    row.text = family.describe(step, result.world, result.domain);
+  }
+  for (const auto& [before, after] : family.ordering.transitive_reduction())
+    out.ordering.push_back({before, after});
+  for (int v = 0; v < family.network.variable_count(); ++v) {
+    if (family.network.representative(v) != v) continue;
+    const planner::PlanVariable& meta = family.variables[v];
+    PlanVariable& variable = out.variables.emplace_back();
+    variable.name = meta.name;
+    variable.type = type_name(meta.type);
+    variable.object = result.world.scenario().objects[meta.object].name;
+    for (const int label : family.network.labels(v))
+      variable.labels.push_back(label_name(result, v, label));
+  }
+  for (const planner::cms::ArcPairs& arc : family.network.arcs()) {
+    Arc& row = out.arcs.emplace_back();
+    row.variables = {family.variables[arc.first].name, family.variables[arc.second].name};
+    for (const auto& [a, b] : arc.pairs)
+      row.pairs.push_back({label_name(result, arc.first, a), label_name(result, arc.second, b)});
+  }
+  for (const planner::SatisfiedGoal& goal : family.satisfied)
+    out.goals.push_back(
+        {goal.level == planner::SatisfiedGoal::Level::kOperational ? "operational" : "geometric",
+         goal.condition, goal.step, goal.how});
+  out.search = {family.stats.expanded, family.stats.generated, family.stats.seconds};
+  return out;
+}
+
+Step build_step(const planner::PlanResult& result, const planner::InstanceStep& step) {
+  const planner::Scenario& scenario = result.world.scenario();
+  const double scale = length_scale(result);
+  Step out;
+  out.id = step.step;
+  out.action = step.action_name;
+  if (step.object >= 0) out.object = scenario.objects[step.object].name;
+  if (step.grasp >= 0) {
+    const geometry::Grasp& grasp = result.world.object(step.object).grasps[step.grasp];
+    out.grasp = Grasp{grasp.label,
+                      {grasp.face_plus_y, grasp.face_minus_y},
+                      grasp.width * scale,
+                      matrix(grasp.gripper_in_object, scale)};
+  }
+  if (step.position >= 0) {
+    out.object_pose = matrix(step.object_pose, scale);
+    const auto& poses = scenario.objects[step.object].stable_poses;
+    out.stable_pose = step.stable_pose >= 0 && !step.is_assembly()
+                          ? Nullable<std::string>(poses[step.stable_pose].label)
+                          : Nullable<std::string>();
+  }
+  if (step.grasp >= 0) {
+    out.gripper_pose = matrix(step.gripper_pose, scale);
+    out.joints.emplace();
+    out.configuration.emplace();
+    if (step.reach.solution) {
+      const auto& q = step.reach.solution->q;
+      *out.joints = std::vector<double>(q.data(), q.data() + q.size());
+      *out.configuration = step.reach.solution->configuration.label();
+    }
+  }
+  if (step.is_assembly()) {
+    out.fixed_object = scenario.objects[step.fixed_object].name;
+    out.fixed_pose = matrix(step.fixed_pose, scale);
+    out.held_pose = matrix(step.held_pose, scale);
+  }
+  return out;
+}
+
+// The SI unit of a precondition's expression: SPAR's pickup inequalities and the insertion
+// offsets are lengths; the misalignment condition compares cosines (dimensionless).
+const char* precondition_unit(const planner::PreconditionResult& result) {
+  return result.length ? "m" : "1";
+}
+
+Precondition build_precondition(const planner::Scenario& scenario,
+                                const planner::PreconditionResult& result,
+                                const std::vector<planner::SpaceVariable>& space) {
+  Precondition out;
+  out.name = result.inequality.name;
+  out.kind = result.kind;
+  out.relation = bounds::to_string(result.inequality.relation);
+  out.threshold = result.inequality.threshold;
+  out.unit = precondition_unit(result);
+  out.expression = result.expression;
+  out.nodes = result.nodes;
+  out.lo = result.bound.lo;
+  out.hi = result.bound.hi;
+  out.inner_lo = result.bound.inner_lo;
+  out.inner_hi = result.bound.inner_hi;
+  out.verdict = bounds::to_string(result.verdict);
+  for (std::size_t v = 0; v < result.witness.size() && v < result.variables.size(); ++v)
+    out.witness.emplace_back(result.variables[v], result.witness[v]);
+  for (std::size_t v = 0; v < result.variables.size(); ++v)
+    out.box.emplace_back(result.variables[v],
+                         std::array<double, 2>{result.box[v].lo, result.box[v].hi});
+  const bool length = out.unit == "m";
+  const double scale = length ? 1.0 / scenario.units.metres_per_length_unit() : 1.0;
+  out.display = {length ? std::string(scenario.units.length_name()) : out.unit,
+                 result.inequality.threshold * scale,
+                 result.bound.lo * scale,
+                 result.bound.hi * scale,
+                 result.bound.inner_lo * scale,
+                 result.bound.inner_hi * scale};
+  if (!result.blame.empty()) {
+    out.blame.emplace();
+    for (const auto& entry : result.blame) out.blame->push_back({entry.variable, entry.share});
+  }
+  if (result.holds_up_to_scale) {
+    // The scaled uncertainty as half-widths: the widest scaled displacement and rotation among
+    // the variables reverse analysis scales (the objects' initial and sensed ones).
+    const double s = *result.holds_up_to_scale;
+    double displacement = 0.0, rotation = 0.0;
+    for (std::size_t v = 0; v < result.variables.size(); ++v) {
+      const auto found = std::find_if(space.begin(), space.end(), [&](const auto& variable) {
+        return variable.name == result.variables[v];
+      });
+      if (found == space.end() ||
+          found->provenance.source == planner::UncertaintySource::kManipulator)
+        continue;
+      const double half_width = std::max(-result.box[v].lo, result.box[v].hi) * s;
+      double& widest = found->component == 't' ? rotation : displacement;
+      widest = std::max(widest, half_width);
+    }
+    out.holds_up_to_scale = s;
+    out.margin =
+        Margin{scenario.units.to_file_length(displacement), scenario.units.to_file_angle(rotation)};
+  }
+  out.monte_carlo_violation = result.monte_carlo_violation;
+  return out;
+}
+
+// Verification sensing of a failed step and, per outcome, its recovery plan.
+void add_verification(const std::vector<planner::VerificationPlan>& plans, Step& step) {
+  step.verification.emplace();
+  step.recovery.emplace();
+  for (const planner::VerificationPlan& plan : plans) {
+    Verification& verification = step.verification->emplace_back();
+    verification.name = plan.name;
+    verification.sense = plan.sense;
+    verification.expect = plan.expect;
+    for (const auto& outcome : plan.outcomes) {
+      verification.outcomes.push_back({outcome.when, outcome.error, outcome.recovery});
+      step.recovery->push_back({outcome.error, outcome.recovery, outcome.recovery_steps});
+    }
+  }
+}
+
+// A step phase 2 inserted (range-scan, squeeze): what the instance step would say.
+planner::InstanceStep inserted_step(const planner::PlanResult& result,
+                                    const planner::AnalysedStep& analysed) {
+  planner::InstanceStep step;
+  step.step = -1;
+  step.action = analysed.step.action;
+  step.action_name = analysed.action;
+  step.object = analysed.step.object;
+  step.grasp = analysed.step.grasp;
+  step.object_pose = analysed.step.object_pose;
+  step.position = 0;
+  if (step.grasp >= 0) {
+    step.gripper_pose =
+        step.object_pose * result.world.object(step.object).grasps[step.grasp].gripper_in_object;
+    step.reach = result.world.reach(step.gripper_pose);
+  }
+  return step;
+}
+
+std::vector<Step> analysed_steps(const planner::PlanResult& result,
+                                 const planner::PlanInstance& instance,
+                                 const planner::InstanceAnalysis& analysis) {
+  const planner::Scenario& scenario = result.world.scenario();
+  std::vector<Step> steps;
+  int next_id = static_cast<int>(result.family.steps.size());
+  for (const planner::AnalysedStep& analysed : analysis.steps) {
+    Step out;
+    if (analysed.inserted) {
+      out = build_step(result, inserted_step(result, analysed));
+      out.id = next_id++;
+      out.stable_pose = Nullable<std::string>();
+    } else {
+      out = build_step(result, instance.steps[analysed.step.instance_step]);
+    }
+    out.inserted = analysed.inserted;
+    if (analysed.step.grasp >= 0 && (analysed.step.effect == planner::StepEffect::kGrasp ||
+                                     analysed.step.effect == planner::StepEffect::kSqueeze))
+      out.finger_opening = result.world.gripper().max_opening * length_scale(result);
+    out.preconditions.emplace();
+    for (const planner::PreconditionResult& precondition : analysed.preconditions)
+      out.preconditions->push_back(build_precondition(scenario, precondition, analysis.variables));
+    out.failed = analysed.failed;
+    if (analysed.sensor_scale_needed && scenario.range_scan) {
+      // The range-scan residual (scenario units) that would make this failed step hold.
+      const planner::Units& units = scenario.units;
+      const kinematics::PoseUncertainty& r = scenario.range_scan->residual;
+      const double f = *analysed.sensor_scale_needed;
+      out.sensor_residual_needed =
+          SensorResidual{f, units.to_file_length(r.dx * f), units.to_file_length(r.dy * f),
+                         units.to_file_length(r.dz * f), units.to_file_angle(r.dtheta * f)};
+    }
+    if (analysed.failed) add_verification(analysed.verification, out);
+    steps.push_back(std::move(out));
+  }
+  return steps;
+}
+
+std::vector<Repair> build_repairs(const planner::PlanResult& result,
+                                  const planner::PlanInstance& instance,
+                                  const planner::InstanceAnalysis& analysis) {
+  std::vector<Repair> repairs;
+  for (const planner::RepairAttempt& attempt : analysis.repairs) {
+    // The failing step's preconditions, in the order of `before` and `after`.
+    const auto failing =
+        std::find_if(analysis.steps.begin(), analysis.steps.end(), [&](const auto& step) {
+          return !step.inserted && step.step.instance_step == attempt.for_instance_step;
+        });
+    const auto bounds_of = [&](const std::vector<bounds::BoundResult>& bounds,
+                               const std::vector<bounds::Verdict>& verdicts) {
+      std::vector<RepairBound> out;
+      for (std::size_t i = 0; i < bounds.size(); ++i) {
+        RepairBound& entry = out.emplace_back();
+        if (failing != analysis.steps.end() && i < failing->preconditions.size()) {
+          entry.name = failing->preconditions[i].inequality.name;
+          entry.unit = precondition_unit(failing->preconditions[i]);
+        }
+        entry.lo = bounds[i].lo;
+        entry.hi = bounds[i].hi;
+        entry.verdict = bounds::to_string(verdicts[i]);
+      }
+      return out;
+    };
+    repairs.push_back({attempt.action, result.world.scenario().objects.at(attempt.object).name,
+                       instance.steps.at(attempt.for_instance_step).step, attempt.helped,
+                       bounds_of(attempt.before, attempt.verdicts_before),
+                       bounds_of(attempt.after, attempt.verdicts_after)});
+  }
+  return repairs;
+}
+
+std::vector<UncertaintyVariable> build_variables(const planner::PlanResult& result,
+                                                 const planner::InstanceAnalysis& analysis) {
+  const planner::Scenario& scenario = result.world.scenario();
+  const planner::Units& units = scenario.units;
+  std::vector<UncertaintyVariable> variables;
+  for (const planner::SpaceVariable& v : analysis.variables) {
+    const bool angle = v.component == 't';
+    const auto convert = [&](double value) {
+      return angle ? units.to_file_angle(value) : units.to_file_length(value);
+    };
+    UncertaintyVariable& out = variables.emplace_back();
+    out.name = v.name;
+    out.lo = v.lower;
+    out.hi = v.upper;
+    out.unit = angle ? "rad" : "m";
+    out.source = planner::to_string(v.provenance.source);
+    if (v.provenance.object >= 0) out.object = scenario.objects[v.provenance.object].name;
+    if (v.provenance.step >= 0) out.step = v.provenance.step;
+    out.display = {angle ? std::string(units.angle_name()) : std::string(units.length_name()),
+                   convert(v.lower), convert(v.upper)};
+  }
+  return variables;
+}
+
+ExaminedInstance build_examined(const planner::InstanceAnalysis& analysis) {
+  ExaminedInstance out;
+  out.index = analysis.instance;
+  out.errors = analysis.errors;
+  out.steps = analysis.steps.size();
+  for (const planner::AnalysedStep& step : analysis.steps) {
+    out.inserted += step.inserted ? 1 : 0;
+    for (const planner::PreconditionResult& precondition : step.preconditions) {
+      ++out.preconditions;
+      out.failed_preconditions += precondition.verdict == bounds::Verdict::kSatisfied ? 0 : 1;
+    }
+  }
+  return out;
+}
+
+// The chosen instance's probabilistic analysis and tolerance allocation.
+Probability build_probability(const planner::PlanResult& result,
+                              const planner::InstanceAnalysis& analysis) {
+  const planner::ProbabilityAnalysis& p = *result.probability;
+  const planner::ToleranceAllocation& t = *result.tolerances;
+  const planner::Units& units = result.world.scenario().units;
+  Probability out;
+  out.jacobian = {
+      p.rows, p.cols, p.nonzeros, p.density, p.covariance_nonzeros, p.non_differentiable};
+  out.samples = p.samples;
+  out.plan = {p.p_plan, {p.p_plan_ci_lo, p.p_plan_ci_hi}};
+  for (const planner::PreconditionProbability& q : p.preconditions) {
+    const auto miss = std::find_if(t.misses.begin(), t.misses.end(), [&](const auto& m) {
+      return m.step == q.step && m.precondition == q.precondition;
+    });
+    PreconditionProbability& row = out.preconditions.emplace_back();
+    row.step = q.step;
+    row.index = q.precondition;
+    row.name = analysis.steps[q.step].preconditions[q.precondition].inequality.name;
+    row.nominal = q.nominal;
+    row.mean = q.mean;
+    row.second_order_mean = q.second_order_mean;
+    row.sigma = q.sigma;
+    row.p_first_order = q.p_first_order;
+    row.p_second_order = q.p_second_order;
+    row.p_monte_carlo = q.p_monte_carlo;
+    row.ci = {q.ci_lo, q.ci_hi};
+    row.violations = q.violations;
+    row.proved = q.proved;
+    row.agrees = q.agrees;
+    row.note = q.note;
+    if (miss != t.misses.end()) row.allocation_miss = miss->by;
+  }
+  out.tolerances.status = planner::to_string(t.status);
+  out.tolerances.cost = t.cost;
+  out.tolerances.rounds = t.rounds;
+  for (const planner::ToleranceParameter& q : t.parameters) {
+    const bool angle = q.component == 't';
+    const auto shown = [&](double value) {
+      return angle ? units.to_file_angle(value) : units.to_file_length(value);
+    };
+    out.tolerances.parameters.push_back(
+        {q.name, planner::to_string(q.source), angle ? "rad" : "m", q.half_width, q.allocated,
+         q.cost,
+         ToleranceDisplay{
+             angle ? std::string(units.angle_name()) : std::string(units.length_name()),
+             shown(q.half_width), shown(q.allocated)}});
+  }
+  return out;
+}
+
+}  // namespace
+
+Chosen build_chosen(const planner::PlanResult& result, std::size_t instance_index,
+                    const planner::InstanceAnalysis* analysis) {
+  const planner::PlanInstance& instance = result.instances.instances.at(instance_index);
+  Chosen out;
+  out.index = instance_index;
+  if (analysis == nullptr) {
+    for (const planner::InstanceStep& step : instance.steps)
+      out.steps.push_back(build_step(result, step));
+    return out;
+  }
+  out.steps = analysed_steps(result, instance, *analysis);
+  out.errors = analysis->errors;
+  out.repairs = build_repairs(result, instance, *analysis);
+  out.uncertainty_variables = build_variables(result, *analysis);
+  if (instance_index == result.chosen_index && analysis == result.chosen_analysis() &&
+      result.probability && result.tolerances)
+    out.probability = build_probability(result, *analysis);
+  return out;
+}
+
+Report build_report(const planner::PlanResult& result) {
+  const planner::Scenario& scenario = result.world.scenario();
+  const double scale = length_scale(result);
+  Report out;
+  out.scenario = scenario.name;
+  out.description = scenario.description;
+  out.status = result.planned() ? "planned" : "no_plan";
+  if (!result.planned())
+    out.reason = std::string(to_string(result.family.status)) + ": " + result.family.reason;
+  out.units = {std::string(scenario.units.length_name()), std::string(scenario.units.angle_name()),
+               scenario.units.metres_per_length_unit(), scenario.units.radians_per_angle_unit()};
+  out.robot = {scenario.robot.model, matrix(scenario.robot.base, scale),
+               matrix(scenario.robot.tool, scale)};
+  out.family = build_family(result);
+  out.instances.count = result.instances.instances.size();
+  out.instances.limit_reached = result.instances.limit_reached;
+  for (const planner::InstanceAnalysis& analysis : result.examined)
+    out.instances.examined.push_back(build_examined(analysis));
+  if (result.planned() && !result.instances.instances.empty())
+    out.chosen = build_chosen(result, result.chosen_index, result.chosen_analysis());
+  return out;
+}
+
+BoundRecord bound_record(const bounds::Box& box, const bounds::BoundResult& result, double seconds,
+                         std::optional<std::string> name) {
+  BoundRecord out;
+  out.name = std::move(name);
+  out.lo = result.lo;
+  out.hi = result.hi;
+  out.inner_lo = result.inner_lo;
+  out.inner_hi = result.inner_hi;
+  for (std::size_t i = 0; i < result.argmin.size(); ++i)
+    out.argmin.emplace_back(std::string(box.variables[i].name()), result.argmin[i]);
+  for (std::size_t i = 0; i < result.argmax.size(); ++i)
+    out.argmax.emplace_back(std::string(box.variables[i].name()), result.argmax[i]);
+  out.status = bounds::to_string(result.status);
+  out.possibly_undefined = result.possibly_undefined;
+  out.time_limited = result.time_limited;
+  out.relative_gap = result.relative_gap();
+  out.evaluations = result.evaluations;
+  out.seconds = seconds;
+  return out;
+}
+
+}  // namespace spar::reports

@@ -1,0 +1,665 @@
+// The report model: the report of a planning run as plain typed records, built once from the
+// planner's result (reports/build.hpp) and written by thin back ends: JSON, the source of truth
+// (reports/json.hpp, schema "spar-report/1", docs/report-schema.md field by field), Markdown
+// (reports/markdown.hpp) and HTML (reports/html.hpp). The CLI and the Python module use these
+// records too: `spar plan --json`, `spar.plan()` and `PlanRun.analyse()` give the same keys, and
+// `spar bound --json`/`--jsonl` and `spar.bound()` share one BoundRecord.
+//
+// Each record lists its JSON members once, in `fields`: `field("key", self.member)` in the order
+// they appear in the JSON. The JSON writer and reader are generated from these lists, so:
+//   * To add a field to a step (or a precondition, or any record): add the member to the record
+//     and its `field(...)` line to the record's `fields` (its place there is its place in the
+//     JSON); set it in reports/build.cpp; document it in docs/report-schema.md (a row of the
+//     field table and the member in the JSON Schema: tests/reports/schema_test.cpp checks both
+//     ways, and that some example produces it). Nothing else: writing and reading it back follow.
+//   * A member's type says how it is written:
+//       double              a JSON number, or "inf", "-inf", "nan" (JSON has neither)
+//       int, size_t, bool,
+//       std::string         as themselves
+//       std::vector<T>      an array; std::array<T, N>: an array of N
+//       NamedValues<T>      an object whose keys are names (variables), in this order
+//       std::optional<T>    the member is absent when empty (present-or-absent fields)
+//       Nullable<T>         the member is null when empty (always-present fields)
+//       a record            an object of its own fields
+//   * Reading a document back (report_from_json) refuses a missing member that is not optional,
+//     naming its path; members it does not know are ignored (a newer report of the same schema
+//     renders with what this version knows).
+//
+// Units (as the JSON says them): poses, widths, finger openings, `display` values in the
+// scenario's length and angle units; precondition expressions, their bounds, witnesses and boxes
+// in SI (metres, radians), so that an expression can be bounded again by `spar bound`.
+//
+// Numbering: a chosen step is named by its execution position, "#k action object" (k from 1,
+// inserted steps included), everywhere a report names it; step_label() gives it.
+//
+// Example:
+//   const Report report = build_report(planner::plan(scenario, planner::builtin_domain()));
+//   std::cout << to_json(report).dump(2);              // what `spar plan --json` prints
+//   if (report.chosen) std::cout << step_label(*report.chosen, 0);   // "#1 pickup block"
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace spar::reports {
+
+// The version of the report's layout; a reader checks it before anything else.
+inline constexpr const char* kReportSchema = "spar-report/1";
+
+// A 4x4 homogeneous transform, row-major, its translation in the report's length unit.
+using Matrix = std::array<std::array<double, 4>, 4>;
+// Values keyed by name (uncertainty variables), written as one JSON object in this order.
+template <class T>
+using NamedValues = std::vector<std::pair<std::string, T>>;
+
+// An always-present member that may be null: "object": null for a step without one.
+template <class T>
+struct Nullable : std::optional<T> {
+  using std::optional<T>::optional;
+};
+
+struct Units {
+  std::string length;  // m | mm | in
+  std::string angle;   // rad | deg
+  double metres_per_length{1.0};
+  double radians_per_angle{1.0};
+  template <class Self, class Field>
+  static void fields(Self& s, Field&& field) {
+    field("length", s.length);
+    field("angle", s.angle);
+    field("metres_per_length", s.metres_per_length);
+    field("radians_per_angle", s.radians_per_angle);
+  }
+};
+
+struct Robot {
+  std::string model;
+  Matrix base{};
+  Matrix tool{};
+  template <class Self, class Field>
+  static void fields(Self& s, Field&& field) {
+    field("model", s.model);
+    field("base", s.base);
+    field("tool", s.tool);
+  }
+};
+
+// ---- phase 1: the plan family ----
+
+struct FamilyStep {
+  int id{0};           // 0 the initial state, 1 the finish
+  std::string action;  // template name, or start / finish
+  std::vector<std::string> args;
+  std::string text;  // "pickup(peg, grasp_1, initial_peg)"
+  template <class Self, class Field>
+  static void fields(Self& s, Field&& field) {
+    field("id", s.id);
+    field("action", s.action);
+    field("args", s.args);
+    field("text", s.text);
+  }
+};
+
+struct PlanVariable {
+  std::string name;  // grasp_1, pos_1
+  std::string type;  // object | grasp | position | placement
+  std::string object;
+  std::vector<std::string> labels;
+  template <class Self, class Field>
+  static void fields(Self& s, Field&& field) {
+    field("name", s.name);
+    field("type", s.type);
+    field("object", s.object);
+    field("labels", s.labels);
+  }
+};
+
+struct Arc {
+  std::array<std::string, 2> variables;
+  std::vector<std::array<std::string, 2>> pairs;  // allowed label pairs
+  template <class Self, class Field>
+  static void fields(Self& s, Field&& field) {
+    field("variables", s.variables);
+    field("pairs", s.pairs);
+  }
+};
+
+struct SatisfiedGoal {
+  std::string level;  // operational | geometric
+  std::string condition;
+  int step{0};
+  std::string how;
+  template <class Self, class Field>
+  static void fields(Self& s, Field&& field) {
+    field("level", s.level);
+    field("condition", s.condition);
+    field("step", s.step);
+    field("how", s.how);
+  }
+};
+
+struct SearchEffort {
+  std::size_t expanded{0};
+  std::size_t generated{0};
+  double seconds{0.0};  // wall clock: varies run to run
+  template <class Self, class Field>
+  static void fields(Self& s, Field&& field) {
+    field("expanded", s.expanded);
+    field("generated", s.generated);
+    field("seconds", s.seconds);
+  }
+};
+
+struct Family {
+  std::vector<FamilyStep> steps;
+  std::vector<std::array<int, 2>> ordering;  // prior_to, transitive reduction: ids
+  std::vector<PlanVariable> variables;
+  std::vector<Arc> arcs;
+  std::vector<SatisfiedGoal> goals;
+  SearchEffort search;
+  template <class Self, class Field>
+  static void fields(Self& s, Field&& field) {
+    field("steps", s.steps);
+    field("ordering", s.ordering);
+    field("variables", s.variables);
+    field("arcs", s.arcs);
+    field("goals", s.goals);
+    field("search", s.search);
+  }
+};
+
+// ---- plan instances ----
+
+struct ExaminedInstance {
+  std::size_t index{0};  // 0-based
+  int errors{0};
+  std::size_t steps{0};
+  std::size_t inserted{0};
+  std::size_t preconditions{0};
+  std::size_t failed_preconditions{0};
+  template <class Self, class Field>
+  static void fields(Self& s, Field&& field) {
+    field("index", s.index);
+    field("errors", s.errors);
+    field("steps", s.steps);
+    field("inserted", s.inserted);
+    field("preconditions", s.preconditions);
+    field("failed_preconditions", s.failed_preconditions);
+  }
+};
+
+struct Instances {
+  std::size_t count{0};
+  bool limit_reached{false};
+  std::vector<ExaminedInstance> examined;
+  template <class Self, class Field>
+  static void fields(Self& s, Field&& field) {
+    field("count", s.count);
+    field("limit_reached", s.limit_reached);
+    field("examined", s.examined);
+  }
+};
+
+// ---- the chosen instance: steps and their preconditions ----
+
+struct Grasp {
+  std::string label;  // G5
+  std::array<int, 2> faces{};
+  double width{0.0};  // length unit
+  Matrix gripper_in_object{};
+  template <class Self, class Field>
+  static void fields(Self& s, Field&& field) {
+    field("label", s.label);
+    field("faces", s.faces);
+    field("width", s.width);
+    field("gripper_in_object", s.gripper_in_object);
+  }
+};
+
+// A precondition's bounds in the scenario's units, for reading.
+struct DisplayBounds {
+  std::string unit;  // the length unit, or "1" (dimensionless)
+  double threshold{0.0}, lo{0.0}, hi{0.0}, inner_lo{0.0}, inner_hi{0.0};
+  template <class Self, class Field>
+  static void fields(Self& s, Field&& field) {
+    field("unit", s.unit);
+    field("threshold", s.threshold);
+    field("lo", s.lo);
+    field("hi", s.hi);
+    field("inner_lo", s.inner_lo);
+    field("inner_hi", s.inner_hi);
+  }
+};
+
+struct Blame {
+  std::string variable;
+  double share{0.0};  // of the bound's width
+  template <class Self, class Field>
+  static void fields(Self& s, Field&& field) {
+    field("variable", s.variable);
+    field("share", s.share);
+  }
+};
+
+// The reverse-analysis scale as half-widths (scenario units).
+struct Margin {
+  double displacement{0.0};
+  double rotation{0.0};
+  template <class Self, class Field>
+  static void fields(Self& s, Field&& field) {
+    field("displacement", s.displacement);
+    field("rotation", s.rotation);
+  }
+};
+
+// One uncertainty precondition of a step: expression relation threshold, decided over its box.
+struct Precondition {
+  std::string name;      // SPAR's, e.g. "0 < [0,1,0,0] P1^-1 C1"
+  std::string kind;      // pickup | squeeze | assemble
+  std::string relation;  // < <= > >=
+  double threshold{0.0};
+  std::string unit;  // SI unit of the expression: m, or 1 (a cosine)
+  std::string expression;
+  std::size_t nodes{0};
+  double lo{0.0}, hi{0.0}, inner_lo{0.0}, inner_hi{0.0};  // SI
+  std::string verdict;                                    // satisfied | violated | undecided
+  NamedValues<double> witness;                            // the worst point found (SI)
+  NamedValues<std::array<double, 2>> box;                 // the ranges the bound holds over
+  DisplayBounds display;
+  // The chosen instance's extras (absent elsewhere):
+  std::optional<std::vector<Blame>> blame;      // largest share first
+  std::optional<double> holds_up_to_scale;      // reverse analysis: proved up to this scale
+  std::optional<Margin> margin;                 // with holds_up_to_scale
+  std::optional<double> monte_carlo_violation;  // share of uniform samples violating it
+  template <class Self, class Field>
+  static void fields(Self& s, Field&& field) {
+    field("name", s.name);
+    field("kind", s.kind);
+    field("relation", s.relation);
+    field("threshold", s.threshold);
+    field("unit", s.unit);
+    field("expression", s.expression);
+    field("nodes", s.nodes);
+    field("lo", s.lo);
+    field("hi", s.hi);
+    field("inner_lo", s.inner_lo);
+    field("inner_hi", s.inner_hi);
+    field("verdict", s.verdict);
+    field("witness", s.witness);
+    field("box", s.box);
+    field("display", s.display);
+    field("blame", s.blame);
+    field("holds_up_to_scale", s.holds_up_to_scale);
+    field("margin", s.margin);
+    field("monte_carlo_violation", s.monte_carlo_violation);
+  }
+};
+
+// A failed step: the range-scan residual (scenario units) that would make it hold.
+struct SensorResidual {
+  double scale{0.0};  // times the scenario's residual
+  double dx{0.0}, dy{0.0}, dz{0.0}, dtheta{0.0};
+  template <class Self, class Field>
+  static void fields(Self& s, Field&& field) {
+    field("scale", s.scale);
+    field("dx", s.dx);
+    field("dy", s.dy);
+    field("dz", s.dz);
+    field("dtheta", s.dtheta);
+  }
+};
+
+struct Outcome {
+  std::string when, error, recovery;
+  template <class Self, class Field>
+  static void fields(Self& s, Field&& field) {
+    field("when", s.when);
+    field("error", s.error);
+    field("recovery", s.recovery);
+  }
+};
+
+struct Verification {
+  std::string name, sense, expect;
+  std::vector<Outcome> outcomes;
+  template <class Self, class Field>
+  static void fields(Self& s, Field&& field) {
+    field("name", s.name);
+    field("sense", s.sense);
+    field("expect", s.expect);
+    field("outcomes", s.outcomes);
+  }
+};
+
+struct Recovery {
+  std::string error, plan;
+  std::vector<std::string> steps;
+  template <class Self, class Field>
+  static void fields(Self& s, Field&& field) {
+    field("error", s.error);
+    field("plan", s.plan);
+    field("steps", s.steps);
+  }
+};
+
+// One step of the chosen instance, in execution order. The presence of a member follows the
+// step's kind: a grasp for manipulations, poses where the step has a position, the fixed object
+// for assemblies, phase 2's results when phase 2 ran.
+struct Step {
+  int id{0};  // the family step's id; steps phase 2 inserted get new ids
+  std::string action;
+  Nullable<std::string> object;
+  std::optional<Grasp> grasp;
+  std::optional<Matrix> object_pose;                    // where the step finds or leaves it
+  std::optional<Nullable<std::string>> stable_pose;     // with object_pose
+  std::optional<Matrix> gripper_pose;                   // with grasp
+  std::optional<Nullable<std::vector<double>>> joints;  // with grasp; null: unreachable (rad)
+  std::optional<Nullable<std::string>> configuration;   // with grasp
+  std::optional<std::string> fixed_object;              // assemblies
+  std::optional<Matrix> fixed_pose;
+  std::optional<Matrix> held_pose;
+  // Phase 2:
+  std::optional<bool> inserted;
+  std::optional<double> finger_opening;  // pickups and squeezes
+  std::optional<std::vector<Precondition>> preconditions;
+  std::optional<bool> failed;
+  std::optional<SensorResidual> sensor_residual_needed;   // failed steps
+  std::optional<std::vector<Verification>> verification;  // failed steps
+  std::optional<std::vector<Recovery>> recovery;          // failed steps
+  template <class Self, class Field>
+  static void fields(Self& s, Field&& field) {
+    field("id", s.id);
+    field("action", s.action);
+    field("object", s.object);
+    field("grasp", s.grasp);
+    field("object_pose", s.object_pose);
+    field("stable_pose", s.stable_pose);
+    field("gripper_pose", s.gripper_pose);
+    field("joints", s.joints);
+    field("configuration", s.configuration);
+    field("fixed_object", s.fixed_object);
+    field("fixed_pose", s.fixed_pose);
+    field("held_pose", s.held_pose);
+    field("inserted", s.inserted);
+    field("finger_opening", s.finger_opening);
+    field("preconditions", s.preconditions);
+    field("failed", s.failed);
+    field("sensor_residual_needed", s.sensor_residual_needed);
+    field("verification", s.verification);
+    field("recovery", s.recovery);
+  }
+};
+
+// The failing step's preconditions before or after a repair was spliced in.
+struct RepairBound {
+  Nullable<std::string> name;
+  Nullable<std::string> unit;  // m | 1
+  double lo{0.0}, hi{0.0};     // SI
+  std::string verdict;
+  template <class Self, class Field>
+  static void fields(Self& s, Field&& field) {
+    field("name", s.name);
+    field("unit", s.unit);
+    field("lo", s.lo);
+    field("hi", s.hi);
+    field("verdict", s.verdict);
+  }
+};
+
+struct Repair {
+  std::string action;  // range-scan | squeeze
+  std::string object;
+  int for_step{0};  // id of the step whose precondition failed
+  bool helped{false};
+  std::vector<RepairBound> before, after;
+  template <class Self, class Field>
+  static void fields(Self& s, Field&& field) {
+    field("action", s.action);
+    field("object", s.object);
+    field("for_step", s.for_step);
+    field("helped", s.helped);
+    field("before", s.before);
+    field("after", s.after);
+  }
+};
+
+struct RangeDisplay {
+  std::string unit;
+  double lo{0.0}, hi{0.0};
+  template <class Self, class Field>
+  static void fields(Self& s, Field&& field) {
+    field("unit", s.unit);
+    field("lo", s.lo);
+    field("hi", s.hi);
+  }
+};
+
+struct UncertaintyVariable {
+  std::string name;  // dx_peg, dtheta_g3, dy_block_s5
+  double lo{0.0}, hi{0.0};
+  std::string unit;    // m | rad
+  std::string source;  // initial | manipulator | sensor
+  Nullable<std::string> object;
+  Nullable<int> step;  // execution position (1-based) that allocated it
+  RangeDisplay display;
+  template <class Self, class Field>
+  static void fields(Self& s, Field&& field) {
+    field("name", s.name);
+    field("lo", s.lo);
+    field("hi", s.hi);
+    field("unit", s.unit);
+    field("source", s.source);
+    field("object", s.object);
+    field("step", s.step);
+    field("display", s.display);
+  }
+};
+
+// ---- the chosen instance's probabilistic analysis (planner/uncertainty/probability.hpp) ----
+
+struct Jacobian {
+  std::size_t rows{0}, cols{0}, nonzeros{0};
+  double density{0.0};
+  std::size_t covariance_nonzeros{0}, non_differentiable{0};
+  template <class Self, class Field>
+  static void fields(Self& s, Field&& field) {
+    field("rows", s.rows);
+    field("cols", s.cols);
+    field("nonzeros", s.nonzeros);
+    field("density", s.density);
+    field("covariance_nonzeros", s.covariance_nonzeros);
+    field("non_differentiable", s.non_differentiable);
+  }
+};
+
+struct PlanProbability {
+  double p_monte_carlo{0.0};
+  std::array<double, 2> ci{};
+  template <class Self, class Field>
+  static void fields(Self& s, Field&& field) {
+    field("p_monte_carlo", s.p_monte_carlo);
+    field("ci", s.ci);
+  }
+};
+
+struct PreconditionProbability {
+  std::size_t step{0};   // index into Chosen::steps
+  std::size_t index{0};  // into that step's preconditions
+  std::string name;
+  double nominal{0.0}, mean{0.0}, second_order_mean{0.0}, sigma{0.0};
+  double p_first_order{0.0}, p_second_order{0.0}, p_monte_carlo{0.0};
+  std::array<double, 2> ci{};
+  std::size_t violations{0};
+  bool proved{false};
+  bool agrees{false};
+  std::string note;
+  Nullable<double> allocation_miss;
+  template <class Self, class Field>
+  static void fields(Self& s, Field&& field) {
+    field("step", s.step);
+    field("index", s.index);
+    field("name", s.name);
+    field("nominal", s.nominal);
+    field("mean", s.mean);
+    field("second_order_mean", s.second_order_mean);
+    field("sigma", s.sigma);
+    field("p_first_order", s.p_first_order);
+    field("p_second_order", s.p_second_order);
+    field("p_monte_carlo", s.p_monte_carlo);
+    field("ci", s.ci);
+    field("violations", s.violations);
+    field("proved", s.proved);
+    field("agrees", s.agrees);
+    field("note", s.note);
+    field("allocation_miss", s.allocation_miss);
+  }
+};
+
+struct ToleranceDisplay {
+  std::string unit;
+  double half_width{0.0}, allocated{0.0};
+  template <class Self, class Field>
+  static void fields(Self& s, Field&& field) {
+    field("unit", s.unit);
+    field("half_width", s.half_width);
+    field("allocated", s.allocated);
+  }
+};
+
+struct ToleranceParameter {
+  std::string name;  // <object>.dx, robot.dtheta, range_scan.dy
+  std::string source;
+  std::string unit;  // m | rad
+  double half_width{0.0}, allocated{0.0}, cost{0.0};
+  ToleranceDisplay display;
+  template <class Self, class Field>
+  static void fields(Self& s, Field&& field) {
+    field("name", s.name);
+    field("source", s.source);
+    field("unit", s.unit);
+    field("half_width", s.half_width);
+    field("allocated", s.allocated);
+    field("cost", s.cost);
+    field("display", s.display);
+  }
+};
+
+struct Tolerances {
+  std::string status;  // not_needed | proved | not_proved | infeasible
+  double cost{0.0};
+  int rounds{0};
+  std::vector<ToleranceParameter> parameters;
+  template <class Self, class Field>
+  static void fields(Self& s, Field&& field) {
+    field("status", s.status);
+    field("cost", s.cost);
+    field("rounds", s.rounds);
+    field("parameters", s.parameters);
+  }
+};
+
+struct Probability {
+  Jacobian jacobian;
+  std::size_t samples{0};
+  PlanProbability plan;
+  std::vector<PreconditionProbability> preconditions;
+  Tolerances tolerances;
+  template <class Self, class Field>
+  static void fields(Self& s, Field&& field) {
+    field("jacobian", s.jacobian);
+    field("samples", s.samples);
+    field("plan", s.plan);
+    field("preconditions", s.preconditions);
+    field("tolerances", s.tolerances);
+  }
+};
+
+// The chosen plan instance (or, from PlanRun.analyse, any examined one).
+struct Chosen {
+  std::size_t index{0};  // 0-based, into the enumerated instances
+  std::vector<Step> steps;
+  // Phase 2 (absent when it did not run):
+  std::optional<int> errors;
+  std::optional<std::vector<Repair>> repairs;
+  std::optional<std::vector<UncertaintyVariable>> uncertainty_variables;
+  std::optional<Probability> probability;
+  template <class Self, class Field>
+  static void fields(Self& s, Field&& field) {
+    field("index", s.index);
+    field("steps", s.steps);
+    field("errors", s.errors);
+    field("repairs", s.repairs);
+    field("uncertainty_variables", s.uncertainty_variables);
+    field("probability", s.probability);
+  }
+};
+
+struct Report {
+  std::string schema{kReportSchema};
+  std::string scenario;
+  std::string description;
+  std::string status;                 // planned | no_plan
+  std::optional<std::string> reason;  // with no_plan
+  Units units;
+  Robot robot;
+  Family family;
+  Instances instances;
+  Nullable<Chosen> chosen;  // null without a plan
+  template <class Self, class Field>
+  static void fields(Self& s, Field&& field) {
+    field("schema", s.schema);
+    field("scenario", s.scenario);
+    field("description", s.description);
+    field("status", s.status);
+    field("reason", s.reason);
+    field("units", s.units);
+    field("robot", s.robot);
+    field("family", s.family);
+    field("instances", s.instances);
+    field("chosen", s.chosen);
+  }
+};
+
+// ---- sound bounds of one expression: `spar bound --json`, each line of `--jsonl`, spar.bound ----
+
+struct BoundRecord {
+  std::optional<std::string> name;      // a corpus record's name
+  double lo{0.0}, hi{0.0};              // sound: every value over the (constrained) box lies inside
+  double inner_lo{0.0}, inner_hi{0.0};  // attained at argmin / argmax
+  NamedValues<double> argmin, argmax;   // empty when there is no witness
+  std::string status;                   // converged | effort_limit | unbounded | infeasible
+  bool possibly_undefined{false};
+  bool time_limited{false};  // stopped by the time limit (the answer depends on the machine)
+  double relative_gap{0.0};
+  std::size_t evaluations{0};  // box evaluations
+  double seconds{0.0};         // wall-clock time of the bound (varies run to run)
+  template <class Self, class Field>
+  static void fields(Self& s, Field&& field) {
+    field("name", s.name);
+    field("lo", s.lo);
+    field("hi", s.hi);
+    field("inner_lo", s.inner_lo);
+    field("inner_hi", s.inner_hi);
+    field("argmin", s.argmin);
+    field("argmax", s.argmax);
+    field("status", s.status);
+    field("possibly_undefined", s.possibly_undefined);
+    field("time_limited", s.time_limited);
+    field("relative_gap", s.relative_gap);
+    field("evaluations", s.evaluations);
+    field("seconds", s.seconds);
+  }
+};
+
+// ---- naming steps ----
+
+// "#3 pickup block": the step at execution position `position` (0-based) of `chosen`.
+[[nodiscard]] std::string step_label(const Chosen& chosen, std::size_t position);
+// The execution position of the step with family id `id`, or nullopt.
+[[nodiscard]] std::optional<std::size_t> step_position(const Chosen& chosen, int id);
+
+}  // namespace spar::reports
