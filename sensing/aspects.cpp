@@ -13,8 +13,10 @@
 #include "spar/common/number.hpp"
 #include "spar/sensing/camera.hpp"
 #include "spar/sensing/error.hpp"
+#include "spar/sensing/internal/icosphere.hpp"
 #include "spar/sensing/internal/item_buffer.hpp"
 #include "spar/sensing/render.hpp"
+#include "spar/sensing/sensors.hpp"
 
 namespace spar::sensing {
 namespace {
@@ -184,35 +186,6 @@ AspectSet exact_aspects(const geometry::ObjectModel& model, const AspectOptions&
 
 // ---- the view sphere (any object) ----
 
-// The icosahedron's triangles subdivided `level` times, on the unit sphere.
-std::vector<std::array<Eigen::Vector3d, 3>> icosphere(int level) {
-  const double phi = (1 + std::sqrt(5.0)) / 2;
-  std::vector<Eigen::Vector3d> v = {{-1, phi, 0}, {1, phi, 0}, {-1, -phi, 0}, {1, -phi, 0},
-                                    {0, -1, phi}, {0, 1, phi}, {0, -1, -phi}, {0, 1, -phi},
-                                    {phi, 0, -1}, {phi, 0, 1}, {-phi, 0, -1}, {-phi, 0, 1}};
-  for (Eigen::Vector3d& p : v) p.normalize();
-  const int faces[20][3] = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
-                            {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
-                            {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
-                            {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}};
-  std::vector<std::array<Eigen::Vector3d, 3>> triangles;
-  for (const auto& f : faces) triangles.push_back({v[f[0]], v[f[1]], v[f[2]]});
-  for (int l = 0; l < level; ++l) {
-    std::vector<std::array<Eigen::Vector3d, 3>> finer;
-    finer.reserve(triangles.size() * 4);
-    for (const auto& [a, b, c] : triangles) {
-      const Eigen::Vector3d ab = (a + b).normalized(), bc = (b + c).normalized(),
-                            ca = (c + a).normalized();
-      finer.push_back({a, ab, ca});
-      finer.push_back({ab, b, bc});
-      finer.push_back({ca, bc, c});
-      finer.push_back({ab, bc, ca});
-    }
-    triangles = std::move(finer);
-  }
-  return triangles;
-}
-
 // Van Oosterom and Strackee's solid angle of a spherical triangle.
 double spherical_area(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
                       const Eigen::Vector3d& c) {
@@ -295,7 +268,7 @@ AspectSet view_sphere_aspects(const geometry::ObjectModel& model, const AspectOp
   out.method = AspectMethod::kViewSphere;
   out.max_angle = options.max_angle;
   out.cos_max_angle = std::cos(options.max_angle);
-  for (const auto& [a, b, c] : icosphere(options.view_sphere_level)) {
+  for (const auto& [a, b, c] : internal::icosphere(options.view_sphere_level)) {
     ViewCell cell;
     cell.direction = (a + b + c).normalized();
     cell.solid_angle = spherical_area(a, b, c);
@@ -402,7 +375,7 @@ AspectFeatures aspect_features(const geometry::ObjectModel& model, const ObjectF
     out.faces.push_back(face);
   }
   for (FaceProminence& face : out.faces)
-    face.prominence = total_area > 0 ? face.visible_area / total_area : 0.0;
+    face.prominence = face_prominence(face.visible_area, total_area);
   const double metres_per_pixel = 1.0 / camera.intrinsics().fx;
   std::map<int, EdgeProminence> edges;
   for (const EdgeView& view : seen.edges) {
@@ -414,11 +387,8 @@ AspectFeatures aspect_features(const geometry::ObjectModel& model, const ObjectF
                     std::max(edge.visible_length + length, 1e-300);
     edge.visible_length += length;
   }
-  double strongest = 0;
-  for (const auto& [id, edge] : edges)
-    strongest = std::max(strongest, edge.visible_length * edge.contrast);
   for (auto& [id, edge] : edges) {
-    edge.prominence = strongest > 0 ? edge.visible_length * edge.contrast / strongest : 0.0;
+    edge.prominence = edge_prominence(edge.visible_length, edge.contrast, (high - low).norm());
     out.edges.push_back(edge);
   }
   return out;

@@ -36,10 +36,8 @@
 // middle of the aspect's longest latitude interval or (view sphere) its cell nearest that mean.
 //
 // Prominence (aspect_features): what a sensor at the representative direction gets of each
-// feature. A face's prominence is its share of the aspect's visible projected area (the faces'
-// prominences sum to 1); an edge's is its visible projected length times its contrast (render.hpp:
-// 1 on the silhouette, else the difference of its faces' shading), divided by the largest such
-// product among the aspect's edges (the most prominent edge has 1).
+// feature, as sensors.hpp defines it: a face is fully prominent when it fills a tenth of the
+// object's image, an edge when it is a tenth of the object's diameter long with full contrast.
 //
 // Example:
 //   const ObjectModel cube("cube", make_box({1, 1, 1}));
@@ -109,7 +107,7 @@ struct AspectSet {
 struct FaceProminence {
   int face{0};
   double visible_area{0};  // m², projected on the image plane
-  double prominence{0};
+  double prominence{0};    // in [0, 1]
 };
 struct EdgeProminence {
   int edge{0};

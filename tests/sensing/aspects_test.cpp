@@ -290,24 +290,44 @@ TEST(Aspects, SeedBlockOuterFacesFormTheBoxAspects) {
   }
 }
 
-TEST(Aspects, ProminenceSharesTheAspectsArea) {
+// A cube's faces each fill at least a tenth of its image from any aspect's direction; an edge is
+// as prominent as its contrast once it is a tenth of the cube's diameter (1.73) long, less when
+// shorter (an edge of a face seen almost edge-on).
+TEST(Aspects, ProminenceOfTheCubesFeatures) {
   const ObjectModel cube("cube", geometry::make_box({1, 1, 1}));
   const ObjectFeatures features = object_features(cube);
   const AspectSet aspects = compute_aspects(cube);
   for (const Aspect& aspect : aspects.aspects) {
     const AspectFeatures seen = aspect_features(cube, features, aspect);
     ASSERT_EQ(seen.faces.size(), aspect.faces.size());
-    double total = 0, strongest = 0;
-    for (const FaceProminence& face : seen.faces) total += face.prominence;
-    for (const EdgeProminence& edge : seen.edges) strongest = std::max(strongest, edge.prominence);
-    EXPECT_NEAR(total, 1.0, 1e-12);
-    EXPECT_EQ(strongest, 1.0);
+    for (const FaceProminence& face : seen.faces) EXPECT_EQ(face.prominence, 1.0) << aspect.label;
+    for (const EdgeProminence& edge : seen.edges) {
+      EXPECT_GE(edge.prominence, 0.0);
+      EXPECT_LE(edge.prominence, edge.contrast + 1e-15);
+      if (edge.visible_length >= 0.173) {
+        EXPECT_NEAR(edge.prominence, edge.contrast, 1e-12);
+      }
+    }
   }
-  // Face-on, the single face has it all and its four edges are equally prominent.
+  // Face-on: the face's four edges are its silhouette, all fully prominent.
   const Aspect& single = aspects.aspects[static_cast<std::size_t>(aspects.aspect_at({1, 0, 0}))];
   const AspectFeatures seen = aspect_features(cube, features, single);
   ASSERT_EQ(seen.edges.size(), 4U);
-  for (const EdgeProminence& edge : seen.edges) EXPECT_NEAR(edge.prominence, 1.0, 1e-9);
+  for (const EdgeProminence& edge : seen.edges) EXPECT_EQ(edge.prominence, 1.0);
+}
+
+// On the seed's block seen from above, the peg hole's floor is a large face and the cross hole's
+// floors, seen only as slivers, are hardly prominent.
+TEST(Aspects, SliversAreNotProminent) {
+  const ObjectModel block = geometry::make_builtin_object("block");
+  const ObjectFeatures features = object_features(block);
+  Aspect above;
+  above.faces = {16, 19};
+  above.direction = Eigen::Vector3d::UnitZ();
+  const AspectFeatures seen = aspect_features(block, features, above);
+  ASSERT_EQ(seen.faces.size(), 2U);
+  EXPECT_EQ(seen.faces[0].prominence, 1.0);  // the floor: 2.56 of 10.5 in² of image
+  EXPECT_EQ(seen.faces[1].prominence, 1.0);
 }
 
 TEST(Aspects, BadOptionsSayWhich) {
