@@ -1,5 +1,7 @@
 // kinematics benchmark: Puma 560 forward kinematics and closed-form inverse kinematics (all eight
-// configurations with joint-limit checks) against Orocos KDL, in the same run:
+// configurations with joint-limit checks) against Orocos KDL, in the same run; and the inverse
+// kinematics of the UR5 and the Panda (spar's closed forms and numeric solver vs KDL's LMA and
+// NR-JL with random restarts, success rate and time per solve on the same random poses):
 //   FK: spar DhChain::forward            vs KDL ChainFkSolverPos_recursive
 //   IK: spar PumaIk::solve (8 solutions)  vs KDL ChainIkSolverPos_LMA (one solution, no limits,
 //       seeded within 0.3 rad of the answer, as in the corpus's peer_check_orocos_kdl notes)
@@ -13,7 +15,11 @@
 #include <kdl/chain.hpp>
 #include <kdl/chainfksolverpos_recursive.hpp>
 #include <kdl/chainiksolverpos_lma.hpp>
+#include <kdl/chainiksolverpos_nr_jl.hpp>
+#include <kdl/chainiksolvervel_pinv.hpp>
 #include <kdl/frames.hpp>
+#include <kdl/tree.hpp>
+#include <kdl_parser/kdl_parser.hpp>
 #include <random>
 #include <span>
 #include <vector>
@@ -24,6 +30,7 @@
 #include "spar/kinematics/pickup_check.hpp"
 #include "spar/kinematics/pickup_template.hpp"
 #include "spar/kinematics/puma.hpp"
+#include "spar/kinematics/robots.hpp"
 #include "spar/symbolic/tape.hpp"
 
 namespace {
@@ -440,6 +447,170 @@ void run_pickup_preconditions(const BenchOptions& options) {
   std::printf("(pickup checksum %zu)\n", nodes);
 }
 
+// ---- inverse kinematics of the URDF robots (issue 23) ----
+
+// How one solver did on the poses: how many it solved (an in-limit joint vector whose spar FK
+// reproduces the pose within `tolerance`) and the mean time per pose, failures included.
+struct IkScore {
+  std::string solver;
+  int solved{0};
+  double seconds{0.0};
+  double tolerance{0.0};
+};
+
+double pose_residual(const spar::kinematics::RobotModel& robot, const std::vector<double>& q,
+                     const Transform& pose) {
+  return (robot.forward(q).matrix() - pose.matrix()).cwiseAbs().maxCoeff();
+}
+
+// KDL's answer as an in-limit joint vector (its solvers may return an angle 2 pi away from the
+// in-limit one, which is the same pose), or false.
+bool kdl_answer_within_limits(const spar::kinematics::RobotModel& robot, const KDL::JntArray& out,
+                              std::vector<double>& q) {
+  q.assign(robot.dof(), 0.0);
+  for (std::size_t j = 0; j < robot.dof(); ++j) {
+    const spar::kinematics::JointLimits& limits = robot.joints()[j].limits;
+    double value = out(static_cast<unsigned>(j));
+    if (!std::isfinite(value)) return false;
+    value = spar::kinematics::wrap_angle(value);
+    while (value < limits.lower - 1e-9) value += 2 * std::numbers::pi;
+    if (value > limits.upper + 1e-9) return false;
+    q[j] = value;
+  }
+  return true;
+}
+
+// Random restarts within the limits until a solution or the time budget per pose runs out (as
+// TRAC-IK's authors ran KDL: "KDL-RR", 5 ms).
+template <typename Solve>
+IkScore kdl_with_restarts(const char* name, const spar::kinematics::RobotModel& robot,
+                          const std::vector<Transform>& poses, double budget, Solve&& solve) {
+  std::mt19937_64 random(77);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  KDL::JntArray seed(static_cast<unsigned>(robot.dof())), out(static_cast<unsigned>(robot.dof()));
+  std::vector<double> q;
+  IkScore score{name, 0, 0.0, 1e-5};
+  const Clock::time_point start = Clock::now();
+  for (const Transform& pose : poses) {
+    const KDL::Frame target = kdl_frame(pose);
+    const Clock::time_point deadline =
+        Clock::now() + std::chrono::duration_cast<Clock::duration>(
+                           std::chrono::duration<double>(budget));
+    while (Clock::now() < deadline) {
+      for (std::size_t j = 0; j < robot.dof(); ++j) {
+        const spar::kinematics::JointLimits& limits = robot.joints()[j].limits;
+        seed(static_cast<unsigned>(j)) = limits.lower + (limits.upper - limits.lower) * unit(random);
+      }
+      if (solve(seed, target, out) >= 0 && kdl_answer_within_limits(robot, out, q) &&
+          pose_residual(robot, q, pose) < score.tolerance) {
+        ++score.solved;
+        break;
+      }
+    }
+  }
+  score.seconds = std::chrono::duration<double>(Clock::now() - start).count() / poses.size();
+  return score;
+}
+
+template <typename Solve>
+IkScore spar_solver(const char* name, const spar::kinematics::RobotModel& robot,
+                    const std::vector<Transform>& poses, Solve&& solve) {
+  IkScore score{name, 0, 0.0, 1e-9};
+  const Clock::time_point start = Clock::now();
+  for (const Transform& pose : poses) {
+    for (const spar::kinematics::JointSolution& solution : solve(pose)) {
+      if (solution.within_limits && pose_residual(robot, solution.q, pose) < score.tolerance) {
+        ++score.solved;
+        break;
+      }
+    }
+  }
+  score.seconds = std::chrono::duration<double>(Clock::now() - start).count() / poses.size();
+  return score;
+}
+
+// UR5 and Panda: spar's closed forms and its numeric solver against KDL's LMA and NR-JL (chains
+// read from the same URDF by kdl_parser) on the same random reachable poses.
+void run_robot_ik(const BenchOptions& options) {
+  const int count = options.quick ? 1000 : 10000;
+  const double kdl_budget = 5e-3;
+  std::printf("\nIK on %d random reachable poses (q uniform within limits); solved = an in-limit "
+              "joint vector reproducing the pose (spar: 1e-9, KDL: 1e-5, its own eps)\n",
+              count);
+  std::printf("%-6s %-44s %9s %12s %8s\n", "robot", "solver", "solved", "us/solve", "vs spar");
+  for (const char* name : {"ur5", "panda"}) {
+    const spar::kinematics::RobotModel& robot = spar::kinematics::builtin_robot_model(name);
+    KDL::Tree tree;
+    if (!kdl_parser::treeFromFile(robot.source(), tree)) {
+      std::printf("%s: kdl_parser could not read %s\n", name, robot.source().c_str());
+      continue;
+    }
+    KDL::Chain chain;
+    tree.getChain(robot.base_link(), robot.tip_link(), chain);
+    std::mt19937_64 random(2323);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    std::vector<Transform> poses;
+    double fk_disagreement = 0.0;
+    KDL::ChainFkSolverPos_recursive kdl_fk(chain);
+    for (int i = 0; i < count; ++i) {
+      std::vector<double> q;
+      KDL::JntArray kdl_q(static_cast<unsigned>(robot.dof()));
+      for (std::size_t j = 0; j < robot.dof(); ++j) {
+        const spar::kinematics::JointLimits& limits = robot.joints()[j].limits;
+        q.push_back(limits.lower + (limits.upper - limits.lower) * unit(random));
+        kdl_q(static_cast<unsigned>(j)) = q.back();
+      }
+      poses.push_back(robot.forward(q));
+      KDL::Frame frame;
+      kdl_fk.JntToCart(kdl_q, frame);
+      for (int r = 0; r < 3; ++r) {
+        fk_disagreement =
+            std::max(fk_disagreement, std::abs(frame.p(r) - poses.back().translation()[r]));
+        for (int c = 0; c < 3; ++c)
+          fk_disagreement =
+              std::max(fk_disagreement, std::abs(frame.M(r, c) - poses.back().linear()(r, c)));
+      }
+    }
+    KDL::JntArray lower(chain.getNrOfJoints()), upper(chain.getNrOfJoints());
+    for (std::size_t j = 0; j < robot.dof(); ++j) {
+      lower(static_cast<unsigned>(j)) = robot.joints()[j].limits.lower;
+      upper(static_cast<unsigned>(j)) = robot.joints()[j].limits.upper;
+    }
+    KDL::ChainIkSolverPos_LMA lma(chain);
+    KDL::ChainIkSolverVel_pinv velocity(chain);
+    KDL::ChainIkSolverPos_NR_JL nr_jl(chain, lower, upper, kdl_fk, velocity, 100, 1e-6);
+    std::vector<IkScore> scores;
+    scores.push_back(spar_solver(std::string(spar::kinematics::to_string(robot.ik_method())).c_str(),
+                                 robot, poses, [&](const Transform& pose) {
+                                   return robot.inverse(pose);
+                                 }));
+    scores.back().solver = "spar " + std::string(spar::kinematics::to_string(robot.ik_method()));
+    scores.push_back(spar_solver("spar numeric (LM, 64 restarts)", robot, poses,
+                                 [&](const Transform& pose) {
+                                   return robot.inverse_numeric(pose, {.numeric_solutions = 1});
+                                 }));
+    scores.push_back(kdl_with_restarts("KDL LMA, restarts <= 5 ms", robot, poses, kdl_budget,
+                                       [&](const KDL::JntArray& seed, const KDL::Frame& target,
+                                           KDL::JntArray& out) {
+                                         return lma.CartToJnt(seed, target, out);
+                                       }));
+    scores.push_back(kdl_with_restarts("KDL NR_JL, restarts <= 5 ms", robot, poses, kdl_budget,
+                                       [&](const KDL::JntArray& seed, const KDL::Frame& target,
+                                           KDL::JntArray& out) {
+                                         return nr_jl.CartToJnt(seed, target, out);
+                                       }));
+    std::printf("(%s: max |FK spar - FK KDL| = %.1e)\n", name, fk_disagreement);
+    for (const IkScore& score : scores)
+      std::printf("%-6s %-44s %8.2f%% %12.1f %8.2f\n", name, score.solver.c_str(),
+                  100.0 * score.solved / count, score.seconds * 1e6,
+                  score.seconds / scores.front().seconds);
+    for (std::size_t i = 2; i < scores.size(); ++i)
+      std::printf("ratio ik_%s %s %.2f (success %.2f%% vs spar %.2f%%)\n", name,
+                  i == 2 ? "kdl_lma" : "kdl_nr_jl", scores[i].seconds / scores.front().seconds,
+                  100.0 * scores[i].solved / count, 100.0 * scores.front().solved / count);
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -454,6 +625,7 @@ int main(int argc, char** argv) {
   }
   std::printf("kinematics benchmark (%s)\n\n", options.quick ? "quick" : "full");
   run_numeric_kinematics(options);
+  run_robot_ik(options);
   // The symbolic kinematics (pickup-precondition timing) gets its own function, called here.
   run_pickup_preconditions(options);
   return 0;

@@ -405,35 +405,35 @@ class NaivePeer {
 
   // The enclosures of the step's preconditions, in spar's order (Propagation::step).
   std::vector<Interval> step(const planner::Phase2Step& step) {
-    using planner::StepEffect;
+    using planner::Effect;
     std::vector<Interval> values;
     const IntervalError arm = scaled_box(world_.scenario().robot.uncertainty);
     switch (step.effect) {
-      case StepEffect::kGrasp:
+      case Effect::kGrasp:
         values = pickup(step, arm);
         held_[step.object] = Held{grasp_frame(step, arm)};
         table_[step.object].reset();
         break;
-      case StepEffect::kSqueeze: {
+      case Effect::kReduce: {
         values = pickup(step, arm);
         planner::Phase2Step in_place = step;
         in_place.object_pose = table_[step.object]->ideal;
         table_[step.object] = released(in_place, arm, grasp_frame(step, arm));
         break;
       }
-      case StepEffect::kRelease:
+      case Effect::kRelease:
         table_[step.object] = released(step, arm, held_[step.object]->grip);
         held_[step.object].reset();
         break;
-      case StepEffect::kInsert:
+      case Effect::kInsert:
         values = assemble(step, arm);
         held_[step.object].reset();
         break;
-      case StepEffect::kRangeScan:
+      case Effect::kSense:
         table_[step.object]->error =
             scaled_box(world_.scenario().range_scan.value_or(planner::RangeScanSensor{}).residual);
         break;
-      case StepEffect::kNone:
+      case Effect::kNone:
         break;
     }
     return values;
@@ -685,11 +685,9 @@ ConditionInputs condition_inputs(const std::vector<planner::Precondition>& preco
     in.inequalities.push_back(p.inequality);
     roots.push_back(p.inequality.expression);
   }
-  in.variables = symbolic::free_variables(roots);
-  std::sort(in.variables.begin(), in.variables.end(), [&](symbolic::Expr a, symbolic::Expr b) {
-    return space.index_of(a) < space.index_of(b);
-  });
-  in.box = space.ranges(in.variables);
+  const std::vector<planner::VariableId> ids = planner::variables_of(roots, space);
+  for (const planner::VariableId id : ids) in.variables.push_back(space.symbol(id));
+  in.box = space.ranges(ids);
   return in;
 }
 
@@ -704,7 +702,7 @@ void decide_breakdown(const planner::WorldModel& world, const planner::InstanceA
   };
   std::map<std::string, Tally> by_kind;
   symbolic::ExprPool pool;
-  planner::Propagation propagation(world, pool);
+  planner::Propagation propagation(world, planner::builtin_domain(), pool);
   const planner::AnalysisOptions options;
   for (std::size_t s = 0; s < analysis.steps.size(); ++s) {
     const std::vector<planner::Precondition> preconditions =
@@ -715,7 +713,7 @@ void decide_breakdown(const planner::WorldModel& world, const planner::InstanceA
     const double seconds = time_median(repeats, [&] {
       decided = decide_like_phase2(in.inequalities, in.variables, in.box, options);
     });
-    Tally& tally = by_kind[preconditions.front().kind];
+    Tally& tally = by_kind[std::string(planner::to_string(preconditions.front().kind))];
     tally.count += static_cast<int>(preconditions.size());
     tally.natural += decided.natural;
     tally.full += decided.full;
@@ -736,7 +734,7 @@ std::vector<planner::Phase2Step> phase2_steps(const planner::Domain& domain,
   for (std::size_t i = 0; i < instance.steps.size(); ++i) {
     const planner::InstanceStep& source = instance.steps[i];
     steps.push_back({.action = source.action,
-                     .effect = planner::step_effect(domain.actions[source.action]),
+                     .effect = domain.actions[source.action].effect,
                      .object = source.object,
                      .grasp = source.grasp,
                      .fixed_object = source.fixed_object,
@@ -772,7 +770,7 @@ void seed_phase2(int repeats, Comparison& all, double& our_seconds, double& peer
     const std::vector<planner::Phase2Step> steps = phase2_steps(domain, instance);
     const double build = time_median(repeats, [&] {
       symbolic::ExprPool pool;
-      planner::Propagation propagation(world, pool);
+      planner::Propagation propagation(world, planner::builtin_domain(), pool);
       for (std::size_t k = 0; k < steps.size(); ++k)
         (void)propagation.step(steps[k], static_cast<int>(k) + 1);
     });
@@ -834,9 +832,9 @@ void seed_phase2(int repeats, Comparison& all, double& our_seconds, double& peer
 // The k-chain: the peg of peg_block_on_back picked up at its initial pose and put down at a free
 // place, k times back and forth, then picked up once more; the last pickup's four preconditions.
 
-int action_with(const planner::Domain& domain, planner::StepEffect effect) {
+int action_with(const planner::Domain& domain, planner::Effect effect) {
   for (std::size_t a = 0; a < domain.actions.size(); ++a)
-    if (planner::step_effect(domain.actions[a]) == effect) return static_cast<int>(a);
+    if (domain.actions[a].effect == effect) return static_cast<int>(a);
   return -1;
 }
 
@@ -884,13 +882,13 @@ struct ChainRun {
 
 std::vector<planner::Phase2Step> chain_steps(const ChainSetup& setup, int k) {
   const planner::Domain& domain = planner::builtin_domain();
-  planner::Phase2Step grasp{.action = action_with(domain, planner::StepEffect::kGrasp),
-                            .effect = planner::StepEffect::kGrasp,
+  planner::Phase2Step grasp{.action = action_with(domain, planner::Effect::kGrasp),
+                            .effect = planner::Effect::kGrasp,
                             .object = setup.object,
                             .grasp = setup.grasp};
   planner::Phase2Step release = grasp;
-  release.action = action_with(domain, planner::StepEffect::kRelease);
-  release.effect = planner::StepEffect::kRelease;
+  release.action = action_with(domain, planner::Effect::kRelease);
+  release.effect = planner::Effect::kRelease;
   std::vector<planner::Phase2Step> steps;
   for (int trip = 0; trip <= k; ++trip) {
     grasp.object_pose = trip % 2 == 0 ? setup.a : setup.b;
@@ -912,7 +910,7 @@ ChainRun run_chain(const planner::WorldModel& world, const ChainSetup& setup, in
   std::vector<planner::Precondition> last;
   run.build = time_median(repeats, [&] {
     pool = std::make_unique<symbolic::ExprPool>();
-    propagation.emplace(world, *pool);
+    propagation.emplace(world, planner::builtin_domain(), *pool);
     for (std::size_t s = 0; s < steps.size(); ++s)
       last = propagation->step(steps[s], static_cast<int>(s) + 1);
   });
@@ -980,7 +978,7 @@ void chain_scales(const planner::WorldModel& world, const ChainSetup& setup,
   for (const int k : ks) {
     const std::vector<planner::Phase2Step> steps = chain_steps(setup, k);
     symbolic::ExprPool pool;
-    planner::Propagation propagation(world, pool);
+    planner::Propagation propagation(world, planner::builtin_domain(), pool);
     std::vector<planner::Precondition> last;
     for (std::size_t s = 0; s < steps.size(); ++s)
       last = propagation.step(steps[s], static_cast<int>(s) + 1);

@@ -85,9 +85,9 @@ std::string pairs_scenario(int pairs) {
   return text;
 }
 
-int action_with(const planner::Domain& domain, planner::StepEffect effect) {
+int action_with(const planner::Domain& domain, planner::Effect effect) {
   for (std::size_t a = 0; a < domain.actions.size(); ++a)
-    if (planner::step_effect(domain.actions[a]) == effect) return static_cast<int>(a);
+    if (domain.actions[a].effect == effect) return static_cast<int>(a);
   std::fprintf(stderr, "the built-in domain has no action with that effect\n");
   std::exit(1);
 }
@@ -107,7 +107,7 @@ Plan build_plan(int pairs) {
   const planner::WorldModel& world = *plan.world;
   const planner::Domain& domain = planner::builtin_domain();
   plan.analysis.pool = std::make_unique<symbolic::ExprPool>();
-  planner::Propagation propagation(world, *plan.analysis.pool);
+  planner::Propagation propagation(world, domain, *plan.analysis.pool);
   int index = 0;
   const auto run = [&](const planner::Phase2Step& step) {
     const std::vector<planner::Precondition> preconditions = propagation.step(step, ++index);
@@ -121,12 +121,11 @@ Plan build_plan(int pairs) {
         inequalities.push_back(p.inequality);
         expressions.push_back(p.inequality.expression);
       }
-      std::vector<symbolic::Expr> variables = symbolic::free_variables(expressions);
       const planner::UncertaintySpace& space = propagation.space();
-      std::sort(variables.begin(), variables.end(), [&](symbolic::Expr a, symbolic::Expr b) {
-        return space.index_of(a) < space.index_of(b);
-      });
-      const std::vector<spar::bounds::Interval> box = space.ranges(variables);
+      const std::vector<planner::VariableId> ids = planner::variables_of(expressions, space);
+      std::vector<symbolic::Expr> variables;
+      for (const planner::VariableId id : ids) variables.push_back(space.symbol(id));
+      const std::vector<spar::bounds::Interval> box = space.ranges(ids);
       spar::bounds::ConditionSet set(inequalities, variables);
       const std::vector<spar::bounds::ConditionCheck> checks =
           set.check(box, {.tolerance = 1e-2, .max_box_evaluations = 300});
@@ -139,7 +138,7 @@ Plan build_plan(int pairs) {
         const std::vector<symbolic::Expr> own = symbolic::free_variables(expressions[i]);
         for (std::size_t v = 0; v < variables.size(); ++v)
           if (std::find(own.begin(), own.end(), variables[v]) != own.end()) {
-            result.variables.push_back(variables[v].name());
+            result.variables.push_back(ids[v]);
             result.box.push_back(box[v]);
           }
         analysed.preconditions.push_back(std::move(result));
@@ -154,20 +153,20 @@ Plan build_plan(int pairs) {
     const planner::ObjectSpec& peg_spec = world.scenario().objects[peg];
     const planner::AssembledGoal& goal =
         std::get<planner::AssembledGoal>(world.scenario().goals[i]);
-    planner::Phase2Step scan{.action = action_with(domain, planner::StepEffect::kRangeScan),
-                             .effect = planner::StepEffect::kRangeScan,
+    planner::Phase2Step scan{.action = action_with(domain, planner::Effect::kSense),
+                             .effect = planner::Effect::kSense,
                              .object = block,
                              .object_pose = block_spec.initial_pose};
     run(scan);
     run(scan);  // again before it moves: the readings are fused
-    run({.action = action_with(domain, planner::StepEffect::kGrasp),
-         .effect = planner::StepEffect::kGrasp,
+    run({.action = action_with(domain, planner::Effect::kGrasp),
+         .effect = planner::Effect::kGrasp,
          .object = peg,
          .grasp = 0,
          .position = 0,
          .object_pose = peg_spec.initial_pose});
-    run({.action = action_with(domain, planner::StepEffect::kInsert),
-         .effect = planner::StepEffect::kInsert,
+    run({.action = action_with(domain, planner::Effect::kInsert),
+         .effect = planner::Effect::kInsert,
          .object = peg,
          .grasp = 0,
          .fixed_object = block,
@@ -175,6 +174,7 @@ Plan build_plan(int pairs) {
          .fixed_pose = block_spec.initial_pose});
   }
   plan.analysis.variables = propagation.space().variables();
+  plan.analysis.symbols = propagation.space().symbols();
   plan.build_seconds = seconds_since(start);
   return plan;
 }

@@ -35,6 +35,7 @@
 
 #include "spar/bounds/error.hpp"
 #include "spar/bounds/interval.hpp"
+#include "spar/common/relation.hpp"
 #include "spar/symbolic/expr.hpp"
 
 namespace spar::bounds {
@@ -47,7 +48,8 @@ struct Box {
   void add(symbolic::Expr variable, double lo, double hi);
 };
 
-enum class Relation { kLess, kLessEqual, kGreater, kGreaterEqual };
+// The relation of an inequality or constraint (common/relation.hpp: one name table).
+using Relation = spar::Relation;
 
 // g rel 0. Strict relations are bounded as their closure (sound); witnesses satisfy them exactly.
 struct Constraint {

@@ -15,17 +15,7 @@ const char* to_string(Verdict verdict) {
 }
 
 const char* to_string(Relation relation) {
-  switch (relation) {
-    case Relation::kLess:
-      return "<";
-    case Relation::kLessEqual:
-      return "<=";
-    case Relation::kGreater:
-      return ">";
-    case Relation::kGreaterEqual:
-      return ">=";
-  }
-  return "?";
+  return relation_name(relation).data();  // the table's literals are null-terminated
 }
 
 Verdict decide(const Inequality& inequality, const BoundResult& bound) {

@@ -14,10 +14,7 @@
 namespace spar::cli {
 
 bounds::Relation relation_named(const std::string& text) {
-  if (text == "<") return bounds::Relation::kLess;
-  if (text == "<=") return bounds::Relation::kLessEqual;
-  if (text == ">") return bounds::Relation::kGreater;
-  if (text == ">=") return bounds::Relation::kGreaterEqual;
+  if (const std::optional<Relation> relation = relation_from_name(text)) return *relation;
   throw UsageError("unknown relation '" + text + "' (use <, <=, >, >=)");
 }
 

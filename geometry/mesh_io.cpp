@@ -170,7 +170,10 @@ Mesh parse_obj(const std::string& text, const std::string& source) {
   return std::move(builder).build();
 }
 
-Mesh read_mesh_file(const std::string& path) {
+namespace {
+
+// The file's bytes and its lower-case extension, one of the three formats.
+std::pair<std::string, std::string> mesh_file_content(const std::string& path) {
   if (std::filesystem::is_directory(path))
     throw GeometryError(path + ": is a directory, not a mesh file (.off, .obj or .stl)");
   const std::string extension = lower(path.substr(std::min(path.size(), path.rfind('.'))));
@@ -181,8 +184,21 @@ Mesh read_mesh_file(const std::string& path) {
   if (!file) throw GeometryError(path + ": cannot open the file");
   std::stringstream content;
   content << file.rdbuf();
-  if (extension == ".stl") return parse_stl(content.str(), path);
-  return extension == ".off" ? parse_off(content.str(), path) : parse_obj(content.str(), path);
+  return {content.str(), extension};
+}
+
+}  // namespace
+
+Mesh read_mesh_file(const std::string& path) {
+  const auto [content, extension] = mesh_file_content(path);
+  if (extension == ".stl") return parse_stl(content, path);
+  return extension == ".off" ? parse_off(content, path) : parse_obj(content, path);
+}
+
+Mesh read_triangle_soup(const std::string& path) {
+  const auto [content, extension] = mesh_file_content(path);
+  if (extension == ".stl") return parse_stl_soup(content, path);
+  return extension == ".off" ? parse_off(content, path) : parse_obj(content, path);
 }
 
 void write_off(const Mesh& mesh, std::ostream& out, const std::string& header) {

@@ -30,6 +30,13 @@ namespace spar::geometry {
 [[nodiscard]] Mesh parse_obj(const std::string& text, const std::string& source);
 // `bytes`: the whole file, ASCII or binary.
 [[nodiscard]] Mesh parse_stl(const std::string& bytes, const std::string& source);
+// A triangle soup for collision only (robot links' meshes, kinematics/urdf.hpp): a link's mesh
+// need not be closed or free of self-crossings (collision.hpp measures distances between any
+// triangles), so STL is read as its triangles with identical points welded and degenerate ones
+// dropped, nothing more checked; OFF and OBJ as read_mesh_file reads them. Throws GeometryError
+// for an unreadable file or one without triangles.
+[[nodiscard]] Mesh parse_stl_soup(const std::string& bytes, const std::string& source);
+[[nodiscard]] Mesh read_triangle_soup(const std::string& path);
 // Writes triangles with their names as comments; `header` lines become leading `#` comments.
 void write_off(const Mesh& mesh, std::ostream& out, const std::string& header);
 

@@ -3,11 +3,12 @@
 #include <algorithm>
 #include <cmath>
 
+#include "spar/kinematics/internal/chain.hpp"
+
 namespace spar::kinematics {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
 // |sin q5| below which q4 is pure rounding noise (the q4 = 0 choice then moves the pose < 1e-12).
 constexpr double kUndeterminedWrist = 1e-12;
 
@@ -32,29 +33,6 @@ PlaneDirection direction_of(double x, double y) {
   const double norm = std::sqrt(x * x + y * y);
   if (!(norm > 0.0)) return {};
   return {x / norm, y / norm};
-}
-
-// wrap_angle for the few-turns angles the solver produces, without a division.
-double wrap_small_angle(double angle) {
-  if (!(std::abs(angle) < 8.0 * kPi)) return wrap_angle(angle);
-  while (angle > kPi) angle -= kTwoPi;
-  while (angle <= -kPi) angle += kTwoPi;
-  return angle;
-}
-
-// The representative of `angle` (mod 2 pi) to report: the wrapped one if it is within `limits`
-// (widened by `tolerance`), else the smallest in-limit one, else the wrapped one. Returns whether
-// it is within limits.
-bool choose_representative(double& angle, const JointLimits& limits, double tolerance) {
-  const JointLimits widened{limits.lower - tolerance, limits.upper + tolerance};
-  angle = wrap_small_angle(angle);
-  if (widened.contains(angle)) return true;
-  const double candidate = angle + kTwoPi * std::ceil((widened.lower - angle) / kTwoPi);
-  if (widened.contains(candidate)) {
-    angle = candidate;
-    return true;
-  }
-  return false;
 }
 
 void require(bool condition, const std::string& robot, const std::string& what) {
@@ -248,7 +226,7 @@ IkResult PumaIk::solve(const Transform& flange) const {
         for (std::size_t i = 0; i < 6; ++i) {
           double angle = theta[i] - offsets_[i];
           solution.within_limits &=
-              choose_representative(angle, limits_[i], options_.limit_tolerance);
+              internal::choose_representative(angle, limits_[i], options_.limit_tolerance);
           solution.q[static_cast<Eigen::Index>(i)] = angle;
         }
       }

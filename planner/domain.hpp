@@ -2,10 +2,12 @@
 // and local-recovery templates of seed 001 figs. 11-12.
 //
 // An action template has parameters (plan variables), operational preconditions (atoms), geometric
-// preconditions (a constraint on plan variables plus the operational goal it constrains), the names
-// of the uncertainty-precondition builders phase 2 calls, and add and delete lists. The built-in
-// domain is planner/domain.yaml, compiled into spar; load_domain() reads another file so an action
-// can be changed without recompiling (format: the comments at the top of planner/domain.yaml).
+// preconditions (a constraint on plan variables plus the operational goal it constrains), its
+// effect on uncertainty and the uncertainty-precondition builders phase 2 calls (typed at load:
+// planner/uncertainty/effects.hpp; phase 2 uses exactly these and never reads predicate names),
+// and add and delete lists. The built-in domain is planner/domain.yaml, compiled into spar;
+// load_domain() reads another file so an action can be added or changed without recompiling
+// (format: docs/domain.md and the comments at the top of planner/domain.yaml).
 //
 // Grammar of the text forms:
 //   atom        predicate(arg, ...)          args are parameter names or constants (e.g. `empty`)
@@ -16,19 +18,25 @@
 // Invariants (checked by the loader, DomainError with file:line:col otherwise): parameter names are
 // unique; every atom/constraint argument is a parameter or a known constant; typed parameters name
 // an object parameter; constraint arguments have the types the constraint needs; every verification
-// an action names exists, and every recovery a verification names exists.
+// an action names exists, and every recovery a verification names exists; every action has an
+// effect, its builders are known, listed once and fit the effect, and its parameters give what the
+// effect and builders need (requirements_of); `kind`, when given, agrees with the effect.
 //
 // Example:
 //   const Domain domain = builtin_domain();
 //   const ActionTemplate& pickup = domain.action("pickup");
 //   pickup.add[0].predicate;          // "holding"
 //   pickup.geometric[0].kind;         // GeometricConstraintKind::kReachable
+//   pickup.effect;                    // Effect::kGrasp
+//   pickup.uncertainty[0];            // Builder::kPickup
 #pragma once
 
 #include <filesystem>
 #include <string>
 #include <string_view>
 #include <vector>
+
+#include "spar/planner/uncertainty/effects.hpp"
 
 namespace spar::planner {
 
@@ -61,10 +69,11 @@ struct GeometricPrecondition {
   [[nodiscard]] std::string str() const;  // "reachable(grasp, position)"
 };
 
+// The action's role in phase 1, implied by its effect (a `kind:` key may repeat it).
 enum class ActionKind {
   kManipulation,  // used by phase 1 to reach goals
-  kSensing,       // range-scan: phase 2 splices it in to replace an object's uncertainty
-  kReduction,     // squeeze: phase 2 splices it in before a pickup
+  kSensing,       // effect sense: phase 2 splices it in to replace an object's uncertainty
+  kReduction,     // effect reduce: phase 2 splices it in before a pickup
 };
 
 struct ActionTemplate {
@@ -73,7 +82,8 @@ struct ActionTemplate {
   std::vector<Parameter> parameters;
   std::vector<Atom> operational;
   std::vector<GeometricPrecondition> geometric;
-  std::vector<std::string> uncertainty;  // builder names: pickup, squeeze, assemble
+  Effect effect{Effect::kNone};      // the domain's `effect:` (required)
+  std::vector<Builder> uncertainty;  // the domain's `uncertainty:` builders, in its order
   std::vector<Atom> add;
   std::vector<Atom> del;
   std::vector<std::string> verification;  // VerificationTemplate names

@@ -10,6 +10,7 @@
 #include "spar/bounds/inequality.hpp"
 #include "spar/kinematics/ik.hpp"
 #include "spar/kinematics/puma.hpp"
+#include "spar/kinematics/robots.hpp"
 #include "spar/reports/build.hpp"
 #include "spar/geometry/builtin_objects.hpp"
 #include "spar/reports/plan_json.hpp"
@@ -52,10 +53,7 @@ kinematics::Transform rigid(const Matrix4& matrix) {
 Matrix4 matrix(const kinematics::Transform& pose) { return pose.matrix(); }
 
 bounds::Relation relation_named(std::string_view text) {
-  if (text == "<") return bounds::Relation::kLess;
-  if (text == "<=") return bounds::Relation::kLessEqual;
-  if (text == ">") return bounds::Relation::kGreater;
-  if (text == ">=") return bounds::Relation::kGreaterEqual;
+  if (const std::optional<Relation> relation = relation_from_name(text)) return *relation;
   throw bounds::BoundsError("unknown relation '" + std::string(text) +
                             "' in a constraint: use <, <=, > or >=");
 }
@@ -153,37 +151,65 @@ reports::BoundRecord bound_expression(const Expression& f, const std::vector<Box
 
 std::vector<std::string> robot_names() {
   std::vector<std::string> names;
-  for (const std::string_view name : kinematics::builtin_robot_names()) names.emplace_back(name);
+  for (const std::string_view name : kinematics::robot_model_names()) names.emplace_back(name);
   return names;
 }
 
-RobotInfo robot_info(std::string_view robot) {
-  const kinematics::DhChain& chain = kinematics::builtin_robot(robot);
-  RobotInfo info{.name = chain.name(), .source = chain.source(), .joints = {}};
-  for (const kinematics::DhJoint& joint : chain.joints())
-    info.joints.push_back(
-        {joint.d, joint.a, joint.alpha, joint.offset, joint.limits.lower, joint.limits.upper});
+namespace {
+
+kinematics::RobotModel load(const RobotRef& robot) {
+  kinematics::UrdfOptions options{.base = {}, .tip = robot.tip, .package_path = {}};
+  for (const std::string& folder : robot.package_path) options.package_path.emplace_back(folder);
+  return kinematics::load_robot(robot.robot, options);
+}
+
+}  // namespace
+
+RobotInfo robot_info(const RobotRef& robot) {
+  const kinematics::RobotModel model = load(robot);
+  RobotInfo info{.name = model.name(),
+                 .source = model.source(),
+                 .base = model.base_link(),
+                 .tip = model.tip_link(),
+                 .method = std::string(kinematics::to_string(model.ik_method())),
+                 .joints = {}};
+  const std::vector<std::string_view> dh_robots = kinematics::builtin_robot_names();
+  const bool dh = std::find(dh_robots.begin(), dh_robots.end(), robot.robot) != dh_robots.end();
+  for (std::size_t i = 0; i < model.dof(); ++i) {
+    const kinematics::MovingJoint& joint = model.joints()[i];
+    JointInfo entry{.name = joint.name,
+                    .type = std::string(kinematics::to_string(joint.type)),
+                    .lower = joint.limits.lower,
+                    .upper = joint.limits.upper,
+                    .dh = std::nullopt};
+    if (dh) {
+      const kinematics::DhJoint& row = kinematics::builtin_robot(robot.robot).joint(i);
+      entry.dh = std::array<double, 4>{row.d, row.a, row.alpha, row.offset};
+    }
+    info.joints.push_back(std::move(entry));
+  }
   return info;
 }
 
-Matrix4 forward_kinematics(std::string_view robot, const std::vector<double>& q) {
-  return matrix(kinematics::builtin_robot(robot).forward(q));
+Matrix4 forward_kinematics(const RobotRef& robot, const std::vector<double>& q) {
+  return matrix(load(robot).forward(q));
 }
 
-IkAnswer inverse_kinematics(std::string_view robot, const Matrix4& flange) {
-  const kinematics::PumaIk solver(kinematics::builtin_robot(robot));
-  const kinematics::IkResult result = solver.solve(rigid(flange));
-  IkAnswer answer{.solved = result.solved(),
-                  .singularities = kinematics::singularity_names(result.singularities),
-                  .solutions = {}};
-  if (!result.solved()) return answer;
-  for (const kinematics::IkSolution& solution : result.solutions) {
-    IkSolutionInfo info{.configuration = solution.configuration.label(),
-                        .within_limits = solution.within_limits,
-                        .singularities = kinematics::singularity_names(solution.singularities)};
-    for (int j = 0; j < 6; ++j) info.q[j] = solution.q[j];
-    answer.solutions.push_back(info);
+IkAnswer inverse_kinematics(const RobotRef& robot, const Matrix4& pose, double redundancy_step) {
+  const kinematics::Transform target = rigid(pose);
+  const kinematics::RobotModel model = load(robot);
+  const std::vector<kinematics::JointSolution> found =
+      model.inverse(target, {.redundancy_step = redundancy_step});
+  IkAnswer answer{.solved = !found.empty(), .singularities = {}, .solutions = {}};
+  std::uint8_t flags = kinematics::kNoSingularity;
+  for (const kinematics::JointSolution& solution : found) {
+    flags |= solution.singularities;
+    answer.solutions.push_back({.configuration = solution.configuration,
+                                .q = solution.q,
+                                .within_limits = solution.within_limits,
+                                .singularities = kinematics::singularity_names(solution.singularities)});
   }
+  answer.singularities = kinematics::singularity_names(flags);
   return answer;
 }
 

@@ -105,33 +105,44 @@ struct BoundSettings {
 
 using Matrix4 = Eigen::Matrix4d;
 
+// A robot: a built-in name (kinematics/robots.hpp) or a URDF path, with its tip link ("": the
+// built-in's or the end of the longest chain) and folders for package:// names.
+struct RobotRef {
+  std::string robot;
+  std::string tip;
+  std::vector<std::string> package_path;
+};
 struct JointInfo {
-  double d, a, alpha, offset, lower, upper;
+  std::string name, type;
+  double lower, upper;
+  std::optional<std::array<double, 4>> dh;  // d, a, alpha, offset of a DH table's joint
 };
 struct RobotInfo {
-  std::string name, source;
+  std::string name, source, base, tip, method;
   std::vector<JointInfo> joints;
 };
 [[nodiscard]] std::vector<std::string> robot_names();
-// Throws kinematics::KinematicsError naming the built-in robots for an unknown name.
-[[nodiscard]] RobotInfo robot_info(std::string_view robot);
-// Flange pose for joint angles q (no tool). Throws KinematicsError for a wrong joint count.
-[[nodiscard]] Matrix4 forward_kinematics(std::string_view robot, const std::vector<double>& q);
+// Throws kinematics::KinematicsError naming the built-in robots for an unknown name, or the
+// URDF file's mistake.
+[[nodiscard]] RobotInfo robot_info(const RobotRef& robot);
+// Tip pose in the base frame for joint values q. Throws KinematicsError for a wrong joint count.
+[[nodiscard]] Matrix4 forward_kinematics(const RobotRef& robot, const std::vector<double>& q);
 
 struct IkSolutionInfo {
-  std::string configuration;  // "lun", ..., "rdf"
-  std::array<double, 6> q{};
+  std::string configuration;  // "lun", ..., "rdf"; "run@q7=35deg"; "n1"
+  std::vector<double> q;
   bool within_limits{false};
   std::string singularities;  // "none" or e.g. "shoulder+wrist"
 };
 struct IkAnswer {
   bool solved{false};
-  std::string singularities;
-  std::vector<IkSolutionInfo> solutions;  // 8 when solved (lun, luf, ldn, ldf, run, ...), else 0
+  std::string singularities;  // union over the solutions
+  std::vector<IkSolutionInfo> solutions;  // kinematics/robot.hpp's order; none when unreachable
 };
-// All eight closed-form solutions for a flange pose. Throws KinematicsError for a pose that is
-// not rigid (the message names the defect).
-[[nodiscard]] IkAnswer inverse_kinematics(std::string_view robot, const Matrix4& flange);
+// Every solution for a tip pose (7-joint arms: q7 every `redundancy_step` radians). Throws
+// KinematicsError for a pose that is not rigid (the message names the defect).
+[[nodiscard]] IkAnswer inverse_kinematics(const RobotRef& robot, const Matrix4& pose,
+                                          double redundancy_step);
 
 // ---- uncertain poses (kinematics/uncertain_pose.hpp) ----
 

@@ -5,6 +5,9 @@
 // evaluate release the GIL (the facade's pool mutex serialises work on one pool), so a thread that
 // waits for a pool or a long computation never holds up the other Python threads. The package's
 // Python part (python/spar/__init__.py) wraps these in the public names.
+#include <numbers>
+#include <optional>
+
 #include <pybind11/eigen.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -229,25 +232,50 @@ void bind_expressions(py::module_& m) {
 
 void bind_kinematics(py::module_& m) {
   m.def("robots", &robot_names, "Names of the built-in robots.");
+  const auto package_path = [](const std::optional<std::vector<std::string>>& folders) {
+    return folders.value_or(std::vector<std::string>{});
+  };
   m.def(
       "robot",
-      [](const std::string& name) {
-        const RobotInfo info = robot_info(name);
+      [package_path](const std::string& robot, const std::string& tip,
+                     const std::optional<std::vector<std::string>>& folders) {
+        const RobotInfo info = robot_info({robot, tip, package_path(folders)});
         py::list joints;
-        for (const JointInfo& j : info.joints)
-          joints.append(py::dict("d"_a = j.d, "a"_a = j.a, "alpha"_a = j.alpha,
-                                 "offset"_a = j.offset, "lower"_a = j.lower, "upper"_a = j.upper));
-        return py::dict("name"_a = info.name, "source"_a = info.source, "joints"_a = joints);
+        for (const JointInfo& j : info.joints) {
+          py::dict joint("name"_a = j.name, "type"_a = j.type, "lower"_a = j.lower,
+                         "upper"_a = j.upper);
+          if (j.dh) {
+            joint["d"] = (*j.dh)[0];
+            joint["a"] = (*j.dh)[1];
+            joint["alpha"] = (*j.dh)[2];
+            joint["offset"] = (*j.dh)[3];
+          }
+          joints.append(joint);
+        }
+        return py::dict("name"_a = info.name, "source"_a = info.source, "base"_a = info.base,
+                        "tip"_a = info.tip, "method"_a = info.method, "joints"_a = joints);
       },
-      "robot"_a, doc::kPuma);
-  m.def("fk", &forward_kinematics, "robot"_a, "q"_a, doc::kDh);
+      "robot"_a, "tip"_a = "", "package_path"_a = py::none(), doc::kRobots);
+  m.def(
+      "fk",
+      [package_path](const std::string& robot, const std::vector<double>& q,
+                     const std::string& tip,
+                     const std::optional<std::vector<std::string>>& folders) {
+        return forward_kinematics({robot, tip, package_path(folders)}, q);
+      },
+      "robot"_a, "q"_a, "tip"_a = "", "package_path"_a = py::none(), doc::kRobot);
 
   py::class_<IkSolutionInfo>(m, "IkSolution",
-                             "One closed-form configuration: its label (l|r, u|d, n|f), joint "
-                             "angles q (radians, NumPy), within_limits, singularities.")
+                             "One solution: its configuration label (\"run\", \"run@q7=35deg\", "
+                             "\"n1\"), joint values q (radians, NumPy), within_limits, "
+                             "singularities.")
       .def_readonly("configuration", &IkSolutionInfo::configuration)
       .def_property_readonly(
-          "q", [](const IkSolutionInfo& s) { return Eigen::Matrix<double, 6, 1>(s.q.data()); })
+          "q",
+          [](const IkSolutionInfo& s) {
+            return Eigen::VectorXd(Eigen::Map<const Eigen::VectorXd>(
+                s.q.data(), static_cast<Eigen::Index>(s.q.size())));
+          })
       .def_readonly("within_limits", &IkSolutionInfo::within_limits)
       .def_readonly("singularities", &IkSolutionInfo::singularities)
       .def("__repr__", [](const IkSolutionInfo& s) {
@@ -255,8 +283,9 @@ void bind_kinematics(py::module_& m) {
                "', within_limits=" + (s.within_limits ? "True" : "False") + ")";
       });
   py::class_<IkAnswer>(m, "IkResult",
-                       "All eight solutions (solutions, in the order lun luf ldn ldf run ruf rdn "
-                       "rdf) when solved; none when the pose is out of reach.")
+                       "Every solution (solutions, in the robot's order: lun luf ldn ldf run ruf "
+                       "rdn rdf for Puma and UR arms) when solved; none when the pose is out of "
+                       "reach.")
       .def_readonly("solved", &IkAnswer::solved)
       .def_readonly("singularities", &IkAnswer::singularities)
       .def_readonly("solutions", &IkAnswer::solutions)
@@ -269,7 +298,15 @@ void bind_kinematics(py::module_& m) {
             throw py::key_error("no solution '" + configuration + "'");
           },
           "configuration"_a);
-  m.def("ik", &inverse_kinematics, "robot"_a, "pose"_a, doc::kIk);
+  m.def(
+      "ik",
+      [package_path](const std::string& robot, const Matrix4& pose, const std::string& tip,
+                     const std::optional<std::vector<std::string>>& folders,
+                     double redundancy_step) {
+        return inverse_kinematics({robot, tip, package_path(folders)}, pose, redundancy_step);
+      },
+      "robot"_a, "pose"_a, "tip"_a = "", "package_path"_a = py::none(),
+      "redundancy_step"_a = 5.0 * std::numbers::pi / 180.0, Release(), doc::kRobot);
 
   py::class_<UncertainPose>(m, "UncertainPose",
                             "A 4x4 transform whose entries are spar.Expr over the pose's "

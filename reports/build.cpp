@@ -51,6 +51,8 @@ Family build_family(const planner::PlanResult& result) {
     row.id = step.id;
     row.action = step.action < 0 ? (step.id == 0 ? "start" : "finish")
                                  : result.domain.actions[step.action].name;
+    if (step.action >= 0)
+      row.effect = std::string(planner::to_string(result.domain.actions[step.action].effect));
     for (const planner::Term& term : step.args)
       row.args.push_back(family.term_name(term, result.world));
     row.text = family.describe(step, result.world, result.domain);
@@ -87,6 +89,7 @@ Step build_step(const planner::PlanResult& result, const planner::InstanceStep& 
   Step out;
   out.id = step.step;
   out.action = step.action_name;
+  out.effect = planner::to_string(result.domain.actions.at(step.action).effect);
   if (step.object >= 0) out.object = scenario.objects[step.object].name;
   if (step.grasp >= 0) {
     const geometry::Grasp& grasp = result.world.object(step.object).grasps[step.grasp];
@@ -131,7 +134,7 @@ Precondition build_precondition(const planner::Scenario& scenario,
                                 const std::vector<planner::SpaceVariable>& space) {
   Precondition out;
   out.name = result.inequality.name;
-  out.kind = result.kind;
+  out.kind = planner::to_string(result.kind);
   out.relation = bounds::to_string(result.inequality.relation);
   out.threshold = result.inequality.threshold;
   out.unit = precondition_unit(result);
@@ -142,10 +145,11 @@ Precondition build_precondition(const planner::Scenario& scenario,
   out.inner_lo = result.bound.inner_lo;
   out.inner_hi = result.bound.inner_hi;
   out.verdict = bounds::to_string(result.verdict);
+  const auto name_of = [&](planner::VariableId id) { return space.at(id.index).name; };
   for (std::size_t v = 0; v < result.witness.size() && v < result.variables.size(); ++v)
-    out.witness.emplace_back(result.variables[v], result.witness[v]);
+    out.witness.emplace_back(name_of(result.variables[v]), result.witness[v]);
   for (std::size_t v = 0; v < result.variables.size(); ++v)
-    out.box.emplace_back(result.variables[v],
+    out.box.emplace_back(name_of(result.variables[v]),
                          std::array<double, 2>{result.box[v].lo, result.box[v].hi});
   const bool length = out.unit == "m";
   const double scale = length ? 1.0 / scenario.units.metres_per_length_unit() : 1.0;
@@ -157,7 +161,8 @@ Precondition build_precondition(const planner::Scenario& scenario,
                  result.bound.inner_hi * scale};
   if (!result.blame.empty()) {
     out.blame.emplace();
-    for (const auto& entry : result.blame) out.blame->push_back({entry.variable, entry.share});
+    for (const auto& entry : result.blame)
+      out.blame->push_back({name_of(entry.variable), entry.share});
   }
   if (result.holds_up_to_scale) {
     // The scaled uncertainty as half-widths: the widest scaled displacement and rotation among
@@ -165,14 +170,10 @@ Precondition build_precondition(const planner::Scenario& scenario,
     const double s = *result.holds_up_to_scale;
     double displacement = 0.0, rotation = 0.0;
     for (std::size_t v = 0; v < result.variables.size(); ++v) {
-      const auto found = std::find_if(space.begin(), space.end(), [&](const auto& variable) {
-        return variable.name == result.variables[v];
-      });
-      if (found == space.end() ||
-          found->provenance.source == planner::UncertaintySource::kManipulator)
-        continue;
+      const planner::SpaceVariable& variable = space.at(result.variables[v].index);
+      if (variable.provenance.source == planner::UncertaintySource::kManipulator) continue;
       const double half_width = std::max(-result.box[v].lo, result.box[v].hi) * s;
-      double& widest = found->component == 't' ? rotation : displacement;
+      double& widest = variable.angle() ? rotation : displacement;
       widest = std::max(widest, half_width);
     }
     out.holds_up_to_scale = s;
@@ -234,8 +235,8 @@ std::vector<Step> analysed_steps(const planner::PlanResult& result,
       out = build_step(result, instance.steps[analysed.step.instance_step]);
     }
     out.inserted = analysed.inserted;
-    if (analysed.step.grasp >= 0 && (analysed.step.effect == planner::StepEffect::kGrasp ||
-                                     analysed.step.effect == planner::StepEffect::kSqueeze))
+    if (analysed.step.grasp >= 0 && (analysed.step.effect == planner::Effect::kGrasp ||
+                                     analysed.step.effect == planner::Effect::kReduce))
       out.finger_opening = result.world.gripper().max_opening * length_scale(result);
     out.preconditions.emplace();
     for (const planner::PreconditionResult& precondition : analysed.preconditions)
@@ -295,7 +296,7 @@ std::vector<UncertaintyVariable> build_variables(const planner::PlanResult& resu
   const planner::Units& units = scenario.units;
   std::vector<UncertaintyVariable> variables;
   for (const planner::SpaceVariable& v : analysis.variables) {
-    const bool angle = v.component == 't';
+    const bool angle = v.angle();
     const auto convert = [&](double value) {
       return angle ? units.to_file_angle(value) : units.to_file_length(value);
     };
@@ -365,7 +366,7 @@ Probability build_probability(const planner::PlanResult& result,
   out.tolerances.cost = t.cost;
   out.tolerances.rounds = t.rounds;
   for (const planner::ToleranceParameter& q : t.parameters) {
-    const bool angle = q.component == 't';
+    const bool angle = is_angle(q.component);
     const auto shown = [&](double value) {
       return angle ? units.to_file_angle(value) : units.to_file_length(value);
     };

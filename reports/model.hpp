@@ -93,12 +93,14 @@ struct Robot {
 struct FamilyStep {
   int id{0};           // 0 the initial state, 1 the finish
   std::string action;  // template name, or start / finish
+  Nullable<std::string> effect;  // the domain's effect (docs/domain.md); null for start / finish
   std::vector<std::string> args;
   std::string text;  // "pickup(peg, grasp_1, initial_peg)"
   template <class Self, class Field>
   static void fields(Self& s, Field&& field) {
     field("id", s.id);
     field("action", s.action);
+    field("effect", s.effect);
     field("args", s.args);
     field("text", s.text);
   }
@@ -352,6 +354,7 @@ struct Recovery {
 struct Step {
   int id{0};  // the family step's id; steps phase 2 inserted get new ids
   std::string action;
+  std::string effect;  // the domain's effect: grasp | release | insert | sense | reduce | none
   Nullable<std::string> object;
   std::optional<Grasp> grasp;
   std::optional<Matrix> object_pose;                    // where the step finds or leaves it
@@ -374,6 +377,7 @@ struct Step {
   static void fields(Self& s, Field&& field) {
     field("id", s.id);
     field("action", s.action);
+    field("effect", s.effect);
     field("object", s.object);
     field("grasp", s.grasp);
     field("object_pose", s.object_pose);

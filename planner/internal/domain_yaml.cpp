@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <fstream>
+#include <optional>
 #include <set>
 #include <sstream>
 
@@ -189,24 +190,92 @@ class DomainReader {
     return atoms;
   }
 
+  // The first parameter of `type` (position also finds a placement), or nullptr: the instance
+  // steps read the handled object and its position from these (planner/instances.cpp).
+  static const Parameter* first_of(const ActionTemplate& action, ParameterType type) {
+    for (const Parameter& parameter : action.parameters)
+      if (parameter.type == type ||
+          (type == ParameterType::kPosition && parameter.type == ParameterType::kPlacement))
+        return &parameter;
+    return nullptr;
+  }
+
+  // What an effect or builder (`what`) needs of the action's parameters.
+  void check_requirements(const ActionTemplate& action, const Requirements& needs,
+                          const std::string& what, const YAML::Mark& mark) const {
+    const Parameter* grasp = first_of(action, ParameterType::kGrasp);
+    const Parameter* position = first_of(action, ParameterType::kPosition);
+    const std::string where = " (action '" + action.name + "')";
+    if (needs.object && !first_of(action, ParameterType::kObject))
+      fail(mark, what + " needs an object parameter" + where);
+    if ((needs.grasp || needs.own_position || needs.other_position) && grasp == nullptr)
+      fail(mark, what + " needs a grasp parameter, grasp(<object>)" + where);
+    if (needs.own_position && (position == nullptr || position->of != grasp->of))
+      fail(mark, what + " needs a position or placement of the grasped object '" + grasp->of + "'" +
+                     where);
+    if (needs.other_position && (position == nullptr || position->of == grasp->of))
+      fail(mark, what + " needs a position of the fixed object (another object than the grasped '" +
+                     grasp->of + "')" + where);
+  }
+
+  // `effect:` (required) and the `kind:` it implies (a given kind must agree).
+  void parse_effect(ActionTemplate& action, const YAML::Node& node) const {
+    const YAML::Node effect = node["effect"];
+    if (!effect)
+      fail(node.Mark(),
+           "action '" + action.name + "' needs 'effect' (one of " + known_effects() + ")");
+    const std::string name = scalar(effect, "effect");
+    const std::optional<Effect> parsed = effect_from_name(name);
+    if (!parsed)
+      fail(effect.Mark(), "unknown effect '" + name + "' (known: " + known_effects() + ")");
+    action.effect = *parsed;
+    action.kind = action.effect == Effect::kSense    ? ActionKind::kSensing
+                  : action.effect == Effect::kReduce ? ActionKind::kReduction
+                                                     : ActionKind::kManipulation;
+    check_requirements(action, requirements_of(action.effect), "effect " + name, effect.Mark());
+    if (const YAML::Node kind = node["kind"]) {
+      static const std::pair<std::string_view, ActionKind> kKinds[] = {
+          {"manipulation", ActionKind::kManipulation},
+          {"sensing", ActionKind::kSensing},
+          {"reduction", ActionKind::kReduction}};
+      const std::string text = scalar(kind, "kind");
+      const auto found = std::find_if(std::begin(kKinds), std::end(kKinds),
+                                      [&](const auto& entry) { return entry.first == text; });
+      if (found == std::end(kKinds))
+        fail(kind.Mark(), "unknown kind '" + text + "' (known: manipulation, sensing, reduction)");
+      if (found->second != action.kind)
+        fail(kind.Mark(), "kind '" + text + "' disagrees with effect " + name +
+                              " (effect sense is kind sensing, reduce is reduction, the others "
+                              "manipulation; the kind may be left out)");
+    }
+  }
+
+  // `uncertainty:` builders, in order: known, listed once, fitting the effect and the parameters.
+  void parse_builders(ActionTemplate& action, const YAML::Node& list) const {
+    const std::vector<std::string> names = scalars(list, "uncertainty");
+    for (std::size_t i = 0; i < names.size(); ++i) {
+      const YAML::Mark mark = list[i].Mark();
+      const std::optional<Builder> builder = builder_from_name(names[i]);
+      if (!builder)
+        fail(mark,
+             "unknown uncertainty builder '" + names[i] + "' (known: " + known_builders() + ")");
+      if (std::find(action.uncertainty.begin(), action.uncertainty.end(), *builder) !=
+          action.uncertainty.end())
+        fail(mark, "uncertainty builder '" + names[i] + "' is listed twice");
+      if (const std::string conflict = builder_conflict(*builder, action.effect); !conflict.empty())
+        fail(mark, conflict + " (action '" + action.name + "')");
+      check_requirements(action, requirements_of(*builder), "builder " + names[i], mark);
+      action.uncertainty.push_back(*builder);
+    }
+  }
+
   ActionTemplate parse_action(const YAML::Node& node) const {
     expect_map(node, "action",
-               {"name", "kind", "parameters", "operational", "geometric", "uncertainty", "add",
-                "delete", "verification"});
+               {"name", "kind", "effect", "parameters", "operational", "geometric", "uncertainty",
+                "add", "delete", "verification"});
     if (!node["name"]) fail(node.Mark(), "an action needs a 'name'");
     ActionTemplate action;
     action.name = scalar(node["name"], "action name");
-    if (const YAML::Node kind = node["kind"]) {
-      const std::string text = scalar(kind, "kind");
-      if (text == "manipulation")
-        action.kind = ActionKind::kManipulation;
-      else if (text == "sensing")
-        action.kind = ActionKind::kSensing;
-      else if (text == "reduction")
-        action.kind = ActionKind::kReduction;
-      else
-        fail(kind.Mark(), "unknown kind '" + text + "' (known: manipulation, sensing, reduction)");
-    }
     const YAML::Node parameters = node["parameters"];
     if (!parameters || !parameters.IsMap())
       fail(parameters ? parameters.Mark() : node.Mark(),
@@ -231,13 +300,8 @@ class DomainReader {
       if (!geometric.IsSequence()) fail(geometric.Mark(), "'geometric' must be a list");
       for (const auto& item : geometric) action.geometric.push_back(parse_geometric(action, item));
     }
-    action.uncertainty = scalars(node["uncertainty"], "uncertainty");
-    for (std::size_t i = 0; i < action.uncertainty.size(); ++i) {
-      const std::string& builder = action.uncertainty[i];
-      if (builder != "pickup" && builder != "squeeze" && builder != "assemble")
-        fail(node["uncertainty"][i].Mark(),
-             "unknown uncertainty builder '" + builder + "' (known: pickup, squeeze, assemble)");
-    }
+    parse_effect(action, node);
+    parse_builders(action, node["uncertainty"]);
     action.add = parse_atoms(action, node["add"], "add");
     action.del = parse_atoms(action, node["delete"], "delete");
     action.verification = scalars(node["verification"], "verification");

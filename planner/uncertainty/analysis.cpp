@@ -19,9 +19,10 @@ using bounds::Interval;
 using bounds::Verdict;
 using symbolic::Expr;
 
-int find_action(const Domain& domain, ActionKind kind) {
+// The first action with `effect` (the one phase 2 splices in for sensing or squeezing), or -1.
+int find_action(const Domain& domain, Effect effect) {
   for (std::size_t a = 0; a < domain.actions.size(); ++a)
-    if (domain.actions[a].kind == kind) return static_cast<int>(a);
+    if (domain.actions[a].effect == effect) return static_cast<int>(a);
   return -1;
 }
 
@@ -31,7 +32,7 @@ std::vector<Phase2Step> phase2_steps(const Domain& domain, const PlanInstance& i
     const InstanceStep& source = instance.steps[i];
     Phase2Step step;
     step.action = source.action;
-    step.effect = step_effect(domain.actions[source.action]);
+    step.effect = domain.actions[source.action].effect;
     step.object = source.object;
     step.grasp = source.grasp;
     step.position = source.is_assembly() ? -1 : source.position;
@@ -44,48 +45,6 @@ std::vector<Phase2Step> phase2_steps(const Domain& domain, const PlanInstance& i
   return steps;
 }
 
-// Decides `preconditions` over the space's current ranges: one tape for all of them, the natural
-// pass and a quick bound first (AnalysisOptions::quick), the full bound only for what is still
-// undecided.
-std::vector<PreconditionResult> decide(const std::vector<Precondition>& preconditions,
-                                       const UncertaintySpace& space,
-                                       const AnalysisOptions& options) {
-  std::vector<PreconditionResult> results;
-  if (preconditions.empty()) return results;
-  std::vector<Expr> expressions;
-  std::vector<bounds::Inequality> inequalities;
-  for (const Precondition& p : preconditions) {
-    expressions.push_back(p.inequality.expression);
-    inequalities.push_back(p.inequality);
-  }
-  std::vector<Expr> variables = symbolic::free_variables(expressions);
-  std::sort(variables.begin(), variables.end(),
-            [&](Expr a, Expr b) { return space.index_of(a) < space.index_of(b); });
-  const std::vector<Interval> box = space.ranges(variables);
-  bounds::ConditionSet set(inequalities, variables);
-  const std::vector<bounds::ConditionCheck> checks =
-      set.check(box, options.quick, bounds::Escalation::kUndecided);
-  for (std::size_t i = 0; i < preconditions.size(); ++i) {
-    PreconditionResult result;
-    result.kind = preconditions[i].kind;
-    result.inequality = preconditions[i].inequality;
-    result.length = preconditions[i].length;
-    result.verdict = checks[i].verdict;
-    result.bound = checks[i].bound;
-    result.witness = checks[i].witness;
-    if (result.verdict == Verdict::kUndecided) {
-      result.bound =
-          bounds::BoundProblem(result.inequality.expression, variables).bound(box, options.bound);
-      result.verdict = bounds::decide(result.inequality, result.bound);
-      result.witness = bounds::witness(result.inequality, result.bound);
-    }
-    result.box = box;
-    for (const Expr v : variables) result.variables.push_back(v.name());
-    results.push_back(std::move(result));
-  }
-  return results;
-}
-
 bool all_hold(const std::vector<PreconditionResult>& results) {
   return std::all_of(results.begin(), results.end(),
                      [](const PreconditionResult& r) { return r.verdict == Verdict::kSatisfied; });
@@ -96,17 +55,14 @@ std::vector<int> held_before(const std::vector<Phase2Step>& steps) {
   std::vector<int> held(steps.size() + 1, -1);
   for (std::size_t i = 0; i < steps.size(); ++i) {
     held[i + 1] = held[i];
-    if (steps[i].effect == StepEffect::kGrasp) held[i + 1] = steps[i].object;
-    if (steps[i].effect == StepEffect::kRelease || steps[i].effect == StepEffect::kInsert)
-      held[i + 1] = -1;
+    if (steps[i].effect == Effect::kGrasp) held[i + 1] = steps[i].object;
+    if (steps[i].effect == Effect::kRelease || steps[i].effect == Effect::kInsert) held[i + 1] = -1;
   }
   return held;
 }
 
 bool moves(const Phase2Step& step, int object) {
-  return step.object == object &&
-         (step.effect == StepEffect::kGrasp || step.effect == StepEffect::kRelease ||
-          step.effect == StepEffect::kSqueeze || step.effect == StepEffect::kInsert);
+  return step.object == object && moves_object(step.effect);
 }
 
 // The latest position <= until where a range-scan of `object` fits: the gripper is empty and the
@@ -123,7 +79,7 @@ int scan_position(const std::vector<Phase2Step>& steps, int until, int object) {
 // The last grasp of `object` before `until`, or -1.
 int grasp_position(const std::vector<Phase2Step>& steps, int until, int object) {
   for (int i = until; i >= 0; --i)
-    if (steps[i].effect == StepEffect::kGrasp && steps[i].object == object) return i;
+    if (steps[i].effect == Effect::kGrasp && steps[i].object == object) return i;
   return -1;
 }
 
@@ -208,7 +164,8 @@ std::map<int, std::vector<PreconditionResult>> InstanceAnalyser::replay(
   std::map<int, std::vector<PreconditionResult>> decided;
   for (int i = from; i <= through; ++i) {
     const std::vector<Precondition> preconditions = state.step(steps[i], i + 1);
-    if (watch.contains(i)) decided[i] = decide(preconditions, state.space(), options_);
+    if (watch.contains(i))
+      decided[i] = decide(preconditions, state.space(), options_.quick, options_.bound);
   }
   return decided;
 }
@@ -231,9 +188,9 @@ int InstanceAnalyser::repair(std::vector<Phase2Step>& steps,
                              const std::vector<Propagation>& snapshots, int k,
                              const std::vector<PreconditionResult>& failing,
                              InstanceAnalysis& out) const {
-  const int scan = find_action(domain_, ActionKind::kSensing);
-  const int squeeze = find_action(domain_, ActionKind::kReduction);
-  const bool insertion = steps[k].effect == StepEffect::kInsert;
+  const int scan = find_action(domain_, Effect::kSense);
+  const int squeeze = find_action(domain_, Effect::kReduce);
+  const bool insertion = steps[k].effect == Effect::kInsert;
   // The repairs to try, in order. A squeeze uses another grasp than the pickup's (with the same
   // one its preconditions would be the failing pickup's own): every grasp the robot reaches where
   // the object lies, up to AnalysisOptions::squeeze_grasps of them; it re-centres the object
@@ -276,7 +233,7 @@ int InstanceAnalyser::repair(std::vector<Phase2Step>& steps,
       if (grasp_at < 0) continue;
       step = current[grasp_at];
       step.action = squeeze;
-      step.effect = StepEffect::kSqueeze;
+      step.effect = Effect::kReduce;
       step.grasp = squeeze_grasp;
       step.instance_step = -1;
       position = grasp_at;
@@ -287,7 +244,7 @@ int InstanceAnalyser::repair(std::vector<Phase2Step>& steps,
       position = scan_position(current, until, object);
       if (position < 0) continue;
       step.action = scan;
-      step.effect = StepEffect::kRangeScan;
+      step.effect = Effect::kSense;
       step.object = object;
     }
     std::vector<Phase2Step> trial = current;
@@ -336,14 +293,14 @@ int InstanceAnalyser::repair(std::vector<Phase2Step>& steps,
 std::optional<double> InstanceAnalyser::sensor_margin(const std::vector<Phase2Step>& steps,
                                                       const std::vector<Propagation>& snapshots,
                                                       int k) const {
-  const int scan = find_action(domain_, ActionKind::kSensing);
+  const int scan = find_action(domain_, Effect::kSense);
   if (scan < 0 || !world_.scenario().range_scan) return std::nullopt;
   const Phase2Step& failed = steps[k];
   std::vector<std::pair<int, int>> targets;  // (object, until)
-  if (failed.effect == StepEffect::kInsert) targets.push_back({failed.fixed_object, k});
-  const int grasp_at = failed.effect == StepEffect::kInsert
+  if (failed.effect == Effect::kInsert) targets.push_back({failed.fixed_object, k});
+  const int grasp_at = failed.effect == Effect::kInsert
                            ? grasp_position(steps, k, failed.object)
-                           : (failed.effect == StepEffect::kGrasp ? k : -1);
+                           : (failed.effect == Effect::kGrasp ? k : -1);
   if (grasp_at >= 0) targets.push_back({failed.object, grasp_at});
   std::vector<int> positions;
   for (const auto& [object, until] : targets)
@@ -355,7 +312,7 @@ std::optional<double> InstanceAnalyser::sensor_margin(const std::vector<Phase2St
     if (positions[t] < 0) continue;
     Phase2Step step;
     step.action = scan;
-    step.effect = StepEffect::kRangeScan;
+    step.effect = Effect::kSense;
     step.object = targets[t].first;
     trial.insert(trial.begin() + positions[t], step);
     ++inserted;
@@ -379,24 +336,25 @@ std::optional<double> InstanceAnalyser::sensor_margin(const std::vector<Phase2St
 }
 
 void InstanceAnalyser::run(std::vector<Phase2Step> steps, InstanceAnalysis& out) {
-  std::vector<Propagation> snapshots = {Propagation(world_, pool_)};
+  std::vector<Propagation> snapshots = {Propagation(world_, domain_, pool_)};
   std::vector<AnalysedStep> analysed;
   std::set<int> attempted;  // instance steps whose repair was tried (once each)
   int k = 0;
   while (k < static_cast<int>(steps.size())) {
     Propagation state = snapshots[k];
     // An inserted range-scan looks at the object where it rests now.
-    if (steps[k].effect == StepEffect::kRangeScan && steps[k].object >= 0 &&
+    if (steps[k].effect == Effect::kSense && steps[k].object >= 0 &&
         state.on_table(steps[k].object))
       steps[k].object_pose = state.on_table(steps[k].object)->ideal;
     const std::vector<Precondition> preconditions = state.step(steps[k], k + 1);
-    AnalysedStep step{.step = steps[k],
-                      .action = domain_.actions[steps[k].action].name,
-                      .inserted = steps[k].instance_step < 0,
-                      .preconditions = decide(preconditions, state.space(), options_),
-                      .failed = false,
-                      .verification = {},
-                      .sensor_scale_needed = std::nullopt};
+    AnalysedStep step{
+        .step = steps[k],
+        .action = domain_.actions[steps[k].action].name,
+        .inserted = steps[k].instance_step < 0,
+        .preconditions = decide(preconditions, state.space(), options_.quick, options_.bound),
+        .failed = false,
+        .verification = {},
+        .sensor_scale_needed = std::nullopt};
     if (!all_hold(step.preconditions) && options_.repair && !step.inserted &&
         !attempted.contains(steps[k].instance_step)) {
       attempted.insert(steps[k].instance_step);
@@ -421,6 +379,7 @@ void InstanceAnalyser::run(std::vector<Phase2Step> steps, InstanceAnalysis& out)
   }
   out.steps = std::move(analysed);
   out.variables = snapshots.back().space().variables();
+  out.symbols = snapshots.back().space().symbols();
 }
 
 bool holds(const bounds::Inequality& inequality, double value) {
@@ -455,15 +414,12 @@ InstanceAnalysis analyse_instance(const WorldModel& world, const Domain& domain,
 }
 
 void add_margins(InstanceAnalysis& analysis, const AnalysisOptions& options) {
-  std::map<std::string, const SpaceVariable*> by_name;
-  for (const SpaceVariable& v : analysis.variables) by_name[v.name] = &v;
   std::mt19937_64 random(20261201);
   const bounds::BoundOptions& quick = options.quick;
   for (AnalysedStep& step : analysis.steps) {
     for (PreconditionResult& result : step.preconditions) {
       std::vector<Expr> inputs;
-      for (const std::string& name : result.variables)
-        inputs.push_back(analysis.pool->variable(name));
+      for (const VariableId id : result.variables) inputs.push_back(analysis.symbols[id.index]);
       bounds::BoundProblem problem(result.inequality.expression, inputs);
       // A tight bound with inner values for every precondition (the natural pass that decided a
       // satisfied one has none): [lo, hi] only shrinks, so the verdict stands.
@@ -503,7 +459,7 @@ void add_margins(InstanceAnalysis& analysis, const AnalysisOptions& options) {
         const auto proved_at = [&](double scale) {
           std::vector<Interval> box = result.box;
           for (std::size_t v = 0; v < inputs.size(); ++v) {
-            const SpaceVariable& meta = *by_name.at(result.variables[v]);
+            const SpaceVariable& meta = analysis.variables[result.variables[v].index];
             if (meta.provenance.source == UncertaintySource::kManipulator &&
                 !options.scale_manipulator)
               continue;

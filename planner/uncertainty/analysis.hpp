@@ -55,30 +55,10 @@
 
 #include "spar/bounds/condition_set.hpp"
 #include "spar/planner/instances.hpp"
+#include "spar/planner/uncertainty/deciding.hpp"
 #include "spar/planner/uncertainty/propagation.hpp"
 
 namespace spar::planner {
-
-struct PreconditionResult {
-  std::string kind;  // pickup, squeeze, assemble
-  bounds::Inequality inequality;
-  bool length{true};       // the expression is a length in metres (else dimensionless)
-  std::string expression;  // spar's infix syntax (parseable by `spar bound`)
-  std::size_t nodes{0};    // DAG nodes of the expression
-  bounds::Verdict verdict{bounds::Verdict::kUndecided};
-  bounds::BoundResult bound;
-  std::vector<std::string> variables;  // the expression's variables, in box order
-  std::vector<bounds::Interval> box;   // their ranges
-  std::vector<double> witness;         // the worst point found (variables order)
-  // Beyond SPAR (chosen instance only; empty / nullopt otherwise):
-  struct Blame {
-    std::string variable;
-    double share{0.0};  // fraction of the natural enclosure's width removed by pinning it
-  };
-  std::vector<Blame> blame;                     // largest share first
-  std::optional<double> holds_up_to_scale;      // reverse analysis: proved for scales <= this
-  std::optional<double> monte_carlo_violation;  // fraction of samples violating
-};
 
 struct VerificationPlan {
   std::string name;   // the verification template
@@ -123,7 +103,9 @@ struct InstanceAnalysis {
   std::size_t instance{0};  // index into the instance list
   std::vector<AnalysedStep> steps;
   std::vector<RepairAttempt> repairs;
-  std::vector<SpaceVariable> variables;  // the final space: every variable with provenance
+  // The final space: every variable with provenance (variables[id.index]) and its symbol in `pool`.
+  std::vector<SpaceVariable> variables;
+  std::vector<symbolic::Expr> symbols;
   int errors{0};
   std::unique_ptr<symbolic::ExprPool> pool;  // owns every expression above
 };

@@ -100,9 +100,6 @@ bool violated(const bounds::Inequality& inequality, double value) {
   }
   return true;
 }
-bool upper_limit(bounds::Relation relation) {  // f < t or f <= t: violations lie above t
-  return relation == bounds::Relation::kLess || relation == bounds::Relation::kLessEqual;
-}
 
 // P(violation) of N(mean, sigma^2) truncated to the support [lo, hi] of f (the sound bound).
 double truncated_violation(const bounds::Inequality& inequality, double mean, double sigma,
@@ -254,7 +251,7 @@ Eigen::VectorXd min_norm_solve(Csc& m, const Eigen::VectorXd& r, LinearAlgebra a
 // The expressions of a precondition's variables (the pool's variables of those names).
 std::vector<Expr> inputs_of(const InstanceAnalysis& analysis, const PreconditionResult& result) {
   std::vector<Expr> inputs;
-  for (const std::string& name : result.variables) inputs.push_back(analysis.pool->variable(name));
+  for (const VariableId id : result.variables) inputs.push_back(analysis.symbols.at(id.index));
   return inputs;
 }
 
@@ -284,9 +281,6 @@ double Sensitivities::density() const {
 
 Sensitivities sensitivities(const InstanceAnalysis& analysis) {
   Sensitivities out;
-  std::map<std::string, std::size_t> column;
-  for (std::size_t j = 0; j < analysis.variables.size(); ++j)
-    column[analysis.variables[j].name] = j;
   out.cols = analysis.variables.size();
   std::vector<Triplet> triplets;
   for (std::size_t s = 0; s < analysis.steps.size(); ++s)
@@ -312,12 +306,13 @@ Sensitivities sensitivities(const InstanceAnalysis& analysis) {
       double trace = 0;
       for (std::size_t j = 0; j < inputs.size(); ++j) {
         const double first = values[1 + j], second = values[1 + inputs.size() + j];
-        const SpaceVariable& variable = analysis.variables[column.at(result.variables[j])];
+        const std::size_t column = result.variables[j].index;
+        const SpaceVariable& variable = analysis.variables[column];
         if (!std::isfinite(first)) {
           ++out.non_differentiable;
           continue;
         }
-        if (first != 0) triplets.push_back({row, column.at(result.variables[j]), first});
+        if (first != 0) triplets.push_back({row, column, first});
         const VariableMoments moments = variable_moments(variable);
         if (std::isfinite(second))
           trace += 0.5 * second * (moments.variance + moments.mean * moments.mean);
@@ -414,9 +409,8 @@ ProbabilityAnalysis analyse_probability(const InstanceAnalysis& analysis,
   if (options.samples == 0 || jacobian.rows == 0) return out;
 
   // Monte Carlo: every precondition on one tape over every variable, blocks of points.
-  std::vector<Expr> inputs, outputs;
-  for (const SpaceVariable& v : analysis.variables)
-    inputs.push_back(analysis.pool->variable(v.name));
+  std::vector<Expr> outputs;
+  const std::vector<Expr>& inputs = analysis.symbols;
   for (const PreconditionResult* result : results) outputs.push_back(result->inequality.expression);
   const symbolic::Tape tape = symbolic::Tape::compile(outputs, inputs);
   std::vector<Sampler> samplers;
@@ -576,19 +570,6 @@ namespace {
 constexpr double kinematics::PoseUncertainty::*kComponentMember[] = {
     &kinematics::PoseUncertainty::dx, &kinematics::PoseUncertainty::dy,
     &kinematics::PoseUncertainty::dz, &kinematics::PoseUncertainty::dtheta};
-constexpr const char* kComponentName[] = {"dx", "dy", "dz", "dtheta"};
-int component_index(char component) {
-  switch (component) {
-    case 'x':
-      return 0;
-    case 'y':
-      return 1;
-    case 'z':
-      return 2;
-    default:
-      return 3;
-  }
-}
 
 // The scenario block a variable's half-width comes from (its half-widths, model and name), or
 // nullopt when the scenario has none (no range-scan sensor). S is Scenario or const Scenario.
@@ -626,7 +607,7 @@ Scenario ToleranceAllocation::apply(Scenario scenario) const {
   for (const ToleranceParameter& p : parameters) {
     const auto block = block_of(scenario, p.source, p.object);
     if (!block) throw PlanError("tolerance allocation: " + p.name + " is not in the scenario");
-    const int c = component_index(p.component);
+    const int c = index_of(p.component);
     double& width = block->widths->*kComponentMember[c];
     double& sigma = block->model->sigma.*kComponentMember[c];
     if (width > 0) sigma *= p.allocated / width;
@@ -654,7 +635,7 @@ ToleranceAllocation allocate_tolerances(const Scenario& scenario, const Instance
     const Provenance& from = v.provenance;
     const int object = from.source == UncertaintySource::kInitial ? from.object : -1;
     const auto block = block_of(scenario, from.source, object);
-    const int c = component_index(v.component);
+    const int c = index_of(v.component);
     if (!block || !(block->widths->*kComponentMember[c] > 0)) continue;
     const auto key = std::make_tuple(static_cast<int>(from.source), object, c);
     auto [it, fresh] = parameter_of.emplace(key, out.parameters.size());
@@ -663,7 +644,7 @@ ToleranceAllocation allocate_tolerances(const Scenario& scenario, const Instance
       out.parameters.push_back({.source = from.source,
                                 .object = object,
                                 .component = v.component,
-                                .name = block->name + "." + kComponentName[c],
+                                .name = block->name + "." + std::string(to_string(v.component)),
                                 .half_width = width,
                                 .cost = block->model->cost.*kComponentMember[c],
                                 .allocated = width});
@@ -712,13 +693,9 @@ ToleranceAllocation allocate_tolerances(const Scenario& scenario, const Instance
 
   std::vector<bounds::BoundProblem> problems;
   std::vector<std::vector<std::size_t>> variable_index(rows);  // result.variables -> space index
-  std::map<std::string, std::size_t> column;
-  for (std::size_t j = 0; j < analysis.variables.size(); ++j)
-    column[analysis.variables[j].name] = j;
   for (std::size_t k = 0; k < rows && options.verify; ++k) {
     problems.emplace_back(results[k]->inequality.expression, inputs_of(analysis, *results[k]));
-    for (const std::string& name : results[k]->variables)
-      variable_index[k].push_back(column.at(name));
+    for (const VariableId id : results[k]->variables) variable_index[k].push_back(id.index);
   }
 
   const auto violated_rows = [&](const Eigen::VectorXd& p) {

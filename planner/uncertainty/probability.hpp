@@ -177,8 +177,8 @@ struct FusedPose {
 // ---- Tolerance allocation ----
 struct ToleranceParameter {
   UncertaintySource source{UncertaintySource::kInitial};
-  int object{-1};          // initial: the object's index; -1 otherwise
-  char component{'x'};     // 'x', 'y', 'z', 't'
+  int object{-1};  // initial: the object's index; -1 otherwise
+  PoseComponent component{PoseComponent::kDx};
   std::string name;        // "peg.dx", "robot.dtheta", "range_scan.dy"
   double half_width{0.0};  // the scenario's (m, rad)
   double cost{1.0};

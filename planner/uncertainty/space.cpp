@@ -1,6 +1,5 @@
 #include "spar/planner/uncertainty/space.hpp"
 
-#include <algorithm>
 #include <cmath>
 
 #include "spar/planner/error.hpp"
@@ -19,58 +18,81 @@ const char* to_string(UncertaintySource source) {
   return "?";
 }
 
-kinematics::PoseError UncertaintySpace::allocate(const kinematics::PoseUncertainty& half_widths,
-                                                 const Provenance& provenance, std::string_view tag,
-                                                 const kinematics::PoseUncertainty& sigmas) {
+namespace {
+
+void check_spec(const VariableSpec& spec) {
+  const std::string name = std::string(to_string(spec.component)) + "_" + std::string(spec.tag);
+  if (!std::isfinite(spec.half_width) || spec.half_width < 0)
+    throw PlanError("uncertainty half-width of " + name + " must be finite and >= 0");
+  if (!std::isfinite(spec.sigma) || spec.sigma < 0)
+    throw PlanError("sigma of " + name + " must be finite and >= 0");
+}
+
+}  // namespace
+
+VariableId UncertaintySpace::allocate(const VariableSpec& spec) {
+  check_spec(spec);
+  const std::string base = std::string(to_string(spec.component)) + "_" + std::string(spec.tag);
+  std::string name = base;
+  for (int suffix = 2; names_.contains(name); ++suffix) name = base + "_" + std::to_string(suffix);
+  const VariableId id{static_cast<std::uint32_t>(variables_.size())};
+  const symbolic::Expr symbol = pool_->variable(name);
+  names_.insert(name);
+  variables_.push_back({.name = std::move(name),
+                        .component = spec.component,
+                        .lower = -spec.half_width,
+                        .upper = spec.half_width,
+                        .sigma = spec.sigma,
+                        .provenance = spec.provenance});
+  symbols_.push_back(symbol);
+  by_symbol_.emplace(symbol.id(), id);
+  return id;
+}
+
+kinematics::PoseError UncertaintySpace::allocate_pose(
+    const kinematics::PoseUncertainty& half_widths, const Provenance& provenance,
+    std::string_view tag, const kinematics::PoseUncertainty& sigmas) {
   const double widths[4] = {half_widths.dx, half_widths.dy, half_widths.dz, half_widths.dtheta};
   const double sigma[4] = {sigmas.dx, sigmas.dy, sigmas.dz, sigmas.dtheta};
-  const char* const prefixes[4] = {"dx_", "dy_", "dz_", "dtheta_"};
-  const char components[4] = {'x', 'y', 'z', 't'};
-  for (int i = 0; i < 4; ++i)  // all checked first: a refused allocation adds nothing
-    if (!std::isfinite(widths[i]) || widths[i] < 0)
-      throw PlanError("uncertainty half-width of " + std::string(prefixes[i]) + std::string(tag) +
-                      " must be finite and >= 0");
-  for (int i = 0; i < 4; ++i)
-    if (!std::isfinite(sigma[i]) || sigma[i] < 0)
-      throw PlanError("sigma of " + std::string(prefixes[i]) + std::string(tag) +
-                      " must be finite and >= 0");
-  symbolic::Expr symbols[4];
-  for (int i = 0; i < 4; ++i) {
-    std::string name = prefixes[i] + std::string(tag);
-    for (int suffix = 2; std::any_of(variables_.begin(), variables_.end(),
-                                     [&](const SpaceVariable& v) { return v.name == name; });
-         ++suffix)
-      name = prefixes[i] + std::string(tag) + "_" + std::to_string(suffix);
-    symbols[i] = pool_->variable(name);
-    variables_.push_back({name, components[i], -widths[i], widths[i], sigma[i], provenance});
-    symbols_.push_back(symbols[i]);
+  VariableSpec specs[4];
+  for (const PoseComponent component : kPoseComponents) {
+    const int i = index_of(component);
+    specs[i] = {.component = component,
+                .half_width = widths[i],
+                .sigma = sigma[i],
+                .provenance = provenance,
+                .tag = tag};
+    check_spec(specs[i]);  // all checked first: a refused allocation adds nothing
   }
+  symbolic::Expr symbols[4];
+  for (int i = 0; i < 4; ++i) symbols[i] = symbol(allocate(specs[i]));
   return {symbols[0], symbols[1], symbols[2], symbols[3]};
 }
 
-int UncertaintySpace::index_of(symbolic::Expr symbol) const {
-  const auto found = std::find(symbols_.begin(), symbols_.end(), symbol);
-  return found == symbols_.end() ? -1 : static_cast<int>(found - symbols_.begin());
+std::optional<VariableId> UncertaintySpace::id_of(symbolic::Expr symbol) const {
+  if (symbol.is_null() || &symbol.pool() != pool_) return std::nullopt;
+  const auto found = by_symbol_.find(symbol.id());
+  if (found == by_symbol_.end()) return std::nullopt;
+  return found->second;
 }
 
-void UncertaintySpace::set_range(int index, double lower, double upper) {
+void UncertaintySpace::set_range(VariableId id, double lower, double upper) {
   if (!(std::isfinite(lower) && std::isfinite(upper) && lower <= upper))
-    throw PlanError("uncertainty range of " + variables_.at(index).name +
-                    " must be finite with "
-                    "lower <= upper");
-  variables_.at(index).lower = lower;
-  variables_.at(index).upper = upper;
+    throw PlanError("uncertainty range of " + variable(id).name +
+                    " must be finite with lower <= upper");
+  variables_.at(id.index).lower = lower;
+  variables_.at(id.index).upper = upper;
 }
 
-std::vector<bounds::Interval> UncertaintySpace::ranges(
-    std::span<const symbolic::Expr> symbols) const {
+bounds::Interval UncertaintySpace::range(VariableId id) const {
+  const SpaceVariable& v = variable(id);
+  return bounds::Interval(v.lower, v.upper);
+}
+
+std::vector<bounds::Interval> UncertaintySpace::ranges(std::span<const VariableId> ids) const {
   std::vector<bounds::Interval> box;
-  box.reserve(symbols.size());
-  for (const symbolic::Expr symbol : symbols) {
-    const int index = index_of(symbol);
-    if (index < 0) throw PlanError("internal: a variable outside the uncertainty space");
-    box.push_back(bounds::Interval(variables_[index].lower, variables_[index].upper));
-  }
+  box.reserve(ids.size());
+  for (const VariableId id : ids) box.push_back(range(id));
   return box;
 }
 

@@ -8,6 +8,7 @@ names:
     r = spar.bound(f, {"x": (-1, 2), "y": (0, 1)}, tolerance=1e-6)   # r.lo, r.hi, r.argmax
     pose = spar.fk("puma560", [0, 0.7, 0.9, 0, -0.5, 0])              # 4x4 NumPy array
     solutions = spar.ik("puma560", pose).solutions                    # all eight, labelled
+    spar.fk("ur5", [0.3, -1.1, 1.4, -0.9, 1.2, 0.4])   # or "panda", or a URDF path (tip=, package_path=)
     report = spar.plan("examples/peg_block_face_down.yaml")           # `spar plan --json`
 
 Errors are spar.Error and its subclasses (spar.ScenarioError, spar.BoundsError, ...) with the

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import spar
-from conftest import EXAMPLES, without_wall_clock
+from conftest import CORPUS_DIR, EXAMPLES, without_wall_clock
 
 FACE_DOWN = EXAMPLES / "peg_block_face_down.yaml"
 
@@ -138,10 +138,36 @@ def test_ik_gives_the_corpus_solutions(puma_corpus):
 
 
 def test_robots_and_joint_limits():
-    assert spar.robots() == ["puma560", "puma762"]
+    assert spar.robots() == ["puma560", "puma762", "ur5", "panda"]
     robot = spar.robot("puma560")
     assert len(robot["joints"]) == 6
     assert robot["joints"][0]["upper"] == pytest.approx(math.radians(160))
+    assert robot["joints"][0]["d"] == pytest.approx(0.67183)
+    panda = spar.robot("panda")
+    assert (panda["base"], panda["tip"]) == ("panda_link0", "panda_link8")
+    assert panda["method"].startswith("closed form over q7")
+    assert panda["joints"][3]["name"] == "panda_joint4"
+
+
+def test_ur5_and_panda_round_trip_by_name_and_by_urdf_path():
+    ur5_file = (CORPUS_DIR / "robots/example-robot-data/robots/ur_description/urdf/"
+                "ur5_robot.urdf")
+    q = [0.3, -1.1, 1.4, -0.9, 1.2, 0.4]
+    pose = spar.fk("ur5", q)
+    by_path = spar.fk(str(ur5_file), q, tip="tool0", package_path=[str(CORPUS_DIR / "robots")])
+    np.testing.assert_allclose(by_path, pose, atol=1e-12)  # the file's root is world = base_link
+    result = spar.ik("ur5", pose)
+    assert [s.configuration for s in result.solutions] == [
+        "lun", "luf", "ldn", "ldf", "run", "ruf", "rdn", "rdf"]
+    assert any(max(abs(wrapped(a - b)) for a, b in zip(s.q, q)) < 1e-7 for s in result.solutions)
+    q7 = [0.2, -0.4, 0.1, -2.0, 0.3, 1.8, math.radians(20)]
+    panda_pose = spar.fk("panda", q7)
+    solutions = spar.ik("panda", panda_pose, redundancy_step=math.radians(10)).solutions
+    assert solutions and all(s.within_limits for s in solutions)
+    for s in solutions:
+        assert s.q.shape == (7,)
+        np.testing.assert_allclose(spar.fk("panda", s.q), panda_pose, atol=1e-9)
+    assert any(max(abs(a - b) for a, b in zip(s.q, q7)) < 1e-7 for s in solutions)
 
 
 def test_uncertain_object_pose_evaluates_and_bounds():

@@ -367,7 +367,8 @@ const std::vector<Case> kCases = {
   {"MissingExpression", {"bound"}, kError, "", "give an expression or --jsonl FILE"},
   {"UnknownObject", {"object", "sphere"}, kError, "", "no such file, nor a built-in object"},
   {"UnknownRobot", {"fk", "--robot", "puma999", "--q", "0 0 0 0 0 0"}, kError, "",
-   "--robot: unknown robot 'puma999' \\(built-in: puma560, puma762\\)"},
+   "--robot: unknown robot 'puma999' \\(built-in: puma560, puma762, ur5, panda; or a URDF "
+   "file\\)"},
   {"UnknownVariable", {"bound", "x+y", "--var", "x=0:1"}, kError, "",
    "unknown variable 'y' in the expression: give it a range"},
 };

@@ -1,4 +1,5 @@
-// STL object meshes (geometry/mesh_io.hpp: parse_stl on CGAL's STL reader), ASCII and binary.
+// STL object meshes (geometry/mesh_io.hpp: parse_stl on CGAL's STL reader), ASCII and binary;
+// triangle soups for robot links' collision meshes.
 #include <gtest/gtest.h>
 
 #include <cstdint>
@@ -102,6 +103,22 @@ TEST(MeshIoStl, EmptyAndOpenFilesAreErrorsNamingTheFile) {
   std::string bad = kTetrahedronStl;
   bad.replace(bad.find("vertex 0 1 0"), 12, "vertex 0 x 0");
   EXPECT_THROW_MESSAGE((void)parse_stl(bad, "bad.stl"), "bad.stl: not an STL file");
+}
+
+TEST(MeshIoStl, TriangleSoupsKeepOpenAndSelfCrossingMeshes) {
+  Mesh cube = make_box({1, 1, 1});
+  cube.triangles.pop_back();  // open: refused as a solid, read as a soup
+  const Mesh soup = parse_stl_soup(binary_stl(cube), "open.stl");
+  EXPECT_EQ(soup.triangles.size(), 11u);
+  EXPECT_EQ(soup.vertices.size(), 8u);
+  // The UR5's forearm crosses itself: a collision mesh, not a solid.
+  const std::string forearm = std::string(SPAR_CORPUS_DIR) +
+                              "/robots/example-robot-data/robots/ur_description/meshes/ur5/"
+                              "collision/forearm.stl";
+  EXPECT_THROW_MESSAGE((void)read_mesh_file(forearm), "the mesh intersects itself");
+  EXPECT_GT(read_triangle_soup(forearm).triangles.size(), 100u);
+  EXPECT_THROW_MESSAGE((void)parse_stl_soup("", "empty.stl"),
+                       "empty.stl: the STL file has no triangles");
 }
 
 }  // namespace

@@ -29,7 +29,15 @@ TEST(Domain, BuiltInHasSparsTemplates) {
     EXPECT_NO_THROW((void)domain.action(name)) << name;
   EXPECT_EQ(domain.action("range-scan").kind, ActionKind::kSensing);
   EXPECT_EQ(domain.action("squeeze").kind, ActionKind::kReduction);
-  EXPECT_EQ(domain.action("assemble").uncertainty, std::vector<std::string>{"assemble"});
+  EXPECT_EQ(domain.action("assemble").uncertainty, std::vector<Builder>{Builder::kAssemble});
+  // The domain file's effects, typed at load (planner/uncertainty/effects.hpp).
+  EXPECT_EQ(domain.action("pickup").effect, Effect::kGrasp);
+  EXPECT_EQ(domain.action("putdown").effect, Effect::kRelease);
+  EXPECT_EQ(domain.action("assemble").effect, Effect::kInsert);
+  EXPECT_EQ(domain.action("range-scan").effect, Effect::kSense);
+  EXPECT_EQ(domain.action("squeeze").effect, Effect::kReduce);
+  EXPECT_EQ(domain.action("pickup").uncertainty, std::vector<Builder>{Builder::kPickup});
+  EXPECT_TRUE(domain.action("putdown").uncertainty.empty());
   // Every verification an action names, and every recovery a verification names, exists.
   for (const ActionTemplate& action : domain.actions)
     for (const std::string& verification : action.verification)
@@ -48,6 +56,8 @@ TEST(Domain, TheShippedFileIsWhatIsCompiledIn) {
     EXPECT_EQ(shipped.actions[i].operational, built_in.actions[i].operational);
     EXPECT_EQ(shipped.actions[i].add, built_in.actions[i].add);
     EXPECT_EQ(shipped.actions[i].del, built_in.actions[i].del);
+    EXPECT_EQ(shipped.actions[i].effect, built_in.actions[i].effect);
+    EXPECT_EQ(shipped.actions[i].uncertainty, built_in.actions[i].uncertainty);
   }
   EXPECT_EQ(shipped.verifications.size(), built_in.verifications.size());
   EXPECT_EQ(shipped.recoveries.size(), built_in.recoveries.size());
@@ -59,7 +69,7 @@ TEST(Domain, AnActionAddedToTheFileLoads) {
   ASSERT_NE(text.find(anchor), std::string::npos);
   text.insert(text.find(anchor),
               "  - name: touch-probe\n"
-              "    kind: sensing\n"
+              "    effect: sense\n"
               "    parameters: {object: object, position: position(object)}\n"
               "    operational: [\"gripper(empty)\", \"at(object, position)\"]\n"
               "    add: []\n"
@@ -70,6 +80,13 @@ TEST(Domain, AnActionAddedToTheFileLoads) {
 }
 
 // ---- one test per class of mistake, each with file:line:col ----
+
+// A one-action domain whose action has `body` (indented by four spaces, one key a line).
+std::string one_action(const std::string& body) {
+  return "actions:\n"
+         "  - name: poke\n" +
+         body;
+}
 
 TEST(DomainErrors, YamlSyntax) {
   EXPECT_THROW_MESSAGE(parse_domain("actions: [\n", "d.yaml"),
@@ -90,12 +107,13 @@ TEST(DomainErrors, AtomArgumentThatIsNotAParameter) {
   EXPECT_THROW_MESSAGE(
       parse_domain("actions:\n"
                    "  - name: poke\n"
+                   "    effect: none\n"
                    "    parameters: {object: object}\n"
                    "    operational: [\"at(object, where)\"]\n"
                    "    add: []\n"
                    "    delete: []\n",
                    "d.yaml"),
-      "d.yaml:4:19: 'where' in at(object, where) is not a parameter of action 'poke'");
+      "d.yaml:5:19: 'where' in at(object, where) is not a parameter of action 'poke'");
 }
 
 TEST(DomainErrors, UnknownParameterType) {
@@ -106,6 +124,101 @@ TEST(DomainErrors, UnknownParameterType) {
                                     "    delete: []\n",
                                     "d.yaml"),
                        "d.yaml:3:26: parameter 'object' has unknown type 'thing'");
+}
+
+TEST(DomainErrors, MissingEffect) {
+  EXPECT_THROW_MESSAGE(parse_domain(one_action("    parameters: {object: object}\n"), "d.yaml"),
+                       "d.yaml:2:5: action 'poke' needs 'effect' (one of grasp, release, insert, "
+                       "sense, reduce, none)");
+}
+
+TEST(DomainErrors, UnknownEffect) {
+  EXPECT_THROW_MESSAGE(parse_domain(one_action("    effect: fly\n"
+                                               "    parameters: {object: object}\n"),
+                                    "d.yaml"),
+                       "d.yaml:3:13: unknown effect 'fly' (known: grasp, release, insert, sense, "
+                       "reduce, none)");
+}
+
+TEST(DomainErrors, UnknownBuilder) {
+  EXPECT_THROW_MESSAGE(parse_domain(one_action("    effect: none\n"
+                                               "    parameters: {object: object}\n"
+                                               "    uncertainty: [weld]\n"),
+                                    "d.yaml"),
+                       "d.yaml:5:19: unknown uncertainty builder 'weld' (known: pickup, squeeze, "
+                       "assemble)");
+}
+
+TEST(DomainErrors, BuilderListedTwice) {
+  EXPECT_THROW_MESSAGE(
+      parse_domain(one_action("    effect: grasp\n"
+                              "    parameters: {object: object, grasp: grasp(object)}\n"
+                              "    uncertainty: [pickup, pickup]\n"),
+                   "d.yaml"),
+      "d.yaml:5:27: uncertainty builder 'pickup' is listed twice");
+}
+
+TEST(DomainErrors, AssembleBuilderNeedsEffectInsert) {
+  EXPECT_THROW_MESSAGE(
+      parse_domain(one_action("    effect: grasp\n"
+                              "    parameters: {object: object, grasp: grasp(object)}\n"
+                              "    uncertainty: [assemble]\n"),
+                   "d.yaml"),
+      "d.yaml:5:19: builder 'assemble' needs effect insert (it checks the held object against the "
+      "fixed one) (action 'poke')");
+}
+
+TEST(DomainErrors, PickupBuilderNeedsTheObjectOnTheTable) {
+  EXPECT_THROW_MESSAGE(
+      parse_domain(one_action("    effect: release\n"
+                              "    parameters: {object: object, grasp: grasp(object), "
+                              "position: placement(object)}\n"
+                              "    uncertainty: [pickup]\n"),
+                   "d.yaml"),
+      "d.yaml:5:19: builder 'pickup' reads the object on the table, but before a step with effect "
+      "release it is held (action 'poke')");
+}
+
+TEST(DomainErrors, EffectNeedsAGraspParameter) {
+  EXPECT_THROW_MESSAGE(parse_domain(one_action("    effect: grasp\n"
+                                               "    parameters: {object: object}\n"),
+                                    "d.yaml"),
+                       "d.yaml:3:13: effect grasp needs a grasp parameter, grasp(<object>) "
+                       "(action 'poke')");
+}
+
+TEST(DomainErrors, ReleaseNeedsAPlaceOfTheGraspedObject) {
+  EXPECT_THROW_MESSAGE(
+      parse_domain(one_action("    effect: release\n"
+                              "    parameters: {object: object, grasp: grasp(object)}\n"),
+                   "d.yaml"),
+      "d.yaml:3:13: effect release needs a position or placement of the grasped object 'object' "
+      "(action 'poke')");
+}
+
+TEST(DomainErrors, InsertNeedsAPositionOfAnotherObject) {
+  EXPECT_THROW_MESSAGE(
+      parse_domain(one_action("    effect: insert\n"
+                              "    parameters: {object: object, grasp: grasp(object), "
+                              "position: position(object)}\n"),
+                   "d.yaml"),
+      "d.yaml:3:13: effect insert needs a position of the fixed object (another object than the "
+      "grasped 'object') (action 'poke')");
+}
+
+TEST(DomainErrors, SenseNeedsAnObject) {
+  EXPECT_THROW_MESSAGE(parse_domain(one_action("    effect: sense\n"
+                                               "    parameters: {}\n"),
+                                    "d.yaml"),
+                       "d.yaml:3:13: effect sense needs an object parameter (action 'poke')");
+}
+
+TEST(DomainErrors, KindThatDisagreesWithTheEffect) {
+  EXPECT_THROW_MESSAGE(parse_domain(one_action("    effect: sense\n"
+                                               "    kind: manipulation\n"
+                                               "    parameters: {object: object}\n"),
+                                    "d.yaml"),
+                       "d.yaml:4:11: kind 'manipulation' disagrees with effect sense");
 }
 
 TEST(DomainErrors, MissingFileIsNamed) {

@@ -22,9 +22,9 @@ namespace {
 
 constexpr int kMaxRoundTrips = 100;
 
-int action_with(const Domain& domain, StepEffect effect) {
+int action_with(const Domain& domain, Effect effect) {
   for (std::size_t a = 0; a < domain.actions.size(); ++a)
-    if (step_effect(domain.actions[a]) == effect) return static_cast<int>(a);
+    if (domain.actions[a].effect == effect) return static_cast<int>(a);
   ADD_FAILURE() << "the domain has no action with that effect";
   return -1;
 }
@@ -42,15 +42,15 @@ class Chain : public ::testing::Test {
     const kinematics::Transform a = world_->scenario().objects[peg].initial_pose;
     const kinematics::Transform b =
         Eigen::Translation3d(0.1, -0.25, 0) * Eigen::AngleAxisd(0.4, Eigen::Vector3d::UnitZ()) * a;
-    Phase2Step grasp{.action = action_with(domain, StepEffect::kGrasp),
-                     .effect = StepEffect::kGrasp,
+    Phase2Step grasp{.action = action_with(domain, Effect::kGrasp),
+                     .effect = Effect::kGrasp,
                      .object = peg,
                      .grasp = 0};
     Phase2Step release = grasp;
-    release.action = action_with(domain, StepEffect::kRelease);
-    release.effect = StepEffect::kRelease;
+    release.action = action_with(domain, Effect::kRelease);
+    release.effect = Effect::kRelease;
     pool_ = new symbolic::ExprPool;
-    propagation_ = new Propagation(*world_, *pool_);
+    propagation_ = new Propagation(*world_, domain, *pool_);
     for (int k = 0; k <= kMaxRoundTrips; ++k) {
       const bool at_a = k % 2 == 0;
       grasp.object_pose = at_a ? a : b;
@@ -69,7 +69,7 @@ class Chain : public ::testing::Test {
       }
       for (const Phase2Step& step : {grasp, release}) {
         EXPECT_TRUE(propagation_->step(step, static_cast<int>(steps_.size()) + 1).size() ==
-                    (step.effect == StepEffect::kGrasp ? 4u : 0u));
+                    (step.effect == Effect::kGrasp ? 4u : 0u));
         steps_.push_back(step);
       }
     }
@@ -124,9 +124,9 @@ TEST_F(Chain, LastPickupStillDependsOnEarlySteps) {
   for (const Precondition& p : last_) roots.push_back(p.inequality.expression);
   std::map<int, int> per_step;
   for (const symbolic::Expr v : symbolic::free_variables(roots)) {
-    const int index = propagation_->space().index_of(v);
-    ASSERT_GE(index, 0) << v.name();
-    const Provenance& from = propagation_->space().variables()[index].provenance;
+    const std::optional<VariableId> id = propagation_->space().id_of(v);
+    ASSERT_TRUE(id.has_value()) << v.name();
+    const Provenance& from = propagation_->space().variable(*id).provenance;
     ++per_step[from.source == UncertaintySource::kManipulator ? from.step : 0];
   }
   const int last = static_cast<int>(steps_.size());
@@ -178,35 +178,35 @@ TEST(Propagation, EveryEffectMatchesTheSimulationForEveryGrasp) {
   std::mt19937_64 random(3);
   for (std::size_t g = 0; g < grasps; ++g) {
     SCOPED_TRACE("grasp " + world.object(peg).grasps[g].label);
-    const auto make = [&](StepEffect effect, const kinematics::Transform& pose) {
+    const auto make = [&](Effect effect, const kinematics::Transform& pose) {
       Phase2Step step{.action = action_with(domain, effect),
                       .effect = effect,
                       .object = peg,
                       .grasp = static_cast<int>(g),
                       .object_pose = pose};
-      if (effect == StepEffect::kInsert) {
+      if (effect == Effect::kInsert) {
         step.fixed_object = block;
         step.fixed_pose = block_pose;
       }
       return step;
     };
-    const std::vector<Phase2Step> script = {make(StepEffect::kRangeScan, a),
-                                            make(StepEffect::kSqueeze, a),
-                                            make(StepEffect::kGrasp, a),
-                                            make(StepEffect::kRelease, b),
-                                            make(StepEffect::kSqueeze, b),
-                                            make(StepEffect::kGrasp, b),
-                                            make(StepEffect::kInsert, block_pose * goal.relative)};
+    const std::vector<Phase2Step> script = {make(Effect::kSense, a),
+                                            make(Effect::kReduce, a),
+                                            make(Effect::kGrasp, a),
+                                            make(Effect::kRelease, b),
+                                            make(Effect::kReduce, b),
+                                            make(Effect::kGrasp, b),
+                                            make(Effect::kInsert, block_pose * goal.relative)};
     const std::vector<std::pair<std::string, std::size_t>> expected = {
         {"", 0},        {"squeeze", 4}, {"pickup", 4},  {"", 0},
         {"squeeze", 4}, {"pickup", 4},  {"assemble", 5}};
     symbolic::ExprPool pool;
-    Propagation propagation(world, pool);
+    Propagation propagation(world, builtin_domain(), pool);
     std::vector<std::vector<Precondition>> built;
     for (std::size_t i = 0; i < script.size(); ++i) {
       built.push_back(propagation.step(script[i], static_cast<int>(i) + 1));
       ASSERT_EQ(built.back().size(), expected[i].second) << "step " << i + 1;
-      for (const Precondition& p : built.back()) EXPECT_EQ(p.kind, expected[i].first);
+      for (const Precondition& p : built.back()) EXPECT_EQ(to_string(p.kind), expected[i].first);
     }
     const std::vector<SpaceVariable>& variables = propagation.space().variables();
     // The scan moves no arm: it allocates the sensor's four, the others the arm's four each.
@@ -243,11 +243,11 @@ TEST(Propagation, ACopyIsASnapshot) {
   const WorldModel world(
       load_scenario(std::string(SPAR_SOURCE_DIR) + "/tests/planner/data/phase2_peg_pickup.yaml"));
   symbolic::ExprPool pool;
-  const Propagation original(world, pool);
+  const Propagation original(world, builtin_domain(), pool);
   Propagation copy = original;
   const int peg = world.object_index("peg");
-  const Phase2Step grasp{.action = action_with(builtin_domain(), StepEffect::kGrasp),
-                         .effect = StepEffect::kGrasp,
+  const Phase2Step grasp{.action = action_with(builtin_domain(), Effect::kGrasp),
+                         .effect = Effect::kGrasp,
                          .object = peg,
                          .grasp = 0,
                          .object_pose = world.scenario().objects[peg].initial_pose};
@@ -264,15 +264,15 @@ TEST(Propagation, StepsThatDoNotFitTheStateAreRefused) {
       load_scenario(std::string(SPAR_SOURCE_DIR) + "/tests/planner/data/phase2_peg_pickup.yaml"));
   const Domain& domain = builtin_domain();
   symbolic::ExprPool pool;
-  Propagation propagation(world, pool);
+  Propagation propagation(world, domain, pool);
   const int peg = world.object_index("peg");
-  Phase2Step release{.action = action_with(domain, StepEffect::kRelease),
-                     .effect = StepEffect::kRelease,
+  Phase2Step release{.action = action_with(domain, Effect::kRelease),
+                     .effect = Effect::kRelease,
                      .object = peg,
                      .grasp = 0};
   EXPECT_THROW((void)propagation.step(release, 1), PlanError);
-  Phase2Step grasp{.action = action_with(domain, StepEffect::kGrasp),
-                   .effect = StepEffect::kGrasp,
+  Phase2Step grasp{.action = action_with(domain, Effect::kGrasp),
+                   .effect = Effect::kGrasp,
                    .object = peg,
                    .grasp = 0,
                    .object_pose = world.scenario().objects[peg].initial_pose};

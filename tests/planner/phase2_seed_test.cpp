@@ -75,11 +75,11 @@ TEST(Phase2SeedExample, Table2PickupSatisfiesAllFourInequalities) {
   for (std::size_t i = 0; i < 4; ++i) {
     const PreconditionResult& p = pickup.preconditions[i];
     SCOPED_TRACE(p.inequality.name);
-    EXPECT_EQ(p.kind, "pickup");
+    EXPECT_EQ(p.kind, Builder::kPickup);
     EXPECT_EQ(p.inequality.name, names[i]);
     EXPECT_EQ(p.verdict, Verdict::kSatisfied);
     std::map<std::string, double> zero;
-    for (const std::string& v : p.variables) zero[v] = 0.0;
+    for (const VariableId v : p.variables) zero[chosen.variables[v.index].name] = 0.0;
     const double at_nominal = symbolic::evaluate(p.inequality.expression, zero);
     EXPECT_NEAR(at_nominal, nominal[i], 1e-12);
     EXPECT_LE(p.bound.lo, at_nominal);
@@ -95,21 +95,28 @@ TEST(Phase2SeedExample, Table2PickupSatisfiesAllFourInequalities) {
     // The variables: the peg's initial error and the arm's at this step, except the arm's dz
     // (along the approach, it moves no finger across the peg).
     std::string components;
-    for (const std::string& name : p.variables) {
-      const auto v = std::find_if(chosen.variables.begin(), chosen.variables.end(),
-                                  [&](const SpaceVariable& s) { return s.name == name; });
-      ASSERT_NE(v, chosen.variables.end()) << name;
+    for (const VariableId id : p.variables) {
+      ASSERT_LT(id.index, chosen.variables.size());
+      const SpaceVariable* v = &chosen.variables[id.index];
+      const std::string& name = v->name;
       if (v->provenance.source == UncertaintySource::kManipulator) {
         EXPECT_EQ(v->provenance.step, 1) << name;
-        EXPECT_NE(v->component, 'z') << name;
+        EXPECT_NE(v->component, PoseComponent::kDz) << name;
       } else {
         EXPECT_EQ(v->provenance.source, UncertaintySource::kInitial) << name;
         EXPECT_EQ(v->provenance.object, pickup.step.object) << name;
       }
-      components += v->component;
+      components += std::string(to_string(v->component)) + " ";
     }
-    std::sort(components.begin(), components.end());
-    EXPECT_EQ(components, "ttxxyyz");
+    // Both dx, dy and dtheta; only the object's dz.
+    for (const char* component : {"dx ", "dy ", "dtheta "}) {
+      std::size_t count = 0;
+      for (std::size_t at = components.find(component); at != std::string::npos;
+           at = components.find(component, at + 1))
+        count += at == 0 || components[at - 1] == ' ';
+      EXPECT_EQ(count, 2u) << component << " in " << components;
+    }
+    EXPECT_EQ(p.variables.size(), 7u) << components;
   }
 }
 
@@ -121,7 +128,7 @@ TEST(Phase2SeedExample, WidenedUncertaintyFailsTwoAndARangeScanRepairsThem) {
   EXPECT_EQ(actions(chosen), (std::vector<std::string>{"range-scan", "pickup", "assemble"}));
   const AnalysedStep& scan = chosen.steps[0];
   EXPECT_TRUE(scan.inserted);
-  EXPECT_EQ(scan.step.effect, StepEffect::kRangeScan);
+  EXPECT_EQ(scan.step.effect, Effect::kSense);
   EXPECT_EQ(result.world.scenario().objects[scan.step.object].name, "peg");
   EXPECT_EQ(scan.step.instance_step, -1);
   EXPECT_FALSE(chosen.steps[1].inserted);
@@ -151,14 +158,12 @@ TEST(Phase2SeedExample, WidenedUncertaintyFailsTwoAndARangeScanRepairsThem) {
         << "precondition " << i << " is not narrower after the scan";
 
   // The pickup is decided over the scan's residual, not the peg's initial error.
-  std::map<std::string, const SpaceVariable*> by_name;
-  for (const SpaceVariable& v : chosen.variables) by_name[v.name] = &v;
   for (const PreconditionResult& p : chosen.steps[1].preconditions) {
     EXPECT_EQ(p.verdict, Verdict::kSatisfied) << p.inequality.name;
     int sensed = 0;
-    for (const std::string& name : p.variables) {
-      const Provenance& from = by_name.at(name)->provenance;
-      EXPECT_NE(from.source, UncertaintySource::kInitial) << name;
+    for (const VariableId id : p.variables) {
+      const Provenance& from = chosen.variables.at(id.index).provenance;
+      EXPECT_NE(from.source, UncertaintySource::kInitial) << chosen.variables[id.index].name;
       sensed += from.source == UncertaintySource::kSensor && from.step == 1;
     }
     EXPECT_EQ(sensed, 4) << p.inequality.name;

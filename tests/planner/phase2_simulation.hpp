@@ -71,7 +71,7 @@ class NumericPlan {
   std::vector<NumericCondition> step(const Phase2Step& step, int index) {
     std::vector<NumericCondition> out;
     switch (step.effect) {
-      case StepEffect::kGrasp: {
+      case Effect::kGrasp: {
         const Error arm = error(UncertaintySource::kManipulator, -1, index);
         expect_same_pose(step.object_pose, table_.at(step.object).value().ideal, "grasped", index);
         out = pickup(step, arm);
@@ -79,21 +79,21 @@ class NumericPlan {
         table_[step.object].reset();
         break;
       }
-      case StepEffect::kSqueeze: {
+      case Effect::kReduce: {
         const Error arm = error(UncertaintySource::kManipulator, -1, index);
         out = pickup(step, arm);
         const Pose h = grip(step, arm);
         table_[step.object] = release(step.object, step.grasp, table_[step.object]->ideal, arm, h);
         break;
       }
-      case StepEffect::kRelease: {
+      case Effect::kRelease: {
         const Error arm = error(UncertaintySource::kManipulator, -1, index);
         table_[step.object] =
             release(step.object, step.grasp, step.object_pose, arm, held_.at(step.object).value());
         held_[step.object].reset();
         break;
       }
-      case StepEffect::kInsert: {
+      case Effect::kInsert: {
         const Error arm = error(UncertaintySource::kManipulator, -1, index);
         expect_same_pose(step.fixed_pose, table_.at(step.fixed_object).value().ideal,
                          "fixed object", index);
@@ -101,11 +101,11 @@ class NumericPlan {
         held_[step.object].reset();
         break;
       }
-      case StepEffect::kRangeScan:
+      case Effect::kSense:
         table_.at(step.object).value().error =
             error(UncertaintySource::kSensor, step.object, index);
         break;
-      case StepEffect::kNone:
+      case Effect::kNone:
         break;
     }
     return out;
@@ -135,19 +135,20 @@ class NumericPlan {
         << what << " pose of step " << index << " is not where the object was left";
   }
   [[nodiscard]] double value_of(UncertaintySource source, int object, int step,
-                                char component) const {
+                                PoseComponent component) const {
     for (const SpaceVariable& v : variables_)
       if (v.provenance.source == source && v.provenance.object == object &&
           v.provenance.step == step && v.component == component)
         return values_->at(v.name);
-    ADD_FAILURE() << "no " << to_string(source) << " variable '" << component << "' for object "
-                  << object << " at step " << step;
+    ADD_FAILURE() << "no " << to_string(source) << " variable '" << to_string(component)
+                  << "' for object " << object << " at step " << step;
     return 0.0;
   }
   [[nodiscard]] Error error(UncertaintySource source, int object, int step) const {
-    return {{value_of(source, object, step, 'x'), value_of(source, object, step, 'y'),
-             value_of(source, object, step, 'z')},
-            value_of(source, object, step, 't')};
+    return {{value_of(source, object, step, PoseComponent::kDx),
+             value_of(source, object, step, PoseComponent::kDy),
+             value_of(source, object, step, PoseComponent::kDz)},
+            value_of(source, object, step, PoseComponent::kDtheta)};
   }
   static Pose rotz(double angle) {
     return Pose(Eigen::AngleAxisd(angle, Eigen::Vector3d::UnitZ()));

@@ -85,11 +85,12 @@ std::vector<std::string> check_at(const WorldModel& world, const InstanceAnalysi
 
 // Every variable at 0 (the nominal), then overwritten from `point` for `names`.
 std::map<std::string, double> nominal_with(const InstanceAnalysis& analysis,
-                                           const std::vector<std::string>& names,
+                                           const std::vector<VariableId>& ids,
                                            const std::vector<double>& point) {
   std::map<std::string, double> values;
   for (const SpaceVariable& v : analysis.variables) values[v.name] = 0.0;
-  for (std::size_t i = 0; i < names.size() && i < point.size(); ++i) values[names[i]] = point[i];
+  for (std::size_t i = 0; i < ids.size() && i < point.size(); ++i)
+    values[analysis.variables.at(ids[i].index).name] = point[i];
   return values;
 }
 
@@ -99,17 +100,16 @@ std::map<std::string, double> nominal_with(const InstanceAnalysis& analysis,
 std::vector<std::string> check_analysis(const WorldModel& world, const InstanceAnalysis& analysis,
                                         int samples, std::uint64_t seed) {
   // The box phase 2 decided on is the space's final ranges (nothing narrows them afterwards).
-  std::map<std::string, const SpaceVariable*> by_name;
-  for (const SpaceVariable& v : analysis.variables) by_name[v.name] = &v;
   std::vector<std::string> problems;
   for (const AnalysedStep& step : analysis.steps)
     for (const PreconditionResult& result : step.preconditions)
       for (std::size_t v = 0; v < result.variables.size(); ++v) {
-        const SpaceVariable* meta =
-            by_name.count(result.variables[v]) ? by_name[result.variables[v]] : nullptr;
-        if (meta == nullptr || meta->lower != result.box[v].lo || meta->upper != result.box[v].hi)
-          problems.push_back("the box of '" + result.inequality.name + "' is not the space's for " +
-                             result.variables[v]);
+        const std::size_t index = result.variables[v].index;
+        if (index >= analysis.variables.size() ||
+            analysis.variables[index].lower != result.box[v].lo ||
+            analysis.variables[index].upper != result.box[v].hi)
+          problems.push_back("the box of '" + result.inequality.name +
+                             "' is not the space's for variable " + std::to_string(index));
       }
   const auto add = [&](const std::vector<std::string>& found) {
     problems.insert(problems.end(), found.begin(), found.end());

@@ -25,14 +25,15 @@ std::vector<std::string> names(const UncertaintySpace& space) {
 TEST(UncertaintySpace, AllocatesFourNamedVariablesWithRangesAndProvenance) {
   symbolic::ExprPool pool;
   UncertaintySpace space(pool);
-  const kinematics::PoseError peg = space.allocate(
+  const kinematics::PoseError peg = space.allocate_pose(
       kHalfWidths, {.source = UncertaintySource::kInitial, .object = 1, .step = -1}, "peg");
   EXPECT_EQ(names(space), (std::vector<std::string>{"dx_peg", "dy_peg", "dz_peg", "dtheta_peg"}));
   EXPECT_EQ(peg.dx.name(), "dx_peg");
   EXPECT_EQ(peg.dtheta.name(), "dtheta_peg");
   const std::vector<SpaceVariable>& v = space.variables();
   const double widths[4] = {0.001, 0.002, 0.003, 0.04};
-  const char components[4] = {'x', 'y', 'z', 't'};
+  const PoseComponent components[4] = {PoseComponent::kDx, PoseComponent::kDy, PoseComponent::kDz,
+                                       PoseComponent::kDtheta};
   for (int i = 0; i < 4; ++i) {
     EXPECT_EQ(v[i].lower, -widths[i]);
     EXPECT_EQ(v[i].upper, widths[i]);
@@ -41,7 +42,7 @@ TEST(UncertaintySpace, AllocatesFourNamedVariablesWithRangesAndProvenance) {
     EXPECT_EQ(v[i].provenance.object, 1);
     EXPECT_EQ(v[i].provenance.step, -1);
     EXPECT_EQ(space.symbols()[i], pool.variable(v[i].name));
-    EXPECT_EQ(space.index_of(space.symbols()[i]), i);
+    EXPECT_EQ(space.id_of(space.symbols()[i]), VariableId{static_cast<std::uint32_t>(i)});
   }
   EXPECT_EQ(&space.pool(), &pool);
   EXPECT_STREQ(to_string(UncertaintySource::kInitial), "initial");
@@ -54,12 +55,12 @@ TEST(UncertaintySpace, ClashingTagsGetSuffixesAndStayDistinct) {
   UncertaintySpace space(pool);
   // Two objects both called "peg" (or a tag that looks like another's suffix) never share.
   const kinematics::PoseError first =
-      space.allocate(kHalfWidths, {.source = UncertaintySource::kInitial, .object = 0}, "peg");
+      space.allocate_pose(kHalfWidths, {.source = UncertaintySource::kInitial, .object = 0}, "peg");
   const kinematics::PoseError second =
-      space.allocate(kHalfWidths, {.source = UncertaintySource::kInitial, .object = 1}, "peg");
-  const kinematics::PoseError third = space.allocate(
+      space.allocate_pose(kHalfWidths, {.source = UncertaintySource::kInitial, .object = 1}, "peg");
+  const kinematics::PoseError third = space.allocate_pose(
       kHalfWidths, {.source = UncertaintySource::kSensor, .object = 1, .step = 3}, "peg");
-  const kinematics::PoseError fourth = space.allocate(
+  const kinematics::PoseError fourth = space.allocate_pose(
       kHalfWidths, {.source = UncertaintySource::kSensor, .object = 0, .step = 4}, "peg_2");
   EXPECT_NE(first.dx, second.dx);
   EXPECT_EQ(second.dx.name(), "dx_peg_2");
@@ -69,20 +70,19 @@ TEST(UncertaintySpace, ClashingTagsGetSuffixesAndStayDistinct) {
   EXPECT_EQ(std::set<std::string>(all.begin(), all.end()).size(), all.size());
   EXPECT_EQ(all.size(), 16u);
   // Provenance, not the name, tells which object and step a variable belongs to.
-  EXPECT_EQ(space.variables()[space.index_of(second.dy)].provenance.object, 1);
-  EXPECT_EQ(space.variables()[space.index_of(third.dy)].provenance.source,
-            UncertaintySource::kSensor);
-  EXPECT_EQ(space.variables()[space.index_of(third.dy)].provenance.step, 3);
-  EXPECT_EQ(space.variables()[space.index_of(fourth.dz)].provenance.object, 0);
+  EXPECT_EQ(space.variable(*space.id_of(second.dy)).provenance.object, 1);
+  EXPECT_EQ(space.variable(*space.id_of(third.dy)).provenance.source, UncertaintySource::kSensor);
+  EXPECT_EQ(space.variable(*space.id_of(third.dy)).provenance.step, 3);
+  EXPECT_EQ(space.variable(*space.id_of(fourth.dz)).provenance.object, 0);
 }
 
 TEST(UncertaintySpace, CopiesAllocateIndependently) {
   symbolic::ExprPool pool;
   UncertaintySpace space(pool);
-  (void)space.allocate(kHalfWidths, {}, "g1");
+  (void)space.allocate_pose(kHalfWidths, {}, "g1");
   UncertaintySpace copy = space;
-  (void)copy.allocate(kHalfWidths, {}, "g2");
-  copy.set_range(0, -1.0, 1.0);
+  (void)copy.allocate_pose(kHalfWidths, {}, "g2");
+  copy.set_range(VariableId{0}, -1.0, 1.0);
   EXPECT_EQ(space.variables().size(), 4u);
   EXPECT_EQ(copy.variables().size(), 8u);
   EXPECT_EQ(space.variables()[0].upper, 0.001);
@@ -91,25 +91,25 @@ TEST(UncertaintySpace, CopiesAllocateIndependently) {
 TEST(UncertaintySpace, SetRangeReplacesAndValidates) {
   symbolic::ExprPool pool;
   UncertaintySpace space(pool);
-  (void)space.allocate(kHalfWidths, {}, "o");
-  space.set_range(1, -0.5, 0.25);
+  (void)space.allocate_pose(kHalfWidths, {}, "o");
+  space.set_range(VariableId{1}, -0.5, 0.25);
   EXPECT_EQ(space.variables()[1].lower, -0.5);
   EXPECT_EQ(space.variables()[1].upper, 0.25);
-  space.set_range(2, 0.1, 0.1);  // a point is a range
+  space.set_range(VariableId{2}, 0.1, 0.1);  // a point is a range
   EXPECT_EQ(space.variables()[2].lower, 0.1);
   const double inf = std::numeric_limits<double>::infinity();
   const double nan = std::numeric_limits<double>::quiet_NaN();
   for (const auto& [lower, upper] : std::vector<std::pair<double, double>>{
            {0.2, 0.1}, {-inf, 0.0}, {0.0, inf}, {nan, 0.0}, {0.0, nan}}) {
     try {
-      space.set_range(3, lower, upper);
+      space.set_range(VariableId{3}, lower, upper);
       ADD_FAILURE() << "accepted [" << lower << ", " << upper << "]";
     } catch (const PlanError& error) {
       EXPECT_NE(std::string(error.what()).find("dtheta_o"), std::string::npos) << error.what();
     }
   }
   EXPECT_EQ(space.variables()[3].upper, 0.04) << "a refused range changed the variable";
-  EXPECT_THROW(space.set_range(4, 0.0, 0.0), std::out_of_range);
+  EXPECT_THROW(space.set_range(VariableId{4}, 0.0, 0.0), std::out_of_range);
 }
 
 TEST(UncertaintySpace, AllocationRefusesBadHalfWidths) {
@@ -119,7 +119,7 @@ TEST(UncertaintySpace, AllocationRefusesBadHalfWidths) {
        {kinematics::PoseUncertainty{-0.001, 0, 0, 0}, kinematics::PoseUncertainty{0, 0, 0, NAN},
         kinematics::PoseUncertainty{0, INFINITY, 0, 0}}) {
     try {
-      (void)space.allocate(bad, {}, "peg");
+      (void)space.allocate_pose(bad, {}, "peg");
       ADD_FAILURE() << "a bad half-width was accepted";
     } catch (const PlanError& error) {
       EXPECT_NE(std::string(error.what()).find("peg"), std::string::npos) << error.what();
@@ -131,9 +131,10 @@ TEST(UncertaintySpace, AllocationRefusesBadHalfWidths) {
 TEST(UncertaintySpace, RangesFollowTheOrderAsked) {
   symbolic::ExprPool pool;
   UncertaintySpace space(pool);
-  const kinematics::PoseError e = space.allocate(kHalfWidths, {}, "o");
-  space.set_range(0, -0.3, 0.1);
-  const std::vector<symbolic::Expr> order = {e.dtheta, e.dx, e.dz, e.dx};
+  const kinematics::PoseError e = space.allocate_pose(kHalfWidths, {}, "o");
+  space.set_range(VariableId{0}, -0.3, 0.1);
+  const std::vector<VariableId> order = {*space.id_of(e.dtheta), *space.id_of(e.dx),
+                                         *space.id_of(e.dz), *space.id_of(e.dx)};
   const std::vector<bounds::Interval> box = space.ranges(order);
   ASSERT_EQ(box.size(), 4u);
   EXPECT_EQ(box[0].lo, -0.04);
@@ -143,9 +144,10 @@ TEST(UncertaintySpace, RangesFollowTheOrderAsked) {
   EXPECT_EQ(box[2].hi, 0.003);
   EXPECT_EQ(box[3].lo, -0.3);
   EXPECT_TRUE(space.ranges({}).empty());
-  const std::vector<symbolic::Expr> foreign = {pool.variable("dx_other")};
-  EXPECT_EQ(space.index_of(foreign[0]), -1);
-  EXPECT_THROW((void)space.ranges(foreign), PlanError);
+  // Another expression, even a variable of the pool, is no variable of the space.
+  EXPECT_FALSE(space.id_of(pool.variable("dx_other")).has_value());
+  EXPECT_FALSE(space.id_of(e.dx + e.dy).has_value());
+  EXPECT_THROW((void)space.ranges(std::vector{VariableId{4}}), std::out_of_range);
 }
 
 }  // namespace

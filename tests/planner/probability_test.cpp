@@ -109,17 +109,19 @@ Built hand_built(const std::vector<std::pair<std::string, std::pair<Relation, do
   out.analysis.pool = std::make_unique<symbolic::ExprPool>();
   symbolic::ExprPool& pool = *out.analysis.pool;
   const Provenance arm{.source = UncertaintySource::kManipulator, .object = -1, .step = 1};
-  out.analysis.variables = {{"dx_g1", 'x', -hx, hx, sx, arm}, {"dy_g1", 'y', -hy, hy, sy, arm}};
+  out.analysis.variables = {{"dx_g1", PoseComponent::kDx, -hx, hx, sx, arm},
+                            {"dy_g1", PoseComponent::kDy, -hy, hy, sy, arm}};
+  out.analysis.symbols = {pool.variable("dx_g1"), pool.variable("dy_g1")};
   AnalysedStep step;
   for (const auto& [text, relation] : rows) {
     PreconditionResult result;
-    result.kind = "test";
+    result.kind = Builder::kPickup;
     result.inequality = {text, symbolic::parse(pool, text), relation.first, relation.second};
     bounds::Box box;
     for (const symbolic::Expr v : symbolic::free_variables(result.inequality.expression)) {
       const double h = v.name() == "dx_g1" ? hx : hy;
       box.add(v, -h, h);
-      result.variables.push_back(v.name());
+      result.variables.push_back(VariableId{v.name() == "dx_g1" ? 0u : 1u});
       result.box.push_back(bounds::Interval(-h, h));
     }
     result.bound = bounds::bound(result.inequality.expression, box);
@@ -132,8 +134,9 @@ Built hand_built(const std::vector<std::pair<std::string, std::pair<Relation, do
 
 TEST(ProbabilityMoments, UniformAndTruncatedGaussianVariances) {
   const Provenance any{};
-  EXPECT_NEAR(variable_moments({"u", 'x', -0.3, 0.3, 0.0, any}).variance, 0.09 / 3, 1e-15);
-  EXPECT_NEAR(variable_moments({"u", 'x', 0.1, 0.4, 0.0, any}).mean, 0.25, 1e-15);
+  EXPECT_NEAR(variable_moments({"u", PoseComponent::kDx, -0.3, 0.3, 0.0, any}).variance, 0.09 / 3,
+              1e-15);
+  EXPECT_NEAR(variable_moments({"u", PoseComponent::kDx, 0.1, 0.4, 0.0, any}).mean, 0.25, 1e-15);
   // Truncated Gaussian against a Simpson integration of the density over the box.
   for (const auto& [lo, hi, sigma] :
        {std::tuple{-0.3, 0.3, 0.1}, std::tuple{-0.1, 0.3, 0.2}, std::tuple{-1.0, 1.0, 10.0}}) {
@@ -146,7 +149,7 @@ TEST(ProbabilityMoments, UniformAndTruncatedGaussianVariances) {
       m1 += density * x;
       m2 += density * x * x;
     }
-    const VariableMoments moments = variable_moments({"g", 'x', lo, hi, sigma, any});
+    const VariableMoments moments = variable_moments({"g", PoseComponent::kDx, lo, hi, sigma, any});
     EXPECT_NEAR(moments.mean, m1 / z, 1e-9);
     EXPECT_NEAR(moments.variance, m2 / z - (m1 / z) * (m1 / z), 1e-9);
   }
@@ -403,9 +406,9 @@ TEST(ProbabilityFusion, RefusesACovarianceThatIsNotPositiveDefinite) {
   }
 }
 
-int action_with(const Domain& domain, StepEffect effect) {
+int action_with(const Domain& domain, Effect effect) {
   for (std::size_t a = 0; a < domain.actions.size(); ++a)
-    if (step_effect(domain.actions[a]) == effect) return static_cast<int>(a);
+    if (domain.actions[a].effect == effect) return static_cast<int>(a);
   ADD_FAILURE() << "the domain has no action with that effect";
   return -1;
 }
@@ -419,10 +422,10 @@ TEST(ProbabilityFusion, PhaseTwoFusesASecondScanOfAnUnmovedObject) {
       sensor.residual_model.sigma = {0.004 * kInch, 0.005 * kInch, 0.006 * kInch, 0.2 * kDegree};
     const WorldModel world(scenario);
     symbolic::ExprPool pool;
-    Propagation propagation(world, pool);
+    Propagation propagation(world, builtin_domain(), pool);
     const int block = world.object_index("block");
-    const Phase2Step scan{.action = action_with(builtin_domain(), StepEffect::kRangeScan),
-                          .effect = StepEffect::kRangeScan,
+    const Phase2Step scan{.action = action_with(builtin_domain(), Effect::kSense),
+                          .effect = Effect::kSense,
                           .object = block};
     (void)propagation.step(scan, 1);
     (void)propagation.step(scan, 2);

@@ -1,0 +1,62 @@
+#include "spar/planner/uncertainty/deciding.hpp"
+
+#include <algorithm>
+
+#include "spar/bounds/condition_set.hpp"
+#include "spar/planner/error.hpp"
+#include "spar/symbolic/operations.hpp"
+
+namespace spar::planner {
+
+std::vector<VariableId> variables_of(std::span<const symbolic::Expr> expressions,
+                                     const UncertaintySpace& space) {
+  std::vector<VariableId> ids;
+  for (const symbolic::Expr v : symbolic::free_variables(expressions)) {
+    const std::optional<VariableId> id = space.id_of(v);
+    if (!id) throw PlanError("internal: variable " + v.name() + " is not in the uncertainty space");
+    ids.push_back(*id);
+  }
+  std::sort(ids.begin(), ids.end());
+  return ids;
+}
+
+std::vector<PreconditionResult> decide(const std::vector<Precondition>& preconditions,
+                                       const UncertaintySpace& space,
+                                       const bounds::BoundOptions& quick,
+                                       const bounds::BoundOptions& full) {
+  std::vector<PreconditionResult> results;
+  if (preconditions.empty()) return results;
+  std::vector<symbolic::Expr> expressions;
+  std::vector<bounds::Inequality> inequalities;
+  for (const Precondition& p : preconditions) {
+    expressions.push_back(p.inequality.expression);
+    inequalities.push_back(p.inequality);
+  }
+  const std::vector<VariableId> ids = variables_of(expressions, space);
+  std::vector<symbolic::Expr> variables;
+  for (const VariableId id : ids) variables.push_back(space.symbol(id));
+  const std::vector<bounds::Interval> box = space.ranges(ids);
+  bounds::ConditionSet set(inequalities, variables);
+  const std::vector<bounds::ConditionCheck> checks =
+      set.check(box, quick, bounds::Escalation::kUndecided);
+  for (std::size_t i = 0; i < preconditions.size(); ++i) {
+    PreconditionResult result;
+    result.kind = preconditions[i].kind;
+    result.inequality = preconditions[i].inequality;
+    result.length = preconditions[i].length;
+    result.verdict = checks[i].verdict;
+    result.bound = checks[i].bound;
+    result.witness = checks[i].witness;
+    if (result.verdict == bounds::Verdict::kUndecided) {
+      result.bound = bounds::BoundProblem(result.inequality.expression, variables).bound(box, full);
+      result.verdict = bounds::decide(result.inequality, result.bound);
+      result.witness = bounds::witness(result.inequality, result.bound);
+    }
+    result.box = box;
+    result.variables = ids;
+    results.push_back(std::move(result));
+  }
+  return results;
+}
+
+}  // namespace spar::planner

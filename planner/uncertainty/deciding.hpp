@@ -1,0 +1,68 @@
+// Deciding: whether each uncertainty precondition of a step holds over the box of the instance's
+// uncertainty variables (seed 001, "Satisfying Uncertainty-Reduction Goals", with SUP/INF).
+//
+// A precondition `f rel t` is satisfied only when the SOUND bound of f over the box proves it,
+// violated when an attained value (a witness point) breaks it, undecided otherwise
+// (bounds/inequality.hpp). The step's preconditions are decided together, cheapest first: one tape
+// for all of them, the natural interval pass and the value at the box centre; a quick bound
+// (`quick`) where that cannot tell; the full bound (`full`) only where the quick one cannot.
+//
+// Invariants: PreconditionResult::variables are the expression's variables as ids of the space it
+// was decided in, ascending; box[i] is the range of variables[i] there; witness (when not empty)
+// is a point of that box in the same order.
+// Cost: one tape evaluation over intervals and one at the centre per step; a bound only for the
+// preconditions the natural pass leaves undecided.
+//
+// Example:
+//   const std::vector<Precondition> built = propagation.step(step, 1);
+//   const std::vector<PreconditionResult> results =
+//       decide(built, propagation.space(), {.tolerance = 1e-2, .max_box_evaluations = 300}, {});
+//   for (const PreconditionResult& r : results) std::cout << bounds::to_string(r.verdict) << '\n';
+#pragma once
+
+#include <cstddef>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "spar/bounds/bound.hpp"
+#include "spar/bounds/inequality.hpp"
+#include "spar/planner/uncertainty/builders.hpp"
+#include "spar/planner/uncertainty/space.hpp"
+
+namespace spar::planner {
+
+struct PreconditionResult {
+  Builder kind{Builder::kPickup};  // the builder that made it
+  bounds::Inequality inequality;
+  bool length{true};       // the expression is a length in metres (else dimensionless)
+  std::string expression;  // spar's infix syntax (parseable by `spar bound`)
+  std::size_t nodes{0};    // DAG nodes of the expression
+  bounds::Verdict verdict{bounds::Verdict::kUndecided};
+  bounds::BoundResult bound;
+  std::vector<VariableId> variables;  // the step's variables (ascending ids), in box order
+  std::vector<bounds::Interval> box;  // their ranges
+  std::vector<double> witness;        // the worst point found (variables order)
+  // Beyond SPAR (chosen instance only; empty / nullopt otherwise):
+  struct Blame {
+    VariableId variable;
+    double share{0.0};  // fraction of the natural enclosure's width removed by pinning it
+  };
+  std::vector<Blame> blame;                     // largest share first
+  std::optional<double> holds_up_to_scale;      // reverse analysis: proved for scales <= this
+  std::optional<double> monte_carlo_violation;  // fraction of samples violating
+};
+
+// The variables of `expressions` as ids of `space`, ascending. Throws PlanError for a variable
+// that is not the space's.
+[[nodiscard]] std::vector<VariableId> variables_of(std::span<const symbolic::Expr> expressions,
+                                                   const UncertaintySpace& space);
+
+// Decides `preconditions` over the space's current ranges (see the header comment).
+[[nodiscard]] std::vector<PreconditionResult> decide(const std::vector<Precondition>& preconditions,
+                                                     const UncertaintySpace& space,
+                                                     const bounds::BoundOptions& quick,
+                                                     const bounds::BoundOptions& full);
+
+}  // namespace spar::planner
