@@ -20,5 +20,6 @@ void add_bound_command(CLI::App& app);
 void add_plan_command(CLI::App& app);
 void add_evidence_command(CLI::App& app);
 void add_aspects_command(CLI::App& app);
+void add_sense_plan_command(CLI::App& app);
 
 }  // namespace spar::cli

@@ -17,6 +17,7 @@ int main(int argc, char** argv) {
   spar::cli::add_plan_command(app);
   spar::cli::add_evidence_command(app);
   spar::cli::add_aspects_command(app);
+  spar::cli::add_sense_plan_command(app);
   try {
     app.name("spar");
     spar::cli::accept_leading_minus(app);  // after every add_*_command: covers all their options

@@ -19,6 +19,12 @@ const InstanceAnalysis* PlanResult::chosen_analysis() const {
 
 PlanResult plan(Scenario scenario, const Domain& domain, const PlanOptions& options) {
   if (options.max_instances == 0) throw PlanError("max_instances must be at least 1");
+  for (const ObjectSpec& object : scenario.objects)
+    if (object.uncertain())
+      throw ScenarioError(object.location.str() + ": object '" + object.name + "' is uncertain (" +
+                          std::to_string(object.hypotheses.size()) +
+                          " hypotheses): spar plan does not plan branches per sensing outcome "
+                          "yet; spar sense-plan chooses the sensing operations");
   const auto stage = [&](std::string_view text) {
     if (options.progress) options.progress(text);
   };

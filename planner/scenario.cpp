@@ -57,6 +57,32 @@ const ObjectSpec& Scenario::object(std::string_view name) const {
                       "' (objects: " + (known.empty() ? "none" : known) + ")");
 }
 
+Scenario Scenario::resolved(std::string_view name, std::size_t hypothesis) const {
+  Scenario out = *this;
+  for (ObjectSpec& object : out.objects) {
+    if (object.name != name) continue;
+    if (hypothesis >= object.hypotheses.size())
+      throw ScenarioError("object '" + object.name + "' has no hypothesis " +
+                          std::to_string(hypothesis) + " (it has " +
+                          std::to_string(object.hypotheses.size()) + ")");
+    const ObjectHypothesis chosen = object.hypotheses[hypothesis];
+    if (!object.identities.empty()) {
+      const ObjectIdentity& identity =
+          object.identities[static_cast<std::size_t>(chosen.identity)];
+      object.shape = identity.shape;
+      object.model = identity.model;
+      object.stable_poses = identity.stable_poses;
+    }
+    object.initial_pose = chosen.pose;
+    object.initial_stable_pose = chosen.stable_pose;
+    object.identities.clear();
+    object.hypotheses.clear();
+    return out;
+  }
+  (void)object(name);  // throws, naming the objects
+  return out;
+}
+
 Scenario load_scenario(const std::filesystem::path& path) {
   std::error_code error;
   if (!std::filesystem::is_regular_file(path, error))

@@ -40,6 +40,7 @@
 #include "spar/kinematics/dh.hpp"
 #include "spar/kinematics/puma.hpp"
 #include "spar/kinematics/uncertain_pose.hpp"
+#include "spar/sensing/sensors.hpp"
 
 namespace spar::planner {
 
@@ -98,6 +99,24 @@ struct RobotSpec {
   UncertaintyModel uncertainty_model{};       // how they are distributed (probability only)
 };
 
+// One candidate shape of an object whose identity is uncertain (`identity: [block, cube]`).
+struct ObjectIdentity {
+  std::string name;   // as written: a built-in name or a mesh file
+  std::string shape;  // "builtin: block" or "mesh: meshes/part.off"
+  geometry::ObjectModel model;
+  std::vector<geometry::StablePose> stable_poses;  // of `model`
+};
+
+// One way an object may be when its identity or stable pose is uncertain (docs/scenario.md): the
+// hypotheses of sense planning (sensing/selection.hpp). Labels: the stable pose ("P3") when only
+// the pose is uncertain, the identity ("cube") when only the identity is, else "cube:P3".
+struct ObjectHypothesis {
+  std::string label;
+  int identity{0};  // index into ObjectSpec::identities (0 when the identity is certain)
+  std::optional<int> stable_pose;  // index into that identity's stable poses
+  kinematics::Transform pose{kinematics::Transform::Identity()};  // object frame in the world
+};
+
 struct ObjectSpec {
   std::string name;
   std::string shape;  // as written: "builtin: peg" or "mesh: meshes/part.off"
@@ -111,6 +130,13 @@ struct ObjectSpec {
   kinematics::PoseUncertainty uncertainty{};  // Δx_o, Δy_o, Δz_o, Δθ_o of eq. 2
   UncertaintyModel uncertainty_model{};       // how they are distributed (probability only)
   SourceLocation location;                    // of the object's entry
+  // `identity: [...]`: the candidate shapes (`model`, `stable_poses` and `shape` are the first
+  // one's); empty when the shape is certain.
+  std::vector<ObjectIdentity> identities{};
+  // More than one when the identity or the stable pose is uncertain (`initial_pose` and
+  // `initial_stable_pose` are then the first one's); else empty.
+  std::vector<ObjectHypothesis> hypotheses{};
+  [[nodiscard]] bool uncertain() const { return hypotheses.size() > 1; }
 };
 
 // A free spot on the table where an object may be put down: the object's frame origin goes above
@@ -123,9 +149,20 @@ struct Place {
 };
 
 // range-scan: sensing an object replaces its pose uncertainty by this residual (fresh variables).
+// `model` is the scanner as sense planning sees it: on the wrist unless a pose is given.
 struct RangeScanSensor {
   kinematics::PoseUncertainty residual{};
   UncertaintyModel residual_model{};  // how the residual is distributed (probability only)
+  sensing::SensorModel model{sensing::default_range_scanner()};
+};
+
+// Sense planning (`sensing:`): the operations chosen for an uncertain object bring the worst-case
+// ambiguity below `ambiguity_threshold` bits, at most `max_operations` of them; wrist sensors look
+// at the object from `standoff` metres.
+struct SensingSettings {
+  double ambiguity_threshold{0.3};
+  int max_operations{3};
+  double standoff{0.5};
 };
 
 // SPAR's assembled(held, fixed, [held faces, fixed faces], Ta, mating vector).
@@ -156,11 +193,17 @@ struct Scenario {
   std::vector<ObjectSpec> objects;  // in file order
   std::vector<Place> places;        // in file order
   std::optional<RangeScanSensor> range_scan;
+  std::vector<sensing::SensorModel> cameras;  // sensors.cameras, in file order
+  SensingSettings sensing{};
   geometry::GraspQuantization grasping{};  // how grasps are quantized (SPAR's grasp labels)
   std::vector<Goal> goals;                 // in file order
 
   // Throws ScenarioError naming the known objects when there is none called `name`.
   [[nodiscard]] const ObjectSpec& object(std::string_view name) const;
+  // The scenario with hypothesis `hypothesis` of object `name` taken as the truth: its identity's
+  // shape and stable poses, its pose; the object is certain in the result (one plan branch).
+  // Throws ScenarioError for an unknown object or hypothesis.
+  [[nodiscard]] Scenario resolved(std::string_view name, std::size_t hypothesis) const;
 };
 
 // Reads and validates a scenario file; mesh paths are relative to the file's folder.

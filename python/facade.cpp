@@ -14,6 +14,9 @@
 #include "spar/reports/build.hpp"
 #include "spar/geometry/builtin_objects.hpp"
 #include "spar/reports/plan_json.hpp"
+#include "spar/planner/sense_planning.hpp"
+#include "spar/reports/json.hpp"
+#include "spar/reports/sensing.hpp"
 #include "spar/sensing/aspects_json.hpp"
 #include "spar/sensing/evidence_json.hpp"
 #include "spar/symbolic/operations.hpp"
@@ -348,6 +351,12 @@ nlohmann::ordered_json object_aspects_json(const std::string& object,
   options.force_view_sphere = settings.view_sphere;
   return sensing::aspects_json(model, sensing::compute_aspects(model, options), options,
                                settings.units, settings.metres_per_unit);
+}
+
+nlohmann::ordered_json sense_plan_json(const planner::Scenario& scenario) {
+  const planner::WorldModel world(scenario);
+  return reports::to_json(
+      reports::build_sense_plan(scenario, planner::plan_sensing(scenario, world)));
 }
 
 }  // namespace spar::python

@@ -235,5 +235,8 @@ struct AspectSettings {
 // geometry::GeometryError (no such object, a bad mesh) or sensing::SensingError (bad settings).
 [[nodiscard]] nlohmann::ordered_json object_aspects_json(const std::string& object,
                                                          const AspectSettings& settings);
+// `spar sense-plan --json` (reports/sensing.hpp's SensePlanRecord) of a scenario. Throws
+// planner::ScenarioError (an uncertain object without sensors) or planner::PlanError.
+[[nodiscard]] nlohmann::ordered_json sense_plan_json(const planner::Scenario& scenario);
 
 }  // namespace spar::python

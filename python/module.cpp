@@ -429,6 +429,17 @@ void bind_sensing(py::module_& m) {
         return to_python(out);
       },
       "object"_a, "settings"_a);
+  m.def(
+      "_sense_plan",
+      [](const planner::Scenario& scenario) {
+        nlohmann::ordered_json out;
+        {
+          const py::gil_scoped_release release;
+          out = sense_plan_json(scenario);
+        }
+        return to_python(out);
+      },
+      "scenario"_a);
 }
 
 }  // namespace

@@ -659,6 +659,124 @@ struct BoundRecord {
   }
 };
 
+// ---- sense planning (planner/sense_planning.hpp): `spar sense-plan --json`, spar.sense_plan ----
+
+// One candidate sensing operation: a sensor at a viewpoint class.
+struct SensingCandidate {
+  std::string sensor;
+  std::string viewpoint;  // a fixed sensor's name, or V1, V2, ... of a wrist sensor
+  std::array<double, 3> direction{};  // unit, world, from the object toward the sensor
+  bool reachable{true};
+  NamedValues<std::string> aspects;  // hypothesis -> the aspect it shows ("" for none)
+  // Predicted ambiguity (bits) if each hypothesis were true, and its maximum (absent when the
+  // viewpoint is not reachable).
+  NamedValues<double> predicted_ambiguity;
+  Nullable<double> predicted_max_ambiguity;
+  template <class Self, class Field>
+  static void fields(Self& s, Field&& field) {
+    field("sensor", s.sensor);
+    field("viewpoint", s.viewpoint);
+    field("direction", s.direction);
+    field("reachable", s.reachable);
+    field("aspects", s.aspects);
+    field("predicted_ambiguity", s.predicted_ambiguity);
+    field("predicted_max_ambiguity", s.predicted_max_ambiguity);
+  }
+};
+
+// One chosen operation; `beliefs` are the pignistic probabilities it leaves in its worst case.
+struct SensingOperation {
+  std::string sensor;
+  std::string viewpoint;
+  std::string aspect;  // the aspect the first hypothesis shows it
+  NamedValues<std::string> aspects;
+  double predicted_max_ambiguity{0.0};
+  std::string worst_case;  // the hypothesis of the maximum
+  NamedValues<double> beliefs;
+  template <class Self, class Field>
+  static void fields(Self& s, Field&& field) {
+    field("sensor", s.sensor);
+    field("viewpoint", s.viewpoint);
+    field("aspect", s.aspect);
+    field("aspects", s.aspects);
+    field("predicted_max_ambiguity", s.predicted_max_ambiguity);
+    field("worst_case", s.worst_case);
+    field("beliefs", s.beliefs);
+  }
+};
+
+struct AspectSummary {
+  std::string label;
+  std::vector<int> faces;
+  double solid_angle{0.0};
+  std::array<double, 3> direction{};  // object frame
+  template <class Self, class Field>
+  static void fields(Self& s, Field&& field) {
+    field("label", s.label);
+    field("faces", s.faces);
+    field("solid_angle", s.solid_angle);
+    field("direction", s.direction);
+  }
+};
+
+// An identity's aspects, and the aspect seen along each of the 320 cell centres of a level-2
+// icosphere (object frame): what the report's view-sphere drawing colours.
+struct ViewSphere {
+  std::string identity;
+  std::string method;  // exact arrangement | view sphere
+  std::vector<AspectSummary> aspects;
+  std::vector<std::array<double, 3>> samples;
+  std::vector<std::string> sample_aspects;
+  template <class Self, class Field>
+  static void fields(Self& s, Field&& field) {
+    field("identity", s.identity);
+    field("method", s.method);
+    field("aspects", s.aspects);
+    field("samples", s.samples);
+    field("sample_aspects", s.sample_aspects);
+  }
+};
+
+struct ObjectSensing {
+  std::string object;
+  std::vector<std::string> hypotheses;
+  std::vector<std::string> identities;
+  double threshold{0.0};  // bits
+  NamedValues<double> beliefs_before;  // pignistic probabilities
+  double ambiguity_before{0.0};
+  std::vector<SensingCandidate> candidates;
+  std::vector<SensingOperation> sequence;
+  bool resolved{false};
+  NamedValues<double> beliefs_after;  // after the sequence, in its worst case
+  double ambiguity_after{0.0};
+  std::vector<ViewSphere> view_spheres;
+  template <class Self, class Field>
+  static void fields(Self& s, Field&& field) {
+    field("object", s.object);
+    field("hypotheses", s.hypotheses);
+    field("identities", s.identities);
+    field("threshold", s.threshold);
+    field("beliefs_before", s.beliefs_before);
+    field("ambiguity_before", s.ambiguity_before);
+    field("candidates", s.candidates);
+    field("sequence", s.sequence);
+    field("resolved", s.resolved);
+    field("beliefs_after", s.beliefs_after);
+    field("ambiguity_after", s.ambiguity_after);
+    field("view_spheres", s.view_spheres);
+  }
+};
+
+struct SensePlanRecord {
+  std::string scenario;
+  std::vector<ObjectSensing> objects;  // the uncertain objects
+  template <class Self, class Field>
+  static void fields(Self& s, Field&& field) {
+    field("scenario", s.scenario);
+    field("objects", s.objects);
+  }
+};
+
 // ---- naming steps ----
 
 // "#3 pickup block": the step at execution position `position` (0-based) of `chosen`.

@@ -29,7 +29,7 @@ echo "hunt: the whole test suite under AddressSanitizer + UndefinedBehaviorSanit
 ctest --test-dir "$build" --output-on-failure -j2
 
 fuzz_build="$build/fuzz"
-fuzz_modules="symbolic;bounds;kinematics;geometry;planner;qr;reports"  # what the fuzz targets link
+fuzz_modules="symbolic;bounds;kinematics;geometry;sensing;planner;qr;reports"  # what the fuzz targets link
 targets=()
 for corpus in tests/fuzz/corpus/*/; do targets+=("$(basename "$corpus")_fuzz"); done
 CC=clang CXX=clang++ cmake -S . -B "$fuzz_build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \

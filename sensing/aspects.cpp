@@ -331,6 +331,14 @@ int AspectSet::aspect_at(const Eigen::Vector3d& direction) const {
                                                          : -1;
 }
 
+std::vector<Eigen::Vector3d> view_directions(int level) {
+  if (level < 0 || level > 6)
+    throw SensingError("view directions: level must be 0 to 6, got " + std::to_string(level));
+  std::vector<Eigen::Vector3d> out;
+  for (const auto& [a, b, c] : internal::icosphere(level)) out.push_back((a + b + c).normalized());
+  return out;
+}
+
 AspectSet compute_aspects(const geometry::ObjectModel& model, const AspectOptions& options) {
   check_options(options);
   return use_exact(model, options) ? exact_aspects(model, options)

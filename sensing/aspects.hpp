@@ -94,6 +94,10 @@ struct AspectSet {
   [[nodiscard]] int aspect_at(const Eigen::Vector3d& direction) const;
 };
 
+// The unit directions of the view sphere's cells at `level` (0 to 6): the centres of the
+// icosphere's 20 · 4^level spherical triangles, the view sphere method's directions.
+[[nodiscard]] std::vector<Eigen::Vector3d> view_directions(int level);
+
 // SensingError for options out of range.
 [[nodiscard]] AspectSet compute_aspects(const geometry::ObjectModel& model,
                                         const AspectOptions& options = {});

@@ -7,17 +7,9 @@
 #include <map>
 
 #include "spar/sensing/error.hpp"
-#include "spar/sensing/internal/icosphere.hpp"
 
 namespace spar::sensing {
 namespace {
-
-// The icosphere's cell centres of `level`.
-std::vector<Eigen::Vector3d> sphere_directions(int level) {
-  std::vector<Eigen::Vector3d> out;
-  for (const auto& [a, b, c] : internal::icosphere(level)) out.push_back((a + b + c).normalized());
-  return out;
-}
 
 Eigen::Vector3d target_centre(const HypothesisWorld& world) {
   Eigen::AlignedBox3d box;
@@ -118,7 +110,7 @@ std::vector<Viewpoint> candidate_viewpoints(const SelectionProblem& problem,
     }
     // Wrist: directions above the table grouped by the aspects the hypotheses show.
     std::map<std::vector<int>, std::vector<Eigen::Vector3d>> classes;
-    for (const Eigen::Vector3d& d : sphere_directions(options.viewpoint_level))
+    for (const Eigen::Vector3d& d : view_directions(options.viewpoint_level))
       if (std::asin(std::clamp(d.z(), -1.0, 1.0)) >= options.min_elevation)
         classes[aspects_toward(problem, d)].push_back(d);
     int index = 0;

@@ -202,13 +202,25 @@ class Reader {
   [[nodiscard]] ObjectSpec read_object(const YAML::Node& key, const YAML::Node& node) const;
   [[nodiscard]] geometry::ObjectModel object_model(const Fields& entry, const std::string& name,
                                                    std::string& shape) const;
+  // A built-in (`mesh` false) or a mesh file's model; `shape` gets the "builtin: x" form.
+  [[nodiscard]] geometry::ObjectModel shape_model(const YAML::Node& node, const std::string& path,
+                                                  bool mesh, const std::string& name,
+                                                  std::string& shape) const;
+  [[nodiscard]] std::vector<ObjectIdentity> read_identities(const YAML::Node& node,
+                                                            const std::string& path,
+                                                            const std::string& name) const;
   void read_pose(const YAML::Node& node, const std::string& path, ObjectSpec& object) const;
+  // `pose` of an object with candidate identities or a list of stable poses: its hypotheses.
+  void read_hypotheses(const Fields& pose, ObjectSpec& object) const;
   // Face ids named by `node` (a face id, a face name, or with `features`, a feature name; or a
   // list of these), ascending and distinct.
   [[nodiscard]] std::vector<int> faces(const YAML::Node& node, const std::string& path,
                                        const ObjectSpec& object, bool features) const;
   [[nodiscard]] std::vector<Place> read_places(const YAML::Node& node) const;
-  [[nodiscard]] std::optional<RangeScanSensor> read_sensors(const YAML::Node& node) const;
+  void read_sensors(const YAML::Node& node, Scenario& scenario) const;
+  // The geometry and noise keys sensors share (pose, intrinsics, mount, detection_probability).
+  void read_sensor_model(const Fields& fields, sensing::SensorModel& sensor) const;
+  [[nodiscard]] SensingSettings read_sensing(const YAML::Node& node) const;
   [[nodiscard]] AssembledGoal read_assembled(const YAML::Node& node, const std::string& path,
                                              const Scenario& scenario) const;
 
@@ -526,30 +538,67 @@ geometry::ObjectModel Reader::object_model(const Fields& entry, const std::strin
                                            std::string& shape) const {
   const YAML::Node builtin = entry.get("builtin"), mesh = entry.get("mesh");
   if (builtin.IsDefined() == mesh.IsDefined())
-    fail(entry.node(),
-         entry.name() + ": needs exactly one of 'builtin: <name>' and 'mesh: <file>'");
-  if (builtin.IsDefined()) {
-    const std::string builtin_name = text(builtin, entry.path("builtin"));
+    fail(entry.node(), entry.name() +
+                           ": needs exactly one of 'builtin: <name>', 'mesh: <file>' and "
+                           "'identity: [<candidates>]'");
+  return builtin.IsDefined() ? shape_model(builtin, entry.path("builtin"), false, name, shape)
+                             : shape_model(mesh, entry.path("mesh"), true, name, shape);
+}
+
+geometry::ObjectModel Reader::shape_model(const YAML::Node& node, const std::string& path,
+                                          bool mesh, const std::string& name,
+                                          std::string& shape) const {
+  if (!mesh) {
+    const std::string builtin_name = text(node, path);
     shape = "builtin: " + builtin_name;
     const auto known = geometry::builtin_object_names();
     if (std::find(known.begin(), known.end(), builtin_name) == known.end())
-      fail(builtin, entry.path("builtin") + ": unknown built-in object '" + builtin_name + "'" +
-                        suggestion(builtin_name, known) + "; known: " + join(known));
+      fail(node, path + ": unknown built-in object '" + builtin_name + "'" +
+                     suggestion(builtin_name, known) + "; known: " + join(known));
     return geometry::ObjectModel(name, geometry::builtin_mesh(builtin_name));
   }
-  const std::string file = text(mesh, entry.path("mesh"));
+  const std::string file = text(node, path);
   shape = "mesh: " + file;
   const std::filesystem::path resolved = (base_dir_ / file).lexically_normal();
   std::error_code error;
   if (!std::filesystem::is_regular_file(resolved, error))
-    fail(mesh, entry.path("mesh") + ": no mesh file " + resolved.string());
+    fail(node, path + ": no mesh file " + resolved.string());
   try {
     return geometry::ObjectModel(name,
                                  geometry::scale_mesh(geometry::read_mesh_file(resolved.string()),
                                                       units_.metres_per_length_unit()));
   } catch (const geometry::GeometryError& problem) {
-    fail(mesh, entry.path("mesh") + ": bad mesh " + resolved.string() + ": " + problem.what());
+    fail(node, path + ": bad mesh " + resolved.string() + ": " + problem.what());
   }
+}
+
+// `identity: [block, cube, meshes/part.off]`: two or more distinct candidates, each a built-in
+// name or (ending in .off or .obj) a mesh file.
+std::vector<ObjectIdentity> Reader::read_identities(const YAML::Node& node, const std::string& path,
+                                                    const std::string& name) const {
+  if (!node.IsSequence() || node.size() < 2)
+    fail(node, path + ": expected a list of at least two candidate shapes, got " +
+                   (node.IsSequence() ? "a list of " + std::to_string(node.size())
+                                      : describe(node)));
+  std::vector<ObjectIdentity> out;
+  for (std::size_t i = 0; i < node.size(); ++i) {
+    const std::string item = path + "[" + std::to_string(i) + "]";
+    const std::string candidate = text(node[i], item);
+    for (const ObjectIdentity& other : out)
+      if (other.name == candidate) fail(node[i], item + ": '" + candidate + "' is listed twice");
+    std::string lower = candidate;
+    std::transform(lower.begin(), lower.end(), lower.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    const bool mesh = lower.ends_with(".off") || lower.ends_with(".obj");
+    std::string shape;
+    geometry::ObjectModel model = shape_model(node[i], item, mesh, name, shape);
+    std::vector<geometry::StablePose> poses = geometry::stable_poses(model);
+    out.push_back({.name = candidate,
+                   .shape = std::move(shape),
+                   .model = std::move(model),
+                   .stable_poses = std::move(poses)});
+  }
+  return out;
 }
 
 std::vector<int> Reader::faces(const YAML::Node& node, const std::string& path,
@@ -604,6 +653,10 @@ std::vector<int> Reader::faces(const YAML::Node& node, const std::string& path,
 void Reader::read_pose(const YAML::Node& node, const std::string& path, ObjectSpec& object) const {
   const Fields pose(*this, node, path, {"stable", "at", "yaw", "xyz", "rpy", "matrix"});
   const YAML::Node stable = pose.get("stable");
+  if (!object.identities.empty() || stable.IsSequence()) {
+    read_hypotheses(pose, object);
+    return;
+  }
   if (!stable.IsDefined()) {
     for (const char* key : {"at", "yaw"})
       if (pose.has(key))
@@ -642,12 +695,112 @@ void Reader::read_pose(const YAML::Node& node, const std::string& path, ObjectSp
   object.initial_stable_pose = index;
 }
 
+void Reader::read_hypotheses(const Fields& pose, ObjectSpec& object) const {
+  // The candidates: the identities, or the object's one shape.
+  std::vector<ObjectIdentity> candidates = object.identities;
+  if (candidates.empty())
+    candidates.push_back({.name = object.name,
+                          .shape = object.shape,
+                          .model = object.model,
+                          .stable_poses = object.stable_poses});
+  const bool identities = !object.identities.empty();
+  const YAML::Node stable = pose.get("stable");
+  const bool rigid = pose.has("xyz") || pose.has("rpy") || pose.has("matrix");
+  std::vector<ObjectHypothesis> hypotheses;
+  if (rigid) {
+    // A pose given outright: the identity alone is uncertain.
+    for (const char* key : {"stable", "at", "yaw"})
+      if (pose.has(key))
+        fail(pose.get(key), pose.path(key) +
+                                ": give either {stable, at, yaw} or {xyz, rpy} / {matrix}, not "
+                                "both");
+    const Transform placed = rigid_pose(pose);
+    for (std::size_t i = 0; i < candidates.size(); ++i) {
+      ObjectHypothesis hypothesis{.label = candidates[i].name,
+                                  .identity = static_cast<int>(i),
+                                  .stable_pose = std::nullopt,
+                                  .pose = placed};
+      if (const auto id = geometry::classify_orientation(candidates[i].stable_poses,
+                                                         placed.linear()))
+        hypothesis.stable_pose = *id - 1;
+      hypotheses.push_back(hypothesis);
+    }
+  } else {
+    // Stable poses: the listed ones (or one), or every one of each identity when none is listed.
+    std::vector<std::pair<std::string, YAML::Node>> listed;
+    if (stable.IsSequence()) {
+      if (stable.size() == 0) fail(stable, pose.path("stable") + ": the list of stable poses is empty");
+      for (std::size_t k = 0; k < stable.size(); ++k) {
+        const std::string item = pose.path("stable") + "[" + std::to_string(k) + "]";
+        const std::string label = text(stable[k], item);
+        for (const auto& [seen, unused] : listed)
+          if (seen == label) fail(stable[k], item + ": '" + label + "' is listed twice");
+        listed.emplace_back(label, stable[k]);
+      }
+    } else if (stable.IsDefined()) {
+      listed.emplace_back(text(stable, pose.path("stable")), stable);
+    } else if (!identities) {
+      fail(pose.node(), pose.name() + ": missing key 'stable'");
+    }
+    const std::vector<double> at = numbers(pose.require("at"), pose.path("at"), 2);
+    const double yaw = pose.has("yaw") ? angle(pose.get("yaw"), pose.path("yaw")) : 0.0;
+    const double unit = units_.metres_per_length_unit();
+    const Transform above = Eigen::Translation3d(at[0] * unit, at[1] * unit, 0) *
+                            Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ());
+    for (const auto& [label, node] : listed) {
+      bool any = false;
+      for (const ObjectIdentity& candidate : candidates)
+        for (const geometry::StablePose& stable_pose : candidate.stable_poses)
+          any = any || stable_pose.label == label;
+      if (any) continue;
+      std::vector<std::string> labels;
+      for (const geometry::StablePose& stable_pose : candidates.front().stable_poses)
+        labels.push_back(stable_pose.label);
+      fail(node, pose.path("stable") + ": object '" + object.name + "' has no stable pose '" +
+                     label + "'" + (identities ? " in any of its identities" : "") +
+                     "; its stable poses: " + join(labels) + " (spar object prints them)");
+    }
+    for (std::size_t i = 0; i < candidates.size(); ++i)
+      for (std::size_t p = 0; p < candidates[i].stable_poses.size(); ++p) {
+        const geometry::StablePose& stable_pose = candidates[i].stable_poses[p];
+        const bool wanted =
+            listed.empty() || std::any_of(listed.begin(), listed.end(), [&](const auto& entry) {
+              return entry.first == stable_pose.label;
+            });
+        if (!wanted) continue;
+        hypotheses.push_back(
+            {.label = identities ? candidates[i].name + ":" + stable_pose.label : stable_pose.label,
+             .identity = static_cast<int>(i),
+             .stable_pose = static_cast<int>(p),
+             .pose = above * stable_pose.object_to_world});
+      }
+  }
+  // The first hypothesis stands for the object wherever a single shape and pose is needed.
+  const ObjectIdentity& first = candidates[static_cast<std::size_t>(hypotheses.front().identity)];
+  object.shape = first.shape;
+  object.model = first.model;
+  object.stable_poses = first.stable_poses;
+  object.initial_pose = hypotheses.front().pose;
+  object.initial_stable_pose = hypotheses.front().stable_pose;
+  if (hypotheses.size() > 1) object.hypotheses = std::move(hypotheses);
+}
+
 ObjectSpec Reader::read_object(const YAML::Node& key, const YAML::Node& node) const {
   const std::string name = identifier(key, "objects");
   const Fields entry(*this, node, "objects." + name,
-                     {"builtin", "mesh", "features", "pose", "uncertainty"});
+                     {"builtin", "mesh", "identity", "features", "pose", "uncertainty"});
   std::string shape;
-  geometry::ObjectModel model = object_model(entry, name, shape);
+  std::vector<ObjectIdentity> identities;
+  if (const YAML::Node identity = entry.get("identity"); identity.IsDefined()) {
+    for (const char* key : {"builtin", "mesh"})
+      if (entry.has(key))
+        fail(entry.get(key), entry.path(key) + ": give either '" + key +
+                                 "' or 'identity', not both");
+    identities = read_identities(identity, entry.path("identity"), name);
+  }
+  geometry::ObjectModel model =
+      identities.empty() ? object_model(entry, name, shape) : identities.front().model;
+  if (!identities.empty()) shape = identities.front().shape;
   std::vector<geometry::StablePose> stable_poses = geometry::stable_poses(model);
   ObjectSpec object{.name = name,
                     .shape = std::move(shape),
@@ -657,7 +810,8 @@ ObjectSpec Reader::read_object(const YAML::Node& key, const YAML::Node& node) co
                     .initial_pose = Transform::Identity(),
                     .initial_stable_pose = std::nullopt,
                     .uncertainty = {},
-                    .location = where(key)};
+                    .location = where(key),
+                    .identities = std::move(identities)};
   if (const YAML::Node features = entry.get("features"); features.IsDefined()) {
     // A map from feature names (the user's own, so not checked against known keys) to faces.
     for (const auto& feature : expect_map(features, entry.path("features"))) {
@@ -695,14 +849,115 @@ std::vector<Place> Reader::read_places(const YAML::Node& node) const {
   return places;
 }
 
-std::optional<RangeScanSensor> Reader::read_sensors(const YAML::Node& node) const {
-  const Fields sensors(*this, node, "sensors", {"range_scan"});
-  if (!sensors.has("range_scan")) return std::nullopt;
-  const Fields range_scan(*this, sensors.get("range_scan"), "sensors.range_scan", {"residual"});
-  RangeScanSensor sensor;
-  sensor.residual = uncertainty(range_scan.require("residual"), range_scan.path("residual"),
-                                sensor.residual_model);
-  return sensor;
+void Reader::read_sensors(const YAML::Node& node, Scenario& scenario) const {
+  const Fields sensors(*this, node, "sensors", {"range_scan", "cameras"});
+  if (sensors.has("range_scan")) {
+    const Fields range_scan(*this, sensors.get("range_scan"), "sensors.range_scan",
+                            {"residual", "pose", "intrinsics", "mount", "position_noise",
+                             "normal_noise", "max_angle", "detection_probability"});
+    RangeScanSensor sensor;
+    sensor.residual = uncertainty(range_scan.require("residual"), range_scan.path("residual"),
+                                  sensor.residual_model);
+    read_sensor_model(range_scan, sensor.model);
+    if (const YAML::Node value = range_scan.get("position_noise"); value.IsDefined())
+      sensor.model.position_noise =
+          non_negative(length(value, range_scan.path("position_noise")), value,
+                       range_scan.path("position_noise"));
+    if (const YAML::Node value = range_scan.get("normal_noise"); value.IsDefined())
+      sensor.model.normal_noise = non_negative(angle(value, range_scan.path("normal_noise")),
+                                               value, range_scan.path("normal_noise"));
+    if (const YAML::Node value = range_scan.get("max_angle"); value.IsDefined()) {
+      sensor.model.max_angle = angle(value, range_scan.path("max_angle"));
+      if (!(sensor.model.max_angle > 0 && sensor.model.max_angle <= std::numbers::pi / 2 + 1e-12))
+        fail(value, range_scan.path("max_angle") + ": must be in (0, 90] degrees, got " +
+                        value.Scalar());
+    }
+    scenario.range_scan = sensor;
+  }
+  if (const YAML::Node cameras = sensors.get("cameras"); cameras.IsDefined()) {
+    for (std::size_t i = 0; i < expect_list(cameras, "sensors.cameras").size(); ++i) {
+      const std::string path = "sensors.cameras[" + std::to_string(i) + "]";
+      const Fields fields(*this, cameras[i], path,
+                          {"name", "pose", "intrinsics", "mount", "noise_px",
+                           "detection_probability"});
+      sensing::SensorModel camera;
+      camera.kind = sensing::SensorKind::kCamera;
+      camera.name = identifier(fields.require("name"), fields.path("name"));
+      if (camera.name == "range_scan" ||
+          std::any_of(scenario.cameras.begin(), scenario.cameras.end(),
+                      [&](const sensing::SensorModel& other) { return other.name == camera.name; }))
+        fail(fields.get("name"), fields.path("name") + ": duplicate sensor name '" + camera.name +
+                                     "'");
+      (void)fields.require("pose");
+      (void)fields.require("intrinsics");
+      read_sensor_model(fields, camera);
+      if (const YAML::Node value = fields.get("noise_px"); value.IsDefined())
+        camera.noise_px = non_negative(number(value, fields.path("noise_px")), value,
+                                       fields.path("noise_px"));
+      scenario.cameras.push_back(camera);
+    }
+  }
+}
+
+// pose {xyz, rpy} (the sensor frame: z along the view, x right, y down in the image; in the
+// world, or in the gripper frame with `mount: wrist`), intrinsics {fx, fy, cx, cy, width,
+// height} in pixels, mount fixed | wrist, detection_probability in (0, 1].
+void Reader::read_sensor_model(const Fields& fields, sensing::SensorModel& sensor) const {
+  if (const YAML::Node mount = fields.get("mount"); mount.IsDefined()) {
+    const std::string name = text(mount, fields.path("mount"));
+    if (name != "fixed" && name != "wrist")
+      fail(mount, fields.path("mount") + ": unknown mount '" + name +
+                      "'" + suggestion(name, {"fixed", "wrist"}) + "; known: fixed, wrist");
+    sensor.mount = name == "wrist" ? sensing::Mount::kWrist : sensing::Mount::kFixed;
+  } else if (fields.has("pose")) {
+    sensor.mount = sensing::Mount::kFixed;
+  }
+  if (const YAML::Node pose = fields.get("pose"); pose.IsDefined())
+    sensor.pose = rigid_pose(pose, fields.path("pose"));
+  else if (sensor.mount == sensing::Mount::kFixed)
+    fail(fields.node(), fields.name() + ": a fixed sensor needs a 'pose'");
+  if (const YAML::Node node = fields.get("intrinsics"); node.IsDefined()) {
+    const Fields intrinsics(*this, node, fields.path("intrinsics"),
+                            {"fx", "fy", "cx", "cy", "width", "height"});
+    sensing::Intrinsics k;
+    for (const auto& [key, target] : {std::pair{"fx", &k.fx}, std::pair{"fy", &k.fy}})
+      *target = positive(number(intrinsics.require(key), intrinsics.path(key)),
+                         intrinsics.get(key), intrinsics.path(key));
+    k.cx = number(intrinsics.require("cx"), intrinsics.path("cx"));
+    k.cy = number(intrinsics.require("cy"), intrinsics.path("cy"));
+    for (const auto& [key, target] :
+         {std::pair{"width", &k.width}, std::pair{"height", &k.height}}) {
+      *target = integer(intrinsics.require(key), intrinsics.path(key));
+      if (*target < 1 || *target > sensing::kMaxImageSide)
+        fail(intrinsics.get(key), intrinsics.path(key) + ": must be 1 to " +
+                                      std::to_string(sensing::kMaxImageSide) + " pixels, got " +
+                                      intrinsics.get(key).Scalar());
+    }
+    sensor.intrinsics = k;
+  }
+  if (const YAML::Node value = fields.get("detection_probability"); value.IsDefined()) {
+    sensor.detection_probability = number(value, fields.path("detection_probability"));
+    if (!(sensor.detection_probability > 0 && sensor.detection_probability <= 1))
+      fail(value, fields.path("detection_probability") + ": must be in (0, 1], got " +
+                      value.Scalar());
+  }
+}
+
+SensingSettings Reader::read_sensing(const YAML::Node& node) const {
+  const Fields fields(*this, node, "sensing", {"ambiguity_threshold", "max_operations", "standoff"});
+  SensingSettings settings;
+  if (const YAML::Node value = fields.get("ambiguity_threshold"); value.IsDefined())
+    settings.ambiguity_threshold = non_negative(
+        number(value, fields.path("ambiguity_threshold")), value, fields.path("ambiguity_threshold"));
+  if (const YAML::Node value = fields.get("max_operations"); value.IsDefined()) {
+    settings.max_operations = integer(value, fields.path("max_operations"));
+    if (settings.max_operations < 1 || settings.max_operations > 10)
+      fail(value, fields.path("max_operations") + ": must be 1 to 10, got " + value.Scalar());
+  }
+  if (const YAML::Node value = fields.get("standoff"); value.IsDefined())
+    settings.standoff =
+        positive(length(value, fields.path("standoff")), value, fields.path("standoff"));
+  return settings;
 }
 
 AssembledGoal Reader::read_assembled(const YAML::Node& node, const std::string& path,
@@ -765,7 +1020,7 @@ Scenario Reader::read(std::string_view document_text) {
     throw ScenarioError(source_ + ":1:1: the scenario is empty (it needs at least 'objects')");
   const Fields top(*this, document, "",
                    {"name", "description", "units", "robot", "objects", "places", "sensors",
-                    "grasping", "goals"});
+                    "sensing", "grasping", "goals"});
   Scenario scenario;
   scenario.name = top.has("name") ? text(top.get("name"), "name")
                                   : std::filesystem::path(source_).stem().string();
@@ -786,7 +1041,8 @@ Scenario Reader::read(std::string_view document_text) {
     scenario.objects.push_back(read_object(key, entry.second));
   }
   if (top.has("places")) scenario.places = read_places(top.get("places"));
-  if (top.has("sensors")) scenario.range_scan = read_sensors(top.get("sensors"));
+  if (top.has("sensors")) read_sensors(top.get("sensors"), scenario);
+  if (top.has("sensing")) scenario.sensing = read_sensing(top.get("sensing"));
   if (const YAML::Node goals = top.get("goals"); goals.IsDefined()) {
     for (std::size_t i = 0; i < expect_list(goals, "goals").size(); ++i) {
       const std::string path = "goals[" + std::to_string(i) + "]";

@@ -56,7 +56,7 @@ __all__ = [
     "ReportError", "Scenario", "ScenarioError", "SensingError", "ShostakError", "SymbolicError",
     "UncertainPose", "aspects", "bound", "bound_record", "evidence", "fk", "ik", "plan",
     "plan_run", "possible_manipulator_pose", "possible_object_pose", "robot", "robots",
-    "scenario",
+    "scenario", "sense_plan",
 ]
 
 
@@ -238,3 +238,16 @@ def aspects(obj, *, units="m", max_angle=75.0, level=3, resolution=128, view_sph
     settings.resolution = int(resolution)
     settings.view_sphere = bool(view_sphere)
     return _spar._aspects(os.fspath(obj), settings)
+
+
+def sense_plan(source, *, base_dir=None, name=None):
+    """Sense planning: the dict of `spar sense-plan --json` for a scenario (path, dict, YAML text
+    or Scenario; base_dir and name as in spar.scenario()).
+
+    For every object whose identity or stable pose is uncertain: its hypotheses, the candidate
+    sensing operations (sensor x viewpoint class) with their predicted ambiguity per true
+    hypothesis and its maximum, the chosen sequence (least maximum ambiguity first, until it is
+    below sensing.ambiguity_threshold) with the beliefs it leaves, and each identity's aspects.
+    The GIL is released while planning.
+    """
+    return _spar._sense_plan(scenario(source, base_dir=base_dir, name=name))

@@ -54,3 +54,19 @@ def test_aspects_errors():
         spar.aspects("cube", max_angle=120)
     with pytest.raises(ValueError, match="units"):
         spar.aspects("cube", units="ft")
+
+
+def test_sense_plan_of_the_example():
+    plan = spar.sense_plan(EXAMPLES / "sensing_block_pose.yaml")
+    assert plan["scenario"] == "sensing_block_pose"
+    (block,) = plan["objects"]
+    assert block["hypotheses"] == ["P1", "P2"]
+    assert block["ambiguity_before"] == pytest.approx(1.0)
+    assert block["resolved"] and block["sequence"]
+    first = block["sequence"][0]
+    assert first["predicted_max_ambiguity"] < block["threshold"]
+    overhead = [c for c in block["candidates"] if c["viewpoint"] == "overhead"]
+    assert overhead and overhead[0]["predicted_max_ambiguity"] > block["threshold"]
+    unreachable = [c for c in block["candidates"] if not c["reachable"]]
+    assert all(c["predicted_max_ambiguity"] is None for c in unreachable)
+    assert len(block["view_spheres"][0]["samples"]) == 320

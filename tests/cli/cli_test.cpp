@@ -349,6 +349,15 @@ const std::vector<Case> kCases = {
   {"AspectsMaxAngleZero", {"aspects", "cube", "--max-angle", "0"}, kError, "",
    "--max-angle: must be a number > 0 and <= 90, got '0'"},
   {"AspectsUnknown", {"aspects", "teapot"}, kError, "", "teapot: no such file, nor a built-in"},
+  // Sense planning.
+  {"SensePlan", {"sense-plan", "@SRC@/examples/sensing_block_pose.yaml"}, 0,
+   "\n1\\. range_scan at V[0-9]+ \\(aspect A[0-9]+\\): at most [0-9.e-]+ bits \\(worst case P[12]\\)",
+   ""},
+  {"SensePlanJson", {"sense-plan", "@SRC@/examples/sensing_block_pose.yaml", "--json"}, 0,
+   "\"sequence\": \\[\n +\\{\n +\"sensor\": \"range_scan\",\n +\"viewpoint\": \"V[0-9]+\"",
+   ""},
+  {"SensePlanNothingUncertain", {"sense-plan", "@SRC@/examples/peg_block_face_up.yaml"}, 0,
+   "nothing to sense", ""},
   // Output that cannot be written fails the command.
   {"SimplifyFull", {"simplify", "x+x"}, kError, "", kLost, kFull},
   {"BoundFull", {"bound", "x", "--var", "x=0:1"}, kError, "", kLost, kFull},

@@ -192,10 +192,12 @@ TEST(Selection, ChoosesTheOnlyViewpointThatDisambiguates) {
     const Selection chosen = select_operations(problem, SelectionOptions{});
     ASSERT_EQ(chosen.candidates.size(), problem.sensors.size());
     EXPECT_NEAR(chosen.ambiguity_before, 1.0, 1e-12);
-    for (const CandidateOperation& candidate : chosen.candidates)
-      if (candidate.viewpoint.label != "side")
+    for (const CandidateOperation& candidate : chosen.candidates) {
+      if (candidate.viewpoint.label != "side") {
         EXPECT_GT(candidate.max_ambiguity, 0.3)
             << candidate.viewpoint.label << ' ' << to_string(kind);
+      }
+    }
     EXPECT_LT(candidate_named(chosen, "side").max_ambiguity, 0.3) << to_string(kind);
     ASSERT_EQ(chosen.sequence.size(), 1U) << to_string(kind);
     EXPECT_EQ(chosen.candidates[chosen.sequence[0].candidate].viewpoint.label, "side");
