@@ -20,6 +20,7 @@
 #include <cstring>
 #include <fstream>
 #include <functional>
+#include <iterator>
 #include <map>
 #include <numbers>
 #include <optional>
@@ -1053,6 +1054,77 @@ void k_chain(bool quick, int repeats, Comparison& decided, Comparison& tight, do
 
 }  // namespace
 
+// ---------------------------------------------------------------------------------------------
+// The scale sweep (issue 24): every uncertainty half-width of a seed experiment (objects, robot,
+// range-scan residual, sigmas alike) times s; the chosen plan's errors and violated preconditions
+// must not grow as s shrinks (the repair search is monotone).
+
+planner::Scenario scaled_scenario(planner::Scenario scenario, double s) {
+  const auto scale = [s](spar::kinematics::PoseUncertainty& u) {
+    u.dx *= s;
+    u.dy *= s;
+    u.dz *= s;
+    u.dtheta *= s;
+  };
+  for (planner::ObjectSpec& object : scenario.objects) {
+    scale(object.uncertainty);
+    scale(object.uncertainty_model.sigma);
+  }
+  scale(scenario.robot.uncertainty);
+  scale(scenario.robot.uncertainty_model.sigma);
+  if (scenario.range_scan) {
+    scale(scenario.range_scan->residual);
+    scale(scenario.range_scan->residual_model.sigma);
+  }
+  return scenario;
+}
+
+// Returns whether every example was monotone.
+bool scale_sweep() {
+  const double scales[] = {0.1, 0.25, 0.5, 0.75, 1.0, 1.25, 1.5, 2.0};
+  std::printf(
+      "\n## phase 2: scale sweep (every half-width x s; errors / violated / inserted steps of the "
+      "chosen plan)\n\n| experiment |");
+  for (const double s : scales) std::printf(" s = %g |", s);
+  std::printf(" monotone |\n|---|");
+  for (std::size_t i = 0; i <= std::size(scales); ++i) std::printf("---|");
+  std::printf("\n");
+  planner::PlanOptions options;
+  options.probability.reset();
+  options.analysis.reverse = false;
+  options.analysis.blame = false;
+  options.analysis.samples = 0;
+  bool all_monotone = true;
+  for (const char* name : kExamples) {
+    const planner::Scenario base = planner::load_scenario(example_path(name));
+    std::printf("| %s |", name);
+    int last_errors = -1, last_violated = -1;
+    bool monotone = true;
+    for (const double s : scales) {
+      const planner::PlanResult result =
+          planner::plan(scaled_scenario(base, s), planner::builtin_domain(), options);
+      const planner::InstanceAnalysis* chosen = result.chosen_analysis();
+      int errors = 0, violated = 0, inserted = 0;
+      if (chosen != nullptr) {
+        errors = chosen->errors;
+        for (const planner::AnalysedStep& step : chosen->steps) {
+          inserted += step.inserted;
+          for (const planner::PreconditionResult& p : step.preconditions)
+            violated += p.verdict == Verdict::kViolated;
+        }
+      }
+      // Scales ascend: a later (wider) one may not be better than an earlier (narrower) one.
+      monotone = monotone && errors >= last_errors && violated >= last_violated;
+      last_errors = errors;
+      last_violated = violated;
+      std::printf(" %d / %d / %d |", errors, violated, inserted);
+    }
+    std::printf(" %s |\n", monotone ? "yes" : "NO");
+    all_monotone = all_monotone && monotone;
+  }
+  return all_monotone;
+}
+
 int main(int argc, char** argv) {
   bool quick = false;
   std::string scenario_dir;
@@ -1086,6 +1158,7 @@ int main(int argc, char** argv) {
     double chain_ratio = 0;
     int max_k = 0;
     k_chain(quick, repeats, chain, chain_tight, chain_ratio, max_k);
+    const bool monotone = scale_sweep();
 
     std::printf("\n## summary\n\n");
     const double expanded_rate = (seed_expanded + scale_expanded) / (seed_seconds + scale_seconds);
@@ -1112,6 +1185,8 @@ int main(int argc, char** argv) {
     std::printf("ratio phase2_width(kchain,median) naive_interval_4x4 %.3g\n",
                 median(chain.width_ratios));
     std::printf("(the width lines are width ratios peer/spar, not times)\n");
+    std::printf("scale sweep monotone (errors and violated never grow as the widths shrink): %s\n",
+                monotone ? "yes" : "NO");
   } catch (const std::exception& error) {
     std::fprintf(stderr, "planner_bench: %s\n", error.what());
     return 1;

@@ -1,6 +1,8 @@
 // bound(): natural extension, monotonicity, centred form, branch and bound, inner search.
 #include "spar/bounds/bound.hpp"
 
+#include "spar/bounds/inequality.hpp"
+
 #include <algorithm>
 #include <array>
 #include <charconv>
@@ -302,12 +304,25 @@ class Bounder {
     std::vector<Interval> root = root_;
     if (!contract(root)) return infeasible(result);
     inner_candidates(root);
-    if (options_.inner) {
-      nlopt_search(root, +1);
-      nlopt_search(root, -1);
+    double lo = 0, hi = 0;
+    if (options_.decide) {
+      // One side only (see BoundOptions::decide); the other is the root's enclosure.
+      const int sign = upper_limit(options_.decide->relation) ? +1 : -1;
+      if (options_.inner && !decided(sign, kInf)) nlopt_search(root, sign);
+      const double side = search(root, sign);
+      const int other = sign > 0 ? 1 : 0;
+      const double enclosure = std::max(tree_[0].bound[other], sign > 0 ? -result.inner_lo
+                                                                         : result.inner_hi);
+      hi = sign > 0 ? side : enclosure;
+      lo = sign > 0 ? -enclosure : -side;
+    } else {
+      if (options_.inner) {
+        nlopt_search(root, +1);
+        nlopt_search(root, -1);
+      }
+      hi = search(root, +1);
+      lo = -search(root, -1);
     }
-    const double hi = search(root, +1);
-    const double lo = -search(root, -1);
     result.lo = lo;
     result.hi = hi;
     result.evaluations = evaluations_;
@@ -699,6 +714,18 @@ class Bounder {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
   }
 
+  // With BoundOptions::decide and sign its side: whether `top` (a sound bound of sign·f) proves
+  // the target, or the attained witness value breaks it (as decide() would judge).
+  bool decided(int sign, double top) const {
+    if (!options_.decide) return false;
+    const double t = sign * options_.decide->threshold;
+    const bool is_strict = strict(options_.decide->relation);
+    const double attained = sign > 0 ? result_->inner_hi : -result_->inner_lo;
+    const bool proved = is_strict ? top < t : top <= t;
+    const bool broken = is_strict ? attained >= t : attained > t;
+    return proved || broken;
+  }
+
   // Sound upper bound of sign·f over the feasible box; best-first bisection over tree_, which the
   // first direction grows and the second reuses (a node expanded by either is never re-evaluated).
   double search(const std::vector<Interval>& root, int sign) {
@@ -721,6 +748,7 @@ class Bounder {
     while (!queue.empty()) {
       const double top = std::max(queue.top().first, settled);
       if (top - inner() <= target_gap()) break;
+      if (decided(sign, top)) return std::max(top, inner());
       // Boxes kept in the tree: memory stays proportional to the input (capped) however many
       // variables there are.
       if (!options_.branch_and_bound || out_of_effort(direction) ||
@@ -1141,6 +1169,12 @@ BoundResult BoundProblem::Impl::staged(std::span<const Interval> ranges,
                                        const BoundOptions& options) {
   CompiledFunction& f = *compiled;
   if (!options.simplify) return run(f, ranges, options);
+  // Deciding: any stage whose result decides the target is the answer.
+  const auto known = [&](const BoundResult& r) {
+    return options.decide &&
+           decide({{}, this->f, options.decide->relation, options.decide->threshold}, r) !=
+               Verdict::kUndecided;
+  };
   // Staged effort: f gets an eighth of the budget first; if that stops short, SMP's rewrite gets
   // the same share (it often converges at once where f's repeated variables defeat bisection),
   // and then f starts again with the whole budget (so a call may spend up to 1.25 budgets). The
@@ -1166,7 +1200,7 @@ BoundResult BoundProblem::Impl::staged(std::span<const Interval> ranges,
     settled.possibly_undefined =
         other.possibly_undefined || f.interval.value(ranges).possibly_undefined;
     refine_with(settled, other, f.interval, options.tolerance);
-    if (settled.status == BoundStatus::kConverged) return settled;
+    if (settled.status == BoundStatus::kConverged || known(settled)) return settled;
     single_use_result = settled;
   }
   BoundResult result = run(f, ranges, first);
@@ -1175,12 +1209,12 @@ BoundResult BoundProblem::Impl::staged(std::span<const Interval> ranges,
     result.evaluations += single_use_result->evaluations;
     refine_with(result, *single_use_result, f.interval, options.tolerance);
   }
-  if (result.status != BoundStatus::kEffortLimit) return result;
+  if (result.status != BoundStatus::kEffortLimit || known(result)) return result;
   if (CompiledFunction* rewritten = rewrite(ranges)) {
     const BoundResult other = run(*rewritten, ranges, first);
     result.evaluations += other.evaluations;
     refine_with(result, other, f.interval, options.tolerance);
-    if (result.status != BoundStatus::kEffortLimit) return result;
+    if (result.status != BoundStatus::kEffortLimit || known(result)) return result;
   }
   const BoundResult earlier = result;
   result = run(f, ranges, options);

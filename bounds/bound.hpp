@@ -29,6 +29,7 @@
 
 #include <cstddef>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -57,6 +58,12 @@ struct Constraint {
   Relation relation{Relation::kLessEqual};
 };
 
+// An inequality `f relation threshold` to decide rather than bound tightly (BoundOptions::decide).
+struct DecisionTarget {
+  Relation relation{Relation::kLessEqual};
+  double threshold{0.0};
+};
+
 // Which stages run (all on by default; the benchmark switches them to compare).
 struct BoundOptions {
   double tolerance{1e-3};  // relative to the attained width inner_hi - inner_lo
@@ -83,6 +90,13 @@ struct BoundOptions {
   // variable once (t/(t + 1) -> 1 - 1/(t + 1)) has that rewrite bounded with 1/8 first: it is
   // exact up to rounding, so it usually settles f alone (at most 1.375 budgets in all).
   bool simplify{true};
+  // Deciding, not bounding: with a target, only the side of f the relation limits is searched
+  // (hi for `<`, `<=`; lo for `>`, `>=`), its NLopt stage included, and the search stops as soon as
+  // decide() (bounds/inequality.hpp) would answer: that side's sound bound proves the inequality,
+  // or an attained witness value breaks it. The other side is the root box's enclosure (sound,
+  // loose). The verdict is the one the full bound would give whenever both decide; the bound is
+  // only as tight as deciding needed, and its status is kEffortLimit unless that side converged.
+  std::optional<DecisionTarget> decide{};
 };
 
 enum class BoundStatus {

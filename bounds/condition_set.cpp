@@ -105,7 +105,10 @@ std::vector<ConditionCheck> ConditionSet::check(std::span<const Interval> ranges
     if (escalate) {
       std::unique_ptr<BoundProblem>& problem = set.problems[k];
       if (!problem) problem = std::make_unique<BoundProblem>(inequality.expression, set.variables);
-      bound = problem->bound(ranges, full);
+      BoundOptions options = full;
+      if (escalation == Escalation::kDecide)
+        options.decide = DecisionTarget{inequality.relation, inequality.threshold};
+      bound = problem->bound(ranges, options);
       check.verdict = decide(inequality, bound);
       check.escalated = true;
     }

@@ -45,6 +45,8 @@ struct ConditionCheck {
 enum class Escalation {
   kUndecided,     // only undecided ones (the cheapest: a violation at the centre is final)
   kNotSatisfied,  // undecided and violated ones (tight bounds and worst witnesses for reports)
+  kDecide,        // only undecided ones, each bounded only until its verdict is known
+                  // (BoundOptions::decide with its own relation and threshold)
 };
 
 class ConditionSet {

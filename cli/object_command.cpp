@@ -68,10 +68,17 @@ std::string id_list(const std::vector<int>& ids) {
 void run(const ObjectOptions& options) {
   const double unit = metres_per_unit(options.units);
   geometry::GripperSpec gripper;
-  if (options.max_opening) gripper.max_opening = *options.max_opening * unit;
+  if (options.max_opening) {
+    gripper.max_opening = *options.max_opening * unit;
+    check_limit("--max-opening", "robot.gripper.max_opening", gripper.max_opening,
+                {unit, options.units}, format_number(*options.max_opening));
+  }
   geometry::GraspQuantization quantization;
   quantization.approach_step = options.approach_step_degrees * units::kDegree;
+  check_limit("--approach-step", "grasping.approach_step", quantization.approach_step,
+              {units::kDegree, "deg"}, format_number(options.approach_step_degrees));
   quantization.positions_per_axis = options.positions_per_axis;
+  check_limit("--positions", "grasping.positions_per_axis", options.positions_per_axis);
   // Output in `options.units`: lengths, areas and volumes divided by unit, unit^2, unit^3.
   const auto length = [unit](double metres) { return metres / unit; };
   const auto point = [unit](const Eigen::Vector3d& metres) -> Eigen::Vector3d {
@@ -186,15 +193,16 @@ void add_object_command(CLI::App& app) {
   command
       ->add_option("--units", options->units, "length unit of FILE and of the output (default m)")
       ->check(CLI::IsMember({"m", "mm", "in"}));
+  // The ranges are the scenario keys' (robot.gripper.max_opening, grasping.approach_step and
+  // grasping.positions_per_axis in common/limits.hpp), checked once --units is known.
   add_number_option(*command, "--max-opening", options->max_opening,
-                    "gripper opening in --units (default 4 in)", NumberLimits::positive());
-  // The grasps of a pair are its contact positions times its approach directions: both options
-  // are capped so the work stays bounded (at most 360 directions and 20 x 20 positions a pair).
+                    "gripper opening in --units (default 4 in, at most 2 m)",
+                    NumberLimits::positive());
   add_number_option(*command, "--approach-step", options->approach_step_degrees,
                     "approach quantization step in degrees about the closing axis, 1 to 360",
-                    {1, 360});
+                    NumberLimits::positive());
   add_count_option(*command, "--positions", options->positions_per_axis,
-                   "contact positions per axis of each face pair's overlap, 1 to 20", 1, 20);
+                   "contact positions per axis of each face pair's overlap, 1 to 20", 0, 1'000'000);
   command->add_option("--write-off", options->write_off, "also write the mesh as an OFF file");
   command->callback([options] { run(*options); });
 }

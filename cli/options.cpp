@@ -95,6 +95,12 @@ CLI::Option* add_count_option(CLI::App& command, const std::string& name, int& v
   return add_whole_number_option(command, name, value, description, low, high);
 }
 
+void check_limit(std::string_view option, std::string_view limit_key, double value, GivenUnit unit,
+                 std::string_view given_text) {
+  if (const auto problem = limit_problem(numeric_limit(limit_key), value, unit, given_text))
+    throw UsageError(std::string(option) + ": " + *problem);
+}
+
 std::vector<std::string> protect_leading_minus(int argc, const char* const* argv) {
   std::vector<std::string> arguments;
   bool after_separator = false;

@@ -36,6 +36,7 @@
 #include <vector>
 
 #include "spar/common/error.hpp"
+#include "spar/common/limits.hpp"
 #include "spar/common/number.hpp"
 
 namespace spar::cli {
@@ -65,6 +66,12 @@ CLI::Option* add_count_option(CLI::App& command, const std::string& name, std::u
 CLI::Option* add_count_option(CLI::App& command, const std::string& name, int& value,
                               const std::string& description, std::uint64_t low,
                               std::uint64_t high);
+
+// Throws UsageError "<option>: must be ..." when `value` (metres, radians or a count) is outside
+// the row `limit_key` of the table of numeric limits (common/limits.hpp), shown in `unit`: the
+// options that set what a scenario key sets refuse what the scenario loader refuses.
+void check_limit(std::string_view option, std::string_view limit_key, double value,
+                 GivenUnit unit = {}, std::string_view given_text = {});
 
 // argv[1..] with every "-<letter>..." argument before a "--" marked as a value, in the reversed
 // order CLI::App::parse(std::vector<std::string>&) takes.

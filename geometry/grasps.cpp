@@ -88,64 +88,56 @@ std::vector<Box> gripper_boxes(const GripperSpec& gripper, double width, double 
   return boxes;
 }
 
-// Does segment p-q meet the open box? (slab clipping)
-bool segment_hits_box(const Eigen::Vector3d& p, const Eigen::Vector3d& q, const Box& box) {
-  double enter = 0, leave = 1;
-  for (int axis = 0; axis < 3; ++axis) {
-    const double d = q[axis] - p[axis];
-    if (std::abs(d) < 1e-300) {
-      if (p[axis] <= box.low[axis] || p[axis] >= box.high[axis]) return false;
-      continue;
+// Does the closed triangle (a, b, c) meet the open box? The separating-axis test (Akenine-Möller):
+// two convex sets are disjoint iff they are separated along the box's axes, the triangle's normal
+// or a cross product of a box axis and a triangle edge. Touching counts as separated (the box is
+// open); a zero cross product (an edge along a box axis) is no axis.
+bool triangle_meets_open_box(const std::array<Eigen::Vector3d, 3>& corners, const Box& box) {
+  const Eigen::Vector3d centre = (box.low + box.high) / 2, half = (box.high - box.low) / 2;
+  const std::array<Eigen::Vector3d, 3> v{corners[0] - centre, corners[1] - centre,
+                                         corners[2] - centre};
+  const auto separated = [&](const Eigen::Vector3d& axis) {
+    const double p0 = axis.dot(v[0]), p1 = axis.dot(v[1]), p2 = axis.dot(v[2]);
+    const double radius = half.dot(axis.cwiseAbs());
+    return std::min({p0, p1, p2}) >= radius || std::max({p0, p1, p2}) <= -radius;
+  };
+  for (int axis = 0; axis < 3; ++axis)
+    if (separated(Eigen::Vector3d::Unit(axis))) return false;
+  const std::array<Eigen::Vector3d, 3> edges{v[1] - v[0], v[2] - v[1], v[0] - v[2]};
+  const double scale = edges[0].squaredNorm() + edges[1].squaredNorm() + edges[2].squaredNorm();
+  for (const Eigen::Vector3d& edge : edges)
+    for (int axis = 0; axis < 3; ++axis) {
+      const Eigen::Vector3d cross = Eigen::Vector3d::Unit(axis).cross(edge);
+      if (cross.squaredNorm() > 1e-24 * scale && separated(cross)) return false;
     }
-    double t0 = (box.low[axis] - p[axis]) / d, t1 = (box.high[axis] - p[axis]) / d;
-    if (t0 > t1) std::swap(t0, t1);
-    enter = std::max(enter, t0);
-    leave = std::min(leave, t1);
-    if (enter >= leave) return false;
-  }
-  return true;
+  return !separated(edges[0].cross(edges[1]));  // the triangle's plane (non-degenerate)
 }
 
-// Does the gripper, closed on the object at T_G, overlap the object? A box meets the surface iff
-// a mesh edge enters it or a box edge crosses a triangle. Not detected: a box wholly inside the
-// solid; the fingers start at exposed contacts and join the palm, so a gripper that reaches into
-// the solid also has a box crossing the surface.
-// Only the triangles whose boxes meet a gripper box's object-frame bounds are tested: the others
-// can neither have an edge entering the box nor be crossed by one of its edges.
+// Does the gripper, closed on the object at T_G, overlap the object: does one of its boxes (open:
+// the finger pads rest on the contact faces) meet a triangle? Not detected: a box wholly inside
+// the solid; the fingers start at exposed contacts and join the palm, so a gripper that reaches
+// into the solid also has a box crossing the surface.
+// Only the triangles whose bounding boxes meet a gripper box (as an oriented box in the object
+// frame) are tested. The palm goes first: on a curved object it is the box that hits, and a hit
+// ends the check.
 bool gripper_hits_object(const ObjectModel& object, const TriangleTree& tree,
                          const Eigen::Isometry3d& object_to_gripper, const GripperSpec& gripper,
                          double width) {
   const auto& mesh = object.mesh();
   const Eigen::Isometry3d gripper_to_object = object_to_gripper.inverse(Eigen::Isometry);
   const double shrink = 1e-6 * object.tolerance() / 1e-9;  // 1e-6 of the bounding-box diagonal
-  for (const Box& box : gripper_boxes(gripper, width, shrink)) {
+  std::vector<Box> boxes = gripper_boxes(gripper, width, shrink);
+  std::rotate(boxes.begin(), boxes.end() - 1, boxes.end());  // the palm (last) first
+  for (const Box& box : boxes) {
     if ((box.low.array() >= box.high.array()).any()) continue;  // shrunk to nothing
-    std::array<std::pair<Eigen::Vector3d, Eigen::Vector3d>, 12> box_edges;
-    for (int edge = 0; edge < 12; ++edge) {
-      const int axis = edge / 4, others = edge % 4;
-      Eigen::Vector3d p, q;
-      for (int a = 0, bit = 0; a < 3; ++a) {
-        if (a == axis) {
-          p[a] = box.low[a];
-          q[a] = box.high[a];
-        } else {
-          p[a] = q[a] = ((others >> bit++) & 1) ? box.high[a] : box.low[a];
-        }
-      }
-      box_edges[edge] = {p, q};
-    }
-    const auto [low, high] = object_frame_bounds(gripper_to_object, box.low, box.high);
-    const bool hit = tree.for_each_in_box(low, high, [&](int t) {
-      const auto& tri = mesh.triangles[t];
-      const std::array<Eigen::Vector3d, 3> local{object_to_gripper * mesh.vertices[tri[0]],
-                                                 object_to_gripper * mesh.vertices[tri[1]],
-                                                 object_to_gripper * mesh.vertices[tri[2]]};
-      for (int c = 0; c < 3; ++c)
-        if (segment_hits_box(local[c], local[(c + 1) % 3], box)) return true;
-      return std::any_of(box_edges.begin(), box_edges.end(), [&](const auto& edge) {
-        return segment_hits_triangle(edge.first, edge.second, local[0], local[1], local[2], 0);
-      });
-    });
+    const bool hit =
+        tree.for_each_in_oriented_box(gripper_to_object, box.low, box.high, [&](int t) {
+          const auto& tri = mesh.triangles[t];
+          return triangle_meets_open_box(
+              {object_to_gripper * mesh.vertices[tri[0]], object_to_gripper * mesh.vertices[tri[1]],
+               object_to_gripper * mesh.vertices[tri[2]]},
+              box);
+        });
     if (hit) return true;
   }
   return false;

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <map>
 #include <numbers>
+#include <numeric>
 #include <sstream>
 #include <utility>
 
@@ -28,6 +29,54 @@ double bounding_diagonal(const std::vector<Eigen::Vector3d>& points) {
     high = high.cwiseMax(p);
   }
   return (high - low).norm();
+}
+
+// One object is one connected solid: every triangle reaches every other across shared edges, and
+// the triangles around each vertex form one fan (else two solids touch at that vertex). Two cubes
+// sharing only a vertex, or lying apart, pass every edge check but are not one object. Called on a
+// closed mesh (every directed edge has its opposite).
+void check_one_solid(const Mesh& mesh, const std::map<std::pair<int, int>, int>& edge_owner) {
+  const int count = static_cast<int>(mesh.triangles.size());
+  std::vector<int> parent(count);
+  std::iota(parent.begin(), parent.end(), 0);
+  const auto root = [&](int t) {
+    while (parent[t] != t) t = parent[t] = parent[parent[t]];
+    return t;
+  };
+  for (const auto& [edge, t] : edge_owner)
+    parent[root(t)] = root(edge_owner.at({edge.second, edge.first}));
+  for (int t = 1; t < count; ++t)
+    if (root(t) != root(0))
+      throw GeometryError(mesh.where(t) +
+                          ": the mesh is more than one solid: this polygon is not "
+                          "connected to the one at " +
+                          mesh.where(0) +
+                          " by shared edges (an object is one piece: give each piece as its own "
+                          "object)");
+  // Around a vertex v, the triangle running (v, w) is followed by the one running (u, v)... walk
+  // one fan from each vertex's first triangle and compare with all its triangles.
+  std::vector<int> triangles_at(mesh.vertices.size(), 0);
+  std::vector<int> first_at(mesh.vertices.size(), -1);
+  for (int t = 0; t < count; ++t)
+    for (const int v : mesh.triangles[t]) {
+      ++triangles_at[v];
+      if (first_at[v] < 0) first_at[v] = t;
+    }
+  for (std::size_t v = 0; v < mesh.vertices.size(); ++v) {
+    if (first_at[v] < 0) continue;
+    int t = first_at[v], fan = 0;
+    do {
+      const auto& tri = mesh.triangles[t];
+      const int corner = tri[0] == static_cast<int>(v) ? 0 : tri[1] == static_cast<int>(v) ? 1 : 2;
+      const int previous = tri[(corner + 2) % 3];          // t runs (previous, v)
+      t = edge_owner.at({static_cast<int>(v), previous});  // the neighbour runs (v, previous)
+      ++fan;
+    } while (t != first_at[v] && fan <= triangles_at[v]);
+    if (fan != triangles_at[v])
+      throw GeometryError(mesh.where(first_at[v]) + ": the mesh touches itself at vertex " +
+                          std::to_string(v) + ": its polygons there form " +
+                          "more than one fan (two solids meeting at a point are not one object)");
+  }
 }
 
 }  // namespace
@@ -105,6 +154,12 @@ void validate_closed_mesh(Mesh& mesh) {
     }
   const double scale = bounding_diagonal(used);
   std::map<std::pair<int, int>, int> edge_owner;  // directed edge -> triangle running it
+  std::map<std::pair<int, int>, int> edge_uses;   // undirected (low, high) -> polygons using it
+  for (const auto& triangle : mesh.triangles)
+    for (int c = 0; c < 3; ++c) {
+      const auto [low, high] = std::minmax(triangle[c], triangle[(c + 1) % 3]);
+      ++edge_uses[{low, high}];
+    }
   for (int t = 0; t < static_cast<int>(mesh.triangles.size()); ++t) {
     const auto& triangle = mesh.triangles[t];
     if (triangle_normal(mesh, triangle).norm() <= 1e-12 * scale * scale)
@@ -114,6 +169,12 @@ void validate_closed_mesh(Mesh& mesh) {
     for (int c = 0; c < 3; ++c) {
       const std::pair<int, int> edge{triangle[c], triangle[(c + 1) % 3]};
       const auto [it, inserted] = edge_owner.emplace(edge, t);
+      if (const int uses = edge_uses.at(std::minmax(edge.first, edge.second)); uses > 2)
+        throw GeometryError(mesh.where(t) + ": the edge between vertices " +
+                            std::to_string(edge.first) + " and " + std::to_string(edge.second) +
+                            " is shared by " + std::to_string(uses) +
+                            " triangles (a non-manifold edge: two solids touching along an edge "
+                            "are not one object)");
       if (!inserted)
         throw GeometryError(mesh.where(t) + ": edge between vertices " +
                             std::to_string(edge.first) + " and " + std::to_string(edge.second) +
@@ -135,6 +196,7 @@ void validate_closed_mesh(Mesh& mesh) {
                         mesh.where(crossing->second) +
                         " (volume, centre of mass and faces need a closed surface that does not "
                         "cross itself)");
+  check_one_solid(mesh, edge_owner);
   if (volume < 0)  // consistently inward: the same solid, so turn every triangle outward
     for (auto& triangle : mesh.triangles) std::swap(triangle[1], triangle[2]);
 }

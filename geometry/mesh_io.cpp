@@ -12,7 +12,9 @@
 #include <sstream>
 #include <vector>
 
+#include "spar/common/input_file.hpp"
 #include "spar/common/number.hpp"
+#include "spar/common/text.hpp"
 
 namespace spar::geometry {
 namespace {
@@ -29,10 +31,20 @@ std::string trim(const std::string& text) {
   return text.substr(first, text.find_last_not_of(" \t\r") - first + 1);
 }
 
-// Non-blank lines split into tokens, comments kept apart.
-std::vector<Line> tokenize(const std::string& text) {
+// Non-blank lines split into tokens, comments kept apart. The text must be UTF-8 without control
+// characters (common/text.hpp): comments become face names, which reports print.
+std::vector<Line> tokenize(const std::string& text, const std::string& source) {
+  try {
+    check_utf8(text, source);
+  } catch (const TextError& error) {
+    throw GeometryError(error.what());
+  }
+  const std::string normalized = normalize_newlines(text);
+  if (const auto at = find_control_character(normalized, /*allow_newlines=*/true))
+    throw GeometryError(source + ":" + line_column(normalized, *at) + ": control character " +
+                        single_quoted(normalized.substr(*at, 1)) + " in a mesh file");
   std::vector<Line> lines;
-  std::istringstream stream(text);
+  std::istringstream stream(normalized);
   std::string raw;
   for (int number = 1; std::getline(stream, raw); ++number) {
     Line line;
@@ -60,10 +72,10 @@ constexpr double kMaxCoordinate = 1e12;
 double to_double(const std::string& token, const std::string& source, const Line& line) {
   const std::optional<double> value = parse_number(token);
   if (!value || std::isnan(*value))
-    throw GeometryError(at(source, line) + "expected a number, got '" + token + "'");
+    throw GeometryError(at(source, line) + "expected a number, got " + single_quoted(token));
   if (!(std::abs(*value) <= kMaxCoordinate))
-    throw GeometryError(at(source, line) + "coordinate '" + token +
-                        "' is too large: coordinates must lie within +-" +
+    throw GeometryError(at(source, line) + "coordinate " + single_quoted(token) +
+                        " is too large: coordinates must lie within +-" +
                         format_number(kMaxCoordinate) +
                         " (areas, volumes and moments would overflow)");
   return *value;
@@ -73,7 +85,7 @@ long to_integer(const std::string& token, const std::string& source, const Line&
   long value = 0;
   const auto [end, error] = std::from_chars(token.data(), token.data() + token.size(), value);
   if (error != std::errc() || end != token.data() + token.size())
-    throw GeometryError(at(source, line) + "expected an integer, got '" + token + "'");
+    throw GeometryError(at(source, line) + "expected an integer, got " + single_quoted(token));
   return value;
 }
 
@@ -94,7 +106,7 @@ std::string lower(std::string text) {
 }  // namespace
 
 Mesh parse_off(const std::string& text, const std::string& source) {
-  const std::vector<Line> lines = tokenize(text);
+  const std::vector<Line> lines = tokenize(text, source);
   if (lines.empty()) throw GeometryError(source + ": empty file: expected an OFF mesh");
   std::size_t cursor = 0;
   std::vector<std::string> counts = lines[0].tokens;
@@ -105,8 +117,8 @@ Mesh parse_off(const std::string& text, const std::string& source) {
       counts = lines[++cursor].tokens;
     }
   } else if (std::isalpha(static_cast<unsigned char>(counts[0][0]))) {
-    throw GeometryError(at(source, lines[0]) + "unsupported header '" + counts[0] +
-                        "' (only plain OFF is read)");
+    throw GeometryError(at(source, lines[0]) + "unsupported header " + single_quoted(counts[0]) +
+                        " (only plain OFF is read)");
   }
   const Line& count_line = lines[cursor++];
   if (counts.size() < 2)
@@ -115,7 +127,9 @@ Mesh parse_off(const std::string& text, const std::string& source) {
   const long face_count = to_integer(counts[1], source, count_line);
   if (vertex_count < 0 || face_count < 0)
     throw GeometryError(at(source, count_line) + "counts must not be negative");
-  if (lines.size() - cursor < static_cast<std::size_t>(vertex_count + face_count))
+  const std::size_t remaining = lines.size() - cursor;  // compared one count at a time: no overflow
+  if (static_cast<std::size_t>(vertex_count) > remaining ||
+      static_cast<std::size_t>(face_count) > remaining - static_cast<std::size_t>(vertex_count))
     throw GeometryError(source + ": file ends early: expected " + std::to_string(vertex_count) +
                         " vertices and " + std::to_string(face_count) + " polygons");
   MeshBuilder builder(source);
@@ -125,7 +139,7 @@ Mesh parse_off(const std::string& text, const std::string& source) {
     const Line& line = lines[cursor++];
     const long n = to_integer(line.tokens[0], source, line);
     if (n < 0 || line.tokens.size() < static_cast<std::size_t>(n) + 1)
-      throw GeometryError(at(source, line) + "polygon says " + line.tokens[0] +
+      throw GeometryError(at(source, line) + "polygon says " + single_quoted(line.tokens[0]) +
                           " vertices but lists fewer");
     std::vector<int> loop;
     for (long k = 1; k <= n; ++k)
@@ -141,7 +155,7 @@ Mesh parse_obj(const std::string& text, const std::string& source) {
   MeshBuilder builder(source);
   std::string current_name;
   int vertex_count = 0;
-  for (const Line& line : tokenize(text)) {
+  for (const Line& line : tokenize(text, source)) {
     const std::string& keyword = line.tokens[0];
     if (keyword == "v") {
       builder.add_vertex(read_point(line, 1, source));
@@ -164,7 +178,7 @@ Mesh parse_obj(const std::string& text, const std::string& source) {
         current_name += (k > 1 ? " " : "") + line.tokens[k];
     } else if (keyword != "vt" && keyword != "vn" && keyword != "s" && keyword != "usemtl" &&
                keyword != "mtllib" && keyword != "vp") {
-      throw GeometryError(at(source, line) + "unknown OBJ statement '" + keyword + "'");
+      throw GeometryError(at(source, line) + "unknown OBJ statement " + single_quoted(keyword));
     }
   }
   return std::move(builder).build();
@@ -172,33 +186,37 @@ Mesh parse_obj(const std::string& text, const std::string& source) {
 
 namespace {
 
-// The file's bytes and its lower-case extension, one of the three formats.
-std::pair<std::string, std::string> mesh_file_content(const std::string& path) {
-  if (std::filesystem::is_directory(path))
-    throw GeometryError(path + ": is a directory, not a mesh file (.off, .obj or .stl)");
+// The file's bytes (through the one input-file reader) and its lower-case extension, one of the
+// three formats; `source` is the path as messages print it.
+std::pair<std::string, std::string> mesh_file_content(const std::string& path,
+                                                      const std::string& source) {
+  std::string content;
+  try {
+    content = read_input_file(path, "mesh file", kMaxMeshFileBytes);
+  } catch (const InputError& error) {
+    throw GeometryError(error.what());
+  }
   const std::string extension = lower(path.substr(std::min(path.size(), path.rfind('.'))));
   if (extension != ".off" && extension != ".obj" && extension != ".stl")
-    throw GeometryError(path + ": unknown mesh format '" + extension +
-                        "' (expected .off, .obj or .stl)");
-  std::ifstream file(path, std::ios::binary);
-  if (!file) throw GeometryError(path + ": cannot open the file");
-  std::stringstream content;
-  content << file.rdbuf();
-  return {content.str(), extension};
+    throw GeometryError(source + ": unknown mesh format " + single_quoted(extension) +
+                        " (expected .off, .obj or .stl)");
+  return {content, extension};
 }
 
 }  // namespace
 
 Mesh read_mesh_file(const std::string& path) {
-  const auto [content, extension] = mesh_file_content(path);
-  if (extension == ".stl") return parse_stl(content, path);
-  return extension == ".off" ? parse_off(content, path) : parse_obj(content, path);
+  const std::string source = printable(path);
+  const auto [content, extension] = mesh_file_content(path, source);
+  if (extension == ".stl") return parse_stl(content, source);
+  return extension == ".off" ? parse_off(content, source) : parse_obj(content, source);
 }
 
 Mesh read_triangle_soup(const std::string& path) {
-  const auto [content, extension] = mesh_file_content(path);
-  if (extension == ".stl") return parse_stl_soup(content, path);
-  return extension == ".off" ? parse_off(content, path) : parse_obj(content, path);
+  const std::string source = printable(path);
+  const auto [content, extension] = mesh_file_content(path, source);
+  if (extension == ".stl") return parse_stl_soup(content, source);
+  return extension == ".off" ? parse_off(content, source) : parse_obj(content, source);
 }
 
 void write_off(const Mesh& mesh, std::ostream& out, const std::string& header) {

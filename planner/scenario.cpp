@@ -1,8 +1,6 @@
 #include "spar/planner/scenario.hpp"
 
-#include <fstream>
-#include <sstream>
-
+#include "spar/common/input_file.hpp"
 #include "spar/common/units.hpp"
 #include "spar/planner/error.hpp"
 #include "spar/planner/internal/scenario_yaml.hpp"
@@ -84,16 +82,13 @@ Scenario Scenario::resolved(std::string_view name, std::size_t hypothesis) const
 }
 
 Scenario load_scenario(const std::filesystem::path& path) {
-  std::error_code error;
-  if (!std::filesystem::is_regular_file(path, error))
-    throw ScenarioError(
-        path.string() + ": cannot read the scenario file: " +
-        (std::filesystem::exists(path, error) ? "not a regular file" : "no such file"));
-  std::ifstream file(path, std::ios::binary);
-  if (!file) throw ScenarioError(path.string() + ": cannot read the scenario file");
-  std::ostringstream text;
-  text << file.rdbuf();  // an empty file reads as "" (the parser then says what is missing)
-  Scenario scenario = parse_scenario(text.str(), path.string(), path.parent_path());
+  std::string text;
+  try {
+    text = read_input_file(path, "scenario file", kMaxYamlFileBytes);
+  } catch (const InputError& error) {
+    throw ScenarioError(error.what());
+  }
+  Scenario scenario = parse_scenario(text, path.string(), path.parent_path());
   scenario.path = path;
   return scenario;
 }

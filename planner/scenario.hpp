@@ -197,6 +197,9 @@ struct Scenario {
   SensingSettings sensing{};
   geometry::GraspQuantization grasping{};  // how grasps are quantized (SPAR's grasp labels)
   std::vector<Goal> goals;                 // in file order
+  // "file:line:col: ..." for what loads but looks wrong (a mesh whose size is implausible in the
+  // file's length unit); the CLI prints them on stderr, Python issues them as warnings.
+  std::vector<std::string> warnings;
 
   // Throws ScenarioError naming the known objects when there is none called `name`.
   [[nodiscard]] const ObjectSpec& object(std::string_view name) const;

@@ -219,6 +219,17 @@ planner::InstanceStep inserted_step(const planner::PlanResult& result,
   return step;
 }
 
+// Precondition references of the planner's (instance step, index) as chosen-step indices.
+std::vector<PreconditionRef> turned_refs(const planner::InstanceAnalysis& analysis,
+                                         const std::vector<planner::PreconditionRef>& refs) {
+  std::vector<PreconditionRef> out;
+  for (const planner::PreconditionRef& ref : refs)
+    for (std::size_t s = 0; s < analysis.steps.size(); ++s)
+      if (!analysis.steps[s].inserted && analysis.steps[s].step.instance_step == ref.instance_step)
+        out.push_back({s, ref.index});
+  return out;
+}
+
 std::vector<Step> analysed_steps(const planner::PlanResult& result,
                                  const planner::PlanInstance& instance,
                                  const planner::InstanceAnalysis& analysis) {
@@ -235,6 +246,8 @@ std::vector<Step> analysed_steps(const planner::PlanResult& result,
       out = build_step(result, instance.steps[analysed.step.instance_step]);
     }
     out.inserted = analysed.inserted;
+    if (analysed.inserted && analysed.step.repair >= 0)
+      out.turned = turned_refs(analysis, analysis.repairs.at(analysed.step.repair).turned);
     if (analysed.step.grasp >= 0 && (analysed.step.effect == planner::Effect::kGrasp ||
                                      analysed.step.effect == planner::Effect::kReduce))
       out.finger_opening = result.world.gripper().max_opening * length_scale(result);
@@ -284,10 +297,26 @@ std::vector<Repair> build_repairs(const planner::PlanResult& result,
     };
     repairs.push_back({attempt.action, result.world.scenario().objects.at(attempt.object).name,
                        instance.steps.at(attempt.for_instance_step).step, attempt.helped,
+                       turned_refs(analysis, attempt.turned),
                        bounds_of(attempt.before, attempt.verdicts_before),
                        bounds_of(attempt.after, attempt.verdicts_after)});
   }
   return repairs;
+}
+
+std::vector<RepairSearch> build_repair_searches(const planner::PlanInstance& instance,
+                                                const planner::InstanceAnalysis& analysis) {
+  std::vector<RepairSearch> searches;
+  for (const planner::RepairSearch& search : analysis.repair_searches) {
+    RepairSearch& out = searches.emplace_back();
+    out.for_step = instance.steps.at(search.for_instance_step).step;
+    out.candidates = search.candidates;
+    out.sets_tried = search.sets_tried;
+    out.kept = search.kept;
+    for (const auto& [kind, count] : search.dropped) out.dropped.emplace_back(kind, count);
+    out.holds = search.holds;
+  }
+  return searches;
 }
 
 std::vector<UncertaintyVariable> build_variables(const planner::PlanResult& result,
@@ -395,6 +424,7 @@ Chosen build_chosen(const planner::PlanResult& result, std::size_t instance_inde
   out.steps = analysed_steps(result, instance, *analysis);
   out.errors = analysis->errors;
   out.repairs = build_repairs(result, instance, *analysis);
+  out.repair_searches = build_repair_searches(instance, *analysis);
   out.uncertainty_variables = build_variables(result, *analysis);
   if (instance_index == result.chosen_index && analysis == result.chosen_analysis() &&
       result.probability && result.tolerances)

@@ -91,8 +91,8 @@ struct Robot {
 // ---- phase 1: the plan family ----
 
 struct FamilyStep {
-  int id{0};           // 0 the initial state, 1 the finish
-  std::string action;  // template name, or start / finish
+  int id{0};                     // 0 the initial state, 1 the finish
+  std::string action;            // template name, or start / finish
   Nullable<std::string> effect;  // the domain's effect (docs/domain.md); null for start / finish
   std::vector<std::string> args;
   std::string text;  // "pickup(peg, grasp_1, initial_peg)"
@@ -351,6 +351,17 @@ struct Recovery {
 // One step of the chosen instance, in execution order. The presence of a member follows the
 // step's kind: a grasp for manipulations, poses where the step has a position, the fixed object
 // for assemblies, phase 2's results when phase 2 ran.
+// A precondition of a chosen step: index into Chosen::steps and into its preconditions.
+struct PreconditionRef {
+  std::size_t step{0};
+  int index{0};
+  template <class Self, class Field>
+  static void fields(Self& s, Field&& field) {
+    field("step", s.step);
+    field("index", s.index);
+  }
+};
+
 struct Step {
   int id{0};  // the family step's id; steps phase 2 inserted get new ids
   std::string action;
@@ -367,6 +378,8 @@ struct Step {
   std::optional<Matrix> held_pose;
   // Phase 2:
   std::optional<bool> inserted;
+  // Inserted steps: the preconditions it turned to satisfied (never empty).
+  std::optional<std::vector<PreconditionRef>> turned;
   std::optional<double> finger_opening;  // pickups and squeezes
   std::optional<std::vector<Precondition>> preconditions;
   std::optional<bool> failed;
@@ -389,6 +402,7 @@ struct Step {
     field("fixed_pose", s.fixed_pose);
     field("held_pose", s.held_pose);
     field("inserted", s.inserted);
+    field("turned", s.turned);
     field("finger_opening", s.finger_opening);
     field("preconditions", s.preconditions);
     field("failed", s.failed);
@@ -419,6 +433,7 @@ struct Repair {
   std::string object;
   int for_step{0};  // id of the step whose precondition failed
   bool helped{false};
+  std::vector<PreconditionRef> turned;  // as Step::turned
   std::vector<RepairBound> before, after;
   template <class Self, class Field>
   static void fields(Self& s, Field&& field) {
@@ -426,6 +441,7 @@ struct Repair {
     field("object", s.object);
     field("for_step", s.for_step);
     field("helped", s.helped);
+    field("turned", s.turned);
     field("before", s.before);
     field("after", s.after);
   }
@@ -583,12 +599,30 @@ struct Probability {
 };
 
 // The chosen plan instance (or, from PlanRun.analyse, any examined one).
+// The repair search for one failing step: counts of what it tried, kept and dropped.
+struct RepairSearch {
+  int for_step{0};  // id of the failing step
+  int candidates{0}, sets_tried{0}, kept{0};
+  NamedValues<int> dropped;  // per kind: range-scan, squeeze
+  bool holds{false};
+  template <class Self, class Field>
+  static void fields(Self& s, Field&& field) {
+    field("for_step", s.for_step);
+    field("candidates", s.candidates);
+    field("sets_tried", s.sets_tried);
+    field("kept", s.kept);
+    field("dropped", s.dropped);
+    field("holds", s.holds);
+  }
+};
+
 struct Chosen {
   std::size_t index{0};  // 0-based, into the enumerated instances
   std::vector<Step> steps;
   // Phase 2 (absent when it did not run):
   std::optional<int> errors;
   std::optional<std::vector<Repair>> repairs;
+  std::optional<std::vector<RepairSearch>> repair_searches;
   std::optional<std::vector<UncertaintyVariable>> uncertainty_variables;
   std::optional<Probability> probability;
   template <class Self, class Field>
@@ -597,6 +631,7 @@ struct Chosen {
     field("steps", s.steps);
     field("errors", s.errors);
     field("repairs", s.repairs);
+    field("repair_searches", s.repair_searches);
     field("uncertainty_variables", s.uncertainty_variables);
     field("probability", s.probability);
   }

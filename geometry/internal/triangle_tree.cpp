@@ -1,6 +1,7 @@
 #include "spar/geometry/internal/triangle_tree.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <numeric>
 
 namespace spar::geometry::internal {
@@ -93,6 +94,39 @@ bool TriangleTree::for_each_in_box(const Eigen::Vector3d& low, const Eigen::Vect
   return search(
       [&](const Eigen::Vector3d& box_low, const Eigen::Vector3d& box_high) {
         return (box_low.array() <= high.array()).all() && (low.array() <= box_high.array()).all();
+      },
+      visit);
+}
+
+bool TriangleTree::for_each_in_oriented_box(const Eigen::Isometry3d& box_to_tree,
+                                            const Eigen::Vector3d& low, const Eigen::Vector3d& high,
+                                            const std::function<bool(int)>& visit) const {
+  // Separating axes (Gottschalk's OBB test): the three axes of the tree's frame, the box's three
+  // and their nine cross products. Two convex boxes are disjoint iff one of them separates them;
+  // a rounding error can only make a test say "meets" where the boxes are disjoint by less than
+  // about 1e-15 of their size, which the exact test then settles (the boxes are padded anyway).
+  const Eigen::Matrix3d axes = box_to_tree.linear();  // columns: the box's axes
+  const Eigen::Vector3d centre = box_to_tree * ((low + high) / 2);
+  const Eigen::Vector3d half = (high - low) / 2;
+  const Eigen::Matrix3d magnitude = axes.cwiseAbs();
+  return search(
+      [&](const Eigen::Vector3d& node_low, const Eigen::Vector3d& node_high) {
+        const Eigen::Vector3d extent = (node_high - node_low) / 2;
+        const Eigen::Vector3d offset = centre - (node_low + node_high) / 2;  // tree frame
+        for (int i = 0; i < 3; ++i)                                          // the tree's axes
+          if (std::abs(offset[i]) > extent[i] + magnitude.row(i).dot(half)) return false;
+        const Eigen::Vector3d local = axes.transpose() * offset;  // in the box's axes
+        for (int j = 0; j < 3; ++j)                               // the box's axes
+          if (std::abs(local[j]) > half[j] + magnitude.col(j).dot(extent)) return false;
+        for (int i = 0; i < 3; ++i)  // e_i x a_j
+          for (int j = 0; j < 3; ++j) {
+            const int i1 = (i + 1) % 3, i2 = (i + 2) % 3, j1 = (j + 1) % 3, j2 = (j + 2) % 3;
+            const double distance = std::abs(offset[i2] * axes(i1, j) - offset[i1] * axes(i2, j));
+            const double reach = extent[i1] * magnitude(i2, j) + extent[i2] * magnitude(i1, j) +
+                                 half[j1] * magnitude(i, j2) + half[j2] * magnitude(i, j1);
+            if (distance > reach) return false;
+          }
+        return true;
       },
       visit);
 }

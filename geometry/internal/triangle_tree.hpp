@@ -15,6 +15,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <array>
 #include <functional>
 #include <vector>
@@ -30,6 +31,13 @@ class TriangleTree {
   // returns true; returns whether one did.
   bool for_each_in_box(const Eigen::Vector3d& low, const Eigen::Vector3d& high,
                        const std::function<bool(int)>& visit) const;
+  // The same for the triangles whose box meets the oriented box [low, high] of the frame
+  // `box_to_tree` (a rigid transform into the tree's frame). Pruning by the oriented box itself,
+  // not by the axis-aligned box around it, is what keeps the grasp checks near O(log n + k) on a
+  // finely tessellated object: the axis-aligned box of a tilted palm holds much of the mesh.
+  bool for_each_in_oriented_box(const Eigen::Isometry3d& box_to_tree, const Eigen::Vector3d& low,
+                                const Eigen::Vector3d& high,
+                                const std::function<bool(int)>& visit) const;
   // The same for the triangles whose box meets the segment p-q.
   bool any_on_segment(const Eigen::Vector3d& p, const Eigen::Vector3d& q,
                       const std::function<bool(int)>& visit) const;

@@ -3,11 +3,13 @@
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
-#include <fstream>
+#include <map>
 #include <optional>
 #include <set>
 #include <sstream>
 
+#include "spar/common/input_file.hpp"
+#include "spar/common/text.hpp"
 #include "spar/planner/domain.hpp"
 #include "spar/planner/error.hpp"
 #include "spar/planner/internal/yaml_syntax.hpp"
@@ -18,16 +20,21 @@ namespace {
 // Constants an atom may use besides parameter names.
 const std::set<std::string, std::less<>> kConstants = {"empty"};
 
+// The predicates the planner states itself (the initial state, goals and phase 2's effects) and
+// their arities: gripper(empty), at(object, position), holding(object, grasp), assembled(held,
+// fixed).
+const std::map<std::string, std::size_t, std::less<>> kPlannerPredicates = {
+    {"gripper", 1}, {"at", 2}, {"holding", 2}, {"assembled", 2}};
+
 class DomainReader {
  public:
-  explicit DomainReader(std::string source) : source_(std::move(source)) {}
+  // `source` may come from the file system: it is kept printable (common/text.hpp).
+  explicit DomainReader(const std::string& source) : source_(printable(source)) {}
 
+  // What a message echoes from the file passes through printable() (control characters that
+  // YAML escapes produce).
   [[noreturn]] void fail(const YAML::Mark& mark, const std::string& what) const {
-    std::ostringstream out;
-    out << source_;
-    if (!mark.is_null()) out << ':' << mark.line + 1 << ':' << mark.column + 1;
-    out << ": " << what;
-    throw DomainError(out.str());
+    throw DomainError(internal::yaml_where(source_, mark) + ": " + printable(what));
   }
 
   // Checks that `node` is a map whose keys are all in `allowed`.
@@ -35,7 +42,7 @@ class DomainReader {
                   std::initializer_list<std::string_view> allowed) const {
     if (!node.IsMap()) fail(node.Mark(), what + " must be a map");
     for (const auto& entry : node) {
-      const std::string key = entry.first.as<std::string>();
+      const std::string key = scalar(entry.first, "a key of " + what);
       if (std::find(allowed.begin(), allowed.end(), key) == allowed.end()) {
         std::string known;
         for (std::string_view k : allowed) known += (known.empty() ? "" : ", ") + std::string(k);
@@ -45,9 +52,14 @@ class DomainReader {
     }
   }
 
+  // One line of text: no control characters (a NUL or a backspace from a YAML escape would print
+  // as something else in every report).
   std::string scalar(const YAML::Node& node, const std::string& what) const {
     if (!node.IsScalar()) fail(node.Mark(), what + " must be a text");
-    return node.as<std::string>();
+    if (find_control_character(node.Scalar()))
+      fail(node.Mark(), what + " " + single_quoted(node.Scalar()) +
+                            " holds a control character: texts must be printable");
+    return node.Scalar();
   }
 
   std::vector<std::string> scalars(const YAML::Node& node, const std::string& what) const {
@@ -139,6 +151,7 @@ class DomainReader {
     GeometricPrecondition geometric;
     geometric.establishes = parse_atom(node["for"], "'for' goal");
     check_arguments(action, geometric.establishes, node["for"]);
+    check_arity(geometric.establishes, node["for"]);
     const std::string text = constraint.str();
     const auto expect_arguments = [&](std::size_t count) {
       if (constraint.args.size() != count)
@@ -186,8 +199,29 @@ class DomainReader {
     for (const auto& item : node) {
       atoms.push_back(parse_atom(item, what + " atom"));
       check_arguments(action, atoms.back(), item);
+      check_arity(atoms.back(), item);
     }
     return atoms;
+  }
+
+  // A predicate the planner states itself has its arity (kPlannerPredicates); any other keeps the
+  // arity of its first use in the file, so at(object) cannot silently never match at(o, p).
+  void check_arity(const Atom& atom, const YAML::Node& node) const {
+    std::size_t expected = atom.args.size();
+    std::string where = "the planner's " + atom.predicate + "(...)";
+    if (const auto known = kPlannerPredicates.find(atom.predicate);
+        known != kPlannerPredicates.end()) {
+      expected = known->second;
+    } else if (const auto [first, inserted] =
+                   arities_.try_emplace(atom.predicate, atom.args.size(), node.Mark());
+               !inserted) {
+      expected = first->second.first;
+      where = "its first use at " + internal::yaml_where(source_, first->second.second);
+    }
+    if (atom.args.size() != expected)
+      fail(node.Mark(), single_quoted(atom.str()) + " has " + std::to_string(atom.args.size()) +
+                            " argument(s), but " + atom.predicate + " takes " +
+                            std::to_string(expected) + " (" + where + ")");
   }
 
   // The first parameter of `type` (position also finds a placement), or nullptr: the instance
@@ -281,14 +315,13 @@ class DomainReader {
       fail(parameters ? parameters.Mark() : node.Mark(),
            "action '" + action.name + "' needs 'parameters' as a map name: type");
     for (const auto& entry : parameters) {
-      const std::string name = entry.first.as<std::string>();
+      const std::string name = scalar(entry.first, "parameter name");
       if (action.parameter_index(name) >= 0)
         fail(entry.first.Mark(), "parameter '" + name + "' appears twice");
       action.parameters.push_back(parse_parameter(name, entry.second));
     }
     for (const auto& entry : parameters) {
-      const Parameter& parameter =
-          action.parameters[action.parameter_index(entry.first.as<std::string>())];
+      const Parameter& parameter = action.parameters[action.parameter_index(entry.first.Scalar())];
       if (parameter.type == ParameterType::kObject) continue;
       const int owner = action.parameter_index(parameter.of);
       if (owner < 0 || action.parameters[owner].type != ParameterType::kObject)
@@ -331,12 +364,7 @@ class DomainReader {
   }
 
   Domain parse(std::string_view text) const {
-    YAML::Node root;
-    try {
-      root = YAML::Load(std::string(text));
-    } catch (const YAML::Exception& error) {
-      fail(error.mark, internal::yaml_syntax_error(error));
-    }
+    const YAML::Node root = internal::load_yaml_document<DomainError>(text, source_);
     Domain domain;
     domain.source = source_;
     expect_map(root, "the domain file", {"actions", "verifications", "recoveries"});
@@ -386,6 +414,8 @@ class DomainReader {
 
  private:
   std::string source_;
+  // Predicate -> arity and where it was first used (check_arity).
+  mutable std::map<std::string, std::pair<std::size_t, YAML::Mark>> arities_;
 };
 
 }  // namespace
@@ -395,14 +425,13 @@ Domain parse_domain(std::string_view text, const std::string& source) {
 }
 
 Domain load_domain(const std::filesystem::path& path) {
-  std::error_code error;
-  if (std::filesystem::is_directory(path, error))
-    throw DomainError(path.string() + ": is a directory, not a domain file");
-  std::ifstream in(path);
-  if (!in) throw DomainError(path.string() + ": cannot open the domain file");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return parse_domain(text.str(), path.string());
+  std::string text;
+  try {
+    text = read_input_file(path, "domain file", kMaxYamlFileBytes);
+  } catch (const InputError& error) {
+    throw DomainError(error.what());
+  }
+  return parse_domain(text, path.string());
 }
 
 }  // namespace spar::planner

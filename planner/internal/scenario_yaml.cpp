@@ -11,8 +11,12 @@
 #include <numbers>
 #include <optional>
 #include <set>
+#include <sstream>
 #include <utility>
 
+#include "spar/common/input_file.hpp"
+#include "spar/common/limits.hpp"
+#include "spar/common/text.hpp"
 #include "spar/common/units.hpp"
 #include "spar/geometry/builtin_objects.hpp"
 #include "spar/geometry/mesh_io.hpp"
@@ -78,10 +82,8 @@ std::string describe(const YAML::Node& node) {
       return "a map";
     case YAML::NodeType::Sequence:
       return "a list";
-    case YAML::NodeType::Scalar: {
-      std::string quoted(1, '\'');  // appended piecewise: GCC 12 warns (-Wrestrict) on "'" + s
-      return quoted.append(node.Scalar()).append(1, '\'');
-    }
+    case YAML::NodeType::Scalar:
+      return single_quoted(node.Scalar());
     default:
       return "nothing";
   }
@@ -125,8 +127,9 @@ class Fields {
 
 class Reader {
  public:
-  Reader(std::string source, std::filesystem::path base_dir)
-      : source_(std::move(source)), base_dir_(std::move(base_dir)) {}
+  // `source` may come from the file system: it is kept printable (common/text.hpp).
+  Reader(const std::string& source, std::filesystem::path base_dir)
+      : source_(printable(source)), base_dir_(std::move(base_dir)) {}
 
   [[nodiscard]] Scenario read(std::string_view document_text);
 
@@ -138,8 +141,10 @@ class Reader {
     }
     return location;
   }
+  // Every message goes through printable(): what it echoes from the file (a key, a scalar) can
+  // hold control characters that YAML escapes such as "\b" or "\0" produce.
   [[noreturn]] void fail(const YAML::Node& node, const std::string& what) const {
-    throw ScenarioError(where(node).str() + ": " + what);
+    throw ScenarioError(where(node).str() + ": " + printable(what));
   }
 
   [[nodiscard]] const YAML::Node& expect_map(const YAML::Node& node,
@@ -152,9 +157,15 @@ class Reader {
     if (!node.IsSequence()) fail(node, path + ": expected a list, got " + describe(node));
     return node;
   }
-  [[nodiscard]] std::string text(const YAML::Node& node, const std::string& path) const {
+  // A name or a one-line text: no control characters (a NUL or a backspace from a YAML escape
+  // would print as something else in every report).
+  [[nodiscard]] std::string text(const YAML::Node& node, const std::string& path,
+                                 bool lines = false) const {
     if (!node.IsScalar() || node.Scalar().empty())
       fail(node, path + ": expected a name, got " + describe(node));
+    if (const auto at = find_control_character(node.Scalar(), lines))
+      fail(node, path + ": " + describe(node) + " holds a control character (byte " +
+                     std::to_string(*at + 1) + "): names and texts must be printable");
     return node.Scalar();
   }
   [[nodiscard]] std::string identifier(const YAML::Node& node, const std::string& path) const {
@@ -166,27 +177,18 @@ class Reader {
   }
 
  private:
-  // Numbers in the file's units, converted to metres and radians.
   [[nodiscard]] double number(const YAML::Node& node, const std::string& path) const;
-  [[nodiscard]] int integer(const YAML::Node& node, const std::string& path) const;
   [[nodiscard]] std::vector<double> numbers(const YAML::Node& node, const std::string& path,
                                             std::size_t count) const;
-  [[nodiscard]] double length(const YAML::Node& node, const std::string& path) const {
-    return number(node, path) * units_.metres_per_length_unit();
-  }
-  [[nodiscard]] double angle(const YAML::Node& node, const std::string& path) const {
-    return number(node, path) * units_.radians_per_angle_unit();
-  }
-  [[nodiscard]] double non_negative(double value, const YAML::Node& node,
-                                    const std::string& path) const {
-    if (value < 0) fail(node, path + ": must be >= 0, got " + node.Scalar());
-    return value;
-  }
-  [[nodiscard]] double positive(double value, const YAML::Node& node,
-                                const std::string& path) const {
-    if (!(value > 0)) fail(node, path + ": must be > 0, got " + node.Scalar());
-    return value;
-  }
+  // A number in the file's units, converted to metres or radians by the quantity of the row
+  // `limit_key` of common/limits.hpp and checked against it.
+  [[nodiscard]] double quantity(const YAML::Node& node, const std::string& path,
+                                std::string_view limit_key) const;
+  [[nodiscard]] std::vector<double> quantities(const YAML::Node& node, const std::string& path,
+                                               std::size_t count, std::string_view limit_key) const;
+  // Refuses a list or map holding more entries than the row `limit_key` allows.
+  void check_count(const YAML::Node& node, const std::string& path,
+                   std::string_view limit_key) const;
 
   void read_units(const YAML::Node& node, Units& units) const;
   [[nodiscard]] Transform rigid_pose(const YAML::Node& node, const std::string& path) const;
@@ -224,9 +226,14 @@ class Reader {
   [[nodiscard]] AssembledGoal read_assembled(const YAML::Node& node, const std::string& path,
                                              const Scenario& scenario) const;
 
+  // Adds a warning to the scenario when a mesh's size is implausible in the file's length unit.
+  void check_mesh_size(const geometry::Mesh& mesh, const YAML::Node& node,
+                       const std::string& path) const;
+
   std::string source_;
   std::filesystem::path base_dir_;
-  Units units_;  // the file's, once read_units has run
+  Units units_;                                // the file's, once read_units has run
+  mutable std::vector<std::string> warnings_;  // Scenario::warnings, in file order
 };
 
 Fields::Fields(const Reader& reader, const YAML::Node& map, std::string path,
@@ -279,16 +286,6 @@ double Reader::number(const YAML::Node& node, const std::string& path) const {
   return value;
 }
 
-int Reader::integer(const YAML::Node& node, const std::string& path) const {
-  if (!node.IsScalar()) fail(node, path + ": expected a whole number, got " + describe(node));
-  const std::string& scalar = node.Scalar();
-  int value = 0;
-  const auto [end, error] = std::from_chars(scalar.data(), scalar.data() + scalar.size(), value);
-  if (error != std::errc() || end != scalar.data() + scalar.size())
-    fail(node, path + ": expected a whole number, got " + describe(node));
-  return value;
-}
-
 std::vector<double> Reader::numbers(const YAML::Node& node, const std::string& path,
                                     std::size_t count) const {
   if (!node.IsSequence() || node.size() != count)
@@ -299,6 +296,36 @@ std::vector<double> Reader::numbers(const YAML::Node& node, const std::string& p
   for (std::size_t i = 0; i < count; ++i)
     values.push_back(number(node[i], path + "[" + std::to_string(i) + "]"));
   return values;
+}
+
+double Reader::quantity(const YAML::Node& node, const std::string& path,
+                        std::string_view limit_key) const {
+  const NumericLimit& limit = numeric_limit(limit_key);
+  GivenUnit unit;
+  if (limit.quantity == Quantity::kLength)
+    unit = {units_.metres_per_length_unit(), units_.length_name()};
+  if (limit.quantity == Quantity::kAngle)
+    unit = {units_.radians_per_angle_unit(), units_.angle_name()};
+  const double value = number(node, path) * unit.si_per_unit;
+  if (const auto problem = limit_problem(limit, value, unit, node.Scalar()))
+    fail(node, path + ": " + *problem);
+  return value;
+}
+
+std::vector<double> Reader::quantities(const YAML::Node& node, const std::string& path,
+                                       std::size_t count, std::string_view limit_key) const {
+  (void)numbers(node, path, count);  // the shape and the numbers first
+  std::vector<double> values;
+  for (std::size_t i = 0; i < count; ++i)
+    values.push_back(quantity(node[i], path + "[" + std::to_string(i) + "]", limit_key));
+  return values;
+}
+
+void Reader::check_count(const YAML::Node& node, const std::string& path,
+                         std::string_view limit_key) const {
+  const std::size_t count = node.size();
+  if (const auto problem = limit_problem(numeric_limit(limit_key), static_cast<double>(count)))
+    fail(node, path + ": holds " + std::to_string(count) + " entries; their number " + *problem);
 }
 
 void Reader::read_units(const YAML::Node& node, Units& units) const {
@@ -343,7 +370,11 @@ Transform Reader::rigid_pose(const Fields& pose) const {
       fail(matrix, path + ": expected 4 rows of 4 numbers, got " + describe(matrix));
     std::vector<double> values;
     for (std::size_t r = 0; r < 4; ++r) {
-      const std::vector<double> row = numbers(matrix[r], path + "[" + std::to_string(r) + "]", 4);
+      const std::string row_path = path + "[" + std::to_string(r) + "]";
+      std::vector<double> row = numbers(matrix[r], row_path, 4);
+      if (r < 3)  // the translation, in the file's length unit (converted below)
+        row[3] = quantity(matrix[r][3], row_path + "[3]", "pose.position") /
+                 units_.metres_per_length_unit();
       values.insert(values.end(), row.begin(), row.end());
     }
     Transform transform;
@@ -357,13 +388,12 @@ Transform Reader::rigid_pose(const Fields& pose) const {
   }
   Transform transform = Transform::Identity();
   if (const YAML::Node xyz = pose.get("xyz"); xyz.IsDefined()) {
-    const std::vector<double> v = numbers(xyz, pose.path("xyz"), 3);
-    transform.translation() = Eigen::Vector3d(v[0], v[1], v[2]) * units_.metres_per_length_unit();
+    const std::vector<double> v = quantities(xyz, pose.path("xyz"), 3, "pose.position");
+    transform.translation() = Eigen::Vector3d(v[0], v[1], v[2]);
   }
   if (const YAML::Node rpy = pose.get("rpy"); rpy.IsDefined()) {
-    const std::vector<double> v = numbers(rpy, pose.path("rpy"), 3);
-    const double unit = units_.radians_per_angle_unit();
-    transform.linear() = rpy_rotation(v[0] * unit, v[1] * unit, v[2] * unit);
+    const std::vector<double> v = quantities(rpy, pose.path("rpy"), 3, "pose.angle");
+    transform.linear() = rpy_rotation(v[0], v[1], v[2]);
   }
   return transform;
 }
@@ -388,7 +418,7 @@ kinematics::PoseUncertainty Reader::uncertainty(const YAML::Node& node, const st
   const auto value_of = [&](const Fields& map, const Component& c) {
     const YAML::Node value = map.get(c.key);
     const std::string at = map.path(c.key);
-    return non_negative(c.angle ? angle(value, at) : length(value, at), value, at);
+    return quantity(value, at, c.angle ? "uncertainty.angle" : "uncertainty.length");
   };
   for (const Component& c : kComponents)
     if (fields.has(c.key)) result.*c.member = value_of(fields, c);
@@ -422,8 +452,7 @@ kinematics::PoseUncertainty Reader::uncertainty(const YAML::Node& node, const st
     const Fields given(*this, cost, fields.path("cost"), {"dx", "dy", "dz", "dtheta"});
     for (const Component& c : kComponents)
       if (given.has(c.key))  // a weight: no unit
-        model.cost.*c.member = positive(number(given.get(c.key), given.path(c.key)),
-                                        given.get(c.key), given.path(c.key));
+        model.cost.*c.member = quantity(given.get(c.key), given.path(c.key), "uncertainty.cost");
   }
   return result;
 }
@@ -435,14 +464,15 @@ kinematics::DhChain Reader::dh_chain(const YAML::Node& node, const std::string& 
     const Fields row(*this, node[i], path + "[" + std::to_string(i) + "]",
                      {"d", "a", "alpha", "offset", "limits"});
     kinematics::DhJoint joint;
-    if (row.has("d")) joint.d = length(row.get("d"), row.path("d"));
-    if (row.has("a")) joint.a = length(row.get("a"), row.path("a"));
-    if (row.has("alpha")) joint.alpha = angle(row.get("alpha"), row.path("alpha"));
-    if (row.has("offset")) joint.offset = angle(row.get("offset"), row.path("offset"));
+    if (row.has("d")) joint.d = quantity(row.get("d"), row.path("d"), "robot.dh.length");
+    if (row.has("a")) joint.a = quantity(row.get("a"), row.path("a"), "robot.dh.length");
+    if (row.has("alpha"))
+      joint.alpha = quantity(row.get("alpha"), row.path("alpha"), "robot.dh.angle");
+    if (row.has("offset"))
+      joint.offset = quantity(row.get("offset"), row.path("offset"), "robot.dh.angle");
     const YAML::Node limits = row.require("limits");
-    const std::vector<double> bounds = numbers(limits, row.path("limits"), 2);
-    joint.limits = {bounds[0] * units_.radians_per_angle_unit(),
-                    bounds[1] * units_.radians_per_angle_unit()};
+    const std::vector<double> bounds = quantities(limits, row.path("limits"), 2, "robot.dh.limits");
+    joint.limits = {bounds[0], bounds[1]};
     if (joint.limits.lower > joint.limits.upper)
       fail(limits, row.path("limits") + ": the lower limit is above the upper one");
     joints.push_back(joint);
@@ -460,16 +490,15 @@ void Reader::read_gripper(const YAML::Node& node, geometry::GripperSpec& gripper
   struct Length {
     const char* key;
     double* target;
-    bool may_be_zero;
   };
-  const Length lengths[] = {{"max_opening", &gripper.max_opening, false},
-                            {"min_opening", &gripper.min_opening, true},
-                            {"finger_length", &gripper.finger_length, false},
-                            {"finger_width", &gripper.finger_width, false},
-                            {"finger_thickness", &gripper.finger_thickness, false},
-                            {"tip_beyond_contact", &gripper.tip_beyond_contact, true},
-                            {"palm_width", &gripper.palm_width, false},
-                            {"palm_height", &gripper.palm_height, false}};
+  const Length lengths[] = {{"max_opening", &gripper.max_opening},
+                            {"min_opening", &gripper.min_opening},
+                            {"finger_length", &gripper.finger_length},
+                            {"finger_width", &gripper.finger_width},
+                            {"finger_thickness", &gripper.finger_thickness},
+                            {"tip_beyond_contact", &gripper.tip_beyond_contact},
+                            {"palm_width", &gripper.palm_width},
+                            {"palm_height", &gripper.palm_height}};
   std::vector<std::string> known;
   for (const Length& field : lengths) known.emplace_back(field.key);
   const Fields fields(*this, node, "robot.gripper", known);
@@ -477,9 +506,7 @@ void Reader::read_gripper(const YAML::Node& node, geometry::GripperSpec& gripper
     const YAML::Node value = fields.get(field.key);
     if (!value.IsDefined()) continue;
     const std::string path = fields.path(field.key);
-    const double metres = length(value, path);
-    *field.target =
-        field.may_be_zero ? non_negative(metres, value, path) : positive(metres, value, path);
+    *field.target = quantity(value, path, path);  // the limit's key is the key path
   }
   if (gripper.min_opening >= gripper.max_opening)
     fail(node, "robot.gripper: min_opening must be below max_opening");
@@ -508,10 +535,7 @@ void Reader::read_robot(const YAML::Node& node, RobotSpec& robot) const {
   if (fields.has("tool")) robot.tool = rigid_pose(fields.get("tool"), "robot.tool");
   if (fields.has("gripper")) read_gripper(fields.get("gripper"), robot.gripper);
   if (const YAML::Node tilt = fields.get("max_tilt"); tilt.IsDefined()) {
-    robot.max_tool_tilt = angle(tilt, "robot.max_tilt");
-    if (!(robot.max_tool_tilt > 0 && robot.max_tool_tilt <= std::numbers::pi * (1 + 1e-12)))
-      fail(tilt, "robot.max_tilt: must be in (0, 180] degrees, got " + tilt.Scalar() + " " +
-                     std::string(units_.angle_name()));
+    robot.max_tool_tilt = quantity(tilt, "robot.max_tilt", "robot.max_tilt");
   }
   if (fields.has("uncertainty"))
     robot.uncertainty =
@@ -521,16 +545,11 @@ void Reader::read_robot(const YAML::Node& node, RobotSpec& robot) const {
 void Reader::read_grasping(const YAML::Node& node, geometry::GraspQuantization& grasping) const {
   const Fields fields(*this, node, "grasping", {"approach_step", "positions_per_axis"});
   if (const YAML::Node step = fields.get("approach_step"); step.IsDefined()) {
-    grasping.approach_step = angle(step, "grasping.approach_step");
-    if (!(grasping.approach_step > 0 &&
-          grasping.approach_step <= 2 * std::numbers::pi * (1 + 1e-12)))
-      fail(step, "grasping.approach_step: must be in (0, 360] degrees, got " + step.Scalar() + " " +
-                     std::string(units_.angle_name()));
+    grasping.approach_step = quantity(step, "grasping.approach_step", "grasping.approach_step");
   }
   if (const YAML::Node positions = fields.get("positions_per_axis"); positions.IsDefined()) {
-    grasping.positions_per_axis = integer(positions, "grasping.positions_per_axis");
-    if (grasping.positions_per_axis < 1)
-      fail(positions, "grasping.positions_per_axis: must be at least 1");
+    grasping.positions_per_axis = static_cast<int>(
+        quantity(positions, "grasping.positions_per_axis", "grasping.positions_per_axis"));
   }
 }
 
@@ -560,15 +579,15 @@ geometry::ObjectModel Reader::shape_model(const YAML::Node& node, const std::str
   const std::string file = text(node, path);
   shape = "mesh: " + file;
   const std::filesystem::path resolved = (base_dir_ / file).lexically_normal();
-  std::error_code error;
-  if (!std::filesystem::is_regular_file(resolved, error))
-    fail(node, path + ": no mesh file " + resolved.string());
+  if (const std::string problem = input_file_problem(resolved, "mesh file"); !problem.empty())
+    fail(node, path + ": " + printable(resolved.string()) + ": " + problem);
   try {
-    return geometry::ObjectModel(name,
-                                 geometry::scale_mesh(geometry::read_mesh_file(resolved.string()),
-                                                      units_.metres_per_length_unit()));
+    geometry::Mesh scaled = geometry::scale_mesh(geometry::read_mesh_file(resolved.string()),
+                                                 units_.metres_per_length_unit());
+    check_mesh_size(scaled, node, path);
+    return geometry::ObjectModel(name, std::move(scaled));
   } catch (const geometry::GeometryError& problem) {
-    fail(node, path + ": bad mesh " + resolved.string() + ": " + problem.what());
+    fail(node, path + ": bad mesh " + printable(resolved.string()) + ": " + problem.what());
   }
 }
 
@@ -580,6 +599,7 @@ std::vector<ObjectIdentity> Reader::read_identities(const YAML::Node& node, cons
     fail(node, path + ": expected a list of at least two candidate shapes, got " +
                    (node.IsSequence() ? "a list of " + std::to_string(node.size())
                                       : describe(node)));
+  check_count(node, path, "object.identity");
   std::vector<ObjectIdentity> out;
   for (std::size_t i = 0; i < node.size(); ++i) {
     const std::string item = path + "[" + std::to_string(i) + "]";
@@ -599,6 +619,41 @@ std::vector<ObjectIdentity> Reader::read_identities(const YAML::Node& node, cons
                    .stable_poses = std::move(poses)});
   }
   return out;
+}
+
+// An object a parallel gripper picks up is a few millimetres to a metre or two across; a mesh far
+// outside that was most likely written in another unit than the scenario's (a metre mesh in an
+// inch scenario is 39 times too small). It still loads: the warning names the units that would
+// give a plausible size.
+void Reader::check_mesh_size(const geometry::Mesh& mesh, const YAML::Node& node,
+                             const std::string& path) const {
+  constexpr double kSmallest = 0.005, kLargest = 5;  // metres, largest extent
+  Eigen::Vector3d low = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
+  Eigen::Vector3d high = -low;
+  for (const auto& triangle : mesh.triangles)
+    for (const int v : triangle) {
+      low = low.cwiseMin(mesh.vertices[v]);
+      high = high.cwiseMax(mesh.vertices[v]);
+    }
+  const double extent = (high - low).maxCoeff();
+  if (!(extent < kSmallest || extent > kLargest)) return;
+  const double in_file_unit = extent / units_.metres_per_length_unit();
+  std::string plausible;
+  for (const LengthUnit unit : {LengthUnit::kMetre, LengthUnit::kMillimetre, LengthUnit::kInch}) {
+    const Units other{.length = unit, .angle = units_.angle};
+    const double metres = in_file_unit * other.metres_per_length_unit();
+    if (unit != units_.length && metres >= kSmallest && metres <= kLargest)
+      plausible += (plausible.empty() ? "" : " or ") + std::string(other.length_name());
+  }
+  std::ostringstream out;
+  out << where(node).str() << ": " << path << ": the mesh is " << in_file_unit << ' '
+      << units_.length_name() << " across (" << extent << " m), implausibly "
+      << (extent < kSmallest ? "small" : "large")
+      << " for an object a gripper picks up; its coordinates are read in the scenario's length "
+         "unit (units.length: "
+      << units_.length_name() << ")";
+  if (!plausible.empty()) out << ": is the mesh in " << plausible << "?";
+  warnings_.push_back(printable(out.str()));
 }
 
 std::vector<int> Reader::faces(const YAML::Node& node, const std::string& path,
@@ -686,10 +741,11 @@ void Reader::read_pose(const YAML::Node& node, const std::string& path, ObjectSp
     fail(stable, pose.path("stable") + ": object '" + object.name + "' has no stable pose '" +
                      label + "'; its stable poses: " + join(labels) + " (spar object prints them)");
   const int index = static_cast<int>(found - labels.begin());
-  const std::vector<double> at = numbers(pose.require("at"), pose.path("at"), 2);
-  const double yaw = pose.has("yaw") ? angle(pose.get("yaw"), pose.path("yaw")) : 0.0;
-  const double unit = units_.metres_per_length_unit();
-  object.initial_pose = Eigen::Translation3d(at[0] * unit, at[1] * unit, 0) *
+  const std::vector<double> at =
+      quantities(pose.require("at"), pose.path("at"), 2, "pose.position");
+  const double yaw =
+      pose.has("yaw") ? quantity(pose.get("yaw"), pose.path("yaw"), "pose.angle") : 0.0;
+  object.initial_pose = Eigen::Translation3d(at[0], at[1], 0) *
                         Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) *
                         object.stable_poses[index].object_to_world;
   object.initial_stable_pose = index;
@@ -742,10 +798,11 @@ void Reader::read_hypotheses(const Fields& pose, ObjectSpec& object) const {
     } else if (!identities) {
       fail(pose.node(), pose.name() + ": missing key 'stable'");
     }
-    const std::vector<double> at = numbers(pose.require("at"), pose.path("at"), 2);
-    const double yaw = pose.has("yaw") ? angle(pose.get("yaw"), pose.path("yaw")) : 0.0;
-    const double unit = units_.metres_per_length_unit();
-    const Transform above = Eigen::Translation3d(at[0] * unit, at[1] * unit, 0) *
+    const std::vector<double> at =
+        quantities(pose.require("at"), pose.path("at"), 2, "pose.position");
+    const double yaw =
+        pose.has("yaw") ? quantity(pose.get("yaw"), pose.path("yaw"), "pose.angle") : 0.0;
+    const Transform above = Eigen::Translation3d(at[0], at[1], 0) *
                             Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ());
     for (const auto& [label, node] : listed) {
       bool any = false;
@@ -831,7 +888,8 @@ ObjectSpec Reader::read_object(const YAML::Node& key, const YAML::Node& node) co
 
 std::vector<Place> Reader::read_places(const YAML::Node& node) const {
   std::vector<Place> places;
-  for (std::size_t i = 0; i < expect_list(node, "places").size(); ++i) {
+  check_count(expect_list(node, "places"), "places", "scenario.places");
+  for (std::size_t i = 0; i < node.size(); ++i) {
     const std::string path = "places[" + std::to_string(i) + "]";
     const Fields fields(*this, node[i], path, {"name", "at", "yaw"});
     Place place;
@@ -840,10 +898,12 @@ std::vector<Place> Reader::read_places(const YAML::Node& node) const {
       if (other.name == place.name)
         fail(fields.get("name"),
              fields.path("name") + ": duplicate place name '" + place.name + "'");
-    const std::vector<double> at = numbers(fields.require("at"), fields.path("at"), 2);
-    place.x = at[0] * units_.metres_per_length_unit();
-    place.y = at[1] * units_.metres_per_length_unit();
-    if (fields.has("yaw")) place.yaw = angle(fields.get("yaw"), fields.path("yaw"));
+    const std::vector<double> at =
+        quantities(fields.require("at"), fields.path("at"), 2, "pose.position");
+    place.x = at[0];
+    place.y = at[1];
+    if (fields.has("yaw"))
+      place.yaw = quantity(fields.get("yaw"), fields.path("yaw"), "pose.angle");
     places.push_back(place);
   }
   return places;
@@ -859,23 +919,17 @@ void Reader::read_sensors(const YAML::Node& node, Scenario& scenario) const {
     sensor.residual = uncertainty(range_scan.require("residual"), range_scan.path("residual"),
                                   sensor.residual_model);
     read_sensor_model(range_scan, sensor.model);
-    if (const YAML::Node value = range_scan.get("position_noise"); value.IsDefined())
-      sensor.model.position_noise =
-          non_negative(length(value, range_scan.path("position_noise")), value,
-                       range_scan.path("position_noise"));
-    if (const YAML::Node value = range_scan.get("normal_noise"); value.IsDefined())
-      sensor.model.normal_noise = non_negative(angle(value, range_scan.path("normal_noise")),
-                                               value, range_scan.path("normal_noise"));
-    if (const YAML::Node value = range_scan.get("max_angle"); value.IsDefined()) {
-      sensor.model.max_angle = angle(value, range_scan.path("max_angle"));
-      if (!(sensor.model.max_angle > 0 && sensor.model.max_angle <= std::numbers::pi / 2 + 1e-12))
-        fail(value, range_scan.path("max_angle") + ": must be in (0, 90] degrees, got " +
-                        value.Scalar());
-    }
+    for (const auto& [key, target] :
+         {std::pair{"position_noise", &sensor.model.position_noise},
+          std::pair{"normal_noise", &sensor.model.normal_noise},
+          std::pair{"max_angle", &sensor.model.max_angle}})
+      if (const YAML::Node value = range_scan.get(key); value.IsDefined())
+        *target = quantity(value, range_scan.path(key), std::string("sensor.") + key);
     scenario.range_scan = sensor;
   }
   if (const YAML::Node cameras = sensors.get("cameras"); cameras.IsDefined()) {
-    for (std::size_t i = 0; i < expect_list(cameras, "sensors.cameras").size(); ++i) {
+    check_count(expect_list(cameras, "sensors.cameras"), "sensors.cameras", "scenario.cameras");
+    for (std::size_t i = 0; i < cameras.size(); ++i) {
       const std::string path = "sensors.cameras[" + std::to_string(i) + "]";
       const Fields fields(*this, cameras[i], path,
                           {"name", "pose", "intrinsics", "mount", "noise_px",
@@ -892,8 +946,7 @@ void Reader::read_sensors(const YAML::Node& node, Scenario& scenario) const {
       (void)fields.require("intrinsics");
       read_sensor_model(fields, camera);
       if (const YAML::Node value = fields.get("noise_px"); value.IsDefined())
-        camera.noise_px = non_negative(number(value, fields.path("noise_px")), value,
-                                       fields.path("noise_px"));
+        camera.noise_px = quantity(value, fields.path("noise_px"), "sensor.noise_px");
       scenario.cameras.push_back(camera);
     }
   }
@@ -920,26 +973,19 @@ void Reader::read_sensor_model(const Fields& fields, sensing::SensorModel& senso
     const Fields intrinsics(*this, node, fields.path("intrinsics"),
                             {"fx", "fy", "cx", "cy", "width", "height"});
     sensing::Intrinsics k;
-    for (const auto& [key, target] : {std::pair{"fx", &k.fx}, std::pair{"fy", &k.fy}})
-      *target = positive(number(intrinsics.require(key), intrinsics.path(key)),
-                         intrinsics.get(key), intrinsics.path(key));
-    k.cx = number(intrinsics.require("cx"), intrinsics.path("cx"));
-    k.cy = number(intrinsics.require("cy"), intrinsics.path("cy"));
+    for (const auto& [key, target, limit] :
+         {std::tuple{"fx", &k.fx, "sensor.focal"}, std::tuple{"fy", &k.fy, "sensor.focal"},
+          std::tuple{"cx", &k.cx, "sensor.centre"}, std::tuple{"cy", &k.cy, "sensor.centre"}})
+      *target = quantity(intrinsics.require(key), intrinsics.path(key), limit);
     for (const auto& [key, target] :
-         {std::pair{"width", &k.width}, std::pair{"height", &k.height}}) {
-      *target = integer(intrinsics.require(key), intrinsics.path(key));
-      if (*target < 1 || *target > sensing::kMaxImageSide)
-        fail(intrinsics.get(key), intrinsics.path(key) + ": must be 1 to " +
-                                      std::to_string(sensing::kMaxImageSide) + " pixels, got " +
-                                      intrinsics.get(key).Scalar());
-    }
+         {std::pair{"width", &k.width}, std::pair{"height", &k.height}})
+      *target = static_cast<int>(
+          quantity(intrinsics.require(key), intrinsics.path(key), "sensor.image_side"));
     sensor.intrinsics = k;
   }
   if (const YAML::Node value = fields.get("detection_probability"); value.IsDefined()) {
-    sensor.detection_probability = number(value, fields.path("detection_probability"));
-    if (!(sensor.detection_probability > 0 && sensor.detection_probability <= 1))
-      fail(value, fields.path("detection_probability") + ": must be in (0, 1], got " +
-                      value.Scalar());
+    sensor.detection_probability =
+        quantity(value, fields.path("detection_probability"), "sensor.detection_probability");
   }
 }
 
@@ -947,16 +993,13 @@ SensingSettings Reader::read_sensing(const YAML::Node& node) const {
   const Fields fields(*this, node, "sensing", {"ambiguity_threshold", "max_operations", "standoff"});
   SensingSettings settings;
   if (const YAML::Node value = fields.get("ambiguity_threshold"); value.IsDefined())
-    settings.ambiguity_threshold = non_negative(
-        number(value, fields.path("ambiguity_threshold")), value, fields.path("ambiguity_threshold"));
-  if (const YAML::Node value = fields.get("max_operations"); value.IsDefined()) {
-    settings.max_operations = integer(value, fields.path("max_operations"));
-    if (settings.max_operations < 1 || settings.max_operations > 10)
-      fail(value, fields.path("max_operations") + ": must be 1 to 10, got " + value.Scalar());
-  }
+    settings.ambiguity_threshold =
+        quantity(value, fields.path("ambiguity_threshold"), "sensing.ambiguity_threshold");
+  if (const YAML::Node value = fields.get("max_operations"); value.IsDefined())
+    settings.max_operations = static_cast<int>(
+        quantity(value, fields.path("max_operations"), "sensing.max_operations"));
   if (const YAML::Node value = fields.get("standoff"); value.IsDefined())
-    settings.standoff =
-        positive(length(value, fields.path("standoff")), value, fields.path("standoff"));
+    settings.standoff = quantity(value, fields.path("standoff"), "sensing.standoff");
   return settings;
 }
 
@@ -989,33 +1032,24 @@ AssembledGoal Reader::read_assembled(const YAML::Node& node, const std::string& 
     goal.fixed_faces = faces(fields.get("fixed_faces"), fields.path("fixed_faces"), fixed, true);
   goal.relative = rigid_pose(fields.require("relative"), fields.path("relative"));
   if (const YAML::Node vector = fields.get("mating_vector"); vector.IsDefined()) {
-    const std::vector<double> v = numbers(vector, fields.path("mating_vector"), 3);
+    const std::vector<double> v =
+        quantities(vector, fields.path("mating_vector"), 3, "goal.mating_vector");
     const Eigen::Vector3d direction(v[0], v[1], v[2]);
     if (!(direction.norm() > 1e-12))
       fail(vector, fields.path("mating_vector") + ": must not be zero");
     goal.mating_vector = direction.normalized();
   }
   if (const YAML::Node value = fields.get("clearance"); value.IsDefined())
-    goal.clearance =
-        non_negative(length(value, fields.path("clearance")), value, fields.path("clearance"));
+    goal.clearance = quantity(value, fields.path("clearance"), "goal.clearance");
   if (const YAML::Node value = fields.get("angular_clearance"); value.IsDefined())
-    goal.angular_clearance = non_negative(angle(value, fields.path("angular_clearance")), value,
-                                          fields.path("angular_clearance"));
+    goal.angular_clearance =
+        quantity(value, fields.path("angular_clearance"), "goal.angular_clearance");
   goal.location = where(node);
   return goal;
 }
 
 Scenario Reader::read(std::string_view document_text) {
-  YAML::Node document;
-  try {
-    document = YAML::Load(std::string(document_text));
-  } catch (const YAML::Exception& error) {
-    const std::string where = error.mark.is_null()
-                                  ? source_
-                                  : source_ + ":" + std::to_string(error.mark.line + 1) + ":" +
-                                        std::to_string(error.mark.column + 1);
-    throw ScenarioError(where + ": YAML syntax error: " + yaml_syntax_error(error));
-  }
+  const YAML::Node document = load_yaml_document<ScenarioError>(document_text, source_);
   if (!document.IsDefined() || document.IsNull())
     throw ScenarioError(source_ + ":1:1: the scenario is empty (it needs at least 'objects')");
   const Fields top(*this, document, "",
@@ -1024,7 +1058,8 @@ Scenario Reader::read(std::string_view document_text) {
   Scenario scenario;
   scenario.name = top.has("name") ? text(top.get("name"), "name")
                                   : std::filesystem::path(source_).stem().string();
-  if (top.has("description")) scenario.description = text(top.get("description"), "description");
+  if (top.has("description"))
+    scenario.description = text(top.get("description"), "description", /*lines=*/true);
   if (top.has("units")) read_units(top.get("units"), units_);
   scenario.units = units_;
   if (top.has("robot")) read_robot(top.get("robot"), scenario.robot);
@@ -1032,6 +1067,7 @@ Scenario Reader::read(std::string_view document_text) {
 
   const YAML::Node objects = top.require("objects");
   if (!expect_map(objects, "objects").size()) fail(objects, "objects: the scenario has no object");
+  check_count(objects, "objects", "scenario.objects");
   std::set<std::string> names;
   for (const auto& entry : objects) {
     const YAML::Node key = entry.first;
@@ -1043,8 +1079,10 @@ Scenario Reader::read(std::string_view document_text) {
   if (top.has("places")) scenario.places = read_places(top.get("places"));
   if (top.has("sensors")) read_sensors(top.get("sensors"), scenario);
   if (top.has("sensing")) scenario.sensing = read_sensing(top.get("sensing"));
+  scenario.warnings = warnings_;  // after every object's mesh
   if (const YAML::Node goals = top.get("goals"); goals.IsDefined()) {
-    for (std::size_t i = 0; i < expect_list(goals, "goals").size(); ++i) {
+    check_count(expect_list(goals, "goals"), "goals", "scenario.goals");
+    for (std::size_t i = 0; i < goals.size(); ++i) {
       const std::string path = "goals[" + std::to_string(i) + "]";
       const YAML::Node goal = goals[i];
       if (!goal.IsMap() || goal.size() != 1)

@@ -1,6 +1,7 @@
 #include "spar/planner/uncertainty/analysis.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdio>
 #include <random>
@@ -8,6 +9,7 @@
 
 #include "spar/bounds/interval.hpp"
 #include "spar/planner/error.hpp"
+#include "spar/planner/uncertainty/internal/bisection.hpp"
 #include "spar/symbolic/operations.hpp"
 #include "spar/symbolic/parse.hpp"
 #include "spar/symbolic/tape.hpp"
@@ -48,39 +50,6 @@ std::vector<Phase2Step> phase2_steps(const Domain& domain, const PlanInstance& i
 bool all_hold(const std::vector<PreconditionResult>& results) {
   return std::all_of(results.begin(), results.end(),
                      [](const PreconditionResult& r) { return r.verdict == Verdict::kSatisfied; });
-}
-
-// held_before[i]: the object held just before step i, or -1 (gripper empty).
-std::vector<int> held_before(const std::vector<Phase2Step>& steps) {
-  std::vector<int> held(steps.size() + 1, -1);
-  for (std::size_t i = 0; i < steps.size(); ++i) {
-    held[i + 1] = held[i];
-    if (steps[i].effect == Effect::kGrasp) held[i + 1] = steps[i].object;
-    if (steps[i].effect == Effect::kRelease || steps[i].effect == Effect::kInsert) held[i + 1] = -1;
-  }
-  return held;
-}
-
-bool moves(const Phase2Step& step, int object) {
-  return step.object == object && moves_object(step.effect);
-}
-
-// The latest position <= until where a range-scan of `object` fits: the gripper is empty and the
-// object is not moved between there and `until`. -1 if none.
-int scan_position(const std::vector<Phase2Step>& steps, int until, int object) {
-  const std::vector<int> held = held_before(steps);
-  for (int i = until; i >= 0; --i) {
-    if (i < until && moves(steps[i], object)) return -1;
-    if (held[i] == -1) return i;
-  }
-  return -1;
-}
-
-// The last grasp of `object` before `until`, or -1.
-int grasp_position(const std::vector<Phase2Step>& steps, int until, int object) {
-  for (int i = until; i >= 0; --i)
-    if (steps[i].effect == Effect::kGrasp && steps[i].object == object) return i;
-  return -1;
 }
 
 std::string replace_all(std::string text, const std::string& from, const std::string& to) {
@@ -133,206 +102,150 @@ class InstanceAnalyser {
  public:
   InstanceAnalyser(const WorldModel& world, const Domain& domain, const AnalysisOptions& options,
                    symbolic::ExprPool& pool)
-      : world_(world), domain_(domain), options_(options), pool_(pool) {}
+      : world_(world),
+        domain_(domain),
+        options_(options),
+        pool_(pool),
+        scan_(find_action(domain, Effect::kSense)),
+        squeeze_(find_action(domain, Effect::kReduce)) {}
 
   void run(std::vector<Phase2Step> steps, InstanceAnalysis& out);
 
  private:
-  // Re-propagates from `snapshot` over steps[from..] and returns the decided preconditions of
-  // the steps at positions in `watch` (others are propagated but not decided).
-  std::map<int, std::vector<PreconditionResult>> replay(Propagation snapshot,
-                                                        const std::vector<Phase2Step>& steps,
-                                                        int from, int through,
-                                                        const std::set<int>& watch) const;
+  // Re-propagates from `snapshot` over steps[from..through] and decides the preconditions of
+  // every step in that range (index: position in `steps`).
+  [[nodiscard]] std::map<int, std::vector<PreconditionResult>> replay(
+      Propagation snapshot, const std::vector<Phase2Step>& steps, int from, int through) const;
   // AnalysedStep::sensor_scale_needed for the failing step at `k`.
-  std::optional<double> sensor_margin(const std::vector<Phase2Step>& steps,
-                                      const std::vector<Propagation>& snapshots, int k) const;
-  // Tries the repairs for the failing step at `k`; on success replaces `steps` and returns the
-  // position from which to resume; -1 if nothing helped.
-  int repair(std::vector<Phase2Step>& steps, const std::vector<Propagation>& snapshots, int k,
+  [[nodiscard]] std::optional<double> sensor_margin(const std::vector<Phase2Step>& steps,
+                                                    const std::vector<Propagation>& snapshots,
+                                                    int k) const;
+  // Searches the repair sets for the failing step at `k` (planner/uncertainty/repair.hpp); if one
+  // is kept, splices it into `steps`, records it in `out` and returns the position from which to
+  // resume; -1 if nothing helped.
+  int repair(std::vector<Phase2Step>& steps, const std::vector<Propagation>& snapshots,
+             const std::vector<AnalysedStep>& analysed, int k,
              const std::vector<PreconditionResult>& failing, InstanceAnalysis& out) const;
 
   const WorldModel& world_;
   const Domain& domain_;
   const AnalysisOptions& options_;
   symbolic::ExprPool& pool_;
+  const int scan_, squeeze_;  // the domain's first sense and reduce actions (-1: none)
 };
 
 std::map<int, std::vector<PreconditionResult>> InstanceAnalyser::replay(
-    Propagation state, const std::vector<Phase2Step>& steps, int from, int through,
-    const std::set<int>& watch) const {
+    Propagation state, const std::vector<Phase2Step>& steps, int from, int through) const {
   std::map<int, std::vector<PreconditionResult>> decided;
   for (int i = from; i <= through; ++i) {
     const std::vector<Precondition> preconditions = state.step(steps[i], i + 1);
-    if (watch.contains(i))
-      decided[i] = decide(preconditions, state.space(), options_.quick, options_.bound);
+    decided[i] = decide(preconditions, state.space(), options_.quick, options_.bound);
   }
   return decided;
 }
 
-// How far the results are from holding: the sum over the preconditions of the sound bound's
-// excess over the threshold (0 when every one is satisfied).
-double shortfall(const std::vector<PreconditionResult>& results) {
-  double total = 0;
-  for (const PreconditionResult& r : results) {
-    const bool upper = r.inequality.relation == bounds::Relation::kLess ||
-                       r.inequality.relation == bounds::Relation::kLessEqual;
-    const double excess =
-        upper ? r.bound.hi - r.inequality.threshold : r.inequality.threshold - r.bound.lo;
-    total += std::isfinite(excess) ? std::max(0.0, excess) : 1e300;
+// Adds one original step's decided preconditions to a repair score.
+void add_to_score(RepairScore& score, int instance_step,
+                  const std::vector<PreconditionResult>& results) {
+  bool failed = false;
+  for (std::size_t i = 0; i < results.size(); ++i) {
+    const bool satisfied = results[i].verdict == Verdict::kSatisfied;
+    score.satisfied[{instance_step, static_cast<int>(i)}] = satisfied;
+    score.unsatisfied += !satisfied;
+    failed |= !satisfied;
   }
-  return total;
+  score.failed += failed;
 }
 
 int InstanceAnalyser::repair(std::vector<Phase2Step>& steps,
-                             const std::vector<Propagation>& snapshots, int k,
+                             const std::vector<Propagation>& snapshots,
+                             const std::vector<AnalysedStep>& analysed, int k,
                              const std::vector<PreconditionResult>& failing,
                              InstanceAnalysis& out) const {
-  const int scan = find_action(domain_, Effect::kSense);
-  const int squeeze = find_action(domain_, Effect::kReduce);
-  const bool insertion = steps[k].effect == Effect::kInsert;
-  // The repairs to try, in order. A squeeze uses another grasp than the pickup's (with the same
-  // one its preconditions would be the failing pickup's own): every grasp the robot reaches where
-  // the object lies, up to AnalysisOptions::squeeze_grasps of them; it re-centres the object
-  // across that grasp's fingers and leaves only the arm's rotation error.
-  enum class Kind { kScanFixed, kScanHeld, kSqueeze };
-  struct Repair {
-    Kind kind;
-    int grasp{-1};
-  };
-  std::vector<Repair> kinds;
-  if (scan >= 0 && world_.scenario().range_scan) {
-    if (insertion) kinds.push_back({Kind::kScanFixed});
-    kinds.push_back({Kind::kScanHeld});
-  }
-  const int pickup_at = insertion ? grasp_position(steps, k, steps[k].object) : k;
-  if (squeeze >= 0 && pickup_at >= 0 && steps[pickup_at].position >= 0) {
-    const Phase2Step& pickup = steps[pickup_at];
-    const ObjectWorld& object = world_.object(pickup.object);
-    int added = 0;
-    for (std::size_t g = 0; g < object.grasps.size() && added < options_.squeeze_grasps; ++g)
-      if (static_cast<int>(g) != pickup.grasp && object.reachable[g][pickup.position]) {
-        kinds.push_back({Kind::kSqueeze, static_cast<int>(g)});
-        ++added;
-      }
-  }
-
-  std::vector<Phase2Step> current = steps;
-  int failing_at = k;
-  int earliest = k;  // the earliest insertion kept so far
-  double best = shortfall(failing);
-  std::vector<PreconditionResult> latest = failing;
-  const std::size_t first_attempt = out.repairs.size();
-  for (const auto& [kind, squeeze_grasp] : kinds) {
-    const Phase2Step& failed = current[failing_at];
-    const int grasp_at =
-        insertion ? grasp_position(current, failing_at, failed.object) : failing_at;
-    Phase2Step step;
-    int position = -1;
-    if (kind == Kind::kSqueeze) {
-      if (grasp_at < 0) continue;
-      step = current[grasp_at];
-      step.action = squeeze;
-      step.effect = Effect::kReduce;
-      step.grasp = squeeze_grasp;
-      step.instance_step = -1;
-      position = grasp_at;
-    } else {
-      const int object = kind == Kind::kScanFixed ? failed.fixed_object : failed.object;
-      const int until = kind == Kind::kScanFixed ? failing_at : grasp_at;
-      if (until < 0) continue;
-      position = scan_position(current, until, object);
-      if (position < 0) continue;
-      step.action = scan;
-      step.effect = Effect::kSense;
-      step.object = object;
+  const std::vector<RepairCandidate> candidates =
+      repair_candidates(world_, steps, k, options_.squeeze_grasps,
+                        scan_ >= 0 && world_.scenario().range_scan.has_value(), squeeze_ >= 0);
+  if (candidates.empty()) return -1;
+  int from = k;
+  for (const RepairCandidate& c : candidates) from = std::min(from, c.position);
+  // No repair: the original steps in [from, k] as already decided.
+  RepairScore baseline;
+  for (int i = from; i < k; ++i)
+    if (steps[i].instance_step >= 0)
+      add_to_score(baseline, steps[i].instance_step, analysed[i].preconditions);
+  add_to_score(baseline, steps[k].instance_step, failing);
+  const int first_record = static_cast<int>(out.repairs.size());
+  std::map<unsigned, std::vector<PreconditionResult>> failing_with;  // per set tried
+  const RepairChoice choice = choose_repair(candidates, baseline, [&](unsigned set) {
+    const SplicedPlan trial = splice(steps, k, candidates, set, scan_, squeeze_, first_record);
+    const auto decided = replay(snapshots[from], trial.steps, from, trial.failing);
+    RepairScore score;
+    for (const auto& [position, results] : decided) {
+      const Phase2Step& step = trial.steps[position];
+      if (step.instance_step >= 0)
+        add_to_score(score, step.instance_step, results);
+      else if (step.effect == Effect::kReduce && step.repair >= first_record)
+        score.admissible = score.admissible && all_hold(results);
     }
-    std::vector<Phase2Step> trial = current;
-    trial.insert(trial.begin() + position, step);
-    const int moved = failing_at + 1;
-    std::set<int> watch = {moved};
-    if (kind == Kind::kSqueeze) watch.insert(position);
-    const int from = std::min(position, earliest);
-    // Replay from the earliest change: snapshots before it are unaffected.
-    const auto decided = replay(snapshots[from], trial, from, moved, watch);
-    const bool own_ok = kind != Kind::kSqueeze || all_hold(decided.at(position));
-    const std::vector<PreconditionResult>& after = decided.at(moved);
-    RepairAttempt attempt;
-    attempt.action = domain_.actions[step.action].name;
-    attempt.object = step.object;
-    attempt.for_instance_step = current[failing_at].instance_step;
-    for (const PreconditionResult& r : latest) {
-      attempt.before.push_back(r.bound);
-      attempt.verdicts_before.push_back(r.verdict);
+    failing_with[set] = decided.at(trial.failing);
+    return score;
+  });
+  RepairSearch search{.for_instance_step = steps[k].instance_step,
+                      .candidates = static_cast<int>(candidates.size()),
+                      .sets_tried = choice.sets_tried,
+                      .kept = std::popcount(choice.set),
+                      .dropped = {},
+                      .holds = choice.score.unsatisfied == 0 && choice.set != 0};
+  for (std::size_t i = 0; i < candidates.size(); ++i)
+    if (!(choice.set >> i & 1u)) ++search.dropped[repair_kind(candidates[i])];
+  out.repair_searches.push_back(std::move(search));
+  if (choice.set == 0) return -1;
+  const std::vector<PreconditionResult>& after = failing_with.at(choice.set);
+  int rank = 0;
+  for (std::size_t i = 0; i < candidates.size(); ++i) {
+    if (!(choice.set >> i & 1u)) continue;
+    RepairAttempt record{
+        .action = domain_.actions[candidates[i].effect == Effect::kReduce ? squeeze_ : scan_].name,
+        .object = candidates[i].object,
+        .for_instance_step = steps[k].instance_step,
+        .helped = true,
+        .before = {},
+        .after = {},
+        .verdicts_before = {},
+        .verdicts_after = {},
+        .turned = choice.turned[rank++]};
+    for (const PreconditionResult& r : failing) {
+      record.before.push_back(r.bound);
+      record.verdicts_before.push_back(r.verdict);
     }
     for (const PreconditionResult& r : after) {
-      attempt.after.push_back(r.bound);
-      attempt.verdicts_after.push_back(r.verdict);
+      record.after.push_back(r.bound);
+      record.verdicts_after.push_back(r.verdict);
     }
-    const double remaining = shortfall(after);
-    // Keep an insertion that brings the step closer to holding; it is final if the step holds.
-    const bool kept = own_ok && (all_hold(after) || remaining < best);
-    attempt.helped = kept;
-    out.repairs.push_back(std::move(attempt));
-    if (!kept) continue;
-    current = std::move(trial);
-    failing_at = moved;
-    earliest = std::min(earliest, position);
-    best = remaining;
-    latest = after;
-    if (all_hold(after)) {
-      steps = std::move(current);
-      return earliest;
-    }
+    out.repairs.push_back(std::move(record));
   }
-  // Nothing made the step hold: the insertions are dropped and marked as such.
-  for (std::size_t i = first_attempt; i < out.repairs.size(); ++i) out.repairs[i].helped = false;
-  return -1;
+  steps = splice(steps, k, candidates, choice.set, scan_, squeeze_, first_record).steps;
+  return from;
 }
 
 std::optional<double> InstanceAnalyser::sensor_margin(const std::vector<Phase2Step>& steps,
                                                       const std::vector<Propagation>& snapshots,
                                                       int k) const {
-  const int scan = find_action(domain_, Effect::kSense);
-  if (scan < 0 || !world_.scenario().range_scan) return std::nullopt;
-  const Phase2Step& failed = steps[k];
-  std::vector<std::pair<int, int>> targets;  // (object, until)
-  if (failed.effect == Effect::kInsert) targets.push_back({failed.fixed_object, k});
-  const int grasp_at = failed.effect == Effect::kInsert
-                           ? grasp_position(steps, k, failed.object)
-                           : (failed.effect == Effect::kGrasp ? k : -1);
-  if (grasp_at >= 0) targets.push_back({failed.object, grasp_at});
-  std::vector<int> positions;
-  for (const auto& [object, until] : targets)
-    positions.push_back(scan_position(steps, until, object));
-  std::vector<Phase2Step> trial = steps;
-  int inserted = 0, earliest = k;
-  // Insert the later position first so the earlier one stays valid.
-  for (int t = static_cast<int>(targets.size()) - 1; t >= 0; --t) {
-    if (positions[t] < 0) continue;
-    Phase2Step step;
-    step.action = scan;
-    step.effect = Effect::kSense;
-    step.object = targets[t].first;
-    trial.insert(trial.begin() + positions[t], step);
-    ++inserted;
-    earliest = std::min(earliest, positions[t]);
-  }
-  if (inserted == 0) return std::nullopt;
-  const int moved = k + inserted;
+  if (scan_ < 0 || !world_.scenario().range_scan) return std::nullopt;
+  std::vector<RepairCandidate> scans =
+      repair_candidates(world_, steps, k, 0, /*sensing=*/true, /*squeezing=*/false);
+  if (scans.empty()) return std::nullopt;
+  const unsigned all = (1u << scans.size()) - 1;
+  const SplicedPlan trial = splice(steps, k, scans, all, scan_, squeeze_, -1);
+  int earliest = k;
+  for (const RepairCandidate& c : scans) earliest = std::min(earliest, c.position);
   const auto holds_at = [&](double scale) {
     Propagation start = snapshots[earliest];
     start.set_sensor_scale(scale);
-    return all_hold(replay(start, trial, earliest, moved, {moved}).at(moved));
+    return all_hold(replay(start, trial.steps, earliest, trial.failing).at(trial.failing));
   };
   if (!holds_at(0.0)) return std::nullopt;
-  double good = 0.0, bad = options_.max_scale;
-  if (holds_at(bad)) return bad;
-  for (int i = 0; i < options_.reverse_iterations; ++i) {
-    const double mid = 0.5 * (good + bad);
-    (holds_at(mid) ? good : bad) = mid;
-  }
-  return good;
+  return internal::largest_holding(0.0, options_.max_scale, options_.reverse_iterations, holds_at);
 }
 
 void InstanceAnalyser::run(std::vector<Phase2Step> steps, InstanceAnalysis& out) {
@@ -358,7 +271,7 @@ void InstanceAnalyser::run(std::vector<Phase2Step> steps, InstanceAnalysis& out)
     if (!all_hold(step.preconditions) && options_.repair && !step.inserted &&
         !attempted.contains(steps[k].instance_step)) {
       attempted.insert(steps[k].instance_step);
-      const int resume = repair(steps, snapshots, k, step.preconditions, out);
+      const int resume = repair(steps, snapshots, analysed, k, step.preconditions, out);
       if (resume >= 0) {
         snapshots.erase(snapshots.begin() + resume + 1, snapshots.end());
         analysed.erase(analysed.begin() + resume, analysed.end());

@@ -6,22 +6,12 @@
 //
 // For each step in execution order (planner/uncertainty/propagation.hpp builds the preconditions
 // from the state just before it):
-//   1. decide its preconditions together (bounds/condition_set.hpp: one tape, natural interval
-//      first, a quick bound where that cannot tell, the full bound only where neither can); a
-//      precondition fails unless it is satisfied
-//      (violated and undecided both fail; undecided is reported as such);
-//   2. if one fails, try in order, cumulatively (each attempt re-propagates from where it is
-//      spliced in and re-decides the failing step; it is kept while it brings the step's sound
-//      bounds closer to their thresholds, a squeeze only if its own pickup preconditions hold, and
-//      the kept ones stay in the plan once every precondition of the step holds; if that never
-//      happens, all are dropped):
-//        for an insertion, a range-scan of the fixed object at the latest point before the step
-//        where the gripper is empty and the object rests where the step finds it;
-//        a range-scan of the handled object likewise before its pickup;
-//        a squeeze just before that pickup, with each other grasp the robot reaches there (up to
-//        squeeze_grasps): it re-centres the object across those fingers and leaves only the
-//        arm's rotation error;
-//      each attempt is recorded with the bounds before and after;
+//   1. decide its preconditions together (planner/uncertainty/deciding.hpp); a precondition fails
+//      unless it is satisfied (violated and undecided both fail; undecided is reported as such);
+//   2. if one fails, search the sets of range-scans and squeezes that fit before it
+//      (planner/uncertainty/repair.hpp): a set is kept only if it turns some verdict to satisfied
+//      without failing more steps, the smallest set among the best; each kept insertion records
+//      the verdicts it turned, and the search what it tried and dropped (counts per kind);
 //   3. if none helps: the error count goes up by one, and the step gets the verification
 //      templates its action names and, per outcome, the recovery plan, instantiated with the
 //      plan's values.
@@ -57,6 +47,7 @@
 #include "spar/planner/instances.hpp"
 #include "spar/planner/uncertainty/deciding.hpp"
 #include "spar/planner/uncertainty/propagation.hpp"
+#include "spar/planner/uncertainty/repair.hpp"
 
 namespace spar::planner {
 
@@ -87,22 +78,35 @@ struct AnalysedStep {
   std::optional<double> sensor_scale_needed;
 };
 
-// A repair phase 2 tried: a range-scan or squeeze spliced in before `before` (index into the
-// final step list, or into the step list at the time when it did not help).
+// A range-scan or squeeze phase 2 kept in the plan (planner/uncertainty/repair.hpp) to repair the
+// failing instance step `for_instance_step`; the inserted step's Phase2Step::repair indexes it.
 struct RepairAttempt {
-  std::string action;  // range-scan or squeeze
+  std::string action;  // the domain's sense or reduce action
   int object{-1};
   int for_instance_step{-1};  // the instance step (PlanInstance::steps index) that failed
-  bool helped{false};
-  // Bounds of the failing step's preconditions before and after the insertion.
+  bool helped{true};          // kept insertions only: true
+  // Bounds of the failing step's preconditions without and with the kept set.
   std::vector<bounds::BoundResult> before, after;
   std::vector<bounds::Verdict> verdicts_before, verdicts_after;
+  // The verdicts this insertion turned to satisfied: satisfied with the kept set, not without it.
+  std::vector<PreconditionRef> turned;
+};
+
+// The repair search for one failing instance step: what was tried, kept and dropped.
+struct RepairSearch {
+  int for_instance_step{-1};
+  int candidates{0};  // range-scans and squeezes that fit before the step
+  int sets_tried{0};
+  int kept{0};
+  std::map<std::string, int> dropped;  // candidates not kept, per kind (range-scan, squeeze)
+  bool holds{false};                   // the step holds with the kept set
 };
 
 struct InstanceAnalysis {
   std::size_t instance{0};  // index into the instance list
   std::vector<AnalysedStep> steps;
-  std::vector<RepairAttempt> repairs;
+  std::vector<RepairAttempt> repairs;         // kept insertions, in the order they were kept
+  std::vector<RepairSearch> repair_searches;  // one per failing instance step searched
   // The final space: every variable with provenance (variables[id.index]) and its symbol in `pool`.
   std::vector<SpaceVariable> variables;
   std::vector<symbolic::Expr> symbols;

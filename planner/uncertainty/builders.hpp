@@ -54,6 +54,7 @@ struct Phase2Step {
   kinematics::Transform object_pose{kinematics::Transform::Identity()};
   kinematics::Transform fixed_pose{kinematics::Transform::Identity()};
   int instance_step{-1};  // index into PlanInstance::steps; -1 when inserted by phase 2
+  int repair{-1};         // inserted by phase 2's repair: index into InstanceAnalysis::repairs
 };
 
 struct TableState {

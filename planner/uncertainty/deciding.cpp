@@ -38,7 +38,7 @@ std::vector<PreconditionResult> decide(const std::vector<Precondition>& precondi
   const std::vector<bounds::Interval> box = space.ranges(ids);
   bounds::ConditionSet set(inequalities, variables);
   const std::vector<bounds::ConditionCheck> checks =
-      set.check(box, quick, bounds::Escalation::kUndecided);
+      set.check(box, quick, bounds::Escalation::kDecide);
   for (std::size_t i = 0; i < preconditions.size(); ++i) {
     PreconditionResult result;
     result.kind = preconditions[i].kind;
@@ -48,7 +48,11 @@ std::vector<PreconditionResult> decide(const std::vector<Precondition>& precondi
     result.bound = checks[i].bound;
     result.witness = checks[i].witness;
     if (result.verdict == bounds::Verdict::kUndecided) {
-      result.bound = bounds::BoundProblem(result.inequality.expression, variables).bound(box, full);
+      bounds::BoundOptions deciding = full;
+      deciding.decide =
+          bounds::DecisionTarget{result.inequality.relation, result.inequality.threshold};
+      result.bound =
+          bounds::BoundProblem(result.inequality.expression, variables).bound(box, deciding);
       result.verdict = bounds::decide(result.inequality, result.bound);
       result.witness = bounds::witness(result.inequality, result.bound);
     }

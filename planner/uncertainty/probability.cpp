@@ -7,6 +7,7 @@
 #include <Eigen/SparseCore>
 #include <SuiteSparseQR.hpp>
 #include <algorithm>
+#include <boost/math/distributions/normal.hpp>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -42,44 +43,14 @@ double normal_mass(double a, double b) {
   if (b <= 0) return normal_cdf(b) - normal_cdf(a);
   return 1 - normal_cdf(a) - 0.5 * std::erfc(b / std::numbers::sqrt2);
 }
-// Φ^-1(p), p in (0, 1): Acklam's rational approximation (relative error 1.2e-9) refined by one
-// Halley step on erfc (then accurate to a few ulps).
-double normal_quantile(double p) {
-  static constexpr double a[] = {-3.969683028665376e+01, 2.209460984245205e+02,
-                                 -2.759285104469687e+02, 1.383577518672690e+02,
-                                 -3.066479806614716e+01, 2.506628277459239e+00};
-  static constexpr double b[] = {-5.447609879822406e+01, 1.615858368580409e+02,
-                                 -1.556989798598866e+02, 6.680131188771972e+01,
-                                 -1.328068155288572e+01};
-  static constexpr double c[] = {-7.784894002430293e-03, -3.223964580411365e-01,
-                                 -2.400758277161838e+00, -2.549732539343734e+00,
-                                 4.374664141464968e+00,  2.938163982698783e+00};
-  static constexpr double d[] = {7.784695709041462e-03, 3.224671290700398e-01,
-                                 2.445134137142996e+00, 3.754408661907416e+00};
-  const double tail = 0.02425;
-  double x = 0;
-  if (p < tail) {
-    const double q = std::sqrt(-2 * std::log(p));
-    x = (((((c[0] * q + c[1]) * q + c[2]) * q + c[3]) * q + c[4]) * q + c[5]) /
-        ((((d[0] * q + d[1]) * q + d[2]) * q + d[3]) * q + 1);
-  } else if (p <= 1 - tail) {
-    const double q = p - 0.5, r = q * q;
-    x = (((((a[0] * r + a[1]) * r + a[2]) * r + a[3]) * r + a[4]) * r + a[5]) * q /
-        (((((b[0] * r + b[1]) * r + b[2]) * r + b[3]) * r + b[4]) * r + 1);
-  } else {
-    const double q = std::sqrt(-2 * std::log(1 - p));
-    x = -(((((c[0] * q + c[1]) * q + c[2]) * q + c[3]) * q + c[4]) * q + c[5]) /
-        ((((d[0] * q + d[1]) * q + d[2]) * q + d[3]) * q + 1);
-  }
-  const double e = normal_cdf(x) - p;
-  const double u = e * std::sqrt(2 * std::numbers::pi) * std::exp(0.5 * x * x);
-  return x - u / (1 + 0.5 * x * u);
-}
+// Φ^-1(p), p in (0, 1) (Boost.Math).
+double normal_quantile(double p) { return boost::math::quantile(boost::math::normal(), p); }
 
 // Wilson score interval (95%) of `k` successes in `n` trials.
 std::pair<double, double> wilson(std::size_t k, std::size_t n) {
   if (n == 0) return {0.0, 1.0};
-  const double z = 1.959963984540054, p = static_cast<double>(k) / n, z2n = z * z / n;
+  static const double z = normal_quantile(0.975);  // 1.95996...
+  const double p = static_cast<double>(k) / n, z2n = z * z / n;
   const double centre = (p + z2n / 2) / (1 + z2n);
   const double half = z / (1 + z2n) * std::sqrt(p * (1 - p) / n + z2n / (4 * n));
   return {std::max(0.0, centre - half), std::min(1.0, centre + half)};

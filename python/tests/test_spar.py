@@ -286,7 +286,7 @@ def test_errors_are_a_hierarchy_with_the_engine_messages():
         spar.fk("puma999", [0] * 6)
     with pytest.raises(spar.KinematicsError):
         spar.ik("puma560", np.ones((4, 4)))
-    with pytest.raises(spar.ScenarioError, match="no such file"):
+    with pytest.raises(spar.ScenarioError, match="no such scenario file"):
         spar.plan("missing.yaml")
     bad = FACE_DOWN.read_text().replace("builtin: peg", "bultin: peg")
     with pytest.raises(spar.ScenarioError, match=r"cell\.yaml:\d+:\d+: .*unknown key 'bultin'"):

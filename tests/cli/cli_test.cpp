@@ -288,9 +288,14 @@ const std::vector<Case> kCases = {
   {"QrSeedLargest", {"qr", "match-strike", "--seed", "18446744073709551615"}, 0, "status: ", ""},
   // Options that would make the work unbounded are capped with a clear error.
   {"ApproachStepTiny", {"object", "cube", "--approach-step", "1e-9"}, kError, "",
-   "--approach-step: must be a number from 1 to 360, got '1e-9'"},
+   "--approach-step: must be an angle >= 1 and <= 360 deg \\(each step is one more grasp per "
+   "contact position\\), got 1e-09 deg"},
   {"PositionsHuge", {"object", "cube", "--positions", "100000"}, kError, "",
-   "--positions: must be a whole number from 1 to 20, got '100000'"},
+   "--positions: must be a whole number >= 1 and <= 20 \\(a face pair gets the square of it as "
+   "contact positions\\), got 100000"},
+  {"MaxOpeningHuge", {"object", "cube", "--max-opening", "1e308", "--units", "in"}, kError, "",
+   "--max-opening: must be a length > 0 and <= 78.7402 in \\(the widest parallel gripper spar "
+   "models\\), got 1e\\+308 in"},
   {"PlanUnknownFormat",
    {"plan", "@SRC@/examples/peg_block_face_up.yaml", "--report", "@DIR@/r", "--format", "pdf"},
    kError, "", "unknown report format 'pdf'"},

@@ -141,9 +141,10 @@ TEST(MeshIo, NonConvexPolygonIsRejected) {
 }
 
 TEST(MeshIo, MissingFileAndUnknownExtension) {
-  EXPECT_THROW_MESSAGE((void)read_mesh_file("/nonexistent/thing.off"), "cannot open the file");
-  EXPECT_THROW_MESSAGE((void)read_mesh_file("thing.ply"),
-                       "unknown mesh format '.ply' (expected .off, .obj or .stl)");
+  EXPECT_THROW_MESSAGE((void)read_mesh_file("/nonexistent/thing.off"),
+                       "/nonexistent/thing.off: no such mesh file");
+  EXPECT_THROW_MESSAGE((void)read_mesh_file(SPAR_SOURCE_DIR "/README.md"),
+                       "unknown mesh format '.md' (expected .off, .obj or .stl)");
 }
 
 TEST(MeshIo, WriteThenReadKeepsFacesAndNames) {

@@ -36,16 +36,29 @@ TEST(MeshValidation, OverlappingCubesIntersectThemselves) {
   EXPECT_THROW_MESSAGE(validate_closed_mesh(mesh), "the mesh intersects itself");
 }
 
-TEST(MeshValidation, SeparateCubesAreOneValidMesh) {
-  Mesh mesh = two_cubes(2);
-  validate_closed_mesh(mesh);
-  EXPECT_DOUBLE_EQ(volume_properties(mesh).volume, 2);
-}
-
-TEST(MeshValidation, CubesTouchingAtACornerDoNotCross) {
-  Mesh mesh = two_cubes(1);  // one shared corner point, welded into one vertex
-  validate_closed_mesh(mesh);
-  EXPECT_DOUBLE_EQ(volume_properties(mesh).volume, 2);
+// An object is one solid (issue 22): pieces apart, or touching only at a corner or along an edge,
+// are refused with what is wrong, although each piece is closed and none crosses another.
+TEST(MeshValidation, SolidsApartOrTouchingAreNotOneObject) {
+  Mesh apart = two_cubes(2);
+  EXPECT_THROW_MESSAGE(validate_closed_mesh(apart),
+                       "<box> (triangle 12): the mesh is more than one solid: this polygon is not "
+                       "connected to the one at <box> (triangle 0)");
+  Mesh corner = two_cubes(1);  // one shared corner point, welded into one vertex
+  EXPECT_THROW_MESSAGE(validate_closed_mesh(corner), "the mesh is more than one solid");
+  // Sharing the edge x = y = 1: four triangles run along it.
+  Mesh edge = make_box({1, 1, 1});
+  const Mesh second = make_box({1, 1, 1});
+  const int base = static_cast<int>(edge.vertices.size());
+  for (const auto& v : second.vertices) edge.vertices.push_back(v + Eigen::Vector3d(1, 1, 0));
+  for (std::size_t t = 0; t < second.triangles.size(); ++t) {
+    const auto& tri = second.triangles[t];
+    edge.triangles.push_back({tri[0] + base, tri[1] + base, tri[2] + base});
+    edge.triangle_names.push_back("");
+    edge.triangle_lines.push_back(0);
+  }
+  EXPECT_THROW_MESSAGE(validate_closed_mesh(edge),
+                       "triangles (a non-manifold edge: two solids touching along an edge are not "
+                       "one object)");
 }
 
 TEST(MeshValidation, TheErrorNamesBothPolygonsByFileLine) {

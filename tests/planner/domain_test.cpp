@@ -90,12 +90,13 @@ std::string one_action(const std::string& body) {
 
 TEST(DomainErrors, YamlSyntax) {
   EXPECT_THROW_MESSAGE(parse_domain("actions: [\n", "d.yaml"),
-                       "d.yaml:2:1: end of sequence flow not found");
+                       "d.yaml:2:1: YAML syntax error: end of sequence flow not found");
 }
 
 TEST(DomainErrors, NestingBeyondYamlCppsLimitIsNamed) {
   const std::string deep = "actions: " + std::string(1000, '[') + std::string(1000, ']') + "\n";
-  EXPECT_THROW_MESSAGE(parse_domain(deep, "d.yaml"), "d.yaml:1:2010: nested too deeply");
+  EXPECT_THROW_MESSAGE(parse_domain(deep, "d.yaml"),
+                       "d.yaml:1:2010: YAML syntax error: nested too deeply");
 }
 
 TEST(DomainErrors, UnknownTopLevelKey) {
@@ -223,7 +224,7 @@ TEST(DomainErrors, KindThatDisagreesWithTheEffect) {
 
 TEST(DomainErrors, MissingFileIsNamed) {
   EXPECT_THROW_MESSAGE(load_domain("/nonexistent/domain.yaml"),
-                       "/nonexistent/domain.yaml: cannot open the domain file");
+                       "/nonexistent/domain.yaml: no such domain file");
 }
 
 }  // namespace

@@ -84,7 +84,8 @@ TEST(ProbabilityScenario, MistakesAreReportedWithFileLineAndColumn) {
             "cell.yaml:10:98: objects.peg.uncertainty.sigma.dx: must be > 0 where the "
             "half-width is, got 0");
   EXPECT_EQ(error_of(replaced(kScenario, "cost: {dz: 3}", "cost: {dz: 0}")),
-            "cell.yaml:10:127: objects.peg.uncertainty.cost.dz: must be > 0, got 0");
+            "cell.yaml:10:127: objects.peg.uncertainty.cost.dz: must be a number > 0 and <= "
+            "1e+06 (a relative weight), got 0");
   EXPECT_EQ(error_of(replaced(kScenario, "cost: {dz: 3}", "cost: {dq: 3}")),
             "cell.yaml:10:123: objects.peg.uncertainty.cost: unknown key 'dq' (did you mean "
             "'dx'?); known keys: dx, dy, dz, dtheta");

@@ -221,7 +221,8 @@ TEST(ScenarioErrors, MissingKey) {
   expect_error(with("    pose: {stable: P1, at: [14, 12]}\n", ""), 4, 5,
                "objects.peg: missing key 'pose'");
   expect_error(with("    builtin: peg\n", ""), 4, 5,
-               "objects.peg: needs exactly one of 'builtin: <name>' and 'mesh: <file>'");
+               "objects.peg: needs exactly one of 'builtin: <name>', 'mesh: <file>' and "
+               "'identity: [<candidates>]'");
 }
 
 TEST(ScenarioErrors, UnknownObjectInAGoal) {
@@ -247,7 +248,8 @@ TEST(ScenarioErrors, PoseThatIsNotRigid) {
 
 TEST(ScenarioErrors, NegativeOrNanUncertainty) {
   expect_error(with("dy: 0.11", "dy: -0.11"), 10, 33,
-               "objects.block.uncertainty.dy: must be >= 0, got -0.11");
+               "objects.block.uncertainty.dy: must be a length >= 0 and <= 393.701 in (an error in "
+               "a robot cell), got -0.11 in");
   expect_error(with("dtheta: 5.5", "dtheta: .nan"), 10, 57,
                "objects.block.uncertainty.dtheta: expected a finite number, got '.nan'");
 }
@@ -272,8 +274,10 @@ TEST(ScenarioErrors, MissingMeshNamesTheResolvedPath) {
   const std::filesystem::path folder = scratch_folder("missing_mesh");
   const std::string message =
       error_of("objects: {part: {mesh: meshes/part.off, pose: {xyz: [0, 0, 0]}}}", folder);
-  EXPECT_EQ(message.rfind("test.yaml:1:24: objects.part.mesh: no mesh file ", 0), 0u) << message;
-  EXPECT_NE(message.find((folder / "meshes" / "part.off").string()), std::string::npos) << message;
+  EXPECT_EQ(message.rfind("test.yaml:1:24: objects.part.mesh: ", 0), 0u) << message;
+  EXPECT_NE(message.find((folder / "meshes" / "part.off").string() + ": no such mesh file"),
+            std::string::npos)
+      << message;
 }
 
 TEST(ScenarioErrors, MalformedMeshIncludesTheGeometryMessage) {
@@ -313,9 +317,7 @@ TEST(ScenarioErrors, UnreadableFile) {
     (void)load_scenario(kExamples / "no_such_scenario.yaml");
     ADD_FAILURE() << "no error";
   } catch (const ScenarioError& error) {
-    EXPECT_NE(std::string(error.what())
-                  .find("no_such_scenario.yaml: cannot read the scenario "
-                        "file: no such file"),
+    EXPECT_NE(std::string(error.what()).find("no_such_scenario.yaml: no such scenario file"),
               std::string::npos)
         << error.what();
   }

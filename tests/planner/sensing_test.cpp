@@ -130,12 +130,13 @@ TEST(SensingScenario, MistakesSayWhereAndWhat) {
   EXPECT_NE(error_of("{builtin: cube, pose: {stable: P1, at: [0, 0]}}",
                      cameras + "{name: c, pose: {xyz: [0, 0, 1]}, intrinsics: {fx: 1, fy: 1, "
                                "cx: 0, cy: 0, width: 0, height: 1}}\n")
-                .find("sensors.cameras[0].intrinsics.width: must be 1 to 16384 pixels, got 0"),
+                .find("sensors.cameras[0].intrinsics.width: must be a whole number >= 1 and <= "
+                      "16384 (an image side in pixels), got 0"),
             std::string::npos);
   EXPECT_NE(error_of("{builtin: cube, pose: {stable: P1, at: [0, 0]}}",
                      cameras + "{name: c, pose: {xyz: [0, 0, 1]}, intrinsics: {fx: 1, fy: 1, "
                                "cx: 0, cy: 0, width: 1, height: 1}, detection_probability: 1.5}\n")
-                .find("detection_probability: must be in (0, 1], got 1.5"),
+                .find("detection_probability: must be a number > 0 and <= 1 (a probability), got 1.5"),
             std::string::npos);
   EXPECT_NE(error_of("{builtin: cube, pose: {stable: P1, at: [0, 0]}}",
                      cameras + "{name: c, mount: belt, pose: {xyz: [0, 0, 1]}, intrinsics: {fx: 1, "
@@ -144,7 +145,7 @@ TEST(SensingScenario, MistakesSayWhereAndWhat) {
             std::string::npos);
   EXPECT_NE(error_of("{builtin: cube, pose: {stable: P1, at: [0, 0]}}",
                      "sensing: {max_operations: 0}\n")
-                .find("sensing.max_operations: must be 1 to 10, got 0"),
+                .find("sensing.max_operations: must be a whole number >= 1 and <= 10"),
             std::string::npos);
 }
 

@@ -1,0 +1,176 @@
+#include "spar/planner/uncertainty/repair.hpp"
+
+#include <algorithm>
+#include <bit>
+
+namespace spar::planner {
+namespace {
+
+// held[i]: the object held just before steps[i], or -1 (gripper empty).
+std::vector<int> held_before(const std::vector<Phase2Step>& steps) {
+  std::vector<int> held(steps.size() + 1, -1);
+  for (std::size_t i = 0; i < steps.size(); ++i) {
+    held[i + 1] = held[i];
+    if (steps[i].effect == Effect::kGrasp) held[i + 1] = steps[i].object;
+    if (steps[i].effect == Effect::kRelease || steps[i].effect == Effect::kInsert) held[i + 1] = -1;
+  }
+  return held;
+}
+
+bool moves(const Phase2Step& step, int object) {
+  return step.object == object && moves_object(step.effect);
+}
+
+// At most one squeeze: a second one re-centres the object again and cannot add anything.
+bool valid_set(const std::vector<RepairCandidate>& candidates, unsigned set) {
+  int squeezes = 0;
+  for (std::size_t i = 0; i < candidates.size(); ++i)
+    squeezes += (set >> i & 1u) && candidates[i].effect == Effect::kReduce;
+  return squeezes <= 1;
+}
+
+// The sets of `size` candidates out of n, in lexicographic order of their indices (SPAR's order).
+std::vector<unsigned> sets_of_size(std::size_t n, int size) {
+  std::vector<unsigned> sets;
+  for (unsigned set = 1; set < (1u << n); ++set)
+    if (std::popcount(set) == size) sets.push_back(set);
+  // Lexicographic by the sorted index list: compare the lowest differing index.
+  std::sort(sets.begin(), sets.end(), [](unsigned a, unsigned b) {
+    const unsigned differ = a ^ b;
+    const unsigned lowest = differ & -differ;
+    return (a & lowest) != 0;
+  });
+  return sets;
+}
+
+}  // namespace
+
+const char* repair_kind(const RepairCandidate& candidate) {
+  return candidate.effect == Effect::kReduce ? "squeeze" : "range-scan";
+}
+
+int scan_position(const std::vector<Phase2Step>& steps, int until, int object) {
+  const std::vector<int> held = held_before(steps);
+  for (int i = until; i >= 0; --i) {
+    if (i < until && moves(steps[i], object)) return -1;
+    if (held[i] == -1) return i;
+  }
+  return -1;
+}
+
+int grasp_position(const std::vector<Phase2Step>& steps, int until, int object) {
+  for (int i = until; i >= 0; --i)
+    if (steps[i].effect == Effect::kGrasp && steps[i].object == object) return i;
+  return -1;
+}
+
+std::vector<RepairCandidate> repair_candidates(const WorldModel& world,
+                                               const std::vector<Phase2Step>& steps, int k,
+                                               int squeeze_grasps, bool sensing, bool squeezing) {
+  const Phase2Step& failing = steps[k];
+  const bool insertion = failing.effect == Effect::kInsert;
+  const int pickup_at = insertion ? grasp_position(steps, k, failing.object)
+                                  : (failing.effect == Effect::kGrasp ? k : -1);
+  std::vector<RepairCandidate> out;
+  if (sensing) {
+    if (insertion) {
+      const int at = scan_position(steps, k, failing.fixed_object);
+      if (at >= 0) out.push_back({Effect::kSense, failing.fixed_object, -1, at});
+    }
+    const int at = pickup_at >= 0 ? scan_position(steps, pickup_at, failing.object) : -1;
+    if (at >= 0) out.push_back({Effect::kSense, failing.object, -1, at});
+  }
+  // A squeeze uses another grasp than the pickup's (with the same one its preconditions would be
+  // the failing pickup's own), one the robot reaches where the object lies.
+  if (squeezing && pickup_at >= 0 && steps[pickup_at].position >= 0) {
+    const Phase2Step& pickup = steps[pickup_at];
+    const ObjectWorld& object = world.object(pickup.object);
+    int added = 0;
+    for (std::size_t g = 0; g < object.grasps.size() && added < squeeze_grasps; ++g)
+      if (static_cast<int>(g) != pickup.grasp && object.reachable[g][pickup.position]) {
+        out.push_back({Effect::kReduce, pickup.object, static_cast<int>(g), pickup_at});
+        ++added;
+      }
+  }
+  return out;
+}
+
+SplicedPlan splice(const std::vector<Phase2Step>& steps, int k,
+                   const std::vector<RepairCandidate>& candidates, unsigned set, int scan,
+                   int squeeze, int repair_id) {
+  SplicedPlan out{.steps = steps, .failing = k, .inserted = {}};
+  // Later positions first, so earlier ones stay valid; at one position, in candidate order.
+  std::vector<int> order;
+  for (int i = 0; i < static_cast<int>(candidates.size()); ++i)
+    if (set >> i & 1u) order.push_back(i);
+  std::stable_sort(order.begin(), order.end(),
+                   [&](int a, int b) { return candidates[a].position > candidates[b].position; });
+  std::vector<int> rank(candidates.size(), -1);
+  for (std::size_t r = 0, i = 0; i < candidates.size(); ++i)
+    if (set >> i & 1u) rank[i] = static_cast<int>(r++);
+  int shift_total = 0;
+  for (const int i : order) {
+    const RepairCandidate& c = candidates[i];
+    Phase2Step step;
+    if (c.effect == Effect::kReduce) {
+      step = steps[c.position];  // the pickup it precedes: same object, position, pose
+      step.action = squeeze;
+      step.grasp = c.grasp;
+    } else {
+      step.action = scan;
+      step.object = c.object;
+    }
+    step.effect = c.effect;
+    step.instance_step = -1;
+    step.repair = repair_id + rank[i];
+    // Candidates at the same position keep candidate order: insert after the ones already there.
+    int at = c.position;
+    for (const int j : order) {
+      if (j == i) break;
+      if (candidates[j].position == c.position) ++at;
+    }
+    out.steps.insert(out.steps.begin() + at, step);
+    ++shift_total;
+  }
+  out.failing = k + shift_total;
+  // Final positions of the inserted steps.
+  out.inserted.assign(order.size(), -1);
+  for (std::size_t p = 0; p < out.steps.size(); ++p)
+    if (out.steps[p].instance_step < 0 && out.steps[p].repair >= repair_id &&
+        out.steps[p].repair < repair_id + static_cast<int>(order.size()))
+      out.inserted[out.steps[p].repair - repair_id] = static_cast<int>(p);
+  return out;
+}
+
+RepairChoice choose_repair(const std::vector<RepairCandidate>& candidates,
+                           const RepairScore& baseline,
+                           const std::function<RepairScore(unsigned set)>& evaluate) {
+  RepairChoice choice{.set = 0, .score = baseline, .turned = {}, .sets_tried = 0};
+  std::map<unsigned, RepairScore> scores = {{0u, baseline}};
+  const int n = static_cast<int>(candidates.size());
+  for (int size = 1; size <= n && choice.score.unsatisfied > 0; ++size) {
+    for (const unsigned set : sets_of_size(candidates.size(), size)) {
+      if (!valid_set(candidates, set)) continue;
+      const RepairScore& score = scores[set] = evaluate(set);
+      ++choice.sets_tried;
+      if (score.admissible && score.better_than(choice.score)) {
+        choice.set = set;
+        choice.score = score;
+      }
+    }
+  }
+  for (int i = 0; i < n; ++i) {
+    if (!(choice.set >> i & 1u)) continue;
+    const auto without = scores.find(choice.set & ~(1u << i));
+    std::vector<PreconditionRef> turned;
+    for (const auto& [ref, satisfied] : choice.score.satisfied)
+      if (satisfied && without != scores.end()) {
+        const auto before = without->second.satisfied.find(ref);
+        if (before == without->second.satisfied.end() || !before->second) turned.push_back(ref);
+      }
+    choice.turned.push_back(std::move(turned));
+  }
+  return choice;
+}
+
+}  // namespace spar::planner

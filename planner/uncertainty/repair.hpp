@@ -1,0 +1,112 @@
+// Repair: which range-scans and squeezes phase 2 splices in before a failing step (seed 001,
+// "Satisfying Uncertainty-Reduction Goals": sensing where the uncertainty is too large), chosen as
+// a SET by a search, not one greedy insertion at a time.
+//
+// Candidates for the failing step at k, in SPAR's order (repair_candidates):
+//   for an insertion, a range-scan of the fixed object at the latest point before the step where
+//   the gripper is empty and the object rests where the step finds it;
+//   a range-scan of the handled object likewise before its pickup;
+//   a squeeze just before that pickup with each other grasp the robot reaches there (up to
+//   `squeeze_grasps`): it re-centres the object across those fingers.
+// The search (choose_repair) scores a set by re-propagating the plan with the set spliced in and
+// deciding every original step from the earliest candidate position through the failing step:
+//   Score = (original steps that fail, their preconditions not satisfied), lexicographic;
+//   a set is admissible when every squeeze in it has its own preconditions satisfied.
+// It evaluates admissible sets by size (at most one squeeze each: a second one re-centres again),
+// in SPAR's order within a size, and keeps the set with the best score, the smallest among equals,
+// the earliest in that order among those; the empty set (no repair) wins unless a set is strictly
+// better. It stops growing sets once a set leaves nothing unsatisfied.
+// Invariants (what makes the choice monotone and minimal):
+//   - a kept set is strictly better than no repair: it turns some verdict (violated or undecided ->
+//     satisfied) and fails no more steps; a bound that merely tightens is no reason to keep it;
+//   - every proper subset of the kept set scores strictly worse (else it would have been kept), so
+//     every inserted step turns some verdict: turned(e) = the preconditions satisfied with the set
+//     but not without e;
+//   - with smaller uncertainty every set's score is no worse (bounds are inclusion-monotone), so
+//     the kept set's score, hence the step's verdicts, can only improve.
+// Cost: at most 2 scans x (1 + squeezes) - 1 sets, each one replay and decide of steps
+// [earliest candidate, k]; stops at the first size that settles the step.
+//
+// Example:
+//   const std::vector<RepairCandidate> candidates = repair_candidates(world, steps, k, 4, true);
+//   const RepairChoice choice = choose_repair(candidates, baseline, [&](unsigned set) {
+//     return score_of(splice(steps, k, candidates, set, scan, squeeze));    // replay + decide
+//   });
+#pragma once
+
+#include <functional>
+#include <map>
+#include <utility>
+#include <vector>
+
+#include "spar/planner/uncertainty/builders.hpp"
+#include "spar/planner/world.hpp"
+
+namespace spar::planner {
+
+// A precondition of an original (instance) step: its PlanInstance::steps index and its index
+// among that step's preconditions.
+struct PreconditionRef {
+  int instance_step{-1};
+  int index{-1};
+  friend auto operator<=>(const PreconditionRef&, const PreconditionRef&) = default;
+};
+
+// A range-scan (effect sense) or squeeze (effect reduce) to splice in before steps[position].
+struct RepairCandidate {
+  Effect effect{Effect::kSense};
+  int object{-1};
+  int grasp{-1};  // squeeze: the grasp it closes with
+  int position{-1};
+};
+[[nodiscard]] const char* repair_kind(const RepairCandidate& candidate);  // range-scan, squeeze
+
+// The candidates for the failing steps[k] (see the header comment); `sensing`: a range-scan sensor
+// and a sense action exist; `squeezing`: a reduce action exists.
+[[nodiscard]] std::vector<RepairCandidate> repair_candidates(const WorldModel& world,
+                                                             const std::vector<Phase2Step>& steps,
+                                                             int k, int squeeze_grasps,
+                                                             bool sensing, bool squeezing);
+
+// `steps` with the candidates in `set` (bit i: candidates[i]) spliced in; inserted steps get
+// action `scan` or `squeeze` and Phase2Step::repair = `repair_id` + their rank in the set.
+struct SplicedPlan {
+  std::vector<Phase2Step> steps;
+  int failing{-1};            // where steps[k] is now
+  std::vector<int> inserted;  // positions of the inserted steps, in candidate order
+};
+[[nodiscard]] SplicedPlan splice(const std::vector<Phase2Step>& steps, int k,
+                                 const std::vector<RepairCandidate>& candidates, unsigned set,
+                                 int scan, int squeeze, int repair_id);
+
+// How a plan with a repair set fares over the steps the search decides.
+struct RepairScore {
+  bool admissible{true};                      // every inserted squeeze's own preconditions hold
+  int failed{0};                              // original steps with a precondition not satisfied
+  int unsatisfied{0};                         // their preconditions not satisfied
+  std::map<PreconditionRef, bool> satisfied;  // per original precondition decided
+  [[nodiscard]] bool better_than(const RepairScore& other) const {
+    return std::pair(failed, unsatisfied) < std::pair(other.failed, other.unsatisfied);
+  }
+};
+
+struct RepairChoice {
+  unsigned set{0};  // bits of the kept candidates; 0: nothing helped
+  RepairScore score;
+  // Per kept candidate (in candidate order): the preconditions it turned.
+  std::vector<std::vector<PreconditionRef>> turned;
+  int sets_tried{0};
+};
+
+// The search of the header comment; `evaluate(set)` scores a non-empty set.
+[[nodiscard]] RepairChoice choose_repair(const std::vector<RepairCandidate>& candidates,
+                                         const RepairScore& baseline,
+                                         const std::function<RepairScore(unsigned set)>& evaluate);
+
+// The latest position <= until where a range-scan of `object` fits (the gripper is empty there
+// and the object is not moved between there and `until`), or -1.
+[[nodiscard]] int scan_position(const std::vector<Phase2Step>& steps, int until, int object);
+// The last grasp of `object` at or before `until`, or -1.
+[[nodiscard]] int grasp_position(const std::vector<Phase2Step>& steps, int until, int object);
+
+}  // namespace spar::planner
