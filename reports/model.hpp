@@ -362,6 +362,21 @@ struct PreconditionRef {
   }
 };
 
+// A sensing step's operation (`steps[].sensing`, normative), chosen by minimax ambiguity.
+struct SensingChoice {
+  std::string sensor;
+  std::string viewpoint;  // a fixed sensor's name, or V1, V2, ... of a wrist sensor
+  std::string aspect;     // the aspect the object shows it under the first hypothesis
+  double predicted_max_ambiguity{0.0};  // bits
+  template <class Self, class Field>
+  static void fields(Self& s, Field&& field) {
+    field("sensor", s.sensor);
+    field("viewpoint", s.viewpoint);
+    field("aspect", s.aspect);
+    field("predicted_max_ambiguity", s.predicted_max_ambiguity);
+  }
+};
+
 struct Step {
   int id{0};  // the family step's id; steps phase 2 inserted get new ids
   std::string action;
@@ -376,6 +391,7 @@ struct Step {
   std::optional<std::string> fixed_object;              // assemblies
   std::optional<Matrix> fixed_pose;
   std::optional<Matrix> held_pose;
+  std::optional<SensingChoice> sensing;  // sensing steps of an uncertain object
   // Phase 2:
   std::optional<bool> inserted;
   // Inserted steps: the preconditions it turned to satisfied (never empty).
@@ -401,6 +417,7 @@ struct Step {
     field("fixed_object", s.fixed_object);
     field("fixed_pose", s.fixed_pose);
     field("held_pose", s.held_pose);
+    field("sensing", s.sensing);
     field("inserted", s.inserted);
     field("turned", s.turned);
     field("finger_opening", s.finger_opening);
@@ -616,84 +633,6 @@ struct RepairSearch {
   }
 };
 
-struct Chosen {
-  std::size_t index{0};  // 0-based, into the enumerated instances
-  std::vector<Step> steps;
-  // Phase 2 (absent when it did not run):
-  std::optional<int> errors;
-  std::optional<std::vector<Repair>> repairs;
-  std::optional<std::vector<RepairSearch>> repair_searches;
-  std::optional<std::vector<UncertaintyVariable>> uncertainty_variables;
-  std::optional<Probability> probability;
-  template <class Self, class Field>
-  static void fields(Self& s, Field&& field) {
-    field("index", s.index);
-    field("steps", s.steps);
-    field("errors", s.errors);
-    field("repairs", s.repairs);
-    field("repair_searches", s.repair_searches);
-    field("uncertainty_variables", s.uncertainty_variables);
-    field("probability", s.probability);
-  }
-};
-
-struct Report {
-  std::string schema{kReportSchema};
-  std::string scenario;
-  std::string description;
-  std::string status;                 // planned | no_plan
-  std::optional<std::string> reason;  // with no_plan
-  Units units;
-  Robot robot;
-  Family family;
-  Instances instances;
-  Nullable<Chosen> chosen;  // null without a plan
-  template <class Self, class Field>
-  static void fields(Self& s, Field&& field) {
-    field("schema", s.schema);
-    field("scenario", s.scenario);
-    field("description", s.description);
-    field("status", s.status);
-    field("reason", s.reason);
-    field("units", s.units);
-    field("robot", s.robot);
-    field("family", s.family);
-    field("instances", s.instances);
-    field("chosen", s.chosen);
-  }
-};
-
-// ---- sound bounds of one expression: `spar bound --json`, each line of `--jsonl`, spar.bound ----
-
-struct BoundRecord {
-  std::optional<std::string> name;      // a corpus record's name
-  double lo{0.0}, hi{0.0};              // sound: every value over the (constrained) box lies inside
-  double inner_lo{0.0}, inner_hi{0.0};  // attained at argmin / argmax
-  NamedValues<double> argmin, argmax;   // empty when there is no witness
-  std::string status;                   // converged | effort_limit | unbounded | infeasible
-  bool possibly_undefined{false};
-  bool time_limited{false};  // stopped by the time limit (the answer depends on the machine)
-  double relative_gap{0.0};
-  std::size_t evaluations{0};  // box evaluations
-  double seconds{0.0};         // wall-clock time of the bound (varies run to run)
-  template <class Self, class Field>
-  static void fields(Self& s, Field&& field) {
-    field("name", s.name);
-    field("lo", s.lo);
-    field("hi", s.hi);
-    field("inner_lo", s.inner_lo);
-    field("inner_hi", s.inner_hi);
-    field("argmin", s.argmin);
-    field("argmax", s.argmax);
-    field("status", s.status);
-    field("possibly_undefined", s.possibly_undefined);
-    field("time_limited", s.time_limited);
-    field("relative_gap", s.relative_gap);
-    field("evaluations", s.evaluations);
-    field("seconds", s.seconds);
-  }
-};
-
 // ---- sense planning (planner/sense_planning.hpp): `spar sense-plan --json`, spar.sense_plan ----
 
 // One candidate sensing operation: a sensor at a viewpoint class.
@@ -811,6 +750,110 @@ struct SensePlanRecord {
     field("objects", s.objects);
   }
 };
+
+// One outcome of sensing (`branches[]`, normative): the plan of the scenario with the uncertain
+// object as the outcome has it, planned and analysed like any plan.
+struct Branch {
+  std::string outcome;  // the hypothesis: "P1", "cube", "cube:P3"
+  std::string object;
+  std::string status;        // planned | no_plan (the report's `reason` names the first)
+  std::vector<Step> steps;   // the branch's chosen steps (empty without a plan)
+  std::optional<int> errors;  // phase 2's
+  template <class Self, class Field>
+  static void fields(Self& s, Field&& field) {
+    field("outcome", s.outcome);
+    field("object", s.object);
+    field("status", s.status);
+    field("steps", s.steps);
+    field("errors", s.errors);
+  }
+};
+
+struct Chosen {
+  std::size_t index{0};  // 0-based, into the enumerated instances
+  std::vector<Step> steps;
+  // Phase 2 (absent when it did not run):
+  std::optional<int> errors;
+  std::optional<std::vector<Repair>> repairs;
+  std::optional<std::vector<RepairSearch>> repair_searches;
+  std::optional<std::vector<UncertaintyVariable>> uncertainty_variables;
+  std::optional<Probability> probability;
+  template <class Self, class Field>
+  static void fields(Self& s, Field&& field) {
+    field("index", s.index);
+    field("steps", s.steps);
+    field("errors", s.errors);
+    field("repairs", s.repairs);
+    field("repair_searches", s.repair_searches);
+    field("uncertainty_variables", s.uncertainty_variables);
+    field("probability", s.probability);
+  }
+};
+
+struct Report {
+  std::string schema{kReportSchema};
+  std::string scenario;
+  std::string description;
+  std::string status;                 // planned | no_plan
+  std::optional<std::string> reason;  // with no_plan
+  Units units;
+  Robot robot;
+  Family family;
+  Instances instances;
+  Nullable<Chosen> chosen;  // null without a plan; with an uncertain object: its sensing steps
+  std::optional<std::vector<ObjectSensing>> sensing;  // with an uncertain object
+  std::optional<std::vector<Branch>> branches;        // with an uncertain object, one per outcome
+  template <class Self, class Field>
+  static void fields(Self& s, Field&& field) {
+    field("schema", s.schema);
+    field("scenario", s.scenario);
+    field("description", s.description);
+    field("status", s.status);
+    field("reason", s.reason);
+    field("units", s.units);
+    field("robot", s.robot);
+    field("family", s.family);
+    field("instances", s.instances);
+    field("chosen", s.chosen);
+    field("sensing", s.sensing);
+    field("branches", s.branches);
+  }
+};
+
+// ---- sound bounds of one expression: `spar bound --json`, each line of `--jsonl`, spar.bound ----
+
+struct BoundRecord {
+  std::optional<std::string> name;      // a corpus record's name
+  double lo{0.0}, hi{0.0};              // sound: every value over the (constrained) box lies inside
+  double inner_lo{0.0}, inner_hi{0.0};  // attained at argmin / argmax
+  NamedValues<double> argmin, argmax;   // empty when there is no witness
+  std::string status;                   // converged | effort_limit | unbounded | infeasible
+  bool possibly_undefined{false};
+  bool time_limited{false};  // stopped by the time limit (the answer depends on the machine)
+  double relative_gap{0.0};
+  std::size_t evaluations{0};  // box evaluations
+  double seconds{0.0};         // wall-clock time of the bound (varies run to run)
+  template <class Self, class Field>
+  static void fields(Self& s, Field&& field) {
+    field("name", s.name);
+    field("lo", s.lo);
+    field("hi", s.hi);
+    field("inner_lo", s.inner_lo);
+    field("inner_hi", s.inner_hi);
+    field("argmin", s.argmin);
+    field("argmax", s.argmax);
+    field("status", s.status);
+    field("possibly_undefined", s.possibly_undefined);
+    field("time_limited", s.time_limited);
+    field("relative_gap", s.relative_gap);
+    field("evaluations", s.evaluations);
+    field("seconds", s.seconds);
+  }
+};
+
+// The report with `branch`'s steps as its chosen plan (and no branches), to render a branch
+// like a plan.
+[[nodiscard]] Report branch_as_plan(const Report& report, const Branch& branch);
 
 // ---- naming steps ----
 

@@ -125,6 +125,10 @@ std::string step_details(const Units& units, const Step& step) {
   }
   if (step.stable_pose && *step.stable_pose) add("stable pose " + **step.stable_pose);
   if (step.configuration && *step.configuration) add("arm " + **step.configuration);
+  if (step.sensing)
+    add(step.sensing->sensor + " at " + step.sensing->viewpoint + " (aspect " +
+        (step.sensing->aspect.empty() ? "-" : step.sensing->aspect) + "), at most " +
+        rounded(step.sensing->predicted_max_ambiguity) + " bits left");
   return out;
 }
 

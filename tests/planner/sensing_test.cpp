@@ -3,6 +3,8 @@
 // on the example examples/sensing_block_pose.yaml.
 #include <gtest/gtest.h>
 
+#include <fstream>
+#include <sstream>
 #include <string>
 
 #include "spar/common/units.hpp"
@@ -188,17 +190,69 @@ TEST(SensePlanning, AnUncertainObjectNeedsASensor) {
   }
 }
 
-// Until plans branch per sensing outcome, planning an uncertain object is refused, not planned
-// as its first hypothesis.
-TEST(SensePlanning, PlanRefusesAnUncertainObject) {
+PlanOptions without_probability() {
+  PlanOptions options;
+  options.probability.reset();
+  return options;
+}
+
+std::string example_text() {
+  std::ifstream in(kExamples / "sensing_block_pose.yaml");
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+// spar plan on an uncertain object: the sensing operations first, then one branch per hypothesis,
+// each the scenario with the block as the hypothesis has it, planned like any scenario.
+TEST(SensePlanning, PlanSensesFirstThenPlansEachOutcome) {
   const Scenario scenario = load_scenario(kExamples / "sensing_block_pose.yaml");
+  const PlanResult result = plan(scenario, builtin_domain(), without_probability());
+  ASSERT_TRUE(result.sensing);
+  EXPECT_EQ(result.sensing->object, "block");
+  EXPECT_TRUE(result.sensing->selection.resolved);
+  EXPECT_FALSE(result.sensing->selection.sequence.empty());
+  ASSERT_EQ(result.branches.size(), 2U);
+  for (std::size_t h = 0; h < 2; ++h) {
+    const PlanBranch& branch = result.branches[h];
+    EXPECT_EQ(branch.object, "block");
+    EXPECT_EQ(branch.outcome, h == 0 ? "P1" : "P2");
+    EXPECT_FALSE(branch.result.sensing);
+    const ObjectSpec& block = branch.result.world.scenario().object("block");
+    EXPECT_FALSE(block.uncertain());
+    EXPECT_EQ(block.initial_stable_pose, static_cast<int>(h));
+    EXPECT_TRUE(branch.result.planned()) << branch.outcome << ": " << branch.result.family.reason;
+  }
+  EXPECT_TRUE(result.planned());
+  EXPECT_TRUE(result.instances.instances.empty());  // the plans are the branches'
+}
+
+TEST(SensePlanning, SensingThatCannotResolveIsNoPlan) {
+  std::string text = example_text();
+  text.replace(text.find("ambiguity_threshold: 0.3"), 24, "ambiguity_threshold: 0");
+  const PlanResult result =
+      plan(parse_scenario(text, "threshold0.yaml", kExamples), builtin_domain(),
+           without_probability());
+  ASSERT_TRUE(result.sensing);
+  EXPECT_FALSE(result.sensing->selection.resolved);
+  EXPECT_TRUE(result.branches.empty());
+  EXPECT_FALSE(result.planned());
+  EXPECT_EQ(result.family.reason.rfind("sensing cannot tell the hypotheses of 'block' apart", 0),
+            0U)
+      << result.family.reason;
+}
+
+TEST(SensePlanning, PlanRefusesTwoUncertainObjects) {
+  std::string text = example_text();
+  text.replace(text.find("stable: P7"), 10, "stable: [P7, P8]");
+  const Scenario scenario = parse_scenario(text, "two.yaml", kExamples);
   try {
     (void)plan(scenario, builtin_domain());
     ADD_FAILURE() << "expected a ScenarioError";
   } catch (const ScenarioError& error) {
     EXPECT_NE(std::string(error.what())
-                  .find("object 'block' is uncertain (2 hypotheses): spar plan does not plan "
-                        "branches"),
+                  .find("objects 'block' and 'peg' are both uncertain: spar plan branches on one "
+                        "uncertain object"),
               std::string::npos)
         << error.what();
   }

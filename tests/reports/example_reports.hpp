@@ -45,4 +45,12 @@ inline const nlohmann::ordered_json& no_plan_report() {
   return report;
 }
 
+// examples/sensing_block_pose.yaml: the block on its left or right face, sensed first; its report
+// has sensing steps, the sense plan and one branch per outcome.
+inline const nlohmann::ordered_json& sensing_report() {
+  static const nlohmann::ordered_json report = plan_json(planner::plan(
+      planner::load_scenario(example_path("sensing_block_pose")), planner::builtin_domain()));
+  return report;
+}
+
 }  // namespace spar::reports::testing

@@ -114,6 +114,28 @@ TEST(Html, ShowsBlameAndReverseMargin) {
       std::regex_search(html, std::regex(R"(<td>x[0-9.]+ \(±[0-9.]+ in, ±[0-9.]+ deg\)</td>)")));
 }
 
+TEST(SensingReport, ShowsTheSensePlanAndEveryBranch) {
+  const Json& report = sensing_report();
+  EXPECT_EQ(report["status"], "planned");
+  const Json& first = report["chosen"]["steps"][0];
+  EXPECT_EQ(first["action"], "sense");
+  EXPECT_EQ(first["object"], "block");
+  EXPECT_EQ(first["sensing"]["sensor"], "range_scan");
+  EXPECT_LT(first["sensing"]["predicted_max_ambiguity"].get<double>(), 0.3);
+  ASSERT_EQ(report["branches"].size(), 2U);
+  EXPECT_EQ(report["branches"][1]["outcome"], "P2");
+  EXPECT_EQ(report["branches"][1]["status"], "planned");
+  EXPECT_FALSE(report["branches"][1]["steps"].empty());
+  const std::string markdown = render_markdown(report);
+  for (const char* part : {"## Sensing", "### block: 2 hypotheses", "| range_scan at V",
+                           "### Branch P1 (block is P1): planned",
+                           "### Branch P2 (block is P2): planned", "branch P2: planned"})
+    EXPECT_NE(markdown.find(part), std::string::npos) << part;
+  const std::string html = render_html(report);
+  EXPECT_NE(html.find("class=\"view-sphere\""), std::string::npos);
+  EXPECT_EQ(count(html, "<h3>Branch P"), 2U);
+}
+
 TEST(Renderers, RefuseADocumentThatIsNotAReport) {
   EXPECT_THROW_MESSAGE(render_html(Json::parse(R"({"status": "planned"})")),
                        "cannot render HTML: not a spar-report/1 report");

@@ -51,6 +51,7 @@ std::vector<const nlohmann::ordered_json*> all_reports() {
   std::vector<const nlohmann::ordered_json*> reports;
   for (const std::string& name : example_names()) reports.push_back(&example_report(name));
   reports.push_back(&no_plan_report());
+  reports.push_back(&sensing_report());
   return reports;
 }
 
