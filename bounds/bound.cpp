@@ -21,6 +21,7 @@
 #include "spar/bounds/internal/checks.hpp"
 #include "spar/bounds/internal/gradient.hpp"
 #include "spar/bounds/internal/linear_enclosure.hpp"
+#include "spar/common/deadline.hpp"
 #include "spar/symbolic/operations.hpp"
 #include "spar/symbolic/smp.hpp"
 #include "spar/symbolic/tape.hpp"
@@ -746,6 +747,7 @@ class Bounder {
     if (tree_[0].bound[direction] > -kInf) queue.push({tree_[0].bound[direction], 0});
     std::size_t pops = 0, next_polish = 64;
     while (!queue.empty()) {
+      check_deadline();  // a batch's --time-limit (common/deadline.hpp); cheap without one
       const double top = std::max(queue.top().first, settled);
       if (top - inner() <= target_gap()) break;
       if (decided(sign, top)) return std::max(top, inner());

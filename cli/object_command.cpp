@@ -84,6 +84,9 @@ void run(const ObjectOptions& options) {
   const auto point = [unit](const Eigen::Vector3d& metres) -> Eigen::Vector3d {
     return metres / unit;
   };
+  // On a terminal, what a large mesh is at: each step is O(n log n), but seconds at 200k triangles.
+  const StatusLine status("spar object");
+  status.show("reading the mesh, its faces, convex hull and face pairs");
   const geometry::ObjectModel object = geometry::load_object(options.object, unit);
   const bool builtin = !std::filesystem::exists(options.object);
   if (!options.write_off.empty()) {
@@ -93,8 +96,11 @@ void run(const ObjectOptions& options) {
                                   : "spar object " + object.name());
     });
   }
+  status.show("stable poses");
   const auto poses = geometry::stable_poses(object);
+  status.show("grasps");
   const auto grasps = geometry::compute_grasps(object, gripper, quantization);
+  status.clear();
   const auto usable_in = [&](const geometry::Grasp& grasp) {
     std::vector<std::string> labels;
     for (const auto& pose : poses)

@@ -1,5 +1,7 @@
 #include "cli/options.hpp"
 
+#include <unistd.h>
+
 #include <cctype>
 #include <cerrno>
 #include <cstdio>
@@ -93,6 +95,19 @@ CLI::Option* add_count_option(CLI::App& command, const std::string& name, int& v
                               const std::string& description, std::uint64_t low,
                               std::uint64_t high) {
   return add_whole_number_option(command, name, value, description, low, high);
+}
+
+StatusLine::StatusLine(std::string command)
+    : command_(std::move(command)), shown_(isatty(STDERR_FILENO) == 1) {}
+
+StatusLine::~StatusLine() { clear(); }
+
+void StatusLine::show(std::string_view stage) const {
+  if (shown_) std::cerr << "\r\033[K" << command_ << ": " << stage << " ..." << std::flush;
+}
+
+void StatusLine::clear() const {
+  if (shown_) std::cerr << "\r\033[K" << std::flush;
 }
 
 void check_limit(std::string_view option, std::string_view limit_key, double value, GivenUnit unit,

@@ -67,6 +67,24 @@ CLI::Option* add_count_option(CLI::App& command, const std::string& name, int& v
                               const std::string& description, std::uint64_t low,
                               std::uint64_t high);
 
+// On a terminal (stderr is a tty), one line of stderr saying what a long command is doing
+// ("spar object: grasps ..."), replaced by each show() and cleared when destroyed (or by clear(),
+// before a line of the command's own); nothing when stderr is not a terminal.
+class StatusLine {
+ public:
+  explicit StatusLine(std::string command);
+  StatusLine(const StatusLine&) = delete;
+  StatusLine& operator=(const StatusLine&) = delete;
+  ~StatusLine();
+  void show(std::string_view stage) const;
+  void clear() const;
+  [[nodiscard]] bool shown() const { return shown_; }
+
+ private:
+  std::string command_;
+  bool shown_;
+};
+
 // Throws UsageError "<option>: must be ..." when `value` (metres, radians or a count) is outside
 // the row `limit_key` of the table of numeric limits (common/limits.hpp), shown in `unit`: the
 // options that set what a scenario key sets refuse what the scenario loader refuses.

@@ -23,17 +23,21 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <condition_variable>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <mutex>
+#include <optional>
 #include <set>
 #include <thread>
 
+#include "cli/batch.hpp"
 #include "cli/commands.hpp"
 #include "cli/demo_scenario.hpp"
 #include "cli/options.hpp"
+#include "spar/common/deadline.hpp"
+#include "spar/common/text.hpp"
 #include "spar/planner/plan.hpp"
 #include "spar/reports/build.hpp"
 #include "spar/reports/json.hpp"
@@ -57,7 +61,8 @@ struct PlanArguments {
   std::uint64_t instances{16};
   std::uint64_t max_nodes{200'000};
   int max_steps{64};
-  std::uint64_t samples{20'000};  // probabilistic analysis (0: off)
+  std::uint64_t samples{20'000};     // probabilistic analysis (0: off)
+  std::optional<double> time_limit;  // seconds per scenario (common/deadline.hpp)
 };
 
 reports::Report plan_report(const planner::Scenario& scenario, const planner::Domain& domain,
@@ -80,37 +85,28 @@ std::vector<reports::Format> html_first(std::vector<reports::Format> formats) {
   return formats;
 }
 
-// On a terminal, the stage plan() is at on one line of stderr, cleared when planning ends (or
-// fails, before the error is printed).
-class StageLine {
- public:
-  explicit StageLine(planner::PlanOptions& options) : shown_(isatty(STDERR_FILENO) == 1) {
-    if (shown_)
-      options.progress = [](std::string_view stage) {
-        std::cerr << "\r\033[Kspar plan: " << stage << " ..." << std::flush;
-      };
-  }
-  StageLine(const StageLine&) = delete;
-  StageLine& operator=(const StageLine&) = delete;
-  ~StageLine() {
-    if (shown_) std::cerr << "\r\033[K" << std::flush;
-  }
-
- private:
-  bool shown_;
-};
-
 void run_single(const PlanArguments& arguments, const planner::Domain& domain,
                 planner::PlanOptions options) {
   const std::vector<reports::Format> formats =
       html_first(reports::parse_formats(arguments.formats));
   const reports::Report report = [&] {
-    const StageLine stage_line(options);
-    return plan_report(
+    // On a terminal, the stage planning is at, cleared when it ends (or fails, before the error
+    // is printed).
+    const StatusLine status("spar plan");
+    if (status.shown())
+      options.progress = [&status](std::string_view stage) { status.show(stage); };
+    std::optional<ScopedDeadline> deadline;
+    if (arguments.time_limit)
+      deadline.emplace(std::chrono::duration<double>(*arguments.time_limit));
+    status.show("loading the scenario (meshes, stable poses)");
+    const planner::Scenario scenario =
         arguments.demo
             ? planner::parse_scenario(kDemoScenarioText, "peg_block_face_down.yaml (built in)", ".")
-            : planner::load_scenario(arguments.scenario),
-        domain, options);
+            : planner::load_scenario(arguments.scenario);
+    status.clear();
+    for (const std::string& warning : scenario.warnings)
+      std::cerr << "spar: warning: " << warning << '\n';
+    return plan_report(scenario, domain, options);
   }();
   std::vector<fs::path> files;
   if (!arguments.report.empty()) files = reports::write_reports(report, arguments.report, formats);
@@ -124,102 +120,89 @@ void run_single(const PlanArguments& arguments, const planner::Domain& domain,
   }
 }
 
-// The scenarios of a batch: a folder's *.yaml / *.yml files (sorted), or the lines of a list file
-// (blank lines and # comments skipped), relative to the list's folder.
-std::vector<std::string> batch_files(const std::string& source) {
-  std::vector<std::string> files;
-  if (fs::is_directory(source)) {
-    for (const auto& entry : fs::directory_iterator(source))
-      if (entry.is_regular_file() &&
-          (entry.path().extension() == ".yaml" || entry.path().extension() == ".yml"))
-        files.push_back(entry.path().string());
-    std::sort(files.begin(), files.end());
-    if (files.empty()) throw UsageError("--batch: no *.yaml scenario in folder '" + source + "'");
-    return files;
-  }
-  std::ifstream list(source);
-  if (!list) throw UsageError("--batch: cannot read '" + source + "' (a folder or a list file)");
-  const fs::path base = fs::path(source).parent_path();
-  for (std::string line; std::getline(list, line);) {
-    line.erase(0, line.find_first_not_of(" \t"));
-    line.erase(line.find_last_not_of(" \t\r") + 1);
-    if (line.empty() || line[0] == '#') continue;
-    files.push_back(fs::path(line).is_absolute() ? line : (base / line).string());
-  }
-  if (files.empty()) throw UsageError("--batch: '" + source + "' lists no scenario");
-  return files;
-}
-
-void draw_progress(std::size_t done, std::size_t total) {
+// "[#####.....] 3/10 scenarios, 2 running for 41 s": redrawn every second while scenarios run, so
+// a batch whose scenario takes minutes is not silent.
+void draw_progress(std::size_t done, std::size_t total, std::size_t running, double seconds) {
   constexpr int kWidth = 30;
   const int filled = static_cast<int>(kWidth * done / total);
-  std::cerr << "\r[" << std::string(filled, '#') << std::string(kWidth - filled, '.') << "] "
-            << done << "/" << total << " scenarios" << (done == total ? "\n" : "") << std::flush;
+  std::cerr << "\r\033[K[" << std::string(filled, '#') << std::string(kWidth - filled, '.') << "] "
+            << done << "/" << total << " scenarios";
+  if (running > 0 && seconds >= 1)
+    std::cerr << ", " << running << " running for " << static_cast<long>(seconds) << " s";
+  std::cerr << (done == total ? "\n" : "") << std::flush;
 }
 
 void run_batch(const PlanArguments& arguments, const planner::Domain& domain,
                const planner::PlanOptions& options) {
-  const std::vector<std::string> files = batch_files(arguments.batch);
+  const std::vector<BatchItem> items = batch_items(arguments.batch);
   const std::vector<reports::Format> formats =
       html_first(reports::parse_formats(arguments.formats));
   if (!arguments.report.empty()) {
     std::set<std::string> stems;
-    for (const std::string& file : files)
-      if (!stems.insert(fs::path(file).stem().string()).second)
-        throw UsageError("--batch with --report: two scenarios are named '" +
-                         fs::path(file).stem().string() + "' (each report goes to DIR/<stem>/)");
+    for (const BatchItem& item : items)
+      if (!stems.insert(fs::path(item.path).stem().string()).second)
+        throw UsageError("--batch with --report: two scenarios are named " +
+                         single_quoted(fs::path(item.path).stem().string()) +
+                         " (each report goes to DIR/<stem>/)");
   }
   const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
   const std::size_t jobs =
-      std::min<std::size_t>(files.size(), arguments.jobs > 0 ? arguments.jobs : cores);
+      std::min<std::size_t>(items.size(), arguments.jobs > 0 ? arguments.jobs : cores);
+  const PlanOne plan_one = [&](const planner::Scenario& scenario, nlohmann::ordered_json& record) {
+    const reports::Report report = plan_report(scenario, domain, options);
+    record["report"] = reports::to_json(report);
+    if (!arguments.report.empty())
+      (void)reports::write_reports(
+          report, fs::path(arguments.report) / fs::path(scenario.path).stem(), formats);
+  };
 
   // Workers take the next index; the calling thread prints the lines in input order.
-  std::vector<std::string> lines(files.size());
-  std::vector<bool> ready(files.size(), false);
+  std::vector<std::string> lines(items.size());
+  std::vector<bool> ready(items.size(), false);
   std::atomic<std::size_t> next{0};
   std::mutex mutex;
   std::condition_variable finished;
-  std::size_t failures = 0;
+  std::size_t failures = 0, started = 0;
   const auto work = [&] {
-    for (std::size_t i = next++; i < files.size(); i = next++) {
-      nlohmann::ordered_json record = {{"file", files[i]}};
-      bool failed = false;
-      try {
-        const reports::Report report =
-            plan_report(planner::load_scenario(files[i]), domain, options);
-        record["report"] = reports::to_json(report);
-        if (!arguments.report.empty())
-          (void)reports::write_reports(
-              report, fs::path(arguments.report) / fs::path(files[i]).stem(), formats);
-      } catch (const std::exception& error) {
-        record.erase("report");
-        record["error"] = error.what();
-        failed = true;
+    for (std::size_t i = next++; i < items.size(); i = next++) {
+      {
+        const std::lock_guard lock(mutex);
+        ++started;
       }
+      BatchLine line = batch_line(items[i], plan_one, arguments.time_limit);  // never throws
       const std::lock_guard lock(mutex);
-      lines[i] = record.dump();
+      lines[i] = std::move(line.json);
       ready[i] = true;
-      failures += failed ? 1 : 0;
+      failures += line.failed ? 1 : 0;
       finished.notify_all();
     }
   };
   std::vector<std::jthread> pool;
   for (std::size_t j = 0; j < jobs; ++j) pool.emplace_back(work);
   const bool progress = isatty(STDERR_FILENO) == 1;
+  const auto start = std::chrono::steady_clock::now();
   std::size_t printed = 0;
-  while (printed < files.size()) {
+  while (printed < items.size()) {
     std::unique_lock lock(mutex);
-    finished.wait(lock, [&] { return ready[printed]; });
+    if (!finished.wait_for(lock, std::chrono::seconds(1), [&] { return ready[printed]; })) {
+      const std::size_t done = std::count(ready.begin(), ready.end(), true);
+      lock.unlock();
+      if (progress)
+        draw_progress(
+            done, items.size(), started - done,
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+      continue;
+    }
     const std::string line = std::move(lines[printed++]);
     const std::size_t done = std::count(ready.begin(), ready.end(), true);
     lock.unlock();
     if (progress) std::cerr << "\r\033[K" << std::flush;  // clear the bar, print, redraw it
     std::cout << line << '\n' << std::flush;
-    if (progress) draw_progress(done, files.size());
+    if (progress) draw_progress(done, items.size(), 0, 0);
   }
   pool.clear();
   if (failures > 0)
-    throw Error(std::to_string(failures) + " of " + std::to_string(files.size()) +
+    throw Error(std::to_string(failures) + " of " + std::to_string(items.size()) +
                 " scenarios failed (their records say why)");
 }
 
@@ -263,6 +246,10 @@ CLI::Option* add_report_options(CLI::App& command, PlanArguments& arguments) {
                    "Monte Carlo points of the failure-probability analysis (default 20000; 0: no "
                    "probability analysis or tolerance allocation)",
                    0, 100'000'000);
+  add_number_option(command, "--time-limit", arguments.time_limit,
+                    "seconds one scenario may take, loading included (default: none); in a "
+                    "batch, a scenario past it gets a \"time_limit\" record and the batch goes on",
+                    NumberLimits{0, 1e6, true});
   return format;
 }
 
@@ -285,7 +272,7 @@ void add_plan_command(CLI::App& app) {
   command->add_option("--batch", arguments->batch,
                       "plan many scenarios: a folder of *.yaml or a file listing paths");
   add_count_option(*command, "--jobs", arguments->jobs,
-                   "batch threads (default: the number of cores)", 1, 256);
+                   "batch threads, 0 for the number of cores (default 0)", 0, 256);
   set_callback(*command, arguments, add_report_options(*command, *arguments));
 }
 

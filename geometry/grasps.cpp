@@ -9,6 +9,7 @@
 #include <utility>
 #include <vector>
 
+#include "spar/common/deadline.hpp"
 #include "spar/geometry/internal/polygon2d.hpp"
 #include "spar/geometry/internal/triangle_tree.hpp"
 
@@ -302,6 +303,7 @@ std::vector<Grasp> compute_grasps(const ObjectModel& object, const GripperSpec& 
     return ids;
   };
   for (const FacePair& pair : object.face_pairs()) {
+    check_deadline();  // a batch's --time-limit (common/deadline.hpp); cheap without one
     if (pair.width < gripper.min_opening || pair.width >= gripper.max_opening) continue;
     const Eigen::Vector3d y = object.face(pair.face_a).normal;
     const Eigen::Vector3d reference = approach_reference(y);

@@ -4,6 +4,7 @@
 #include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <map>
 #include <numbers>
 #include <numeric>
@@ -11,6 +12,7 @@
 #include <utility>
 
 #include "spar/geometry/internal/convex_hull.hpp"
+#include "spar/geometry/internal/edge_index.hpp"
 #include "spar/geometry/internal/self_intersection.hpp"
 
 namespace spar::geometry {
@@ -31,11 +33,64 @@ double bounding_diagonal(const std::vector<Eigen::Vector3d>& points) {
   return (high - low).norm();
 }
 
+// The edge checks of validate_closed_mesh, each reporting the first offence in a fixed order:
+// an edge of more than two triangles (two solids touching along it), an edge run twice in one
+// direction (inconsistent orientation), an edge run only once (a hole).
+void check_edges(const Mesh& mesh, const internal::EdgeIndex& index) {
+  const auto& edges = index.edges();
+  // Undirected uses: an edge of > 2 triangles; reported at the lowest triangle that has one.
+  std::vector<std::pair<std::uint64_t, int>> undirected;
+  undirected.reserve(edges.size());
+  for (const auto& [key, t] : edges) {
+    const int a = internal::EdgeIndex::from(key), b = internal::EdgeIndex::to(key);
+    undirected.push_back({internal::EdgeIndex::key(std::min(a, b), std::max(a, b)), t});
+  }
+  std::sort(undirected.begin(), undirected.end());
+  int crowded = -1, crowded_uses = 0;
+  std::uint64_t crowded_edge = 0;
+  for (std::size_t i = 0, j = 0; i < undirected.size(); i = j) {
+    while (j < undirected.size() && undirected[j].first == undirected[i].first) ++j;
+    if (j - i > 2 && (crowded < 0 || undirected[i].second < crowded)) {
+      crowded = undirected[i].second;  // the lowest triangle of the run (sorted by triangle)
+      crowded_uses = static_cast<int>(j - i);
+      crowded_edge = undirected[i].first;
+    }
+  }
+  if (crowded >= 0)
+    throw GeometryError(mesh.where(crowded) + ": the edge between vertices " +
+                        std::to_string(internal::EdgeIndex::from(crowded_edge)) + " and " +
+                        std::to_string(internal::EdgeIndex::to(crowded_edge)) + " is shared by " +
+                        std::to_string(crowded_uses) +
+                        " triangles (a non-manifold edge: two solids touching along an edge "
+                        "are not one object)");
+  // The same direction twice: reported at the later triangle, the lowest such.
+  int twice = -1;
+  std::size_t twice_at = 0;
+  for (std::size_t i = 1; i < edges.size(); ++i)
+    if (edges[i].first == edges[i - 1].first && (twice < 0 || edges[i].second < twice)) {
+      twice = edges[i].second;
+      twice_at = i;
+    }
+  if (twice >= 0)
+    throw GeometryError(mesh.where(twice) + ": edge between vertices " +
+                        std::to_string(internal::EdgeIndex::from(edges[twice_at].first)) + " and " +
+                        std::to_string(internal::EdgeIndex::to(edges[twice_at].first)) +
+                        " is also used in the same direction at " +
+                        mesh.where(edges[twice_at - 1].second) +
+                        " (polygons inconsistently oriented, or a non-manifold edge)");
+  for (const auto& [key, t] : edges)  // in edge order
+    if (index.owner(internal::EdgeIndex::to(key), internal::EdgeIndex::from(key)) < 0)
+      throw GeometryError(mesh.where(t) + ": mesh is not closed: the edge between vertices " +
+                          std::to_string(internal::EdgeIndex::from(key)) + " and " +
+                          std::to_string(internal::EdgeIndex::to(key)) +
+                          " belongs to only one polygon");
+}
+
 // One object is one connected solid: every triangle reaches every other across shared edges, and
 // the triangles around each vertex form one fan (else two solids touch at that vertex). Two cubes
 // sharing only a vertex, or lying apart, pass every edge check but are not one object. Called on a
 // closed mesh (every directed edge has its opposite).
-void check_one_solid(const Mesh& mesh, const std::map<std::pair<int, int>, int>& edge_owner) {
+void check_one_solid(const Mesh& mesh, const internal::EdgeIndex& index) {
   const int count = static_cast<int>(mesh.triangles.size());
   std::vector<int> parent(count);
   std::iota(parent.begin(), parent.end(), 0);
@@ -43,8 +98,9 @@ void check_one_solid(const Mesh& mesh, const std::map<std::pair<int, int>, int>&
     while (parent[t] != t) t = parent[t] = parent[parent[t]];
     return t;
   };
-  for (const auto& [edge, t] : edge_owner)
-    parent[root(t)] = root(edge_owner.at({edge.second, edge.first}));
+  for (const auto& [key, t] : index.edges())
+    parent[root(t)] =
+        root(index.owner(internal::EdgeIndex::to(key), internal::EdgeIndex::from(key)));
   for (int t = 1; t < count; ++t)
     if (root(t) != root(0))
       throw GeometryError(mesh.where(t) +
@@ -53,7 +109,7 @@ void check_one_solid(const Mesh& mesh, const std::map<std::pair<int, int>, int>&
                           mesh.where(0) +
                           " by shared edges (an object is one piece: give each piece as its own "
                           "object)");
-  // Around a vertex v, the triangle running (v, w) is followed by the one running (u, v)... walk
+  // Around a vertex v, the triangle running (u, v) is followed by the one running (v, u): walk
   // one fan from each vertex's first triangle and compare with all its triangles.
   std::vector<int> triangles_at(mesh.vertices.size(), 0);
   std::vector<int> first_at(mesh.vertices.size(), -1);
@@ -68,8 +124,8 @@ void check_one_solid(const Mesh& mesh, const std::map<std::pair<int, int>, int>&
     do {
       const auto& tri = mesh.triangles[t];
       const int corner = tri[0] == static_cast<int>(v) ? 0 : tri[1] == static_cast<int>(v) ? 1 : 2;
-      const int previous = tri[(corner + 2) % 3];          // t runs (previous, v)
-      t = edge_owner.at({static_cast<int>(v), previous});  // the neighbour runs (v, previous)
+      const int previous = tri[(corner + 2) % 3];      // t runs (previous, v)
+      t = index.owner(static_cast<int>(v), previous);  // the neighbour runs (v, previous)
       ++fan;
     } while (t != first_at[v] && fan <= triangles_at[v]);
     if (fan != triangles_at[v])
@@ -135,13 +191,22 @@ void validate_closed_mesh(Mesh& mesh) {
   if (mesh.triangles.size() < 4)
     throw GeometryError(mesh.source + ": a closed mesh needs at least 4 triangles, got " +
                         std::to_string(mesh.triangles.size()));
-  // Weld vertices at identical positions so soups with repeated vertices still close up.
-  std::map<std::array<double, 3>, int> canonical;
+  // Weld vertices at identical positions so soups with repeated vertices still close up: each
+  // joins the lowest index at its position (indices sorted by position, then index).
   std::vector<int> weld(mesh.vertices.size());
-  for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
-    const auto& p = mesh.vertices[i];
-    weld[i] = canonical.emplace(std::array<double, 3>{p.x(), p.y(), p.z()}, static_cast<int>(i))
-                  .first->second;
+  {
+    std::vector<int> order(mesh.vertices.size());
+    std::iota(order.begin(), order.end(), 0);
+    const auto position = [&](int i) {
+      const auto& p = mesh.vertices[i];
+      return std::array<double, 3>{p.x(), p.y(), p.z()};
+    };
+    std::sort(order.begin(), order.end(), [&](int a, int b) {
+      return std::pair{position(a), a} < std::pair{position(b), b};
+    });
+    for (std::size_t k = 0; k < order.size(); ++k)
+      weld[order[k]] =
+          k > 0 && position(order[k]) == position(order[k - 1]) ? weld[order[k - 1]] : order[k];
   }
   std::vector<Eigen::Vector3d> used;
   for (auto& triangle : mesh.triangles)
@@ -153,40 +218,13 @@ void validate_closed_mesh(Mesh& mesh) {
       used.push_back(mesh.vertices[index]);
     }
   const double scale = bounding_diagonal(used);
-  std::map<std::pair<int, int>, int> edge_owner;  // directed edge -> triangle running it
-  std::map<std::pair<int, int>, int> edge_uses;   // undirected (low, high) -> polygons using it
-  for (const auto& triangle : mesh.triangles)
-    for (int c = 0; c < 3; ++c) {
-      const auto [low, high] = std::minmax(triangle[c], triangle[(c + 1) % 3]);
-      ++edge_uses[{low, high}];
-    }
-  for (int t = 0; t < static_cast<int>(mesh.triangles.size()); ++t) {
-    const auto& triangle = mesh.triangles[t];
-    if (triangle_normal(mesh, triangle).norm() <= 1e-12 * scale * scale)
+  for (int t = 0; t < static_cast<int>(mesh.triangles.size()); ++t)
+    if (triangle_normal(mesh, mesh.triangles[t]).norm() <= 1e-12 * scale * scale)
       throw GeometryError(mesh.where(t) +
                           ": degenerate triangle (zero area: repeated or collinear"
                           " vertices)");
-    for (int c = 0; c < 3; ++c) {
-      const std::pair<int, int> edge{triangle[c], triangle[(c + 1) % 3]};
-      const auto [it, inserted] = edge_owner.emplace(edge, t);
-      if (const int uses = edge_uses.at(std::minmax(edge.first, edge.second)); uses > 2)
-        throw GeometryError(mesh.where(t) + ": the edge between vertices " +
-                            std::to_string(edge.first) + " and " + std::to_string(edge.second) +
-                            " is shared by " + std::to_string(uses) +
-                            " triangles (a non-manifold edge: two solids touching along an edge "
-                            "are not one object)");
-      if (!inserted)
-        throw GeometryError(mesh.where(t) + ": edge between vertices " +
-                            std::to_string(edge.first) + " and " + std::to_string(edge.second) +
-                            " is also used in the same direction at " + mesh.where(it->second) +
-                            " (polygons inconsistently oriented, or a non-manifold edge)");
-    }
-  }
-  for (const auto& [edge, t] : edge_owner)
-    if (!edge_owner.contains({edge.second, edge.first}))
-      throw GeometryError(mesh.where(t) + ": mesh is not closed: the edge between vertices " +
-                          std::to_string(edge.first) + " and " + std::to_string(edge.second) +
-                          " belongs to only one polygon");
+  const internal::EdgeIndex edges(mesh.triangles);
+  check_edges(mesh, edges);
   const double volume = volume_properties(mesh).volume;
   if (std::abs(volume) <= 1e-12 * scale * scale * scale)
     throw GeometryError(mesh.source + ": mesh encloses no volume (all vertices are coplanar)");
@@ -196,7 +234,7 @@ void validate_closed_mesh(Mesh& mesh) {
                         mesh.where(crossing->second) +
                         " (volume, centre of mass and faces need a closed surface that does not "
                         "cross itself)");
-  check_one_solid(mesh, edge_owner);
+  check_one_solid(mesh, edges);
   if (volume < 0)  // consistently inward: the same solid, so turn every triangle outward
     for (auto& triangle : mesh.triangles) std::swap(triangle[1], triangle[2]);
 }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "spar/common/deadline.hpp"
 #include "spar/planner/error.hpp"
 
 namespace spar::planner {
@@ -43,6 +44,7 @@ PlanResult started(Scenario scenario, const Domain& domain) {
 // Sense first, then plan each hypothesis of object `index` as the truth.
 PlanResult plan_branches(Scenario scenario, std::size_t index, const Domain& domain,
                          const PlanOptions& options) {
+  check_deadline();
   if (options.progress) options.progress("sense planning: aspects and candidate operations");
   PlanResult result = started(std::move(scenario), domain);
   const Scenario& uncertain = result.world.scenario();
@@ -83,7 +85,10 @@ PlanResult plan(Scenario scenario, const Domain& domain, const PlanOptions& opti
     uncertain = i;
   }
   if (uncertain) return plan_branches(std::move(scenario), *uncertain, domain, options);
-  const auto stage = [&](std::string_view text) {
+  // Every stage (and every phase 2 instance) is also where a time limit is checked
+  // (common/deadline.hpp: `spar plan --time-limit`); the long loops inside check it too.
+  const std::function<void(std::string_view)> stage = [&](std::string_view text) {
+    check_deadline();
     if (options.progress) options.progress(text);
   };
   stage("world model: grasps and reachability");
@@ -96,7 +101,7 @@ PlanResult plan(Scenario scenario, const Domain& domain, const PlanOptions& opti
       enumerate_instances(result.family, result.world, result.domain, options.max_instances);
   if (options.uncertainty && !result.instances.instances.empty()) {
     result.examined = analyse_instances(result.world, result.domain, result.instances.instances,
-                                        options.analysis, options.progress);
+                                        options.analysis, stage);
     const InstanceAnalysis& chosen = result.examined[choose_instance(result.examined)];
     result.chosen_index = chosen.instance;
     if (options.probability) {

@@ -5,6 +5,7 @@
 #include <limits>
 #include <queue>
 
+#include "spar/common/deadline.hpp"
 #include "spar/planner/error.hpp"
 
 namespace spar::planner {
@@ -576,6 +577,7 @@ PlanFamily Planner::run() {
   };
   std::vector<PartialPlan> children;
   while (!queue.empty()) {
+    check_deadline();  // a batch's --time-limit (common/deadline.hpp); cheap without one
     if (stats.expanded >= options_.max_nodes)
       return finish(std::move(store[queue.top().index].plan), PostingStatus::kNodeLimit,
                     "stopped after " + std::to_string(options_.max_nodes) +

@@ -1,7 +1,8 @@
 // Scenario: the work cell and the task, as a plain value read from a YAML file (docs/scenario.md).
 //
-// A scenario names the robot (a built-in Puma or a DH table, its base pose in the world, the tool
-// transform from flange to gripper frame, the gripper, the manipulator's uncertainty), the objects
+// A scenario names the robot (a built-in robot, a URDF file or a DH table, its base pose in the
+// world, the tool transform from its tip to the gripper frame, the gripper, the manipulator's
+// uncertainty), the objects
 // (shape, named features, initial pose, pose uncertainty), the free places on the table where
 // objects may be put down, the sensors, and the goals. SPAR's assembled(held, fixed, mating faces,
 // Ta, mating vector) is the goal type today.
@@ -15,7 +16,7 @@
 //   * object names are unique identifiers; every name a goal uses is an object;
 //   * every face id (features, goals) exists in its object's model;
 //   * every pose is rigid; every half-width of an uncertainty is finite and >= 0;
-//   * `places` have unique names; the robot's DH table is a valid chain for the Puma IK;
+//   * `places` have unique names; the robot is a valid chain (kinematics/robot.hpp) with its IK;
 //   * every UncertaintyModel's sigma is > 0 (and finite) where its half-width is > 0 when it is
 //     Gaussian, 0 when uniform; every cost is finite and > 0.
 //
@@ -38,7 +39,7 @@
 #include "spar/geometry/grasps.hpp"
 #include "spar/geometry/object.hpp"
 #include "spar/kinematics/dh.hpp"
-#include "spar/kinematics/puma.hpp"
+#include "spar/kinematics/robots.hpp"
 #include "spar/kinematics/uncertain_pose.hpp"
 #include "spar/sensing/sensors.hpp"
 
@@ -87,10 +88,14 @@ struct UncertaintyModel {
 };
 
 struct RobotSpec {
-  std::string model{"puma560"};  // "puma560", "puma762", or "dh" for a table given in the file
-  kinematics::DhChain chain{kinematics::puma560()};
+  // A built-in name (puma560, puma762, ur5, panda), "dh" for a table given in the file, or
+  // "urdf" for a URDF file (`urdf`: its path as written).
+  std::string model{"puma560"};
+  std::string urdf;
+  // The arm: its chain, limits, link geometry and IK (the planner uses nothing else of it).
+  kinematics::RobotModel arm{kinematics::builtin_robot_model("puma560")};
   kinematics::Transform base{kinematics::Transform::Identity()};  // robot base frame in the world
-  kinematics::Transform tool{kinematics::Transform::Identity()};  // gripper frame in the flange
+  kinematics::Transform tool{kinematics::Transform::Identity()};  // gripper frame in the tip
   geometry::GripperSpec gripper{};
   // Half-angle of the cone about world -z the gripper's approach (z) axis must lie in when it
   // reaches a grasp (SPAR: never reach up through the table).

@@ -40,8 +40,7 @@ std::vector<PositionLabel> position_labels(const Scenario& scenario, const Objec
 
 }  // namespace
 
-WorldModel::WorldModel(Scenario scenario)
-    : scenario_(std::move(scenario)), ik_(scenario_.robot.chain) {
+WorldModel::WorldModel(Scenario scenario) : scenario_(std::move(scenario)) {
   gripper_ = scenario_.robot.gripper;
   gripper_.max_approach_tilt = scenario_.robot.max_tool_tilt;
   for (const ObjectSpec& spec : scenario_.objects) {
@@ -112,9 +111,14 @@ Transform WorldModel::flange_in_base(const Transform& gripper_pose) const {
 Reach WorldModel::reach(const Transform& gripper_pose) const {
   Reach result;
   result.tilt = tilt_from_down(gripper_pose);
-  const kinematics::IkResult ik = ik_.solve(flange_in_base(gripper_pose));
-  if (ik.solved()) result.solution = ik.first_within_limits();
-  result.reachable = result.solution.has_value() && result.tilt <= scenario_.robot.max_tool_tilt;
+  if (result.tilt > scenario_.robot.max_tool_tilt) return result;  // SPAR: never reach up
+  for (kinematics::JointSolution& solution :
+       scenario_.robot.arm.inverse(flange_in_base(gripper_pose)))
+    if (solution.within_limits) {
+      result.solution = std::move(solution);
+      break;
+    }
+  result.reachable = result.solution.has_value();
   return result;
 }
 

@@ -36,7 +36,7 @@
 #include <vector>
 
 #include "spar/geometry/grasps.hpp"
-#include "spar/kinematics/ik.hpp"
+#include "spar/kinematics/robot.hpp"
 #include "spar/planner/scenario.hpp"
 
 namespace spar::planner {
@@ -70,7 +70,9 @@ struct GoalWorld {
 struct Reach {
   bool reachable{false};  // an in-limit solution exists and the approach axis points down
   double tilt{0.0};       // angle between the gripper z axis and world -z
-  std::optional<kinematics::IkSolution> solution;  // the first in-limit one (ik.hpp's order)
+  // The first in-limit solution in the robot's order (kinematics/robot.hpp: Puma and UR arms by
+  // label, lun first; a 7-joint arm's largest limit margin first); none when the tilt fails.
+  std::optional<kinematics::JointSolution> solution;
 };
 
 class WorldModel {
@@ -106,7 +108,6 @@ class WorldModel {
 
   Scenario scenario_;
   geometry::GripperSpec gripper_;
-  kinematics::PumaIk ik_;
   std::vector<ObjectWorld> objects_;  // same order as scenario_.objects
   std::vector<GoalWorld> goals_;      // same order as scenario_.goals
 };

@@ -8,9 +8,13 @@
 #include "spar/bounds/bound.hpp"
 #include "spar/bounds/error.hpp"
 #include "spar/bounds/inequality.hpp"
+#include "spar/common/input_file.hpp"
+#include "spar/common/text.hpp"
+#include "spar/geometry/error.hpp"
 #include "spar/kinematics/ik.hpp"
 #include "spar/kinematics/puma.hpp"
 #include "spar/kinematics/robots.hpp"
+#include "spar/planner/error.hpp"
 #include "spar/reports/build.hpp"
 #include "spar/geometry/builtin_objects.hpp"
 #include "spar/reports/plan_json.hpp"
@@ -207,10 +211,11 @@ IkAnswer inverse_kinematics(const RobotRef& robot, const Matrix4& pose, double r
   std::uint8_t flags = kinematics::kNoSingularity;
   for (const kinematics::JointSolution& solution : found) {
     flags |= solution.singularities;
-    answer.solutions.push_back({.configuration = solution.configuration,
-                                .q = solution.q,
-                                .within_limits = solution.within_limits,
-                                .singularities = kinematics::singularity_names(solution.singularities)});
+    answer.solutions.push_back(
+        {.configuration = solution.configuration,
+         .q = solution.q,
+         .within_limits = solution.within_limits,
+         .singularities = kinematics::singularity_names(solution.singularities)});
   }
   answer.singularities = kinematics::singularity_names(flags);
   return answer;
@@ -269,6 +274,37 @@ planner::Scenario load_scenario_file(const std::filesystem::path& path) {
 planner::Scenario parse_scenario_text(std::string_view text, const std::string& source,
                                       const std::filesystem::path& base_dir) {
   return planner::parse_scenario(text, source, base_dir);
+}
+
+namespace {
+
+// read_input_file, then (for text) the UTF-8 check, every failure as the module's error type.
+template <class ModuleError>
+std::string read_as_spar_does(const std::filesystem::path& path, std::string_view what,
+                              std::size_t max_bytes, bool text) {
+  try {
+    std::string content = read_input_file(path, what, max_bytes);
+    if (text) check_utf8(content, printable(path.string()));
+    return content;
+  } catch (const InputError& error) {
+    throw ModuleError(error.what());
+  } catch (const TextError& error) {
+    throw ModuleError(error.what());
+  }
+}
+
+}  // namespace
+
+std::string read_scenario_file_text(const std::filesystem::path& path) {
+  return read_as_spar_does<planner::ScenarioError>(path, "scenario file", kMaxYamlFileBytes, true);
+}
+
+std::string read_domain_file_text(const std::filesystem::path& path) {
+  return read_as_spar_does<planner::DomainError>(path, "domain file", kMaxYamlFileBytes, true);
+}
+
+std::string read_mesh_file_bytes(const std::filesystem::path& path) {
+  return read_as_spar_does<geometry::GeometryError>(path, "mesh file", kMaxMeshFileBytes, false);
 }
 
 std::vector<std::string> scenario_mesh_files(const planner::Scenario& scenario) {

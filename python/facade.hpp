@@ -136,7 +136,7 @@ struct IkSolutionInfo {
 };
 struct IkAnswer {
   bool solved{false};
-  std::string singularities;  // union over the solutions
+  std::string singularities;              // union over the solutions
   std::vector<IkSolutionInfo> solutions;  // kinematics/robot.hpp's order; none when unreachable
 };
 // Every solution for a tip pose (7-joint arms: q7 every `redundancy_step` radians). Throws
@@ -200,6 +200,13 @@ struct PlanRun {
 [[nodiscard]] planner::Scenario parse_scenario_text(std::string_view text,
                                                     const std::string& source,
                                                     const std::filesystem::path& base_dir);
+// Files as spar itself reads them (common/input_file.hpp: regular files only, within the size
+// limits; text checked for UTF-8), for spar.dask, which ships them to other machines: the text
+// of a scenario file (throws planner::ScenarioError), of a domain file (DomainError), the bytes
+// of a mesh file (geometry::GeometryError).
+[[nodiscard]] std::string read_scenario_file_text(const std::filesystem::path& path);
+[[nodiscard]] std::string read_domain_file_text(const std::filesystem::path& path);
+[[nodiscard]] std::string read_mesh_file_bytes(const std::filesystem::path& path);
 // The mesh files a scenario references, as written (relative to its folder, or absolute).
 [[nodiscard]] std::vector<std::string> scenario_mesh_files(const planner::Scenario& scenario);
 

@@ -5,13 +5,13 @@
 // evaluate release the GIL (the facade's pool mutex serialises work on one pool), so a thread that
 // waits for a pool or a long computation never holds up the other Python threads. The package's
 // Python part (python/spar/__init__.py) wraps these in the public names.
-#include <numbers>
-#include <optional>
-
 #include <pybind11/eigen.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 #include <pybind11/stl/filesystem.h>
+
+#include <numbers>
+#include <optional>
 
 #include "python/docstrings.hpp"
 #include "python/facade.hpp"
@@ -258,8 +258,7 @@ void bind_kinematics(py::module_& m) {
       "robot"_a, "tip"_a = "", "package_path"_a = py::none(), doc::kRobots);
   m.def(
       "fk",
-      [package_path](const std::string& robot, const std::vector<double>& q,
-                     const std::string& tip,
+      [package_path](const std::string& robot, const std::vector<double>& q, const std::string& tip,
                      const std::optional<std::vector<std::string>>& folders) {
         return forward_kinematics({robot, tip, package_path(folders)}, q);
       },
@@ -270,12 +269,11 @@ void bind_kinematics(py::module_& m) {
                              "\"n1\"), joint values q (radians, NumPy), within_limits, "
                              "singularities.")
       .def_readonly("configuration", &IkSolutionInfo::configuration)
-      .def_property_readonly(
-          "q",
-          [](const IkSolutionInfo& s) {
-            return Eigen::VectorXd(Eigen::Map<const Eigen::VectorXd>(
-                s.q.data(), static_cast<Eigen::Index>(s.q.size())));
-          })
+      .def_property_readonly("q",
+                             [](const IkSolutionInfo& s) {
+                               return Eigen::VectorXd(Eigen::Map<const Eigen::VectorXd>(
+                                   s.q.data(), static_cast<Eigen::Index>(s.q.size())));
+                             })
       .def_readonly("within_limits", &IkSolutionInfo::within_limits)
       .def_readonly("singularities", &IkSolutionInfo::singularities)
       .def("__repr__", [](const IkSolutionInfo& s) {
@@ -355,8 +353,25 @@ void bind_planner(py::module_& m) {
       .def_readonly("name", &planner::Scenario::name)
       .def_readonly("description", &planner::Scenario::description)
       .def_property_readonly("meshes", &scenario_mesh_files,
-                             "The mesh files the scenario references, as written.");
+                             "The mesh files the scenario references, as written.")
+      .def_readonly("warnings", &planner::Scenario::warnings,
+                    "What loads but looks wrong (file:line:col: ...), e.g. a mesh whose size is "
+                    "implausible in the scenario's length unit. spar.scenario() and spar.plan() "
+                    "issue each as a UserWarning.");
   m.def("_load_scenario", &load_scenario_file, "path"_a, Release());
+  m.def("_read_scenario_text", &read_scenario_file_text, "path"_a, Release());
+  m.def("_read_domain_text", &read_domain_file_text, "path"_a, Release());
+  m.def(
+      "_read_mesh_bytes",
+      [](const std::string& path) {
+        std::string bytes;
+        {
+          const py::gil_scoped_release release;
+          bytes = read_mesh_file_bytes(path);
+        }
+        return py::bytes(bytes);
+      },
+      "path"_a);
   m.def("_parse_scenario", &parse_scenario_text, "text"_a, "source"_a, "base_dir"_a, Release());
 
   py::class_<PlanRun>(m, "PlanRun",

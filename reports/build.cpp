@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "spar/kinematics/puma.hpp"
 #include "spar/reports/sensing.hpp"
 
 namespace spar::reports {
@@ -114,7 +115,7 @@ Step build_step(const planner::PlanResult& result, const planner::InstanceStep& 
     if (step.reach.solution) {
       const auto& q = step.reach.solution->q;
       *out.joints = std::vector<double>(q.data(), q.data() + q.size());
-      *out.configuration = step.reach.solution->configuration.label();
+      *out.configuration = step.reach.solution->configuration;
     }
   }
   if (step.is_assembly()) {
@@ -485,8 +486,21 @@ Report build_report(const planner::PlanResult& result) {
                                       result.family.reason;
   out.units = {std::string(scenario.units.length_name()), std::string(scenario.units.angle_name()),
                scenario.units.metres_per_length_unit(), scenario.units.radians_per_angle_unit()};
-  out.robot = {scenario.robot.model, matrix(scenario.robot.base, scale),
-               matrix(scenario.robot.tool, scale)};
+  out.robot.model = scenario.robot.model;
+  out.robot.base = matrix(scenario.robot.base, scale);
+  out.robot.tool = matrix(scenario.robot.tool, scale);
+  if (scenario.robot.model == "urdf") out.robot.urdf = scenario.robot.urdf;
+  const kinematics::RobotModel& arm = scenario.robot.arm;
+  const std::vector<std::string_view> dh_tables = kinematics::builtin_robot_names();
+  if (scenario.robot.model != "dh" &&
+      std::find(dh_tables.begin(), dh_tables.end(), scenario.robot.model) == dh_tables.end()) {
+    // A URDF robot's ends and joint order; the DH robots' reports stay as they were.
+    out.robot.base_link = arm.base_link();
+    out.robot.tip = arm.tip_link();
+    out.robot.joint_names.emplace();
+    for (const kinematics::MovingJoint& joint : arm.joints())
+      out.robot.joint_names->push_back(joint.name);
+  }
   out.family = build_family(result);
   out.instances.count = result.instances.instances.size();
   out.instances.limit_reached = result.instances.limit_reached;

@@ -78,11 +78,20 @@ struct Units {
 
 struct Robot {
   std::string model;
+  std::optional<std::string> urdf;  // model "urdf": the file as the scenario names it
+  // URDF-based robots (ur5, panda, urdf): the chain's ends, and the joints `joints` lists.
+  std::optional<std::string> base_link;
+  std::optional<std::string> tip;
+  std::optional<std::vector<std::string>> joint_names;
   Matrix base{};
   Matrix tool{};
   template <class Self, class Field>
   static void fields(Self& s, Field&& field) {
     field("model", s.model);
+    field("urdf", s.urdf);
+    field("base_link", s.base_link);
+    field("tip", s.tip);
+    field("joint_names", s.joint_names);
     field("base", s.base);
     field("tool", s.tool);
   }

@@ -224,8 +224,15 @@ class SphericalShoulder {
     return solver;
   }
 
-  // Up to eight branches reaching `target` with the tip at `home` when q1..q6 = 0.
-  [[nodiscard]] std::vector<Branch> solve(const Transform& target, const Transform& home) const {
+  // Up to eight branches reaching `target` with the tip at `home` when q1..q6 = 0; a branch is
+  // dropped as soon as one of its angles has no representative within the limits of `joints`.
+  // `within_reach` is set when the wrist point is within the arm's reach (limits aside).
+  [[nodiscard]] std::vector<Branch> solve(const Transform& target, const Transform& home,
+                                          std::span<const MovingJoint> joints,
+                                          bool& within_reach) const {
+    const auto admissible = [&](std::size_t joint, double angle) {
+      return choose_representative(angle, joints[joint].limits, 1e-9);
+    };
     const auto& h = h_;
     std::vector<Branch> branches;
     const Eigen::Matrix3d r06 = target.linear() * home.linear().transpose();
@@ -234,13 +241,16 @@ class SphericalShoulder {
     const Eigen::Vector3d h6 = r06 * h[5];
     // q4: |p_34 + rot(h4, q4) p_45| = |S W|.
     const Angles elbow = solve_distance(p45_, -p34_, h[3], to_wrist.norm());
+    within_reach |= elbow.count > 0;
     for (std::size_t e = 0; e < elbow.count; ++e) {
+      if (!admissible(3, elbow.values[e])) continue;
       const Eigen::Matrix3d r34 = rotation_about(h[3], elbow.values[e]);
       const Eigen::Vector3d u1 = p34_ + r34 * p45_;  // R_03^T (S W)
       // q5: R_03 keeps the angle between S W and axis 6.
       const Angles wrist_angles =
           solve_projection(r34.transpose() * u1, h[5], h[4], to_wrist.dot(h6));
       for (std::size_t w = 0; w < wrist_angles.count; ++w) {
+        if (!admissible(4, wrist_angles.values[w])) continue;
         const Eigen::Matrix3d r35 = r34 * rotation_about(h[4], wrist_angles.values[w]);
         const Eigen::Vector3d u2 = r35 * h[5];  // R_03^T h6
         const std::optional<Eigen::Matrix3d> r03 = rotation_taking(u1, u2, to_wrist, h6);
@@ -249,6 +259,7 @@ class SphericalShoulder {
         const AnglePairs arm = solve_two_rotations(*r03 * h[2], -h[0], h[2], h[1]);
         for (std::size_t s = 0; s < arm.count; ++s) {
           const double q1 = arm.values[s][0], q2 = arm.values[s][1];
+          if (!admissible(0, q1) || !admissible(1, q2)) continue;
           const Eigen::Matrix3d r02 = rotation_about(h[0], q1) * rotation_about(h[1], q2);
           const double q3 = angle_about(r02.transpose() * *r03, h[2]);
           const double q6 = angle_about((*r03 * r35).transpose() * r06, h[5]);
@@ -319,6 +330,7 @@ class RedundantIk final : public IkSolver {
       double q7;
     };
     std::vector<Ranked> ranked;
+    bool within_reach = false;
     for (long k = first; k <= last; ++k) {
       const double q7 = static_cast<double>(k) * options.redundancy_step;
       // The tip at q1..q6 = 0 with joint 7 at q7: turned about axis 7.
@@ -326,13 +338,13 @@ class RedundantIk final : public IkSolver {
       turn.linear() = rotation_about(axis7_, q7);
       turn.translation() = point7_ - turn.linear() * point7_;
       const Transform home = turn * home_;
-      char suffix[48];
-      std::snprintf(suffix, sizeof suffix, "@q7=%gdeg", q7 * 180.0 / std::numbers::pi);
-      for (const Branch& branch : six_.solve(target, home)) {
+      for (const Branch& branch : six_.solve(target, home, joints_, within_reach)) {
         std::vector<double> q(branch.q.begin(), branch.q.end());
         q.push_back(q7);
         // Most branches leave the limits: drop them before verifying the pose.
         if (!choose_representatives(joints_, q, 1e-9)) continue;
+        char suffix[48];
+        std::snprintf(suffix, sizeof suffix, "@q7=%gdeg", q7 * 180.0 / std::numbers::pi);
         JointSolution solution = finish(
             joints_, tip_, target, std::move(q),
             std::string(branch.label.begin(), branch.label.end()) + suffix, branch.singularities);
@@ -347,7 +359,8 @@ class RedundantIk final : public IkSolver {
     });
     std::vector<JointSolution> solutions;
     for (Ranked& entry : ranked) solutions.push_back(std::move(entry.solution));
-    if (solutions.empty()) return solve_numerically(joints_, tip_, target, options);
+    // Within reach but no sample within limits: the limits may still allow q7 between samples.
+    if (solutions.empty() && within_reach) return solve_numerically(joints_, tip_, target, options);
     return solutions;
   }
 

@@ -21,7 +21,7 @@
 #include "spar/geometry/builtin_objects.hpp"
 #include "spar/geometry/mesh_io.hpp"
 #include "spar/geometry/stable_poses.hpp"
-#include "spar/kinematics/ik.hpp"
+#include "spar/kinematics/robots.hpp"
 #include "spar/planner/error.hpp"
 #include "spar/planner/internal/yaml_syntax.hpp"
 
@@ -478,9 +478,7 @@ kinematics::DhChain Reader::dh_chain(const YAML::Node& node, const std::string& 
     joints.push_back(joint);
   }
   try {
-    kinematics::DhChain chain("dh", std::move(joints), source_);
-    (void)kinematics::PumaIk(chain);  // the planner's IK needs a Puma-type arm
-    return chain;
+    return kinematics::DhChain("dh", std::move(joints), source_);
   } catch (const kinematics::KinematicsError& error) {
     fail(node, path + ": " + error.what());
   }
@@ -514,22 +512,50 @@ void Reader::read_gripper(const YAML::Node& node, geometry::GripperSpec& gripper
 
 void Reader::read_robot(const YAML::Node& node, RobotSpec& robot) const {
   const Fields fields(*this, node, "robot",
-                      {"model", "dh", "base", "tool", "gripper", "max_tilt", "uncertainty"});
-  if (const YAML::Node model = fields.get("model"); model.IsDefined()) {
+                      {"model", "dh", "urdf", "tip", "package_path", "base", "tool", "gripper",
+                       "max_tilt", "uncertainty"});
+  const YAML::Node model = fields.get("model"), urdf = fields.get("urdf");
+  if (model.IsDefined() && urdf.IsDefined())
+    fail(urdf, "robot.urdf: give either model: <name> or urdf: <file>, not both");
+  if (model.IsDefined()) {
     robot.model = text(model, "robot.model");
     std::vector<std::string> known;
-    for (const std::string_view name : kinematics::builtin_robot_names()) known.emplace_back(name);
+    for (const std::string_view name : kinematics::robot_model_names()) known.emplace_back(name);
     known.emplace_back("dh");
     if (std::find(known.begin(), known.end(), robot.model) == known.end())
       fail(model, "robot.model: unknown robot model '" + robot.model + "'" +
-                      suggestion(robot.model, known) + "; known: " + join(known));
+                      suggestion(robot.model, known) + "; known: " + join(known) +
+                      " (or urdf: <file>)");
   }
+  // A URDF robot's ends and where its package:// names are (relative to the scenario's folder).
+  kinematics::UrdfOptions options;
+  if (const YAML::Node tip = fields.get("tip"); tip.IsDefined()) {
+    if (!urdf.IsDefined() && (robot.model == "dh" || robot.model.starts_with("puma")))
+      fail(tip, "robot.tip: a tip link goes with urdf: <file> or a URDF built-in (ur5, panda)");
+    options.tip = text(tip, "robot.tip");
+  }
+  if (const YAML::Node folders = fields.get("package_path"); folders.IsDefined())
+    for (std::size_t i = 0; i < expect_list(folders, "robot.package_path").size(); ++i)
+      options.package_path.push_back(
+          (base_dir_ / text(folders[i], "robot.package_path[" + std::to_string(i) + "]"))
+              .lexically_normal());
   const YAML::Node dh = fields.get("dh");
-  if (robot.model == "dh") {
-    robot.chain = dh_chain(fields.require("dh"), "robot.dh");
-  } else {
-    if (dh.IsDefined()) fail(dh, "robot.dh: a DH table goes with model: dh, not " + robot.model);
-    robot.chain = kinematics::builtin_robot(robot.model);
+  if (dh.IsDefined() && robot.model != "dh")
+    fail(dh, "robot.dh: a DH table goes with model: dh, not " +
+                 (urdf.IsDefined() ? std::string("a URDF file") : robot.model));
+  try {
+    if (urdf.IsDefined()) {
+      robot.model = "urdf";
+      robot.urdf = text(urdf, "robot.urdf");
+      robot.arm = kinematics::load_urdf((base_dir_ / robot.urdf).lexically_normal(), options);
+    } else if (robot.model == "dh") {
+      robot.arm = kinematics::RobotModel::from_dh(dh_chain(fields.require("dh"), "robot.dh"));
+    } else {
+      robot.arm = kinematics::load_robot(robot.model, options);
+    }
+  } catch (const kinematics::KinematicsError& error) {
+    const YAML::Node& where = urdf.IsDefined() ? urdf : model.IsDefined() ? model : node;
+    fail(where, std::string(urdf.IsDefined() ? "robot.urdf: " : "robot: ") + error.what());
   }
   if (fields.has("base")) robot.base = rigid_pose(fields.get("base"), "robot.base");
   if (fields.has("tool")) robot.tool = rigid_pose(fields.get("tool"), "robot.tool");

@@ -5,7 +5,12 @@
 //   - a syntax error is yaml-cpp's own text, except nesting beyond its recursion limit, which
 //     yaml-cpp calls "bad file";
 //   - the file holds exactly one document: a second one after `---` would be silently dropped by
-//     YAML::Load, so it is refused where it starts.
+//     YAML::Load, so it is refused where it starts;
+//   - a token no node can start with (a ',' outside [ ] and { }) is refused where it stands.
+//     yaml-cpp 0.7 (Debian 12) emits a null node for it without consuming it, so its
+//     YAML::LoadAll loops forever, growing (jbeder/yaml-cpp#1040, fixed upstream after 0.8 by
+//     #1319). Hence the documents are counted by a parser that runs at most kDocumentsLooked
+//     times, and only then is the one document built by YAML::Load (one parse: cannot loop).
 // An empty file (or one holding only comments) gives a null node; the caller says what is missing.
 //
 // Example:
@@ -13,9 +18,11 @@
 #pragma once
 
 #include <yaml-cpp/depthguard.h>
+#include <yaml-cpp/eventhandler.h>
 #include <yaml-cpp/exceptions.h>
 #include <yaml-cpp/yaml.h>
 
+#include <sstream>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -37,6 +44,38 @@ namespace spar::planner::internal {
   return source + ":" + std::to_string(mark.line + 1) + ":" + std::to_string(mark.column + 1);
 }
 
+// Where each document starts, as yaml-cpp's parser reports it; nothing else is kept.
+class DocumentStarts final : public YAML::EventHandler {
+ public:
+  std::vector<YAML::Mark> starts;
+
+  void OnDocumentStart(const YAML::Mark& mark) override { starts.push_back(mark); }
+  void OnDocumentEnd() override {}
+  void OnNull(const YAML::Mark&, YAML::anchor_t) override {}
+  void OnAlias(const YAML::Mark&, YAML::anchor_t) override {}
+  void OnScalar(const YAML::Mark&, const std::string&, YAML::anchor_t,
+                const std::string&) override {}
+  void OnSequenceStart(const YAML::Mark&, const std::string&, YAML::anchor_t,
+                       YAML::EmitterStyle::value) override {}
+  void OnSequenceEnd() override {}
+  void OnMapStart(const YAML::Mark&, const std::string&, YAML::anchor_t,
+                  YAML::EmitterStyle::value) override {}
+  void OnMapEnd() override {}
+};
+
+// Three documents are enough to tell one document, a second one, and a parser stuck on a token
+// (two documents starting at the same place: nothing was consumed in between).
+inline constexpr int kDocumentsLooked = 3;
+
+// Why the parser stopped at `mark` without consuming anything.
+[[nodiscard]] inline std::string stuck_token_message(const std::string& text,
+                                                     const YAML::Mark& mark) {
+  const auto at = static_cast<std::size_t>(mark.pos);
+  if (at < text.size() && text[at] == ',')
+    return "',' cannot start a value (a ',' separates items inside [ ] or { } only)";
+  return "a value cannot start here";
+}
+
 // The one document of `raw`; throws Error("source:line:col: ...") otherwise. `source` is printed
 // as it is (pass it through printable()).
 template <class Error>
@@ -55,18 +94,27 @@ template <class Error>
                 single_quoted(text.substr(*at, 1)) +
                 " in the file: YAML text allows only tab and line breaks (write it as an "
                 "escape in a double-quoted string if you mean it)");
-  std::vector<YAML::Node> documents;
+  DocumentStarts documents;
+  YAML::Node root;
   try {
-    documents = YAML::LoadAll(text);
+    std::istringstream stream(text);
+    YAML::Parser parser(stream);
+    for (int i = 0; i < kDocumentsLooked && parser.HandleNextDocument(documents); ++i) {
+    }
+    const std::vector<YAML::Mark>& starts = documents.starts;
+    for (std::size_t i = 1; i < starts.size(); ++i)
+      if (starts[i].pos == starts[i - 1].pos)
+        throw Error(yaml_where(source, starts[i]) + ": YAML syntax error: " +
+                    stuck_token_message(text, starts[i]));
+    if (starts.size() > 1)
+      throw Error(yaml_where(source, starts[1]) + ": a second YAML document (after '---'): " +
+                  "the file must hold one document, and the second would be ignored");
+    root = YAML::Load(text);
   } catch (const YAML::Exception& error) {
     throw Error(yaml_where(source, error.mark) +
                 ": YAML syntax error: " + printable(yaml_syntax_error(error)));
   }
-  if (documents.size() > 1)
-    throw Error(yaml_where(source, documents[1].Mark()) +
-                ": a second YAML document (after '---'): " +
-                "the file must hold one document, and the second would be ignored");
-  return documents.empty() ? YAML::Node(YAML::NodeType::Null) : documents.front();
+  return root.IsDefined() ? root : YAML::Node(YAML::NodeType::Null);
 }
 
 }  // namespace spar::planner::internal

@@ -18,6 +18,7 @@ runs them in parallel; spar.dask spreads batches over a Dask cluster.
 
 import json
 import os
+import warnings
 
 from spar import _spar
 from spar._spar import (  # noqa: F401 (re-exported)
@@ -117,34 +118,45 @@ def bound_record(record, **options):
 
 
 def _is_path(source):
-    """A PathLike, or a str without a newline that names a file or ends in .yaml / .yml."""
+    """A PathLike, or a str without a newline that names something on the file system (a file, a
+    folder, a device, a dangling link) or ends in .yaml / .yml. spar's loader then says what is
+    wrong with a path that is not a scenario file ("is a directory"); it is never read as text."""
     return isinstance(source, os.PathLike) or (
         isinstance(source, str) and "\n" not in source
-        and (source.endswith((".yaml", ".yml")) or os.path.isfile(source)))
+        and (source.endswith((".yaml", ".yml")) or os.path.lexists(source)))
+
+
+def _warn(scenario):
+    """Issues the scenario's warnings (Scenario.warnings) as UserWarnings; returns it."""
+    for warning in scenario.warnings:
+        warnings.warn(warning, UserWarning, stacklevel=3)
+    return scenario
 
 
 def scenario(source, *, base_dir=None, name=None):
     """A Scenario from a path, a dict (the YAML's structure) or YAML text.
 
-    A str without a newline that names a file (or ends in .yaml / .yml) is a path; other strs are
-    YAML text. Mesh paths in a dict or text resolve against `base_dir` (default: the current
-    folder); `name` names a dict or text in messages (and becomes the scenario's name when it has
-    no `name:`). Raises spar.ScenarioError with file:line:col for a bad scenario.
+    A str without a newline that names something on the file system (or ends in .yaml / .yml) is
+    a path; other strs are YAML text, and bytes are YAML text that must be UTF-8. Mesh paths in a
+    dict or text resolve against `base_dir` (default: the current folder); `name` names a dict or
+    text in messages (and becomes the scenario's name when it has no `name:`). Raises
+    spar.ScenarioError with file:line:col for a bad scenario (a folder, a FIFO or /dev/zero given
+    as a path, text that is not UTF-8 included); the scenario's warnings (Scenario.warnings) are
+    issued as UserWarnings.
     """
     if isinstance(source, Scenario):
         return source
     if _is_path(source):
-        return _spar._load_scenario(os.fspath(source))
+        return _warn(_spar._load_scenario(os.fspath(source)))
     if isinstance(source, dict):
         text, default_name = json.dumps(source), "<dict>"  # JSON is YAML
     elif isinstance(source, (str, bytes)):
-        text = source.decode() if isinstance(source, bytes) else source
-        default_name = "<text>"
+        text, default_name = source, "<text>"  # bytes: spar checks the UTF-8 (file:line:col)
     else:
         raise TypeError("a scenario is a path, a dict or YAML text, not "
                         f"{type(source).__name__}")
-    return _spar._parse_scenario(text, name or default_name,
-                                 os.fspath(base_dir) if base_dir is not None else ".")
+    return _warn(_spar._parse_scenario(text, name or default_name,
+                                       os.fspath(base_dir) if base_dir is not None else "."))
 
 
 def _settings(instances, max_nodes, max_steps, domain, domain_text, probability, chosen_extras):

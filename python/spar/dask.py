@@ -42,15 +42,17 @@ class ScenarioPayload:
 def scenario_payload(scenario, *, base_dir=None, name=None):
     """The payload of a scenario given as spar.plan takes it (path, dict or YAML text).
 
-    Mesh files are read here, relative to the scenario's folder (or `base_dir` for a dict or
-    text). Raises ValueError for an absolute mesh path (it would not exist on another machine)
-    and spar.ScenarioError for a bad scenario that references meshes.
+    Files are read here as spar reads them (regular files within its size limits, text that is
+    UTF-8), mesh files relative to the scenario's folder (or `base_dir` for a dict or text).
+    Raises ValueError for an absolute mesh path (it would not exist on another machine),
+    spar.ScenarioError for a scenario file that cannot be read or a bad scenario that references
+    meshes, and spar.GeometryError for a mesh file that cannot be read.
     """
     if isinstance(scenario, ScenarioPayload):
         return scenario
     if spar._is_path(scenario):
         path = pathlib.Path(scenario)
-        text, source, folder = path.read_text(encoding="utf-8"), str(scenario), path.parent
+        text, source, folder = spar._spar._read_scenario_text(str(path)), str(scenario), path.parent
     elif isinstance(scenario, dict):
         text, source = json.dumps(scenario), name or "<dict>"
         folder = pathlib.Path(base_dir if base_dir is not None else ".")
@@ -63,7 +65,7 @@ def scenario_payload(scenario, *, base_dir=None, name=None):
             if os.path.isabs(mesh):
                 raise ValueError(f"{source}: mesh '{mesh}' is an absolute path, which another "
                                  "machine does not have: make it relative to the scenario")
-            meshes[mesh] = (folder / mesh).read_bytes()
+            meshes[mesh] = spar._spar._read_mesh_bytes(str(folder / mesh))
     return ScenarioPayload(text, source, meshes)
 
 
@@ -89,12 +91,13 @@ def _error_record(error):
 
 
 def plan_payload(payload, options):
-    """spar.plan on a payload (on a worker): the report, or an error record for a spar.Error."""
+    """spar.plan on a payload (on a worker): the report, or an error record for anything one
+    scenario raises (a spar.Error, or any other exception: one item never fails its chunk)."""
     try:
         with _mesh_folder(payload.meshes) as base_dir:
             scenario = spar._spar._parse_scenario(payload.text, payload.source, base_dir)
             return spar.plan(scenario, **options)
-    except spar.Error as error:
+    except Exception as error:  # noqa: BLE001 (the record says what it was)
         return _error_record(error)
 
 
@@ -150,15 +153,32 @@ def plan_many(client, scenarios, *, chunk_size=4, on_result=None, base_dir=None,
     """Plans every scenario (path, dict, YAML text or ScenarioPayload) on the cluster.
 
     Returns one item per scenario, in input order: its report (what spar.plan returns) or an
-    error record {"error", "error_type"}. `options` are spar.plan's (instances, max_nodes,
-    max_steps, probability, chosen_extras); `domain` (a file) travels as text; `base_dir`
-    resolves the meshes of dict and text scenarios.
+    error record {"error", "error_type"}, also for a scenario that cannot even be read here (a
+    missing file, a folder, text that is not UTF-8, a missing or bad mesh): such an item never
+    reaches the cluster and never stops the batch. `options` are spar.plan's (instances,
+    max_nodes, max_steps, probability, chosen_extras); `domain` (a file, read once here: a bad
+    domain raises spar.DomainError) travels as text; `base_dir` resolves the meshes of dict and
+    text scenarios.
     """
-    payloads = [scenario_payload(s, base_dir=base_dir) for s in scenarios]
+    scenarios = list(scenarios)
+    results = [None] * len(scenarios)
+    payloads, positions = [], []  # the items that go to the cluster, and where they came from
+    for index, scenario in enumerate(scenarios):
+        try:
+            payloads.append(scenario_payload(scenario, base_dir=base_dir))
+            positions.append(index)
+        except (spar.Error, OSError, TypeError, ValueError) as error:
+            results[index] = _error_record(error)
+            if on_result is not None:
+                on_result(index, results[index])
     if domain is not None:
-        options["domain_text"] = (pathlib.Path(domain).read_text(encoding="utf-8"), str(domain))
-    return map_chunks(client, _plan_chunk, payloads, chunk_size=chunk_size, options=options,
-                      on_result=on_result)
+        options["domain_text"] = (spar._spar._read_domain_text(os.fspath(domain)), str(domain))
+    forward = None if on_result is None else (lambda i, result: on_result(positions[i], result))
+    planned = map_chunks(client, _plan_chunk, payloads, chunk_size=chunk_size, options=options,
+                         on_result=forward)
+    for index, result in zip(positions, planned):
+        results[index] = result
+    return results
 
 
 def bound_many(client, records, *, chunk_size=32, on_result=None, **options):

@@ -100,3 +100,24 @@ def test_a_failed_chunk_is_retried_once(client, tmp_path):
     with pytest.raises(RuntimeError, match="always broken"):
         spar.dask.map_chunks(client, broken, [7], chunk_size=2)
     assert len(list(attempts.iterdir())) == 2  # the first run and one retry
+
+
+def test_plan_many_gives_one_error_record_per_bad_item(client, tmp_path):
+    # Issue 22: a missing file, a folder, a file that is not UTF-8 and a missing mesh aborted the
+    # whole batch; each is now its own record and the good items are planned.
+    not_utf8 = tmp_path / "not_utf8.yaml"
+    not_utf8.write_bytes(b"name: pe\xffg\nobjects: {}\n")
+    no_mesh = (EXAMPLES / "peg_block_face_down.yaml").read_text().replace(
+        "builtin: block", "mesh: parts/missing.off")
+    scenarios = [EXAMPLES / "peg_block_face_up.yaml", tmp_path / "missing.yaml", str(tmp_path),
+                 not_utf8, no_mesh, EXAMPLES / "peg_block_on_back.yaml"]
+    seen = []
+    results = spar.dask.plan_many(client, scenarios, chunk_size=2, base_dir=tmp_path,
+                                  on_result=lambda i, r: seen.append(i), **FAST)
+    assert sorted(seen) == list(range(len(scenarios)))
+    assert results[0]["schema"] == "spar-report/1" and results[5]["schema"] == "spar-report/1"
+    assert "no such scenario file" in results[1]["error"]
+    assert "is a directory, not a scenario file" in results[2]["error"]
+    assert "not_utf8.yaml:1:9: invalid UTF-8" in results[3]["error"]
+    assert "missing.off: no such mesh file" in results[4]["error"]
+    assert [r.get("error_type") for r in results[1:5]] == ["ScenarioError"] * 4

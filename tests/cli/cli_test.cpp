@@ -6,24 +6,17 @@
 //   - the process exits by itself (no signal, no hang: a row has a time limit);
 //   - exit status 1 comes with exactly one "spar: error: ..." line on stderr (a usage mistake, a
 //     bad file, lost output), exit status 0 with an empty stderr.
-#include <fcntl.h>
 #include <gtest/gtest.h>
-#include <spawn.h>
 #include <sys/stat.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
-#include <chrono>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <regex>
 #include <sstream>
 #include <string>
-#include <thread>
 #include <vector>
 
-extern char** environ;
+#include "tests/cli/process.hpp"
 
 namespace {
 
@@ -39,23 +32,9 @@ struct Case {
   int seconds{30};             // time limit
 };
 
-struct Outcome {
-  int exit_status{-1};  // -1: killed by a signal or by the time limit
-  std::string what;     // how it ended when it did not exit
-  std::string out, err;
-};
-
-std::string read_file(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
-void write_text(const fs::path& path, const std::string& text) {
-  std::ofstream out(path, std::ios::binary);
-  out << text;
-}
+using spar::cli_test::Outcome;
+using spar::cli_test::read_file;
+using spar::cli_test::write_text;
 
 // The scratch folder with the input files the rows use; made once per test binary.
 const fs::path& scratch() {
@@ -112,6 +91,11 @@ const fs::path& scratch() {
     write_text(root / "conflict.json",
                "{\"frame\": [\"a\", \"b\"], \"sources\": [[{\"set\": [\"a\"], \"mass\": 1}],"
                " [{\"set\": [\"b\"], \"mass\": 1}]]}");
+    // A scenario for the time limits (issue 22).
+    fs::create_directory(root / "batch");
+    write_text(root / "batch" / "a_good.yaml",
+               read_file(fs::path(SPAR_SOURCE_DIR) / "examples" / "peg_block_face_up.yaml"));
+    write_text(root / "one.txt", "batch/a_good.yaml\n");
     return root;
   }();
   return dir;
@@ -143,46 +127,10 @@ std::string expand(std::string text) {
 Outcome run_spar(const Case& row, const std::string& label) {
   const fs::path out_path = scratch() / (label + ".out"), err_path = scratch() / (label + ".err");
   const std::string stdout_file = row.stdout_to.empty() ? out_path.string() : row.stdout_to;
-  std::vector<std::string> argv_text{SPAR_BINARY};
-  for (const std::string& arg : row.args) argv_text.push_back(expand(arg));
-  std::vector<char*> argv;
-  for (std::string& arg : argv_text) argv.push_back(arg.data());
-  argv.push_back(nullptr);
-
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
-  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, stdout_file.c_str(),
-                                   O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, err_path.c_str(),
-                                   O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  pid_t pid = 0;
-  const int spawned = posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ);
-  posix_spawn_file_actions_destroy(&actions);
-  Outcome outcome;
-  if (spawned != 0) {
-    outcome.what = "could not start " + std::string(SPAR_BINARY);
-    return outcome;
-  }
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(row.seconds);
-  int status = 0;
-  while (waitpid(pid, &status, WNOHANG) == 0) {
-    if (std::chrono::steady_clock::now() > deadline) {
-      kill(pid, SIGKILL);
-      waitpid(pid, &status, 0);
-      outcome.what = "still running after " + std::to_string(row.seconds) + " s (killed)";
-      status = -1;
-      break;
-    }
-    std::this_thread::sleep_for(std::chrono::milliseconds(10));
-  }
-  if (status != -1) {
-    if (WIFEXITED(status)) {
-      outcome.exit_status = WEXITSTATUS(status);
-    } else {
-      outcome.what = "killed by signal " + std::to_string(WTERMSIG(status));
-    }
-  }
+  std::vector<std::string> arguments{SPAR_BINARY};
+  for (const std::string& arg : row.args) arguments.push_back(expand(arg));
+  Outcome outcome =
+      spar::cli_test::run_process(arguments, stdout_file, err_path.string(), row.seconds);
   if (row.stdout_to.empty()) outcome.out = read_file(out_path);
   outcome.err = read_file(err_path);
   return outcome;
@@ -308,6 +256,16 @@ const std::vector<Case> kCases = {
    "\\{\"name\":\"last\",\"lo\"",
    "4 line\\(s\\) of '[^']*batch.jsonl' could not be bounded"},
   {"JsonlDirectory", {"bound", "--jsonl", "@DIR@"}, kError, "", "is a directory"},
+  // Scenario batches (issue 22; tests/cli/batch_test.cpp has the rest).
+  {"BatchTimeLimitIsARecord", {"plan", "--batch", "@DIR@/one.txt", "--time-limit", "0.001"},
+   kError,
+   "^\\{\"file\":\"[^\"]*a_good.yaml\",\"status\":\"time_limit\",\"error\":\"time limit of "
+   "0.001 s reached\"\\}\n$",
+   "1 of 1 scenarios failed"},
+  {"PlanTimeLimit", {"plan", "@DIR@/batch/a_good.yaml", "--time-limit", "0.001"}, kError, "",
+   "^spar: error: time limit of 0.001 s reached\n$"},
+  {"BatchNotAListNorAFolder", {"plan", "--batch", "/dev/zero"}, kError, "",
+   "--batch: /dev/zero: is not a regular file \\(a character device\\): give a batch list"},
   {"JsonlWithExpression", {"bound", "x+1", "--var", "x=0:1", "--jsonl", "@DIR@/good.jsonl"},
    kError, "", "cannot be combined with an expression"},
   {"JsonlConstantDoesNotKillTheBatch", {"bound", "--jsonl", "@DIR@/constant.jsonl"}, 0,

@@ -81,11 +81,11 @@ inline std::vector<std::string> check_instance(
     if (!step.reach.solution) {
       fail("no joint solution");
     } else {
-      std::vector<double> q(step.reach.solution->q.data(), step.reach.solution->q.data() + 6);
+      const std::vector<double>& q = step.reach.solution->q;
       const kinematics::Transform fk =
-          scenario.robot.base * scenario.robot.chain.forward(q) * scenario.robot.tool;
+          scenario.robot.base * scenario.robot.arm.forward(q) * scenario.robot.tool;
       if (!same_pose(fk, step.gripper_pose, 1e-6)) fail("base * FK(joints) * tool != gripper pose");
-      if (!scenario.robot.chain.within_limits(q)) fail("joints outside their limits");
+      if (!scenario.robot.arm.within_limits(q)) fail("joints outside their limits");
     }
     const double tilt = std::acos(std::clamp(-step.gripper_pose.linear().col(2).z(), -1.0, 1.0));
     if (tilt > scenario.robot.max_tool_tilt + 1e-9) fail("gripper does not point down");

@@ -11,7 +11,7 @@
 
 #include "spar/common/units.hpp"
 #include "spar/geometry/stable_poses.hpp"
-#include "spar/kinematics/ik.hpp"
+#include "spar/kinematics/robot.hpp"
 #include "spar/planner/error.hpp"
 
 namespace spar::planner {
@@ -257,17 +257,58 @@ TEST(ScenarioErrors, NegativeOrNanUncertainty) {
 TEST(ScenarioErrors, UnknownRobotModel) {
   expect_error("robot: {model: puma561}\nobjects: {}\n", 1, 16,
                "unknown robot model 'puma561' (did you mean 'puma560'?); known: puma560, "
-               "puma762, dh");
+               "puma762, ur5, panda, dh (or urdf: <file>)");
 }
 
-TEST(ScenarioErrors, DhTableThatIsNotAPumaArm) {
-  // Two joints: a chain, but not the six-joint arm the IK solves.
+TEST(ScenarioErrors, DhTableMistakes) {
   expect_error(
-      "robot:\n  model: dh\n  dh: [{d: 1, limits: [-1, 1]}, {a: 1, limits: [-1, 1]}]\n"
+      "robot:\n  model: dh\n  dh: [{d: 1, limits: [1, -1]}, {a: 1, limits: [-1, 1]}]\n"
       "objects: {}\n",
-      3, 7, "robot.dh: ");
+      3, 23, "robot.dh[0].limits: the lower limit is above the upper one");
   expect_error("robot: {model: puma560, dh: []}\nobjects: {}\n", 1, 29,
                "a DH table goes with model: dh");
+}
+
+TEST(ScenarioErrors, UrdfRobotMistakes) {
+  expect_error("robot: {model: ur5, urdf: arm.urdf}\nobjects: {}\n", 1, 27,
+               "robot.urdf: give either model: <name> or urdf: <file>, not both");
+  expect_error("robot: {model: puma560, tip: flange}\nobjects: {}\n", 1, 30,
+               "robot.tip: a tip link goes with urdf: <file> or a URDF built-in (ur5, panda)");
+  expect_error("robot: {model: ur5, tip: gripper}\nobjects: {}\n", 1, 16,
+               "robot: " + std::string(SPAR_CORPUS_DIR) +
+                   "/robots/example-robot-data/robots/ur_description/urdf/ur5_robot.urdf:6: no "
+                   "link 'gripper' for the tip");
+  expect_error("robot: {urdf: absent.urdf}\nobjects: {}\n", 1, 15,
+               "robot.urdf: absent.urdf: cannot read the URDF file");
+}
+
+TEST(Scenario, RobotsByNameUrdfFileOrAnyDhTable) {
+  const auto robot_of = [](const std::string& robot, const std::filesystem::path& folder) {
+    return parse_scenario(
+               "robot: " + robot + "\nobjects: {cube: {builtin: cube, pose: {xyz: [0.5, 0, 0]}}}\n",
+               "test.yaml", folder)
+        .robot;
+  };
+  const RobotSpec ur5 = robot_of("{model: ur5}", ".");
+  EXPECT_EQ(ur5.arm.tip_link(), "tool0");
+  EXPECT_EQ(ur5.arm.ik_method(), kinematics::IkMethod::kUrClosedForm);
+  const std::filesystem::path data = std::string(SPAR_CORPUS_DIR) + "/robots";
+  const RobotSpec file = robot_of(
+      "{urdf: example-robot-data/robots/panda_description/urdf/panda.urdf, tip: panda_link8, "
+      "package_path: [.]}",
+      data);
+  EXPECT_EQ(file.model, "urdf");
+  EXPECT_EQ(file.urdf, "example-robot-data/robots/panda_description/urdf/panda.urdf");
+  EXPECT_EQ(file.arm.dof(), 7u);
+  EXPECT_EQ(file.arm.ik_method(), kinematics::IkMethod::kRedundantClosedForm);
+  // A UR5 as a DH table (Hawkins 2013): no longer refused, its geometry picks the UR closed form.
+  const RobotSpec dh = robot_of(
+      "{model: dh, dh: [{d: 0.089159, alpha: 1.5707963267948966, limits: [-6, 6]}, "
+      "{a: -0.425, limits: [-6, 6]}, {a: -0.39225, limits: [-6, 6]}, "
+      "{d: 0.10915, alpha: 1.5707963267948966, limits: [-6, 6]}, "
+      "{d: 0.09465, alpha: -1.5707963267948966, limits: [-6, 6]}, {d: 0.0823, limits: [-6, 6]}]}",
+      ".");
+  EXPECT_EQ(dh.arm.ik_method(), kinematics::IkMethod::kUrClosedForm);
 }
 
 TEST(ScenarioErrors, MissingMeshNamesTheResolvedPath) {
@@ -399,18 +440,26 @@ TEST(SeedExperiments, LoadInInchesAndDegreesWithTable2Uncertainties) {
 
 // What the planner's reachable(grasp, position) asks, with the robot's IK: the object at `pose`
 // (resting in `stable`) has a grasp usable in that pose that the arm reaches pointing down.
+// The arm reaches the gripper pose (world) pointing down, with joints within limits.
+bool arm_reaches(const Scenario& scenario, const kinematics::Transform& gripper_pose) {
+  const double tilt = std::acos(std::clamp(-gripper_pose.linear()(2, 2), -1.0, 1.0));
+  if (tilt > scenario.robot.max_tool_tilt) return false;
+  const kinematics::Transform tip_in_base = scenario.robot.base.inverse(Eigen::Isometry) *
+                                            gripper_pose *
+                                            scenario.robot.tool.inverse(Eigen::Isometry);
+  for (const kinematics::JointSolution& solution : scenario.robot.arm.inverse(tip_in_base))
+    if (solution.within_limits) return true;
+  return false;
+}
+
 bool some_grasp_reachable(const Scenario& scenario, const geometry::StablePose& stable,
                           const kinematics::Transform& pose,
                           const std::vector<geometry::Grasp>& grasps,
-                          const geometry::GripperSpec& gripper, const kinematics::PumaIk& ik) {
-  const kinematics::ReachabilityOptions options{.max_tool_tilt = scenario.robot.max_tool_tilt,
-                                                .tool = scenario.robot.tool};
-  for (const geometry::Grasp& grasp : grasps) {
-    if (!geometry::grasp_usable(grasp, stable, gripper)) continue;
-    const kinematics::Transform gripper_in_base =
-        scenario.robot.base.inverse(Eigen::Isometry) * pose * grasp.gripper_in_object;
-    if (kinematics::reachable(ik, gripper_in_base, options).reachable) return true;
-  }
+                          const geometry::GripperSpec& gripper) {
+  for (const geometry::Grasp& grasp : grasps)
+    if (geometry::grasp_usable(grasp, stable, gripper) &&
+        arm_reaches(scenario, pose * grasp.gripper_in_object))
+      return true;
   return false;
 }
 
@@ -423,20 +472,19 @@ TEST(SeedExperiments, EveryInitialPoseAndEveryPlaceIsWithinReach) {
   for (const Experiment& experiment : kExperiments) {
     SCOPED_TRACE(experiment.file);
     const Scenario scenario = load_scenario(kExamples / experiment.file);
-    const kinematics::PumaIk ik(scenario.robot.chain);
     geometry::GripperSpec gripper = scenario.robot.gripper;
     gripper.max_approach_tilt = scenario.robot.max_tool_tilt;
     for (const ObjectSpec& object : scenario.objects) {
       const auto grasps = geometry::compute_grasps(object.model, gripper, scenario.grasping);
       const geometry::StablePose& initial = object.stable_poses[*object.initial_stable_pose];
-      EXPECT_TRUE(some_grasp_reachable(scenario, initial, object.initial_pose, grasps, gripper, ik))
+      EXPECT_TRUE(some_grasp_reachable(scenario, initial, object.initial_pose, grasps, gripper))
           << object.name << " initial";
       for (const Place& place : scenario.places)
         for (const geometry::StablePose& stable : object.stable_poses) {
           const kinematics::Transform pose =
               Eigen::Translation3d(place.x, place.y, 0) *
               Eigen::AngleAxisd(place.yaw, Eigen::Vector3d::UnitZ()) * stable.object_to_world;
-          EXPECT_TRUE(some_grasp_reachable(scenario, stable, pose, grasps, gripper, ik))
+          EXPECT_TRUE(some_grasp_reachable(scenario, stable, pose, grasps, gripper))
               << object.name << " " << stable.label << " at " << place.name;
         }
     }
@@ -446,9 +494,6 @@ TEST(SeedExperiments, EveryInitialPoseAndEveryPlaceIsWithinReach) {
     const auto peg_grasps = geometry::compute_grasps(peg.model, gripper, scenario.grasping);
     const geometry::StablePose& hole_up = block.stable_poses[4];
     ASSERT_EQ(hole_up.label, "P5");
-    const kinematics::ReachabilityOptions options{.max_tool_tilt = scenario.robot.max_tool_tilt,
-                                                  .tool = scenario.robot.tool};
-    const kinematics::Transform world_to_base = scenario.robot.base.inverse(Eigen::Isometry);
     for (const Place& place : scenario.places) {
       const kinematics::Transform block_pose =
           Eigen::Translation3d(place.x, place.y, 0) *
@@ -457,9 +502,7 @@ TEST(SeedExperiments, EveryInitialPoseAndEveryPlaceIsWithinReach) {
       for (const geometry::Grasp& grasp : peg_grasps)
         mate_reachable |=
             geometry::grasp_leaves_free(grasp, goal.held_faces) &&
-            kinematics::reachable(
-                ik, world_to_base * block_pose * goal.relative * grasp.gripper_in_object, options)
-                .reachable;
+            arm_reaches(scenario, block_pose * goal.relative * grasp.gripper_in_object);
       EXPECT_TRUE(mate_reachable) << "assembly at " << place.name;
     }
   }

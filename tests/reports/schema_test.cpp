@@ -52,6 +52,8 @@ std::vector<const nlohmann::ordered_json*> all_reports() {
   for (const std::string& name : example_names()) reports.push_back(&example_report(name));
   reports.push_back(&no_plan_report());
   reports.push_back(&sensing_report());
+  // A robot read from a URDF file (issue 23): robot.urdf, base_link, tip and joint_names.
+  reports.push_back(&example_report("panda_peg_block"));
   return reports;
 }
 
