@@ -1,8 +1,6 @@
 // bound(): natural extension, monotonicity, centred form, branch and bound, inner search.
 #include "spar/bounds/bound.hpp"
 
-#include "spar/bounds/inequality.hpp"
-
 #include <algorithm>
 #include <array>
 #include <charconv>
@@ -18,6 +16,7 @@
 #include <unordered_map>
 #include <utility>
 
+#include "spar/bounds/inequality.hpp"
 #include "spar/bounds/internal/checks.hpp"
 #include "spar/bounds/internal/gradient.hpp"
 #include "spar/bounds/internal/linear_enclosure.hpp"
@@ -312,8 +311,8 @@ class Bounder {
       if (options_.inner && !decided(sign, kInf)) nlopt_search(root, sign);
       const double side = search(root, sign);
       const int other = sign > 0 ? 1 : 0;
-      const double enclosure = std::max(tree_[0].bound[other], sign > 0 ? -result.inner_lo
-                                                                         : result.inner_hi);
+      const double enclosure =
+          std::max(tree_[0].bound[other], sign > 0 ? -result.inner_lo : result.inner_hi);
       hi = sign > 0 ? side : enclosure;
       lo = sign > 0 ? -enclosure : -side;
     } else {

@@ -30,7 +30,7 @@ bool PlanResult::planned() const {
 namespace {
 
 // The world model of `scenario`, nothing planned yet.
-PlanResult started(Scenario scenario, const Domain& domain) {
+PlanResult started(Scenario scenario, const Domain& domain, const PlanOptions& options) {
   return {.world = WorldModel(std::move(scenario)),
           .domain = domain,
           .family = {},
@@ -38,7 +38,8 @@ PlanResult started(Scenario scenario, const Domain& domain) {
           .examined = {},
           .chosen_index = 0,
           .probability = {},
-          .tolerances = {}};
+          .tolerances = {},
+          .analysis = options.analysis};
 }
 
 // Sense first, then plan each hypothesis of object `index` as the truth.
@@ -46,7 +47,7 @@ PlanResult plan_branches(Scenario scenario, std::size_t index, const Domain& dom
                          const PlanOptions& options) {
   check_deadline();
   if (options.progress) options.progress("sense planning: aspects and candidate operations");
-  PlanResult result = started(std::move(scenario), domain);
+  PlanResult result = started(std::move(scenario), domain, options);
   const Scenario& uncertain = result.world.scenario();
   const ObjectSpec& object = uncertain.objects[index];
   SensePlan sensed = plan_sensing(uncertain, result.world);
@@ -92,7 +93,7 @@ PlanResult plan(Scenario scenario, const Domain& domain, const PlanOptions& opti
     if (options.progress) options.progress(text);
   };
   stage("world model: grasps and reachability");
-  PlanResult result = started(std::move(scenario), domain);
+  PlanResult result = started(std::move(scenario), domain, options);
   stage("phase 1: constraint posting");
   result.family = post_plan(result.world, result.domain, options.posting);
   if (!result.planned()) return result;

@@ -61,6 +61,8 @@ struct PlanResult {
   // PlanOptions::probability on the chosen instance, when phase 2 ran (else nullopt).
   std::optional<ProbabilityAnalysis> probability;
   std::optional<ToleranceAllocation> tolerances;
+  // The options phase 2 ran with (a report says when a margin is its search's cap, max_scale).
+  AnalysisOptions analysis{};
   // The chosen instance's analysis, or nullptr when phase 2 did not run.
   [[nodiscard]] const InstanceAnalysis* chosen_analysis() const;
 

@@ -81,6 +81,28 @@ Scenario Scenario::resolved(std::string_view name, std::size_t hypothesis) const
   return out;
 }
 
+sensing::SensorModel CameraSensor::sensor_model() const {
+  sensing::SensorModel out;
+  out.name = name;
+  out.kind = sensing::SensorKind::kCamera;
+  out.projection = projection;
+  out.intrinsics = intrinsics;
+  out.pose = pose;
+  out.mount = mount;
+  out.noise_px = noise_px;
+  out.detection_probability = detection_probability;
+  return out;
+}
+
+const CameraSensor& Scenario::camera(std::string_view name) const {
+  for (const CameraSensor& camera : cameras)
+    if (camera.name == name) return camera;
+  std::string known;
+  for (const CameraSensor& camera : cameras) known += (known.empty() ? "" : ", ") + camera.name;
+  throw ScenarioError("scenario '" + this->name + "' has no camera '" + std::string(name) +
+                      "' (cameras: " + (known.empty() ? "none" : known) + ")");
+}
+
 Scenario load_scenario(const std::filesystem::path& path) {
   std::string text;
   try {

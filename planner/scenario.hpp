@@ -41,6 +41,7 @@
 #include "spar/kinematics/dh.hpp"
 #include "spar/kinematics/robots.hpp"
 #include "spar/kinematics/uncertain_pose.hpp"
+#include "spar/sensing/camera.hpp"
 #include "spar/sensing/sensors.hpp"
 
 namespace spar::planner {
@@ -170,6 +171,30 @@ struct SensingSettings {
   double standoff{0.5};
 };
 
+// A camera (sensors.cameras, normative; docs/scenario.md): one description read by both PSEIKI's
+// `spar vision` and sense planning. Where it is (`mount`: fixed in the world, or carried on the
+// wrist with `pose` in the gripper frame), how it images (sensing/camera.hpp: the optical frame,
+// +z the viewing direction, +x right, +y down), how noisy its edges are and how often an edge it
+// should see is found. `uncertainty` (fixed cameras only): the pose's half-widths as an object's
+// (eq. 2: displacement in the world, dtheta about world z through the camera), for a camera on a
+// mobile robot whose position is not known exactly; sense planning predicts from the nominal pose.
+struct CameraSensor {
+  std::string name;
+  sensing::Projection projection{sensing::Projection::kPinhole};
+  sensing::Intrinsics intrinsics{};  // pixels (orthographic fx, fy: pixels per metre)
+  // Fixed: the camera frame in the world; on the wrist: in the gripper frame.
+  kinematics::Transform pose{kinematics::Transform::Identity()};
+  sensing::Mount mount{sensing::Mount::kFixed};
+  double noise_px{0.0};               // standard deviation of an edge end point, pixels
+  double detection_probability{1.0};  // in (0, 1]
+  kinematics::PoseUncertainty uncertainty{};
+  UncertaintyModel uncertainty_model{};
+  SourceLocation location;  // of the camera's entry
+
+  // The camera as sense planning's simulated sensor (sensing/sensors.hpp).
+  [[nodiscard]] sensing::SensorModel sensor_model() const;
+};
+
 // SPAR's assembled(held, fixed, [held faces, fixed faces], Ta, mating vector).
 struct AssembledGoal {
   std::string held;              // the object the robot holds and moves
@@ -198,7 +223,7 @@ struct Scenario {
   std::vector<ObjectSpec> objects;  // in file order
   std::vector<Place> places;        // in file order
   std::optional<RangeScanSensor> range_scan;
-  std::vector<sensing::SensorModel> cameras;  // sensors.cameras, in file order
+  std::vector<CameraSensor> cameras;       // sensors.cameras, in file order, unique names
   SensingSettings sensing{};
   geometry::GraspQuantization grasping{};  // how grasps are quantized (SPAR's grasp labels)
   std::vector<Goal> goals;                 // in file order
@@ -208,6 +233,8 @@ struct Scenario {
 
   // Throws ScenarioError naming the known objects when there is none called `name`.
   [[nodiscard]] const ObjectSpec& object(std::string_view name) const;
+  // The same for cameras.
+  [[nodiscard]] const CameraSensor& camera(std::string_view name) const;
   // The scenario with hypothesis `hypothesis` of object `name` taken as the truth: its identity's
   // shape and stable poses, its pose; the object is certain in the result (one plan branch).
   // Throws ScenarioError for an unknown object or hypothesis.

@@ -20,7 +20,7 @@ double bounding_radius(const geometry::ObjectModel& model) {
 std::vector<sensing::SensorModel> scenario_sensors(const Scenario& scenario) {
   std::vector<sensing::SensorModel> out;
   if (scenario.range_scan) out.push_back(scenario.range_scan->model);
-  out.insert(out.end(), scenario.cameras.begin(), scenario.cameras.end());
+  for (const CameraSensor& camera : scenario.cameras) out.push_back(camera.sensor_model());
   return out;
 }
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "spar/kinematics/puma.hpp"
+#include "spar/reports/internal/cell.hpp"
 #include "spar/reports/sensing.hpp"
 
 namespace spar::reports {
@@ -132,9 +133,11 @@ const char* precondition_unit(const planner::PreconditionResult& result) {
   return result.length ? "m" : "1";
 }
 
+// `max_scale`: the reverse analysis' search cap (a scale equal to it may be exceeded).
 Precondition build_precondition(const planner::Scenario& scenario,
                                 const planner::PreconditionResult& result,
-                                const std::vector<planner::SpaceVariable>& space) {
+                                const std::vector<planner::SpaceVariable>& space,
+                                double max_scale) {
   Precondition out;
   out.name = result.inequality.name;
   out.kind = planner::to_string(result.kind);
@@ -180,6 +183,7 @@ Precondition build_precondition(const planner::Scenario& scenario,
       widest = std::max(widest, half_width);
     }
     out.holds_up_to_scale = s;
+    out.holds_up_to_capped = s >= max_scale;
     out.margin =
         Margin{scenario.units.to_file_length(displacement), scenario.units.to_file_angle(rotation)};
   }
@@ -256,16 +260,20 @@ std::vector<Step> analysed_steps(const planner::PlanResult& result,
       out.finger_opening = result.world.gripper().max_opening * length_scale(result);
     out.preconditions.emplace();
     for (const planner::PreconditionResult& precondition : analysed.preconditions)
-      out.preconditions->push_back(build_precondition(scenario, precondition, analysis.variables));
+      out.preconditions->push_back(build_precondition(scenario, precondition, analysis.variables,
+                                                      result.analysis.max_scale));
     out.failed = analysed.failed;
     if (analysed.sensor_scale_needed && scenario.range_scan) {
       // The range-scan residual (scenario units) that would make this failed step hold.
       const planner::Units& units = scenario.units;
       const kinematics::PoseUncertainty& r = scenario.range_scan->residual;
       const double f = *analysed.sensor_scale_needed;
-      out.sensor_residual_needed =
-          SensorResidual{f, units.to_file_length(r.dx * f), units.to_file_length(r.dy * f),
-                         units.to_file_length(r.dz * f), units.to_file_angle(r.dtheta * f)};
+      out.sensor_residual_needed = SensorResidual{f,
+                                                  f >= result.analysis.max_scale,
+                                                  units.to_file_length(r.dx * f),
+                                                  units.to_file_length(r.dy * f),
+                                                  units.to_file_length(r.dz * f),
+                                                  units.to_file_angle(r.dtheta * f)};
     }
     if (analysed.failed) add_verification(analysed.verification, out);
     steps.push_back(std::move(out));
@@ -506,8 +514,10 @@ Report build_report(const planner::PlanResult& result) {
   out.instances.limit_reached = result.instances.limit_reached;
   for (const planner::InstanceAnalysis& analysis : result.examined)
     out.instances.examined.push_back(build_examined(analysis));
-  if (result.planned() && !result.instances.instances.empty())
+  if (result.planned() && !result.instances.instances.empty()) {
     out.chosen = build_chosen(result, result.chosen_index, result.chosen_analysis());
+    out.cell = internal::build_cell(result, *out.chosen, result.chosen(), result.chosen_analysis());
+  }
   if (result.sensing) add_sensing(result, out);
   return out;
 }

@@ -284,6 +284,7 @@ struct Precondition {
   // The chosen instance's extras (absent elsewhere):
   std::optional<std::vector<Blame>> blame;      // largest share first
   std::optional<double> holds_up_to_scale;      // reverse analysis: proved up to this scale
+  std::optional<bool> holds_up_to_capped;       // the scale is the search's cap: it holds beyond
   std::optional<Margin> margin;                 // with holds_up_to_scale
   std::optional<double> monte_carlo_violation;  // share of uniform samples violating it
   template <class Self, class Field>
@@ -305,6 +306,7 @@ struct Precondition {
     field("display", s.display);
     field("blame", s.blame);
     field("holds_up_to_scale", s.holds_up_to_scale);
+    field("holds_up_to_capped", s.holds_up_to_capped);
     field("margin", s.margin);
     field("monte_carlo_violation", s.monte_carlo_violation);
   }
@@ -312,11 +314,13 @@ struct Precondition {
 
 // A failed step: the range-scan residual (scenario units) that would make it hold.
 struct SensorResidual {
-  double scale{0.0};  // times the scenario's residual
+  double scale{0.0};   // times the scenario's residual
+  bool capped{false};  // the scale is the search's cap: a residual this much coarser would do
   double dx{0.0}, dy{0.0}, dz{0.0}, dtheta{0.0};
   template <class Self, class Field>
   static void fields(Self& s, Field&& field) {
     field("scale", s.scale);
+    field("capped", s.capped);
     field("dx", s.dx);
     field("dy", s.dy);
     field("dz", s.dz);
@@ -799,6 +803,112 @@ struct Chosen {
   }
 };
 
+// ---- the work cell, drawn (reports/internal/cell_svg.hpp) ----
+
+// A closed polygon: [x, y] points in the length unit, the last joined to the first.
+using Ring = std::vector<std::array<double, 2>>;
+
+// What is seen of a body from above (world x, y) and from the front (world x, z, looking along
+// +y): its silhouette as rings (outer boundaries counter-clockwise, holes clockwise).
+struct Silhouette {
+  std::vector<Ring> top;
+  std::vector<Ring> side;
+  template <class Self, class Field>
+  static void fields(Self& s, Field&& field) {
+    field("top", s.top);
+    field("side", s.side);
+  }
+};
+
+struct CellObject {
+  std::string name;
+  bool held{false};  // in the gripper
+  Silhouette outline;
+  template <class Self, class Field>
+  static void fields(Self& s, Field&& field) {
+    field("name", s.name);
+    field("held", s.held);
+    field("outline", s.outline);
+  }
+};
+
+// The box of positions an object's frame origin may occupy (world, length unit): sound, the
+// bound of its propagated pose error over the instance's uncertainty box.
+struct UncertaintyRegion {
+  std::string object;
+  std::array<double, 3> lo{}, hi{};
+  template <class Self, class Field>
+  static void fields(Self& s, Field&& field) {
+    field("object", s.object);
+    field("lo", s.lo);
+    field("hi", s.hi);
+  }
+};
+
+// Sensing phase 2 inserted: the step and the object it looks at.
+struct CellSensing {
+  std::string step;  // "#5 range-scan block"
+  std::string object;
+  template <class Self, class Field>
+  static void fields(Self& s, Field&& field) {
+    field("step", s.step);
+    field("object", s.object);
+  }
+};
+
+// The cell after one step of the chosen plan (or in its initial state).
+struct CellView {
+  Nullable<int> after;  // execution position (1-based) of the step it follows; null: initial
+  std::string title;    // "initial state", "after #2 pickup block"
+  std::vector<CellObject> objects;
+  Nullable<Silhouette> gripper;        // at the step's gripper pose
+  Nullable<UncertaintyRegion> region;  // of the object the step handled (held after a pickup)
+  std::vector<CellSensing> sensed;     // inserted sensing since the previous view
+  template <class Self, class Field>
+  static void fields(Self& s, Field&& field) {
+    field("after", s.after);
+    field("title", s.title);
+    field("objects", s.objects);
+    field("gripper", s.gripper);
+    field("region", s.region);
+    field("sensed", s.sensed);
+  }
+};
+
+struct CellPlace {
+  std::string name;
+  double x{0.0}, y{0.0};  // length unit
+  double yaw{0.0};        // angle unit
+  template <class Self, class Field>
+  static void fields(Self& s, Field&& field) {
+    field("name", s.name);
+    field("x", s.x);
+    field("y", s.y);
+    field("yaw", s.yaw);
+  }
+};
+
+// The work cell of the chosen plan: the table top (z = 0) drawn over the region the plan uses,
+// the robot's base and reach, the places, and one view per state the plan passes through.
+struct Cell {
+  std::array<double, 2> table_x{}, table_y{};  // the table top's extent drawn (length unit)
+  std::array<double, 3> robot_base{};          // the base frame's origin
+  double reach{0.0};     // an upper bound of the gripper's distance from the shoulder (length)
+  double shoulder{0.0};  // height of the shoulder (first joint's offset) above the base
+  std::vector<CellPlace> places;
+  std::vector<CellView> views;  // the initial state, then after each pickup, putdown, assemble
+  template <class Self, class Field>
+  static void fields(Self& s, Field&& field) {
+    field("table_x", s.table_x);
+    field("table_y", s.table_y);
+    field("robot_base", s.robot_base);
+    field("reach", s.reach);
+    field("shoulder", s.shoulder);
+    field("places", s.places);
+    field("views", s.views);
+  }
+};
+
 struct Report {
   std::string schema{kReportSchema};
   std::string scenario;
@@ -812,6 +922,7 @@ struct Report {
   Nullable<Chosen> chosen;  // null without a plan; with an uncertain object: its sensing steps
   std::optional<std::vector<ObjectSensing>> sensing;  // with an uncertain object
   std::optional<std::vector<Branch>> branches;        // with an uncertain object, one per outcome
+  std::optional<Cell> cell;  // with a chosen plan
   template <class Self, class Field>
   static void fields(Self& s, Field&& field) {
     field("schema", s.schema);
@@ -826,6 +937,7 @@ struct Report {
     field("chosen", s.chosen);
     field("sensing", s.sensing);
     field("branches", s.branches);
+    field("cell", s.cell);
   }
 };
 

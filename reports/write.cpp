@@ -8,6 +8,7 @@
 
 #include "spar/reports/error.hpp"
 #include "spar/reports/html.hpp"
+#include "spar/reports/internal/cell_svg.hpp"
 #include "spar/reports/json.hpp"
 #include "spar/reports/markdown.hpp"
 
@@ -64,8 +65,13 @@ std::string render(const Report& report, Format format) {
 
 std::vector<fs::path> write_reports(const Report& report, const fs::path& folder,
                                     const std::vector<Format>& formats) {
-  std::vector<std::string> texts;
-  for (const Format format : formats) texts.push_back(render(report, format));
+  // Every file: the formats' (returned), then the cell's views the Markdown links to.
+  std::vector<std::pair<std::string, std::string>> files;
+  for (const Format format : formats) files.emplace_back(file_name(format), render(report, format));
+  const std::size_t reports = files.size();
+  if (report.cell && std::find(formats.begin(), formats.end(), Format::kMarkdown) != formats.end())
+    for (std::size_t v = 0; v < report.cell->views.size(); ++v)
+      files.emplace_back(internal::cell_view_file(v), internal::cell_view_svg(report, v, true));
   std::error_code error;
   fs::create_directories(folder, error);
   if (error)
@@ -75,11 +81,11 @@ std::vector<fs::path> write_reports(const Report& report, const fs::path& folder
   const auto remove_temporaries = [&] {
     for (const fs::path& temporary : temporaries) fs::remove(temporary, error);
   };
-  for (std::size_t i = 0; i < formats.size(); ++i) {
-    finals.push_back(folder / file_name(formats[i]));
-    temporaries.push_back(folder / ("." + file_name(formats[i]) + ".tmp"));
+  for (const auto& [name, text] : files) {
+    finals.push_back(folder / name);
+    temporaries.push_back(folder / ("." + name + ".tmp"));
     std::ofstream out(temporaries.back(), std::ios::binary | std::ios::trunc);
-    out << texts[i];
+    out << text;
     out.close();
     if (!out) {
       const std::string reason = std::strerror(errno);
@@ -87,7 +93,7 @@ std::vector<fs::path> write_reports(const Report& report, const fs::path& folder
       throw ReportError("cannot write " + temporaries.back().string() + ": " + reason);
     }
   }
-  for (std::size_t i = 0; i < formats.size(); ++i) {
+  for (std::size_t i = 0; i < files.size(); ++i) {
     fs::rename(temporaries[i], finals[i], error);
     if (error) {
       remove_temporaries();
@@ -95,6 +101,7 @@ std::vector<fs::path> write_reports(const Report& report, const fs::path& folder
                         ": " + error.message());
     }
   }
+  finals.resize(reports);
   return finals;
 }
 

@@ -1,6 +1,8 @@
 // Writing a report folder: report.json (the source of truth), report.md and report.html, each
-// written from the same report model (reports/model.hpp). Atomic per file and all-or-nothing per
-// call: every format is rendered first, each is written to a temporary name in the folder
+// written from the same report model (reports/model.hpp); with the Markdown, the drawings of the
+// work cell it links to (cell-0.svg, cell-1.svg, ...: one per view, internal/cell_svg.hpp). Atomic
+// per file and all-or-nothing per call: every format is rendered first, each is written to a
+// temporary name in the folder
 // (".report.<ext>.tmp") and renamed over its final name only once all are written, so a failure (a
 // report that cannot be rendered, a full disk) leaves no half-written report behind, and a reader
 // never sees one.
@@ -30,7 +32,8 @@ enum class Format { kJson, kMarkdown, kHtml };
 // The file's text: the JSON indented by 2 (with a final newline), or the rendered Markdown/HTML.
 [[nodiscard]] std::string render(const Report& report, Format format);
 
-// Creates `folder` if needed and writes the formats; returns the files written, in `formats`
+// Creates `folder` if needed and writes the formats (and the Markdown's drawings); returns the
+// report files written, in `formats`
 // order. Throws ReportError (with the path and the system's reason) and removes its temporaries.
 std::vector<std::filesystem::path> write_reports(const Report& report,
                                                  const std::filesystem::path& folder,

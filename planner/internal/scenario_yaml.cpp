@@ -220,8 +220,13 @@ class Reader {
                                        const ObjectSpec& object, bool features) const;
   [[nodiscard]] std::vector<Place> read_places(const YAML::Node& node) const;
   void read_sensors(const YAML::Node& node, Scenario& scenario) const;
-  // The geometry and noise keys sensors share (pose, intrinsics, mount, detection_probability).
-  void read_sensor_model(const Fields& fields, sensing::SensorModel& sensor) const;
+  [[nodiscard]] CameraSensor read_camera(const YAML::Node& node, const std::string& path) const;
+  // What cameras and the range scanner share: `mount` (fixed | wrist; `fallback` when absent),
+  // intrinsics {fx, fy, cx, cy, width, height} in pixels, detection_probability in (0, 1].
+  [[nodiscard]] sensing::Mount mount(const Fields& fields, sensing::Mount fallback) const;
+  [[nodiscard]] sensing::Intrinsics intrinsics(const YAML::Node& node,
+                                               const std::string& path) const;
+  [[nodiscard]] double detection_probability(const Fields& fields, double fallback) const;
   [[nodiscard]] SensingSettings read_sensing(const YAML::Node& node) const;
   [[nodiscard]] AssembledGoal read_assembled(const YAML::Node& node, const std::string& path,
                                              const Scenario& scenario) const;
@@ -942,77 +947,109 @@ void Reader::read_sensors(const YAML::Node& node, Scenario& scenario) const {
                             {"residual", "pose", "intrinsics", "mount", "position_noise",
                              "normal_noise", "max_angle", "detection_probability"});
     RangeScanSensor sensor;
+    sensing::SensorModel& model = sensor.model;
     sensor.residual = uncertainty(range_scan.require("residual"), range_scan.path("residual"),
                                   sensor.residual_model);
-    read_sensor_model(range_scan, sensor.model);
+    // On the wrist (at the gripper's frame) unless it has a pose.
+    model.mount = mount(range_scan, range_scan.has("pose") ? sensing::Mount::kFixed
+                                                           : sensing::Mount::kWrist);
+    if (const YAML::Node pose = range_scan.get("pose"); pose.IsDefined())
+      model.pose = rigid_pose(pose, range_scan.path("pose"));
+    else if (model.mount == sensing::Mount::kFixed)
+      fail(range_scan.node(), "sensors.range_scan: a fixed sensor needs a 'pose'");
+    if (const YAML::Node node = range_scan.get("intrinsics"); node.IsDefined())
+      model.intrinsics = intrinsics(node, range_scan.path("intrinsics"));
+    model.detection_probability = detection_probability(range_scan, model.detection_probability);
     for (const auto& [key, target] :
-         {std::pair{"position_noise", &sensor.model.position_noise},
-          std::pair{"normal_noise", &sensor.model.normal_noise},
-          std::pair{"max_angle", &sensor.model.max_angle}})
+         {std::pair{"position_noise", &model.position_noise},
+          std::pair{"normal_noise", &model.normal_noise},
+          std::pair{"max_angle", &model.max_angle}})
       if (const YAML::Node value = range_scan.get(key); value.IsDefined())
         *target = quantity(value, range_scan.path(key), std::string("sensor.") + key);
     scenario.range_scan = sensor;
   }
-  if (const YAML::Node cameras = sensors.get("cameras"); cameras.IsDefined()) {
-    check_count(expect_list(cameras, "sensors.cameras"), "sensors.cameras", "scenario.cameras");
-    for (std::size_t i = 0; i < cameras.size(); ++i) {
-      const std::string path = "sensors.cameras[" + std::to_string(i) + "]";
-      const Fields fields(*this, cameras[i], path,
-                          {"name", "pose", "intrinsics", "mount", "noise_px",
-                           "detection_probability"});
-      sensing::SensorModel camera;
-      camera.kind = sensing::SensorKind::kCamera;
-      camera.name = identifier(fields.require("name"), fields.path("name"));
-      if (camera.name == "range_scan" ||
-          std::any_of(scenario.cameras.begin(), scenario.cameras.end(),
-                      [&](const sensing::SensorModel& other) { return other.name == camera.name; }))
-        fail(fields.get("name"), fields.path("name") + ": duplicate sensor name '" + camera.name +
-                                     "'");
-      (void)fields.require("pose");
-      (void)fields.require("intrinsics");
-      read_sensor_model(fields, camera);
-      if (const YAML::Node value = fields.get("noise_px"); value.IsDefined())
-        camera.noise_px = quantity(value, fields.path("noise_px"), "sensor.noise_px");
-      scenario.cameras.push_back(camera);
-    }
+  const YAML::Node list = sensors.get("cameras");
+  if (!list.IsDefined()) return;
+  check_count(expect_list(list, "sensors.cameras"), "sensors.cameras", "sensors.cameras");
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    const std::string path = "sensors.cameras[" + std::to_string(i) + "]";
+    CameraSensor camera = read_camera(list[i], path);
+    for (const CameraSensor& other : scenario.cameras)
+      if (other.name == camera.name)
+        fail(list[i], path + ".name: duplicate camera name '" + camera.name + "'");
+    // Sense planning names its operations by sensor: the range scanner is `range_scan`.
+    if (camera.name == "range_scan")
+      fail(list[i], path + ".name: 'range_scan' is the range scanner's name; name the camera "
+                           "otherwise");
+    scenario.cameras.push_back(std::move(camera));
   }
 }
 
-// pose {xyz, rpy} (the sensor frame: z along the view, x right, y down in the image; in the
-// world, or in the gripper frame with `mount: wrist`), intrinsics {fx, fy, cx, cy, width,
-// height} in pixels, mount fixed | wrist, detection_probability in (0, 1].
-void Reader::read_sensor_model(const Fields& fields, sensing::SensorModel& sensor) const {
-  if (const YAML::Node mount = fields.get("mount"); mount.IsDefined()) {
-    const std::string name = text(mount, fields.path("mount"));
-    if (name != "fixed" && name != "wrist")
-      fail(mount, fields.path("mount") + ": unknown mount '" + name +
-                      "'" + suggestion(name, {"fixed", "wrist"}) + "; known: fixed, wrist");
-    sensor.mount = name == "wrist" ? sensing::Mount::kWrist : sensing::Mount::kFixed;
-  } else if (fields.has("pose")) {
-    sensor.mount = sensing::Mount::kFixed;
+// {name, pose: {xyz, rpy}, intrinsics: {fx, fy, cx, cy, width, height}, mount, noise_px,
+// detection_probability, projection, uncertainty}: intrinsics in pixels, the pose in the file's
+// units (in the gripper frame with `mount: wrist`).
+CameraSensor Reader::read_camera(const YAML::Node& node, const std::string& path) const {
+  const Fields fields(*this, node, path,
+                      {"name", "pose", "intrinsics", "mount", "noise_px", "detection_probability",
+                       "projection", "uncertainty"});
+  CameraSensor camera;
+  camera.name = identifier(fields.require("name"), fields.path("name"));
+  camera.location = where(node);
+  camera.pose = rigid_pose(fields.require("pose"), fields.path("pose"));
+  camera.mount = mount(fields, sensing::Mount::kFixed);
+  if (const YAML::Node kind = fields.get("projection"); kind.IsDefined()) {
+    const std::string name = text(kind, fields.path("projection"));
+    const std::vector<std::string> known = {"pinhole", "orthographic"};
+    if (name == "orthographic")
+      camera.projection = sensing::Projection::kOrthographic;
+    else if (name != "pinhole")
+      fail(kind, fields.path("projection") + ": unknown projection '" + name + "'" +
+                     suggestion(name, known) + "; known: " + join(known));
   }
-  if (const YAML::Node pose = fields.get("pose"); pose.IsDefined())
-    sensor.pose = rigid_pose(pose, fields.path("pose"));
-  else if (sensor.mount == sensing::Mount::kFixed)
-    fail(fields.node(), fields.name() + ": a fixed sensor needs a 'pose'");
-  if (const YAML::Node node = fields.get("intrinsics"); node.IsDefined()) {
-    const Fields intrinsics(*this, node, fields.path("intrinsics"),
-                            {"fx", "fy", "cx", "cy", "width", "height"});
-    sensing::Intrinsics k;
-    for (const auto& [key, target, limit] :
-         {std::tuple{"fx", &k.fx, "sensor.focal"}, std::tuple{"fy", &k.fy, "sensor.focal"},
-          std::tuple{"cx", &k.cx, "sensor.centre"}, std::tuple{"cy", &k.cy, "sensor.centre"}})
-      *target = quantity(intrinsics.require(key), intrinsics.path(key), limit);
-    for (const auto& [key, target] :
-         {std::pair{"width", &k.width}, std::pair{"height", &k.height}})
-      *target = static_cast<int>(
-          quantity(intrinsics.require(key), intrinsics.path(key), "sensor.image_side"));
-    sensor.intrinsics = k;
+  camera.intrinsics = intrinsics(fields.require("intrinsics"), fields.path("intrinsics"));
+  if (const YAML::Node value = fields.get("noise_px"); value.IsDefined())
+    camera.noise_px = quantity(value, fields.path("noise_px"), "camera.noise_px");
+  camera.detection_probability = detection_probability(fields, camera.detection_probability);
+  if (fields.has("uncertainty")) {
+    if (camera.mount == sensing::Mount::kWrist)
+      fail(fields.get("uncertainty"), fields.path("uncertainty") +
+                                          ": a camera on the wrist is where the robot puts it; "
+                                          "'uncertainty' is for a fixed camera");
+    camera.uncertainty = uncertainty(fields.get("uncertainty"), fields.path("uncertainty"),
+                                     camera.uncertainty_model);
   }
-  if (const YAML::Node value = fields.get("detection_probability"); value.IsDefined()) {
-    sensor.detection_probability =
-        quantity(value, fields.path("detection_probability"), "sensor.detection_probability");
-  }
+  return camera;
+}
+
+sensing::Mount Reader::mount(const Fields& fields, sensing::Mount fallback) const {
+  const YAML::Node node = fields.get("mount");
+  if (!node.IsDefined()) return fallback;
+  const std::string name = text(node, fields.path("mount"));
+  const std::vector<std::string> known = {"fixed", "wrist"};
+  if (name != "fixed" && name != "wrist")
+    fail(node, fields.path("mount") + ": unknown mount '" + name + "'" + suggestion(name, known) +
+                   "; known: " + join(known));
+  return name == "wrist" ? sensing::Mount::kWrist : sensing::Mount::kFixed;
+}
+
+sensing::Intrinsics Reader::intrinsics(const YAML::Node& node, const std::string& path) const {
+  const Fields k(*this, node, path, {"fx", "fy", "cx", "cy", "width", "height"});
+  const auto pixels = [&](const char* key, std::string_view limit_key) {
+    return quantity(k.require(key), k.path(key), limit_key);
+  };
+  return {.fx = pixels("fx", "camera.focal"),
+          .fy = pixels("fy", "camera.focal"),
+          .cx = pixels("cx", "camera.principal_point"),
+          .cy = pixels("cy", "camera.principal_point"),
+          .width = static_cast<int>(pixels("width", "camera.image_side")),
+          .height = static_cast<int>(pixels("height", "camera.image_side"))};
+}
+
+double Reader::detection_probability(const Fields& fields, double fallback) const {
+  const YAML::Node value = fields.get("detection_probability");
+  return value.IsDefined() ? quantity(value, fields.path("detection_probability"),
+                                      "sensor.detection_probability")
+                           : fallback;
 }
 
 SensingSettings Reader::read_sensing(const YAML::Node& node) const {

@@ -1,7 +1,7 @@
 """spar: symbolic worst-case uncertainty analysis of robot task plans, from Python.
 
-The C++ engine (spar._spar, built from python/module.cpp over python/facade.hpp) with Pythonic
-names:
+The compiled engine (spar._spar) with Pythonic names; the typed interface, with every
+docstring, is spar/__init__.pyi beside this file:
 
     import spar
     f = spar.Expr("x^2 - y")
@@ -43,6 +43,7 @@ from spar._spar import (  # noqa: F401 (re-exported)
     ShostakError,
     SymbolicError,
     UncertainPose,
+    __version__,
     fk,
     ik,
     possible_manipulator_pose,
@@ -90,14 +91,6 @@ def bound(expr, box, *, tolerance=1e-3, constraints=(), max_box_evaluations=200_
     return _spar._bound(_expr(expr), ranges, [_constraint(c) for c in constraints],
                         float(tolerance), int(max_box_evaluations), float(max_seconds),
                         bool(inner))
-
-
-def _engine_doc(function):
-    """A binding's docstring without the signature line pybind11 puts first."""
-    return function.__doc__.split("\n", 1)[1].strip()
-
-
-bound.__doc__ += "\n" + _engine_doc(_spar._bound)
 
 
 def bound_record(record, **options):
@@ -206,8 +199,8 @@ def plan_run(source, *, instances=16, max_nodes=200_000, max_steps=64, domain=No
                                      probability, chosen_extras))
 
 
-plan.__doc__ += _PLAN_OPTIONS_DOC + "\n" + _engine_doc(_spar._plan)
-plan_run.__doc__ += _PLAN_OPTIONS_DOC + "\n" + _engine_doc(_spar._plan_run)
+plan.__doc__ += _PLAN_OPTIONS_DOC
+plan_run.__doc__ += _PLAN_OPTIONS_DOC
 
 
 def evidence(source):

@@ -86,6 +86,13 @@ const fs::path& scratch() {
     write_text(root / "tetrahedron.off",
                "OFF\n4 4 0\n1 1 1\n1 -1 -1\n-1 1 -1\n-1 -1 1\n3 0 1 2\n3 0 3 1\n3 0 2 3\n"
                "3 1 3 2\n");
+    // Image files for `spar vision match`: three edges that are nothing the sidewalk camera
+    // expects, and an edge without its end.
+    write_text(root / "clutter_only.json",
+               R"({"edges": [{"id": 1, "p0": [10, 10], "p1": [200, 30]},
+                             {"id": 2, "p0": [600, 400], "p1": [420, 300]},
+                             {"id": 3, "p0": [100, 450], "p1": [110, 300]}]})");
+    write_text(root / "bad_image.json", R"({"edges": [{"id": "a", "p0": [1, 2]}]})");
     write_text(root / "bad_mass.json",
                "{\"frame\": [\"a\", \"b\"],\n \"sources\": [[{\"set\": [\"a\"], \"mass\": 1.5}]]}");
     write_text(root / "conflict.json",
@@ -180,6 +187,8 @@ TEST_P(CliCase, ExitStatusAndMessages) {
 constexpr int kError = 1;
 const std::string kFull = "/dev/full";
 const std::string kLost = "cannot write the output to standard output: No space left on device";
+const std::string kSidewalk = "@SRC@/examples/vision/pseiki_sidewalk.yaml";
+const std::string kSidewalkImage = "@SRC@/examples/vision/pseiki_sidewalk_image.json";
 const std::string kPose =
     "1 0 0 0.5 0 -1 0 0.1 0 0 -1 0.2 0 0 0 1";  // a flange pose spar ik solves
 
@@ -218,8 +227,25 @@ const std::vector<Case> kCases = {
    "--q: must be a finite number, got 'inf'"},
   {"MaxOpeningNaN", {"object", "cube", "--max-opening", "nan"}, kError, "",
    "--max-opening: must be a positive number, got 'nan'"},
-  {"DemoFormatWithoutReport", {"demo", "--format", "md"}, kError, "",
+  {"DemoFormatWritesThatFormat", {"demo", "--format", "md", "--report", "@DIR@/demo"}, 0,
+   "\nreport: [^\n]*/demo/report.md\n$", ""},
+  {"PlanFormatWithoutReport",
+   {"plan", "@SRC@/examples/peg_block_face_up.yaml", "--format", "md"}, kError, "",
    "^spar: error: --format needs --report DIR\n$"},
+  // spar plan's exit status says its verdict: 0 proved, 2 no plan, 3 errors left to verify.
+  {"PlanProvedExitsZero",
+   {"plan", "@SRC@/examples/peg_block_face_up.yaml", "--samples", "0", "--report", "@DIR@/up"}, 0,
+   "errors: 0 \\(nothing to verify at execution\\)", ""},
+  {"PlanNoPlanExitsTwo",
+   {"plan", "@SRC@/examples/peg_block_face_down.yaml", "--max-nodes", "3", "--report",
+    "@DIR@/np"},
+   2, "^plan peg_block_face_down: no_plan \\(", "^$"},
+  {"PlanWithErrorsExitsThree",
+   {"plan", "@SRC@/examples/peg_block_on_back.yaml", "--samples", "0", "--report", "@DIR@/ob"}, 3,
+   "errors: 1 \\(verification and recovery posted\\)", "^$"},
+  {"Version", {"--version"}, 0, "^[0-9]+\\.[0-9]+\\.[0-9]+\n$", ""},
+  {"HelpNamesTheExitStatuses", {"plan", "--help"}, 0,
+   "Exit status: 0 planned, every precondition proved; 1 bad input or usage; 2 no plan; 3", ""},
   {"PlanInstancesZero", {"plan", "@SRC@/examples/peg_block_face_up.yaml", "--instances", "0"},
    kError, "", "--instances: must be a whole number from 1 to 100000, got '0'"},
   {"PlanSamplesNegative", {"plan", "@SRC@/examples/peg_block_face_up.yaml", "--samples", "-1"},
@@ -321,6 +347,41 @@ const std::vector<Case> kCases = {
    ""},
   {"SensePlanNothingUncertain", {"sense-plan", "@SRC@/examples/peg_block_face_up.yaml"}, 0,
    "nothing to sense", ""},
+  // PSEIKI verification vision (issue 27) on the survey's sidewalk example.
+  {"VisionRender", {"vision", "render", kSidewalk, "--camera", "front", "--json"}, 0,
+   "\"edges\": \\[\n *\\{\n *\"id\": \"walk/e1\",\n *\"object\": \"walk\",\n *\"faces\": "
+   "\\[\n *\"walk/f1\"\n *\\],\n *\"p0\": \\[", ""},
+  {"VisionMatch", {"vision", "match", kSidewalk, "--camera", "front", "--image", kSidewalkImage,
+                   "--json"}, 0,
+   "\"scene\": \\{\n *\"belief\": 0.85[0-9]*,\n *\"disbelief\": [0-9.e-]+,\n *\"accepted\": "
+   "true[^]*\"pose_correction\": \\{\n *\"object\": \"front\"", ""},
+  {"VisionMatchText", {"vision", "match", kSidewalk, "--camera", "front", "--image",
+                       kSidewalkImage}, 0,
+   "^scene belief 0.85 \\(threshold 0.50\\): accepted\n", ""},
+  {"VisionMatchRejects", {"vision", "match", kSidewalk, "--camera", "front", "--image",
+                          "@DIR@/clutter_only.json"}, 0,
+   "^scene belief 0.00 \\(threshold 0.50\\): rejected\n", ""},
+  {"VisionSimulate", {"vision", "simulate", kSidewalk, "--camera", "front", "--seed", "3",
+                      "--perturb", "split=0.1,clutter=5"}, 0,
+   // No [^]* across the whole output: libstdc++'s regex recurses once per character and
+   // overflows the stack under AddressSanitizer on these ~100 KB.
+   "\n *\"truth\": \"walk/e[0-9]+\"\n", ""},
+  // One camera description for both: the sense-planning example's overhead camera in PSEIKI.
+  {"VisionRenderSensingCamera", {"vision", "render", "@SRC@/examples/sensing_block_pose.yaml",
+                                 "--camera", "overhead"}, 0,
+   "^expected scene of camera overhead: [1-9][0-9]* edges", ""},
+  {"VisionUnknownCamera", {"vision", "render", kSidewalk, "--camera", "back"}, kError, "",
+   "scenario 'pseiki_sidewalk' has no camera 'back' \\(cameras: front\\)"},
+  {"VisionImageMissing", {"vision", "match", kSidewalk, "--camera", "front", "--image",
+                          "@DIR@/none.json"}, kError, "",
+   "none.json: cannot read the image file: no such file"},
+  {"VisionImageBadEdge", {"vision", "match", kSidewalk, "--camera", "front", "--image",
+                          "@DIR@/bad_image.json"}, kError, "",
+   "bad_image.json: edges\\[0\\]: missing key 'p1'"},
+  {"VisionPerturbUnknownKey", {"vision", "simulate", kSidewalk, "--camera", "front", "--perturb",
+                               "shade=1"}, kError, "", "--perturb: unknown key 'shade'"},
+  {"VisionRenderFull", {"vision", "render", kSidewalk, "--camera", "front"}, kError, "", kLost,
+   kFull},
   // Output that cannot be written fails the command.
   {"SimplifyFull", {"simplify", "x+x"}, kError, "", kLost, kFull},
   {"BoundFull", {"bound", "x", "--var", "x=0:1"}, kError, "", kLost, kFull},

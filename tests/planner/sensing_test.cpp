@@ -12,6 +12,7 @@
 #include "spar/planner/plan.hpp"
 #include "spar/planner/scenario.hpp"
 #include "spar/planner/sense_planning.hpp"
+#include "spar/planner/vision.hpp"
 #include "spar/planner/world.hpp"
 
 namespace spar::planner {
@@ -21,9 +22,9 @@ const std::filesystem::path kExamples = std::filesystem::path(SPAR_SOURCE_DIR) /
 
 // A scenario with one object `part` whose entry is `object` (YAML flow map).
 Scenario with_part(const std::string& object, const std::string& extra = "") {
-  return parse_scenario("units: {length: in, angle: deg}\nobjects:\n  part: " + object + "\n" +
-                            extra,
-                        "test.yaml", ".");
+  return parse_scenario(
+      "units: {length: in, angle: deg}\nobjects:\n  part: " + object + "\n" + extra, "test.yaml",
+      ".");
 }
 
 std::string error_of(const std::string& object, const std::string& extra = "") {
@@ -47,13 +48,12 @@ TEST(SensingScenario, AListOfStablePosesIsAHypothesisSet) {
   ASSERT_TRUE(part.uncertain());
   EXPECT_EQ(labels(part), (std::vector<std::string>{"P1", "P2"}));
   EXPECT_EQ(part.hypotheses[1].stable_pose, 1);
-  EXPECT_TRUE(part.hypotheses[1].pose.isApprox(
-      Eigen::Translation3d(20 * units::kInch, 0, 0) * part.stable_poses[1].object_to_world));
+  EXPECT_TRUE(part.hypotheses[1].pose.isApprox(Eigen::Translation3d(20 * units::kInch, 0, 0) *
+                                               part.stable_poses[1].object_to_world));
   EXPECT_TRUE(part.initial_pose.isApprox(part.hypotheses[0].pose));
   // One listed pose is no uncertainty.
-  EXPECT_FALSE(with_part("{builtin: block, pose: {stable: [P3], at: [20, 0]}}")
-                   .object("part")
-                   .uncertain());
+  EXPECT_FALSE(
+      with_part("{builtin: block, pose: {stable: [P3], at: [20, 0]}}").object("part").uncertain());
 }
 
 TEST(SensingScenario, IdentitiesTimesStablePoses) {
@@ -61,7 +61,8 @@ TEST(SensingScenario, IdentitiesTimesStablePoses) {
   EXPECT_EQ(all.object("part").hypotheses.size(), 12U);  // 6 stable poses each
   EXPECT_EQ(all.object("part").hypotheses[6].label, "cube:P1");
   EXPECT_EQ(all.object("part").identities.size(), 2U);
-  const Scenario listed = with_part("{identity: [block, cube], pose: {stable: [P1, P5], at: [20, 0]}}");
+  const Scenario listed =
+      with_part("{identity: [block, cube], pose: {stable: [P1, P5], at: [20, 0]}}");
   EXPECT_EQ(labels(listed.object("part")),
             (std::vector<std::string>{"block:P1", "block:P5", "cube:P1", "cube:P5"}));
   const Scenario placed =
@@ -71,7 +72,8 @@ TEST(SensingScenario, IdentitiesTimesStablePoses) {
 }
 
 TEST(SensingScenario, ResolvedMakesOneHypothesisTheTruth) {
-  const Scenario scenario = with_part("{identity: [block, cube], pose: {stable: [P5], at: [20, 0]}}");
+  const Scenario scenario =
+      with_part("{identity: [block, cube], pose: {stable: [P5], at: [20, 0]}}");
   const Scenario cube = scenario.resolved("part", 1);
   const ObjectSpec& part = cube.object("part");
   EXPECT_FALSE(part.uncertain());
@@ -83,20 +85,20 @@ TEST(SensingScenario, ResolvedMakesOneHypothesisTheTruth) {
 }
 
 TEST(SensingScenario, CamerasAndSensingKeys) {
-  const Scenario scenario = with_part(
-      "{builtin: cube, pose: {stable: [P1, P2], at: [20, 0]}}",
-      "sensors:\n"
-      "  range_scan: {residual: {dx: 0.02}, position_noise: 0.04, normal_noise: 0.6,"
-      " detection_probability: 0.9}\n"
-      "  cameras:\n"
-      "    - {name: top, pose: {xyz: [20, 0, 30], rpy: [180, 0, 0]},"
-      " intrinsics: {fx: 800, fy: 800, cx: 320, cy: 240, width: 640, height: 480},"
-      " noise_px: 0.7, detection_probability: 0.8}\n"
-      "    - {name: wrist, mount: wrist, pose: {xyz: [0, 0, 2]},"
-      " intrinsics: {fx: 500, fy: 500, cx: 160, cy: 120, width: 320, height: 240}}\n"
-      "sensing: {ambiguity_threshold: 0.2, max_operations: 2, standoff: 10}\n");
+  const Scenario scenario =
+      with_part("{builtin: cube, pose: {stable: [P1, P2], at: [20, 0]}}",
+                "sensors:\n"
+                "  range_scan: {residual: {dx: 0.02}, position_noise: 0.04, normal_noise: 0.6,"
+                " detection_probability: 0.9}\n"
+                "  cameras:\n"
+                "    - {name: top, pose: {xyz: [20, 0, 30], rpy: [180, 0, 0]},"
+                " intrinsics: {fx: 800, fy: 800, cx: 320, cy: 240, width: 640, height: 480},"
+                " noise_px: 0.7, detection_probability: 0.8}\n"
+                "    - {name: wrist, mount: wrist, pose: {xyz: [0, 0, 2]},"
+                " intrinsics: {fx: 500, fy: 500, cx: 160, cy: 120, width: 320, height: 240}}\n"
+                "sensing: {ambiguity_threshold: 0.2, max_operations: 2, standoff: 10}\n");
   ASSERT_EQ(scenario.cameras.size(), 2U);
-  const sensing::SensorModel& top = scenario.cameras[0];
+  const CameraSensor& top = scenario.cameras[0];
   EXPECT_EQ(top.mount, sensing::Mount::kFixed);
   EXPECT_EQ(top.intrinsics.width, 640);
   EXPECT_DOUBLE_EQ(top.noise_px, 0.7);
@@ -111,6 +113,65 @@ TEST(SensingScenario, CamerasAndSensingKeys) {
   EXPECT_DOUBLE_EQ(scenario.sensing.ambiguity_threshold, 0.2);
   EXPECT_EQ(scenario.sensing.max_operations, 2);
   EXPECT_NEAR(scenario.sensing.standoff, 10 * units::kInch, 1e-15);
+}
+
+// One camera description (sensors.cameras) for PSEIKI and for sense planning: the sidewalk
+// camera of `spar vision` is a sense-planning sensor with the same numbers, and the sensing
+// example's overhead camera is one `spar vision` renders from.
+TEST(SensingScenario, VisionAndSensePlanningReadOneCameraDescription) {
+  const Scenario sidewalk = load_scenario(kExamples / "vision" / "pseiki_sidewalk.yaml");
+  const CameraSensor& front = sidewalk.camera("front");
+  const sensing::SensorModel model = front.sensor_model();
+  EXPECT_EQ(model.name, "front");
+  EXPECT_EQ(model.kind, sensing::SensorKind::kCamera);
+  EXPECT_EQ(model.mount, sensing::Mount::kFixed);
+  EXPECT_TRUE(model.pose.isApprox(front.pose));
+  EXPECT_EQ(model.intrinsics.fx, 400);
+  EXPECT_EQ(model.intrinsics.width, 640);
+  EXPECT_EQ(model.noise_px, 0.5);
+  EXPECT_EQ(model.detection_probability, 0.8);
+  EXPECT_GT(front.uncertainty.dx, 0);  // PSEIKI's pose uncertainty, kept beside the model
+
+  const Scenario block = load_scenario(kExamples / "sensing_block_pose.yaml");
+  const VisionSetup setup(block, "overhead");
+  EXPECT_EQ(setup.camera().intrinsics().width, 640);
+  EXPECT_TRUE(setup.camera().pose().isApprox(block.camera("overhead").pose));
+  const std::vector<sensing::SensorModel> sensors = scenario_sensors(block);
+  ASSERT_EQ(sensors.size(), 2U);  // the range scanner, then the cameras
+  EXPECT_EQ(sensors[1].name, "overhead");
+  EXPECT_EQ(sensors[1].detection_probability, 0.9);
+}
+
+// A wrist camera's pose is in the gripper frame: it has no pose uncertainty of its own, and
+// `spar vision` (which renders from a pose in the world) refuses it by name.
+TEST(SensingScenario, AWristCameraIsForSensePlanningOnly) {
+  const std::string wrist =
+      "sensors:\n  cameras:\n    - {name: hand, mount: wrist, pose: {xyz: [0, 0, 2]}, "
+      "intrinsics: {fx: 500, fy: 500, cx: 160, cy: 120, width: 320, height: 240}";
+  const Scenario scenario =
+      with_part("{builtin: cube, pose: {stable: P1, at: [20, 0]}}", wrist + "}\n");
+  EXPECT_EQ(scenario.camera("hand").sensor_model().mount, sensing::Mount::kWrist);
+  try {
+    (void)VisionSetup(scenario, "hand");
+    ADD_FAILURE() << "expected a ScenarioError";
+  } catch (const ScenarioError& error) {
+    EXPECT_STREQ(error.what(),
+                 "test.yaml:6:7: camera 'hand' is on the wrist (mount: wrist); vision needs a "
+                 "fixed camera, posed in the world");
+  }
+  EXPECT_NE(error_of("{builtin: cube, pose: {stable: P1, at: [0, 0]}}",
+                     wrist + ", uncertainty: {dx: 1}}\n")
+                .find("test.yaml:6:146: sensors.cameras[0].uncertainty: a camera on the wrist is "
+                      "where the robot puts it; 'uncertainty' is for a fixed camera"),
+            std::string::npos)
+      << error_of("{builtin: cube, pose: {stable: P1, at: [0, 0]}}",
+                  wrist + ", uncertainty: {dx: 1}}\n");
+  EXPECT_NE(error_of("{builtin: cube, pose: {stable: P1, at: [0, 0]}}",
+                     "sensors:\n  cameras:\n    - {name: range_scan, pose: {xyz: [0, 0, 1]}, "
+                     "intrinsics: {fx: 1, fy: 1, cx: 0, cy: 0, width: 1, height: 1}}\n")
+                .find("sensors.cameras[0].name: 'range_scan' is the range scanner's name; name "
+                      "the camera otherwise"),
+            std::string::npos);
 }
 
 TEST(SensingScenario, MistakesSayWhereAndWhat) {
@@ -135,20 +196,21 @@ TEST(SensingScenario, MistakesSayWhereAndWhat) {
                 .find("sensors.cameras[0].intrinsics.width: must be a whole number >= 1 and <= "
                       "16384 (an image side in pixels), got 0"),
             std::string::npos);
-  EXPECT_NE(error_of("{builtin: cube, pose: {stable: P1, at: [0, 0]}}",
-                     cameras + "{name: c, pose: {xyz: [0, 0, 1]}, intrinsics: {fx: 1, fy: 1, "
-                               "cx: 0, cy: 0, width: 1, height: 1}, detection_probability: 1.5}\n")
-                .find("detection_probability: must be a number > 0 and <= 1 (a probability), got 1.5"),
-            std::string::npos);
+  EXPECT_NE(
+      error_of("{builtin: cube, pose: {stable: P1, at: [0, 0]}}",
+               cameras + "{name: c, pose: {xyz: [0, 0, 1]}, intrinsics: {fx: 1, fy: 1, "
+                         "cx: 0, cy: 0, width: 1, height: 1}, detection_probability: 1.5}\n")
+          .find("detection_probability: must be a number > 0 and <= 1 (a probability), got 1.5"),
+      std::string::npos);
   EXPECT_NE(error_of("{builtin: cube, pose: {stable: P1, at: [0, 0]}}",
                      cameras + "{name: c, mount: belt, pose: {xyz: [0, 0, 1]}, intrinsics: {fx: 1, "
                                "fy: 1, cx: 0, cy: 0, width: 1, height: 1}}\n")
                 .find("unknown mount 'belt'"),
             std::string::npos);
-  EXPECT_NE(error_of("{builtin: cube, pose: {stable: P1, at: [0, 0]}}",
-                     "sensing: {max_operations: 0}\n")
-                .find("sensing.max_operations: must be a whole number >= 1 and <= 10"),
-            std::string::npos);
+  EXPECT_NE(
+      error_of("{builtin: cube, pose: {stable: P1, at: [0, 0]}}", "sensing: {max_operations: 0}\n")
+          .find("sensing.max_operations: must be a whole number >= 1 and <= 10"),
+      std::string::npos);
 }
 
 // The example: only a look from the side tells P1 from P2 (the face on top is a plain square
@@ -230,9 +292,8 @@ TEST(SensePlanning, PlanSensesFirstThenPlansEachOutcome) {
 TEST(SensePlanning, SensingThatCannotResolveIsNoPlan) {
   std::string text = example_text();
   text.replace(text.find("ambiguity_threshold: 0.3"), 24, "ambiguity_threshold: 0");
-  const PlanResult result =
-      plan(parse_scenario(text, "threshold0.yaml", kExamples), builtin_domain(),
-           without_probability());
+  const PlanResult result = plan(parse_scenario(text, "threshold0.yaml", kExamples),
+                                 builtin_domain(), without_probability());
   ASSERT_TRUE(result.sensing);
   EXPECT_FALSE(result.sensing->selection.resolved);
   EXPECT_TRUE(result.branches.empty());
