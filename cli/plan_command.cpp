@@ -271,8 +271,12 @@ int run_plan(const PlanArguments& arguments) {
 
 // The options `spar plan` and `spar demo` share.
 CLI::Option* add_report_options(CLI::App& command, PlanArguments& arguments) {
-  command.add_option("--report", arguments.report,
-                     "write the report into this folder (report.json, report.md, report.html)");
+  command
+      .add_option("--report", arguments.report,
+                  "write the report into this folder (report.json, report.md, report.html)")
+      ->check([](const std::string& folder) {
+        return folder.empty() ? std::string("give a folder name, not ''") : std::string();
+      });
   CLI::Option* format = command.add_option(
       "--format", arguments.formats, "report formats, comma-separated (default json,md,html)");
   command.add_flag("--json", arguments.json, "print the JSON report (docs/report-schema.md)");

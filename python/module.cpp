@@ -112,6 +112,10 @@ template <class T>
 py::object member_to_python(const T& value) {
   return py::cast(value);
 }
+py::object member_to_python(const reports::Nullable<double>& value) {
+  if (!value) return py::none();
+  return py::float_(*value);
+}
 py::object member_to_python(const reports::NamedValues<double>& values) {
   py::dict out;
   for (const auto& [name, value] : values) out[py::str(name)] = value;
@@ -120,6 +124,9 @@ py::object member_to_python(const reports::NamedValues<double>& values) {
 template <class T>
 void member_from_python(const py::handle& value, T& out) {
   out = value.cast<T>();
+}
+void member_from_python(const py::handle& value, reports::Nullable<double>& out) {
+  out = value.is_none() ? reports::Nullable<double>() : reports::Nullable<double>(value.cast<double>());
 }
 void member_from_python(const py::handle& value, reports::NamedValues<double>& out) {
   out.clear();

@@ -528,8 +528,12 @@ BoundRecord bound_record(const bounds::Box& box, const bounds::BoundResult& resu
   out.name = std::move(name);
   out.lo = result.lo;
   out.hi = result.hi;
-  out.inner_lo = result.inner_lo;
-  out.inner_hi = result.inner_hi;
+  if (result.has_inner_range()) {
+    out.inner_lo = result.inner_lo;
+    out.inner_hi = result.inner_hi;
+  } else {
+    out.no_inner_range = std::string(result.why_no_inner_range());
+  }
   for (std::size_t i = 0; i < result.argmin.size(); ++i)
     out.argmin.emplace_back(std::string(box.variables[i].name()), result.argmin[i]);
   for (std::size_t i = 0; i < result.argmax.size(); ++i)

@@ -946,8 +946,10 @@ struct Report {
 struct BoundRecord {
   std::optional<std::string> name;      // a corpus record's name
   double lo{0.0}, hi{0.0};              // sound: every value over the (constrained) box lies inside
-  double inner_lo{0.0}, inner_hi{0.0};  // attained at argmin / argmax
-  NamedValues<double> argmin, argmax;   // empty when there is no witness
+  // Attained at argmin / argmax; null when no attained range is known (no_inner_range says why).
+  Nullable<double> inner_lo, inner_hi;
+  std::optional<std::string> no_inner_range;
+  NamedValues<double> argmin, argmax;  // empty when there is no witness
   std::string status;                   // converged | effort_limit | unbounded | infeasible
   bool possibly_undefined{false};
   bool time_limited{false};  // stopped by the time limit (the answer depends on the machine)
@@ -961,6 +963,7 @@ struct BoundRecord {
     field("hi", s.hi);
     field("inner_lo", s.inner_lo);
     field("inner_hi", s.inner_hi);
+    field("no_inner_range", s.no_inner_range);
     field("argmin", s.argmin);
     field("argmax", s.argmax);
     field("status", s.status);

@@ -82,7 +82,8 @@ def bound(expr, box, *, tolerance=1e-3, constraints=(), max_box_evaluations=200_
 
     Returns a BoundResult: lo <= inner_lo <= inner_hi <= hi, where [lo, hi] encloses every value
     on the (constrained) box and inner_lo / inner_hi are attained at argmin / argmax ({name:
-    value}); status is converged, effort_limit, unbounded or infeasible. `constraints` are
+    value}); inner_lo and inner_hi are None when no attained range is known (no_inner_range
+    says why); status is converged, effort_limit, unbounded or infeasible. `constraints` are
     'lhs <= rhs' texts, (g, relation) pairs meaning g relation 0, or {'g', 'rel'} dicts.
     The GIL is released while bounding. Raises spar.BoundsError for a bad box or a variable of
     `expr` without a range.

@@ -110,7 +110,8 @@ class BoundResult:
 
     Every value of the expression over the (constrained) box lies in [lo, hi]; inner_lo and
     inner_hi are values it attains, at the points argmin and argmax ({name: value}), so
-    lo <= inner_lo <= inner_hi <= hi. The attributes are the keys of `spar bound --json`
+    lo <= inner_lo <= inner_hi <= hi; both are None when no attained range is known
+    (no_inner_range says why). The attributes are the keys of `spar bound --json`
     (as_dict() gives them as a dict)::
 
         r = spar.bound("x^2 - x", {"x": (0, 1)})
@@ -129,11 +130,14 @@ class BoundResult:
     def hi(self) -> float:
         """Sound upper bound."""
     @property
-    def inner_lo(self) -> float:
-        """The smallest value found (attained at argmin)."""
+    def inner_lo(self) -> float | None:
+        """The smallest value found (attained at argmin); None when no attained range is known."""
     @property
-    def inner_hi(self) -> float:
-        """The largest value found (attained at argmax)."""
+    def inner_hi(self) -> float | None:
+        """The largest value found (attained at argmax); None when no attained range is known."""
+    @property
+    def no_inner_range(self) -> str | None:
+        """Why inner_lo / inner_hi are None (None when they are known)."""
     @property
     def argmin(self) -> dict[str, float]:
         """Where inner_lo is attained: {variable: value} (empty when there is none)."""

@@ -106,6 +106,17 @@ def test_bound_constraints_in_three_forms():
 def test_bound_infeasible_constraints():
     r = spar.bound("x", {"x": (0, 1)}, constraints=["x >= 2"])
     assert r.status == "infeasible"
+    # No attained range: None and why (issue 22: they were inf > -inf).
+    assert r.inner_lo is None and r.inner_hi is None
+    assert r.no_inner_range.startswith("no point of the box satisfies the constraints")
+    assert r.as_dict()["inner_lo"] is None
+
+
+def test_bound_of_sin_far_out_attains_its_true_value():
+    # Issue 22: the witness at 1e15 "attained" 0; sin(1e15) = 0.858...
+    r = spar.bound("sin(x)", {"x": (1e15, 1e15)})
+    assert r.inner_lo == pytest.approx(math.sin(1e15), abs=1e-9)
+    assert r.no_inner_range is None
 
 
 # ---- kinematics ----

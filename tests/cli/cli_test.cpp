@@ -202,6 +202,20 @@ const std::vector<Case> kCases = {
   {"BoundLeadingMinus", {"bound", "-x", "--var", "x=0:1"}, 0, "range +\\[-1, -?0\\]", ""},
   {"BoundConstraintLeadingMinus", {"bound", "x", "--var", "x=0:1", "--constraint", "-x<=-0.5"},
    0, "range +\\[0.5, 1\\]", ""},
+  // CLI11 reads "-(" and "-." as short options too; a report's expressions start with "-(".
+  {"SimplifyLeadingMinusGroup", {"simplify", "-(x)"}, 0, "^-x\n$", ""},
+  {"BoundLeadingMinusGroup", {"bound", "-(x+1)", "--var", "x=0:1"}, 0, "range +\\[-2, -1\\]", ""},
+  {"BoundConstraintLeadingMinusGroup",
+   {"bound", "x", "--var", "x=0:1", "--constraint", "-(x)<=-0.5"}, 0, "range +\\[0.5, 1\\]", ""},
+  {"SimplifyLeadingMinusNumber", {"simplify", "-2*x"}, 0, "^-2\\*x\n$", ""},
+  // Far out, sin is evaluated at its true phase (issue 22: "attained [0, 0]" for 0.858...).
+  {"BoundHugeSinAttained", {"bound", "sin(x)", "--var", "x=1e15:1e15"}, 0,
+   "attained \\[0.85827279317", ""},
+  // No attained range: null and why (was inner_lo "inf" > inner_hi "-inf").
+  {"BoundInfeasibleInnerIsNull",
+   {"bound", "x", "--var", "x=0:1", "--constraint", "x>=2", "--json"}, 0,
+   "\"inner_lo\": null,\n  \"inner_hi\": null,\n  \"no_inner_range\": \"no point of the box "
+   "satisfies the constraints", ""},
   {"BoundAfterDoubleDash", {"bound", "--var", "x=0:1", "--", "-x"}, 0, "range +\\[-1, -?0\\]", ""},
   // --var: one value per occurrence, repeatable, in any order.
   {"VarBeforeExpression", {"bound", "--var", "x=0:1", "x"}, 0, "range +\\[0, 1\\]", ""},
@@ -402,10 +416,25 @@ const std::vector<Case> kCases = {
   {"UnknownRobot", {"fk", "--robot", "puma999", "--q", "0 0 0 0 0 0"}, kError, "",
    "--robot: unknown robot 'puma999' \\(built-in: puma560, puma762, ur5, panda; or a URDF "
    "file\\)"},
+  {"PlanReportEmpty", {"plan", "@SRC@/examples/peg_block_face_up.yaml", "--report", ""}, kError,
+   "", "--report: give a folder name, not ''"},
   {"UnknownVariable", {"bound", "x+y", "--var", "x=0:1"}, kError, "",
    "unknown variable 'y' in the expression: give it a range"},
 };
 // clang-format on
+
+// Every expression spar prints is accepted back as a positional argument (issue 22: the
+// pickup/assembly expressions of a report all start with "-(" and were refused as options).
+TEST(CliReadsBack, ReportExpressionsStartingWithMinus) {
+  const std::string report = read_file(fs::path(SPAR_SOURCE_DIR) / "tests/reports/golden" /
+                                       "peg_block_face_up.json");
+  static const std::regex expression("\"expression\": \"(-[^\"]*)\"");
+  std::smatch found;
+  ASSERT_TRUE(std::regex_search(report, found, expression)) << "no expression starting with -";
+  const Case row{"ReportExpression", {"simplify", found[1].str()}, 0, "dtheta", ""};
+  const std::string wrong = problems(row, run_spar(row, row.name));
+  EXPECT_EQ(wrong, "") << found[1].str();
+}
 
 INSTANTIATE_TEST_SUITE_P(Spar, CliCase, testing::ValuesIn(kCases),
                          [](const testing::TestParamInfo<Case>& info) { return info.param.name; });
