@@ -14,7 +14,22 @@
 //   aspects    compute_aspects on a non-convex rectilinear "skyline" of about 20k triangles (the
 //              view sphere: 1280 directions, 128 x 128 samples each), against the target
 //              of 2 s; and the exact arrangement of a convex 32-gon prism.
-//   selection  (added with the selection of sensing operations)
+//   selection  closed-loop sense planning on the seed's block resting in any of its stable
+//              poses (the frame: one hypothesis each), its position and yaw anywhere within the
+//              seed's +-0.11 in and +-5.5 deg, a wrist range scanner (spar's default: 1 mm,
+//              0.01 rad, 95% found) at the viewpoint classes of selection.hpp (icosphere level 2,
+//              standoff 0.5 m, all reachable). After each operation the simulated measurement
+//              (noise, misses) is weighed into the belief; stop when its ambiguity is below the
+//              threshold (0.3 bits) or after 6 operations. Three ways of choosing the next
+//              operation from the current belief, in the same run on the same trials (truth,
+//              pose error and noise seeded per trial): spar's minimax ambiguity
+//              (select_operations from the current belief, its first choice; when its stopping
+//              rule leaves none, the candidate of least maximum ambiguity), the peer greedy by
+//              coverage (the unused viewpoint whose predicted view holds the most feature
+//              prominence, summed over the hypotheses: "look where you see the most"), and the
+//              peer random (an unused viewpoint, uniformly). Reported: operations to the
+//              threshold (mean over the trials that reach it), how many reach it, how often the
+//              truth then leads, and the time per selection (and per candidate).
 //
 //   sensing_bench [--quick]
 // Prints one line per measurement and `ratio evidence_n<N> dense_over_sparse <x>`.
@@ -29,10 +44,13 @@
 #include <vector>
 
 #include "bench/timing.hpp"
+#include "spar/geometry/builtin_objects.hpp"
 #include "spar/geometry/mesh.hpp"
 #include "spar/geometry/object.hpp"
+#include "spar/geometry/stable_poses.hpp"
 #include "spar/sensing/aspects.hpp"
 #include "spar/sensing/evidence.hpp"
+#include "spar/sensing/selection.hpp"
 
 namespace {
 
@@ -186,6 +204,172 @@ void aspects(bool quick) {
               prism.faces().size(), result.aspects.size(), exact_seconds);
 }
 
+// ---- selection ----
+
+namespace sensing = spar::sensing;
+
+struct BlockProblem {
+  spar::geometry::ObjectModel model = spar::geometry::make_builtin_object("block");
+  sensing::ObjectFeatures features = sensing::object_features(model);
+  sensing::AspectSet aspects = sensing::compute_aspects(model);
+  std::vector<spar::geometry::StablePose> poses = spar::geometry::stable_poses(model);
+
+  [[nodiscard]] sensing::HypothesisWorld world(std::size_t pose, const Eigen::Vector3d& offset,
+                                               double yaw) const {
+    sensing::HypothesisWorld out;
+    out.label = poses[pose].label;
+    out.target = out.scene.add("block", model, features,
+                               Eigen::Translation3d(offset) *
+                                   Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) *
+                                   poses[pose].object_to_world);
+    out.aspects = &aspects;
+    return out;
+  }
+};
+
+enum class Strategy { kMinimax, kCoverage, kRandom };
+const char* name_of(Strategy strategy) {
+  switch (strategy) {
+    case Strategy::kMinimax:
+      return "minimax";
+    case Strategy::kCoverage:
+      return "coverage";
+    case Strategy::kRandom:
+      return "random";
+  }
+  return "";
+}
+
+struct Outcome {
+  int trials{0}, reached{0}, truth_leads{0}, operations_to_threshold{0};
+  int fallbacks{0};  // minimax: selections past select_operations' stopping rule
+  std::vector<double> selection_seconds;
+};
+
+void selection(bool quick) {
+  const BlockProblem block;
+  constexpr double kInch = 0.0254, kDegree = 3.14159265358979323846 / 180;
+  const double offset_limit = 0.11 * kInch, yaw_limit = 5.5 * kDegree;
+  sensing::SelectionProblem problem;
+  for (std::size_t p = 0; p < block.poses.size(); ++p)
+    problem.hypotheses.push_back(block.world(p, Eigen::Vector3d::Zero(), 0));
+  const int n = static_cast<int>(problem.hypotheses.size());
+  problem.sensors = {sensing::default_range_scanner()};
+  problem.tolerances = {sensing::match_tolerances(problem.sensors[0], offset_limit, offset_limit,
+                                                  offset_limit, yaw_limit, 0.074, 0.5)};
+  problem.prior = sensing::MassFunction::vacuous(n);
+  sensing::SelectionOptions options;
+  options.max_operations = 1;
+  const std::vector<sensing::Viewpoint> viewpoints =
+      sensing::candidate_viewpoints(problem, options);
+  const sensing::SensorModel& scanner = problem.sensors[0];
+  // Each viewpoint's expectations (what the hypotheses predict) and its coverage.
+  std::vector<std::vector<sensing::Expectation>> expected;
+  std::vector<double> coverage;
+  for (const sensing::Viewpoint& viewpoint : viewpoints) {
+    expected.push_back(sensing::expectations(problem, 0, viewpoint.sensor_pose));
+    double prominence = 0;
+    for (const sensing::Expectation& e : expected.back())
+      for (const sensing::SensedFace& face : e.faces) prominence += face.prominence;
+    coverage.push_back(prominence);
+  }
+  const auto index_of = [&](const sensing::Viewpoint& chosen) {
+    for (std::size_t c = 0; c < viewpoints.size(); ++c)
+      if (viewpoints[c].label == chosen.label) return static_cast<int>(c);
+    throw std::runtime_error("selection chose an unknown viewpoint " + chosen.label);
+  };
+  const int per_hypothesis = quick ? 1 : 4;
+  const int max_operations = 6;
+  std::printf(
+      "selection block: %d hypotheses (stable poses), %zu wrist viewpoint classes, %d "
+      "trials per strategy, threshold %.1f bits, at most %d operations\n",
+      n, viewpoints.size(), n * per_hypothesis, options.ambiguity_threshold, max_operations);
+  for (const Strategy strategy : {Strategy::kMinimax, Strategy::kCoverage, Strategy::kRandom}) {
+    Outcome outcome;
+    for (int trial = 0; trial < n * per_hypothesis; ++trial) {
+      // The same truth, pose error, noise and random choices for every strategy.
+      std::mt19937_64 random(20261203U + static_cast<unsigned>(trial));
+      std::uniform_real_distribution<double> offset(-offset_limit, offset_limit),
+          yaw(-yaw_limit, yaw_limit);
+      const int truth = trial % n;
+      const sensing::HypothesisWorld actual = block.world(
+          static_cast<std::size_t>(truth), {offset(random), offset(random), 0}, yaw(random));
+      std::mt19937_64 chooser(7U + static_cast<unsigned>(trial));
+      sensing::MassFunction belief = problem.prior;
+      std::vector<char> used(viewpoints.size(), 0);
+      int operations = 0;
+      while (belief.ambiguity() >= options.ambiguity_threshold && operations < max_operations) {
+        int chosen = -1;
+        const auto start = std::chrono::steady_clock::now();
+        if (strategy == Strategy::kMinimax) {
+          problem.prior = belief;
+          const sensing::Selection selection = sensing::select_operations(problem, options);
+          if (!selection.sequence.empty()) {
+            chosen = index_of(
+                selection.candidates[static_cast<std::size_t>(selection.sequence[0].candidate)]
+                    .viewpoint);
+          } else {
+            // No operation lowers the worst case below the current ambiguity (the unlikely
+            // hypotheses' worst cases dominate once the belief leans): select_operations stops
+            // an open-loop plan there; closed loop still takes the least maximum ambiguity.
+            ++outcome.fallbacks;
+            const auto least = std::min_element(
+                selection.candidates.begin(), selection.candidates.end(),
+                [](const sensing::CandidateOperation& a, const sensing::CandidateOperation& b) {
+                  return a.max_ambiguity < b.max_ambiguity;
+                });
+            chosen = index_of(least->viewpoint);
+          }
+        } else {
+          std::vector<int> open;
+          for (std::size_t c = 0; c < viewpoints.size(); ++c)
+            if (!used[c]) open.push_back(static_cast<int>(c));
+          if (!open.empty()) {
+            if (strategy == Strategy::kRandom) {
+              chosen =
+                  open[std::uniform_int_distribution<std::size_t>(0, open.size() - 1)(chooser)];
+            } else {
+              chosen = *std::max_element(open.begin(), open.end(), [&](int a, int b) {
+                return coverage[static_cast<std::size_t>(a)] <
+                       coverage[static_cast<std::size_t>(b)];
+              });
+            }
+          }
+        }
+        outcome.selection_seconds.push_back(spar::bench::seconds_since(start));
+        if (chosen < 0) break;  // nothing left that helps
+        const auto c = static_cast<std::size_t>(chosen);
+        used[c] = 1;
+        const sensing::Observation measured =
+            sensing::measure(actual.scene, scanner, viewpoints[c].sensor_pose, random);
+        belief =
+            sensing::weigh_evidence(measured, expected[c], problem.tolerances[0], scanner, belief)
+                .combined;
+        ++operations;
+      }
+      problem.prior = sensing::MassFunction::vacuous(n);
+      ++outcome.trials;
+      const std::vector<double> betp = belief.pignistic();
+      const bool leads = std::max_element(betp.begin(), betp.end()) - betp.begin() == truth;
+      if (belief.ambiguity() < options.ambiguity_threshold) {
+        ++outcome.reached;
+        outcome.operations_to_threshold += operations;
+        if (leads) ++outcome.truth_leads;
+      }
+    }
+    const double per_selection = spar::bench::median(outcome.selection_seconds);
+    std::printf(
+        "selection %-8s reached the threshold in %d/%d trials, %.2f operations on average, "
+        "truth leads in %d/%d of those; %.6f s per selection (median, %.6f s per candidate; "
+        "%d past the stopping rule)\n",
+        name_of(strategy), outcome.reached, outcome.trials,
+        outcome.reached ? static_cast<double>(outcome.operations_to_threshold) / outcome.reached
+                        : NAN,
+        outcome.truth_leads, outcome.reached, per_selection,
+        per_selection / static_cast<double>(viewpoints.size()), outcome.fallbacks);
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -195,5 +379,6 @@ int main(int argc, char** argv) {
               load_average().c_str());
   evidence(quick);
   aspects(quick);
+  selection(quick);
   return 0;
 }
