@@ -30,4 +30,10 @@ void add_aspects_command(CLI::App& app);
 void add_sense_plan_command(CLI::App& app);
 void add_vision_command(CLI::App& app);
 
+// Thrown by a subcommand whose output is complete but whose outcome is not a success (`spar plan`
+// found no plan: exit status 2); main.cpp exits with `status` and prints nothing more.
+struct ExitStatus {
+  int status{0};
+};
+
 }  // namespace spar::cli

@@ -30,6 +30,14 @@ int main(int argc, char** argv) {
     std::vector<std::string> arguments = spar::cli::protect_leading_minus(argc, argv);
     app.parse(arguments);
     spar::cli::flush_standard_output();
+  } catch (const spar::cli::ExitStatus& exit) {
+    try {
+      spar::cli::flush_standard_output();
+    } catch (const std::exception& error) {
+      std::cerr << "spar: error: " << error.what() << '\n';
+      return 1;
+    }
+    return exit.status;
   } catch (const CLI::ParseError& error) {
     if (error.get_exit_code() == 0) return app.exit(error);  // --help, --version
     std::cerr << "spar: error: " << error.what() << " (see spar --help)\n";

@@ -34,6 +34,10 @@ constexpr std::array kNumericLimits{
     NumericLimit{"robot.gripper.palm_width", kLength, 0, kGripper, true, "a gripper's size"},
     NumericLimit{"robot.gripper.palm_height", kLength, 0, kGripper, true, "a gripper's size"},
     NumericLimit{"robot.max_tilt", kAngle, 0, std::numbers::pi, true, "a tilt from straight down"},
+    NumericLimit{"robot.approach_distance", kLength, 0, 2, false,
+                 "the straight-line approach and retreat above a destination"},
+    NumericLimit{"collision.margin", kLength, 0, 0.1, false,
+                 "the least distance kept between two bodies"},
     // grasping (geometry::GraspQuantization), also `spar object --approach-step / --positions`:
     // a face pair has positions_per_axis^2 x (360 deg / approach_step) grasps.
     NumericLimit{"grasping.approach_step", kAngle, 1 * units::kDegree, kTurn, false,

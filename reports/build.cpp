@@ -1,6 +1,7 @@
 #include "spar/reports/build.hpp"
 
 #include <algorithm>
+#include <tuple>
 
 #include "spar/kinematics/puma.hpp"
 #include "spar/reports/internal/cell.hpp"
@@ -124,6 +125,13 @@ Step build_step(const planner::PlanResult& result, const planner::InstanceStep& 
     out.fixed_pose = matrix(step.fixed_pose, scale);
     out.held_pose = matrix(step.held_pose, scale);
   }
+  if (step.grasp >= 0)
+    out.clearance =
+        Clearance{step.collision.clearance,
+                  step.collision.nearest >= 0
+                      ? Nullable<std::string>(scenario.objects[step.collision.nearest].name)
+                      : Nullable<std::string>()};
+  for (const int part : step.carried) out.carried.push_back(scenario.objects[part].name);
   return out;
 }
 
@@ -243,10 +251,13 @@ std::vector<Step> analysed_steps(const planner::PlanResult& result,
   const planner::Scenario& scenario = result.world.scenario();
   std::vector<Step> steps;
   int next_id = static_cast<int>(result.family.steps.size());
-  for (const planner::AnalysedStep& analysed : analysis.steps) {
+  for (std::size_t k = 0; k < analysis.steps.size(); ++k) {
+    const planner::AnalysedStep& analysed = analysis.steps[k];
     Step out;
     if (analysed.inserted) {
-      out = build_step(result, inserted_step(result, analysed));
+      planner::InstanceStep step = inserted_step(result, analysed);
+      std::tie(step.collision, step.carried) = result.chosen_checks.at(k);
+      out = build_step(result, step);
       out.id = next_id++;
       out.stable_pose = Nullable<std::string>();
     } else {

@@ -361,6 +361,19 @@ struct Recovery {
   }
 };
 
+// How close a step's robot comes to the other objects (issue 21): at the step's configuration,
+// the distance in metres (whatever the scenario's unit; inf when there is no other object) from
+// the gripper and what it moves to the nearest other object, and that object.
+struct Clearance {
+  double min_distance{0.0};
+  Nullable<std::string> to;
+  template <class Self, class Field>
+  static void fields(Self& s, Field&& field) {
+    field("min_distance", s.min_distance);
+    field("to", s.to);
+  }
+};
+
 // One step of the chosen instance, in execution order. The presence of a member follows the
 // step's kind: a grasp for manipulations, poses where the step has a position, the fixed object
 // for assemblies, phase 2's results when phase 2 ran.
@@ -405,6 +418,8 @@ struct Step {
   std::optional<Matrix> fixed_pose;
   std::optional<Matrix> held_pose;
   std::optional<SensingChoice> sensing;  // sensing steps of an uncertain object
+  Nullable<Clearance> clearance;     // null for steps that do not move the gripper (sensing)
+  std::vector<std::string> carried;  // objects assembled into `object` that move with it
   // Phase 2:
   std::optional<bool> inserted;
   // Inserted steps: the preconditions it turned to satisfied (never empty).
@@ -431,6 +446,8 @@ struct Step {
     field("fixed_pose", s.fixed_pose);
     field("held_pose", s.held_pose);
     field("sensing", s.sensing);
+    field("clearance", s.clearance);
+    field("carried", s.carried);
     field("inserted", s.inserted);
     field("turned", s.turned);
     field("finger_opening", s.finger_opening);

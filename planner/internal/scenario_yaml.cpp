@@ -220,6 +220,12 @@ class Reader {
                                        const ObjectSpec& object, bool features) const;
   [[nodiscard]] std::vector<Place> read_places(const YAML::Node& node) const;
   void read_sensors(const YAML::Node& node, Scenario& scenario) const;
+  [[nodiscard]] CollisionSettings read_collision(const YAML::Node& node) const;
+  [[nodiscard]] bool boolean(const YAML::Node& node, const std::string& path) const;
+  [[nodiscard]] AtGoal read_at(const YAML::Node& node, const std::string& path,
+                               const Scenario& scenario) const;
+  // Goals that cannot all hold, or that name a fixed object as moving: the first such goal fails.
+  void check_goals(const Scenario& scenario, const std::vector<YAML::Node>& nodes) const;
   [[nodiscard]] CameraSensor read_camera(const YAML::Node& node, const std::string& path) const;
   // What cameras and the range scanner share: `mount` (fixed | wrist; `fallback` when absent),
   // intrinsics {fx, fy, cx, cy, width, height} in pixels, detection_probability in (0, 1].
@@ -518,7 +524,7 @@ void Reader::read_gripper(const YAML::Node& node, geometry::GripperSpec& gripper
 void Reader::read_robot(const YAML::Node& node, RobotSpec& robot) const {
   const Fields fields(*this, node, "robot",
                       {"model", "dh", "urdf", "tip", "package_path", "base", "tool", "gripper",
-                       "max_tilt", "uncertainty"});
+                       "max_tilt", "approach_distance", "uncertainty"});
   const YAML::Node model = fields.get("model"), urdf = fields.get("urdf");
   if (model.IsDefined() && urdf.IsDefined())
     fail(urdf, "robot.urdf: give either model: <name> or urdf: <file>, not both");
@@ -568,6 +574,8 @@ void Reader::read_robot(const YAML::Node& node, RobotSpec& robot) const {
   if (const YAML::Node tilt = fields.get("max_tilt"); tilt.IsDefined()) {
     robot.max_tool_tilt = quantity(tilt, "robot.max_tilt", "robot.max_tilt");
   }
+  if (const YAML::Node distance = fields.get("approach_distance"); distance.IsDefined())
+    robot.approach_distance = quantity(distance, "robot.approach_distance", "robot.approach_distance");
   if (fields.has("uncertainty"))
     robot.uncertainty =
         uncertainty(fields.get("uncertainty"), "robot.uncertainty", robot.uncertainty_model);
@@ -876,7 +884,7 @@ void Reader::read_hypotheses(const Fields& pose, ObjectSpec& object) const {
 ObjectSpec Reader::read_object(const YAML::Node& key, const YAML::Node& node) const {
   const std::string name = identifier(key, "objects");
   const Fields entry(*this, node, "objects." + name,
-                     {"builtin", "mesh", "identity", "features", "pose", "uncertainty"});
+                     {"builtin", "mesh", "identity", "features", "pose", "uncertainty", "fixed"});
   std::string shape;
   std::vector<ObjectIdentity> identities;
   if (const YAML::Node identity = entry.get("identity"); identity.IsDefined()) {
@@ -898,7 +906,9 @@ ObjectSpec Reader::read_object(const YAML::Node& key, const YAML::Node& node) co
                     .initial_pose = Transform::Identity(),
                     .initial_stable_pose = std::nullopt,
                     .uncertainty = {},
+                    .fixed = false,
                     .location = where(key),
+                    .pose_location = {},
                     .identities = std::move(identities)};
   if (const YAML::Node features = entry.get("features"); features.IsDefined()) {
     // A map from feature names (the user's own, so not checked against known keys) to faces.
@@ -911,6 +921,9 @@ ObjectSpec Reader::read_object(const YAML::Node& key, const YAML::Node& node) co
     }
   }
   read_pose(entry.require("pose"), entry.path("pose"), object);
+  object.pose_location = where(entry.get("pose"));
+  if (const YAML::Node fixed = entry.get("fixed"); fixed.IsDefined())
+    object.fixed = boolean(fixed, entry.path("fixed"));
   if (entry.has("uncertainty"))
     object.uncertainty =
         uncertainty(entry.get("uncertainty"), entry.path("uncertainty"), object.uncertainty_model);
@@ -924,6 +937,7 @@ std::vector<Place> Reader::read_places(const YAML::Node& node) const {
     const std::string path = "places[" + std::to_string(i) + "]";
     const Fields fields(*this, node[i], path, {"name", "at", "yaw"});
     Place place;
+    place.location = where(node[i]);
     place.name = identifier(fields.require("name"), fields.path("name"));
     for (const Place& other : places)
       if (other.name == place.name)
@@ -933,8 +947,19 @@ std::vector<Place> Reader::read_places(const YAML::Node& node) const {
         quantities(fields.require("at"), fields.path("at"), 2, "pose.position");
     place.x = at[0];
     place.y = at[1];
-    if (fields.has("yaw"))
-      place.yaw = quantity(fields.get("yaw"), fields.path("yaw"), "pose.angle");
+    if (const YAML::Node yaw = fields.get("yaw"); yaw.IsSequence()) {
+      if (yaw.size() == 0) fail(yaw, fields.path("yaw") + ": the list of yaws is empty");
+      place.yaws.clear();
+      for (std::size_t k = 0; k < yaw.size(); ++k) {
+        const std::string at_k = fields.path("yaw") + "[" + std::to_string(k) + "]";
+        const double value = quantity(yaw[k], at_k, "pose.angle");
+        if (std::find(place.yaws.begin(), place.yaws.end(), value) != place.yaws.end())
+          fail(yaw[k], at_k + ": yaw " + yaw[k].Scalar() + " is listed twice");
+        place.yaws.push_back(value);
+      }
+    } else if (yaw.IsDefined()) {
+      place.yaws = {quantity(yaw, fields.path("yaw"), "pose.angle")};
+    }
     places.push_back(place);
   }
   return places;
@@ -982,6 +1007,112 @@ void Reader::read_sensors(const YAML::Node& node, Scenario& scenario) const {
       fail(list[i], path + ".name: 'range_scan' is the range scanner's name; name the camera "
                            "otherwise");
     scenario.cameras.push_back(std::move(camera));
+  }
+}
+
+CollisionSettings Reader::read_collision(const YAML::Node& node) const {
+  const Fields fields(*this, node, "collision", {"margin"});
+  CollisionSettings settings;
+  if (const YAML::Node margin = fields.get("margin"); margin.IsDefined())
+    settings.margin = quantity(margin, "collision.margin", "collision.margin");
+  return settings;
+}
+
+bool Reader::boolean(const YAML::Node& node, const std::string& path) const {
+  if (node.IsScalar() && (node.Scalar() == "true" || node.Scalar() == "false"))
+    return node.Scalar() == "true";
+  fail(node, path + ": expected true or false, got " + describe(node));
+}
+
+AtGoal Reader::read_at(const YAML::Node& node, const std::string& path,
+                       const Scenario& scenario) const {
+  const Fields fields(*this, node, path, {"object", "place"});
+  AtGoal goal;
+  const YAML::Node object = fields.require("object");
+  goal.object = text(object, fields.path("object"));
+  std::vector<std::string> objects;
+  for (const ObjectSpec& spec : scenario.objects) objects.push_back(spec.name);
+  if (std::find(objects.begin(), objects.end(), goal.object) == objects.end())
+    fail(object, fields.path("object") + ": unknown object '" + goal.object + "'" +
+                     suggestion(goal.object, objects) + "; objects: " + join(objects));
+  const YAML::Node place = fields.require("place");
+  goal.place = text(place, fields.path("place"));
+  if (scenario.place_index(goal.place) < 0) {
+    std::vector<std::string> places;
+    for (const Place& known : scenario.places) places.push_back(known.name);
+    fail(place, fields.path("place") + ": unknown place '" + goal.place + "'" +
+                    suggestion(goal.place, places) + "; places: " + join(places));
+  }
+  goal.location = where(node);
+  return goal;
+}
+
+void Reader::check_goals(const Scenario& scenario, const std::vector<YAML::Node>& nodes) const {
+  // An earlier goal, as "goals[i] (file:line:col)".
+  const auto earlier = [&](std::size_t i) {
+    return "goals[" + std::to_string(i) + "] (" + location(scenario.goals[i]).str() + ")";
+  };
+  const auto is_fixed = [&](const std::string& name) { return scenario.object(name).fixed; };
+  for (std::size_t i = 0; i < scenario.goals.size(); ++i) {
+    const std::string path = "goals[" + std::to_string(i) + "]";
+    const Goal& goal = scenario.goals[i];
+    const auto contradiction = [&](std::size_t j, const std::string& why) {
+      fail(nodes[i], path + ": " + describe(goal) + " contradicts " + describe(scenario.goals[j]) +
+                         " of " + earlier(j) + ": " + why);
+    };
+    if (const auto* assembled = std::get_if<AssembledGoal>(&goal)) {
+      if (is_fixed(assembled->held))
+        fail(nodes[i], path + ": " + describe(goal) + ": object '" + assembled->held +
+                           "' is fixed (never moves) and cannot be the held object");
+      for (std::size_t j = 0; j < i; ++j) {
+        if (const auto* other = std::get_if<AssembledGoal>(&scenario.goals[j])) {
+          if (other->held == assembled->held && other->fixed == assembled->fixed)
+            contradiction(j, other->relative.isApprox(assembled->relative, 1e-9)
+                                 ? "the same goal twice"
+                                 : "the same pair with another relative pose");
+          if (other->held == assembled->held)
+            contradiction(j, assembled->held + " cannot go into two objects");
+          if (other->held == assembled->fixed && other->fixed == assembled->held)
+            contradiction(j, "each would be inside the other");
+        } else if (std::get<AtGoal>(scenario.goals[j]).object == assembled->held) {
+          contradiction(j, assembled->held + " would rest inside " + assembled->fixed +
+                               ", not at a place");
+        }
+      }
+      // A longer cycle: following held -> fixed from `fixed` comes back to `held`.
+      std::string next = assembled->fixed;
+      for (std::size_t hops = 0; hops <= i; ++hops) {
+        const auto found = std::find_if(scenario.goals.begin(), scenario.goals.begin() + i,
+                                        [&](const Goal& g) {
+                                          const auto* a = std::get_if<AssembledGoal>(&g);
+                                          return a != nullptr && a->held == next;
+                                        });
+        if (found == scenario.goals.begin() + i) break;
+        next = std::get<AssembledGoal>(*found).fixed;
+        if (next == assembled->held)
+          contradiction(static_cast<std::size_t>(found - scenario.goals.begin()),
+                        "the assemblies form a cycle through " + assembled->held);
+      }
+      continue;
+    }
+    const AtGoal& at = std::get<AtGoal>(goal);
+    for (std::size_t j = 0; j < i; ++j) {
+      if (const auto* other = std::get_if<AtGoal>(&scenario.goals[j])) {
+        if (other->object == at.object)
+          contradiction(j, at.object + (other->place == at.place ? " is sent there twice"
+                                                                 : " cannot rest at two places"));
+        if (other->place == at.place)
+          contradiction(j, "place " + at.place + " holds one object at a time");
+      } else if (std::get<AssembledGoal>(scenario.goals[j]).held == at.object) {
+        contradiction(j, at.object + " would rest inside " +
+                             std::get<AssembledGoal>(scenario.goals[j]).fixed +
+                             ", not at a place");
+      }
+    }
+    const ObjectSpec& object = scenario.object(at.object);
+    if (object.fixed && !resting_yaw(object, scenario.places[scenario.place_index(at.place)]))
+      fail(nodes[i], path + ": " + describe(goal) + ": object '" + at.object +
+                         "' is fixed (never moves) and does not rest at place '" + at.place + "'");
   }
 }
 
@@ -1117,7 +1248,7 @@ Scenario Reader::read(std::string_view document_text) {
     throw ScenarioError(source_ + ":1:1: the scenario is empty (it needs at least 'objects')");
   const Fields top(*this, document, "",
                    {"name", "description", "units", "robot", "objects", "places", "sensors",
-                    "sensing", "grasping", "goals"});
+                    "sensing", "collision", "grasping", "goals"});
   Scenario scenario;
   scenario.name = top.has("name") ? text(top.get("name"), "name")
                                   : std::filesystem::path(source_).stem().string();
@@ -1142,18 +1273,26 @@ Scenario Reader::read(std::string_view document_text) {
   if (top.has("places")) scenario.places = read_places(top.get("places"));
   if (top.has("sensors")) read_sensors(top.get("sensors"), scenario);
   if (top.has("sensing")) scenario.sensing = read_sensing(top.get("sensing"));
+  if (top.has("collision")) scenario.collision = read_collision(top.get("collision"));
   scenario.warnings = warnings_;  // after every object's mesh
   if (const YAML::Node goals = top.get("goals"); goals.IsDefined()) {
     check_count(expect_list(goals, "goals"), "goals", "scenario.goals");
+    std::vector<YAML::Node> nodes;
     for (std::size_t i = 0; i < goals.size(); ++i) {
       const std::string path = "goals[" + std::to_string(i) + "]";
       const YAML::Node goal = goals[i];
       if (!goal.IsMap() || goal.size() != 1)
-        fail(goal, path + ": expected one goal, e.g. 'assembled: {held: ..., fixed: ...}'");
-      const Fields kind(*this, goal, path, {"assembled"});
-      scenario.goals.emplace_back(
-          read_assembled(kind.get("assembled"), kind.path("assembled"), scenario));
+        fail(goal, path + ": expected one goal, e.g. 'assembled: {held: ..., fixed: ...}' or "
+                          "'at: {object: ..., place: ...}'");
+      const Fields kind(*this, goal, path, {"assembled", "at"});
+      if (kind.has("at"))
+        scenario.goals.emplace_back(read_at(kind.get("at"), kind.path("at"), scenario));
+      else
+        scenario.goals.emplace_back(
+            read_assembled(kind.get("assembled"), kind.path("assembled"), scenario));
+      nodes.push_back(goal);
     }
+    check_goals(scenario, nodes);
   }
   return scenario;
 }

@@ -239,12 +239,18 @@ Cell build_cell(const planner::PlanResult& result, const Chosen& chosen,
         view(k, gripper_at(pose[step.object]), std::max(width, 1e-6), step.object);
         break;
       case planner::Effect::kRelease:
-      case planner::Effect::kInsert:
+      case planner::Effect::kInsert: {
+        // A subassembly moves as one body: what is assembled into the object follows it.
+        const Transform moved = step.object_pose * pose[step.object].inverse();
+        for (const std::string& name : chosen.steps[k].carried)
+          for (std::size_t o = 0; o < scenario.objects.size(); ++o)
+            if (scenario.objects[o].name == name) pose[o] = moved * pose[o];
         pose[step.object] = step.object_pose;
         held = -1;
         held_since.reset();
         view(k, gripper_at(step.object_pose), open, step.object);
         break;
+      }
       case planner::Effect::kSense:
         sensed.push_back({step_label(chosen, k), scenario.objects.at(step.object).name});
         break;
@@ -261,8 +267,9 @@ Cell build_cell(const planner::PlanResult& result, const Chosen& chosen,
       for (const Ring& ring : object.outline.top)
         for (const auto& p : ring) covered.extend(Eigen::Vector2d(p[0], p[1]));
   for (const planner::Place& place : scenario.places) {
+    // A place may list several yaws (a putdown chooses one); the drawing shows the first.
     cell.places.push_back({place.name, shown(place.x, scale), shown(place.y, scale),
-                           std::round(scenario.units.to_file_angle(place.yaw) * 1e6) / 1e6});
+                           std::round(scenario.units.to_file_angle(place.yaws.front()) * 1e6) / 1e6});
     covered.extend(Eigen::Vector2d(place.x * scale, place.y * scale));
   }
   const double margin = 0.15 * covered.sizes().maxCoeff();

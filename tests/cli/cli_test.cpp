@@ -82,6 +82,11 @@ const fs::path& scratch() {
     write_text(root / "overlap.off", cubes);
     write_text(root / "huge.off",
                "OFF\n4 4 0\n0 0 0\n1e300 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n");
+    // A cube to be put at a place 5 m out, beyond the robot's reach: no plan (issue 21).
+    write_text(root / "no_plan.yaml",
+               "objects:\n  cube: {builtin: cube, pose: {stable: P1, at: [0.5, 0]}}\n"
+               "places: [{name: far, at: [5, 0]}]\n"
+               "goals: [{at: {object: cube, place: far}}]\n");
     fs::create_directory(root / "folder.off");
     write_text(root / "tetrahedron.off",
                "OFF\n4 4 0\n1 1 1\n1 -1 -1\n-1 1 -1\n-1 -1 1\n3 0 1 2\n3 0 3 1\n3 0 2 3\n"
@@ -246,6 +251,16 @@ const std::vector<Case> kCases = {
   {"PlanFormatWithoutReport",
    {"plan", "@SRC@/examples/peg_block_face_up.yaml", "--format", "md"}, kError, "",
    "^spar: error: --format needs --report DIR\n$"},
+  // Issue 21's examples plan and render their reports.
+  {"PlanFixtureExampleReports", {"plan", "@SRC@/examples/fixture_two_pins.yaml", "--samples", "0",
+   "--report", "@DIR@/fixture"}, 0, "planned", ""},
+  {"PlanStackExampleReports", {"plan", "@SRC@/examples/stack_in_tray.yaml", "--samples", "0",
+   "--report", "@DIR@/stack"}, 0, "planned", ""},
+  {"PlanCrowdedExampleReports", {"plan", "@SRC@/examples/crowded_table.yaml", "--samples", "0",
+   "--instances", "2", "--report", "@DIR@/crowded"}, 0, "planned", ""},
+  // No plan is a result, not a success: the report says why, the exit status is 2.
+  {"PlanUnreachablePlaceNoPlan", {"plan", "@DIR@/no_plan.yaml", "--json", "--samples", "0"}, 2,
+   "\"status\": \"no_plan\",\\s*\"reason\": \"no_plan: .*goal at\\(cube, far\\)", ""},
   // spar plan's exit status says its verdict: 0 proved, 2 no plan, 3 errors left to verify.
   {"PlanProvedExitsZero",
    {"plan", "@SRC@/examples/peg_block_face_up.yaml", "--samples", "0", "--report", "@DIR@/up"}, 0,

@@ -561,7 +561,8 @@ TEST(SeedExperiments, EveryInitialPoseAndEveryPlaceIsWithinReach) {
         for (const geometry::StablePose& stable : object.stable_poses) {
           const kinematics::Transform pose =
               Eigen::Translation3d(place.x, place.y, 0) *
-              Eigen::AngleAxisd(place.yaw, Eigen::Vector3d::UnitZ()) * stable.object_to_world;
+              Eigen::AngleAxisd(place.yaws.front(), Eigen::Vector3d::UnitZ()) *
+              stable.object_to_world;
           EXPECT_TRUE(some_grasp_reachable(scenario, stable, pose, grasps, gripper))
               << object.name << " " << stable.label << " at " << place.name;
         }
@@ -575,7 +576,7 @@ TEST(SeedExperiments, EveryInitialPoseAndEveryPlaceIsWithinReach) {
     for (const Place& place : scenario.places) {
       const kinematics::Transform block_pose =
           Eigen::Translation3d(place.x, place.y, 0) *
-          Eigen::AngleAxisd(place.yaw, Eigen::Vector3d::UnitZ()) * hole_up.object_to_world;
+          Eigen::AngleAxisd(place.yaws.front(), Eigen::Vector3d::UnitZ()) * hole_up.object_to_world;
       bool mate_reachable = false;
       for (const geometry::Grasp& grasp : peg_grasps)
         mate_reachable |=
