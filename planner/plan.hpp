@@ -20,6 +20,7 @@
 
 #include <cstddef>
 #include <functional>
+#include <list>
 #include <optional>
 #include <string_view>
 #include <vector>
@@ -75,7 +76,9 @@ struct PlanResult {
   // then empty. Without branches (the operations cannot tell the hypotheses apart),
   // `family.reason` says why.
   std::optional<ObjectSensePlan> sensing{};
-  std::vector<PlanBranch> branches{};
+  // A list: PlanResult does not move without the chance of throwing, so a growing vector would
+  // copy it, and the phase 2 analyses it holds do not copy.
+  std::list<PlanBranch> branches{};
 
   // Phase 1 found a plan; with an uncertain object: there are branches and every one is planned.
   [[nodiscard]] bool planned() const;

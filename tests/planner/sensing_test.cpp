@@ -276,7 +276,7 @@ TEST(SensePlanning, PlanSensesFirstThenPlansEachOutcome) {
   EXPECT_FALSE(result.sensing->selection.sequence.empty());
   ASSERT_EQ(result.branches.size(), 2U);
   for (std::size_t h = 0; h < 2; ++h) {
-    const PlanBranch& branch = result.branches[h];
+    const PlanBranch& branch = *std::next(result.branches.begin(), static_cast<std::ptrdiff_t>(h));
     EXPECT_EQ(branch.object, "block");
     EXPECT_EQ(branch.outcome, h == 0 ? "P1" : "P2");
     EXPECT_FALSE(branch.result.sensing);
