@@ -109,9 +109,10 @@ enum class BoundStatus {
 [[nodiscard]] const char* to_string(BoundStatus status);
 
 // Invariant (checked by check_invariants(), on every result path in debug builds): when witnesses
-// exist, lo <= inner_lo <= inner_hi <= hi (or, witness values too loose, [hi, lo]). Without witnesses (argmin_value and argmax_value empty:
-// no feasible point where f is defined was verified) inner_lo = hi and inner_hi = lo, an empty
-// inner range. (With no variables at all a witness is the empty point: argmin is then empty too.)
+// exist, lo <= inner_lo <= inner_hi <= hi (or, witness values too loose, [hi, lo]). Without
+// witnesses (argmin_value and argmax_value empty: no feasible point where f is defined was
+// verified) inner_lo = hi and inner_hi = lo, an empty inner range. (With no variables at all a
+// witness is the empty point: argmin is then empty too.)
 struct BoundResult {
   double lo{0.0}, hi{0.0};  // sound: lo <= f <= hi on the feasible box
   // Attained: the values of f at argmin and argmax, i.e. argmin_value.hi and argmax_value.lo

@@ -133,7 +133,11 @@ Proximity part_proximity(const PlacedPart& a, const PlacedPart& b, double bound)
   if (std::isfinite(bound)) result.min_distance = bound;
   fcl::distance(a.shape->bvh.get(), a.pose, b.shape->bvh.get(), b.pose, request, result);
   if (!(result.min_distance < bound)) return out;
-  out.distance = std::max(0.0, result.min_distance);
+  // Surfaces that meet along coincident faces (coplanar triangles, which FCL's collide misses)
+  // come out of the distance query as rounding noise (3e-18 m for two nested boxes sharing
+  // faces): below kTouching they touch, and touching counts as intersecting.
+  constexpr double kTouching = 1e-12;  // m: far below any margin, far above rounding at 10 m
+  out.distance = result.min_distance <= kTouching ? 0.0 : result.min_distance;
   out.intersecting = out.distance == 0;
   // FCL 0.7 reports a BVH pair's nearest points in the world frame.
   out.point_a = result.nearest_points[0];

@@ -441,6 +441,17 @@ bool below_table(const geometry::PlacedBody& placed, const Eigen::Vector3d& trav
          -geometry::kTableTolerance;
 }
 
+// A conflict table [grasp][position]: set where the pair is reachable and `blocked(grasp,
+// position)` (its motion checked against one obstacle) finds the motion not clear.
+template <typename Blocked>
+void fill_conflicts(WorldModel::Table& table, const std::vector<std::vector<char>>& reachable,
+                    std::size_t positions, const Blocked& blocked) {
+  table.assign(reachable.size(), std::vector<char>(positions, 0));
+  for (std::size_t g = 0; g < reachable.size(); ++g)
+    for (std::size_t p = 0; p < positions; ++p)
+      table[g][p] = reachable[g][p] && blocked(static_cast<int>(g), p);
+}
+
 }  // namespace
 
 StepCheck WorldModel::grasp_check(int object, int grasp, const kinematics::Transform& pose,
@@ -661,11 +672,9 @@ const WorldModel::Table& WorldModel::initial_conflicts(int object, int other) co
   const std::vector<int> group = start.moving_with(object);
   if (std::find(group.begin(), group.end(), other) != group.end()) return table;
   const std::vector<Obstacle> obstacle = {{other, {&bodies_[other], start.poses[other]}}};
-  for (std::size_t g = 0; g < labels.grasps.size(); ++g)
-    for (std::size_t p = 0; p < labels.positions.size(); ++p)
-      table[g][p] =
-          labels.reachable[g][p] &&
-          !grasp_check(object, static_cast<int>(g), labels.positions[p].pose, obstacle, {}).clear;
+  fill_conflicts(table, labels.reachable, labels.positions.size(), [&](int g, std::size_t p) {
+    return !grasp_check(object, g, labels.positions[p].pose, obstacle, {}).clear;
+  });
   return table;
 }
 
@@ -675,16 +684,12 @@ const WorldModel::Table& WorldModel::insertion_conflicts(int goal, int other) co
   if (!fresh) return entry->second;
   const GoalWorld& tables = goals_[goal];
   const ObjectWorld& fixed = objects_[tables.fixed];
-  Table& table = entry->second;
-  table.assign(tables.mate_reachable.size(), std::vector<char>(fixed.positions.size(), 0));
-  const WorldState start = initial_state();
-  const std::vector<Obstacle> obstacle = {{other, {&bodies_[other], start.poses[other]}}};
-  for (std::size_t g = 0; g < table.size(); ++g)
-    for (std::size_t p = 0; p < fixed.positions.size(); ++p)
-      table[g][p] =
-          tables.mate_reachable[g][p] &&
-          !insertion_check(goal, static_cast<int>(g), fixed.positions[p].pose, obstacle, {}).clear;
-  return table;
+  const std::vector<Obstacle> obstacle = {{other, {&bodies_[other], initial_state().poses[other]}}};
+  fill_conflicts(entry->second, tables.mate_reachable, fixed.positions.size(),
+                 [&](int g, std::size_t p) {
+                   return !insertion_check(goal, g, fixed.positions[p].pose, obstacle, {}).clear;
+                 });
+  return entry->second;
 }
 
 const WorldModel::Table& WorldModel::placement_conflicts(int object, int other) const {

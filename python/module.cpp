@@ -126,7 +126,8 @@ void member_from_python(const py::handle& value, T& out) {
   out = value.cast<T>();
 }
 void member_from_python(const py::handle& value, reports::Nullable<double>& out) {
-  out = value.is_none() ? reports::Nullable<double>() : reports::Nullable<double>(value.cast<double>());
+  out = value.is_none() ? reports::Nullable<double>()
+                        : reports::Nullable<double>(value.cast<double>());
 }
 void member_from_python(const py::handle& value, reports::NamedValues<double>& out) {
   out.clear();

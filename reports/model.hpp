@@ -961,13 +961,13 @@ struct Report {
 // ---- sound bounds of one expression: `spar bound --json`, each line of `--jsonl`, spar.bound ----
 
 struct BoundRecord {
-  std::optional<std::string> name;      // a corpus record's name
-  double lo{0.0}, hi{0.0};              // sound: every value over the (constrained) box lies inside
+  std::optional<std::string> name;  // a corpus record's name
+  double lo{0.0}, hi{0.0};          // sound: every value over the (constrained) box lies inside
   // Attained at argmin / argmax; null when no attained range is known (no_inner_range says why).
   Nullable<double> inner_lo, inner_hi;
   std::optional<std::string> no_inner_range;
   NamedValues<double> argmin, argmax;  // empty when there is no witness
-  std::string status;                   // converged | effort_limit | unbounded | infeasible
+  std::string status;                  // converged | effort_limit | unbounded | infeasible
   bool possibly_undefined{false};
   bool time_limited{false};  // stopped by the time limit (the answer depends on the machine)
   double relative_gap{0.0};

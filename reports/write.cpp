@@ -146,8 +146,7 @@ fs::path unique_name(const fs::path& folder, const std::string& final_name, cons
 // Creates `path` new (O_EXCL: never an existing file, O_NOFOLLOW: never through a link), with the
 // permissions the umask gives, and writes `text` whole. Returns 0 or the errno of the failure.
 int write_new_file(const fs::path& path, const std::string& text) {
-  const int fd =
-      ::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0666);
+  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0666);
   if (fd < 0) return errno;
   std::size_t written = 0;
   int error = 0;
@@ -214,8 +213,8 @@ std::vector<fs::path> write_reports(const Report& report, const fs::path& folder
     if (::link(member.final.c_str(), member.backup.c_str()) != 0) {
       const int failure = errno;
       member.backup.clear();
-      fail("cannot keep the old " + member.final.string() + " while writing: " +
-           system_reason(failure));
+      fail("cannot keep the old " + member.final.string() +
+           " while writing: " + system_reason(failure));
     }
   }
   // Commit: the renames (a held signal waits for them), then the old report's other formats.

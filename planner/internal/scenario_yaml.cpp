@@ -575,7 +575,8 @@ void Reader::read_robot(const YAML::Node& node, RobotSpec& robot) const {
     robot.max_tool_tilt = quantity(tilt, "robot.max_tilt", "robot.max_tilt");
   }
   if (const YAML::Node distance = fields.get("approach_distance"); distance.IsDefined())
-    robot.approach_distance = quantity(distance, "robot.approach_distance", "robot.approach_distance");
+    robot.approach_distance =
+        quantity(distance, "robot.approach_distance", "robot.approach_distance");
   if (fields.has("uncertainty"))
     robot.uncertainty =
         uncertainty(fields.get("uncertainty"), "robot.uncertainty", robot.uncertainty_model);
@@ -1075,18 +1076,18 @@ void Reader::check_goals(const Scenario& scenario, const std::vector<YAML::Node>
           if (other->held == assembled->fixed && other->fixed == assembled->held)
             contradiction(j, "each would be inside the other");
         } else if (std::get<AtGoal>(scenario.goals[j]).object == assembled->held) {
-          contradiction(j, assembled->held + " would rest inside " + assembled->fixed +
-                               ", not at a place");
+          contradiction(
+              j, assembled->held + " would rest inside " + assembled->fixed + ", not at a place");
         }
       }
       // A longer cycle: following held -> fixed from `fixed` comes back to `held`.
       std::string next = assembled->fixed;
       for (std::size_t hops = 0; hops <= i; ++hops) {
-        const auto found = std::find_if(scenario.goals.begin(), scenario.goals.begin() + i,
-                                        [&](const Goal& g) {
-                                          const auto* a = std::get_if<AssembledGoal>(&g);
-                                          return a != nullptr && a->held == next;
-                                        });
+        const auto found =
+            std::find_if(scenario.goals.begin(), scenario.goals.begin() + i, [&](const Goal& g) {
+              const auto* a = std::get_if<AssembledGoal>(&g);
+              return a != nullptr && a->held == next;
+            });
         if (found == scenario.goals.begin() + i) break;
         next = std::get<AssembledGoal>(*found).fixed;
         if (next == assembled->held)
@@ -1105,8 +1106,7 @@ void Reader::check_goals(const Scenario& scenario, const std::vector<YAML::Node>
           contradiction(j, "place " + at.place + " holds one object at a time");
       } else if (std::get<AssembledGoal>(scenario.goals[j]).held == at.object) {
         contradiction(j, at.object + " would rest inside " +
-                             std::get<AssembledGoal>(scenario.goals[j]).fixed +
-                             ", not at a place");
+                             std::get<AssembledGoal>(scenario.goals[j]).fixed + ", not at a place");
       }
     }
     const ObjectSpec& object = scenario.object(at.object);
@@ -1282,8 +1282,9 @@ Scenario Reader::read(std::string_view document_text) {
       const std::string path = "goals[" + std::to_string(i) + "]";
       const YAML::Node goal = goals[i];
       if (!goal.IsMap() || goal.size() != 1)
-        fail(goal, path + ": expected one goal, e.g. 'assembled: {held: ..., fixed: ...}' or "
-                          "'at: {object: ..., place: ...}'");
+        fail(goal, path +
+                       ": expected one goal, e.g. 'assembled: {held: ..., fixed: ...}' or "
+                       "'at: {object: ..., place: ...}'");
       const Fields kind(*this, goal, path, {"assembled", "at"});
       if (kind.has("at"))
         scenario.goals.emplace_back(read_at(kind.get("at"), kind.path("at"), scenario));

@@ -268,8 +268,9 @@ Cell build_cell(const planner::PlanResult& result, const Chosen& chosen,
         for (const auto& p : ring) covered.extend(Eigen::Vector2d(p[0], p[1]));
   for (const planner::Place& place : scenario.places) {
     // A place may list several yaws (a putdown chooses one); the drawing shows the first.
-    cell.places.push_back({place.name, shown(place.x, scale), shown(place.y, scale),
-                           std::round(scenario.units.to_file_angle(place.yaws.front()) * 1e6) / 1e6});
+    cell.places.push_back(
+        {place.name, shown(place.x, scale), shown(place.y, scale),
+         std::round(scenario.units.to_file_angle(place.yaws.front()) * 1e6) / 1e6});
     covered.extend(Eigen::Vector2d(place.x * scale, place.y * scale));
   }
   const double margin = 0.15 * covered.sizes().maxCoeff();

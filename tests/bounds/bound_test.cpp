@@ -9,10 +9,10 @@
 #include <limits>
 #include <string>
 
+#include "random_expression.hpp"
 #include "spar/bounds/inequality.hpp"
 #include "spar/bounds/internal/gradient.hpp"
 #include "spar/bounds/internal/linear_enclosure.hpp"
-#include "random_expression.hpp"
 #include "spar/symbolic/operations.hpp"
 #include "spar/symbolic/parse.hpp"
 #include "spar/symbolic/tape.hpp"

@@ -441,8 +441,8 @@ const std::vector<Case> kCases = {
 // Every expression spar prints is accepted back as a positional argument (issue 22: the
 // pickup/assembly expressions of a report all start with "-(" and were refused as options).
 TEST(CliReadsBack, ReportExpressionsStartingWithMinus) {
-  const std::string report = read_file(fs::path(SPAR_SOURCE_DIR) / "tests/reports/golden" /
-                                       "peg_block_face_up.json");
+  const std::string report =
+      read_file(fs::path(SPAR_SOURCE_DIR) / "tests/reports/golden" / "peg_block_face_up.json");
   static const std::regex expression("\"expression\": \"(-[^\"]*)\"");
   std::smatch found;
   ASSERT_TRUE(std::regex_search(report, found, expression)) << "no expression starting with -";

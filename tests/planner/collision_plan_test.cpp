@@ -11,11 +11,15 @@
 
 #include "spar/planner/error.hpp"
 #include "spar/planner/plan.hpp"
-#include "tests/planner/collision_checker.hpp"
-#include "tests/planner/plan_checker.hpp"
+#include "tests/planner/checked_plan.hpp"
 
 namespace spar::planner {
 namespace {
+
+using testing::actions;
+using testing::plan_checked;
+using testing::replaced;
+using testing::scenario_of;
 
 // Two 1-inch cubes and two places; lengths in inches.
 const std::string kCubes = R"(units: {length: in, angle: deg}
@@ -38,43 +42,11 @@ goals:
   - at: {object: b, place: left}
 )";
 
-std::string replaced(std::string text, const std::string& from, const std::string& to) {
-  const std::size_t at = text.find(from);
-  EXPECT_NE(at, std::string::npos) << from;
-  return at == std::string::npos ? text : text.replace(at, from.size(), to);
-}
-
-Scenario scenario_of(const std::string& yaml) { return parse_scenario(yaml, "test.yaml", "."); }
-
 std::vector<std::vector<geometry::Grasp>> grasps_of(const PlanResult& result) {
   std::vector<std::vector<geometry::Grasp>> grasps;
   for (std::size_t o = 0; o < result.world.object_count(); ++o)
     grasps.push_back(result.world.object(static_cast<int>(o)).grasps);
   return grasps;
-}
-
-PlanResult plan_checked(const Scenario& scenario, std::size_t max_instances = 4) {
-  PlanOptions options;
-  options.uncertainty = false;
-  options.max_instances = max_instances;
-  options.posting.max_nodes = 20'000;
-  PlanResult result = plan(scenario, builtin_domain(), options);
-  const auto grasps = grasps_of(result);
-  const testing::IndependentCollisionChecker collisions(scenario, grasps);
-  for (const PlanInstance& instance : result.instances.instances) {
-    const std::vector<std::string> problems = testing::check_instance(scenario, grasps, instance);
-    EXPECT_TRUE(problems.empty()) << "instance " << instance.index << ": " << problems.front();
-    const std::vector<std::string> hits = collisions.check(instance);
-    EXPECT_TRUE(hits.empty()) << "instance " << instance.index << ": " << hits.front();
-  }
-  return result;
-}
-
-std::vector<std::string> actions(const Scenario& scenario, const PlanInstance& instance) {
-  std::vector<std::string> out;
-  for (const InstanceStep& step : instance.steps)
-    out.push_back(step.action_name + " " + scenario.objects[step.object].name);
-  return out;
 }
 
 std::string error_of(const std::string& yaml) {

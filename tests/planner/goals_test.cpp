@@ -10,11 +10,15 @@
 
 #include "spar/planner/error.hpp"
 #include "spar/planner/plan.hpp"
-#include "tests/planner/collision_checker.hpp"
-#include "tests/planner/plan_checker.hpp"
+#include "tests/planner/checked_plan.hpp"
 
 namespace spar::planner {
 namespace {
+
+using testing::actions;
+using testing::plan_checked;
+using testing::replaced;
+using testing::scenario_of;
 
 // The seed's face-up experiment as text, so tests can change one line (inches, degrees).
 const std::string kBase = R"(units: {length: in, angle: deg}
@@ -45,14 +49,6 @@ goals:
       relative: {xyz: [0, 0, 6], rpy: [180, 0, 0]}
 )";
 
-std::string replaced(std::string text, const std::string& from, const std::string& to) {
-  const std::size_t at = text.find(from);
-  EXPECT_NE(at, std::string::npos) << from;
-  return at == std::string::npos ? text : text.replace(at, from.size(), to);
-}
-
-Scenario scenario_of(const std::string& yaml) { return parse_scenario(yaml, "test.yaml", "."); }
-
 std::string error_of(const std::string& yaml) {
   try {
     (void)scenario_of(yaml);
@@ -60,32 +56,6 @@ std::string error_of(const std::string& yaml) {
     return error.what();
   }
   return "";
-}
-
-// Phase 1 only; every instance of a plan found passes the independent checkers.
-PlanResult plan_phase1(const Scenario& scenario) {
-  PlanOptions options;
-  options.uncertainty = false;
-  options.max_instances = 4;
-  PlanResult result = plan(scenario, builtin_domain(), options);
-  std::vector<std::vector<geometry::Grasp>> grasps;
-  for (std::size_t o = 0; o < scenario.objects.size(); ++o)
-    grasps.push_back(result.world.object(static_cast<int>(o)).grasps);
-  const testing::IndependentCollisionChecker collisions(scenario, grasps);
-  for (const PlanInstance& instance : result.instances.instances) {
-    const std::vector<std::string> problems = testing::check_instance(scenario, grasps, instance);
-    EXPECT_TRUE(problems.empty()) << "instance " << instance.index << ": " << problems.front();
-    const std::vector<std::string> hits = collisions.check(instance);
-    EXPECT_TRUE(hits.empty()) << "instance " << instance.index << ": " << hits.front();
-  }
-  return result;
-}
-
-std::vector<std::string> actions(const Scenario& scenario, const PlanInstance& instance) {
-  std::vector<std::string> out;
-  for (const InstanceStep& step : instance.steps)
-    out.push_back(step.action_name + " " + scenario.objects[step.object].name);
-  return out;
 }
 
 // --- scenario keys ---
@@ -224,7 +194,7 @@ TEST(GoalSemantics, FixedObjectIsNeverMovedAndNeedsNoGrasp) {
   const Scenario scenario =
       scenario_of(replaced(kBase, "    pose: {stable: P5, at: [20, 0]}",
                            "    pose: {stable: P5, at: [20, 0]}\n    fixed: true"));
-  const PlanResult result = plan_phase1(scenario);
+  const PlanResult result = plan_checked(scenario);
   ASSERT_TRUE(result.planned()) << result.family.reason;
   EXPECT_TRUE(result.world.object(0).grasps.empty());
   ASSERT_EQ(result.world.object(0).positions.size(), 1u);  // only "initial"
@@ -236,7 +206,7 @@ TEST(GoalSemantics, FixedBlockInAPoseWithoutMatingPoseIsNoPlanNamingIt) {
   const Scenario scenario =
       scenario_of(replaced(kBase, "    pose: {stable: P5, at: [20, 0]}",
                            "    pose: {stable: P6, at: [20, 0]}\n    fixed: true"));
-  const PlanResult result = plan_phase1(scenario);
+  const PlanResult result = plan_checked(scenario);
   ASSERT_FALSE(result.planned());
   EXPECT_NE(result.family.reason.find(
                 "goal assembled(peg, block) (test.yaml:23:7): block: no position leaves its "
@@ -250,7 +220,7 @@ TEST(GoalSemantics, FixedBlockInAPoseWithoutMatingPoseIsNoPlanNamingIt) {
 TEST(GoalSemantics, AtGoalPutsTheObjectAtThePlace) {
   const Scenario scenario =
       scenario_of(replaced(kBase, "goals:\n", "goals:\n  - at: {object: block, place: right}\n"));
-  const PlanResult result = plan_phase1(scenario);
+  const PlanResult result = plan_checked(scenario);
   ASSERT_TRUE(result.planned()) << result.family.reason;
   const PlanInstance& chosen = result.chosen();
   const std::vector<std::string> steps = actions(scenario, chosen);
@@ -276,7 +246,7 @@ TEST(GoalSemantics, GoalsAlreadyTrueNeedNoSteps) {
   ObjectSpec& peg = scenario.objects[1];
   const AssembledGoal& goal = std::get<AssembledGoal>(scenario.goals[1]);
   peg.initial_pose = block.initial_pose * goal.relative;
-  const PlanResult result = plan_phase1(scenario);
+  const PlanResult result = plan_checked(scenario);
   ASSERT_TRUE(result.planned()) << result.family.reason;
   EXPECT_TRUE(result.chosen().steps.empty());
   int already = 0;
@@ -308,10 +278,10 @@ TEST(GoalSemantics, TwoObjectsNeverShareAPlaceEvenOneAfterTheOther) {
       yaml, "places:", "  cube:\n    builtin: cube\n    pose: {stable: P1, at: [18, 8]}\nplaces:");
   yaml = replaced(yaml, "  - {name: right, at: [22, -12]}\n", "");
   yaml = replaced(yaml, "goals:\n", "goals:\n  - at: {object: cube, place: left}\n");
-  const PlanResult result = plan_phase1(scenario_of(yaml));
+  const PlanResult result = plan_checked(scenario_of(yaml));
   EXPECT_FALSE(result.planned());
   // With a second place both plan.
-  const PlanResult two = plan_phase1(
+  const PlanResult two = plan_checked(
       scenario_of(replaced(yaml, "  - {name: left, at: [14, -12]}\n",
                            "  - {name: left, at: [14, -12]}\n  - {name: right, at: [22, -12]}\n")));
   EXPECT_TRUE(two.planned()) << two.family.reason;
@@ -321,7 +291,7 @@ TEST(GoalSemantics, NoPlanReasonBlamesTheObjectOutOfReach) {
   // The block (in a mating pose) is 3 m further out; the peg is within reach.
   Scenario scenario = scenario_of(kBase);
   scenario.objects[0].initial_pose.translation().x() += 3.0;
-  const PlanResult result = plan_phase1(scenario);
+  const PlanResult result = plan_checked(scenario);
   ASSERT_FALSE(result.planned());
   EXPECT_NE(result.family.reason.find("goal assembled(peg, block) (test.yaml:22:7): block: "),
             std::string::npos)

@@ -4,7 +4,6 @@
 #include "spar/reports/write.hpp"
 
 #include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -13,6 +12,7 @@
 #include <csignal>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -106,7 +106,8 @@ TEST(WriteReportSet, AFailureKeepsTheOldSetAndSaysWhy) {
                        "report.html is a directory, not a report file (the old report is kept)");
   EXPECT_EQ(read(folder / "report.json"), render(face_up(), Format::kJson));
   EXPECT_EQ(read(folder / "report.md"), render(face_up(), Format::kMarkdown));
-  EXPECT_EQ(names_in(folder), (std::vector<std::string>{"report.html", "report.json", "report.md"}));
+  EXPECT_EQ(names_in(folder),
+            (std::vector<std::string>{"report.html", "report.json", "report.md"}));
   fs::remove_all(folder);
 }
 
@@ -146,8 +147,7 @@ TEST(WriteReportSet, ASignalLeavesOneWholeSet) {
     ASSERT_EQ(names_in(folder),
               (std::vector<std::string>{"report.html", "report.json", "report.md"}))
         << "round " << round;
-    const std::vector<std::string> now = {read(folder / "report.json"),
-                                          read(folder / "report.md"),
+    const std::vector<std::string> now = {read(folder / "report.json"), read(folder / "report.md"),
                                           read(folder / "report.html")};
     EXPECT_TRUE(now == first || now == second) << "a mixed set after round " << round;
   }

@@ -278,7 +278,7 @@ TEST(EvidenceJson, CombinesTheFilesSources) {
   EXPECT_NEAR(out["plausibility"]["c"].get<double>(), 1.0 / 6, 1e-15);
   EXPECT_NEAR(out["pignistic"]["a"].get<double>(), 0.0, 1e-15);
   ASSERT_EQ(out["masses"].size(), 2U);
-  EXPECT_EQ(out["masses"][0]["set"], nlohmann::json::array({"b"}));
+  EXPECT_EQ(out["masses"][0]["set"], nlohmann::ordered_json::array({"b"}));
   const double ambiguity = -(5.0 / 6 * std::log2(5.0 / 6) + 1.0 / 6 * std::log2(1.0 / 6));
   EXPECT_NEAR(out["ambiguity"].get<double>(), ambiguity, 1e-15);
 }
