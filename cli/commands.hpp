@@ -26,6 +26,8 @@ void add_object_command(CLI::App& app);
 void add_bound_command(CLI::App& app);
 void add_plan_command(CLI::App& app, int& exit_status);
 void add_evidence_command(CLI::App& app);
+void add_aspects_command(CLI::App& app);
+void add_sense_plan_command(CLI::App& app);
 void add_vision_command(CLI::App& app);
 
 // Thrown by a subcommand whose output is complete but whose outcome is not a success (`spar plan`

@@ -21,6 +21,8 @@ int main(int argc, char** argv) {
   spar::cli::add_bound_command(app);
   spar::cli::add_plan_command(app, exit_status);
   spar::cli::add_evidence_command(app);
+  spar::cli::add_aspects_command(app);
+  spar::cli::add_sense_plan_command(app);
   spar::cli::add_vision_command(app);
   try {
     app.name("spar");

@@ -37,10 +37,6 @@ struct ObjectOptions {
   int positions_per_axis{1};
 };
 
-double metres_per_unit(const std::string& name) {
-  return name == "mm" ? units::kMillimetre : name == "in" ? units::kInch : units::kMetre;
-}
-
 std::string text(const Eigen::Vector3d& v) {
   std::ostringstream out;
   const auto clean = [](double x) { return std::abs(x) < 1e-12 ? 0.0 : x; };
@@ -69,26 +65,6 @@ std::string id_list(const std::vector<int>& ids) {
   return out + "]";
 }
 
-// A FILE's coordinates are in `unit` (metres per unit); built-ins are in metres.
-geometry::ObjectModel load_object(const std::string& argument, double unit,
-                                  std::string& builtin_name) {
-  if (std::filesystem::is_directory(argument)) {
-    throw UsageError(argument + " is a directory: give an .off or .obj file, or a built-in name");
-  }
-  if (std::filesystem::exists(argument)) {
-    const std::string name = std::filesystem::path(argument).stem().string();
-    return geometry::ObjectModel(name, geometry::read_mesh_file(argument, unit));
-  }
-  const auto names = geometry::builtin_object_names();
-  if (std::find(names.begin(), names.end(), argument) != names.end()) {
-    builtin_name = argument;
-    return geometry::make_builtin_object(argument);
-  }
-  std::string known;
-  for (const auto& n : names) known += (known.empty() ? "" : ", ") + n;
-  throw UsageError(argument + ": no such file, nor a built-in object (" + known + ")");
-}
-
 void run(const ObjectOptions& options) {
   const double unit = metres_per_unit(options.units);
   geometry::GripperSpec gripper;
@@ -108,16 +84,16 @@ void run(const ObjectOptions& options) {
   const auto point = [unit](const Eigen::Vector3d& metres) -> Eigen::Vector3d {
     return metres / unit;
   };
-  std::string builtin_name;
   // On a terminal, what a large mesh is at: each step is O(n log n), but seconds at 200k triangles.
   const StatusLine status("spar object");
   status.show("reading the mesh, its faces, convex hull and face pairs");
-  const geometry::ObjectModel object = load_object(options.object, unit, builtin_name);
+  const geometry::ObjectModel object = geometry::load_object(options.object, unit);
+  const bool builtin = !std::filesystem::exists(options.object);
   if (!options.write_off.empty()) {
     write_file(options.write_off, "the mesh", [&](std::ostream& file) {
       geometry::write_off(object.mesh(), file,
-                          builtin_name.empty() ? "spar object " + object.name()
-                                               : geometry::builtin_description(builtin_name));
+                          builtin ? geometry::builtin_description(options.object)
+                                  : "spar object " + object.name());
     });
   }
   status.show("stable poses");

@@ -10,6 +10,8 @@
 #include <iostream>
 #include <limits>
 
+#include "spar/common/units.hpp"
+
 namespace spar::cli {
 namespace {
 
@@ -63,6 +65,10 @@ CLI::Option* add_number_option_with(CLI::App& command, const std::string& name,
 }
 
 }  // namespace
+
+double metres_per_unit(const std::string& name) {
+  return name == "mm" ? units::kMillimetre : name == "in" ? units::kInch : units::kMetre;
+}
 
 CLI::Option* add_number_option(CLI::App& command, const std::string& name, double& value,
                                const std::string& description, const NumberLimits& limits) {

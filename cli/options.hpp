@@ -49,6 +49,9 @@ class UsageError : public Error {
   using Error::Error;
 };
 
+// Metres per length unit of a `--units m|mm|in` option.
+[[nodiscard]] double metres_per_unit(const std::string& name);
+
 // `name` takes one number inside `limits` into `value` (its default is shown by --help).
 CLI::Option* add_number_option(CLI::App& command, const std::string& name, double& value,
                                const std::string& description, const NumberLimits& limits);

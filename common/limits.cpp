@@ -66,13 +66,13 @@ constexpr std::array kNumericLimits{
                  "an insertion's angular clearance"},
     NumericLimit{"goal.mating_vector", kNumber, -1e6, 1e6, false,
                  "a direction (only its sense matters)"},
-    // sensors.cameras[] (planner::CameraSensor): intrinsics and noise in pixels. The image side's
-    // bound is sensing::kMaxImageSide (common/ cannot include sensing/; the scenario test checks).
+    // sensors.cameras[] (planner::CameraSensor) and the range scanner's depth image: intrinsics
+    // and noise in pixels. The image side's bound is sensing::kMaxImageSide (common/ cannot
+    // include sensing/; the scenario test checks).
     NumericLimit{"camera.focal", kNumber, 0, 1e6, true, "a focal length in pixels"},
     NumericLimit{"camera.principal_point", kNumber, -1e6, 1e6, false, "a pixel coordinate"},
     NumericLimit{"camera.image_side", kCount, 1, 16384, false, "an image side in pixels"},
     NumericLimit{"camera.noise_px", kNumber, 0, 100, false, "an edge detector's noise in pixels"},
-    NumericLimit{"camera.detection_probability", kNumber, 0, 1, true, "a probability"},
     // How many entries a scenario's lists and maps may hold: the geometric level tries every
     // place for every object, stable pose and grasp, and every object's mesh is processed.
     NumericLimit{"scenario.objects", kCount, 1, 100, false, "each object is a mesh to process"},
@@ -80,6 +80,21 @@ constexpr std::array kNumericLimits{
                  "every place is tried with every object, stable pose and grasp"},
     NumericLimit{"sensors.cameras", kCount, 0, 100, false, "each camera renders the whole scene"},
     NumericLimit{"scenario.goals", kCount, 0, 100, false, "each goal is a subplan"},
+    // Sense planning: candidate identities (each processed per hypothesis), the range scanner's
+    // noise, both sensors' detection probability and the `sensing` settings.
+    NumericLimit{"object.identity", kCount, 2, 16, false,
+                 "each candidate shape is a mesh to process, times its stable poses"},
+    NumericLimit{"sensor.position_noise", kLength, 0, 1, false, "a scanner's noise in a cell"},
+    NumericLimit{"sensor.normal_noise", kAngle, 0, std::numbers::pi / 2, false,
+                 "a scanned normal's noise"},
+    NumericLimit{"sensor.max_angle", kAngle, 0, std::numbers::pi / 2, true,
+                 "a face is seen at most edge-on"},
+    NumericLimit{"sensor.detection_probability", kNumber, 0, 1, true, "a probability"},
+    NumericLimit{"sensing.ambiguity_threshold", kNumber, 0, 64, false,
+                 "bits of a frame of at most 2^64 hypotheses"},
+    NumericLimit{"sensing.max_operations", kCount, 1, 10, false,
+                 "each operation is a sensing step of the plan"},
+    NumericLimit{"sensing.standoff", kLength, 0, 10, true, "a viewing distance in a cell"},
 };
 
 std::string short_number(double value) {

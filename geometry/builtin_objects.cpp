@@ -1,10 +1,13 @@
 #include "spar/geometry/builtin_objects.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <numbers>
 #include <regex>
 
 #include "spar/common/units.hpp"
+#include "spar/geometry/mesh_io.hpp"
 
 namespace spar::geometry {
 namespace {
@@ -115,6 +118,21 @@ std::string builtin_description(const std::string& name) {
            "foot), 1 in deep in y; coordinates in metres. Two of its seven hull facets are not\n"
            "stable.";
   return name;
+}
+
+ObjectModel load_object(const std::string& argument, double metres_per_unit) {
+  if (std::filesystem::is_directory(argument))
+    throw GeometryError(argument +
+                        " is a directory: give an .off or .obj file, or a built-in name");
+  if (std::filesystem::exists(argument))
+    return ObjectModel(std::filesystem::path(argument).stem().string(),
+                       read_mesh_file(argument, metres_per_unit));
+  const std::vector<std::string> names = builtin_object_names();
+  if (std::find(names.begin(), names.end(), argument) != names.end())
+    return make_builtin_object(argument);
+  std::string known;
+  for (const std::string& name : names) known += (known.empty() ? "" : ", ") + name;
+  throw GeometryError(argument + ": no such file, nor a built-in object (" + known + ")");
 }
 
 }  // namespace spar::geometry

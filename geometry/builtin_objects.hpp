@@ -39,5 +39,9 @@ namespace spar::geometry {
 [[nodiscard]] ObjectModel make_builtin_object(const std::string& name);
 // The header comment written at the top of the object's OFF file.
 [[nodiscard]] std::string builtin_description(const std::string& name);
+// `spar object`'s OBJECT argument: an .off / .obj file when `argument` names one (coordinates
+// times `metres_per_unit`, the object named after the file's stem), else a built-in (metres).
+// GeometryError for a directory, or for neither a file nor a built-in (listing the built-ins).
+[[nodiscard]] ObjectModel load_object(const std::string& argument, double metres_per_unit);
 
 }  // namespace spar::geometry

@@ -1,5 +1,7 @@
 #include "spar/planner/plan.hpp"
 
+#include <algorithm>
+
 #include "spar/common/deadline.hpp"
 #include "spar/planner/error.hpp"
 
@@ -18,8 +20,73 @@ const InstanceAnalysis* PlanResult::chosen_analysis() const {
   return nullptr;
 }
 
+bool PlanResult::planned() const {
+  if (sensing)
+    return !branches.empty() && std::all_of(branches.begin(), branches.end(),
+                                            [](const PlanBranch& b) { return b.result.planned(); });
+  return family.status == PostingStatus::kPlanned;
+}
+
+namespace {
+
+// The world model of `scenario`, nothing planned yet.
+PlanResult started(Scenario scenario, const Domain& domain, const PlanOptions& options) {
+  return {.world = WorldModel(std::move(scenario)),
+          .domain = domain,
+          .family = {},
+          .instances = {},
+          .examined = {},
+          .chosen_index = 0,
+          .probability = {},
+          .tolerances = {},
+          .chosen_checks = {},
+          .analysis = options.analysis};
+}
+
+// Sense first, then plan each hypothesis of object `index` as the truth.
+PlanResult plan_branches(Scenario scenario, std::size_t index, const Domain& domain,
+                         const PlanOptions& options) {
+  check_deadline();
+  if (options.progress) options.progress("sense planning: aspects and candidate operations");
+  PlanResult result = started(std::move(scenario), domain, options);
+  const Scenario& uncertain = result.world.scenario();
+  const ObjectSpec& object = uncertain.objects[index];
+  SensePlan sensed = plan_sensing(uncertain, result.world);
+  result.sensing = std::move(sensed.objects.front());  // the only uncertain object
+  const sensing::Selection& selection = result.sensing->selection;
+  if (!selection.resolved) {
+    const double least = selection.sequence.empty()
+                             ? selection.ambiguity_before
+                             : selection.sequence.back().predicted_max_ambiguity;
+    result.family.reason = "sensing cannot tell the hypotheses of '" + object.name +
+                           "' apart: the chosen operations leave " + std::to_string(least) +
+                           " bits in the worst case, sensing.ambiguity_threshold is " +
+                           std::to_string(uncertain.sensing.ambiguity_threshold);
+    return result;
+  }
+  for (std::size_t h = 0; h < object.hypotheses.size(); ++h)
+    result.branches.push_back({.object = object.name,
+                               .outcome = object.hypotheses[h].label,
+                               .result = plan(uncertain.resolved(object.name, h), domain, options)});
+  return result;
+}
+
+}  // namespace
+
 PlanResult plan(Scenario scenario, const Domain& domain, const PlanOptions& options) {
   if (options.max_instances == 0) throw PlanError("max_instances must be at least 1");
+  std::optional<std::size_t> uncertain;
+  for (std::size_t i = 0; i < scenario.objects.size(); ++i) {
+    const ObjectSpec& object = scenario.objects[i];
+    if (!object.uncertain()) continue;
+    if (uncertain)
+      throw ScenarioError(object.location.str() + ": objects '" +
+                          scenario.objects[*uncertain].name + "' and '" + object.name +
+                          "' are both uncertain: spar plan branches on one uncertain object "
+                          "(spar sense-plan chooses sensing for several)");
+    uncertain = i;
+  }
+  if (uncertain) return plan_branches(std::move(scenario), *uncertain, domain, options);
   // Every stage (and every phase 2 instance) is also where a time limit is checked
   // (common/deadline.hpp: `spar plan --time-limit`); the long loops inside check it too.
   const std::function<void(std::string_view)> stage = [&](std::string_view text) {
@@ -27,16 +94,7 @@ PlanResult plan(Scenario scenario, const Domain& domain, const PlanOptions& opti
     if (options.progress) options.progress(text);
   };
   stage("world model: grasps and reachability");
-  PlanResult result{.world = WorldModel(std::move(scenario)),
-                    .domain = domain,
-                    .family = {},
-                    .instances = {},
-                    .examined = {},
-                    .chosen_index = 0,
-                    .probability = {},
-                    .tolerances = {},
-                    .chosen_checks = {},
-                    .analysis = options.analysis};
+  PlanResult result = started(std::move(scenario), domain, options);
   stage("phase 1: constraint posting");
   PostingOptions posting = options.posting;
   // A complete family counts only if one of its instances is collision-free.

@@ -5,6 +5,12 @@
 // (planner/uncertainty/probability.hpp: σ, P(violation) first-order and Monte Carlo per
 // precondition) and the tolerance allocation, unless PlanOptions::probability is nullopt.
 //
+// A scenario with an uncertain object (docs/scenario.md: `identity: [...]`, `pose: {stable:
+// [...]}`) is not planned as such: sense planning (planner/sense_planning.hpp) chooses the
+// operations that tell its hypotheses apart, and each hypothesis is then planned as the truth, one
+// branch per outcome (the survey's section 3 before SPAR's phases). One uncertain object per
+// scenario: a second one is refused (spar sense-plan handles several).
+//
 // Example:
 //   const PlanResult result = plan(load_scenario("examples/peg_block_face_down.yaml"),
 //                                  builtin_domain());
@@ -14,6 +20,7 @@
 
 #include <cstddef>
 #include <functional>
+#include <list>
 #include <optional>
 #include <string_view>
 #include <vector>
@@ -22,6 +29,7 @@
 #include "spar/planner/instances.hpp"
 #include "spar/planner/posting.hpp"
 #include "spar/planner/scenario.hpp"
+#include "spar/planner/sense_planning.hpp"
 #include "spar/planner/uncertainty/analysis.hpp"
 #include "spar/planner/uncertainty/probability.hpp"
 #include "spar/planner/world.hpp"
@@ -40,6 +48,8 @@ struct PlanOptions {
   // posting", "phase 2: plan instance 2 of 16", ...); from the calling thread. Empty: none.
   std::function<void(std::string_view stage)> progress{};
 };
+
+struct PlanBranch;
 
 struct PlanResult {
   WorldModel world;
@@ -61,9 +71,26 @@ struct PlanResult {
   // The chosen instance's analysis, or nullptr when phase 2 did not run.
   [[nodiscard]] const InstanceAnalysis* chosen_analysis() const;
 
-  [[nodiscard]] bool planned() const { return family.status == PostingStatus::kPlanned; }
+  // With an uncertain object: the operations chosen for it, and one branch per hypothesis (in
+  // hypothesis order), each planned like any scenario; `family`, `instances` and `examined` are
+  // then empty. Without branches (the operations cannot tell the hypotheses apart),
+  // `family.reason` says why.
+  std::optional<ObjectSensePlan> sensing{};
+  // A list: PlanResult does not move without the chance of throwing, so a growing vector would
+  // copy it, and the phase 2 analyses it holds do not copy.
+  std::list<PlanBranch> branches{};
+
+  // Phase 1 found a plan; with an uncertain object: there are branches and every one is planned.
+  [[nodiscard]] bool planned() const;
   // Throws PlanError when there is no instance.
   [[nodiscard]] const PlanInstance& chosen() const;
+};
+
+// One outcome of sensing: the scenario with the uncertain object as hypothesis `outcome` has it.
+struct PlanBranch {
+  std::string object;
+  std::string outcome;  // the hypothesis' label: "P1", "cube", "cube:P3"
+  PlanResult result;
 };
 
 // Throws ScenarioError/PlanError for a scenario that cannot be planned at all (no goals, an object

@@ -55,6 +55,45 @@ const ObjectSpec& Scenario::object(std::string_view name) const {
                       "' (objects: " + (known.empty() ? "none" : known) + ")");
 }
 
+Scenario Scenario::resolved(std::string_view name, std::size_t hypothesis) const {
+  Scenario out = *this;
+  for (ObjectSpec& object : out.objects) {
+    if (object.name != name) continue;
+    if (hypothesis >= object.hypotheses.size())
+      throw ScenarioError("object '" + object.name + "' has no hypothesis " +
+                          std::to_string(hypothesis) + " (it has " +
+                          std::to_string(object.hypotheses.size()) + ")");
+    const ObjectHypothesis chosen = object.hypotheses[hypothesis];
+    if (!object.identities.empty()) {
+      const ObjectIdentity& identity =
+          object.identities[static_cast<std::size_t>(chosen.identity)];
+      object.shape = identity.shape;
+      object.model = identity.model;
+      object.stable_poses = identity.stable_poses;
+    }
+    object.initial_pose = chosen.pose;
+    object.initial_stable_pose = chosen.stable_pose;
+    object.identities.clear();
+    object.hypotheses.clear();
+    return out;
+  }
+  (void)object(name);  // throws, naming the objects
+  return out;
+}
+
+sensing::SensorModel CameraSensor::sensor_model() const {
+  sensing::SensorModel out;
+  out.name = name;
+  out.kind = sensing::SensorKind::kCamera;
+  out.projection = projection;
+  out.intrinsics = intrinsics;
+  out.pose = pose;
+  out.mount = mount;
+  out.noise_px = noise_px;
+  out.detection_probability = detection_probability;
+  return out;
+}
+
 int Scenario::place_index(std::string_view name) const {
   for (std::size_t p = 0; p < places.size(); ++p)
     if (places[p].name == name) return static_cast<int>(p);

@@ -46,6 +46,7 @@
 #include "spar/kinematics/robots.hpp"
 #include "spar/kinematics/uncertain_pose.hpp"
 #include "spar/sensing/camera.hpp"
+#include "spar/sensing/sensors.hpp"
 
 namespace spar::planner {
 
@@ -111,6 +112,24 @@ struct RobotSpec {
   UncertaintyModel uncertainty_model{};       // how they are distributed (probability only)
 };
 
+// One candidate shape of an object whose identity is uncertain (`identity: [block, cube]`).
+struct ObjectIdentity {
+  std::string name;   // as written: a built-in name or a mesh file
+  std::string shape;  // "builtin: block" or "mesh: meshes/part.off"
+  geometry::ObjectModel model;
+  std::vector<geometry::StablePose> stable_poses;  // of `model`
+};
+
+// One way an object may be when its identity or stable pose is uncertain (docs/scenario.md): the
+// hypotheses of sense planning (sensing/selection.hpp). Labels: the stable pose ("P3") when only
+// the pose is uncertain, the identity ("cube") when only the identity is, else "cube:P3".
+struct ObjectHypothesis {
+  std::string label;
+  int identity{0};  // index into ObjectSpec::identities (0 when the identity is certain)
+  std::optional<int> stable_pose;  // index into that identity's stable poses
+  kinematics::Transform pose{kinematics::Transform::Identity()};  // object frame in the world
+};
+
 struct ObjectSpec {
   std::string name;
   std::string shape;  // as written: "builtin: peg" or "mesh: meshes/part.off"
@@ -128,6 +147,13 @@ struct ObjectSpec {
   bool fixed{false};
   SourceLocation location;       // of the object's entry
   SourceLocation pose_location;  // of its `pose`
+  // `identity: [...]`: the candidate shapes (`model`, `stable_poses` and `shape` are the first
+  // one's); empty when the shape is certain.
+  std::vector<ObjectIdentity> identities{};
+  // More than one when the identity or the stable pose is uncertain (`initial_pose` and
+  // `initial_stable_pose` are then the first one's); else empty.
+  std::vector<ObjectHypothesis> hypotheses{};
+  [[nodiscard]] bool uncertain() const { return hypotheses.size() > 1; }
 };
 
 // A free spot on the table where an object may be put down: the object's centre of mass goes
@@ -153,26 +179,44 @@ struct CollisionSettings {
 };
 
 // range-scan: sensing an object replaces its pose uncertainty by this residual (fresh variables).
+// `model` is the scanner as sense planning sees it: on the wrist unless a pose is given.
 struct RangeScanSensor {
   kinematics::PoseUncertainty residual{};
   UncertaintyModel residual_model{};  // how the residual is distributed (probability only)
+  sensing::SensorModel model{sensing::default_range_scanner()};
 };
 
-// A camera (sensors.cameras, normative): where it is, how it images (sensing/camera.hpp: the
-// optical frame, +z the viewing direction, +x right, +y down), how noisy its edges are and how
-// often an edge it should see is found. `uncertainty` (optional): the pose's half-widths as an
-// object's (eq. 2: displacement in the world, dtheta about world z through the camera), for a
-// camera on a mobile robot whose position is not known exactly.
+// Sense planning (`sensing:`): the operations chosen for an uncertain object bring the worst-case
+// ambiguity below `ambiguity_threshold` bits, at most `max_operations` of them; wrist sensors look
+// at the object from `standoff` metres.
+struct SensingSettings {
+  double ambiguity_threshold{0.3};
+  int max_operations{3};
+  double standoff{0.5};
+};
+
+// A camera (sensors.cameras, normative; docs/scenario.md): one description read by both PSEIKI's
+// `spar vision` and sense planning. Where it is (`mount`: fixed in the world, or carried on the
+// wrist with `pose` in the gripper frame), how it images (sensing/camera.hpp: the optical frame,
+// +z the viewing direction, +x right, +y down), how noisy its edges are and how often an edge it
+// should see is found. `uncertainty` (fixed cameras only): the pose's half-widths as an object's
+// (eq. 2: displacement in the world, dtheta about world z through the camera), for a camera on a
+// mobile robot whose position is not known exactly; sense planning predicts from the nominal pose.
 struct CameraSensor {
   std::string name;
   sensing::Projection projection{sensing::Projection::kPinhole};
   sensing::Intrinsics intrinsics{};  // pixels (orthographic fx, fy: pixels per metre)
-  kinematics::Transform pose{kinematics::Transform::Identity()};  // camera frame in the world
+  // Fixed: the camera frame in the world; on the wrist: in the gripper frame.
+  kinematics::Transform pose{kinematics::Transform::Identity()};
+  sensing::Mount mount{sensing::Mount::kFixed};
   double noise_px{0.0};               // standard deviation of an edge end point, pixels
   double detection_probability{1.0};  // in (0, 1]
   kinematics::PoseUncertainty uncertainty{};
   UncertaintyModel uncertainty_model{};
   SourceLocation location;  // of the camera's entry
+
+  // The camera as sense planning's simulated sensor (sensing/sensors.hpp).
+  [[nodiscard]] sensing::SensorModel sensor_model() const;
 };
 
 // SPAR's assembled(held, fixed, [held faces, fixed faces], Ta, mating vector).
@@ -214,7 +258,8 @@ struct Scenario {
   std::vector<Place> places;        // in file order
   std::optional<RangeScanSensor> range_scan;
   CollisionSettings collision{};
-  std::vector<CameraSensor> cameras;       // in file order, unique names
+  std::vector<CameraSensor> cameras;  // sensors.cameras, in file order, unique names
+  SensingSettings sensing{};
   geometry::GraspQuantization grasping{};  // how grasps are quantized (SPAR's grasp labels)
   std::vector<Goal> goals;                 // in file order
   // "file:line:col: ..." for what loads but looks wrong (a mesh whose size is implausible in the
@@ -227,6 +272,10 @@ struct Scenario {
   [[nodiscard]] int place_index(std::string_view name) const;
   // The same for cameras.
   [[nodiscard]] const CameraSensor& camera(std::string_view name) const;
+  // The scenario with hypothesis `hypothesis` of object `name` taken as the truth: its identity's
+  // shape and stable poses, its pose; the object is certain in the result (one plan branch).
+  // Throws ScenarioError for an unknown object or hypothesis.
+  [[nodiscard]] Scenario resolved(std::string_view name, std::size_t hypothesis) const;
 };
 
 // The index of the place's yaw at which `object` initially rests there (its initial pose is

@@ -7,7 +7,12 @@
 namespace spar::planner {
 namespace {
 
+// PSEIKI renders from a pose in the world; a wrist camera's depends on where the robot is.
 sensing::Camera camera_of(const CameraSensor& sensor) {
+  if (sensor.mount == sensing::Mount::kWrist)
+    throw ScenarioError(sensor.location.str() + ": camera '" + sensor.name +
+                        "' is on the wrist (mount: wrist); vision needs a fixed camera, posed "
+                        "in the world");
   return sensing::Camera(sensor.projection, sensor.intrinsics, sensor.pose);
 }
 
@@ -77,6 +82,27 @@ VisionSetup::ChangedScene VisionSetup::changed_scene(const std::vector<std::stri
     out.uncertainty.objects.push_back(object.uncertainty);
   }
   return out;
+}
+
+std::optional<VisionCheck> vision_check(const Scenario& scenario, int object,
+                                        const kinematics::Transform& pose) {
+  const ObjectSpec& spec = scenario.objects.at(static_cast<std::size_t>(object));
+  const sensing::ObjectFeatures features = sensing::object_features(spec.model);
+  sensing::Scene scene;
+  scene.add(spec.name, spec.model, features, pose);
+  std::optional<VisionCheck> best;
+  for (const CameraSensor& sensor : scenario.cameras) {
+    if (sensor.mount == sensing::Mount::kWrist) continue;  // PSEIKI needs a world pose (above)
+    const sensing::pseiki::ExpectationUncertainty uncertainty{
+        .objects = {spec.uncertainty}, .camera = sensor.uncertainty, .noise_px = sensor.noise_px};
+    const sensing::pseiki::ModelPanel panel(scene, camera_of(sensor), uncertainty);
+    VisionCheck check{sensor.name, spec.name, {}, sensing::pseiki::MatchOptions{}.acceptance};
+    for (const sensing::pseiki::PanelEdge& edge : panel.edges())
+      if (!edge.pieces.empty()) check.edges.push_back(edge.id);
+    if (!check.edges.empty() && (!best || check.edges.size() > best->edges.size()))
+      best = std::move(check);
+  }
+  return best;
 }
 
 }  // namespace spar::planner

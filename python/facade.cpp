@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <numbers>
 #include <stdexcept>
 
 #include "spar/bounds/bound.hpp"
@@ -15,7 +16,13 @@
 #include "spar/kinematics/robots.hpp"
 #include "spar/planner/error.hpp"
 #include "spar/reports/build.hpp"
+#include "spar/geometry/builtin_objects.hpp"
 #include "spar/reports/plan_json.hpp"
+#include "spar/planner/sense_planning.hpp"
+#include "spar/reports/json.hpp"
+#include "spar/reports/sensing.hpp"
+#include "spar/sensing/aspects_json.hpp"
+#include "spar/sensing/evidence_json.hpp"
 #include "spar/symbolic/operations.hpp"
 #include "spar/symbolic/parse.hpp"
 #include "spar/symbolic/smp.hpp"
@@ -350,6 +357,42 @@ ordered_json analyse_instance_json(const PlanRun& run, std::size_t index, bool e
       run.result.world, run.result.domain, run.result.instances.instances[index], options);
   if (extras) planner::add_margins(analysis, options);
   return reports::to_json(reports::build_chosen(run.result, index, &analysis));
+}
+
+// ---- sensing ----
+
+namespace {
+
+nlohmann::ordered_json combined_evidence(const sensing::EvidenceInput& input) {
+  return sensing::evidence_json(input.frame, sensing::combine(input.sources, input.frame.size()));
+}
+
+}  // namespace
+
+nlohmann::ordered_json evidence_text_json(std::string_view text, const std::string& source) {
+  return combined_evidence(sensing::parse_evidence_json(text, source));
+}
+
+nlohmann::ordered_json evidence_file_json(const std::filesystem::path& path) {
+  return combined_evidence(sensing::load_evidence_file(path));
+}
+
+nlohmann::ordered_json object_aspects_json(const std::string& object,
+                                           const AspectSettings& settings) {
+  const geometry::ObjectModel model = geometry::load_object(object, settings.metres_per_unit);
+  sensing::AspectOptions options;
+  options.max_angle = settings.max_angle_degrees * std::numbers::pi / 180;
+  options.view_sphere_level = settings.level;
+  options.resolution = settings.resolution;
+  options.force_view_sphere = settings.view_sphere;
+  return sensing::aspects_json(model, sensing::compute_aspects(model, options), options,
+                               settings.units, settings.metres_per_unit);
+}
+
+nlohmann::ordered_json sense_plan_json(const planner::Scenario& scenario) {
+  const planner::WorldModel world(scenario);
+  return reports::to_json(
+      reports::build_sense_plan(scenario, planner::plan_sensing(scenario, world)));
 }
 
 }  // namespace spar::python

@@ -222,4 +222,28 @@ struct PlanRun {
 [[nodiscard]] nlohmann::ordered_json analyse_instance_json(const PlanRun& run, std::size_t index,
                                                            bool extras);
 
+// ---- sensing ----
+
+// `spar evidence --json` (sensing/evidence_json.hpp) for its input as JSON text (`source` names it
+// in messages) or a file. Throws sensing::SensingError.
+[[nodiscard]] nlohmann::ordered_json evidence_text_json(std::string_view text,
+                                                        const std::string& source);
+[[nodiscard]] nlohmann::ordered_json evidence_file_json(const std::filesystem::path& path);
+
+struct AspectSettings {
+  std::string units{"m"};       // named in the output
+  double metres_per_unit{1.0};  // of a mesh file's coordinates and of the output
+  double max_angle_degrees{75};
+  int level{3};
+  int resolution{128};
+  bool view_sphere{false};
+};
+// `spar aspects --json` (sensing/aspects_json.hpp) of a built-in name or a mesh file. Throws
+// geometry::GeometryError (no such object, a bad mesh) or sensing::SensingError (bad settings).
+[[nodiscard]] nlohmann::ordered_json object_aspects_json(const std::string& object,
+                                                         const AspectSettings& settings);
+// `spar sense-plan --json` (reports/sensing.hpp's SensePlanRecord) of a scenario. Throws
+// planner::ScenarioError (an uncertain object without sensors) or planner::PlanError.
+[[nodiscard]] nlohmann::ordered_json sense_plan_json(const planner::Scenario& scenario);
+
 }  // namespace spar::python

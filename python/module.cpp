@@ -24,6 +24,7 @@
 #include "spar/planner/error.hpp"
 #include "spar/qr/error.hpp"
 #include "spar/reports/error.hpp"
+#include "spar/sensing/error.hpp"
 #include "spar/symbolic/error.hpp"
 
 namespace py = pybind11;
@@ -84,6 +85,7 @@ void register_errors(py::module_& m) {
   add_error<planner::PlanError>(m, "PlanError", error);
   add_error<qr::QrError>(m, "QrError", error);
   add_error<reports::ReportError>(m, "ReportError", error);
+  add_error<sensing::SensingError>(m, "SensingError", error);
 }
 
 kinematics::PoseUncertainty uncertainty_from(const std::map<std::string, double>& values) {
@@ -409,6 +411,49 @@ void bind_planner(py::module_& m) {
       "scenario"_a, "settings"_a);
 }
 
+void bind_sensing(py::module_& m) {
+  m.def(
+      "_evidence_text",
+      [](const std::string& text, const std::string& source) {
+        return to_python(evidence_text_json(text, source));
+      },
+      "text"_a, "source"_a);
+  m.def(
+      "_evidence_file",
+      [](const std::filesystem::path& path) { return to_python(evidence_file_json(path)); },
+      "path"_a);
+  py::class_<AspectSettings>(m, "_AspectSettings")
+      .def(py::init<>())
+      .def_readwrite("units", &AspectSettings::units)
+      .def_readwrite("metres_per_unit", &AspectSettings::metres_per_unit)
+      .def_readwrite("max_angle_degrees", &AspectSettings::max_angle_degrees)
+      .def_readwrite("level", &AspectSettings::level)
+      .def_readwrite("resolution", &AspectSettings::resolution)
+      .def_readwrite("view_sphere", &AspectSettings::view_sphere);
+  m.def(
+      "_aspects",
+      [](const std::string& object, const AspectSettings& settings) {
+        nlohmann::ordered_json out;
+        {
+          const py::gil_scoped_release release;
+          out = object_aspects_json(object, settings);
+        }
+        return to_python(out);
+      },
+      "object"_a, "settings"_a);
+  m.def(
+      "_sense_plan",
+      [](const planner::Scenario& scenario) {
+        nlohmann::ordered_json out;
+        {
+          const py::gil_scoped_release release;
+          out = sense_plan_json(scenario);
+        }
+        return to_python(out);
+      },
+      "scenario"_a);
+}
+
 }  // namespace
 }  // namespace spar::python
 
@@ -419,4 +464,5 @@ PYBIND11_MODULE(_spar, m) {
   spar::python::bind_expressions(m);
   spar::python::bind_kinematics(m);
   spar::python::bind_planner(m);
+  spar::python::bind_sensing(m);
 }

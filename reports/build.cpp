@@ -5,6 +5,7 @@
 
 #include "spar/kinematics/puma.hpp"
 #include "spar/reports/internal/cell.hpp"
+#include "spar/reports/sensing.hpp"
 
 namespace spar::reports {
 namespace {
@@ -212,6 +213,9 @@ void add_verification(const std::vector<planner::VerificationPlan>& plans, Step&
     verification.name = plan.name;
     verification.sense = plan.sense;
     verification.expect = plan.expect;
+    if (plan.vision)
+      verification.vision = VisionCheck{plan.vision->camera, plan.vision->object,
+                                        plan.vision->edges, plan.vision->acceptance};
     for (const auto& outcome : plan.outcomes) {
       verification.outcomes.push_back({outcome.when, outcome.error, outcome.recovery});
       step.recovery->push_back({outcome.error, outcome.recovery, outcome.recovery_steps});
@@ -458,6 +462,44 @@ Chosen build_chosen(const planner::PlanResult& result, std::size_t instance_inde
   return out;
 }
 
+namespace {
+
+// An uncertain object's sensing steps (the report's chosen steps), its sense plan and one branch
+// per outcome.
+void add_sensing(const planner::PlanResult& result, Report& out) {
+  const ObjectSensing sensed = build_object_sensing(*result.sensing);
+  Chosen sensing;
+  for (const SensingOperation& operation : sensed.sequence) {
+    Step& step = sensing.steps.emplace_back();
+    step.id = static_cast<int>(sensing.steps.size());
+    step.action = "sense";
+    step.effect = "sense";
+    step.object = sensed.object;
+    step.sensing = SensingChoice{.sensor = operation.sensor,
+                                 .viewpoint = operation.viewpoint,
+                                 .aspect = operation.aspect,
+                                 .predicted_max_ambiguity = operation.predicted_max_ambiguity};
+  }
+  if (!result.branches.empty()) out.chosen = std::move(sensing);
+  out.sensing = std::vector<ObjectSensing>{sensed};
+  out.branches.emplace();
+  for (const planner::PlanBranch& branch : result.branches) {
+    Report planned = build_report(branch.result);
+    Branch& row = out.branches->emplace_back();
+    row.outcome = branch.outcome;
+    row.object = branch.object;
+    row.status = planned.status;
+    if (planned.chosen) {
+      row.steps = std::move(planned.chosen->steps);
+      row.errors = planned.chosen->errors;
+    }
+    if (!out.reason && planned.reason)
+      out.reason = "branch " + branch.outcome + ": " + *planned.reason;
+  }
+}
+
+}  // namespace
+
 Report build_report(const planner::PlanResult& result) {
   const planner::Scenario& scenario = result.world.scenario();
   const double scale = length_scale(result);
@@ -465,8 +507,10 @@ Report build_report(const planner::PlanResult& result) {
   out.scenario = scenario.name;
   out.description = scenario.description;
   out.status = result.planned() ? "planned" : "no_plan";
-  if (!result.planned())
-    out.reason = std::string(to_string(result.family.status)) + ": " + result.family.reason;
+  if (!result.planned() && !(result.sensing && !result.branches.empty()))
+    out.reason = result.sensing ? "sensing: " + result.family.reason
+                                : std::string(to_string(result.family.status)) + ": " +
+                                      result.family.reason;
   out.units = {std::string(scenario.units.length_name()), std::string(scenario.units.angle_name()),
                scenario.units.metres_per_length_unit(), scenario.units.radians_per_angle_unit()};
   out.robot.model = scenario.robot.model;
@@ -493,6 +537,7 @@ Report build_report(const planner::PlanResult& result) {
     out.chosen = build_chosen(result, result.chosen_index, result.chosen_analysis());
     out.cell = internal::build_cell(result, *out.chosen, result.chosen(), result.chosen_analysis());
   }
+  if (result.sensing) add_sensing(result, out);
   return out;
 }
 

@@ -12,6 +12,7 @@
 #include "spar/reports/internal/text.hpp"
 #include "spar/reports/json.hpp"
 #include "spar/reports/markdown.hpp"
+#include "spar/reports/sensing.hpp"
 
 namespace spar::reports {
 namespace {
@@ -426,6 +427,7 @@ void verification_section(const Report& report, std::ostringstream& out) {
     for (const Verification& plan : *step.verification) {
       out << "<li>verify: " << html_escape(plan.sense) << " (expect " << html_escape(plan.expect)
           << ")<ul>";
+      if (plan.vision) out << "<li>" << html_escape(internal::vision_text(*plan.vision)) << "</li>";
       for (const Outcome& outcome : plan.outcomes)
         out << "<li>if " << html_escape(outcome.when) << ": " << html_escape(outcome.error)
             << ", recover by <b>" << html_escape(outcome.recovery) << "</b></li>";
@@ -624,6 +626,20 @@ void instances_section(const Report& report, std::ostringstream& out) {
   out << "</table></div></section>\n";
 }
 
+// One section per outcome of sensing: the branch's steps and preconditions, as a plan's.
+void branches_section(const Report& report, std::ostringstream& out) {
+  out << "<section><h2>Branches: one plan per outcome of sensing</h2></section>\n";
+  for (const Branch& branch : *report.branches) {
+    out << "<section><h3>Branch " << html_escape(branch.outcome) << " ("
+        << html_escape(branch.object) << " is " << html_escape(branch.outcome)
+        << "): " << html_escape(branch.status) << "</h3></section>\n";
+    if (branch.steps.empty()) continue;
+    const Report view = branch_as_plan(report, branch);
+    timeline_section(view, out);
+    preconditions_section(view, out);
+  }
+}
+
 std::string html(const Report& report) {
   std::ostringstream out;
   out << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
@@ -632,7 +648,11 @@ std::string html(const Report& report) {
       << html_escape(report.scenario) << "</title>\n<style>" << kStyle
       << "</style>\n</head>\n<body>\n";
   summary_section(report, out);
-  if (report.chosen) {
+  if (report.sensing) out << sensing_html(*report.sensing);
+  if (report.branches) {
+    if (report.chosen) timeline_section(report, out);
+    branches_section(report, out);
+  } else if (report.chosen) {
     timeline_section(report, out);
     if (report.cell) cell_section(report, out);
     preconditions_section(report, out);
@@ -641,11 +661,11 @@ std::string html(const Report& report) {
     if (report.chosen->probability) probability_section(report, out);
     uncertainty_section(report, out);
   }
-  if (report.status == "planned") {
+  if (report.status == "planned" && !report.branches) {
     ordering_section(report, out);
     network_section(report, out);
   }
-  instances_section(report, out);
+  if (!report.branches) instances_section(report, out);
   out << "</body>\n</html>\n";
   return out.str();
 }

@@ -164,6 +164,8 @@ Json to_json(const Report& report) { return Writer::write(report); }
 Json to_json(const Chosen& chosen) { return Writer::write(chosen); }
 Json to_json(const BoundRecord& record) { return Writer::write(record); }
 
+Json to_json(const SensePlanRecord& record) { return Writer::write(record); }
+
 Report report_from_json(const Json& document) {
   if (!document.is_object() || !document.contains("schema") || document["schema"] != kReportSchema)
     throw ReportError(std::string("not a ") + kReportSchema +

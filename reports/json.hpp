@@ -24,6 +24,7 @@ namespace spar::reports {
 [[nodiscard]] nlohmann::ordered_json to_json(const Report& report);
 [[nodiscard]] nlohmann::ordered_json to_json(const Chosen& chosen);
 [[nodiscard]] nlohmann::ordered_json to_json(const BoundRecord& record);
+[[nodiscard]] nlohmann::ordered_json to_json(const SensePlanRecord& record);
 
 // Throws ReportError: "not a spar-report/1 report (...)" or "malformed report: <path>: <what>".
 [[nodiscard]] Report report_from_json(const nlohmann::ordered_json& document);

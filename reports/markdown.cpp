@@ -6,6 +6,7 @@
 #include "spar/reports/internal/check.hpp"
 #include "spar/reports/internal/text.hpp"
 #include "spar/reports/json.hpp"
+#include "spar/reports/sensing.hpp"
 
 namespace spar::reports {
 namespace {
@@ -45,6 +46,14 @@ std::string summary_lines(const Report& report) {
         << (*chosen.errors == 0 ? " (nothing to verify at execution)"
                                 : " (verification and recovery posted)")
         << '\n';
+  if (report.branches) {
+    for (const Branch& branch : *report.branches)
+      out << "  branch " << branch.outcome << ": " << branch.status << ", "
+          << plural(branch.steps.size(), "step")
+          << (branch.errors ? ", " + plural(static_cast<std::size_t>(*branch.errors), "error") : "")
+          << '\n';
+    return out.str();
+  }
   out << "  instances: " << report.instances.count << " enumerated"
       << (report.instances.limit_reached ? " (limit reached)" : "") << ", "
       << report.instances.examined.size() << " examined, instance " << chosen.index + 1
@@ -131,6 +140,7 @@ void verification_section(const Report& report, std::ostringstream& out) {
           << '\n';
     for (const Verification& plan : *step.verification) {
       out << "  - verify: " << plan.sense << " (expect " << plan.expect << ")\n";
+      if (plan.vision) out << "    - " << internal::vision_text(*plan.vision) << '\n';
       for (const Outcome& outcome : plan.outcomes)
         out << "    - if " << outcome.when << ": " << outcome.error << ", recover by "
             << outcome.recovery << '\n';
@@ -208,6 +218,19 @@ void instances_section(const Report& report, std::ostringstream& out) {
         << (report.chosen && report.chosen->index == examined.index ? "chosen" : "") << " |\n";
 }
 
+// One section per outcome of sensing: the branch's steps and preconditions, as a plan's.
+void branches_section(const Report& report, std::ostringstream& out) {
+  out << "\n## Branches: one plan per outcome of sensing\n";
+  for (const Branch& branch : *report.branches) {
+    out << "\n### Branch " << branch.outcome << " (" << branch.object << " is " << branch.outcome
+        << "): " << branch.status << "\n";
+    if (branch.steps.empty()) continue;
+    const Report view = branch_as_plan(report, branch);
+    plan_section(view, out);
+    preconditions_section(view, out);
+  }
+}
+
 std::string markdown(const Report& report) {
   std::ostringstream out;
   out << "# spar plan report: " << report.scenario << "\n\n";
@@ -215,8 +238,13 @@ std::string markdown(const Report& report) {
   out << "Report " << report.schema << "; lengths in " << report.units.length << ", angles in "
       << report.units.angle << ".\n\n```\n"
       << summary_lines(report) << "```\n";
+  if (report.sensing) out << sensing_markdown(*report.sensing);
   if (!report.chosen) return out.str();
   plan_section(report, out);
+  if (report.branches) {
+    branches_section(report, out);
+    return out.str();
+  }
   if (report.cell) cell_section(report, out);
   preconditions_section(report, out);
   repairs_section(report, out);

@@ -2,6 +2,15 @@
 
 namespace spar::reports {
 
+Report branch_as_plan(const Report& report, const Branch& branch) {
+  Report view = report;
+  view.branches.reset();
+  Chosen& chosen = view.chosen.emplace();
+  chosen.steps = branch.steps;
+  chosen.errors = branch.errors;
+  return view;
+}
+
 std::string step_label(const Chosen& chosen, std::size_t position) {
   const Step& step = chosen.steps.at(position);
   std::string label = "#" + std::to_string(position + 1) + " " + step.action;

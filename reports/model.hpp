@@ -344,15 +344,31 @@ struct Outcome {
   }
 };
 
+// What PSEIKI must see to accept (planner/vision.hpp's VisionCheck).
+struct VisionCheck {
+  std::string camera, object;
+  std::vector<std::string> edges;  // model edges expected visible, "peg/e3"
+  double acceptance{0.0};          // scene belief that accepts
+  template <class Self, class Field>
+  static void fields(Self& s, Field&& field) {
+    field("camera", s.camera);
+    field("object", s.object);
+    field("edges", s.edges);
+    field("acceptance", s.acceptance);
+  }
+};
+
 struct Verification {
   std::string name, sense, expect;
   std::vector<Outcome> outcomes;
+  std::optional<VisionCheck> vision;  // scenarios with cameras that see the object
   template <class Self, class Field>
   static void fields(Self& s, Field&& field) {
     field("name", s.name);
     field("sense", s.sense);
     field("expect", s.expect);
     field("outcomes", s.outcomes);
+    field("vision", s.vision);
   }
 };
 
@@ -394,6 +410,21 @@ struct PreconditionRef {
   }
 };
 
+// A sensing step's operation (`steps[].sensing`, normative), chosen by minimax ambiguity.
+struct SensingChoice {
+  std::string sensor;
+  std::string viewpoint;  // a fixed sensor's name, or V1, V2, ... of a wrist sensor
+  std::string aspect;     // the aspect the object shows it under the first hypothesis
+  double predicted_max_ambiguity{0.0};  // bits
+  template <class Self, class Field>
+  static void fields(Self& s, Field&& field) {
+    field("sensor", s.sensor);
+    field("viewpoint", s.viewpoint);
+    field("aspect", s.aspect);
+    field("predicted_max_ambiguity", s.predicted_max_ambiguity);
+  }
+};
+
 struct Step {
   int id{0};  // the family step's id; steps phase 2 inserted get new ids
   std::string action;
@@ -408,6 +439,7 @@ struct Step {
   std::optional<std::string> fixed_object;              // assemblies
   std::optional<Matrix> fixed_pose;
   std::optional<Matrix> held_pose;
+  std::optional<SensingChoice> sensing;  // sensing steps of an uncertain object
   Nullable<Clearance> clearance;     // null for steps that do not move the gripper (sensing)
   std::vector<std::string> carried;  // objects assembled into `object` that move with it
   // Phase 2:
@@ -435,6 +467,7 @@ struct Step {
     field("fixed_object", s.fixed_object);
     field("fixed_pose", s.fixed_pose);
     field("held_pose", s.held_pose);
+    field("sensing", s.sensing);
     field("clearance", s.clearance);
     field("carried", s.carried);
     field("inserted", s.inserted);
@@ -652,6 +685,142 @@ struct RepairSearch {
   }
 };
 
+// ---- sense planning (planner/sense_planning.hpp): `spar sense-plan --json`, spar.sense_plan ----
+
+// One candidate sensing operation: a sensor at a viewpoint class.
+struct SensingCandidate {
+  std::string sensor;
+  std::string viewpoint;  // a fixed sensor's name, or V1, V2, ... of a wrist sensor
+  std::array<double, 3> direction{};  // unit, world, from the object toward the sensor
+  bool reachable{true};
+  NamedValues<std::string> aspects;  // hypothesis -> the aspect it shows ("" for none)
+  // Predicted ambiguity (bits) if each hypothesis were true, and its maximum (absent when the
+  // viewpoint is not reachable).
+  NamedValues<double> predicted_ambiguity;
+  Nullable<double> predicted_max_ambiguity;
+  template <class Self, class Field>
+  static void fields(Self& s, Field&& field) {
+    field("sensor", s.sensor);
+    field("viewpoint", s.viewpoint);
+    field("direction", s.direction);
+    field("reachable", s.reachable);
+    field("aspects", s.aspects);
+    field("predicted_ambiguity", s.predicted_ambiguity);
+    field("predicted_max_ambiguity", s.predicted_max_ambiguity);
+  }
+};
+
+// One chosen operation; `beliefs` are the pignistic probabilities it leaves in its worst case.
+struct SensingOperation {
+  std::string sensor;
+  std::string viewpoint;
+  std::string aspect;  // the aspect the first hypothesis shows it
+  NamedValues<std::string> aspects;
+  double predicted_max_ambiguity{0.0};
+  std::string worst_case;  // the hypothesis of the maximum
+  NamedValues<double> beliefs;
+  template <class Self, class Field>
+  static void fields(Self& s, Field&& field) {
+    field("sensor", s.sensor);
+    field("viewpoint", s.viewpoint);
+    field("aspect", s.aspect);
+    field("aspects", s.aspects);
+    field("predicted_max_ambiguity", s.predicted_max_ambiguity);
+    field("worst_case", s.worst_case);
+    field("beliefs", s.beliefs);
+  }
+};
+
+struct AspectSummary {
+  std::string label;
+  std::vector<int> faces;
+  double solid_angle{0.0};
+  std::array<double, 3> direction{};  // object frame
+  template <class Self, class Field>
+  static void fields(Self& s, Field&& field) {
+    field("label", s.label);
+    field("faces", s.faces);
+    field("solid_angle", s.solid_angle);
+    field("direction", s.direction);
+  }
+};
+
+// An identity's aspects, and the aspect seen along each of the 320 cell centres of a level-2
+// icosphere (object frame): what the report's view-sphere drawing colours.
+struct ViewSphere {
+  std::string identity;
+  std::string method;  // exact arrangement | view sphere
+  std::vector<AspectSummary> aspects;
+  std::vector<std::array<double, 3>> samples;
+  std::vector<std::string> sample_aspects;
+  template <class Self, class Field>
+  static void fields(Self& s, Field&& field) {
+    field("identity", s.identity);
+    field("method", s.method);
+    field("aspects", s.aspects);
+    field("samples", s.samples);
+    field("sample_aspects", s.sample_aspects);
+  }
+};
+
+struct ObjectSensing {
+  std::string object;
+  std::vector<std::string> hypotheses;
+  std::vector<std::string> identities;
+  double threshold{0.0};  // bits
+  NamedValues<double> beliefs_before;  // pignistic probabilities
+  double ambiguity_before{0.0};
+  std::vector<SensingCandidate> candidates;
+  std::vector<SensingOperation> sequence;
+  bool resolved{false};
+  NamedValues<double> beliefs_after;  // after the sequence, in its worst case
+  double ambiguity_after{0.0};
+  std::vector<ViewSphere> view_spheres;
+  template <class Self, class Field>
+  static void fields(Self& s, Field&& field) {
+    field("object", s.object);
+    field("hypotheses", s.hypotheses);
+    field("identities", s.identities);
+    field("threshold", s.threshold);
+    field("beliefs_before", s.beliefs_before);
+    field("ambiguity_before", s.ambiguity_before);
+    field("candidates", s.candidates);
+    field("sequence", s.sequence);
+    field("resolved", s.resolved);
+    field("beliefs_after", s.beliefs_after);
+    field("ambiguity_after", s.ambiguity_after);
+    field("view_spheres", s.view_spheres);
+  }
+};
+
+struct SensePlanRecord {
+  std::string scenario;
+  std::vector<ObjectSensing> objects;  // the uncertain objects
+  template <class Self, class Field>
+  static void fields(Self& s, Field&& field) {
+    field("scenario", s.scenario);
+    field("objects", s.objects);
+  }
+};
+
+// One outcome of sensing (`branches[]`, normative): the plan of the scenario with the uncertain
+// object as the outcome has it, planned and analysed like any plan.
+struct Branch {
+  std::string outcome;  // the hypothesis: "P1", "cube", "cube:P3"
+  std::string object;
+  std::string status;        // planned | no_plan (the report's `reason` names the first)
+  std::vector<Step> steps;   // the branch's chosen steps (empty without a plan)
+  std::optional<int> errors;  // phase 2's
+  template <class Self, class Field>
+  static void fields(Self& s, Field&& field) {
+    field("outcome", s.outcome);
+    field("object", s.object);
+    field("status", s.status);
+    field("steps", s.steps);
+    field("errors", s.errors);
+  }
+};
+
 struct Chosen {
   std::size_t index{0};  // 0-based, into the enumerated instances
   std::vector<Step> steps;
@@ -789,7 +958,9 @@ struct Report {
   Robot robot;
   Family family;
   Instances instances;
-  Nullable<Chosen> chosen;   // null without a plan
+  Nullable<Chosen> chosen;  // null without a plan; with an uncertain object: its sensing steps
+  std::optional<std::vector<ObjectSensing>> sensing;  // with an uncertain object
+  std::optional<std::vector<Branch>> branches;        // with an uncertain object, one per outcome
   std::optional<Cell> cell;  // with a chosen plan
   template <class Self, class Field>
   static void fields(Self& s, Field&& field) {
@@ -803,6 +974,8 @@ struct Report {
     field("family", s.family);
     field("instances", s.instances);
     field("chosen", s.chosen);
+    field("sensing", s.sensing);
+    field("branches", s.branches);
     field("cell", s.cell);
   }
 };
@@ -840,6 +1013,10 @@ struct BoundRecord {
     field("seconds", s.seconds);
   }
 };
+
+// The report with `branch`'s steps as its chosen plan (and no branches), to render a branch
+// like a plan.
+[[nodiscard]] Report branch_as_plan(const Report& report, const Branch& branch);
 
 // ---- naming steps ----
 

@@ -220,10 +220,12 @@ std::vector<std::string> Frame::names_of(const FocalSet& set) const {
 
 // ---- MassFunction ----
 
+MassFunction::MassFunction() : frame_size_(1), elements_{{FocalSet::whole(1), 1.0}} {}
+
 MassFunction MassFunction::vacuous(int frame_size) {
   MassFunction m;
   m.frame_size_ = frame_size;
-  m.elements_.push_back({FocalSet::whole(frame_size), 1.0});
+  m.elements_.assign(1, {FocalSet::whole(frame_size), 1.0});
   return m;
 }
 
@@ -263,6 +265,7 @@ MassFunction MassFunction::from_elements(int frame_size, std::vector<FocalElemen
     throw SensingError("the masses of a source must sum to 1, got " + format_number(sum));
   MassFunction m;
   m.frame_size_ = frame_size;
+  m.elements_.clear();
   m.elements_.reserve(merged.size());
   for (const auto& [set, mass] : merged) m.elements_.push_back({set, mass / sum});
   std::sort(m.elements_.begin(), m.elements_.end(), by_set);
@@ -374,6 +377,7 @@ Combination combine(const MassFunction& a, const MassFunction& b) {
         "other, so the sources contradict each other and cannot be combined");
   Combination out{MassFunction(), joint.conflict / (joint.conflict + joint.agreeing)};
   out.mass.frame_size_ = a.frame_size();
+  out.mass.elements_.clear();
   out.mass.elements_.reserve(joint.masses.size());
   for (auto& [set, mass] : joint.masses)
     if (const double normalised = mass / joint.agreeing; normalised > 0)

@@ -130,6 +130,8 @@ struct FocalElement {
 
 class MassFunction {
  public:
+  // The vacuous mass function of a frame of one hypothesis (a placeholder value).
+  MassFunction();
   // The vacuous mass function m(frame) = 1: total ignorance, the identity of Dempster's rule.
   [[nodiscard]] static MassFunction vacuous(int frame_size);
   // m(set) = support, m(frame) = 1 - support (support in [0, 1], set not empty).
@@ -154,7 +156,6 @@ class MassFunction {
 
  private:
   friend Combination combine(const MassFunction& a, const MassFunction& b);
-  MassFunction() = default;
   int frame_size_{0};
   std::vector<FocalElement> elements_;  // sorted by set, distinct, masses > 0 summing to 1
 };

@@ -15,6 +15,8 @@ namespace spar::sensing {
 namespace {
 
 constexpr int kTile = 16;  // pixels per side of a tile of the edge-occlusion grid
+// An orthographic view direction within this cosine of a face's plane sees the face edge-on.
+constexpr double kEdgeOn = 1e-9;
 
 // The points p with normal · p + offset >= 0 (camera frame).
 struct HalfSpace {
@@ -156,10 +158,11 @@ Rendering render(const Scene& scene, const Camera& camera, const RenderOptions& 
     for (const Eigen::Vector3d& v : object.vertices) p.vertices.push_back(camera.to_camera(v));
     for (std::size_t f = 0; f < object.face_normals.size(); ++f) {
       const Eigen::Vector3d& n = object.face_normals[f];
-      // Plane n · x = offset; the eye sees its front when it is on the positive side.
+      // Plane n · x = offset; the eye sees its front when it is on the positive side, by more
+      // than the tolerance (a face seen edge-on, to rounding, is turned away).
       const double side = pinhole ? n.dot(camera.pose().translation()) - object.face_offsets[f]
                                   : -n.dot(camera.pose().linear().col(2));
-      p.front.push_back(side > 0);
+      p.front.push_back(side > (pinhole ? tolerance : kEdgeOn));
       p.normals.push_back(to_camera_rotation * n);
     }
   }

@@ -3,6 +3,9 @@
 // its object and model face or edge id. The simulated sensors (sensors.hpp), the aspects of
 // objects (aspects.hpp) and PSEIKI's expected scene are built on it.
 //
+// Turned toward the camera: the eye lies in front of the face's plane by more than 1e-9 of the
+//   scene's scale (pinhole), or the view direction makes a cosine above 1e-9 with the face's
+//   normal (orthographic); a face seen edge-on to rounding is turned away.
 // Faces: an item buffer (z-buffer holding the nearest triangle at each sample) of the camera's
 //   own resolution times `supersampling` per side, sampled at sample centres; triangles turned
 //   away from the camera are not drawn (the objects are closed, so the nearest surface along any

@@ -204,21 +204,36 @@ class Reader {
   [[nodiscard]] ObjectSpec read_object(const YAML::Node& key, const YAML::Node& node) const;
   [[nodiscard]] geometry::ObjectModel object_model(const Fields& entry, const std::string& name,
                                                    std::string& shape) const;
+  // A built-in (`mesh` false) or a mesh file's model; `shape` gets the "builtin: x" form.
+  [[nodiscard]] geometry::ObjectModel shape_model(const YAML::Node& node, const std::string& path,
+                                                  bool mesh, const std::string& name,
+                                                  std::string& shape) const;
+  [[nodiscard]] std::vector<ObjectIdentity> read_identities(const YAML::Node& node,
+                                                            const std::string& path,
+                                                            const std::string& name) const;
   void read_pose(const YAML::Node& node, const std::string& path, ObjectSpec& object) const;
+  // `pose` of an object with candidate identities or a list of stable poses: its hypotheses.
+  void read_hypotheses(const Fields& pose, ObjectSpec& object) const;
   // Face ids named by `node` (a face id, a face name, or with `features`, a feature name; or a
   // list of these), ascending and distinct.
   [[nodiscard]] std::vector<int> faces(const YAML::Node& node, const std::string& path,
                                        const ObjectSpec& object, bool features) const;
   [[nodiscard]] std::vector<Place> read_places(const YAML::Node& node) const;
+  void read_sensors(const YAML::Node& node, Scenario& scenario) const;
   [[nodiscard]] CollisionSettings read_collision(const YAML::Node& node) const;
   [[nodiscard]] bool boolean(const YAML::Node& node, const std::string& path) const;
   [[nodiscard]] AtGoal read_at(const YAML::Node& node, const std::string& path,
                                const Scenario& scenario) const;
   // Goals that cannot all hold, or that name a fixed object as moving: the first such goal fails.
   void check_goals(const Scenario& scenario, const std::vector<YAML::Node>& nodes) const;
-  [[nodiscard]] std::optional<RangeScanSensor> read_sensors(const YAML::Node& node) const;
-  [[nodiscard]] std::vector<CameraSensor> read_cameras(const YAML::Node& sensors) const;
   [[nodiscard]] CameraSensor read_camera(const YAML::Node& node, const std::string& path) const;
+  // What cameras and the range scanner share: `mount` (fixed | wrist; `fallback` when absent),
+  // intrinsics {fx, fy, cx, cy, width, height} in pixels, detection_probability in (0, 1].
+  [[nodiscard]] sensing::Mount mount(const Fields& fields, sensing::Mount fallback) const;
+  [[nodiscard]] sensing::Intrinsics intrinsics(const YAML::Node& node,
+                                               const std::string& path) const;
+  [[nodiscard]] double detection_probability(const Fields& fields, double fallback) const;
+  [[nodiscard]] SensingSettings read_sensing(const YAML::Node& node) const;
   [[nodiscard]] AssembledGoal read_assembled(const YAML::Node& node, const std::string& path,
                                              const Scenario& scenario) const;
 
@@ -582,31 +597,68 @@ geometry::ObjectModel Reader::object_model(const Fields& entry, const std::strin
                                            std::string& shape) const {
   const YAML::Node builtin = entry.get("builtin"), mesh = entry.get("mesh");
   if (builtin.IsDefined() == mesh.IsDefined())
-    fail(entry.node(),
-         entry.name() + ": needs exactly one of 'builtin: <name>' and 'mesh: <file>'");
-  if (builtin.IsDefined()) {
-    const std::string builtin_name = text(builtin, entry.path("builtin"));
+    fail(entry.node(), entry.name() +
+                           ": needs exactly one of 'builtin: <name>', 'mesh: <file>' and "
+                           "'identity: [<candidates>]'");
+  return builtin.IsDefined() ? shape_model(builtin, entry.path("builtin"), false, name, shape)
+                             : shape_model(mesh, entry.path("mesh"), true, name, shape);
+}
+
+geometry::ObjectModel Reader::shape_model(const YAML::Node& node, const std::string& path,
+                                          bool mesh, const std::string& name,
+                                          std::string& shape) const {
+  if (!mesh) {
+    const std::string builtin_name = text(node, path);
     shape = "builtin: " + builtin_name;
     const auto known = geometry::builtin_object_names();
     if (std::find(known.begin(), known.end(), builtin_name) == known.end())
-      fail(builtin, entry.path("builtin") + ": unknown built-in object '" + builtin_name + "'" +
-                        suggestion(builtin_name, known) + "; known: " + join(known));
+      fail(node, path + ": unknown built-in object '" + builtin_name + "'" +
+                     suggestion(builtin_name, known) + "; known: " + join(known));
     return geometry::ObjectModel(name, geometry::builtin_mesh(builtin_name));
   }
-  const std::string file = text(mesh, entry.path("mesh"));
+  const std::string file = text(node, path);
   shape = "mesh: " + file;
   const std::filesystem::path resolved = (base_dir_ / file).lexically_normal();
   if (const std::string problem = input_file_problem(resolved, "mesh file"); !problem.empty())
-    fail(mesh, entry.path("mesh") + ": " + printable(resolved.string()) + ": " + problem);
+    fail(node, path + ": " + printable(resolved.string()) + ": " + problem);
   try {
     geometry::Mesh scaled =
         geometry::read_mesh_file(resolved.string(), units_.metres_per_length_unit());
-    check_mesh_size(scaled, mesh, entry.path("mesh"));
+    check_mesh_size(scaled, node, path);
     return geometry::ObjectModel(name, std::move(scaled));
   } catch (const geometry::GeometryError& problem) {
-    fail(mesh,
-         entry.path("mesh") + ": bad mesh " + printable(resolved.string()) + ": " + problem.what());
+    fail(node, path + ": bad mesh " + printable(resolved.string()) + ": " + problem.what());
   }
+}
+
+// `identity: [block, cube, meshes/part.off]`: two or more distinct candidates, each a built-in
+// name or (ending in .off or .obj) a mesh file.
+std::vector<ObjectIdentity> Reader::read_identities(const YAML::Node& node, const std::string& path,
+                                                    const std::string& name) const {
+  if (!node.IsSequence() || node.size() < 2)
+    fail(node, path + ": expected a list of at least two candidate shapes, got " +
+                   (node.IsSequence() ? "a list of " + std::to_string(node.size())
+                                      : describe(node)));
+  check_count(node, path, "object.identity");
+  std::vector<ObjectIdentity> out;
+  for (std::size_t i = 0; i < node.size(); ++i) {
+    const std::string item = path + "[" + std::to_string(i) + "]";
+    const std::string candidate = text(node[i], item);
+    for (const ObjectIdentity& other : out)
+      if (other.name == candidate) fail(node[i], item + ": '" + candidate + "' is listed twice");
+    std::string lower = candidate;
+    std::transform(lower.begin(), lower.end(), lower.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    const bool mesh = lower.ends_with(".off") || lower.ends_with(".obj");
+    std::string shape;
+    geometry::ObjectModel model = shape_model(node[i], item, mesh, name, shape);
+    std::vector<geometry::StablePose> poses = geometry::stable_poses(model);
+    out.push_back({.name = candidate,
+                   .shape = std::move(shape),
+                   .model = std::move(model),
+                   .stable_poses = std::move(poses)});
+  }
+  return out;
 }
 
 // An object a parallel gripper picks up is a few millimetres to a metre or two across; a mesh far
@@ -696,6 +748,10 @@ std::vector<int> Reader::faces(const YAML::Node& node, const std::string& path,
 void Reader::read_pose(const YAML::Node& node, const std::string& path, ObjectSpec& object) const {
   const Fields pose(*this, node, path, {"stable", "at", "yaw", "xyz", "rpy", "matrix"});
   const YAML::Node stable = pose.get("stable");
+  if (!object.identities.empty() || stable.IsSequence()) {
+    read_hypotheses(pose, object);
+    return;
+  }
   if (!stable.IsDefined()) {
     for (const char* key : {"at", "yaw"})
       if (pose.has(key))
@@ -735,12 +791,113 @@ void Reader::read_pose(const YAML::Node& node, const std::string& path, ObjectSp
   object.initial_stable_pose = index;
 }
 
+void Reader::read_hypotheses(const Fields& pose, ObjectSpec& object) const {
+  // The candidates: the identities, or the object's one shape.
+  std::vector<ObjectIdentity> candidates = object.identities;
+  if (candidates.empty())
+    candidates.push_back({.name = object.name,
+                          .shape = object.shape,
+                          .model = object.model,
+                          .stable_poses = object.stable_poses});
+  const bool identities = !object.identities.empty();
+  const YAML::Node stable = pose.get("stable");
+  const bool rigid = pose.has("xyz") || pose.has("rpy") || pose.has("matrix");
+  std::vector<ObjectHypothesis> hypotheses;
+  if (rigid) {
+    // A pose given outright: the identity alone is uncertain.
+    for (const char* key : {"stable", "at", "yaw"})
+      if (pose.has(key))
+        fail(pose.get(key), pose.path(key) +
+                                ": give either {stable, at, yaw} or {xyz, rpy} / {matrix}, not "
+                                "both");
+    const Transform placed = rigid_pose(pose);
+    for (std::size_t i = 0; i < candidates.size(); ++i) {
+      ObjectHypothesis hypothesis{.label = candidates[i].name,
+                                  .identity = static_cast<int>(i),
+                                  .stable_pose = std::nullopt,
+                                  .pose = placed};
+      if (const auto id = geometry::classify_orientation(candidates[i].stable_poses,
+                                                         placed.linear()))
+        hypothesis.stable_pose = *id - 1;
+      hypotheses.push_back(hypothesis);
+    }
+  } else {
+    // Stable poses: the listed ones (or one), or every one of each identity when none is listed.
+    std::vector<std::pair<std::string, YAML::Node>> listed;
+    if (stable.IsSequence()) {
+      if (stable.size() == 0) fail(stable, pose.path("stable") + ": the list of stable poses is empty");
+      for (std::size_t k = 0; k < stable.size(); ++k) {
+        const std::string item = pose.path("stable") + "[" + std::to_string(k) + "]";
+        const std::string label = text(stable[k], item);
+        for (const auto& [seen, unused] : listed)
+          if (seen == label) fail(stable[k], item + ": '" + label + "' is listed twice");
+        listed.emplace_back(label, stable[k]);
+      }
+    } else if (stable.IsDefined()) {
+      listed.emplace_back(text(stable, pose.path("stable")), stable);
+    } else if (!identities) {
+      fail(pose.node(), pose.name() + ": missing key 'stable'");
+    }
+    const std::vector<double> at =
+        quantities(pose.require("at"), pose.path("at"), 2, "pose.position");
+    const double yaw =
+        pose.has("yaw") ? quantity(pose.get("yaw"), pose.path("yaw"), "pose.angle") : 0.0;
+    const Transform above = Eigen::Translation3d(at[0], at[1], 0) *
+                            Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ());
+    for (const auto& [label, node] : listed) {
+      bool any = false;
+      for (const ObjectIdentity& candidate : candidates)
+        for (const geometry::StablePose& stable_pose : candidate.stable_poses)
+          any = any || stable_pose.label == label;
+      if (any) continue;
+      std::vector<std::string> labels;
+      for (const geometry::StablePose& stable_pose : candidates.front().stable_poses)
+        labels.push_back(stable_pose.label);
+      fail(node, pose.path("stable") + ": object '" + object.name + "' has no stable pose '" +
+                     label + "'" + (identities ? " in any of its identities" : "") +
+                     "; its stable poses: " + join(labels) + " (spar object prints them)");
+    }
+    for (std::size_t i = 0; i < candidates.size(); ++i)
+      for (std::size_t p = 0; p < candidates[i].stable_poses.size(); ++p) {
+        const geometry::StablePose& stable_pose = candidates[i].stable_poses[p];
+        const bool wanted =
+            listed.empty() || std::any_of(listed.begin(), listed.end(), [&](const auto& entry) {
+              return entry.first == stable_pose.label;
+            });
+        if (!wanted) continue;
+        hypotheses.push_back(
+            {.label = identities ? candidates[i].name + ":" + stable_pose.label : stable_pose.label,
+             .identity = static_cast<int>(i),
+             .stable_pose = static_cast<int>(p),
+             .pose = above * stable_pose.object_to_world});
+      }
+  }
+  // The first hypothesis stands for the object wherever a single shape and pose is needed.
+  const ObjectIdentity& first = candidates[static_cast<std::size_t>(hypotheses.front().identity)];
+  object.shape = first.shape;
+  object.model = first.model;
+  object.stable_poses = first.stable_poses;
+  object.initial_pose = hypotheses.front().pose;
+  object.initial_stable_pose = hypotheses.front().stable_pose;
+  if (hypotheses.size() > 1) object.hypotheses = std::move(hypotheses);
+}
+
 ObjectSpec Reader::read_object(const YAML::Node& key, const YAML::Node& node) const {
   const std::string name = identifier(key, "objects");
   const Fields entry(*this, node, "objects." + name,
-                     {"builtin", "mesh", "features", "pose", "uncertainty", "fixed"});
+                     {"builtin", "mesh", "identity", "features", "pose", "uncertainty", "fixed"});
   std::string shape;
-  geometry::ObjectModel model = object_model(entry, name, shape);
+  std::vector<ObjectIdentity> identities;
+  if (const YAML::Node identity = entry.get("identity"); identity.IsDefined()) {
+    for (const char* key : {"builtin", "mesh"})
+      if (entry.has(key))
+        fail(entry.get(key), entry.path(key) + ": give either '" + key +
+                                 "' or 'identity', not both");
+    identities = read_identities(identity, entry.path("identity"), name);
+  }
+  geometry::ObjectModel model =
+      identities.empty() ? object_model(entry, name, shape) : identities.front().model;
+  if (!identities.empty()) shape = identities.front().shape;
   std::vector<geometry::StablePose> stable_poses = geometry::stable_poses(model);
   ObjectSpec object{.name = name,
                     .shape = std::move(shape),
@@ -752,7 +909,8 @@ ObjectSpec Reader::read_object(const YAML::Node& key, const YAML::Node& node) co
                     .uncertainty = {},
                     .fixed = false,
                     .location = where(key),
-                    .pose_location = {}};
+                    .pose_location = {},
+                    .identities = std::move(identities)};
   if (const YAML::Node features = entry.get("features"); features.IsDefined()) {
     // A map from feature names (the user's own, so not checked against known keys) to faces.
     for (const auto& feature : expect_map(features, entry.path("features"))) {
@@ -808,14 +966,49 @@ std::vector<Place> Reader::read_places(const YAML::Node& node) const {
   return places;
 }
 
-std::optional<RangeScanSensor> Reader::read_sensors(const YAML::Node& node) const {
+void Reader::read_sensors(const YAML::Node& node, Scenario& scenario) const {
   const Fields sensors(*this, node, "sensors", {"range_scan", "cameras"});
-  if (!sensors.has("range_scan")) return std::nullopt;
-  const Fields range_scan(*this, sensors.get("range_scan"), "sensors.range_scan", {"residual"});
-  RangeScanSensor sensor;
-  sensor.residual = uncertainty(range_scan.require("residual"), range_scan.path("residual"),
-                                sensor.residual_model);
-  return sensor;
+  if (sensors.has("range_scan")) {
+    const Fields range_scan(*this, sensors.get("range_scan"), "sensors.range_scan",
+                            {"residual", "pose", "intrinsics", "mount", "position_noise",
+                             "normal_noise", "max_angle", "detection_probability"});
+    RangeScanSensor sensor;
+    sensing::SensorModel& model = sensor.model;
+    sensor.residual = uncertainty(range_scan.require("residual"), range_scan.path("residual"),
+                                  sensor.residual_model);
+    // On the wrist (at the gripper's frame) unless it has a pose.
+    model.mount = mount(range_scan, range_scan.has("pose") ? sensing::Mount::kFixed
+                                                           : sensing::Mount::kWrist);
+    if (const YAML::Node pose = range_scan.get("pose"); pose.IsDefined())
+      model.pose = rigid_pose(pose, range_scan.path("pose"));
+    else if (model.mount == sensing::Mount::kFixed)
+      fail(range_scan.node(), "sensors.range_scan: a fixed sensor needs a 'pose'");
+    if (const YAML::Node node = range_scan.get("intrinsics"); node.IsDefined())
+      model.intrinsics = intrinsics(node, range_scan.path("intrinsics"));
+    model.detection_probability = detection_probability(range_scan, model.detection_probability);
+    for (const auto& [key, target] :
+         {std::pair{"position_noise", &model.position_noise},
+          std::pair{"normal_noise", &model.normal_noise},
+          std::pair{"max_angle", &model.max_angle}})
+      if (const YAML::Node value = range_scan.get(key); value.IsDefined())
+        *target = quantity(value, range_scan.path(key), std::string("sensor.") + key);
+    scenario.range_scan = sensor;
+  }
+  const YAML::Node list = sensors.get("cameras");
+  if (!list.IsDefined()) return;
+  check_count(expect_list(list, "sensors.cameras"), "sensors.cameras", "sensors.cameras");
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    const std::string path = "sensors.cameras[" + std::to_string(i) + "]";
+    CameraSensor camera = read_camera(list[i], path);
+    for (const CameraSensor& other : scenario.cameras)
+      if (other.name == camera.name)
+        fail(list[i], path + ".name: duplicate camera name '" + camera.name + "'");
+    // Sense planning names its operations by sensor: the range scanner is `range_scan`.
+    if (camera.name == "range_scan")
+      fail(list[i], path + ".name: 'range_scan' is the range scanner's name; name the camera "
+                           "otherwise");
+    scenario.cameras.push_back(std::move(camera));
+  }
 }
 
 CollisionSettings Reader::read_collision(const YAML::Node& node) const {
@@ -923,34 +1116,18 @@ void Reader::check_goals(const Scenario& scenario, const std::vector<YAML::Node>
   }
 }
 
-std::vector<CameraSensor> Reader::read_cameras(const YAML::Node& node) const {
-  const Fields sensors(*this, node, "sensors", {"range_scan", "cameras"});
-  std::vector<CameraSensor> cameras;
-  const YAML::Node list = sensors.get("cameras");
-  if (!list.IsDefined()) return cameras;
-  check_count(expect_list(list, "sensors.cameras"), "sensors.cameras", "sensors.cameras");
-  for (std::size_t i = 0; i < list.size(); ++i) {
-    CameraSensor camera = read_camera(list[i], "sensors.cameras[" + std::to_string(i) + "]");
-    for (const CameraSensor& other : cameras)
-      if (other.name == camera.name)
-        fail(list[i], "sensors.cameras[" + std::to_string(i) + "].name: duplicate camera name '" +
-                          camera.name + "'");
-    cameras.push_back(std::move(camera));
-  }
-  return cameras;
-}
-
-// {name, pose: {xyz, rpy}, intrinsics: {fx, fy, cx, cy, width, height}, noise_px,
+// {name, pose: {xyz, rpy}, intrinsics: {fx, fy, cx, cy, width, height}, mount, noise_px,
 // detection_probability, projection, uncertainty}: intrinsics in pixels, the pose in the file's
-// units.
+// units (in the gripper frame with `mount: wrist`).
 CameraSensor Reader::read_camera(const YAML::Node& node, const std::string& path) const {
   const Fields fields(*this, node, path,
-                      {"name", "pose", "intrinsics", "noise_px", "detection_probability",
+                      {"name", "pose", "intrinsics", "mount", "noise_px", "detection_probability",
                        "projection", "uncertainty"});
   CameraSensor camera;
   camera.name = identifier(fields.require("name"), fields.path("name"));
   camera.location = where(node);
   camera.pose = rigid_pose(fields.require("pose"), fields.path("pose"));
+  camera.mount = mount(fields, sensing::Mount::kFixed);
   if (const YAML::Node kind = fields.get("projection"); kind.IsDefined()) {
     const std::string name = text(kind, fields.path("projection"));
     const std::vector<std::string> known = {"pinhole", "orthographic"};
@@ -960,26 +1137,64 @@ CameraSensor Reader::read_camera(const YAML::Node& node, const std::string& path
       fail(kind, fields.path("projection") + ": unknown projection '" + name + "'" +
                      suggestion(name, known) + "; known: " + join(known));
   }
-  const Fields k(*this, fields.require("intrinsics"), fields.path("intrinsics"),
-                 {"fx", "fy", "cx", "cy", "width", "height"});
+  camera.intrinsics = intrinsics(fields.require("intrinsics"), fields.path("intrinsics"));
+  if (const YAML::Node value = fields.get("noise_px"); value.IsDefined())
+    camera.noise_px = quantity(value, fields.path("noise_px"), "camera.noise_px");
+  camera.detection_probability = detection_probability(fields, camera.detection_probability);
+  if (fields.has("uncertainty")) {
+    if (camera.mount == sensing::Mount::kWrist)
+      fail(fields.get("uncertainty"), fields.path("uncertainty") +
+                                          ": a camera on the wrist is where the robot puts it; "
+                                          "'uncertainty' is for a fixed camera");
+    camera.uncertainty = uncertainty(fields.get("uncertainty"), fields.path("uncertainty"),
+                                     camera.uncertainty_model);
+  }
+  return camera;
+}
+
+sensing::Mount Reader::mount(const Fields& fields, sensing::Mount fallback) const {
+  const YAML::Node node = fields.get("mount");
+  if (!node.IsDefined()) return fallback;
+  const std::string name = text(node, fields.path("mount"));
+  const std::vector<std::string> known = {"fixed", "wrist"};
+  if (name != "fixed" && name != "wrist")
+    fail(node, fields.path("mount") + ": unknown mount '" + name + "'" + suggestion(name, known) +
+                   "; known: " + join(known));
+  return name == "wrist" ? sensing::Mount::kWrist : sensing::Mount::kFixed;
+}
+
+sensing::Intrinsics Reader::intrinsics(const YAML::Node& node, const std::string& path) const {
+  const Fields k(*this, node, path, {"fx", "fy", "cx", "cy", "width", "height"});
   const auto pixels = [&](const char* key, std::string_view limit_key) {
     return quantity(k.require(key), k.path(key), limit_key);
   };
-  camera.intrinsics = {.fx = pixels("fx", "camera.focal"),
-                       .fy = pixels("fy", "camera.focal"),
-                       .cx = pixels("cx", "camera.principal_point"),
-                       .cy = pixels("cy", "camera.principal_point"),
-                       .width = static_cast<int>(pixels("width", "camera.image_side")),
-                       .height = static_cast<int>(pixels("height", "camera.image_side"))};
-  if (const YAML::Node value = fields.get("noise_px"); value.IsDefined())
-    camera.noise_px = quantity(value, fields.path("noise_px"), "camera.noise_px");
-  if (const YAML::Node value = fields.get("detection_probability"); value.IsDefined())
-    camera.detection_probability =
-        quantity(value, fields.path("detection_probability"), "camera.detection_probability");
-  if (fields.has("uncertainty"))
-    camera.uncertainty = uncertainty(fields.get("uncertainty"), fields.path("uncertainty"),
-                                     camera.uncertainty_model);
-  return camera;
+  return {.fx = pixels("fx", "camera.focal"),
+          .fy = pixels("fy", "camera.focal"),
+          .cx = pixels("cx", "camera.principal_point"),
+          .cy = pixels("cy", "camera.principal_point"),
+          .width = static_cast<int>(pixels("width", "camera.image_side")),
+          .height = static_cast<int>(pixels("height", "camera.image_side"))};
+}
+
+double Reader::detection_probability(const Fields& fields, double fallback) const {
+  const YAML::Node value = fields.get("detection_probability");
+  return value.IsDefined() ? quantity(value, fields.path("detection_probability"),
+                                      "sensor.detection_probability")
+                           : fallback;
+}
+
+SensingSettings Reader::read_sensing(const YAML::Node& node) const {
+  const Fields fields(*this, node, "sensing", {"ambiguity_threshold", "max_operations", "standoff"});
+  SensingSettings settings;
+  if (const YAML::Node value = fields.get("ambiguity_threshold"); value.IsDefined())
+    settings.ambiguity_threshold =
+        quantity(value, fields.path("ambiguity_threshold"), "sensing.ambiguity_threshold");
+  if (const YAML::Node value = fields.get("max_operations"); value.IsDefined())
+    settings.max_operations = static_cast<int>(
+        quantity(value, fields.path("max_operations"), "sensing.max_operations"));
+  if (const YAML::Node value = fields.get("standoff"); value.IsDefined())
+    settings.standoff = quantity(value, fields.path("standoff"), "sensing.standoff");
+  return settings;
 }
 
 AssembledGoal Reader::read_assembled(const YAML::Node& node, const std::string& path,
@@ -1033,7 +1248,7 @@ Scenario Reader::read(std::string_view document_text) {
     throw ScenarioError(source_ + ":1:1: the scenario is empty (it needs at least 'objects')");
   const Fields top(*this, document, "",
                    {"name", "description", "units", "robot", "objects", "places", "sensors",
-                    "collision", "grasping", "goals"});
+                    "sensing", "collision", "grasping", "goals"});
   Scenario scenario;
   scenario.name = top.has("name") ? text(top.get("name"), "name")
                                   : std::filesystem::path(source_).stem().string();
@@ -1056,10 +1271,8 @@ Scenario Reader::read(std::string_view document_text) {
     scenario.objects.push_back(read_object(key, entry.second));
   }
   if (top.has("places")) scenario.places = read_places(top.get("places"));
-  if (top.has("sensors")) {
-    scenario.range_scan = read_sensors(top.get("sensors"));
-    scenario.cameras = read_cameras(top.get("sensors"));
-  }
+  if (top.has("sensors")) read_sensors(top.get("sensors"), scenario);
+  if (top.has("sensing")) scenario.sensing = read_sensing(top.get("sensing"));
   if (top.has("collision")) scenario.collision = read_collision(top.get("collision"));
   scenario.warnings = warnings_;  // after every object's mesh
   if (const YAML::Node goals = top.get("goals"); goals.IsDefined()) {

@@ -39,6 +39,7 @@ from spar._spar import (  # noqa: F401 (re-exported)
     ReportError,
     Scenario,
     ScenarioError,
+    SensingError,
     ShostakError,
     SymbolicError,
     UncertainPose,
@@ -54,9 +55,10 @@ from spar._spar import (  # noqa: F401 (re-exported)
 __all__ = [
     "BoundResult", "BoundsError", "CmsError", "DomainError", "Error", "Expr", "GeometryError",
     "IkResult", "IkSolution", "KinematicsError", "NumberError", "PlanError", "PlanRun", "QrError",
-    "ReportError", "Scenario", "ScenarioError", "ShostakError", "SymbolicError", "UncertainPose",
-    "bound", "bound_record", "fk", "ik", "plan", "plan_run", "possible_manipulator_pose",
-    "possible_object_pose", "robot", "robots", "scenario",
+    "ReportError", "Scenario", "ScenarioError", "SensingError", "ShostakError", "SymbolicError",
+    "UncertainPose", "aspects", "bound", "bound_record", "evidence", "fk", "ik", "plan",
+    "plan_run", "possible_manipulator_pose", "possible_object_pose", "robot", "robots",
+    "scenario", "sense_plan",
 ]
 
 
@@ -200,3 +202,58 @@ def plan_run(source, *, instances=16, max_nodes=200_000, max_steps=64, domain=No
 
 plan.__doc__ += _PLAN_OPTIONS_DOC
 plan_run.__doc__ += _PLAN_OPTIONS_DOC
+
+
+def evidence(source):
+    """Dempster's combination of mass functions: the dict of `spar evidence --json`.
+
+    `source` is a dict {"frame": [names], "sources": [[{"set": [names], "mass": x}, ...], ...]},
+    its JSON text, or a path to a JSON file. Returns {"frame", "masses", "conflict", "belief",
+    "plausibility", "pignistic", "ambiguity", "nonspecificity", "ambiguity_measure"}; the
+    ambiguity is the entropy of the pignistic probability in bits. Raises spar.SensingError for
+    a bad problem (naming the place) or total conflict.
+    """
+    if isinstance(source, dict):
+        return _spar._evidence_text(json.dumps(source), "<dict>")
+    if isinstance(source, os.PathLike) or (isinstance(source, str)
+                                           and not source.lstrip().startswith("{")):
+        return _spar._evidence_file(os.fspath(source))
+    return _spar._evidence_text(source, "<text>")
+
+
+_METRES_PER_UNIT = {"m": 1.0, "mm": 0.001, "in": 0.0254}
+
+
+def aspects(obj, *, units="m", max_angle=75.0, level=3, resolution=128, view_sphere=False):
+    """The aspects of an object: the dict of `spar aspects --json`.
+
+    `obj` is a built-in name (peg, block, cube, l-shape) or an .off / .obj file whose coordinates
+    are in `units` (m, mm or in; also the unit of the output). A face is seen within `max_angle`
+    degrees of its normal. Convex objects get the exact arrangement; others a view sphere of
+    20 * 4**level directions with `resolution` samples across (view_sphere=True forces it).
+    Returns {"object", "units", "method", "max_angle", "aspects": [{"label", "faces",
+    "solid_angle", "direction", "features"}]}. The GIL is released while computing.
+    """
+    if units not in _METRES_PER_UNIT:
+        raise ValueError(f"units must be one of m, mm, in, not {units!r}")
+    settings = _spar._AspectSettings()
+    settings.units = units
+    settings.metres_per_unit = _METRES_PER_UNIT[units]
+    settings.max_angle_degrees = float(max_angle)
+    settings.level = int(level)
+    settings.resolution = int(resolution)
+    settings.view_sphere = bool(view_sphere)
+    return _spar._aspects(os.fspath(obj), settings)
+
+
+def sense_plan(source, *, base_dir=None, name=None):
+    """Sense planning: the dict of `spar sense-plan --json` for a scenario (path, dict, YAML text
+    or Scenario; base_dir and name as in spar.scenario()).
+
+    For every object whose identity or stable pose is uncertain: its hypotheses, the candidate
+    sensing operations (sensor x viewpoint class) with their predicted ambiguity per true
+    hypothesis and its maximum, the chosen sequence (least maximum ambiguity first, until it is
+    below sensing.ambiguity_threshold) with the beliefs it leaves, and each identity's aspects.
+    The GIL is released while planning.
+    """
+    return _spar._sense_plan(scenario(source, base_dir=base_dir, name=name))

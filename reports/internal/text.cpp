@@ -197,6 +197,10 @@ std::string step_details(const Units& units, const Step& step) {
   }
   if (step.stable_pose && *step.stable_pose) add("stable pose " + **step.stable_pose);
   if (step.configuration && *step.configuration) add("arm " + **step.configuration);
+  if (step.sensing)
+    add(step.sensing->sensor + " at " + step.sensing->viewpoint + " (aspect " +
+        (step.sensing->aspect.empty() ? "-" : step.sensing->aspect) + "), at most " +
+        rounded(step.sensing->predicted_max_ambiguity) + " bits left");
   return out;
 }
 
@@ -244,6 +248,13 @@ std::string sensor_residual_text(const Units& units, const SensorResidual& neede
          (needed.capped ? " of the scenario's sensor, the search cap, or coarser"
                         : " of the scenario's sensor") +
          ") would make this step hold";
+}
+
+std::string vision_text(const VisionCheck& vision) {
+  std::string edges;
+  for (const std::string& edge : vision.edges) edges += (edges.empty() ? "" : ", ") + edge;
+  return "camera " + vision.camera + " must see " + edges +
+         " (PSEIKI accepts at scene belief >= " + rounded(vision.acceptance, 2) + ")";
 }
 
 std::pair<int, int> holding(const Step& step) {

@@ -88,6 +88,9 @@ const fs::path& scratch() {
                "places: [{name: far, at: [5, 0]}]\n"
                "goals: [{at: {object: cube, place: far}}]\n");
     fs::create_directory(root / "folder.off");
+    write_text(root / "tetrahedron.off",
+               "OFF\n4 4 0\n1 1 1\n1 -1 -1\n-1 1 -1\n-1 -1 1\n3 0 1 2\n3 0 3 1\n3 0 2 3\n"
+               "3 1 3 2\n");
     // Image files for `spar vision match`: three edges that are nothing the sidewalk camera
     // expects, and an edge without its end.
     write_text(root / "clutter_only.json",
@@ -355,6 +358,24 @@ const std::vector<Case> kCases = {
   {"EvidenceBadMass", {"evidence", "@DIR@/bad_mass.json"}, kError, "",
    "bad_mass.json: sources\\[0\\]\\[0\\].mass: must be a number in \\[0, 1\\], got 1.5"},
   {"EvidenceTotalConflict", {"evidence", "@DIR@/conflict.json"}, kError, "", "total conflict"},
+  // Aspects.
+  {"AspectsCube", {"aspects", "cube"}, 0, "^object cube: 26 aspects \\(exact arrangement\\)", ""},
+  {"AspectsTetrahedronJson", {"aspects", "@DIR@/tetrahedron.off", "--json"}, 0,
+   "\"method\": \"exact arrangement\"[^]*\"label\": \"A14\"", ""},
+  {"AspectsBlock", {"aspects", "@SRC@/examples/objects/block.off", "--units", "in"}, 0,
+   "aspects \\(view sphere, 1280 view directions", ""},
+  {"AspectsMaxAngleZero", {"aspects", "cube", "--max-angle", "0"}, kError, "",
+   "--max-angle: must be a number > 0 and <= 90, got '0'"},
+  {"AspectsUnknown", {"aspects", "teapot"}, kError, "", "teapot: no such file, nor a built-in"},
+  // Sense planning.
+  {"SensePlan", {"sense-plan", "@SRC@/examples/sensing_block_pose.yaml"}, 0,
+   "\n1\\. range_scan at V[0-9]+ \\(aspect A[0-9]+\\): at most [0-9.e-]+ bits \\(worst case P[12]\\)",
+   ""},
+  {"SensePlanJson", {"sense-plan", "@SRC@/examples/sensing_block_pose.yaml", "--json"}, 0,
+   "\"sequence\": \\[\n +\\{\n +\"sensor\": \"range_scan\",\n +\"viewpoint\": \"V[0-9]+\"",
+   ""},
+  {"SensePlanNothingUncertain", {"sense-plan", "@SRC@/examples/peg_block_face_up.yaml"}, 0,
+   "nothing to sense", ""},
   // PSEIKI verification vision (issue 27) on the survey's sidewalk example.
   {"VisionRender", {"vision", "render", kSidewalk, "--camera", "front", "--json"}, 0,
    "\"edges\": \\[\n *\\{\n *\"id\": \"walk/e1\",\n *\"object\": \"walk\",\n *\"faces\": "
@@ -374,6 +395,10 @@ const std::vector<Case> kCases = {
    // No [^]* across the whole output: libstdc++'s regex recurses once per character and
    // overflows the stack under AddressSanitizer on these ~100 KB.
    "\n *\"truth\": \"walk/e[0-9]+\"\n", ""},
+  // One camera description for both: the sense-planning example's overhead camera in PSEIKI.
+  {"VisionRenderSensingCamera", {"vision", "render", "@SRC@/examples/sensing_block_pose.yaml",
+                                 "--camera", "overhead"}, 0,
+   "^expected scene of camera overhead: [1-9][0-9]* edges", ""},
   {"VisionUnknownCamera", {"vision", "render", kSidewalk, "--camera", "back"}, kError, "",
    "scenario 'pseiki_sidewalk' has no camera 'back' \\(cameras: front\\)"},
   {"VisionImageMissing", {"vision", "match", kSidewalk, "--camera", "front", "--image",

@@ -299,7 +299,8 @@ TEST(ScenarioErrors, MissingKey) {
   expect_error(with("    pose: {stable: P1, at: [14, 12]}\n", ""), 4, 5,
                "objects.peg: missing key 'pose'");
   expect_error(with("    builtin: peg\n", ""), 4, 5,
-               "objects.peg: needs exactly one of 'builtin: <name>' and 'mesh: <file>'");
+               "objects.peg: needs exactly one of 'builtin: <name>', 'mesh: <file>' and "
+               "'identity: [<candidates>]'");
 }
 
 TEST(ScenarioErrors, UnknownObjectInAGoal) {

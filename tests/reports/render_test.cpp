@@ -70,6 +70,17 @@ TEST(Markdown, FailedStepShowsVerificationAndRecovery) {
   EXPECT_NE(summary(report).find("errors: 1"), std::string::npos);
 }
 
+// Issue 27: with a camera, each verification says what PSEIKI must see, in Markdown and HTML.
+TEST(Markdown, AVerificationNamesTheEdgesTheCameraMustSee) {
+  const Report report = report_from_json(camera_report());
+  const std::string markdown = render_markdown(report);
+  const std::string section = markdown.substr(markdown.find("## Verification and recovery"));
+  const std::regex vision(
+      R"(\n    - camera overhead must see peg/e\d+(, peg/e\d+)* \(PSEIKI accepts at scene belief >= 0\.5\)\n)");
+  EXPECT_TRUE(std::regex_search(section, vision)) << section;
+  EXPECT_NE(render_html(report).find("<li>camera overhead must see peg/e"), std::string::npos);
+}
+
 TEST(Markdown, NoPlanGivesTheReason) {
   const std::string markdown = render_markdown(no_plan_report());
   EXPECT_NE(markdown.find("no_plan ("), std::string::npos);
@@ -299,6 +310,28 @@ TEST(Html, ShowsBlameAndReverseMargin) {
   EXPECT_TRUE(std::regex_search(
       html,
       std::regex(R"(<td data-label="holds up to">x[0-9.]+ \(±[0-9.]+ in, ±[0-9.]+ deg\)</td>)")));
+}
+
+TEST(SensingReport, ShowsTheSensePlanAndEveryBranch) {
+  const Json& report = sensing_report();
+  EXPECT_EQ(report["status"], "planned");
+  const Json& first = report["chosen"]["steps"][0];
+  EXPECT_EQ(first["action"], "sense");
+  EXPECT_EQ(first["object"], "block");
+  EXPECT_EQ(first["sensing"]["sensor"], "range_scan");
+  EXPECT_LT(first["sensing"]["predicted_max_ambiguity"].get<double>(), 0.3);
+  ASSERT_EQ(report["branches"].size(), 2U);
+  EXPECT_EQ(report["branches"][1]["outcome"], "P2");
+  EXPECT_EQ(report["branches"][1]["status"], "planned");
+  EXPECT_FALSE(report["branches"][1]["steps"].empty());
+  const std::string markdown = render_markdown(report);
+  for (const char* part : {"## Sensing", "### block: 2 hypotheses", "| range_scan at V",
+                           "### Branch P1 (block is P1): planned",
+                           "### Branch P2 (block is P2): planned", "branch P2: planned"})
+    EXPECT_NE(markdown.find(part), std::string::npos) << part;
+  const std::string html = render_html(report);
+  EXPECT_NE(html.find("class=\"view-sphere\""), std::string::npos);
+  EXPECT_EQ(count(html, "<h3>Branch P"), 2U);
 }
 
 TEST(Renderers, RefuseADocumentThatIsNotAReport) {
