@@ -311,6 +311,9 @@ bool holds(const bounds::Inequality& inequality, double value) {
 
 }  // namespace
 
+// The largest tree (nodes) a precondition's expression is printed as.
+constexpr double kMaxPrintedTree = 1e7;
+
 InstanceAnalysis analyse_instance(const WorldModel& world, const Domain& domain,
                                   const PlanInstance& instance, const AnalysisOptions& options) {
   InstanceAnalysis analysis;
@@ -320,8 +323,11 @@ InstanceAnalysis analyse_instance(const WorldModel& world, const Domain& domain,
       .run(phase2_steps(domain, instance), analysis);
   for (AnalysedStep& step : analysis.steps)
     for (PreconditionResult& result : step.preconditions) {
-      result.expression = symbolic::to_string(result.inequality.expression);
       result.nodes = symbolic::dag_size(result.inequality.expression);
+      // The tree form of a DAG can be exponentially larger (joint uncertainty composes the
+      // chain's rotations): past the printer's limit the text is left empty.
+      if (symbolic::tree_size(result.inequality.expression) <= kMaxPrintedTree)
+        result.expression = symbolic::to_string(result.inequality.expression, kMaxPrintedTree);
     }
   return analysis;
 }
@@ -373,8 +379,7 @@ void add_margins(InstanceAnalysis& analysis, const AnalysisOptions& options) {
           std::vector<Interval> box = result.box;
           for (std::size_t v = 0; v < inputs.size(); ++v) {
             const SpaceVariable& meta = analysis.variables[result.variables[v].index];
-            if (meta.provenance.source == UncertaintySource::kManipulator &&
-                !options.scale_manipulator)
+            if (of_the_arm(meta.provenance.source) && !options.scale_manipulator)
               continue;
             box[v] = Interval(meta.lower * scale, meta.upper * scale);
           }
