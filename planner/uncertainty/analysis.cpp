@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <random>
 #include <set>
+#include <span>
 
 #include "spar/bounds/interval.hpp"
 #include "spar/planner/error.hpp"
@@ -107,7 +108,8 @@ class InstanceAnalyser {
         options_(options),
         pool_(pool),
         scan_(find_action(domain, Effect::kSense)),
-        squeeze_(find_action(domain, Effect::kReduce)) {}
+        squeeze_(find_action(domain, Effect::kReduce)),
+        decisions_(options.quick, options.bound) {}
 
   void run(std::vector<Phase2Step> steps, InstanceAnalysis& out);
 
@@ -132,6 +134,9 @@ class InstanceAnalyser {
   const AnalysisOptions& options_;
   symbolic::ExprPool& pool_;
   const int scan_, squeeze_;  // the domain's first sense and reduce actions (-1: none)
+  // Every step decision of this instance: the repair search, the sensor margin and the resumed
+  // analysis after a repair decide many steps again over the same boxes.
+  mutable DecisionCache decisions_;
 };
 
 std::map<int, std::vector<PreconditionResult>> InstanceAnalyser::replay(
@@ -139,7 +144,7 @@ std::map<int, std::vector<PreconditionResult>> InstanceAnalyser::replay(
   std::map<int, std::vector<PreconditionResult>> decided;
   for (int i = from; i <= through; ++i) {
     const std::vector<Precondition> preconditions = state.step(steps[i], i + 1);
-    decided[i] = decide(preconditions, state.space(), options_.quick, options_.bound);
+    decided[i] = decisions_.decide(preconditions, state.space());
   }
   return decided;
 }
@@ -264,7 +269,7 @@ void InstanceAnalyser::run(std::vector<Phase2Step> steps, InstanceAnalysis& out)
         .step = steps[k],
         .action = domain_.actions[steps[k].action].name,
         .inserted = steps[k].instance_step < 0,
-        .preconditions = decide(preconditions, state.space(), options_.quick, options_.bound),
+        .preconditions = decisions_.decide(preconditions, state.space()),
         .failed = false,
         .verification = {},
         .sensor_scale_needed = std::nullopt};
@@ -332,75 +337,86 @@ InstanceAnalysis analyse_instance(const WorldModel& world, const Domain& domain,
   return analysis;
 }
 
+namespace {
+
+// PreconditionResult::blame: per variable, the share of the sound bound's width that goes when it
+// is pinned to its nominal value 0 (the quick bound of the pinned box), largest first. Only the
+// pinned bound's outer width is used, so it skips NLopt's inner search (midpoints and corners
+// still give it inner values to converge against).
+void add_blame(PreconditionResult& result, bounds::BoundProblem& problem,
+               bounds::BoundOptions quick) {
+  quick.inner = false;
+  const double width = result.bound.hi - result.bound.lo;
+  result.blame.clear();
+  for (std::size_t v = 0; v < result.box.size(); ++v) {
+    std::vector<Interval> pinned = result.box;
+    pinned[v] = Interval(0.0);
+    const bounds::BoundResult without = problem.bound(pinned, quick);
+    const double share = width > 0 ? (width - (without.hi - without.lo)) / width : 0.0;
+    result.blame.push_back({result.variables[v], std::clamp(share, 0.0, 1.0)});
+  }
+  std::stable_sort(result.blame.begin(), result.blame.end(),
+                   [](const auto& a, const auto& b) { return a.share > b.share; });
+}
+
+// PreconditionResult::monte_carlo_violation: the fraction of `samples` uniform points of the box
+// where the inequality is false.
+void add_monte_carlo(PreconditionResult& result, std::span<const Expr> inputs, std::size_t samples,
+                     std::mt19937_64& random) {
+  const symbolic::Tape tape = symbolic::Tape::compile({&result.inequality.expression, 1}, inputs);
+  symbolic::TapeEvaluator<double> evaluator(tape);
+  std::size_t violations = 0;
+  std::vector<double> point(inputs.size());
+  double value[1];
+  for (std::size_t s = 0; s < samples; ++s) {
+    for (std::size_t v = 0; v < inputs.size(); ++v)
+      point[v] = std::uniform_real_distribution<double>(result.box[v].lo, result.box[v].hi)(random);
+    evaluator.evaluate(point, value);
+    if (!holds(result.inequality, value[0])) ++violations;
+  }
+  result.monte_carlo_violation = static_cast<double>(violations) / samples;
+}
+
+// PreconditionResult::holds_up_to_scale: the largest s in [0, max_scale] for which the inequality
+// is PROVED over the box whose objects' ranges (and the arm's, if asked) are s times the space's.
+// Each scale is decided, not bounded tightly (BoundOptions::decide: one side, early exit); a scale
+// counts only when the sound bound proves it.
+std::optional<double> proved_scale(const PreconditionResult& result, bounds::BoundProblem& problem,
+                                   const std::vector<SpaceVariable>& variables,
+                                   const AnalysisOptions& options) {
+  bounds::BoundOptions deciding = options.quick;
+  deciding.decide = bounds::DecisionTarget{result.inequality.relation, result.inequality.threshold};
+  const auto proved_at = [&](double scale) {
+    std::vector<Interval> box = result.box;
+    for (std::size_t v = 0; v < box.size(); ++v) {
+      const SpaceVariable& meta = variables[result.variables[v].index];
+      if (of_the_arm(meta.provenance.source) && !options.scale_manipulator) continue;
+      box[v] = Interval(meta.lower * scale, meta.upper * scale);
+    }
+    return bounds::decide(result.inequality, problem.bound(box, deciding)) == Verdict::kSatisfied;
+  };
+  if (!proved_at(0.0)) return std::nullopt;
+  return internal::largest_holding(0.0, options.max_scale, options.reverse_iterations, proved_at);
+}
+
+}  // namespace
+
 void add_margins(InstanceAnalysis& analysis, const AnalysisOptions& options) {
   std::mt19937_64 random(20261201);
-  const bounds::BoundOptions& quick = options.quick;
   for (AnalysedStep& step : analysis.steps) {
     for (PreconditionResult& result : step.preconditions) {
+      // One compiled problem per precondition for every pass below.
       std::vector<Expr> inputs;
       for (const VariableId id : result.variables) inputs.push_back(analysis.symbols[id.index]);
       bounds::BoundProblem problem(result.inequality.expression, inputs);
-      // A tight bound with inner values for every precondition (the natural pass that decided a
-      // satisfied one has none): [lo, hi] only shrinks, so the verdict stands.
+      // A tight bound with inner values (the natural pass that decided a satisfied precondition
+      // has none): [lo, hi] only shrinks, so the verdict stands.
       result.bound = problem.bound(result.box, options.report);
       result.witness = bounds::witness(result.inequality, result.bound);
-      if (options.blame) {
-        const double width = result.bound.hi - result.bound.lo;
-        result.blame.clear();
-        for (std::size_t v = 0; v < inputs.size(); ++v) {
-          std::vector<Interval> pinned = result.box;
-          pinned[v] = Interval(0.0);
-          const bounds::BoundResult without = problem.bound(pinned, quick);
-          const double share = width > 0 ? (width - (without.hi - without.lo)) / width : 0.0;
-          result.blame.push_back({result.variables[v], std::clamp(share, 0.0, 1.0)});
-        }
-        std::stable_sort(result.blame.begin(), result.blame.end(),
-                         [](const auto& a, const auto& b) { return a.share > b.share; });
-      }
-      if (options.samples > 0) {
-        const symbolic::Tape tape =
-            symbolic::Tape::compile({&result.inequality.expression, 1}, inputs);
-        symbolic::TapeEvaluator<double> evaluator(tape);
-        std::size_t violations = 0;
-        std::vector<double> point(inputs.size());
-        double value[1];
-        for (std::size_t s = 0; s < options.samples; ++s) {
-          for (std::size_t v = 0; v < inputs.size(); ++v)
-            point[v] =
-                std::uniform_real_distribution<double>(result.box[v].lo, result.box[v].hi)(random);
-          evaluator.evaluate(point, value);
-          if (!holds(result.inequality, value[0])) ++violations;
-        }
-        result.monte_carlo_violation = static_cast<double>(violations) / options.samples;
-      }
-      if (options.reverse) {
-        // Scale the ranges of the objects' variables (and the arm's if asked) by s.
-        const auto proved_at = [&](double scale) {
-          std::vector<Interval> box = result.box;
-          for (std::size_t v = 0; v < inputs.size(); ++v) {
-            const SpaceVariable& meta = analysis.variables[result.variables[v].index];
-            if (of_the_arm(meta.provenance.source) && !options.scale_manipulator)
-              continue;
-            box[v] = Interval(meta.lower * scale, meta.upper * scale);
-          }
-          return bounds::decide(result.inequality, problem.bound(box, quick)) ==
-                 Verdict::kSatisfied;
-        };
-        std::optional<double> proved;
-        if (proved_at(0.0)) {
-          double good = 0.0, bad = options.max_scale;
-          if (proved_at(bad)) {
-            good = bad;
-          } else {
-            for (int i = 0; i < options.reverse_iterations; ++i) {
-              const double mid = 0.5 * (good + bad);
-              (proved_at(mid) ? good : bad) = mid;
-            }
-          }
-          proved = good;
-        }
-        result.holds_up_to_scale = proved;
-      }
+      if (options.blame) add_blame(result, problem, options.quick);
+      if (options.samples > 0) add_monte_carlo(result, inputs, options.samples, random);
+      if (options.reverse)
+        result.holds_up_to_scale = proved_scale(result, problem, analysis.variables, options);
     }
   }
 }

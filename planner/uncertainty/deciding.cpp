@@ -1,6 +1,7 @@
 #include "spar/planner/uncertainty/deciding.hpp"
 
 #include <algorithm>
+#include <bit>
 
 #include "spar/bounds/condition_set.hpp"
 #include "spar/planner/error.hpp"
@@ -60,6 +61,46 @@ std::vector<PreconditionResult> decide(const std::vector<Precondition>& precondi
     result.variables = ids;
     results.push_back(std::move(result));
   }
+  return results;
+}
+
+namespace {
+
+// The words that determine decide()'s answer for one step (see DecisionCache). Doubles enter by
+// their bits, so -0.0 and 0.0 differ: at worst a miss, never a wrong hit.
+std::vector<std::uint64_t> step_key(const std::vector<Precondition>& preconditions,
+                                    const UncertaintySpace& space) {
+  std::vector<std::uint64_t> key;
+  std::vector<symbolic::Expr> expressions;
+  for (const Precondition& p : preconditions) {
+    expressions.push_back(p.inequality.expression);
+    key.push_back(p.inequality.expression.id());
+    key.push_back(static_cast<std::uint64_t>(p.inequality.relation));
+    key.push_back(std::bit_cast<std::uint64_t>(p.inequality.threshold));
+    key.push_back(static_cast<std::uint64_t>(p.kind) << 1 | (p.length ? 1u : 0u));
+  }
+  for (const VariableId id : variables_of(expressions, space)) {
+    const bounds::Interval range = space.ranges(std::span(&id, 1)).front();
+    key.push_back(id.index);
+    key.push_back(space.symbol(id).id());
+    key.push_back(std::bit_cast<std::uint64_t>(range.lo));
+    key.push_back(std::bit_cast<std::uint64_t>(range.hi));
+  }
+  return key;
+}
+
+}  // namespace
+
+std::vector<PreconditionResult> DecisionCache::decide(
+    const std::vector<Precondition>& preconditions, const UncertaintySpace& space) {
+  std::vector<std::uint64_t> key = step_key(preconditions, space);
+  if (const auto found = entries_.find(key); found != entries_.end()) {
+    ++hits_;
+    return found->second;
+  }
+  std::vector<PreconditionResult> results =
+      planner::decide(preconditions, space, quick_, full_);
+  entries_.emplace(std::move(key), results);
   return results;
 }
 

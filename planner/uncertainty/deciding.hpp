@@ -11,7 +11,8 @@
 // was decided in, ascending; box[i] is the range of variables[i] there; witness (when not empty)
 // is a point of that box in the same order.
 // Cost: one tape evaluation over intervals and one at the centre per step; a bound only for the
-// preconditions the natural pass leaves undecided.
+// preconditions the natural pass leaves undecided. DecisionCache remembers whole steps: phase 2's
+// repair search and sensor margin replay the same steps over the same boxes many times.
 //
 // Example:
 //   const std::vector<Precondition> built = propagation.step(step, 1);
@@ -21,6 +22,8 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
+#include <map>
 #include <optional>
 #include <span>
 #include <string>
@@ -65,5 +68,26 @@ struct PreconditionResult {
                                                      const UncertaintySpace& space,
                                                      const bounds::BoundOptions& quick,
                                                      const bounds::BoundOptions& full);
+
+// decide() with memory: a step whose preconditions (expressions, relations, thresholds, kinds) and
+// variables (ids, symbols and ranges) equal those of a step decided before gets the earlier
+// results. decide() is a deterministic function of exactly these (and of the options, fixed per
+// cache), so a hit returns what deciding again would return.
+// Invariant: every entry was computed with the options given at construction.
+// Cost: a key is O(preconditions + variables) to build; a hit costs a map lookup and a copy.
+class DecisionCache {
+ public:
+  DecisionCache(bounds::BoundOptions quick, bounds::BoundOptions full)
+      : quick_(std::move(quick)), full_(std::move(full)) {}
+  [[nodiscard]] std::vector<PreconditionResult> decide(
+      const std::vector<Precondition>& preconditions, const UncertaintySpace& space);
+  [[nodiscard]] std::size_t hits() const { return hits_; }
+  [[nodiscard]] std::size_t misses() const { return entries_.size(); }
+
+ private:
+  bounds::BoundOptions quick_, full_;
+  std::map<std::vector<std::uint64_t>, std::vector<PreconditionResult>> entries_;
+  std::size_t hits_{0};
+};
 
 }  // namespace spar::planner

@@ -23,6 +23,7 @@
 #include "spar/common/deadline.hpp"
 #include "spar/planner/error.hpp"
 #include "spar/planner/uncertainty/analysis.hpp"
+#include "spar/planner/uncertainty/internal/bisection.hpp"
 #include "spar/symbolic/operations.hpp"
 #include "spar/symbolic/tape.hpp"
 
@@ -233,6 +234,70 @@ std::string format(const char* pattern, double a, double b = 0, double c = 0, do
   return buffer;
 }
 
+// Monte Carlo: `options.samples` points drawn from the variables' distributions (fixed seed),
+// every precondition evaluated on one tape over every variable, in blocks of points.
+struct SampledViolations {
+  std::vector<std::size_t> per_precondition;
+  std::size_t plan{0};  // points violating at least one precondition
+};
+
+SampledViolations sample_violations(const InstanceAnalysis& analysis,
+                                    const std::vector<const PreconditionResult*>& results,
+                                    const ProbabilityOptions& options) {
+  std::vector<Expr> outputs;
+  const std::vector<Expr>& inputs = analysis.symbols;
+  for (const PreconditionResult* result : results) outputs.push_back(result->inequality.expression);
+  const symbolic::Tape tape = symbolic::Tape::compile(outputs, inputs);
+  std::vector<Sampler> samplers;
+  for (const SpaceVariable& v : analysis.variables) samplers.emplace_back(v);
+  std::mt19937_64 random(options.seed);
+  constexpr std::size_t kBlock = 256;
+  std::vector<double> points(inputs.size() * kBlock), values(outputs.size() * kBlock);
+  SampledViolations sampled{.per_precondition = std::vector<std::size_t>(outputs.size(), 0)};
+  for (std::size_t done = 0; done < options.samples; done += kBlock) {
+    check_deadline();  // a batch's --time-limit (common/deadline.hpp); cheap without one
+    const std::size_t n = std::min(kBlock, options.samples - done);
+    for (std::size_t p = 0; p < n; ++p)  // point-major draws: independent of the block size
+      for (std::size_t j = 0; j < inputs.size(); ++j) points[j * n + p] = samplers[j](random);
+    symbolic::evaluate_batch(tape, {points.data(), inputs.size() * n},
+                             {values.data(), outputs.size() * n}, n);
+    for (std::size_t p = 0; p < n; ++p) {
+      bool any = false;
+      for (std::size_t k = 0; k < outputs.size(); ++k)
+        if (violated(results[k]->inequality, values[k * n + p])) {
+          ++sampled.per_precondition[k];
+          any = true;
+        }
+      sampled.plan += any;
+    }
+  }
+  return sampled;
+}
+
+// Sets p's Monte Carlo estimate and its Wilson interval, and notes where the first-order estimate
+// disagrees with it (or, for a proved precondition, any sampled violation: a soundness bug).
+void compare_with_samples(PreconditionProbability& p, std::size_t samples,
+                          std::size_t violations) {
+  p.samples = samples;
+  p.violations = violations;
+  p.p_monte_carlo = static_cast<double>(p.violations) / p.samples;
+  if (p.proved) {
+    if (p.violations == 0) return;  // exactly 0 from both: the sound bound holds on the support
+    p.note = "SOUNDNESS: " + std::to_string(p.violations) +
+             " sampled violations of a precondition proved satisfied";
+  }
+  std::tie(p.ci_lo, p.ci_hi) = wilson(p.violations, p.samples);
+  p.agrees = p.p_first_order >= p.ci_lo && p.p_first_order <= p.ci_hi;
+  if (p.agrees || !p.note.empty()) return;
+  const bool second_agrees = p.p_second_order >= p.ci_lo && p.p_second_order <= p.ci_hi;
+  p.note = format("first order %.3g lies outside the Monte Carlo 95%% interval [%.3g, %.3g]; ",
+                  p.p_first_order, p.ci_lo, p.ci_hi) +
+           format("second order (mean shifted by 1/2 tr(H Sigma)) gives %.3g", p.p_second_order) +
+           (second_agrees ? ", inside it"
+                          : ", also outside: f is not near-linear over the box (or its "
+                            "distribution is far from Gaussian)");
+}
+
 }  // namespace
 
 VariableMoments variable_moments(const SpaceVariable& v) {
@@ -380,64 +445,13 @@ ProbabilityAnalysis analyse_probability(const InstanceAnalysis& analysis,
   }
   if (options.samples == 0 || jacobian.rows == 0) return out;
 
-  // Monte Carlo: every precondition on one tape over every variable, blocks of points.
-  std::vector<Expr> outputs;
-  const std::vector<Expr>& inputs = analysis.symbols;
-  for (const PreconditionResult* result : results) outputs.push_back(result->inequality.expression);
-  const symbolic::Tape tape = symbolic::Tape::compile(outputs, inputs);
-  std::vector<Sampler> samplers;
-  for (const SpaceVariable& v : analysis.variables) samplers.emplace_back(v);
-  std::mt19937_64 random(options.seed);
-  constexpr std::size_t kBlock = 256;
-  std::vector<double> points(inputs.size() * kBlock), values(outputs.size() * kBlock);
-  std::vector<std::size_t> violations(outputs.size(), 0);
-  std::size_t plan_violations = 0;
-  for (std::size_t done = 0; done < options.samples; done += kBlock) {
-    check_deadline();  // a batch's --time-limit (common/deadline.hpp); cheap without one
-    const std::size_t n = std::min(kBlock, options.samples - done);
-    for (std::size_t p = 0; p < n; ++p)  // point-major draws: independent of the block size
-      for (std::size_t j = 0; j < inputs.size(); ++j) points[j * n + p] = samplers[j](random);
-    symbolic::evaluate_batch(tape, {points.data(), inputs.size() * n},
-                             {values.data(), outputs.size() * n}, n);
-    for (std::size_t p = 0; p < n; ++p) {
-      bool any = false;
-      for (std::size_t k = 0; k < outputs.size(); ++k)
-        if (violated(results[k]->inequality, values[k * n + p])) {
-          ++violations[k];
-          any = true;
-        }
-      plan_violations += any;
-    }
-  }
+  const SampledViolations sampled = sample_violations(analysis, results, options);
   out.samples = options.samples;
-  out.plan_violations = plan_violations;
-  out.p_plan = static_cast<double>(plan_violations) / options.samples;
-  std::tie(out.p_plan_ci_lo, out.p_plan_ci_hi) = wilson(plan_violations, options.samples);
-  for (std::size_t k = 0; k < outputs.size(); ++k) {
-    PreconditionProbability& p = out.preconditions[k];
-    p.samples = options.samples;
-    p.violations = violations[k];
-    p.p_monte_carlo = static_cast<double>(p.violations) / p.samples;
-    if (p.proved) {
-      if (p.violations > 0)
-        p.note = "SOUNDNESS: " + std::to_string(p.violations) +
-                 " sampled violations of a precondition proved satisfied";
-      else
-        continue;  // exactly 0 from both: the sound bound holds on the whole support
-    }
-    std::tie(p.ci_lo, p.ci_hi) = wilson(p.violations, p.samples);
-    p.agrees = p.p_first_order >= p.ci_lo && p.p_first_order <= p.ci_hi;
-    if (!p.agrees && p.note.empty()) {
-      const bool second_agrees = p.p_second_order >= p.ci_lo && p.p_second_order <= p.ci_hi;
-      p.note =
-          format("first order %.3g lies outside the Monte Carlo 95%% interval [%.3g, %.3g]; ",
-                 p.p_first_order, p.ci_lo, p.ci_hi) +
-          format("second order (mean shifted by 1/2 tr(H Sigma)) gives %.3g", p.p_second_order) +
-          (second_agrees ? ", inside it"
-                         : ", also outside: f is not near-linear over the box (or its "
-                           "distribution is far from Gaussian)");
-    }
-  }
+  out.plan_violations = sampled.plan;
+  out.p_plan = static_cast<double>(sampled.plan) / options.samples;
+  std::tie(out.p_plan_ci_lo, out.p_plan_ci_hi) = wilson(sampled.plan, options.samples);
+  for (std::size_t k = 0; k < results.size(); ++k)
+    compare_with_samples(out.preconditions[k], options.samples, sampled.per_precondition[k]);
   return out;
 }
 
@@ -718,14 +732,10 @@ ToleranceAllocation allocate_tolerances(const Scenario& scenario, const Instance
         p[q] = std::clamp(p[q] - p0[q] * z[q] / std::sqrt(cost[q]), 0.0, p0[q]);
     }
     // If the clamps kept some row violated, shrink uniformly (p = 0 satisfies every row).
-    if (!violated_rows(p).empty()) {
-      double good = 0, bad = 1;
-      for (int i = 0; i < 60; ++i) {
-        const double mid = (good + bad) / 2;
-        (violated_rows(mid * p).empty() ? good : bad) = mid;
-      }
-      p *= good;
-    }
+    if (!violated_rows(p).empty())
+      p *= internal::largest_holding(0.0, 1.0, 60, [&](double scale) {
+        return violated_rows(scale * p).empty();
+      });
     if (!options.verify) break;
     // Verify with the sound bounds over the scaled box.
     out.misses.clear();
