@@ -498,13 +498,13 @@ IkScore kdl_with_restarts(const char* name, const spar::kinematics::RobotModel& 
   const Clock::time_point start = Clock::now();
   for (const Transform& pose : poses) {
     const KDL::Frame target = kdl_frame(pose);
-    const Clock::time_point deadline =
-        Clock::now() + std::chrono::duration_cast<Clock::duration>(
-                           std::chrono::duration<double>(budget));
+    const Clock::time_point deadline = Clock::now() + std::chrono::duration_cast<Clock::duration>(
+                                                          std::chrono::duration<double>(budget));
     while (Clock::now() < deadline) {
       for (std::size_t j = 0; j < robot.dof(); ++j) {
         const spar::kinematics::JointLimits& limits = robot.joints()[j].limits;
-        seed(static_cast<unsigned>(j)) = limits.lower + (limits.upper - limits.lower) * unit(random);
+        seed(static_cast<unsigned>(j)) =
+            limits.lower + (limits.upper - limits.lower) * unit(random);
       }
       if (solve(seed, target, out) >= 0 && kdl_answer_within_limits(robot, out, q) &&
           pose_residual(robot, q, pose) < kSolvedTolerance) {
@@ -539,9 +539,10 @@ IkScore spar_solver(const char* name, const spar::kinematics::RobotModel& robot,
 void run_robot_ik(const BenchOptions& options) {
   const int count = options.quick ? 1000 : 10000;
   const double kdl_budget = 5e-3;
-  std::printf("\nIK on %d random reachable poses (q uniform within limits); solved = an in-limit "
-              "joint vector reproducing the pose to %.0e\n",
-              count, kSolvedTolerance);
+  std::printf(
+      "\nIK on %d random reachable poses (q uniform within limits); solved = an in-limit "
+      "joint vector reproducing the pose to %.0e\n",
+      count, kSolvedTolerance);
   std::printf("%-6s %-44s %9s %12s %8s\n", "robot", "solver", "solved", "us/solve", "vs spar");
   for (const char* name : {"ur5", "panda"}) {
     const spar::kinematics::RobotModel& robot = spar::kinematics::builtin_robot_model(name);
@@ -585,25 +586,22 @@ void run_robot_ik(const BenchOptions& options) {
     KDL::ChainIkSolverVel_pinv velocity(chain);
     KDL::ChainIkSolverPos_NR_JL nr_jl(chain, lower, upper, kdl_fk, velocity, 100, 1e-9);
     std::vector<IkScore> scores;
-    scores.push_back(spar_solver(std::string(spar::kinematics::to_string(robot.ik_method())).c_str(),
-                                 robot, poses, [&](const Transform& pose) {
-                                   return robot.inverse(pose);
-                                 }));
+    scores.push_back(
+        spar_solver(std::string(spar::kinematics::to_string(robot.ik_method())).c_str(), robot,
+                    poses, [&](const Transform& pose) { return robot.inverse(pose); }));
     scores.back().solver = "spar " + std::string(spar::kinematics::to_string(robot.ik_method()));
-    scores.push_back(spar_solver("spar numeric (LM, 64 restarts)", robot, poses,
-                                 [&](const Transform& pose) {
-                                   return robot.inverse_numeric(pose, {.numeric_solutions = 1});
-                                 }));
-    scores.push_back(kdl_with_restarts("KDL LMA, restarts <= 5 ms", robot, poses, kdl_budget,
-                                       [&](const KDL::JntArray& seed, const KDL::Frame& target,
-                                           KDL::JntArray& out) {
-                                         return lma.CartToJnt(seed, target, out);
-                                       }));
-    scores.push_back(kdl_with_restarts("KDL NR_JL, restarts <= 5 ms", robot, poses, kdl_budget,
-                                       [&](const KDL::JntArray& seed, const KDL::Frame& target,
-                                           KDL::JntArray& out) {
-                                         return nr_jl.CartToJnt(seed, target, out);
-                                       }));
+    scores.push_back(
+        spar_solver("spar numeric (LM, 64 restarts)", robot, poses, [&](const Transform& pose) {
+          return robot.inverse_numeric(pose, {.numeric_solutions = 1});
+        }));
+    scores.push_back(
+        kdl_with_restarts("KDL LMA, restarts <= 5 ms", robot, poses, kdl_budget,
+                          [&](const KDL::JntArray& seed, const KDL::Frame& target,
+                              KDL::JntArray& out) { return lma.CartToJnt(seed, target, out); }));
+    scores.push_back(
+        kdl_with_restarts("KDL NR_JL, restarts <= 5 ms", robot, poses, kdl_budget,
+                          [&](const KDL::JntArray& seed, const KDL::Frame& target,
+                              KDL::JntArray& out) { return nr_jl.CartToJnt(seed, target, out); }));
     std::printf("(%s: max |FK spar - FK KDL| = %.1e)\n", name, fk_disagreement);
     for (const IkScore& score : scores)
       std::printf("%-6s %-44s %8.2f%% %12.1f %8.2f\n", name, score.solver.c_str(),

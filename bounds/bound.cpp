@@ -1,8 +1,6 @@
 // bound(): natural extension, monotonicity, centred form, branch and bound, inner search.
 #include "spar/bounds/bound.hpp"
 
-#include "spar/bounds/inequality.hpp"
-
 #include <algorithm>
 #include <array>
 #include <charconv>
@@ -18,6 +16,7 @@
 #include <unordered_map>
 #include <utility>
 
+#include "spar/bounds/inequality.hpp"
 #include "spar/bounds/internal/checks.hpp"
 #include "spar/bounds/internal/gradient.hpp"
 #include "spar/bounds/internal/linear_enclosure.hpp"
@@ -40,6 +39,8 @@ constexpr std::size_t kMaxSlsqpVariables = 64;
 constexpr std::size_t kPassesPerBox = 6;
 constexpr std::size_t kPassesPerFaceGradient = 3;  // value and gradient again on a narrower face
 constexpr std::size_t kMaxStoredIntervals = std::size_t{1} << 22;
+// Witness enclosures crossing by at most this (relative to max(1, |values|)) are rounding.
+constexpr double kRoundingCrossing = 1e-12;
 
 using internal::LinearForm;
 
@@ -312,8 +313,8 @@ class Bounder {
       if (options_.inner && !decided(sign, kInf)) nlopt_search(root, sign);
       const double side = search(root, sign);
       const int other = sign > 0 ? 1 : 0;
-      const double enclosure = std::max(tree_[0].bound[other], sign > 0 ? -result.inner_lo
-                                                                         : result.inner_hi);
+      const double enclosure =
+          std::max(tree_[0].bound[other], sign > 0 ? -result.inner_lo : result.inner_hi);
       hi = sign > 0 ? side : enclosure;
       lo = sign > 0 ? -enclosure : -side;
     } else {
@@ -994,9 +995,20 @@ void order_inner_bounds(BoundResult& result) {
   // f(argmin) <= argmin_value.hi and f(argmin) <= hi, so the smaller is still an attained bound.
   result.inner_lo = std::min(result.argmin_value.hi, result.hi);
   result.inner_hi = std::max(result.argmax_value.lo, result.lo);
-  if (result.inner_lo > result.inner_hi) {
-    result.inner_lo = result.inner_hi = result.inner_hi + (result.inner_lo - result.inner_hi) / 2;
+  if (result.inner_lo <= result.inner_hi) return;
+  // Crossed: f varies less between the witnesses than their enclosures are wide. Within rounding
+  // (a point's enclosure a few ulps wide) the midpoint is attained up to that rounding. A wider
+  // crossing (an overflow enclosed by [DBL_MAX, inf], a point on atan2's cut enclosed by [-pi, pi])
+  // says nothing more than the enclosures do: the inner range is then unknown ([hi, lo]), not a
+  // made-up midpoint; the witnesses stay (their enclosures are still rigorous for decide()).
+  const double crossing = result.inner_lo - result.inner_hi;
+  const double scale = std::max({1.0, std::fabs(result.inner_lo), std::fabs(result.inner_hi)});
+  if (std::isfinite(crossing) && crossing <= kRoundingCrossing * scale) {
+    result.inner_lo = result.inner_hi = result.inner_hi + crossing / 2;
+    return;
   }
+  result.inner_lo = result.hi;
+  result.inner_hi = result.lo;
 }
 
 void check_uses_only(Expr expression, std::span<const Expr> variables, const std::string& what) {
@@ -1041,12 +1053,23 @@ void BoundResult::check_invariants() const {
     if (!(inner_lo == hi && inner_hi == lo)) fail("without witnesses, inner must be [hi, lo]");
     return;
   }
+  if (inner_lo == hi && inner_hi == lo) return;  // the witnesses' values too loose: unknown
   if (!(lo <= inner_lo && inner_lo <= inner_hi && inner_hi <= hi)) {
     fail("lo <= inner_lo <= inner_hi <= hi is broken");
   }
   if (!(argmin_value.hi >= inner_lo || argmin_value.hi >= hi)) {
     fail("inner_lo is below the value at argmin");
   }
+}
+
+std::string_view BoundResult::why_no_inner_range() const {
+  if (has_inner_range()) return "";
+  if (status == BoundStatus::kInfeasible)
+    return "no point of the box satisfies the constraints and gives the expression a defined value";
+  if (argmin_value.is_empty())
+    return "no point was found where the expression is certainly defined";
+  return "the values at the witnesses are enclosed too loosely to say what is attained (an "
+         "overflow, or a point on a branch cut)";
 }
 
 double BoundResult::relative_gap() const {

@@ -32,6 +32,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "spar/bounds/error.hpp"
@@ -108,14 +109,17 @@ enum class BoundStatus {
 [[nodiscard]] const char* to_string(BoundStatus status);
 
 // Invariant (checked by check_invariants(), on every result path in debug builds): when witnesses
-// exist, lo <= inner_lo <= inner_hi <= hi. Without witnesses (argmin_value and argmax_value empty:
-// no feasible point where f is defined was verified) inner_lo = hi and inner_hi = lo, an empty
-// inner range. (With no variables at all a witness is the empty point: argmin is then empty too.)
+// exist, lo <= inner_lo <= inner_hi <= hi (or, witness values too loose, [hi, lo]). Without
+// witnesses (argmin_value and argmax_value empty: no feasible point where f is defined was
+// verified) inner_lo = hi and inner_hi = lo, an empty inner range. (With no variables at all a
+// witness is the empty point: argmin is then empty too.)
 struct BoundResult {
   double lo{0.0}, hi{0.0};  // sound: lo <= f <= hi on the feasible box
   // Attained: the values of f at argmin and argmax, i.e. argmin_value.hi and argmax_value.lo
-  // clamped into [lo, hi]; if those cross (f varies less than one rounding between the witnesses)
-  // both are their midpoint, so inner_lo <= inner_hi always.
+  // clamped into [lo, hi]; if those cross by a rounding (f varies less than that between the
+  // witnesses) both are their midpoint. If they cross by more (an overflow enclosed by
+  // [DBL_MAX, inf], a point on atan2's cut by [-pi, pi]) nothing attained is known: inner_lo = hi
+  // and inner_hi = lo, as without witnesses (has_inner_range() is false).
   double inner_lo{0.0}, inner_hi{0.0};
   std::vector<double> argmin, argmax;  // witness points in Box::variables order
   // Rigorous enclosures of f at argmin and argmax (outward-rounded evaluations): f(argmin) <=
@@ -126,6 +130,13 @@ struct BoundResult {
   bool possibly_undefined{false};  // f may be undefined somewhere in the box (domain error)
   bool time_limited{false};        // BoundOptions::max_seconds stopped it (machine-dependent)
   std::size_t evaluations{0};      // boxes evaluated (each once, for both directions)
+  // Whether [inner_lo, inner_hi] is a range of attained values (witnesses with values enclosed
+  // within rounding); false for no witness, an infeasible box, or too loose witness values.
+  [[nodiscard]] bool has_inner_range() const {
+    return !argmin_value.is_empty() && !argmax_value.is_empty() && inner_lo <= inner_hi;
+  }
+  // Why there is no inner range ("" when has_inner_range()): for messages and the JSON record.
+  [[nodiscard]] std::string_view why_no_inner_range() const;
   // Measured tightness: max(hi - inner_hi, inner_lo - lo) / (inner_hi - inner_lo).
   [[nodiscard]] double relative_gap() const;
   // Throws std::logic_error naming the broken invariant (see above).

@@ -102,10 +102,29 @@ bool multiples_of_pi(double lo, double hi, double offset, double& first, double&
   return true;
 }
 
+// Far out (|x| >= 1e12) x / pi no longer tells where x lies in its period, so a narrow interval
+// there is moved by a multiple of 2 pi to [phase, phase + width] with |phase| <= pi: glibc's sin
+// and cos reduce every double argument correctly (within the two ulps libm_down/up allow), so
+// atan2(sin(lo), cos(lo)) is lo's phase to within about 2e-15; kPhaseError covers that with room.
+// The same interval, shifted by a multiple of 2 pi, has the same sin, cos and tan.
+constexpr double kFarOut = 1e12;
+constexpr double kPhaseError = 1e-13;
+bool far_out(const Interval& a) {
+  return std::isfinite(a.lo) && std::isfinite(a.hi) &&
+         std::max(std::fabs(a.lo), std::fabs(a.hi)) >= kFarOut;
+}
+Interval reduced(const Interval& a) {
+  const double phase = std::atan2(std::sin(a.lo), std::cos(a.lo));
+  const double width = add_up(a.hi, -a.lo);  // exact for the narrow intervals reduced
+  return make(add_down(phase, -kPhaseError), add_up(add_up(phase, width), kPhaseError),
+              a.possibly_undefined);
+}
+
 // Shared by sin and cos: f has maxima at (2k + offset)π and minima at (2k + 1 + offset)π.
 template <class F>
 Interval periodic(const Interval& a, F f, double offset) {
   if (a.is_empty()) return a;
+  if (a.hi - a.lo < 6.28 && far_out(a)) return periodic(reduced(a), f, offset);
   double first = 0, last = 0;
   if (!(a.hi - a.lo < 6.28) || !multiples_of_pi(a.lo, a.hi, offset, first, last)) {
     return make(-1, 1, a.possibly_undefined);
@@ -305,6 +324,7 @@ Interval sin(const Interval& a) {
 
 Interval tan(const Interval& a) {
   if (a.is_empty()) return a;
+  if (a.hi - a.lo < 3.14 && far_out(a)) return tan(reduced(a));
   double first = 0, last = 0;
   // Poles at (n + 1/2)π.
   if (!(a.hi - a.lo < 3.14) || !multiples_of_pi(a.lo, a.hi, 0.5, first, last) || first <= last) {

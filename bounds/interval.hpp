@@ -4,7 +4,9 @@
 // whenever op(x, y) is defined. Rounding is outward without touching the FPU mode: + - * / and
 // sqrt use error-free transformations (two-sum, fma residuals) and move a bound by one ulp only
 // when the double result is not exact; libm functions (sin, exp, ...) are widened by two ulps.
-// Periodic functions find their extrema (sin, cos) and poles (tan) over any width.
+// Periodic functions find their extrema (sin, cos) and poles (tan) over any width; far out
+// (|x| >= 1e12) a narrow interval is first moved to its phase in [-pi, pi] (glibc reduces sin
+// and cos correctly), so sin(1e15) is enclosed within ~1e-13, not by [-1, 1].
 //
 // Invariants: lo <= hi, or the interval is empty (lo = +inf, hi = -inf). Bounds may be infinite.
 // `possibly_undefined` is set when some point of the arguments is outside an operation's domain

@@ -210,10 +210,10 @@ void run_single(const BoundArguments& arguments) {
   }
   std::cout.precision(17);
   std::cout << "range    [" << r.lo << ", " << r.hi << "]   (sound)\n";
-  if (r.inner_lo <= r.inner_hi) {
+  if (r.has_inner_range()) {
     std::cout << "attained [" << r.inner_lo << ", " << r.inner_hi << "]\n";
-  } else {  // no witness: the search met no point where the expression is defined
-    std::cout << "attained none (no point found where the expression is certainly defined)\n";
+  } else {
+    std::cout << "attained none (" << r.why_no_inner_range() << ")\n";
   }
   std::cout << "status   " << bounds::to_string(r.status)
             << (r.possibly_undefined ? " (possibly undefined somewhere in the box)" : "") << '\n';

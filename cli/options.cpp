@@ -17,12 +17,11 @@ namespace {
 // takes " -x" as a value; every option drops it again.
 constexpr char kValueMark = ' ';
 
-// CLI11 (2.1) reads "-c..." as the short option -c when c is alphanumeric, '_', '?' or '@';
-// "-2*x" or "-(x)" already reach the command as values unless an option -2 exists (none does).
+// CLI11 (2.1.2) reads "-c..." as the short option -c for every c but '-', '!', ' ' and '\n'
+// (detail::valid_first_char): "-(x)" and "-sin(x)" too, and "-2*x" unless no option -2 exists.
+// spar has no short option but -h, so every other "-c..." is a value ("-" alone is stdin).
 bool looks_like_short_option(const std::string& argument) {
-  if (argument.size() < 2 || argument[0] != '-' || argument == "-h") return false;
-  const unsigned char c = static_cast<unsigned char>(argument[1]);
-  return std::isalpha(c) || c == '_' || c == '?' || c == '@';
+  return argument.size() >= 2 && argument[0] == '-' && argument[1] != '-' && argument != "-h";
 }
 
 std::string system_reason() { return errno != 0 ? std::strerror(errno) : "input/output error"; }

@@ -8,10 +8,11 @@
 // 'nan'" -- never CLI11's "Value ... not in range [2.2e-308 - 1.797...e+308]". Options that set
 // the amount of work take an upper limit too, so no option can make a command run unbounded.
 //
-// Leading minus: CLI11 reads "-x" as a short option. spar has no short option but -h, so
-// `protect_leading_minus` marks every "-<letter>..." argument (other than -h) as a value, and
+// Leading minus: CLI11 reads "-x" and "-(x)" as short options. spar has no short option but -h,
+// so `protect_leading_minus` marks every "-c..." argument (other than -h) as a value, and
 // `accept_leading_minus` makes every option and positional of the app remove the mark again:
-// `spar simplify "-x"` and `spar bound --constraint "-x<=1" ...` work as written. After `--`
+// `spar simplify "-(x)"` and `spar bound --constraint "-x<=1" ...` work as written: every
+// expression spar prints (a report's "-(...)") is accepted back. After `--`
 // arguments are left alone (CLI11 takes them all as positionals).
 //
 // Output: `flush_standard_output` (main.cpp calls it after every command) and `write_file` throw

@@ -1,7 +1,9 @@
 // `spar plan`: plans scenario files with SPAR's two phases and reports on them. Everything it
 // prints is written from the report model (reports/model.hpp), never from planner internals.
 //
-//   spar plan SCENARIO                      the Markdown report on standard output
+//   spar plan SCENARIO                      the Markdown report on standard output (SCENARIO "-":
+//                                           read from standard input, meshes relative to the
+//                                           working directory)
 //   spar plan SCENARIO --report DIR         writes DIR/report.{json,md,html} atomically (nothing
 //             [--format json,md,html]       when planning fails) and prints a summary and where
 //   spar plan SCENARIO --json               the JSON report on standard output
@@ -10,7 +12,10 @@
 //             the file) on a thread pool: one JSON line per scenario, in input order, either
 //             {"file", "report"} or {"file", "error"}; a progress bar on stderr when it is a
 //             terminal; with --report, each report goes to DIR/<file stem>/. A bad scenario gives
-//             an error record and the batch goes on; the command fails at the end if any did.
+//             an error record and the batch goes on.
+//   exit status (normative): 0 planned with every precondition proved, 1 bad input or usage, 2 no
+//             plan, 3 planned with errors left to verify at execution; a batch exits with the
+//             highest of its scenarios' (a bad scenario counts 1, and is named on stderr).
 //   one scenario on a terminal: the stage planning is at on one line of stderr (phase 1, phase 2
 //             instance k of N, margins, probability), cleared when it ends.
 //   common options: --domain FILE, --instances N, --max-nodes N, --max-steps N, --samples N
@@ -18,7 +23,8 @@
 //             tolerance allocation off: planner/uncertainty/probability.hpp)
 //
 // `spar demo [--report DIR] [--json] ...` is `spar plan` on the built-in example, the seed's
-// peg-and-block task with the block face down (examples/peg_block_face_down.yaml, compiled in).
+// peg-and-block task with the block face down (examples/peg_block_face_down.yaml, compiled in),
+// its report written to report/ unless --report says where.
 #include <unistd.h>
 
 #include <algorithm>
@@ -27,6 +33,7 @@
 #include <condition_variable>
 #include <filesystem>
 #include <iostream>
+#include <iterator>
 #include <mutex>
 #include <optional>
 #include <set>
@@ -49,9 +56,27 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// The exit status `spar plan` gives a report (kPlan... in cli/commands.hpp).
+int plan_exit_status(const reports::Report& report) {
+  if (!report.chosen) return kPlanNoPlan;
+  const reports::Chosen& chosen = *report.chosen;
+  bool proved = chosen.errors.value_or(0) == 0;
+  for (const reports::Step& step : chosen.steps)
+    if (step.preconditions)
+      for (const reports::Precondition& precondition : *step.preconditions)
+        proved = proved && precondition.verdict == "satisfied";
+  return proved ? kPlanProved : kPlanWithErrors;
+}
+
+const char* kExitStatusHelp =
+    "Exit status: 0 planned, every precondition proved; 1 bad input or usage; 2 no plan; 3 "
+    "planned, with errors left to verify at execution (the report's verification and recovery). "
+    "--batch exits with the highest status of its scenarios (a scenario that cannot be read "
+    "counts 1).";
+
 struct PlanArguments {
-  bool demo{false};  // plan the built-in example instead of `scenario`
-  std::string scenario;
+  bool demo{false};      // plan the built-in example instead of `scenario`
+  std::string scenario;  // "-": standard input
   std::string domain;
   std::string report;
   std::string formats{"json,md,html"};
@@ -85,8 +110,22 @@ std::vector<reports::Format> html_first(std::vector<reports::Format> formats) {
   return formats;
 }
 
-void run_single(const PlanArguments& arguments, const planner::Domain& domain,
-                planner::PlanOptions options) {
+// The scenario `spar plan` names: a file, "-" for standard input (mesh paths relative to the
+// working directory), or the built-in example.
+planner::Scenario read_scenario(const PlanArguments& arguments) {
+  if (arguments.demo)
+    return planner::parse_scenario(kDemoScenarioText, "peg_block_face_down.yaml (built in)", ".");
+  if (arguments.scenario == "-") {
+    const std::string text{std::istreambuf_iterator<char>(std::cin),
+                           std::istreambuf_iterator<char>()};
+    if (std::cin.bad()) throw Error("cannot read the scenario from standard input");
+    return planner::parse_scenario(text, "<stdin>", ".");
+  }
+  return planner::load_scenario(arguments.scenario);
+}
+
+int run_single(const PlanArguments& arguments, const planner::Domain& domain,
+               planner::PlanOptions options) {
   const std::vector<reports::Format> formats =
       html_first(reports::parse_formats(arguments.formats));
   const reports::Report report = [&] {
@@ -99,10 +138,7 @@ void run_single(const PlanArguments& arguments, const planner::Domain& domain,
     if (arguments.time_limit)
       deadline.emplace(std::chrono::duration<double>(*arguments.time_limit));
     status.show("loading the scenario (meshes, stable poses)");
-    const planner::Scenario scenario =
-        arguments.demo
-            ? planner::parse_scenario(kDemoScenarioText, "peg_block_face_down.yaml (built in)", ".")
-            : planner::load_scenario(arguments.scenario);
+    const planner::Scenario scenario = read_scenario(arguments);
     status.clear();
     for (const std::string& warning : scenario.warnings)
       std::cerr << "spar: warning: " << warning << '\n';
@@ -118,6 +154,7 @@ void run_single(const PlanArguments& arguments, const planner::Domain& domain,
   } else {
     std::cout << reports::render_markdown(report);
   }
+  return plan_exit_status(report);
 }
 
 // "[#####.....] 3/10 scenarios, 2 running for 41 s": redrawn every second while scenarios run, so
@@ -132,8 +169,8 @@ void draw_progress(std::size_t done, std::size_t total, std::size_t running, dou
   std::cerr << (done == total ? "\n" : "") << std::flush;
 }
 
-void run_batch(const PlanArguments& arguments, const planner::Domain& domain,
-               const planner::PlanOptions& options) {
+int run_batch(const PlanArguments& arguments, const planner::Domain& domain,
+              const planner::PlanOptions& options) {
   const std::vector<BatchItem> items = batch_items(arguments.batch);
   const std::vector<reports::Format> formats =
       html_first(reports::parse_formats(arguments.formats));
@@ -148,8 +185,14 @@ void run_batch(const PlanArguments& arguments, const planner::Domain& domain,
   const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
   const std::size_t jobs =
       std::min<std::size_t>(items.size(), arguments.jobs > 0 ? arguments.jobs : cores);
+  std::mutex mutex;
+  int status = kPlanProved;  // the highest of the scenarios' (a failed one: kPlanBadInput)
   const PlanOne plan_one = [&](const planner::Scenario& scenario, nlohmann::ordered_json& record) {
     const reports::Report report = plan_report(scenario, domain, options);
+    {
+      const std::lock_guard lock(mutex);
+      status = std::max(status, plan_exit_status(report));
+    }
     record["report"] = reports::to_json(report);
     if (!arguments.report.empty())
       (void)reports::write_reports(
@@ -160,7 +203,6 @@ void run_batch(const PlanArguments& arguments, const planner::Domain& domain,
   std::vector<std::string> lines(items.size());
   std::vector<bool> ready(items.size(), false);
   std::atomic<std::size_t> next{0};
-  std::mutex mutex;
   std::condition_variable finished;
   std::size_t failures = 0, started = 0;
   const auto work = [&] {
@@ -174,6 +216,7 @@ void run_batch(const PlanArguments& arguments, const planner::Domain& domain,
       lines[i] = std::move(line.json);
       ready[i] = true;
       failures += line.failed ? 1 : 0;
+      if (line.failed) status = std::max(status, kPlanBadInput);
       finished.notify_all();
     }
   };
@@ -202,11 +245,12 @@ void run_batch(const PlanArguments& arguments, const planner::Domain& domain,
   }
   pool.clear();
   if (failures > 0)
-    throw Error(std::to_string(failures) + " of " + std::to_string(items.size()) +
-                " scenarios failed (their records say why)");
+    std::cerr << "spar: error: " << failures << " of " << items.size()
+              << " scenarios failed (their records say why)\n";
+  return status;
 }
 
-void run_plan(const PlanArguments& arguments) {
+int run_plan(const PlanArguments& arguments) {
   if (!arguments.demo && arguments.scenario.empty() == arguments.batch.empty())
     throw UsageError("spar plan takes a SCENARIO file or --batch FILE_OR_DIR (one of the two)");
   if (!arguments.batch.empty() && arguments.json)
@@ -221,16 +265,18 @@ void run_plan(const PlanArguments& arguments) {
     options.probability.reset();
   else
     options.probability->samples = arguments.samples;
-  if (arguments.batch.empty())
-    run_single(arguments, domain, options);
-  else
-    run_batch(arguments, domain, options);
+  return arguments.batch.empty() ? run_single(arguments, domain, options)
+                                 : run_batch(arguments, domain, options);
 }
 
 // The options `spar plan` and `spar demo` share.
 CLI::Option* add_report_options(CLI::App& command, PlanArguments& arguments) {
-  command.add_option("--report", arguments.report,
-                     "write the report into this folder (report.json, report.md, report.html)");
+  command
+      .add_option("--report", arguments.report,
+                  "write the report into this folder (report.json, report.md, report.html)")
+      ->check([](const std::string& folder) {
+        return folder.empty() ? std::string("give a folder name, not ''") : std::string();
+      });
   CLI::Option* format = command.add_option(
       "--format", arguments.formats, "report formats, comma-separated (default json,md,html)");
   command.add_flag("--json", arguments.json, "print the JSON report (docs/report-schema.md)");
@@ -253,35 +299,40 @@ CLI::Option* add_report_options(CLI::App& command, PlanArguments& arguments) {
   return format;
 }
 
-void set_callback(CLI::App& command, std::shared_ptr<PlanArguments> arguments,
-                  CLI::Option* format) {
-  command.callback([arguments, format] {
+void set_callback(CLI::App& command, std::shared_ptr<PlanArguments> arguments, CLI::Option* format,
+                  int& exit_status) {
+  command.footer(kExitStatusHelp);
+  command.callback([arguments, format, &exit_status] {
     if (format->count() > 0 && arguments->report.empty())
       throw UsageError("--format needs --report DIR");
-    run_plan(*arguments);
+    exit_status = run_plan(*arguments);
   });
 }
 
 }  // namespace
 
-void add_plan_command(CLI::App& app) {
+void add_plan_command(CLI::App& app, int& exit_status) {
   auto arguments = std::make_shared<PlanArguments>();
   CLI::App* command = app.add_subcommand(
       "plan", "Plan a scenario file (SPAR) and report on it: plan, preconditions, repairs");
-  command->add_option("scenario", arguments->scenario, "scenario file (YAML, docs/scenario.md)");
+  command->add_option("scenario", arguments->scenario,
+                      "scenario file (YAML, docs/scenario.md); - reads it from standard input");
   command->add_option("--batch", arguments->batch,
                       "plan many scenarios: a folder of *.yaml or a file listing paths");
   add_count_option(*command, "--jobs", arguments->jobs,
                    "batch threads, 0 for the number of cores (default 0)", 0, 256);
-  set_callback(*command, arguments, add_report_options(*command, *arguments));
+  set_callback(*command, arguments, add_report_options(*command, *arguments), exit_status);
 }
 
-void add_demo_command(CLI::App& app) {
+void add_demo_command(CLI::App& app, int& exit_status) {
   auto arguments = std::make_shared<PlanArguments>();
   arguments->demo = true;
+  arguments->report = "report";
   CLI::App* command = app.add_subcommand(
-      "demo", "spar plan on the built-in example: the seed's peg and block, block face down");
-  set_callback(*command, arguments, add_report_options(*command, *arguments));
+      "demo",
+      "spar plan on the built-in example: the seed's peg and block, block face down; the report "
+      "goes to report/ (--report DIR: elsewhere)");
+  set_callback(*command, arguments, add_report_options(*command, *arguments), exit_status);
 }
 
 }  // namespace spar::cli

@@ -34,6 +34,10 @@ constexpr std::array kNumericLimits{
     NumericLimit{"robot.gripper.palm_width", kLength, 0, kGripper, true, "a gripper's size"},
     NumericLimit{"robot.gripper.palm_height", kLength, 0, kGripper, true, "a gripper's size"},
     NumericLimit{"robot.max_tilt", kAngle, 0, std::numbers::pi, true, "a tilt from straight down"},
+    NumericLimit{"robot.approach_distance", kLength, 0, 2, false,
+                 "the straight-line approach and retreat above a destination"},
+    NumericLimit{"collision.margin", kLength, 0, 0.1, false,
+                 "the least distance kept between two bodies"},
     // grasping (geometry::GraspQuantization), also `spar object --approach-step / --positions`:
     // a face pair has positions_per_axis^2 x (360 deg / approach_step) grasps.
     NumericLimit{"grasping.approach_step", kAngle, 1 * units::kDegree, kTurn, false,
@@ -62,11 +66,19 @@ constexpr std::array kNumericLimits{
                  "an insertion's angular clearance"},
     NumericLimit{"goal.mating_vector", kNumber, -1e6, 1e6, false,
                  "a direction (only its sense matters)"},
+    // sensors.cameras[] (planner::CameraSensor): intrinsics and noise in pixels. The image side's
+    // bound is sensing::kMaxImageSide (common/ cannot include sensing/; the scenario test checks).
+    NumericLimit{"camera.focal", kNumber, 0, 1e6, true, "a focal length in pixels"},
+    NumericLimit{"camera.principal_point", kNumber, -1e6, 1e6, false, "a pixel coordinate"},
+    NumericLimit{"camera.image_side", kCount, 1, 16384, false, "an image side in pixels"},
+    NumericLimit{"camera.noise_px", kNumber, 0, 100, false, "an edge detector's noise in pixels"},
+    NumericLimit{"camera.detection_probability", kNumber, 0, 1, true, "a probability"},
     // How many entries a scenario's lists and maps may hold: the geometric level tries every
     // place for every object, stable pose and grasp, and every object's mesh is processed.
     NumericLimit{"scenario.objects", kCount, 1, 100, false, "each object is a mesh to process"},
     NumericLimit{"scenario.places", kCount, 0, 1000, false,
                  "every place is tried with every object, stable pose and grasp"},
+    NumericLimit{"sensors.cameras", kCount, 0, 100, false, "each camera renders the whole scene"},
     NumericLimit{"scenario.goals", kCount, 0, 100, false, "each goal is a subplan"},
 };
 

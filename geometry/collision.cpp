@@ -18,6 +18,7 @@ struct ShapeData {
   std::vector<std::array<int, 3>> triangles;
   Eigen::AlignedBox3d bounds;
   bool is_box{false};  // then `bounds` is the shape, and the inside test is the box test
+  bool closed{true};   // false for a surface patch: nothing lies inside it
   std::shared_ptr<fcl::BVHModel<fcl::OBBRSSd>> bvh;
 };
 
@@ -34,6 +35,9 @@ struct ShapeAccess {
 namespace {
 
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
+// A sweep measures distances exactly only up to this many margins (further ones are bounded
+// below, cheaply): each step then advances at most that far, and FCL prunes at that bound.
+constexpr double kSweepReach = 3;
 
 std::shared_ptr<internal::ShapeData> shape_data(const std::vector<Eigen::Vector3d>& vertices,
                                                 const std::vector<std::array<int, 3>>& triangles,
@@ -83,7 +87,7 @@ double winding_number(const internal::ShapeData& shape, const Eigen::Vector3d& p
 }
 
 bool shape_contains(const internal::ShapeData& shape, const Eigen::Vector3d& local_point) {
-  if (!shape.bounds.contains(local_point)) return false;
+  if (!shape.closed || !shape.bounds.contains(local_point)) return false;
   if (shape.is_box) return true;
   return winding_number(shape, local_point) > 0.5;
 }
@@ -129,7 +133,11 @@ Proximity part_proximity(const PlacedPart& a, const PlacedPart& b, double bound)
   if (std::isfinite(bound)) result.min_distance = bound;
   fcl::distance(a.shape->bvh.get(), a.pose, b.shape->bvh.get(), b.pose, request, result);
   if (!(result.min_distance < bound)) return out;
-  out.distance = std::max(0.0, result.min_distance);
+  // Surfaces that meet along coincident faces (coplanar triangles, which FCL's collide misses)
+  // come out of the distance query as rounding noise (3e-18 m for two nested boxes sharing
+  // faces): below kTouching they touch, and touching counts as intersecting.
+  constexpr double kTouching = 1e-12;  // m: far below any margin, far above rounding at 10 m
+  out.distance = result.min_distance <= kTouching ? 0.0 : result.min_distance;
   out.intersecting = out.distance == 0;
   // FCL 0.7 reports a BVH pair's nearest points in the world frame.
   out.point_a = result.nearest_points[0];
@@ -206,6 +214,29 @@ CollisionShape CollisionShape::box(const Eigen::Vector3d& low, const Eigen::Vect
                                                      {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
   auto data = shape_data(corners, triangles, "<box>");
   data->is_box = true;
+  return ShapeAccess::make(std::move(data));
+}
+
+CollisionShape CollisionShape::surface(const Mesh& mesh, std::span<const int> triangles,
+                                       double inset) {
+  std::vector<Eigen::Vector3d> corners;
+  std::vector<std::array<int, 3>> kept;
+  for (const int t : triangles) {
+    const std::array<int, 3>& triangle = mesh.triangles.at(t);
+    const Eigen::Vector3d centroid =
+        (mesh.vertices[triangle[0]] + mesh.vertices[triangle[1]] + mesh.vertices[triangle[2]]) / 3;
+    std::array<int, 3> own{};
+    for (int c = 0; c < 3; ++c) {
+      const Eigen::Vector3d& v = mesh.vertices[triangle[c]];
+      const double reach = (v - centroid).norm();
+      corners.push_back(reach > inset ? Eigen::Vector3d(v + (centroid - v) * (inset / reach))
+                                      : centroid);
+      own[c] = static_cast<int>(corners.size()) - 1;
+    }
+    kept.push_back(own);
+  }
+  auto data = shape_data(corners, kept, mesh.source);
+  data->closed = false;
   return ShapeAccess::make(std::move(data));
 }
 
@@ -290,10 +321,12 @@ Sweep sweep(const PlacedBody& moving, const Eigen::Vector3d& motion,
     // A lower bound of the distance to every obstacle.
     double closest = kInfinity;
     for (const int i : near) {
-      // Exact below the rest of the path plus the margin: an obstacle further than that cannot
-      // be reached by what remains of the motion.
-      const Proximity p =
-          body_proximity(here, obstacles[i], length - travelled + margin, travelled == 0);
+      // Exact below kSweepReach margins (or the rest of the path, if shorter) plus the margin:
+      // beyond, a lower bound does, and an obstacle further than the rest of the path cannot be
+      // reached by what remains of the motion.
+      const Proximity p = body_proximity(
+          here, obstacles[i], std::min(length - travelled, kSweepReach * margin) + margin,
+          travelled == 0);
       if (too_close(p, margin)) {
         result.clear = false;
         result.obstacle = i;
@@ -309,16 +342,18 @@ Sweep sweep(const PlacedBody& moving, const Eigen::Vector3d& motion,
   }
 }
 
-Body gripper_body(const GripperSpec& gripper, double opening) {
+Body gripper_body(const GripperSpec& gripper, double opening, double shrink) {
   const double tip = gripper.tip_beyond_contact, palm = tip - gripper.finger_length;
   const double fx = gripper.finger_width / 2, px = gripper.palm_width / 2;
   const double inner = opening / 2, outer = opening / 2 + gripper.finger_thickness;
   const double palm_y = gripper.max_opening / 2 + gripper.finger_thickness;
-  return Body(
-      "gripper",
-      {{CollisionShape::box({-fx, inner, palm}, {fx, outer, tip})},
-       {CollisionShape::box({-fx, -outer, palm}, {fx, -inner, tip})},
-       {CollisionShape::box({-px, -palm_y, palm - gripper.palm_height}, {px, palm_y, palm})}});
+  const Eigen::Vector3d in = Eigen::Vector3d::Constant(shrink);
+  const auto box = [&](const Eigen::Vector3d& low, const Eigen::Vector3d& high) {
+    return BodyPart{CollisionShape::box(low + in, high - in)};
+  };
+  return Body("gripper", {box({-fx, inner, palm}, {fx, outer, tip}),
+                          box({-fx, -outer, palm}, {fx, -inner, tip}),
+                          box({-px, -palm_y, palm - gripper.palm_height}, {px, palm_y, palm})});
 }
 
 }  // namespace spar::geometry

@@ -77,6 +77,13 @@ class CollisionShape {
   // The axis-aligned box [low, high] in the shape's frame; throws GeometryError unless low < high
   // in every coordinate.
   [[nodiscard]] static CollisionShape box(const Eigen::Vector3d& low, const Eigen::Vector3d& high);
+  // Some triangles of a closed mesh (indices into mesh.triangles): a surface only, never asked
+  // whether something lies inside it (an object without its mating faces). Each triangle is
+  // pulled in toward its centroid by `inset` (>= 0, metres), so that surfaces meeting only along
+  // the triangles' edges or at their corners no longer touch. Throws GeometryError when
+  // `triangles` is empty.
+  [[nodiscard]] static CollisionShape surface(const Mesh& mesh, std::span<const int> triangles,
+                                              double inset = 0);
 
   [[nodiscard]] const Eigen::AlignedBox3d& bounds() const;  // in the shape's frame
   [[nodiscard]] std::span<const Eigen::Vector3d> vertices() const;
@@ -164,7 +171,8 @@ struct Sweep {
 // finger_thickness (y) x finger_length (z), their inner faces at y = +-opening/2, reaching
 // tip_beyond_contact past z = 0; the palm, palm_width x (max_opening + 2 finger_thickness) x
 // palm_height, behind the fingers. `opening` in (0, max_opening]: the grasp width when holding,
-// max_opening when approaching or leaving an object.
-[[nodiscard]] Body gripper_body(const GripperSpec& gripper, double opening);
+// max_opening when approaching or leaving an object. `shrink` >= 0 moves every box face inward
+// by that much (a gripper whose pads may rest on what it grasps without counting as contact).
+[[nodiscard]] Body gripper_body(const GripperSpec& gripper, double opening, double shrink = 0);
 
 }  // namespace spar::geometry

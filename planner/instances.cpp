@@ -1,12 +1,19 @@
 #include "spar/planner/instances.hpp"
 
+#include <algorithm>
+
 #include "spar/planner/error.hpp"
 
 namespace spar::planner {
 
 InstanceEnumerator::InstanceEnumerator(const PlanFamily& family, const WorldModel& world,
-                                       const Domain& domain)
-    : family_(family), world_(world), domain_(domain), labelings_(family.network) {
+                                       const Domain& domain, std::size_t max_examined, bool measure)
+    : family_(family),
+      world_(world),
+      domain_(domain),
+      labelings_(family.network),
+      max_examined_(max_examined),
+      measure_(measure) {
   if (family.status != PostingStatus::kPlanned)
     throw PlanError("no plan instances: the plan family is not complete (" +
                     std::string(to_string(family.status)) + ")");
@@ -15,11 +22,18 @@ InstanceEnumerator::InstanceEnumerator(const PlanFamily& family, const WorldMode
 std::optional<PlanInstance> InstanceEnumerator::next() {
   while (true) {
     if (orders_) {
+      if (examined_ >= max_examined_) return std::nullopt;
       if (std::optional<std::vector<int>> order = orders_->next()) {
         std::vector<int> actions;
         for (const int step : *order)
           if (family_.steps[step].action >= 0) actions.push_back(step);
         PlanInstance instance = build(*labeling_, actions);
+        ++examined_;
+        if (std::optional<std::string> conflict =
+                check_collisions(instance, world_, domain_, measure_)) {
+          if (refused_++ == 0) first_conflict_ = std::move(*conflict);
+          continue;
+        }
         instance.index = count_++;
         return instance;
       }
@@ -88,6 +102,56 @@ PlanInstance InstanceEnumerator::build(const std::vector<int>& labeling,
     instance.steps.push_back(std::move(step));
   }
   return instance;
+}
+
+namespace {
+
+bool has_at(const std::vector<Atom>& atoms) {
+  return std::any_of(atoms.begin(), atoms.end(),
+                     [](const Atom& atom) { return atom.predicate == "at"; });
+}
+
+}  // namespace
+
+void apply_step(WorldState& state, const InstanceStep& step, const Domain& domain) {
+  if (step.grasp < 0) return;  // sensing: nothing moves
+  const ActionTemplate& action = domain.actions[step.action];
+  if (step.is_assembly()) {
+    state.move(step.object, step.held_pose);
+    state.carrier[step.object] = step.fixed_object;
+    state.held = -1;
+  } else if (has_at(action.add)) {  // a release: the object rests where the step puts it
+    state.move(step.object, step.object_pose);
+    state.held = -1;
+  } else if (has_at(action.del)) {  // a grasp that lifts the object
+    state.held = step.object;
+  }
+}
+
+std::optional<std::string> check_collisions(PlanInstance& instance, const WorldModel& world,
+                                            const Domain& domain, bool measure) {
+  WorldState state = world.initial_state();
+  for (InstanceStep& step : instance.steps) {
+    if (step.grasp < 0) continue;
+    const std::vector<int> group = state.moving_with(step.object);
+    step.carried.assign(group.begin() + 1, group.end());
+    if (step.is_assembly()) {
+      const GoalWorld* goal = world.goal(step.object, step.fixed_object);
+      step.collision = world.check_insertion(state, static_cast<int>(goal - world.goals().data()),
+                                             step.grasp, step.fixed_pose, measure);
+    } else {
+      step.collision = world.check_grasp(state, step.object, step.grasp, step.object_pose, measure);
+    }
+    if (!step.collision.clear)
+      return domain.actions[step.action].name + "(" + world.scenario().objects[step.object].name +
+             ", " + world.object(step.object).grasps[step.grasp].label + ", " +
+             world.object(step.is_assembly() ? step.fixed_object : step.object)
+                 .positions[step.position]
+                 .name +
+             "): " + step.collision.conflict;
+    apply_step(state, step, domain);
+  }
+  return std::nullopt;
 }
 
 InstanceList enumerate_instances(const PlanFamily& family, const WorldModel& world,

@@ -12,6 +12,12 @@
 // gripper frame's world pose at the grasp, T = T_O T_G (assembly: T = T_fixed Ta T_G), and the
 // first in-limit IK solution reaching it (kinematics/ik.hpp's order: lun, luf, ...).
 //
+// Only collision-free instances are returned: each is simulated on a WorldState from the initial
+// world (objects move with what is assembled into them) and every step's motions are checked
+// (world.hpp: WorldModel::check_grasp / check_insertion, approach and retreat included); an
+// instance with a conflict is skipped. Each step records what it carries and its clearance. At
+// most `max_examined` instances are simulated per enumerator; after that next() says none.
+//
 // Example:
 //   const PlanFamily family = post_plan(world, domain);
 //   InstanceEnumerator instances(family, world, domain);
@@ -39,6 +45,10 @@ struct InstanceStep {
   kinematics::Transform object_pose{kinematics::Transform::Identity()};
   kinematics::Transform gripper_pose{kinematics::Transform::Identity()};  // valid if grasp >= 0
   Reach reach;                                                            // of gripper_pose
+  // Objects assembled into `object` (directly or not) that move with it in this step.
+  std::vector<int> carried;
+  // The step's collision check: clearance at its configuration and the nearest other object.
+  StepCheck collision;
   // Assembly steps (the position belongs to another object than the grasp):
   int fixed_object{-1};
   kinematics::Transform fixed_pose{kinematics::Transform::Identity()};
@@ -57,10 +67,19 @@ class InstanceEnumerator {
  public:
   // The family, world and domain must outlive the enumerator. Throws PlanError unless the family
   // is planned.
-  InstanceEnumerator(const PlanFamily& family, const WorldModel& world, const Domain& domain);
+  // `measure`: fill each step's clearance (else only the verdict is computed, which is what
+  // deciding whether a family has a collision-free instance needs).
+  InstanceEnumerator(const PlanFamily& family, const WorldModel& world, const Domain& domain,
+                     std::size_t max_examined = 20'000, bool measure = true);
 
-  // The next instance, or nullopt when every labeling x linearization has been returned.
+  // The next collision-free instance, or nullopt when every labeling x linearization has been
+  // examined (or max_examined of them).
   [[nodiscard]] std::optional<PlanInstance> next();
+  // Instances simulated so far, those refused for a collision, and the first refusal
+  // ("pickup(block, G3, initial): the open gripper, coming to block, hits cube").
+  [[nodiscard]] std::size_t examined() const { return examined_; }
+  [[nodiscard]] std::size_t refused() const { return refused_; }
+  [[nodiscard]] const std::string& first_conflict() const { return first_conflict_; }
 
  private:
   [[nodiscard]] PlanInstance build(const std::vector<int>& labeling,
@@ -73,7 +92,24 @@ class InstanceEnumerator {
   std::optional<std::vector<int>> labeling_;   // the current labeling
   std::optional<cms::Linearizations> orders_;  // of the current labeling
   std::size_t count_{0};
+  std::size_t max_examined_;
+  bool measure_;
+  std::size_t examined_{0};
+  std::size_t refused_{0};
+  std::string first_conflict_;
 };
+
+// What `step` does to the world: a release or an insertion puts its object (and what it carries)
+// down, a lift marks it held, sensing changes nothing.
+void apply_step(WorldState& state, const InstanceStep& step, const Domain& domain);
+
+// Simulates `instance` from the initial world and checks each step's motions, filling each
+// step's `carried` and `collision` (its clearance only when `measure`); returns the first
+// conflict, or nullopt when there is none.
+[[nodiscard]] std::optional<std::string> check_collisions(PlanInstance& instance,
+                                                          const WorldModel& world,
+                                                          const Domain& domain,
+                                                          bool measure = true);
 
 struct InstanceList {
   std::vector<PlanInstance> instances;

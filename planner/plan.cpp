@@ -34,9 +34,21 @@ PlanResult plan(Scenario scenario, const Domain& domain, const PlanOptions& opti
                     .examined = {},
                     .chosen_index = 0,
                     .probability = {},
-                    .tolerances = {}};
+                    .tolerances = {},
+                    .chosen_checks = {},
+                    .analysis = options.analysis};
   stage("phase 1: constraint posting");
-  result.family = post_plan(result.world, result.domain, options.posting);
+  PostingOptions posting = options.posting;
+  // A complete family counts only if one of its instances is collision-free.
+  posting.accept = [&](const PlanFamily& family) -> std::optional<std::string> {
+    InstanceEnumerator instances(family, result.world, result.domain, 20'000,
+                                 /*measure=*/false);
+    if (instances.next()) return std::nullopt;
+    return "none of its " + std::to_string(instances.examined()) +
+           " plan instances examined is collision-free (the first: " + instances.first_conflict() +
+           ")";
+  };
+  result.family = post_plan(result.world, result.domain, posting);
   if (!result.planned()) return result;
   stage("phase 1: plan instances");
   result.instances =
@@ -46,6 +58,25 @@ PlanResult plan(Scenario scenario, const Domain& domain, const PlanOptions& opti
                                         options.analysis, stage);
     const InstanceAnalysis& chosen = result.examined[choose_instance(result.examined)];
     result.chosen_index = chosen.instance;
+    // The chosen plan's collision checks in phase 2's order: a squeeze phase 2 inserted happens
+    // in the world as it is before the step that follows it.
+    WorldState state = result.world.initial_state();
+    const PlanInstance& instance = result.chosen();
+    for (const AnalysedStep& analysed : chosen.steps) {
+      if (analysed.step.instance_step >= 0) {
+        const InstanceStep& step = instance.steps[analysed.step.instance_step];
+        result.chosen_checks.emplace_back(step.collision, step.carried);
+        apply_step(state, step, result.domain);
+      } else if (analysed.step.grasp >= 0) {
+        const std::vector<int> group = state.moving_with(analysed.step.object);
+        result.chosen_checks.emplace_back(
+            result.world.check_grasp(state, analysed.step.object, analysed.step.grasp,
+                                     analysed.step.object_pose),
+            std::vector<int>(group.begin() + 1, group.end()));
+      } else {
+        result.chosen_checks.emplace_back();
+      }
+    }
     if (options.probability) {
       stage("probability: moments, Monte Carlo, tolerance allocation");
       result.probability = analyse_probability(chosen, *options.probability);

@@ -52,6 +52,12 @@ struct PlanResult {
   // PlanOptions::probability on the chosen instance, when phase 2 ran (else nullopt).
   std::optional<ProbabilityAnalysis> probability;
   std::optional<ToleranceAllocation> tolerances;
+  // The chosen plan's steps in phase 2's order (inserted ones included), each step's collision
+  // check and what it carries: an instance step's own, a squeeze's where phase 2 put it. Empty
+  // unless phase 2 ran.
+  std::vector<std::pair<StepCheck, std::vector<int>>> chosen_checks;
+  // The options phase 2 ran with (a report says when a margin is its search's cap, max_scale).
+  AnalysisOptions analysis{};
   // The chosen instance's analysis, or nullptr when phase 2 did not run.
   [[nodiscard]] const InstanceAnalysis* chosen_analysis() const;
 

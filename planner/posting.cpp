@@ -37,6 +37,9 @@ struct PartialPlan {
   PlanFamily plan;
   std::vector<OpenGoal> open;  // the operational goal stack: back() is the top
   std::vector<Threat> threats;
+  // Where steps put objects down (the position variables of putdowns): two of them of different
+  // objects never share a place (a place holds one object at a time).
+  std::vector<int> destinations;
   int actions{0};
   int grasp_names{0};     // grasp_1, grasp_2, ... in order of creation (SPAR's naming)
   int position_names{0};  // pos_1, pos_2, ...
@@ -86,7 +89,21 @@ class Planner {
   int add_variable(PartialPlan& node, ParameterType type, int object, std::string name) const;
   [[nodiscard]] bool post_geometric(PartialPlan& node, const FamilyStep& step,
                                     const GeometricPrecondition& geometric) const;
-  [[nodiscard]] bool separate_places(PartialPlan& node, int variable) const;
+  [[nodiscard]] bool separate_places(PartialPlan& node, int step, int variable) const;
+  // Once assemble(h, f) has run, f carries h: every step ordered after it that takes f must use a
+  // grasp that clears h (GoalWorld::grasp_clears_assembled). False when that empties a domain.
+  [[nodiscard]] bool grasps_clear_assembled(PartialPlan& node) const;
+  // Whether a step handling `object` (and `partner`, the fixed object of an insertion, or -1)
+  // must keep clear of `other` where it starts: not a fixed object (the world's tables already
+  // avoid those), not one of them or what starts assembled into them (those move with them; the
+  // plan instance's check sees where they are).
+  [[nodiscard]] bool may_meet(int object, int other, int partner) const;
+  // Keeps step `step`'s configurations clear of `other` resting where it starts, where
+  // conflicts[la][lb] says the labels la of `a` and lb of `b` would hit it (b = -1: a unary table
+  // conflicts[la][0]): by a constraint when a consistent labeling survives it, else by moving
+  // `other` away first (an open goal at(other, v) before the step, v a fresh placement).
+  [[nodiscard]] bool clear_of_start(PartialPlan& node, int step, int a, int b, int other,
+                                    const WorldModel::Table& conflicts) const;
   [[nodiscard]] bool add_link(PartialPlan& node, int producer, const OpenGoal& goal) const;
   void find_threats_to_link(PartialPlan& node, std::size_t link) const;
   void find_threats_by_step(PartialPlan& node, int step) const;
@@ -113,12 +130,16 @@ class Planner {
                                                                  const Atom& add) const;
   void resolve(const PartialPlan& node, const Threat& threat,
                std::vector<PartialPlan>& children) const;
-  [[nodiscard]] PartialPlan initial_plan() const;
+  // The start of the search; nullopt when an at goal's place has no position of its object.
+  [[nodiscard]] std::optional<PartialPlan> initial_plan() const;
 
   const WorldModel& world_;
   const Domain& domain_;
   const PostingOptions& options_;
+  const WorldState start_state_{world_.initial_state()};
   mutable std::size_t budget_refusals_{0};
+  // The last constraint that refused a refinement, for the no-plan reason.
+  mutable std::string last_refusal_;
 };
 
 bool Planner::possibly_equal(const PartialPlan& node, const Term& a, const Term& b) const {
@@ -181,6 +202,11 @@ std::vector<GroundAtom> Planner::adds(const PartialPlan& node, int step) const {
       atoms.push_back({"at",
                        {{Term::Kind::kObject, static_cast<int>(o)},
                         {Term::Kind::kVariable, static_cast<int>(o)}}});  // initial_<o> is var o
+    // Assemblies the initial world already has (goals that hold from the start).
+    for (const GoalWorld& goal : world_.goals())
+      if (goal.kind == GoalWorld::Kind::kAssembled && goal.initially_true)
+        atoms.push_back(
+            {"assembled", {{Term::Kind::kObject, goal.held}, {Term::Kind::kObject, goal.fixed}}});
     return atoms;
   }
   if (step == kFinishStep) return atoms;
@@ -236,14 +262,23 @@ bool Planner::post_geometric(PartialPlan& node, const FamilyStep& step,
   bool ok = false;
   switch (geometric.kind) {
     case GeometricConstraintKind::kReachable: {
-      const int grasp = variable(0), position = variable(1);
-      ok = post_table(network, grasp, position, world_.object(object_of(grasp)).reachable);
+      const int grasp = variable(0), position = variable(1), object = object_of(grasp);
+      ok = post_table(network, grasp, position, world_.object(object).reachable);
+      for (std::size_t other = 0; ok && other < world_.object_count(); ++other)
+        if (may_meet(object, static_cast<int>(other), -1))
+          ok = clear_of_start(node, step.id, grasp, position, static_cast<int>(other),
+                              world_.initial_conflicts(object, static_cast<int>(other)));
       break;
     }
     case GeometricConstraintKind::kMateReachable: {
       const GoalWorld* tables = goal_tables();
       ok = tables != nullptr &&
            post_table(network, variable(0), variable(1), tables->mate_reachable);
+      const int goal = ok ? static_cast<int>(tables - world_.goals().data()) : -1;
+      for (std::size_t other = 0; ok && other < world_.object_count(); ++other)
+        if (may_meet(tables->held, static_cast<int>(other), tables->fixed))
+          ok = clear_of_start(node, step.id, variable(0), variable(1), static_cast<int>(other),
+                              world_.insertion_conflicts(goal, static_cast<int>(other)));
       break;
     }
     case GeometricConstraintKind::kMemberMatingFree:
@@ -260,33 +295,124 @@ bool Planner::post_geometric(PartialPlan& node, const FamilyStep& step,
       break;
     }
   }
-  if (!ok) return false;
   std::string condition = geometric.str();
   for (std::size_t i = 0; i < geometric.args.size(); ++i) {
     const std::string& from = geometric.args[i];
     const std::string& to = node.plan.variables[variable(i)].name;
     condition.replace(condition.find(from), from.size(), to);
   }
+  if (!ok) {
+    last_refusal_ = node.plan.describe(step, world_, domain_) + ": " + condition +
+                    " leaves no consistent labels (collisions included)";
+    return false;
+  }
   node.plan.satisfied.push_back(
       {SatisfiedGoal::Level::kGeometric, condition, step.id, "constraint posted"});
   return true;
 }
 
-bool Planner::separate_places(PartialPlan& node, int variable) const {
-  const PlanVariable& mine = node.plan.variables[variable];
-  for (std::size_t other = 0; other < node.plan.variables.size(); ++other) {
-    const PlanVariable& theirs = node.plan.variables[other];
-    if (static_cast<int>(other) == variable || theirs.type != ParameterType::kPlacement ||
-        theirs.object == mine.object)
-      continue;
-    const auto& a = world_.object(mine.object).positions;
-    const auto& b = world_.object(theirs.object).positions;
-    std::vector<std::vector<char>> allowed(a.size(), std::vector<char>(b.size(), 1));
-    for (std::size_t i = 0; i < a.size(); ++i)
-      for (std::size_t j = 0; j < b.size(); ++j)
-        allowed[i][j] = a[i].place < 0 || a[i].place != b[j].place;
-    if (!post_table(node.plan.network, variable, static_cast<int>(other), allowed)) return false;
+bool Planner::separate_places(PartialPlan& node, int step, int variable) const {
+  const int mine = node.plan.variables[variable].object;
+  for (const int other : node.destinations) {
+    const int theirs = node.plan.variables[other].object;
+    if (theirs == mine) continue;
+    // Over the whole plan, as if both stayed: one place per object, bodies apart.
+    const WorldModel::Table& conflicts = world_.placement_conflicts(mine, theirs);
+    if (!accepted(node.plan.network.post(
+            variable, other, [&](int la, int lb) { return conflicts[la][lb] == 0; }, budget())))
+      return false;
   }
+  node.destinations.push_back(variable);
+  // Where other objects start: the destination must avoid them, or they must leave first.
+  for (std::size_t other = 0; other < world_.object_count(); ++other)
+    if (may_meet(mine, static_cast<int>(other), -1)) {
+      const WorldModel::Table& conflicts =
+          world_.placement_conflicts(mine, static_cast<int>(other));
+      WorldModel::Table unary(conflicts.size(), std::vector<char>(1, 0));
+      for (std::size_t label = 0; label < conflicts.size(); ++label)
+        unary[label][0] = conflicts[label][0];
+      if (!clear_of_start(node, step, variable, -1, static_cast<int>(other), unary)) return false;
+    }
+  return true;
+}
+
+bool Planner::grasps_clear_assembled(PartialPlan& node) const {
+  for (const FamilyStep& assembly : node.plan.steps) {
+    if (assembly.action < 0) continue;
+    const ActionTemplate& action = domain_.actions[assembly.action];
+    const auto joins = std::find_if(action.add.begin(), action.add.end(),
+                                    [](const Atom& atom) { return atom.predicate == "assembled"; });
+    if (joins == action.add.end() || joins->args.size() != 2) continue;
+    const int held = assembly.args[action.parameter_index(joins->args[0])].index;
+    const int fixed = assembly.args[action.parameter_index(joins->args[1])].index;
+    const GoalWorld* goal = world_.goal(held, fixed);
+    if (goal == nullptr) continue;
+    std::vector<int> clear;
+    for (std::size_t g = 0; g < goal->grasp_clears_assembled.size(); ++g)
+      if (goal->grasp_clears_assembled[g]) clear.push_back(static_cast<int>(g));
+    for (const FamilyStep& later : node.plan.steps) {
+      if (later.action < 0 || !node.plan.ordering.precedes(assembly.id, later.id)) continue;
+      const ActionTemplate& taking = domain_.actions[later.action];
+      for (std::size_t p = 0; p < taking.parameters.size(); ++p) {
+        const Parameter& parameter = taking.parameters[p];
+        if (parameter.type != ParameterType::kGrasp ||
+            later.args[taking.parameter_index(parameter.of)].index != fixed)
+          continue;
+        const int variable = later.args[p].index;
+        cms::ConstraintNetwork& network = node.plan.network;
+        bool narrower = false;
+        for (const int label : network.labels(variable))
+          narrower |= std::find(clear.begin(), clear.end(), label) == clear.end();
+        if (narrower && (clear.empty() || !accepted(network.restrict(variable, clear, budget())))) {
+          last_refusal_ = node.plan.describe(later, world_, domain_) + " after " +
+                          node.plan.describe(assembly, world_, domain_) + ": no grasp of " +
+                          world_.scenario().objects[fixed].name + " clears " +
+                          world_.scenario().objects[held].name + " assembled into it";
+          return false;
+        }
+      }
+    }
+  }
+  return true;
+}
+
+bool Planner::may_meet(int object, int other, int partner) const {
+  if (world_.scenario().objects[other].fixed) return false;
+  const auto in_group = [&](int of) {
+    const std::vector<int> group = start_state_.moving_with(of);
+    return std::find(group.begin(), group.end(), other) != group.end();
+  };
+  return !in_group(object) && (partner < 0 || !in_group(partner));
+}
+
+bool Planner::clear_of_start(PartialPlan& node, int step, int a, int b, int other,
+                             const WorldModel::Table& conflicts) const {
+  cms::ConstraintNetwork& network = node.plan.network;
+  bool any = false;
+  for (const int la : network.labels(a))
+    for (const int lb : b < 0 ? std::vector<int>{0} : network.labels(b)) any |= conflicts[la][lb];
+  if (!any) return true;
+  cms::ConstraintNetwork constrained = network;
+  const cms::Consistency kept =
+      b < 0 ? [&] {
+        std::vector<int> free;
+        for (const int la : network.labels(a))
+          if (!conflicts[la][0]) free.push_back(la);
+        return free.empty() ? cms::Consistency::kInconsistent
+                            : constrained.restrict(a, free, budget());
+      }()
+            : constrained.post(a, b, [&](int la, int lb) { return conflicts[la][lb] == 0; },
+                               budget());
+  if (accepted(kept)) {
+    network = std::move(constrained);
+    return true;
+  }
+  // Nothing avoids it: `other` moves away before the step.
+  const int away = add_variable(node, ParameterType::kPlacement, other,
+                                "away_" + world_.scenario().objects[other].name + "_" +
+                                    std::to_string(++node.position_names));
+  node.open.push_back(
+      {{"at", {{Term::Kind::kObject, other}, {Term::Kind::kVariable, away}}}, step, -1});
   return true;
 }
 
@@ -364,6 +490,9 @@ std::optional<PartialPlan> Planner::establish_by_new_step(const PartialPlan& nod
     const Parameter& declared = action.parameters[p];
     if (declared.type == ParameterType::kObject) continue;
     const int object = step.args[action.parameter_index(declared.of)].index;
+    // A fixed object has no grasps: no step may take hold of it.
+    if (declared.type == ParameterType::kGrasp && world_.object(object).grasps.empty())
+      return std::nullopt;
     if (step.args[p].index >= 0) {
       PlanVariable& bound = child.plan.variables[step.args[p].index];
       if (bound.object != object) return std::nullopt;
@@ -389,7 +518,7 @@ std::optional<PartialPlan> Planner::establish_by_new_step(const PartialPlan& nod
     return std::nullopt;
   for (std::size_t p = 0; p < action.parameters.size(); ++p)
     if (action.parameters[p].type == ParameterType::kPlacement &&
-        !separate_places(child, step.args[p].index))
+        !separate_places(child, step.id, step.args[p].index))
       return std::nullopt;
   for (const GeometricPrecondition& geometric : action.geometric)
     if (!post_geometric(child, step, geometric)) return std::nullopt;
@@ -517,7 +646,7 @@ void Planner::resolve(const PartialPlan& node, const Threat& threat,
   }
 }
 
-PartialPlan Planner::initial_plan() const {
+std::optional<PartialPlan> Planner::initial_plan() const {
   PartialPlan node;
   PlanFamily& plan = node.plan;
   constant(node, "empty");
@@ -530,11 +659,27 @@ PartialPlan Planner::initial_plan() const {
   plan.steps.push_back({.id = plan.ordering.add_step(), .action = -1, .args = {}});  // initial
   plan.steps.push_back({.id = plan.ordering.add_step(), .action = -1, .args = {}});  // finish
   plan.ordering.add_before(kInitialStep, kFinishStep);
-  for (const GoalWorld& goal : world_.goals())
+  for (const GoalWorld& goal : world_.goals()) {
+    if (goal.kind == GoalWorld::Kind::kAssembled) {
+      node.open.push_back(
+          {{"assembled", {{Term::Kind::kObject, goal.held}, {Term::Kind::kObject, goal.fixed}}},
+           kFinishStep,
+           -1});
+      continue;
+    }
+    // at(object, place): at(object, pos) for a position variable limited to the place's labels.
+    const std::string& place = world_.scenario().places[goal.place].name;
+    const int variable =
+        add_variable(node, ParameterType::kPosition, goal.held,
+                     "at_" + place + "_" + world_.scenario().objects[goal.held].name);
+    if (goal.at_place.empty() ||
+        plan.network.restrict(variable, goal.at_place, budget()) != cms::Consistency::kConsistent)
+      return std::nullopt;  // no position of the object at the place
     node.open.push_back(
-        {{"assembled", {{Term::Kind::kObject, goal.held}, {Term::Kind::kObject, goal.fixed}}},
+        {{"at", {{Term::Kind::kObject, goal.held}, {Term::Kind::kVariable, variable}}},
          kFinishStep,
          -1});
+  }
   std::reverse(node.open.begin(), node.open.end());  // the first goal on top
   return node;
 }
@@ -567,7 +712,8 @@ PlanFamily Planner::run() {
     }
     queue.push({priority, stats.generated++, slot});
   };
-  push(initial_plan());
+  std::optional<PartialPlan> start_plan = initial_plan();
+  if (start_plan) push(std::move(*start_plan));
   const auto finish = [&](PlanFamily plan, PostingStatus status, std::string reason) {
     plan.status = status;
     plan.reason = std::move(reason);
@@ -576,12 +722,18 @@ PlanFamily Planner::run() {
     return plan;
   };
   std::vector<PartialPlan> children;
+  std::string first_refusal;  // why the first complete family was refused
   while (!queue.empty()) {
     check_deadline();  // a batch's --time-limit (common/deadline.hpp); cheap without one
     if (stats.expanded >= options_.max_nodes)
-      return finish(std::move(store[queue.top().index].plan), PostingStatus::kNodeLimit,
-                    "stopped after " + std::to_string(options_.max_nodes) +
-                        " partial plans (max_nodes) without a complete plan");
+      return finish(
+          std::move(store[queue.top().index].plan), PostingStatus::kNodeLimit,
+          "stopped after " + std::to_string(options_.max_nodes) +
+              " partial plans (max_nodes) without a complete plan" +
+              (stats.refused == 0 ? std::string()
+                                  : "; " + std::to_string(stats.refused) +
+                                        " complete plan families were refused, the first because " +
+                                        first_refusal));
     const Entry entry = queue.top();
     queue.pop();
     PartialPlan node = std::move(store[entry.index]);
@@ -589,19 +741,28 @@ PlanFamily Planner::run() {
     ++stats.expanded;
     std::erase_if(node.threats, [&](const Threat& t) { return !is_threat(node, t); });
     children.clear();
+    if (!grasps_clear_assembled(node)) continue;
     if (!node.threats.empty()) {
       resolve(node, node.threats.front(), children);
     } else if (!node.open.empty()) {
       establish(node, choose_goal(node), children);
     } else {
+      if (options_.accept) {
+        node.plan.status = PostingStatus::kPlanned;
+        if (std::optional<std::string> refusal = options_.accept(node.plan)) {
+          if (stats.refused++ == 0) first_refusal = std::move(*refusal);
+          continue;
+        }
+      }
       for (const CausalLink& link : node.plan.links) {
         std::string condition = link.predicate + "(";
         for (std::size_t i = 0; i < link.args.size(); ++i)
           condition += (i ? ", " : "") + node.plan.term_name(link.args[i], world_);
         node.plan.satisfied.push_back(
             {SatisfiedGoal::Level::kOperational, condition + ")", link.consumer,
-             link.producer == kInitialStep ? std::string("initial state")
-                                           : "step " + std::to_string(link.producer)});
+             link.producer != kInitialStep  ? "step " + std::to_string(link.producer)
+             : link.consumer == kFinishStep ? std::string("already satisfied")
+                                            : std::string("initial state")});
       }
       return finish(std::move(node.plan), PostingStatus::kPlanned, "");
     }
@@ -614,6 +775,12 @@ PlanFamily Planner::run() {
                        " actions reaches the goals (every refinement was inconsistent)";
   if (const std::optional<std::string> obstacle = world_.relaxed_obstacle())
     reason += ": " + *obstacle;
+  else if (!last_refusal_.empty())
+    reason +=
+        "; each goal is reachable alone, but not together: the last refusal was " + last_refusal_;
+  if (stats.refused > 0)
+    reason += "; " + std::to_string(stats.refused) +
+              " complete plan families were refused, the first because " + first_refusal;
   if (budget_refusals_ > 0)
     reason += "; " + std::to_string(budget_refusals_) +
               " constraint posts ran out of the network's search budget (network_budget), so "

@@ -41,6 +41,8 @@
 #pragma once
 
 #include <cstddef>
+#include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -97,16 +99,23 @@ enum class PostingStatus {
 };
 [[nodiscard]] const char* to_string(PostingStatus status);
 
+struct PlanFamily;
+
 struct PostingOptions {
   std::size_t max_nodes{200'000};  // partial plans expanded
   int max_steps{64};               // actions in one plan (the initial state and finish excluded)
   // Network search budget per post (nodes of the backtracking consistency search).
   std::size_t network_budget{100'000};
+  // Asked of every complete plan family (status already kPlanned): nullopt accepts it, a text
+  // refuses it and says why, and the search goes on (plan() refuses a family none of whose
+  // instances is collision-free). Empty: every complete family is accepted.
+  std::function<std::optional<std::string>(const PlanFamily&)> accept{};
 };
 
 struct PostingStats {
   std::size_t expanded{0};   // partial plans taken from the queue
   std::size_t generated{0};  // partial plans created (refinements)
+  std::size_t refused{0};    // complete families PostingOptions::accept refused
   double seconds{0.0};
 };
 

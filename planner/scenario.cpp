@@ -55,6 +55,49 @@ const ObjectSpec& Scenario::object(std::string_view name) const {
                       "' (objects: " + (known.empty() ? "none" : known) + ")");
 }
 
+int Scenario::place_index(std::string_view name) const {
+  for (std::size_t p = 0; p < places.size(); ++p)
+    if (places[p].name == name) return static_cast<int>(p);
+  return -1;
+}
+
+kinematics::Transform place_pose(const Place& place, double yaw,
+                                 const geometry::StablePose& stable) {
+  return Eigen::Translation3d(place.x, place.y, 0.0) *
+         Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) * stable.object_to_world;
+}
+
+std::optional<std::size_t> resting_yaw(const ObjectSpec& object, const Place& place) {
+  if (!object.initial_stable_pose) return std::nullopt;
+  const geometry::StablePose& stable = object.stable_poses[*object.initial_stable_pose];
+  for (std::size_t k = 0; k < place.yaws.size(); ++k)
+    if ((place_pose(place, place.yaws[k], stable).matrix() - object.initial_pose.matrix())
+            .cwiseAbs()
+            .maxCoeff() <= 1e-7)
+      return k;
+  return std::nullopt;
+}
+
+std::string describe(const Goal& goal) {
+  if (const auto* assembled = std::get_if<AssembledGoal>(&goal))
+    return "assembled(" + assembled->held + ", " + assembled->fixed + ")";
+  const AtGoal& at = std::get<AtGoal>(goal);
+  return "at(" + at.object + ", " + at.place + ")";
+}
+
+const SourceLocation& location(const Goal& goal) {
+  return std::visit([](const auto& g) -> const SourceLocation& { return g.location; }, goal);
+}
+
+const CameraSensor& Scenario::camera(std::string_view name) const {
+  for (const CameraSensor& camera : cameras)
+    if (camera.name == name) return camera;
+  std::string known;
+  for (const CameraSensor& camera : cameras) known += (known.empty() ? "" : ", ") + camera.name;
+  throw ScenarioError("scenario '" + this->name + "' has no camera '" + std::string(name) +
+                      "' (cameras: " + (known.empty() ? "none" : known) + ")");
+}
+
 Scenario load_scenario(const std::filesystem::path& path) {
   std::string text;
   try {

@@ -2,10 +2,10 @@
 //
 // A scenario names the robot (a built-in robot, a URDF file or a DH table, its base pose in the
 // world, the tool transform from its tip to the gripper frame, the gripper, the manipulator's
-// uncertainty), the objects
-// (shape, named features, initial pose, pose uncertainty), the free places on the table where
-// objects may be put down, the sensors, and the goals. SPAR's assembled(held, fixed, mating faces,
-// Ta, mating vector) is the goal type today.
+// uncertainty), the objects (shape, named features, initial pose, pose uncertainty, whether it is
+// fixed), the free places on the table where objects may be put down (each with one or several
+// yaws), the sensors, the collision margin, and the goals: SPAR's assembled(held, fixed, mating
+// faces, Ta, mating vector) and at(object, place).
 //
 // Units: inside a Scenario every length is in metres and every angle in radians (REP 103),
 // whatever the file said; `units` remembers the file's choice so output can be shown in it.
@@ -18,7 +18,11 @@
 //   * every pose is rigid; every half-width of an uncertainty is finite and >= 0;
 //   * `places` have unique names; the robot is a valid chain (kinematics/robot.hpp) with its IK;
 //   * every UncertaintyModel's sigma is > 0 (and finite) where its half-width is > 0 when it is
-//     Gaussian, 0 when uniform; every cost is finite and > 0.
+//     Gaussian, 0 when uniform; every cost is finite and > 0;
+//   * every place has at least one yaw, none repeated;
+//   * the goals do not contradict each other: no pair assembled twice, no object held in two
+//     assemblies or at two places or both held and at a place, no cycle of assemblies, no two
+//     objects at one place, no fixed object held or sent to a place it is not at.
 //
 // Example:
 //   const Scenario scenario = load_scenario("examples/peg_block_face_down.yaml");
@@ -41,6 +45,7 @@
 #include "spar/kinematics/dh.hpp"
 #include "spar/kinematics/robots.hpp"
 #include "spar/kinematics/uncertain_pose.hpp"
+#include "spar/sensing/camera.hpp"
 
 namespace spar::planner {
 
@@ -98,7 +103,10 @@ struct RobotSpec {
   geometry::GripperSpec gripper{};
   // Half-angle of the cone about world -z the gripper's approach (z) axis must lie in when it
   // reaches a grasp (SPAR: never reach up through the table).
-  double max_tool_tilt{1.0471975511965976};   // 60 degrees
+  double max_tool_tilt{1.0471975511965976};  // 60 degrees
+  // SPAR's execution: the gripper comes to a grasp (and leaves it) along a straight line of this
+  // length on its approach axis (an insertion: along the mating vector), from a point above.
+  double approach_distance{0.1};              // metres
   kinematics::PoseUncertainty uncertainty{};  // Δx_g, Δy_g, Δz_g, Δθ_g of eq. 1
   UncertaintyModel uncertainty_model{};       // how they are distributed (probability only)
   // Half-widths of per-joint errors δq_i (rad or m, one per moving joint of `arm`), or empty:
@@ -119,22 +127,56 @@ struct ObjectSpec {
   std::optional<int> initial_stable_pose;     // index into stable_poses
   kinematics::PoseUncertainty uncertainty{};  // Δx_o, Δy_o, Δz_o, Δθ_o of eq. 2
   UncertaintyModel uncertainty_model{};       // how they are distributed (probability only)
-  SourceLocation location;                    // of the object's entry
+  // `fixed: true`: the object never moves (a fixture, a base bolted down): it needs no grasps and
+  // the planner never picks it up; it may still be the fixed object of an assembled goal.
+  bool fixed{false};
+  SourceLocation location;       // of the object's entry
+  SourceLocation pose_location;  // of its `pose`
 };
 
-// A free spot on the table where an object may be put down: the object's frame origin goes above
-// (x, y), turned by `yaw` about world z, resting in whichever stable pose the plan chooses.
+// A free spot on the table where an object may be put down: the object's centre of mass goes
+// above (x, y), turned by one of `yaws` about world z (the plan chooses which), resting in
+// whichever stable pose the plan chooses. A place holds one object at a time.
 struct Place {
   std::string name;
   double x{0.0};
   double y{0.0};
-  double yaw{0.0};
+  std::vector<double> yaws{0.0};  // radians, at least one, distinct
+  SourceLocation location;
+};
+
+// Where an object rests when put down at `place`, in stable pose `stable`, turned by `yaw`:
+// trans(x, y, 0) rotz(yaw) T_stable (the resting pose form of docs/scenario.md).
+[[nodiscard]] kinematics::Transform place_pose(const Place& place, double yaw,
+                                               const geometry::StablePose& stable);
+
+// The collision checks of the plan (geometry/collision.hpp): bodies closer than `margin`
+// (metres) count as colliding.
+struct CollisionSettings {
+  double margin{0.001};
 };
 
 // range-scan: sensing an object replaces its pose uncertainty by this residual (fresh variables).
 struct RangeScanSensor {
   kinematics::PoseUncertainty residual{};
   UncertaintyModel residual_model{};  // how the residual is distributed (probability only)
+};
+
+// A camera (sensors.cameras, normative): where it is, how it images (sensing/camera.hpp: the
+// optical frame, +z the viewing direction, +x right, +y down), how noisy its edges are and how
+// often an edge it should see is found. `uncertainty` (optional): the pose's half-widths as an
+// object's (eq. 2: displacement in the world, dtheta about world z through the camera), for a
+// camera on a mobile robot whose position is not known exactly.
+struct CameraSensor {
+  std::string name;
+  sensing::Projection projection{sensing::Projection::kPinhole};
+  sensing::Intrinsics intrinsics{};  // pixels (orthographic fx, fy: pixels per metre)
+  kinematics::Transform pose{kinematics::Transform::Identity()};  // camera frame in the world
+  double noise_px{0.0};               // standard deviation of an edge end point, pixels
+  double detection_probability{1.0};  // in (0, 1]
+  kinematics::PoseUncertainty uncertainty{};
+  UncertaintyModel uncertainty_model{};
+  SourceLocation location;  // of the camera's entry
 };
 
 // SPAR's assembled(held, fixed, [held faces, fixed faces], Ta, mating vector).
@@ -154,7 +196,17 @@ struct AssembledGoal {
   SourceLocation location;
 };
 
-using Goal = std::variant<AssembledGoal>;
+// at(object, place): the object ends resting at the place (any stable pose, any of its yaws).
+struct AtGoal {
+  std::string object;
+  std::string place;
+  SourceLocation location;
+};
+
+using Goal = std::variant<AssembledGoal, AtGoal>;
+// "assembled(peg, block)", "at(block, left)".
+[[nodiscard]] std::string describe(const Goal& goal);
+[[nodiscard]] const SourceLocation& location(const Goal& goal);
 
 struct Scenario {
   std::string name;            // `name:` or the file's stem
@@ -165,6 +217,8 @@ struct Scenario {
   std::vector<ObjectSpec> objects;  // in file order
   std::vector<Place> places;        // in file order
   std::optional<RangeScanSensor> range_scan;
+  CollisionSettings collision{};
+  std::vector<CameraSensor> cameras;       // in file order, unique names
   geometry::GraspQuantization grasping{};  // how grasps are quantized (SPAR's grasp labels)
   std::vector<Goal> goals;                 // in file order
   // "file:line:col: ..." for what loads but looks wrong (a mesh whose size is implausible in the
@@ -173,7 +227,15 @@ struct Scenario {
 
   // Throws ScenarioError naming the known objects when there is none called `name`.
   [[nodiscard]] const ObjectSpec& object(std::string_view name) const;
+  // Index into `places`, or -1.
+  [[nodiscard]] int place_index(std::string_view name) const;
+  // The same for cameras.
+  [[nodiscard]] const CameraSensor& camera(std::string_view name) const;
 };
+
+// The index of the place's yaw at which `object` initially rests there (its initial pose is
+// place_pose for its initial stable pose, within 1e-7 m and rad), or nullopt.
+[[nodiscard]] std::optional<std::size_t> resting_yaw(const ObjectSpec& object, const Place& place);
 
 // Reads and validates a scenario file; mesh paths are relative to the file's folder.
 [[nodiscard]] Scenario load_scenario(const std::filesystem::path& path);

@@ -1,6 +1,9 @@
 #include "spar/planner/world.hpp"
 
 #include <cmath>
+#include <cstdio>
+#include <map>
+#include <mutex>
 
 #include "spar/geometry/stable_poses.hpp"
 #include "spar/planner/error.hpp"
@@ -16,11 +19,12 @@ double tilt_from_down(const Transform& pose) {
   return std::acos(std::clamp(cosine, -1.0, 1.0));
 }
 
-Transform place_pose(const Place& place, const geometry::StablePose& stable) {
-  Transform pose = Transform::Identity();
-  pose.translate(Eigen::Vector3d(place.x, place.y, 0.0));
-  pose.rotate(Eigen::AngleAxisd(place.yaw, Eigen::Vector3d::UnitZ()));
-  return pose * stable.object_to_world;
+// "/180" for a place with several yaws (in the file's angle unit), "" for one.
+std::string yaw_suffix(const Place& place, std::size_t k, const Units& units) {
+  if (place.yaws.size() == 1) return "";
+  char text[32];
+  std::snprintf(text, sizeof text, "/%.6g", units.to_file_angle(place.yaws[k]));
+  return text;
 }
 
 std::vector<PositionLabel> position_labels(const Scenario& scenario, const ObjectSpec& object) {
@@ -29,44 +33,153 @@ std::vector<PositionLabel> position_labels(const Scenario& scenario, const Objec
                     .stable_pose = object.initial_stable_pose.value_or(-1),
                     .place = -1,
                     .pose = object.initial_pose});
+  for (std::size_t p = 0; p < scenario.places.size(); ++p)
+    if (resting_yaw(object, scenario.places[p])) labels[0].place = static_cast<int>(p);
+  if (object.fixed) return labels;
   for (std::size_t s = 0; s < object.stable_poses.size(); ++s)
-    for (std::size_t p = 0; p < scenario.places.size(); ++p)
-      labels.push_back({.name = object.stable_poses[s].label + "@" + scenario.places[p].name,
-                        .stable_pose = static_cast<int>(s),
-                        .place = static_cast<int>(p),
-                        .pose = place_pose(scenario.places[p], object.stable_poses[s])});
+    for (std::size_t p = 0; p < scenario.places.size(); ++p) {
+      const Place& place = scenario.places[p];
+      for (std::size_t k = 0; k < place.yaws.size(); ++k)
+        labels.push_back({.name = object.stable_poses[s].label + "@" + place.name +
+                                  yaw_suffix(place, k, scenario.units),
+                          .stable_pose = static_cast<int>(s),
+                          .place = static_cast<int>(p),
+                          .pose = place_pose(place, place.yaws[k], object.stable_poses[s])});
+    }
   return labels;
+}
+
+// An object's faces other than `faces` (ids), as a surface whose triangles are pulled in by a
+// micrometre (geometry::CollisionShape::surface); nullopt when nothing is left.
+std::optional<geometry::Body> other_faces(const ObjectSpec& object, const std::vector<int>& faces) {
+  const geometry::Mesh& mesh = object.model.mesh();
+  std::vector<char> mating(mesh.triangles.size(), 0);
+  for (const int id : faces)
+    for (const int t : object.model.face(id).triangles) mating[t] = 1;
+  std::vector<int> rest;
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
+    if (!mating[t]) rest.push_back(static_cast<int>(t));
+  if (rest.empty()) return std::nullopt;
+  return geometry::Body(object.name + " but its mating faces",
+                        geometry::CollisionShape::surface(mesh, rest, 1e-6));
+}
+
+// A placed body moved by `offset` (world frame).
+geometry::PlacedBody shifted(const geometry::PlacedBody& placed, const Eigen::Vector3d& offset) {
+  return {placed.body, Eigen::Translation3d(offset) * placed.pose};
 }
 
 }  // namespace
 
+struct WorldModel::Caches {
+  std::mutex mutex;
+  std::map<std::pair<int, int>, Table> initial, insertion, placement;
+};
+
+std::vector<int> WorldState::moving_with(int object) const {
+  std::vector<int> group = {object};
+  for (std::size_t i = 0; i < group.size(); ++i)
+    for (std::size_t o = 0; o < carrier.size(); ++o)
+      if (carrier[o] == group[i]) group.push_back(static_cast<int>(o));
+  return group;
+}
+
+void WorldState::move(int object, const kinematics::Transform& pose) {
+  const kinematics::Transform change = pose * poses[object].inverse(Eigen::Isometry);
+  for (const int o : moving_with(object)) poses[o] = change * poses[o];
+}
+
 WorldModel::WorldModel(Scenario scenario) : scenario_(std::move(scenario)) {
   gripper_ = scenario_.robot.gripper;
   gripper_.max_approach_tilt = scenario_.robot.max_tool_tilt;
+  caches_ = std::make_shared<Caches>();
+  for (const ObjectSpec& spec : scenario_.objects)
+    bodies_.emplace_back(spec.name, geometry::CollisionShape(spec.model.mesh()));
+  open_gripper_ = geometry::gripper_body(gripper_, gripper_.max_opening);
+  check_initial_world();
+  // What never moves: the fixed objects where they are.
+  WorldState fixed_only = initial_state();
+  std::vector<int> movable;
+  for (std::size_t o = 0; o < scenario_.objects.size(); ++o)
+    if (!scenario_.objects[o].fixed) movable.push_back(static_cast<int>(o));
   for (const ObjectSpec& spec : scenario_.objects) {
     ObjectWorld object;
-    object.grasps = geometry::compute_grasps(spec.model, gripper_, scenario_.grasping);
-    if (object.grasps.empty())
-      throw PlanError(spec.location.str() + ": object '" + spec.name +
-                      "' has no grasp the gripper can make (opening " +
-                      std::to_string(gripper_.max_opening) + " m)");
+    if (!spec.fixed) {
+      object.grasps = geometry::compute_grasps(spec.model, gripper_, scenario_.grasping);
+      if (object.grasps.empty())
+        throw PlanError(spec.location.str() + ": object '" + spec.name +
+                        "' has no grasp the gripper can make (opening " +
+                        std::to_string(gripper_.max_opening) +
+                        " m); if it never moves, say `fixed: true`");
+    }
     object.positions = position_labels(scenario_, spec);
+    const int index = static_cast<int>(objects_.size());
+    const geometry::Body& own = bodies_[index];
+    std::vector<int> except = movable;
+    except.push_back(index);
+    const std::vector<Obstacle> fixed_objects = obstacles(fixed_only, except);
+    // A place where the object would meet a fixed object is no destination.
+    std::vector<char> position_free(object.positions.size(), 1);
+    for (std::size_t p = 1; p < object.positions.size(); ++p)
+      for (const Obstacle& other : fixed_objects)
+        if (geometry::collide({&own, object.positions[p].pose}, other.placed, margin()))
+          position_free[p] = 0;
+    // The gripper's approach to its own object, a translation in the object's frame: the open
+    // gripper, its pads allowed to rest on the contact faces (shrunk by a micrometre), must keep
+    // clear of the object along the whole approach.
+    const geometry::Body open_shrunk = geometry::gripper_body(gripper_, gripper_.max_opening, 1e-6);
+    held_.emplace_back();
+    closed_.emplace_back();
     object.reachable.assign(object.grasps.size(), std::vector<char>(object.positions.size(), 0));
-    for (std::size_t g = 0; g < object.grasps.size(); ++g)
-      for (std::size_t p = 0; p < object.positions.size(); ++p)
-        object.reachable[g][p] =
-            grasp_usable_at(object.grasps[g], spec, object.positions[p]) &&
-            reach(object.positions[p].pose * object.grasps[g].gripper_in_object).reachable;
-    objects_.push_back(std::move(object));
+    objects_.push_back(std::move(object));  // grasp_check reads it
+    ObjectWorld& added = objects_.back();
+    for (std::size_t g = 0; g < added.grasps.size(); ++g) {
+      const geometry::Grasp& grasp = added.grasps[g];
+      closed_.back().push_back(geometry::gripper_body(gripper_, grasp.width));
+      held_.back().push_back(closed_.back().back().joined(
+          own, grasp.gripper_in_object.inverse(Eigen::Isometry), spec.name + " in the gripper"));
+      const Eigen::Vector3d approach =
+          scenario_.robot.approach_distance * grasp.gripper_in_object.linear().col(2);
+      const geometry::PlacedBody start{&open_shrunk,
+                                       Eigen::Translation3d(-approach) * grasp.gripper_in_object};
+      const geometry::PlacedBody object_at_origin{&own, kinematics::Transform::Identity()};
+      const bool approach_clear =
+          geometry::sweep(start, approach, std::span(&object_at_origin, 1), margin()).clear;
+      for (std::size_t p = 0; p < added.positions.size(); ++p)
+        added.reachable[g][p] =
+            approach_clear && position_free[p] &&
+            grasp_usable_at(grasp, spec, added.positions[p]) &&
+            reach(added.positions[p].pose * grasp.gripper_in_object).reachable &&
+            grasp_check(index, static_cast<int>(g), added.positions[p].pose, fixed_objects, {})
+                .clear;
+    }
   }
   for (const Goal& goal : scenario_.goals) {
-    const AssembledGoal& assembled = std::get<AssembledGoal>(goal);
     GoalWorld tables;
+    if (const auto* at = std::get_if<AtGoal>(&goal)) {
+      tables.kind = GoalWorld::Kind::kAt;
+      tables.held = object_index(at->object);
+      tables.place = scenario_.place_index(at->place);
+      const std::vector<PositionLabel>& positions = objects_[tables.held].positions;
+      for (std::size_t p = 0; p < positions.size(); ++p)
+        if (positions[p].place == tables.place) tables.at_place.push_back(static_cast<int>(p));
+      tables.initially_true = positions[0].place == tables.place;
+      goals_.push_back(std::move(tables));
+      held_rest_.emplace_back();
+      fixed_rest_.emplace_back();
+      pair_conflict_.emplace_back();
+      continue;
+    }
+    const AssembledGoal& assembled = std::get<AssembledGoal>(goal);
     tables.held = object_index(assembled.held);
     tables.fixed = object_index(assembled.fixed);
+    held_rest_.push_back(other_faces(scenario_.objects[tables.held], assembled.held_faces));
+    fixed_rest_.push_back(other_faces(scenario_.objects[tables.fixed], assembled.fixed_faces));
     const ObjectWorld& held = objects_[tables.held];
     const ObjectWorld& fixed = objects_[tables.fixed];
     const ObjectSpec& fixed_spec = scenario_.objects[tables.fixed];
+    tables.initially_true = (fixed_spec.initial_pose * assembled.relative)
+                                .isApprox(scenario_.objects[tables.held].initial_pose, 1e-7);
     for (const geometry::Grasp& grasp : held.grasps)
       tables.grasp_leaves_mating_free.push_back(
           geometry::grasp_leaves_free(grasp, assembled.held_faces));
@@ -78,13 +191,40 @@ WorldModel::WorldModel(Scenario scenario) : scenario_(std::move(scenario)) {
       const Eigen::Vector3d mating = position.pose.linear() * assembled.mating_vector;
       tables.mating_pose.push_back(faces_free && -mating.z() >= std::cos(kFrictionCone));
     }
+    std::vector<int> except = movable;
+    except.push_back(tables.fixed);
+    const std::vector<Obstacle> fixed_objects = obstacles(fixed_only, except);
+    // The gripper taking f with h in it: the same relative geometry wherever f is.
+    for (std::size_t g = 0; g < fixed.grasps.size(); ++g) {
+      const kinematics::Transform gripper = fixed.grasps[g].gripper_in_object;
+      const Eigen::Vector3d approach = scenario_.robot.approach_distance * gripper.linear().col(2);
+      const geometry::PlacedBody part{&bodies_[tables.held], assembled.relative};
+      tables.grasp_clears_assembled.push_back(
+          geometry::sweep({&*open_gripper_, Eigen::Translation3d(-approach) * gripper}, approach,
+                          std::span(&part, 1), margin())
+              .clear &&
+          !geometry::collide({&closed_[tables.fixed][g], gripper}, part, margin()));
+    }
+    const int goal_index = static_cast<int>(goals_.size());
+    goals_.push_back(tables);  // insertion_check reads the goal's objects
+    // The insertion's motions relative to f, per grasp of h (f's pose does not change them).
+    pair_conflict_.emplace_back();
+    for (std::size_t g = 0; g < held.grasps.size(); ++g)
+      pair_conflict_.back().push_back(
+          tables.grasp_leaves_mating_free[g]
+              ? insertion_pair_conflict(goal_index, static_cast<int>(g),
+                                        kinematics::Transform::Identity(), {})
+              : std::optional<std::string>("the grasp obscures a mating face"));
     tables.mate_reachable.assign(held.grasps.size(), std::vector<char>(fixed.positions.size(), 0));
     for (std::size_t g = 0; g < held.grasps.size(); ++g)
       for (std::size_t p = 0; p < fixed.positions.size(); ++p)
         tables.mate_reachable[g][p] =
             reach(fixed.positions[p].pose * assembled.relative * held.grasps[g].gripper_in_object)
-                .reachable;
-    goals_.push_back(std::move(tables));
+                .reachable &&
+            insertion_check(goal_index, static_cast<int>(g), fixed.positions[p].pose, fixed_objects,
+                            {})
+                .clear;
+    goals_.back() = std::move(tables);
   }
 }
 
@@ -99,7 +239,8 @@ int WorldModel::object_index(std::string_view name) const {
 
 const GoalWorld* WorldModel::goal(int held, int fixed) const {
   for (const GoalWorld& tables : goals_)
-    if (tables.held == held && tables.fixed == fixed) return &tables;
+    if (tables.kind == GoalWorld::Kind::kAssembled && tables.held == held && tables.fixed == fixed)
+      return &tables;
   return nullptr;
 }
 
@@ -123,8 +264,8 @@ Reach WorldModel::reach(const Transform& gripper_pose) const {
 }
 
 std::optional<std::string> WorldModel::relaxed_obstacle() const {
-  // reachable_positions[o][p]: object o can be brought to position p by moves alone.
-  std::vector<std::vector<char>> reachable_positions;
+  // movable[o][p]: object o can be brought to position p by moves alone.
+  std::vector<std::vector<char>> movable;
   for (const ObjectWorld& object : objects_) {
     std::vector<char> seen(object.positions.size(), 0);
     std::vector<std::size_t> queue = {0};
@@ -132,8 +273,8 @@ std::optional<std::string> WorldModel::relaxed_obstacle() const {
     while (!queue.empty()) {
       const std::size_t from = queue.back();
       queue.pop_back();
-      for (std::size_t to = 0; to < object.positions.size(); ++to) {
-        if (seen[to] || object.positions[to].place < 0) continue;
+      for (std::size_t to = 1; to < object.positions.size(); ++to) {
+        if (seen[to]) continue;
         for (std::size_t g = 0; g < object.grasps.size(); ++g)
           if (object.reachable[g][from] && object.reachable[g][to]) {
             seen[to] = 1;
@@ -142,41 +283,429 @@ std::optional<std::string> WorldModel::relaxed_obstacle() const {
           }
       }
     }
-    reachable_positions.push_back(std::move(seen));
+    movable.push_back(std::move(seen));
   }
-  for (const GoalWorld& goal : goals_) {
+  // Whether some grasp reaches object o at position p.
+  const auto graspable_at = [&](int o, std::size_t p) {
+    for (const std::vector<char>& row : objects_[o].reachable)
+      if (row[p]) return true;
+    return false;
+  };
+  for (std::size_t i = 0; i < goals_.size(); ++i) {
+    const GoalWorld& goal = goals_[i];
+    if (goal.initially_true) continue;
+    const Goal& spec = scenario_.goals[i];
+    const std::string prefix = "goal " + describe(spec) + " (" + location(spec).str() + "): ";
     const std::string& held = scenario_.objects[goal.held].name;
+    if (goal.kind == GoalWorld::Kind::kAt) {
+      const std::string& place = scenario_.places[goal.place].name;
+      bool placeable = false, brought = false;
+      for (const int p : goal.at_place) {
+        placeable |= graspable_at(goal.held, p);
+        brought |= movable[goal.held][p] != 0;
+      }
+      if (!placeable)
+        return prefix + held + ": no stable pose at place " + place +
+               " is reachable with any grasp (reachable(grasp, position) has no pair there)";
+      if (!graspable_at(goal.held, 0))
+        return prefix + held + ": no grasp reaches it at its initial pose";
+      if (!brought)
+        return prefix + held + ": no sequence of moves the robot can make brings it to place " +
+               place;
+      continue;
+    }
     const std::string& fixed = scenario_.objects[goal.fixed].name;
     const ObjectWorld& h = objects_[goal.held];
-    bool held_graspable = false, fixed_placeable = false, insertable = false;
-    for (std::size_t g = 0; g < h.grasps.size(); ++g)
-      for (std::size_t p = 0; p < h.positions.size(); ++p)
-        held_graspable |= reachable_positions[goal.held][p] && h.reachable[g][p] != 0;
-    for (std::size_t p = 0; p < goal.mating_pose.size(); ++p)
-      fixed_placeable |= reachable_positions[goal.fixed][p] && goal.mating_pose[p];
-    for (std::size_t g = 0; g < h.grasps.size(); ++g) {
-      bool graspable = false;
-      for (std::size_t p = 0; p < h.positions.size(); ++p)
-        graspable |= reachable_positions[goal.held][p] && h.reachable[g][p] != 0;
-      for (std::size_t p = 0; p < goal.mating_pose.size() && graspable; ++p)
-        insertable |= goal.grasp_leaves_mating_free[g] && reachable_positions[goal.fixed][p] &&
-                      goal.mating_pose[p] && goal.mate_reachable[g][p];
+    if (!graspable_at(goal.held, 0))
+      return prefix + held + ": no grasp reaches it at its initial pose (within reach and the " +
+             "tilt limit)";
+    bool any_mating = false, mating_reached = false;
+    for (std::size_t p = 0; p < goal.mating_pose.size(); ++p) {
+      any_mating |= goal.mating_pose[p] != 0;
+      mating_reached |= goal.mating_pose[p] && movable[goal.fixed][p];
     }
-    if (!held_graspable)
-      return "the robot cannot grasp " + held +
-             " at its initial pose (no grasp within reach and "
-             "the tilt limit)";
-    if (!fixed_placeable)
-      return fixed + " cannot be brought into a pose for assembled(" + held + ", " + fixed +
-             ") (its mating faces off the table, the mating vector pointing down) by moves the "
-             "robot can make";
+    if (!any_mating)
+      return prefix + fixed + ": no position leaves its mating faces off the table with the " +
+             "mating vector pointing down (in_position_class(position, mating_poses) is empty" +
+             (scenario_.objects[goal.fixed].fixed
+                  ? "; it is fixed: its only position is where it is"
+                  : "") +
+             ")";
+    if (!mating_reached)
+      return prefix + fixed + ": none of its mating poses can be reached by moves the robot " +
+             "can make" +
+             (scenario_.objects[goal.fixed].fixed ? " (it is fixed)"
+              : graspable_at(goal.fixed, 0)       ? ""
+                                                  : " (no grasp reaches it at its initial pose)");
+    bool any_free = false, free_pickable = false, insertable = false;
+    for (std::size_t g = 0; g < h.grasps.size(); ++g) {
+      if (!goal.grasp_leaves_mating_free[g]) continue;
+      any_free = true;
+      bool pickable = false;
+      for (std::size_t p = 0; p < h.positions.size(); ++p)
+        pickable |= movable[goal.held][p] && h.reachable[g][p] != 0;
+      free_pickable |= pickable;
+      for (std::size_t p = 0; p < goal.mating_pose.size() && pickable; ++p)
+        insertable |= movable[goal.fixed][p] && goal.mating_pose[p] && goal.mate_reachable[g][p];
+    }
+    if (!any_free)
+      return prefix + held + ": every grasp obscures a mating face " +
+             "(member(grasp, grasps_leaving_mating_faces_free) is empty)";
+    if (!free_pickable)
+      return prefix + held + ": no grasp that leaves its mating faces free picks it up at a " +
+             "pose it can be brought to";
     if (!insertable)
-      return "no grasp of " + held +
-             " that leaves its mating faces free both picks it up and "
-             "reaches the insertion into " +
-             fixed + " at a pose " + fixed + " can be brought to";
+      return prefix + fixed + ": at none of the mating poses it can be brought to can the robot " +
+             "reach the insertion of " + held + " with a grasp that leaves " + held +
+             "'s mating faces free (mate_reachable(grasp, position) is empty)";
   }
   return std::nullopt;
+}
+
+WorldState WorldModel::initial_state() const {
+  WorldState state;
+  for (const ObjectSpec& object : scenario_.objects) state.poses.push_back(object.initial_pose);
+  state.carrier.assign(scenario_.objects.size(), -1);
+  // The assembled goals that hold at the start (found from the poses: the constructor's first
+  // checks run before goals_ is filled).
+  for (const Goal& goal : scenario_.goals)
+    if (const auto* assembled = std::get_if<AssembledGoal>(&goal)) {
+      const int held = object_index(assembled->held), fixed = object_index(assembled->fixed);
+      if ((state.poses[fixed] * assembled->relative).isApprox(state.poses[held], 1e-7))
+        state.carrier[held] = fixed;
+    }
+  return state;
+}
+
+std::vector<WorldModel::Obstacle> WorldModel::obstacles(const WorldState& state,
+                                                        const std::vector<int>& except) const {
+  std::vector<Obstacle> out;
+  for (std::size_t o = 0; o < state.poses.size(); ++o)
+    if (std::find(except.begin(), except.end(), static_cast<int>(o)) == except.end())
+      out.push_back({static_cast<int>(o), {&bodies_[o], state.poses[o]}});
+  return out;
+}
+
+void WorldModel::check_initial_world() const {
+  const WorldState state = initial_state();
+  const auto where = [&](std::size_t o) {
+    return "objects." + scenario_.objects[o].name + ".pose (" +
+           scenario_.objects[o].pose_location.str() + ")";
+  };
+  const auto length = [&](double metres) {
+    char text[48];
+    std::snprintf(text, sizeof text, "%.4g %s", scenario_.units.to_file_length(metres),
+                  std::string(scenario_.units.length_name()).c_str());
+    return std::string(text);
+  };
+  constexpr double kResting = 1e-6;  // metres: how far from z = 0 still counts as on the table
+  for (std::size_t o = 0; o < bodies_.size(); ++o) {
+    const double lowest = geometry::lowest_z({&bodies_[o], state.poses[o]});
+    if (lowest < -kResting)
+      throw PlanError(where(o) + ": " + scenario_.objects[o].name + " reaches " + length(-lowest) +
+                      " below the table (the plane z = 0)");
+    if (lowest > kResting && state.carrier[o] < 0)
+      throw PlanError(where(o) + ": " + scenario_.objects[o].name + " floats " + length(lowest) +
+                      " above the table: an object rests on the table or sits assembled in " +
+                      "another (an assembled goal that holds at the start)");
+  }
+  // The root of an object's subassembly: objects assembled together may touch.
+  const auto root = [&](int o) {
+    while (state.carrier[o] >= 0) o = state.carrier[o];
+    return o;
+  };
+  for (std::size_t a = 0; a < bodies_.size(); ++a)
+    for (std::size_t b = a + 1; b < bodies_.size(); ++b) {
+      if (root(static_cast<int>(a)) == root(static_cast<int>(b))) continue;
+      if (geometry::collide({&bodies_[a], state.poses[a]}, {&bodies_[b], state.poses[b]}, 0.0))
+        throw PlanError(where(a) + " and " + where(b) + ": " + scenario_.objects[a].name + " and " +
+                        scenario_.objects[b].name +
+                        " interpenetrate or touch in the initial world");
+    }
+}
+
+namespace {
+
+// The first obstacle that `moving`, swept by `travel`, comes within the margin of; -1 if none.
+template <typename Obstacles>
+int first_hit(const geometry::PlacedBody& moving, const Eigen::Vector3d& travel,
+              const Obstacles& obstacles, double margin) {
+  std::vector<geometry::PlacedBody> placed;
+  for (const auto& obstacle : obstacles) placed.push_back(obstacle.placed);
+  const geometry::Sweep sweep = geometry::sweep(moving, travel, placed, margin);
+  return sweep.clear ? -1 : sweep.obstacle;
+}
+
+bool below_table(const geometry::PlacedBody& placed, const Eigen::Vector3d& travel) {
+  return std::min(geometry::lowest_z(placed), geometry::lowest_z(shifted(placed, travel))) <
+         -geometry::kTableTolerance;
+}
+
+// A conflict table [grasp][position]: set where the pair is reachable and `blocked(grasp,
+// position)` (its motion checked against one obstacle) finds the motion not clear.
+template <typename Blocked>
+void fill_conflicts(WorldModel::Table& table, const std::vector<std::vector<char>>& reachable,
+                    std::size_t positions, const Blocked& blocked) {
+  table.assign(reachable.size(), std::vector<char>(positions, 0));
+  for (std::size_t g = 0; g < reachable.size(); ++g)
+    for (std::size_t p = 0; p < positions; ++p)
+      table[g][p] = reachable[g][p] && blocked(static_cast<int>(g), p);
+}
+
+}  // namespace
+
+StepCheck WorldModel::grasp_check(int object, int grasp, const kinematics::Transform& pose,
+                                  const std::vector<Obstacle>& others,
+                                  const std::vector<Obstacle>& parts, bool measure) const {
+  const std::string& name = scenario_.objects[object].name;
+  const kinematics::Transform gripper_pose =
+      pose * objects_[object].grasps[grasp].gripper_in_object;
+  const Eigen::Vector3d approach = scenario_.robot.approach_distance * gripper_pose.linear().col(2);
+  StepCheck check;
+  const auto fail = [&](std::string what) {
+    check.clear = false;
+    check.conflict = std::move(what);
+    return check;
+  };
+  // The open gripper between T - d a and T, among everything but the object itself.
+  const geometry::PlacedBody open_start{&*open_gripper_,
+                                        Eigen::Translation3d(-approach) * gripper_pose};
+  std::vector<Obstacle> around = others;
+  around.insert(around.end(), parts.begin(), parts.end());
+  if (const int hit = first_hit(open_start, approach, around, margin()); hit >= 0)
+    return fail("the open gripper, coming to " + name + ", hits " +
+                scenario_.objects[around[hit].object].name);
+  if (below_table(open_start, approach))
+    return fail("the open gripper, coming to " + name + ", goes below the table");
+  // Closed on the object: against what is assembled into it (they do not move apart), then with
+  // it (and them) between T and T - d a among the others.
+  const geometry::PlacedBody closed{&closed_[object][grasp], gripper_pose};
+  for (const Obstacle& part : parts)
+    if (geometry::collide(closed, part.placed, margin()))
+      return fail("the gripper, closed on " + name + ", hits " +
+                  scenario_.objects[part.object].name + " assembled into it");
+  std::optional<geometry::Body> with_parts;
+  const geometry::Body* moving = &held_[object][grasp];
+  if (!parts.empty()) {
+    with_parts = held_[object][grasp];
+    for (const Obstacle& part : parts)
+      with_parts = with_parts->joined(*part.placed.body,
+                                      gripper_pose.inverse(Eigen::Isometry) * part.placed.pose,
+                                      with_parts->name());
+    moving = &*with_parts;
+  }
+  const geometry::PlacedBody held{moving, gripper_pose};
+  if (const int hit = first_hit(held, -approach, others, margin()); hit >= 0)
+    return fail(name + " in the gripper hits " + scenario_.objects[others[hit].object].name);
+  if (below_table(held, -approach)) return fail(name + " in the gripper goes below the table");
+  if (!measure) return check;
+  std::vector<geometry::PlacedBody> placed;
+  for (const Obstacle& other : others) placed.push_back(other.placed);
+  const geometry::Nearest nearest = geometry::nearest(held, placed);
+  check.clearance = nearest.distance;
+  check.nearest = nearest.index >= 0 ? others[nearest.index].object : -1;
+  return check;
+}
+
+std::optional<std::string> WorldModel::insertion_pair_conflict(
+    int goal, int grasp, const kinematics::Transform& fixed_pose,
+    const std::vector<Obstacle>& held_parts) const {
+  const GoalWorld& tables = goals_[goal];
+  const AssembledGoal& assembled = std::get<AssembledGoal>(scenario_.goals[goal]);
+  const std::string& held_name = scenario_.objects[tables.held].name;
+  const std::string& fixed_name = scenario_.objects[tables.fixed].name;
+  const kinematics::Transform held_pose = fixed_pose * assembled.relative;
+  const kinematics::Transform gripper_pose =
+      held_pose * objects_[tables.held].grasps[grasp].gripper_in_object;
+  const Eigen::Vector3d insertion = scenario_.robot.approach_distance *
+                                    (fixed_pose.linear() * assembled.mating_vector).normalized();
+  const std::vector<Obstacle> fixed_alone = {{tables.fixed, {&bodies_[tables.fixed], fixed_pose}}};
+  // The gripper (with h's parts) along the mating vector against f.
+  std::optional<geometry::Body> with_parts;
+  const geometry::Body* gripper_only = &closed_[tables.held][grasp];
+  if (!held_parts.empty()) {
+    with_parts = *gripper_only;
+    for (const Obstacle& part : held_parts)
+      with_parts = with_parts->joined(
+          *part.placed.body, gripper_pose.inverse(Eigen::Isometry) * part.placed.pose, "gripper");
+    gripper_only = &*with_parts;
+  }
+  const geometry::PlacedBody gripper_start{gripper_only,
+                                           Eigen::Translation3d(-insertion) * gripper_pose};
+  if (first_hit(gripper_start, insertion, fixed_alone, margin()) >= 0)
+    return "the gripper, inserting " + held_name + ", hits " + fixed_name;
+  // h against f: they may touch on their mating faces (that is the joint), and where those meet
+  // the faces around them; elsewhere their surfaces may not meet (the faces other than the
+  // mating ones, each triangle pulled in by a micrometre, sampled along the insertion at most a
+  // margin apart, at least 100 samples).
+  if (held_rest_[goal] && fixed_rest_[goal]) {
+    const geometry::PlacedBody fixed_at{&*fixed_rest_[goal], fixed_pose};
+    const int samples = static_cast<int>(std::ceil(
+        std::max(100.0, margin() > 0 ? scenario_.robot.approach_distance / margin() : 0.0)));
+    for (int k = 0; k <= samples; ++k) {
+      const kinematics::Transform held_at =
+          Eigen::Translation3d(-insertion * (1.0 - static_cast<double>(k) / samples)) * held_pose;
+      if (geometry::collide({&*held_rest_[goal], held_at}, fixed_at, 0.0))
+        return held_name + " meets " + fixed_name + " outside their mating faces";
+    }
+  }
+  // Released, the open gripper back along its axis, against f.
+  const geometry::PlacedBody open_end{&*open_gripper_, gripper_pose};
+  if (first_hit(open_end, -scenario_.robot.approach_distance * gripper_pose.linear().col(2),
+                fixed_alone, margin()) >= 0)
+    return "the open gripper, leaving " + held_name + ", hits " + fixed_name;
+  return std::nullopt;
+}
+
+StepCheck WorldModel::insertion_check(int goal, int grasp, const kinematics::Transform& fixed_pose,
+                                      const std::vector<Obstacle>& others,
+                                      const std::vector<Obstacle>& held_parts, bool measure) const {
+  const GoalWorld& tables = goals_[goal];
+  const AssembledGoal& assembled = std::get<AssembledGoal>(scenario_.goals[goal]);
+  const std::string& held_name = scenario_.objects[tables.held].name;
+  const std::string& fixed_name = scenario_.objects[tables.fixed].name;
+  const kinematics::Transform held_pose = fixed_pose * assembled.relative;
+  const kinematics::Transform gripper_pose =
+      held_pose * objects_[tables.held].grasps[grasp].gripper_in_object;
+  const Eigen::Vector3d insertion = scenario_.robot.approach_distance *
+                                    (fixed_pose.linear() * assembled.mating_vector).normalized();
+  const Eigen::Vector3d retreat = -scenario_.robot.approach_distance * gripper_pose.linear().col(2);
+  StepCheck check;
+  const auto fail = [&](std::string what) {
+    check.clear = false;
+    check.conflict = std::move(what);
+    return check;
+  };
+  const geometry::PlacedBody closed_end{&closed_[tables.held][grasp], gripper_pose};
+  for (const Obstacle& part : held_parts)
+    if (geometry::collide(closed_end, part.placed, margin()))
+      return fail("the gripper, closed on " + held_name + ", hits " +
+                  scenario_.objects[part.object].name + " assembled into it");
+  // Against f: the same relative motion wherever f is, so known per grasp (pair_conflict_),
+  // unless h carries parts.
+  const std::optional<std::string> pair =
+      held_parts.empty() ? pair_conflict_[goal][grasp]
+                         : insertion_pair_conflict(goal, grasp, fixed_pose, held_parts);
+  if (pair) return fail(*pair);
+  // The gripper with h (and h's parts) along the mating vector among the others.
+  std::optional<geometry::Body> with_parts;
+  const geometry::Body* moving = &held_[tables.held][grasp];
+  if (!held_parts.empty()) {
+    with_parts = *moving;
+    for (const Obstacle& part : held_parts)
+      with_parts = with_parts->joined(*part.placed.body,
+                                      gripper_pose.inverse(Eigen::Isometry) * part.placed.pose,
+                                      with_parts->name());
+    moving = &*with_parts;
+  }
+  const geometry::PlacedBody held_start{moving, Eigen::Translation3d(-insertion) * gripper_pose};
+  if (const int hit = first_hit(held_start, insertion, others, margin()); hit >= 0)
+    return fail(held_name + ", inserted into " + fixed_name + ", hits " +
+                scenario_.objects[others[hit].object].name);
+  if (below_table(held_start, insertion))
+    return fail(held_name + ", inserted into " + fixed_name + ", goes below the table");
+  // Released: the open gripper back along its axis, among the others and h's parts.
+  std::vector<Obstacle> around = others;
+  around.insert(around.end(), held_parts.begin(), held_parts.end());
+  const geometry::PlacedBody open_end{&*open_gripper_, gripper_pose};
+  if (const int hit = first_hit(open_end, retreat, around, margin()); hit >= 0)
+    return fail("the open gripper, leaving " + held_name + ", hits " +
+                scenario_.objects[around[hit].object].name);
+  if (below_table(open_end, retreat))
+    return fail("the open gripper, leaving " + held_name + ", goes below the table");
+  if (!measure) return check;
+  // Clearance at T: the gripper with h against the others, the gripper against f.
+  std::vector<geometry::PlacedBody> placed;
+  for (const Obstacle& other : others) placed.push_back(other.placed);
+  const geometry::PlacedBody held_end{moving, gripper_pose};
+  const geometry::Nearest nearest = geometry::nearest(held_end, placed);
+  check.clearance = nearest.distance;
+  check.nearest = nearest.index >= 0 ? others[nearest.index].object : -1;
+  const double to_fixed =
+      geometry::proximity(closed_end, {&bodies_[tables.fixed], fixed_pose}).distance;
+  if (to_fixed < check.clearance) {
+    check.clearance = to_fixed;
+    check.nearest = tables.fixed;
+  }
+  return check;
+}
+
+StepCheck WorldModel::check_grasp(const WorldState& state, int object, int grasp,
+                                  const kinematics::Transform& object_pose, bool measure) const {
+  WorldState moved = state;
+  moved.move(object, object_pose);
+  const std::vector<int> group = moved.moving_with(object);
+  const std::vector<int> parts_only(group.begin() + 1, group.end());
+  std::vector<int> not_parts;
+  for (std::size_t o = 0; o < state.poses.size(); ++o)
+    if (std::find(parts_only.begin(), parts_only.end(), static_cast<int>(o)) == parts_only.end())
+      not_parts.push_back(static_cast<int>(o));
+  return grasp_check(object, grasp, object_pose, obstacles(moved, group),
+                     obstacles(moved, not_parts), measure);
+}
+
+StepCheck WorldModel::check_insertion(const WorldState& state, int goal, int grasp,
+                                      const kinematics::Transform& fixed_pose, bool measure) const {
+  const GoalWorld& tables = goals_[goal];
+  const AssembledGoal& assembled = std::get<AssembledGoal>(scenario_.goals[goal]);
+  WorldState moved = state;
+  moved.move(tables.held, fixed_pose * assembled.relative);
+  std::vector<int> group = moved.moving_with(tables.held);
+  const std::vector<int> parts_only(group.begin() + 1, group.end());
+  std::vector<int> not_parts;
+  for (std::size_t o = 0; o < state.poses.size(); ++o)
+    if (std::find(parts_only.begin(), parts_only.end(), static_cast<int>(o)) == parts_only.end())
+      not_parts.push_back(static_cast<int>(o));
+  group.push_back(tables.fixed);
+  return insertion_check(goal, grasp, fixed_pose, obstacles(moved, group),
+                         obstacles(moved, not_parts), measure);
+}
+
+const WorldModel::Table& WorldModel::initial_conflicts(int object, int other) const {
+  const std::lock_guard lock(caches_->mutex);
+  const auto [entry, fresh] = caches_->initial.try_emplace({object, other});
+  if (!fresh) return entry->second;
+  const ObjectWorld& labels = objects_[object];
+  Table& table = entry->second;
+  table.assign(labels.grasps.size(), std::vector<char>(labels.positions.size(), 0));
+  const WorldState start = initial_state();
+  const std::vector<int> group = start.moving_with(object);
+  if (std::find(group.begin(), group.end(), other) != group.end()) return table;
+  const std::vector<Obstacle> obstacle = {{other, {&bodies_[other], start.poses[other]}}};
+  fill_conflicts(table, labels.reachable, labels.positions.size(), [&](int g, std::size_t p) {
+    return !grasp_check(object, g, labels.positions[p].pose, obstacle, {}).clear;
+  });
+  return table;
+}
+
+const WorldModel::Table& WorldModel::insertion_conflicts(int goal, int other) const {
+  const std::lock_guard lock(caches_->mutex);
+  const auto [entry, fresh] = caches_->insertion.try_emplace({goal, other});
+  if (!fresh) return entry->second;
+  const GoalWorld& tables = goals_[goal];
+  const ObjectWorld& fixed = objects_[tables.fixed];
+  const std::vector<Obstacle> obstacle = {{other, {&bodies_[other], initial_state().poses[other]}}};
+  fill_conflicts(entry->second, tables.mate_reachable, fixed.positions.size(),
+                 [&](int g, std::size_t p) {
+                   return !insertion_check(goal, g, fixed.positions[p].pose, obstacle, {}).clear;
+                 });
+  return entry->second;
+}
+
+const WorldModel::Table& WorldModel::placement_conflicts(int object, int other) const {
+  const std::lock_guard lock(caches_->mutex);
+  const auto [entry, fresh] = caches_->placement.try_emplace({object, other});
+  if (!fresh) return entry->second;
+  const std::vector<PositionLabel>& mine = objects_[object].positions;
+  const std::vector<PositionLabel>& theirs = objects_[other].positions;
+  Table& table = entry->second;
+  table.assign(mine.size(), std::vector<char>(theirs.size(), 0));
+  for (std::size_t p = 0; p < mine.size(); ++p)
+    for (std::size_t q = 0; q < theirs.size(); ++q)
+      table[p][q] = (mine[p].place >= 0 && mine[p].place == theirs[q].place) ||
+                    geometry::collide({&bodies_[object], mine[p].pose},
+                                      {&bodies_[other], theirs[q].pose}, margin());
+  return table;
 }
 
 bool WorldModel::grasp_usable_at(const geometry::Grasp& grasp, const ObjectSpec& object,

@@ -4,9 +4,11 @@
 //
 // Labels (SPAR quantizes geometry so plan variables take symbolic values):
 //   grasp labels     an object's quantized grasps (geometry/grasps.hpp), "G1", "G2", ...
-//   position labels  [0] "initial": the object's initial pose; then, for every stable pose s and
-//                    every free place p of the scenario, "P<s>@<place>": resting in s above p,
-//                    turned by the place's yaw. Every position is an absolute world pose.
+//   position labels  [0] "initial": the object's initial pose; then, for every stable pose s,
+//                    every free place p of the scenario and every yaw of p, "P<s>@<place>" (a
+//                    place with several yaws: "P<s>@<place>/<yaw in the file's angle unit>"):
+//                    resting in s above p, turned by the yaw. Every position is an absolute world
+//                    pose. A fixed object (`fixed: true`) has no grasps and only "initial".
 // Predicates (tables indexed [grasp][position]):
 //   reachable(g, p)       the grasp is usable in p's stable pose (no contact face on the table, the
 //                         gripper not below it) and the robot reaches T = T_O(p) T_G with an
@@ -21,6 +23,34 @@
 //                         table).
 // An initial pose that is not a stable pose has no table lookup: its contact faces count as free
 // (SPAR: the sensing system tells), and it is a mating pose only by the mating-vector test.
+// Goals: world.goals()[i] belongs to scenario().goals[i]; an at goal's table is the object's
+// positions at the place (the initial one too when the object starts there), and a goal that
+// holds in the initial world is marked so (posting then needs no step for it).
+//
+// Collisions (geometry/collision.hpp, margin `collision.margin`). SPAR's execution moves the
+// gripper above a destination and then straight down; spar checks those straight lines, of
+// length d = robot.approach_distance, for every step. With T the gripper pose, a its approach (z)
+// axis, the motions of a step are
+//   grasp or release (pickup, putdown, squeeze): the open gripper between T - d a and T, and the
+//       gripper closed on the object (with what is assembled into it) between T and T - d a;
+//   insertion (assemble h into f, mating vector m in the world): the gripper closed on h (and
+//       its parts) from T - d m to T, then the open gripper from T to T - d a.
+// Each motion is swept against every other object where it rests (geometry::sweep: no sample
+// closer than the margin, so no point of the path closer than half of it), and its ends against
+// the table (nothing below z = 0). Exempt: the gripper and the object it grasps (the grasp is
+// dropped if the open gripper's approach hits its own object), and in an insertion h and f at
+// their mating faces: there they may touch (they are being joined), and elsewhere their surfaces
+// may not meet at all (their other faces, each triangle pulled in by a micrometre so that faces
+// meeting the joint along an edge do not count, sampled along the insertion at most a margin
+// apart); objects assembled together (a subassembly) move as one and are not checked against
+// each other.
+// The tables above include what never changes: `reachable` and `mate_reachable` are false where a
+// motion hits a fixed object or goes through the table, and a position where the object would
+// meet a fixed object is nobody's destination. What depends on the order of the steps (where the
+// other movable objects are) is checked by posting (initial_conflicts, placement_conflicts: see
+// posting.hpp) and, exactly, per plan instance (check_grasp, check_insertion on the simulated
+// WorldState). The initial world is checked once: objects that meet (unless assembled there
+// already), rest below the table or float are an error naming them at their `pose`.
 //
 // Example:
 //   const WorldModel world(load_scenario("examples/peg_block_face_down.yaml"));
@@ -30,11 +60,13 @@
 //   const Reach reach = world.reach(gripper_pose);      // joints, configuration, tilt
 #pragma once
 
+#include <memory>
 #include <numbers>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "spar/geometry/collision.hpp"
 #include "spar/geometry/grasps.hpp"
 #include "spar/kinematics/robot.hpp"
 #include "spar/planner/scenario.hpp"
@@ -47,7 +79,8 @@ inline constexpr double kFrictionCone = std::numbers::pi / 4;
 struct PositionLabel {
   std::string name;     // "initial" or "P5@left"
   int stable_pose{-1};  // index into the object's stable_poses, -1 if the pose is not one
-  int place{-1};        // index into Scenario::places, -1 for the initial pose
+  // Index into Scenario::places; for the initial pose the place it starts at, else -1.
+  int place{-1};
   kinematics::Transform pose{kinematics::Transform::Identity()};  // object frame in the world
 };
 
@@ -57,13 +90,45 @@ struct ObjectWorld {
   std::vector<std::vector<char>> reachable;  // [grasp][position]
 };
 
-// The tables of one assembled goal.
+// The tables of one goal. An assembled goal fills held, fixed and the three tables; an at goal
+// fills held (the object), place and at_place.
 struct GoalWorld {
+  enum class Kind { kAssembled, kAt };
+  Kind kind{Kind::kAssembled};
   int held{0};  // object indices
-  int fixed{0};
+  int fixed{-1};
+  bool initially_true{false};                     // the goal holds in the initial world
   std::vector<char> grasp_leaves_mating_free;     // [held grasp]
   std::vector<char> mating_pose;                  // [fixed position]
   std::vector<std::vector<char>> mate_reachable;  // [held grasp][fixed position]
+  int place{-1};                                  // an at goal's place
+  std::vector<int> at_place;                      // the object's position labels at it
+  // [fixed grasp]: the gripper can still take the fixed object with the held one in it (the open
+  // gripper's approach and the closed gripper keep the margin from it). Once the assembly is
+  // made, only these grasps move the fixed object.
+  std::vector<char> grasp_clears_assembled;
+};
+
+// Where every object is at one moment of a plan instance.
+struct WorldState {
+  std::vector<kinematics::Transform> poses;  // every object's pose in the world
+  // The object it is assembled into (it moves with that one), -1 if none.
+  std::vector<int> carrier;
+  int held{-1};  // the object in the gripper, -1 if none
+  // `object` and every object assembled into it, directly or not (what moves when it moves).
+  [[nodiscard]] std::vector<int> moving_with(int object) const;
+  // Puts `object` at `pose`, carrying what is assembled into it.
+  void move(int object, const kinematics::Transform& pose);
+};
+
+// The collision check of one step's motions.
+struct StepCheck {
+  bool clear{true};
+  std::string conflict;  // what hit what, when not clear: "the open gripper hits cube"
+  // At the step's configuration (the gripper at T, closed): the distance from the gripper and
+  // what it moves to the nearest other object (+inf when there is none), and that object.
+  double clearance{0.0};
+  int nearest{-1};
 };
 
 // One IK query: the gripper frame at `gripper_pose` (world).
@@ -77,7 +142,9 @@ struct Reach {
 
 class WorldModel {
  public:
-  // Computes every label and table. Throws PlanError if an object has no grasp or no position.
+  // Computes every label and table. Throws PlanError if a movable object has no grasp, or if in
+  // the initial world two objects meet or one is below the table or floats (naming the objects
+  // and their poses' file:line:col).
   explicit WorldModel(Scenario scenario);
 
   [[nodiscard]] const Scenario& scenario() const { return scenario_; }
@@ -94,7 +161,8 @@ class WorldModel {
   [[nodiscard]] Reach reach(const kinematics::Transform& gripper_pose) const;
 
   // Why the goals cannot be reached even with the interactions between steps ignored (each object
-  // moved alone, places shared), naming the first object or goal that fails; nullopt when that
+  // moved alone, places shared): "goal <goal> (file:line:col): <object>: <what is empty>", naming
+  // the first goal, the object and the constraint whose domain is empty; nullopt when that
   // relaxed problem is solvable. Positions reachable by moves: from the initial one, any position
   // a grasp reaches together with the current one (pick up there, put down here).
   [[nodiscard]] std::optional<std::string> relaxed_obstacle() const;
@@ -102,7 +170,58 @@ class WorldModel {
   [[nodiscard]] kinematics::Transform flange_in_base(
       const kinematics::Transform& gripper_pose) const;
 
+  // --- collisions (see the header comment) ---
+  using Table = std::vector<std::vector<char>>;
+  [[nodiscard]] const geometry::Body& body(int object) const { return bodies_.at(object); }
+  [[nodiscard]] double margin() const { return scenario_.collision.margin; }
+  [[nodiscard]] WorldState initial_state() const;
+  // The grasp or release of `object` with `grasp`, the object at `object_pose` (a pickup: where
+  // it is; a putdown: where it goes), every other object where `state` has it.
+  // `measure`: also the clearance (a nearest-body query; the verdict alone is cheaper).
+  [[nodiscard]] StepCheck check_grasp(const WorldState& state, int object, int grasp,
+                                      const kinematics::Transform& object_pose,
+                                      bool measure = true) const;
+  // The insertion of goal `goal`'s held object with `grasp` into its fixed object at
+  // `fixed_pose`.
+  [[nodiscard]] StepCheck check_insertion(const WorldState& state, int goal, int grasp,
+                                          const kinematics::Transform& fixed_pose,
+                                          bool measure = true) const;
+  // [grasp][position] of `object`: its grasp or release there hits `other` resting where it
+  // starts. Computed on first use, then cached (the cache is shared by copies).
+  [[nodiscard]] const Table& initial_conflicts(int object, int other) const;
+  // [held grasp][fixed position] of assembled goal `goal`: its insertion hits `other` where it
+  // starts.
+  [[nodiscard]] const Table& insertion_conflicts(int goal, int other) const;
+  // [position][other's position]: `object` resting there and `other` resting there meet or come
+  // closer than the margin.
+  [[nodiscard]] const Table& placement_conflicts(int object, int other) const;
+
  private:
+  struct Obstacle {
+    int object{-1};
+    geometry::PlacedBody placed;
+  };
+  struct Caches;
+  // Every object of `state` except those in `except`, as obstacles.
+  [[nodiscard]] std::vector<Obstacle> obstacles(const WorldState& state,
+                                                const std::vector<int>& except) const;
+  void check_initial_world() const;
+  // The checks behind check_grasp and check_insertion, against `others` (and the parts moving
+  // with the handled object); `measure`: also the clearance (the tables need only the verdict).
+  [[nodiscard]] StepCheck grasp_check(int object, int grasp, const kinematics::Transform& pose,
+                                      const std::vector<Obstacle>& others,
+                                      const std::vector<Obstacle>& parts,
+                                      bool measure = false) const;
+  [[nodiscard]] StepCheck insertion_check(int goal, int grasp,
+                                          const kinematics::Transform& fixed_pose,
+                                          const std::vector<Obstacle>& others,
+                                          const std::vector<Obstacle>& held_parts,
+                                          bool measure = false) const;
+  // What an insertion hits of its fixed object (the gripper, h's parts, h outside its mating
+  // faces, the open gripper leaving), or nullopt.
+  [[nodiscard]] std::optional<std::string> insertion_pair_conflict(
+      int goal, int grasp, const kinematics::Transform& fixed_pose,
+      const std::vector<Obstacle>& held_parts) const;
   [[nodiscard]] bool grasp_usable_at(const geometry::Grasp& grasp, const ObjectSpec& object,
                                      const PositionLabel& position) const;
 
@@ -110,6 +229,18 @@ class WorldModel {
   geometry::GripperSpec gripper_;
   std::vector<ObjectWorld> objects_;  // same order as scenario_.objects
   std::vector<GoalWorld> goals_;      // same order as scenario_.goals
+  // Collision bodies: each object's mesh; the gripper open, and closed on each object with each
+  // grasp (held_[o][g]: the gripper at width W_g joined with o at T_G^-1, in the gripper frame;
+  // closed_[o][g]: the same gripper alone); per assembled goal the held and fixed objects' other
+  // faces than their mating ones, each triangle pulled in by a micrometre (nullopt when none).
+  std::vector<geometry::Body> bodies_;
+  std::optional<geometry::Body> open_gripper_;
+  std::vector<std::vector<geometry::Body>> held_;
+  std::vector<std::vector<geometry::Body>> closed_;  // [o][g]: the gripper closed to W_g alone
+  std::vector<std::optional<geometry::Body>> held_rest_, fixed_rest_;  // [goal]
+  // [goal][held grasp]: insertion_pair_conflict with nothing assembled into h yet.
+  std::vector<std::vector<std::optional<std::string>>> pair_conflict_;
+  std::shared_ptr<Caches> caches_;  // memo of the conflict tables, shared by copies
 };
 
 }  // namespace spar::planner

@@ -71,7 +71,7 @@ py::handle add_error(py::module_& m, const char* name, py::handle base) {
 // registered after its base (ShostakError after BoundsError, the module errors after Error).
 void register_errors(py::module_& m) {
   const py::handle error = add_error<spar::Error>(m, "Error", PyExc_Exception);
-  error.attr("__doc__") = doc::kError;
+  error.attr("__doc__") = doc::of("Error");
   const py::handle bounds = add_error<bounds::BoundsError>(m, "BoundsError", error);
   add_error<bounds::ShostakError>(m, "ShostakError", bounds);
   add_error<NumberError>(m, "NumberError", error);
@@ -110,6 +110,10 @@ template <class T>
 py::object member_to_python(const T& value) {
   return py::cast(value);
 }
+py::object member_to_python(const reports::Nullable<double>& value) {
+  if (!value) return py::none();
+  return py::float_(*value);
+}
 py::object member_to_python(const reports::NamedValues<double>& values) {
   py::dict out;
   for (const auto& [name, value] : values) out[py::str(name)] = value;
@@ -118,6 +122,10 @@ py::object member_to_python(const reports::NamedValues<double>& values) {
 template <class T>
 void member_from_python(const py::handle& value, T& out) {
   out = value.cast<T>();
+}
+void member_from_python(const py::handle& value, reports::Nullable<double>& out) {
+  out = value.is_none() ? reports::Nullable<double>()
+                        : reports::Nullable<double>(value.cast<double>());
 }
 void member_from_python(const py::handle& value, reports::NamedValues<double>& out) {
   out.clear();
@@ -150,51 +158,44 @@ reports::BoundRecord bound_from_dict(const py::dict& d) {
 void bind_bound_record(py::class_<reports::BoundRecord>& cls) {
   const reports::BoundRecord names;
   reports::BoundRecord::fields(names, [&](const char* key, const auto&) {
-    cls.def_property_readonly(key, [key](const reports::BoundRecord& r) {
-      py::object out = py::none();
-      reports::BoundRecord::fields(r, [&]<class M>(const char* name, const M& member) {
-        if (std::string_view(name) != key) return;
-        if constexpr (std::is_same_v<M, std::optional<std::string>>) {
-          if (member) out = py::str(*member);
-        } else {
-          out = member_to_python(member);
-        }
-      });
-      return out;
-    });
+    cls.def_property_readonly(
+        key,
+        [key](const reports::BoundRecord& r) {
+          py::object out = py::none();
+          reports::BoundRecord::fields(r, [&]<class M>(const char* name, const M& member) {
+            if (std::string_view(name) != key) return;
+            if constexpr (std::is_same_v<M, std::optional<std::string>>) {
+              if (member) out = py::str(*member);
+            } else {
+              out = member_to_python(member);
+            }
+          });
+          return out;
+        },
+        doc::of(std::string("BoundResult.") + key));
   });
 }
 
 void bind_expressions(py::module_& m) {
-  py::class_<Expression>(m, "Expr", doc::kParse)
-      .def(py::init(&parse_expression), "text"_a,
-           "Parses infix text (the grammar above); raises spar.SymbolicError naming the "
-           "offending token and its column.")
-      .def_static("parse", &parse_expression, "text"_a, "Same as Expr(text).")
+  py::class_<Expression>(m, "Expr", doc::of("Expr"))
+      .def(py::init(&parse_expression), "text"_a, doc::of("Expr.__init__"))
+      .def_static("parse", &parse_expression, "text"_a, doc::of("Expr.parse"))
       .def("__str__", &expression_text, Release())
       .def("__repr__",
            [](const Expression& e) { return "spar.Expr('" + expression_text(e) + "')"; })
-      .def("simplify", &simplify_expression, Release(), doc::kSimplify)
-      .def("diff", &differentiate_expression, "variable"_a, Release(), doc::kOperations)
-      .def("evaluate", &evaluate_expression, "values"_a, Release(),
-           "The value at a point: a dict of every variable's value (raises spar.SymbolicError "
-           "naming a missing one).")
-      .def_property_readonly("variables", &expression_variables,
-                             "Names of the free variables, sorted.")
+      .def("simplify", &simplify_expression, Release(), doc::of("Expr.simplify"))
+      .def("diff", &differentiate_expression, "variable"_a, Release(), doc::of("Expr.diff"))
+      .def("evaluate", &evaluate_expression, "values"_a, Release(), doc::of("Expr.evaluate"))
+      .def_property_readonly("variables", &expression_variables, doc::of("Expr.variables"))
       // Not hashable (pybind11 sets __hash__ = None with __eq__): equal expressions of two
       // pools may print differently (see facade.hpp).
       .def("__eq__", &same_expression, Release())
       .def(py::pickle([](const Expression& e) { return expression_text(e); },
                       [](const std::string& text) { return parse_expression(text); }));
 
-  py::class_<reports::BoundRecord> bound_result(
-      m, "BoundResult",
-      "Sound bounds [lo, hi] of an expression over a box, the attained inner range [inner_lo, "
-      "inner_hi] and its witnesses argmin/argmax (dicts), status (converged | effort_limit | "
-      "unbounded | infeasible), possibly_undefined, time_limited, relative_gap, evaluations (box "
-      "evaluations) and seconds (wall-clock): the keys of `spar bound --json`.");
+  py::class_<reports::BoundRecord> bound_result(m, "BoundResult", doc::of("BoundResult"));
   bind_bound_record(bound_result);
-  bound_result.def("as_dict", &bound_dict, "The fields as a dict: the keys of `spar bound --json`.")
+  bound_result.def("as_dict", &bound_dict, doc::of("BoundResult.as_dict"))
       .def("__repr__",
            [](const reports::BoundRecord& r) {
              return "spar.BoundResult(lo=" + py::repr(py::float_(r.lo)).cast<std::string>() +
@@ -225,11 +226,11 @@ void bind_expressions(py::module_& m) {
                                 {tolerance, max_box_evaluations, max_seconds, inner});
       },
       "f"_a, "box"_a, "constraints"_a, "tolerance"_a, "max_box_evaluations"_a, "max_seconds"_a,
-      "inner"_a, Release(), doc::kBound);
+      "inner"_a, Release());
 }
 
 void bind_kinematics(py::module_& m) {
-  m.def("robots", &robot_names, "Names of the built-in robots.");
+  m.def("robots", &robot_names, doc::of("robots"));
   const auto package_path = [](const std::optional<std::vector<std::string>>& folders) {
     return folders.value_or(std::vector<std::string>{});
   };
@@ -253,38 +254,37 @@ void bind_kinematics(py::module_& m) {
         return py::dict("name"_a = info.name, "source"_a = info.source, "base"_a = info.base,
                         "tip"_a = info.tip, "method"_a = info.method, "joints"_a = joints);
       },
-      "robot"_a, "tip"_a = "", "package_path"_a = py::none(), doc::kRobots);
+      "robot"_a, "tip"_a = "", "package_path"_a = py::none(), doc::of("robot"));
   m.def(
       "fk",
       [package_path](const std::string& robot, const std::vector<double>& q, const std::string& tip,
                      const std::optional<std::vector<std::string>>& folders) {
         return forward_kinematics({robot, tip, package_path(folders)}, q);
       },
-      "robot"_a, "q"_a, "tip"_a = "", "package_path"_a = py::none(), doc::kRobot);
+      "robot"_a, "q"_a, "tip"_a = "", "package_path"_a = py::none(), doc::of("fk"));
 
-  py::class_<IkSolutionInfo>(m, "IkSolution",
-                             "One solution: its configuration label (\"run\", \"run@q7=35deg\", "
-                             "\"n1\"), joint values q (radians, NumPy), within_limits, "
-                             "singularities.")
-      .def_readonly("configuration", &IkSolutionInfo::configuration)
-      .def_property_readonly("q",
-                             [](const IkSolutionInfo& s) {
-                               return Eigen::VectorXd(Eigen::Map<const Eigen::VectorXd>(
-                                   s.q.data(), static_cast<Eigen::Index>(s.q.size())));
-                             })
-      .def_readonly("within_limits", &IkSolutionInfo::within_limits)
-      .def_readonly("singularities", &IkSolutionInfo::singularities)
+  py::class_<IkSolutionInfo>(m, "IkSolution", doc::of("IkSolution"))
+      .def_readonly("configuration", &IkSolutionInfo::configuration,
+                    doc::of("IkSolution.configuration"))
+      .def_property_readonly(
+          "q",
+          [](const IkSolutionInfo& s) {
+            return Eigen::VectorXd(Eigen::Map<const Eigen::VectorXd>(
+                s.q.data(), static_cast<Eigen::Index>(s.q.size())));
+          },
+          doc::of("IkSolution.q"))
+      .def_readonly("within_limits", &IkSolutionInfo::within_limits,
+                    doc::of("IkSolution.within_limits"))
+      .def_readonly("singularities", &IkSolutionInfo::singularities,
+                    doc::of("IkSolution.singularities"))
       .def("__repr__", [](const IkSolutionInfo& s) {
         return "spar.IkSolution('" + s.configuration +
                "', within_limits=" + (s.within_limits ? "True" : "False") + ")";
       });
-  py::class_<IkAnswer>(m, "IkResult",
-                       "Every solution (solutions, in the robot's order: lun luf ldn ldf run ruf "
-                       "rdn rdf for Puma and UR arms) when solved; none when the pose is out of "
-                       "reach.")
-      .def_readonly("solved", &IkAnswer::solved)
-      .def_readonly("singularities", &IkAnswer::singularities)
-      .def_readonly("solutions", &IkAnswer::solutions)
+  py::class_<IkAnswer>(m, "IkResult", doc::of("IkResult"))
+      .def_readonly("solved", &IkAnswer::solved, doc::of("IkResult.solved"))
+      .def_readonly("singularities", &IkAnswer::singularities, doc::of("IkResult.singularities"))
+      .def_readonly("solutions", &IkAnswer::solutions, doc::of("IkResult.solutions"))
       .def("__len__", [](const IkAnswer& r) { return r.solutions.size(); })
       .def(
           "__getitem__",
@@ -293,7 +293,7 @@ void bind_kinematics(py::module_& m) {
               if (s.configuration == configuration) return s;
             throw py::key_error("no solution '" + configuration + "'");
           },
-          "configuration"_a);
+          "configuration"_a, doc::of("IkResult.__getitem__"));
   m.def(
       "ik",
       [package_path](const std::string& robot, const Matrix4& pose, const std::string& tip,
@@ -302,60 +302,57 @@ void bind_kinematics(py::module_& m) {
         return inverse_kinematics({robot, tip, package_path(folders)}, pose, redundancy_step);
       },
       "robot"_a, "pose"_a, "tip"_a = "", "package_path"_a = py::none(),
-      "redundancy_step"_a = 5.0 * std::numbers::pi / 180.0, Release(), doc::kRobot);
+      "redundancy_step"_a = 5.0 * std::numbers::pi / 180.0, Release(), doc::of("ik"));
 
-  py::class_<UncertainPose>(m, "UncertainPose",
-                            "A 4x4 transform whose entries are spar.Expr over the pose's "
-                            "uncertainty variables (variables: name -> (lo, hi), usable as the "
-                            "box of spar.bound).")
-      .def("entry", &pose_entry, "row"_a, "column"_a, Release())
-      .def("__getitem__",
-           [](const UncertainPose& pose, std::pair<int, int> index) {
-             return pose_entry(pose, index.first, index.second);
-           })
-      .def_property_readonly("matrix",
-                             [](const UncertainPose& pose) {
-                               std::vector<std::vector<Expression>> rows(4);
-                               for (int r = 0; r < 4; ++r)
-                                 for (int c = 0; c < 4; ++c)
-                                   rows[r].push_back(pose_entry(pose, r, c));
-                               return rows;
-                             })
-      .def_property_readonly("variables",
-                             [](const UncertainPose& pose) {
-                               py::dict out;
-                               for (const auto& v : pose.variables)
-                                 out[py::str(v.name)] = py::make_tuple(v.lower, v.upper);
-                               return out;
-                             })
-      .def("evaluate", &evaluate_pose, "values"_a, Release(),
-           "The numeric pose (4x4 NumPy array) at a point: a dict of every variable's value.");
+  py::class_<UncertainPose>(m, "UncertainPose", doc::of("UncertainPose"))
+      .def("entry", &pose_entry, "row"_a, "column"_a, Release(), doc::of("UncertainPose.entry"))
+      .def(
+          "__getitem__",
+          [](const UncertainPose& pose, std::pair<int, int> index) {
+            return pose_entry(pose, index.first, index.second);
+          },
+          "index"_a)
+      .def_property_readonly(
+          "matrix",
+          [](const UncertainPose& pose) {
+            std::vector<std::vector<Expression>> rows(4);
+            for (int r = 0; r < 4; ++r)
+              for (int c = 0; c < 4; ++c) rows[r].push_back(pose_entry(pose, r, c));
+            return rows;
+          },
+          doc::of("UncertainPose.matrix"))
+      .def_property_readonly(
+          "variables",
+          [](const UncertainPose& pose) {
+            py::dict out;
+            for (const auto& v : pose.variables)
+              out[py::str(v.name)] = py::make_tuple(v.lower, v.upper);
+            return out;
+          },
+          doc::of("UncertainPose.variables"))
+      .def("evaluate", &evaluate_pose, "values"_a, Release(), doc::of("UncertainPose.evaluate"));
   m.def(
       "possible_object_pose",
       [](const Matrix4& ideal, const std::map<std::string, double>& uncertainty,
          const std::string& tag) {
         return possible_object_pose(ideal, uncertainty_from(uncertainty), tag);
       },
-      "ideal"_a, "uncertainty"_a, "tag"_a = "o", doc::kUncertainPose);
+      "ideal"_a, "uncertainty"_a, "tag"_a = "o", doc::of("possible_object_pose"));
   m.def(
       "possible_manipulator_pose",
       [](const Matrix4& ideal, const std::map<std::string, double>& uncertainty,
          const std::string& tag) {
         return possible_manipulator_pose(ideal, uncertainty_from(uncertainty), tag);
       },
-      "ideal"_a, "uncertainty"_a, "tag"_a = "g", doc::kUncertainPose);
+      "ideal"_a, "uncertainty"_a, "tag"_a = "g", doc::of("possible_manipulator_pose"));
 }
 
 void bind_planner(py::module_& m) {
-  py::class_<planner::Scenario>(m, "Scenario", doc::kScenario)
-      .def_readonly("name", &planner::Scenario::name)
-      .def_readonly("description", &planner::Scenario::description)
-      .def_property_readonly("meshes", &scenario_mesh_files,
-                             "The mesh files the scenario references, as written.")
-      .def_readonly("warnings", &planner::Scenario::warnings,
-                    "What loads but looks wrong (file:line:col: ...), e.g. a mesh whose size is "
-                    "implausible in the scenario's length unit. spar.scenario() and spar.plan() "
-                    "issue each as a UserWarning.");
+  py::class_<planner::Scenario>(m, "Scenario", doc::of("Scenario"))
+      .def_readonly("name", &planner::Scenario::name, doc::of("Scenario.name"))
+      .def_readonly("description", &planner::Scenario::description, doc::of("Scenario.description"))
+      .def_property_readonly("meshes", &scenario_mesh_files, doc::of("Scenario.meshes"))
+      .def_readonly("warnings", &planner::Scenario::warnings, doc::of("Scenario.warnings"));
   m.def("_load_scenario", &load_scenario_file, "path"_a, Release());
   m.def("_read_scenario_text", &read_scenario_file_text, "path"_a, Release());
   m.def("_read_domain_text", &read_domain_file_text, "path"_a, Release());
@@ -372,11 +369,11 @@ void bind_planner(py::module_& m) {
       "path"_a);
   m.def("_parse_scenario", &parse_scenario_text, "text"_a, "source"_a, "base_dir"_a, Release());
 
-  py::class_<PlanRun>(m, "PlanRun",
-                      "A finished planning run: its report (the JSON of `spar plan --json` as "
-                      "dict/list), and phase 2 on any of its plan instances.")
-      .def_property_readonly("report", [](const PlanRun& run) { return to_python(run.report); })
-      .def_property_readonly("instance_count", &instance_count)
+  py::class_<PlanRun>(m, "PlanRun", doc::of("PlanRun"))
+      .def_property_readonly(
+          "report", [](const PlanRun& run) { return to_python(run.report); },
+          doc::of("PlanRun.report"))
+      .def_property_readonly("instance_count", &instance_count, doc::of("PlanRun.instance_count"))
       .def(
           "analyse",
           [](const PlanRun& run, std::size_t index, bool extras) {
@@ -387,7 +384,7 @@ void bind_planner(py::module_& m) {
             }
             return to_python(analysis);
           },
-          "index"_a, "extras"_a = false, doc::kAnalysis);
+          "index"_a, "extras"_a = false, doc::of("PlanRun.analyse"));
   py::class_<PlanSettings>(m, "_PlanSettings")
       .def(py::init<>())
       .def_readwrite("instances", &PlanSettings::instances)
@@ -398,7 +395,7 @@ void bind_planner(py::module_& m) {
       .def_readwrite("domain_source", &PlanSettings::domain_source)
       .def_readwrite("probability", &PlanSettings::probability)
       .def_readwrite("chosen_extras", &PlanSettings::chosen_extras);
-  m.def("_plan_run", &plan_scenario, "scenario"_a, "settings"_a, Release(), doc::kPlan);
+  m.def("_plan_run", &plan_scenario, "scenario"_a, "settings"_a, Release());
   m.def(
       "_plan",
       [](const planner::Scenario& scenario, const PlanSettings& settings) {
@@ -409,14 +406,15 @@ void bind_planner(py::module_& m) {
         }
         return to_python(report);
       },
-      "scenario"_a, "settings"_a, doc::kReport);
+      "scenario"_a, "settings"_a);
 }
 
 }  // namespace
 }  // namespace spar::python
 
 PYBIND11_MODULE(_spar, m) {
-  m.doc() = spar::python::doc::kModule;
+  m.doc() = spar::python::doc::of("");
+  m.attr("__version__") = SPAR_VERSION;
   spar::python::register_errors(m);
   spar::python::bind_expressions(m);
   spar::python::bind_kinematics(m);

@@ -1,8 +1,10 @@
 #include "spar/reports/build.hpp"
 
 #include <algorithm>
+#include <tuple>
 
 #include "spar/kinematics/puma.hpp"
+#include "spar/reports/internal/cell.hpp"
 
 namespace spar::reports {
 namespace {
@@ -122,6 +124,13 @@ Step build_step(const planner::PlanResult& result, const planner::InstanceStep& 
     out.fixed_pose = matrix(step.fixed_pose, scale);
     out.held_pose = matrix(step.held_pose, scale);
   }
+  if (step.grasp >= 0)
+    out.clearance =
+        Clearance{step.collision.clearance,
+                  step.collision.nearest >= 0
+                      ? Nullable<std::string>(scenario.objects[step.collision.nearest].name)
+                      : Nullable<std::string>()};
+  for (const int part : step.carried) out.carried.push_back(scenario.objects[part].name);
   return out;
 }
 
@@ -131,9 +140,11 @@ const char* precondition_unit(const planner::PreconditionResult& result) {
   return result.length ? "m" : "1";
 }
 
+// `max_scale`: the reverse analysis' search cap (a scale equal to it may be exceeded).
 Precondition build_precondition(const planner::Scenario& scenario,
                                 const planner::PreconditionResult& result,
-                                const std::vector<planner::SpaceVariable>& space) {
+                                const std::vector<planner::SpaceVariable>& space,
+                                double max_scale) {
   Precondition out;
   out.name = result.inequality.name;
   out.kind = planner::to_string(result.kind);
@@ -179,6 +190,7 @@ Precondition build_precondition(const planner::Scenario& scenario,
       widest = std::max(widest, half_width);
     }
     out.holds_up_to_scale = s;
+    out.holds_up_to_capped = s >= max_scale;
     out.margin =
         Margin{scenario.units.to_file_length(displacement), scenario.units.to_file_angle(rotation)};
   }
@@ -238,10 +250,13 @@ std::vector<Step> analysed_steps(const planner::PlanResult& result,
   const planner::Scenario& scenario = result.world.scenario();
   std::vector<Step> steps;
   int next_id = static_cast<int>(result.family.steps.size());
-  for (const planner::AnalysedStep& analysed : analysis.steps) {
+  for (std::size_t k = 0; k < analysis.steps.size(); ++k) {
+    const planner::AnalysedStep& analysed = analysis.steps[k];
     Step out;
     if (analysed.inserted) {
-      out = build_step(result, inserted_step(result, analysed));
+      planner::InstanceStep step = inserted_step(result, analysed);
+      std::tie(step.collision, step.carried) = result.chosen_checks.at(k);
+      out = build_step(result, step);
       out.id = next_id++;
       out.stable_pose = Nullable<std::string>();
     } else {
@@ -255,16 +270,20 @@ std::vector<Step> analysed_steps(const planner::PlanResult& result,
       out.finger_opening = result.world.gripper().max_opening * length_scale(result);
     out.preconditions.emplace();
     for (const planner::PreconditionResult& precondition : analysed.preconditions)
-      out.preconditions->push_back(build_precondition(scenario, precondition, analysis.variables));
+      out.preconditions->push_back(build_precondition(scenario, precondition, analysis.variables,
+                                                      result.analysis.max_scale));
     out.failed = analysed.failed;
     if (analysed.sensor_scale_needed && scenario.range_scan) {
       // The range-scan residual (scenario units) that would make this failed step hold.
       const planner::Units& units = scenario.units;
       const kinematics::PoseUncertainty& r = scenario.range_scan->residual;
       const double f = *analysed.sensor_scale_needed;
-      out.sensor_residual_needed =
-          SensorResidual{f, units.to_file_length(r.dx * f), units.to_file_length(r.dy * f),
-                         units.to_file_length(r.dz * f), units.to_file_angle(r.dtheta * f)};
+      out.sensor_residual_needed = SensorResidual{f,
+                                                  f >= result.analysis.max_scale,
+                                                  units.to_file_length(r.dx * f),
+                                                  units.to_file_length(r.dy * f),
+                                                  units.to_file_length(r.dz * f),
+                                                  units.to_file_angle(r.dtheta * f)};
     }
     if (analysed.failed) add_verification(analysed.verification, out);
     steps.push_back(std::move(out));
@@ -465,8 +484,10 @@ Report build_report(const planner::PlanResult& result) {
   out.instances.limit_reached = result.instances.limit_reached;
   for (const planner::InstanceAnalysis& analysis : result.examined)
     out.instances.examined.push_back(build_examined(analysis));
-  if (result.planned() && !result.instances.instances.empty())
+  if (result.planned() && !result.instances.instances.empty()) {
     out.chosen = build_chosen(result, result.chosen_index, result.chosen_analysis());
+    out.cell = internal::build_cell(result, *out.chosen, result.chosen(), result.chosen_analysis());
+  }
   return out;
 }
 
@@ -476,8 +497,12 @@ BoundRecord bound_record(const bounds::Box& box, const bounds::BoundResult& resu
   out.name = std::move(name);
   out.lo = result.lo;
   out.hi = result.hi;
-  out.inner_lo = result.inner_lo;
-  out.inner_hi = result.inner_hi;
+  if (result.has_inner_range()) {
+    out.inner_lo = result.inner_lo;
+    out.inner_hi = result.inner_hi;
+  } else {
+    out.no_inner_range = std::string(result.why_no_inner_range());
+  }
   for (std::size_t i = 0; i < result.argmin.size(); ++i)
     out.argmin.emplace_back(std::string(box.variables[i].name()), result.argmin[i]);
   for (std::size_t i = 0; i < result.argmax.size(); ++i)

@@ -6,6 +6,7 @@
 #include <map>
 #include <sstream>
 
+#include "spar/reports/internal/cell_svg.hpp"
 #include "spar/reports/internal/check.hpp"
 #include "spar/reports/internal/layout.hpp"
 #include "spar/reports/internal/text.hpp"
@@ -27,18 +28,36 @@ std::string px(double coordinate) {
   return out == "-0" ? "0" : out;
 }
 
+// Desktop first; below 700 px wide (a phone) the precondition table becomes one card per row so
+// that every bar stays on screen, and every other table scrolls inside its own box.
 const char* kStyle = R"(
-body{font-family:sans-serif;margin:24px auto;max-width:1180px;color:#1d2430;line-height:1.4}
+body{font-family:sans-serif;margin:24px auto;max-width:1180px;padding:0 12px;color:#1d2430;line-height:1.4}
 h1{font-size:1.5em;margin-bottom:.2em}h2{font-size:1.15em;margin-top:1.8em;border-bottom:1px solid #d4d9e1}
 table{border-collapse:collapse;font-size:13px;margin:.5em 0}
 th,td{border:1px solid #d4d9e1;padding:3px 6px;vertical-align:top;text-align:left}
 th{background:#eef1f5}td.num{text-align:right;font-variant-numeric:tabular-nums}
 .satisfied{color:#17723a;font-weight:bold}.violated{color:#b3261e;font-weight:bold}
 .undecided{color:#a05a00;font-weight:bold}
-.summary{background:#f5f7fa;border:1px solid #d4d9e1;padding:8px 12px;white-space:pre-wrap;font-family:monospace;font-size:13px}
-code{font-size:12px}details summary{cursor:pointer;color:#2b5fad}
-.scroll{overflow-x:auto}svg text{font-family:sans-serif}
+.summary{background:#f5f7fa;border:1px solid #d4d9e1;padding:8px 12px;white-space:pre-wrap;font-family:monospace;font-size:13px;overflow-x:auto}
+code{font-size:12px;overflow-wrap:anywhere}details summary{cursor:pointer;color:#2b5fad}
+.scroll{overflow-x:auto;max-width:100%}svg text{font-family:sans-serif}
+section>.scroll>svg,.cell-views svg{max-width:100%;height:auto}
 .note{color:#5a6472;font-size:13px}
+ol.timeline{list-style:none;padding:0;display:flex;flex-wrap:wrap;gap:8px 22px}
+ol.timeline li{position:relative;border:1.5px solid #55606e;border-radius:6px;padding:6px 9px;min-width:120px;max-width:220px;font-size:13px}
+ol.timeline li:not(:last-child)::after{content:"\2192";position:absolute;right:-18px;top:40%;color:#6b7480}
+ol.timeline li.inserted{border-style:dashed}ol.timeline li.failed{border-color:#b3261e;border-width:2.5px}
+ol.timeline .label{font-weight:bold;display:block}ol.timeline .holds{font-size:11px;color:#17723a}
+ol.timeline .fails{font-size:11px;color:#b3261e}ol.timeline .tag{font-size:10px;color:#a05a00}
+ol.timeline .verify{display:inline-block;font-size:11px;color:#fff;background:#b3261e;border-radius:9px;padding:0 8px;margin-top:3px}
+.cell-views{display:grid;grid-template-columns:repeat(auto-fill,minmax(300px,1fr));gap:12px}
+.cell-views figure{margin:0;border:1px solid #d4d9e1;padding:4px}.cell-views svg{width:100%}
+@media (max-width:700px){
+body{margin:8px auto}
+table.cards,table.cards tbody,table.cards tr,table.cards td{display:block;width:auto}
+table.cards tr:first-child{display:none}table.cards tr{border:1px solid #d4d9e1;margin:0 0 10px;padding:4px}
+table.cards td{border:none;padding:2px 4px}table.cards td::before{content:attr(data-label) ": ";color:#5a6472;font-size:12px}
+}
 )";
 
 std::string verdict_span(const std::string& verdict) {
@@ -66,61 +85,31 @@ void summary_section(const Report& report, std::ostringstream& out) {
       << "</div></section>\n";
 }
 
-// The chosen plan as boxes in execution order, six to a row.
+// The chosen plan as boxes in execution order: a list that wraps to the page's width.
 void timeline_section(const Report& report, std::ostringstream& out) {
-  const std::vector<Step>& steps = report.chosen->steps;
-  constexpr int kPerRow = 6, kWidth = 160, kHeight = 64, kGap = 28, kRowHeight = 112;
-  const int count = static_cast<int>(steps.size());
-  const int rows = std::max(1, (count + kPerRow - 1) / kPerRow);
-  const int width = std::min(count, kPerRow) * (kWidth + kGap) + 20;
+  const Chosen& chosen = *report.chosen;
   out << "<section id=\"timeline\"><h2>Chosen plan, in execution order</h2>\n"
       << "<p class=\"note\">Dashed: inserted by phase 2 (sensing or squeeze). Red: a precondition "
          "fails. A \"verify\" badge: verification sensing and recovery are posted.</p>\n"
-      << "<div class=\"scroll\"><svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << width
-      << "\" height=\"" << rows * kRowHeight + 10
-      << "\" role=\"img\" aria-label=\"plan timeline\">\n"
-      << "<defs><marker id=\"arrow\" viewBox=\"0 0 10 10\" refX=\"9\" refY=\"5\" markerWidth=\"7\" "
-         "markerHeight=\"7\" orient=\"auto\"><path d=\"M0,0 L10,5 L0,10 z\" fill=\"#6b7480\"/>"
-         "</marker></defs>\n";
-  for (int i = 0; i < count; ++i) {
-    const Step& step = steps[i];
-    const int x = 10 + (i % kPerRow) * (kWidth + kGap), y = 10 + (i / kPerRow) * kRowHeight;
+      << "<ol class=\"timeline\">\n";
+  for (std::size_t k = 0; k < chosen.steps.size(); ++k) {
+    const Step& step = chosen.steps[k];
     const bool inserted = step.inserted.value_or(false), failed = step.failed.value_or(false);
     const auto [holding, total] = internal::holding(step);
-    out << "<g class=\"step" << (inserted ? " inserted" : "") << "\"><title>"
-        << html_escape(internal::step_title(step) + ": " +
-                       internal::step_details(report.units, step))
-        << "</title><rect x=\"" << x << "\" y=\"" << y << "\" width=\"" << kWidth << "\" height=\""
-        << kHeight << "\" rx=\"6\" fill=\"" << action_colour(step.action) << "\" stroke=\""
-        << (failed ? "#b3261e" : "#55606e") << "\" stroke-width=\"" << (failed ? 2.5 : 1.2) << "\""
-        << (inserted ? " stroke-dasharray=\"5,3\"" : "") << "/>\n"
-        << "<text x=\"" << x + 8 << "\" y=\"" << y + 18
-        << "\" font-size=\"12\" font-weight=\"bold\">" << i + 1 << ". " << html_escape(step.action)
-        << "</text>\n"
-        << "<text x=\"" << x + 8 << "\" y=\"" << y + 35 << "\" font-size=\"12\">"
-        << html_escape(step.object.value_or(""))
-        << (step.fixed_object ? " into " + html_escape(*step.fixed_object) : "")
-        << "</text>\n<text x=\"" << x + 8 << "\" y=\"" << y + 53 << "\" font-size=\"11\" fill=\""
-        << (holding == total ? "#17723a" : "#b3261e") << "\">"
+    out << "<li class=\"step" << (inserted ? " inserted" : "") << (failed ? " failed" : "")
+        << "\" style=\"background:" << action_colour(step.action) << "\" title=\""
+        << html_escape(internal::step_details(report.units, step)) << "\"><span class=\"label\">"
+        << html_escape(step_label(chosen, k)) << "</span>"
+        << (step.fixed_object ? "<span>into " + html_escape(*step.fixed_object) + "</span><br>"
+                              : "")
+        << "<span class=\"" << (holding == total ? "holds" : "fails") << "\">"
         << (total == 0
                 ? std::string("no uncertainty checks")
                 : std::to_string(holding) + "/" + std::to_string(total) + " preconditions hold")
-        << "</text>\n";
-    if (inserted)
-      out << "<text x=\"" << x + kWidth - 6 << "\" y=\"" << y + 18
-          << "\" font-size=\"10\" text-anchor=\"end\" fill=\"#a05a00\">inserted</text>\n";
-    if (step.verification)
-      out << "<rect x=\"" << x + 8 << "\" y=\"" << y + kHeight + 6
-          << "\" width=\"52\" height=\"18\" rx=\"9\" fill=\"#b3261e\"/><text x=\"" << x + 34
-          << "\" y=\"" << y + kHeight + 19
-          << "\" font-size=\"11\" fill=\"#fff\" text-anchor=\"middle\">verify</text>\n";
-    if (i + 1 < count && (i + 1) % kPerRow != 0)
-      out << "<line x1=\"" << x + kWidth << "\" y1=\"" << y + kHeight / 2 << "\" x2=\""
-          << x + kWidth + kGap - 2 << "\" y2=\"" << y + kHeight / 2
-          << "\" stroke=\"#6b7480\" stroke-width=\"1.5\" marker-end=\"url(#arrow)\"/>\n";
-    out << "</g>\n";
+        << "</span>" << (inserted ? " <span class=\"tag\">inserted</span>" : "")
+        << (step.verification ? "<br><span class=\"verify\">verify</span>" : "") << "</li>\n";
   }
-  out << "</svg></div></section>\n";
+  out << "</ol></section>\n";
 }
 
 // A bar of the sound bound [lo, hi] (light), the inner bound inside it (dark) and the threshold
@@ -155,11 +144,11 @@ std::string bound_bar(const Precondition& precondition) {
   std::string unit;
   if (display.unit != "1") unit.append(" ").append(display.unit);
   std::ostringstream svg;
-  svg << "<svg xmlns=\"http://www.w3.org/2000/svg\" class=\"bound-bar\" width=\"" << kWidth
-      << "\" height=\"40\"><title>sound bound [" << rounded(lo, 8) << ", " << rounded(hi, 8) << "]"
-      << unit << "; inner bound [" << rounded(inner_lo, 8) << ", " << rounded(inner_hi, 8) << "]"
-      << unit << "; requirement " << html_escape(relation) << " " << rounded(threshold, 8) << unit
-      << "</title>\n";
+  svg << "<svg xmlns=\"http://www.w3.org/2000/svg\" class=\"bound-bar\" viewBox=\"0 0 " << kWidth
+      << " 40\" width=\"" << kWidth << "\" height=\"40\"><title>sound bound [" << rounded(lo, 8)
+      << ", " << rounded(hi, 8) << "]" << unit << "; inner bound [" << rounded(inner_lo, 8) << ", "
+      << rounded(inner_hi, 8) << "]" << unit << "; requirement " << html_escape(relation) << " "
+      << rounded(threshold, 8) << unit << "</title>\n";
   const double t = at(threshold);
   if (below_ok)
     svg << "<rect x=\"" << px(t) << "\" y=\"4\" width=\"" << px(kWidth - kRight - t)
@@ -213,9 +202,9 @@ std::string distribution_plot(const Report& report, const PreconditionProbabilit
     return kLeft + (clamped - axis_lo) / (axis_hi - axis_lo) * (kWidth - kLeft - kRight);
   };
   std::ostringstream svg;
-  svg << "<svg xmlns=\"http://www.w3.org/2000/svg\" class=\"distribution\" width=\"" << kWidth
-      << "\" height=\"36\"><title>first-order mean " << rounded(mean) << ", sigma "
-      << rounded(sigma) << "; worst case [" << rounded(lo) << ", " << rounded(hi)
+  svg << "<svg xmlns=\"http://www.w3.org/2000/svg\" class=\"distribution\" viewBox=\"0 0 " << kWidth
+      << " 36\" width=\"" << kWidth << "\" height=\"36\"><title>first-order mean " << rounded(mean)
+      << ", sigma " << rounded(sigma) << "; worst case [" << rounded(lo) << ", " << rounded(hi)
       << "]; requirement " << html_escape(relation) << " " << rounded(threshold) << "</title>";
   const double t = at(threshold);
   svg << "<rect x=\"" << px(below_ok ? t : kLeft) << "\" y=\"2\" width=\""
@@ -254,38 +243,38 @@ void probability_section(const Report& report, std::ostringstream& out) {
          "with probability 0.</p>\n<p>P(some precondition fails) = "
       << html_escape(
              internal::monte_carlo_text(probability.plan.p_monte_carlo, probability.plan.ci, false))
-      << " (Monte Carlo).</p>\n<table id=\"probability-table\"><tr><th>step</th>"
+      << " (Monte Carlo).</p>\n<div class=\"scroll\"><table "
+         "id=\"probability-table\"><tr><th>step</th>"
          "<th>precondition</th><th>σ</th><th>P first order</th><th>P Monte Carlo</th>"
          "<th>distribution vs worst case</th><th>note</th></tr>\n";
   for (const PreconditionProbability& entry : probability.preconditions) {
-    const Step& step = report.chosen->steps.at(entry.step);
     const bool proved = entry.proved;
-    out << "<tr class=\"probability\"><td>" << step.id << " "
-        << html_escape(internal::step_title(step)) << "</td><td><code>" << html_escape(entry.name)
-        << "</code></td><td class=\"num\">" << html_escape(internal::sigma_text(report, entry))
-        << "</td><td class=\"num\">"
+    out << "<tr class=\"probability\"><td>" << html_escape(step_label(*report.chosen, entry.step))
+        << "</td><td><code>" << html_escape(entry.name) << "</code></td><td class=\"num\">"
+        << html_escape(internal::sigma_text(report, entry)) << "</td><td class=\"num\">"
         << html_escape(internal::probability_text(entry.p_first_order, proved))
         << "</td><td class=\"num\">"
         << html_escape(internal::monte_carlo_text(entry.p_monte_carlo, entry.ci, proved))
         << "</td><td>" << distribution_plot(report, entry) << "</td><td class=\"note\">"
         << html_escape(entry.note) << "</td></tr>\n";
   }
-  out << "</table>\n";
+  out << "</table></div>\n";
   const Tolerances& tolerances = probability.tolerances;
   out << "<p>Tolerance allocation: " << html_escape(internal::allocation_text(tolerances))
       << ".</p>\n";
   if (tolerances.status != "not_needed") {
-    out << "<table id=\"tolerance-table\"><tr><th>parameter</th><th>half-width</th>"
+    out << "<div class=\"scroll\"><table "
+           "id=\"tolerance-table\"><tr><th>parameter</th><th>half-width</th>"
            "<th>allocated</th><th>cost</th></tr>\n";
     for (const ToleranceParameter& parameter : tolerances.parameters) {
       const ToleranceDisplay& display = parameter.display;
-      const std::string unit = " " + display.unit;
       out << "<tr><td>" << html_escape(parameter.name) << "</td><td class=\"num\">"
-          << rounded(display.half_width) << html_escape(unit) << "</td><td class=\"num\">"
-          << rounded(display.allocated) << html_escape(unit) << "</td><td class=\"num\">"
-          << rounded(parameter.cost) << "</td></tr>\n";
+          << html_escape(internal::tolerance_text(display.half_width, display.unit))
+          << "</td><td class=\"num\">"
+          << html_escape(internal::tolerance_text(display.allocated, display.unit))
+          << "</td><td class=\"num\">" << rounded(parameter.cost) << "</td></tr>\n";
     }
-    out << "</table>\n";
+    out << "</table></div>\n";
   }
   out << "</section>\n";
 }
@@ -296,16 +285,21 @@ std::string blame_bars(const Precondition& precondition) {
   const std::vector<Blame>& blame = *precondition.blame;
   const std::size_t shown = std::min<std::size_t>(blame.size(), 6);
   std::ostringstream svg;
-  svg << "<svg xmlns=\"http://www.w3.org/2000/svg\" class=\"blame\" width=\"250\" height=\""
-      << 4 + 14 * shown << "\">";
+  // Names are never cut: the bars start after the longest one.
+  std::size_t longest = 0;
+  for (std::size_t i = 0; i < shown; ++i) longest = std::max(longest, blame[i].variable.size());
+  const double bars = std::max(60.0, 6.0 * double(longest) + 8);
+  const double width = bars + 130, height = 4 + 14.0 * double(shown);
+  svg << "<svg xmlns=\"http://www.w3.org/2000/svg\" class=\"blame\" viewBox=\"0 0 " << px(width)
+      << " " << px(height) << "\" width=\"" << px(width) << "\" height=\"" << px(height) << "\">";
   for (std::size_t i = 0; i < shown; ++i) {
     const double share = std::clamp(blame[i].share, 0.0, 1.0);
     const double y = 2 + 14.0 * static_cast<double>(i);
     svg << "<g><title>" << html_escape(blame[i].variable) << ": " << rounded(100 * share, 3)
         << "% of the bound's width</title><text x=\"0\" y=\"" << px(y + 10)
-        << "\" font-size=\"10\">" << html_escape(blame[i].variable) << "</text><rect x=\"120\" y=\""
-        << px(y + 2) << "\" width=\"" << px(std::max(0.5, 95 * share))
-        << "\" height=\"9\" fill=\"#5b7fb8\"/><text x=\"" << px(122 + 95 * share) << "\" y=\""
+        << "\" font-size=\"10\">" << html_escape(blame[i].variable) << "</text><rect x=\""
+        << px(bars) << "\" y=\"" << px(y + 2) << "\" width=\"" << px(std::max(0.5, 95 * share))
+        << "\" height=\"9\" fill=\"#5b7fb8\"/><text x=\"" << px(bars + 2 + 95 * share) << "\" y=\""
         << px(y + 10) << "\" font-size=\"9\">" << rounded(100 * share, 2) << "%</text></g>";
   }
   svg << "</svg>";
@@ -342,33 +336,39 @@ void preconditions_section(const Report& report, std::ostringstream& out) {
          "dashed line is the threshold and the tinted side is where the precondition fails. "
          "Blame: each variable's share of the bound's width. Holds up to: the largest scale of "
          "the objects' uncertainty for which the precondition is still proved.</p>\n"
-      << "<table id=\"precondition-table\"><tr><th># step</th><th>precondition</th><th>verdict</th>"
-         "<th>requirement</th><th>bound</th><th>bound vs threshold</th><th>holds up to</th>"
-         "<th>witness</th><th>blame</th><th>sampled violations</th></tr>\n";
-  int number = 0;  // execution position, as in the timeline
-  for (const Step& step : report.chosen->steps) {
-    ++number;
+      << "<div class=\"scroll\"><table id=\"precondition-table\" class=\"cards\"><tr>"
+         "<th>step</th><th>precondition</th><th>verdict</th><th>requirement</th><th>bound</th>"
+         "<th>bound vs threshold</th><th>holds up to</th><th>witness</th><th>blame</th>"
+         "<th>sampled violations</th></tr>\n";
+  const Chosen& chosen = *report.chosen;
+  for (std::size_t k = 0; k < chosen.steps.size(); ++k) {
+    const Step& step = chosen.steps[k];
     if (!step.preconditions) continue;
     for (const Precondition& precondition : *step.preconditions) {
       const std::string& verdict = precondition.verdict;
-      out << "<tr class=\"precondition\" data-verdict=\"" << html_escape(verdict) << "\"><td>"
-          << number << ". " << html_escape(internal::step_title(step)) << "</td><td><code title=\""
+      out << "<tr class=\"precondition\" data-verdict=\"" << html_escape(verdict)
+          << "\"><td data-label=\"step\">" << html_escape(step_label(chosen, k))
+          << "</td><td data-label=\"precondition\"><code title=\""
           << html_escape(precondition.expression) << "\">" << html_escape(precondition.name)
-          << "</code></td><td>" << verdict_span(verdict) << "</td><td>"
-          << html_escape(internal::requirement_text(precondition)) << "</td><td>"
-          << html_escape(internal::bound_text(precondition)) << "<br><span class=\"note\">inner "
-          << html_escape(internal::bound_text(precondition, true)) << "</span></td><td>"
-          << bound_bar(precondition) << "</td><td>"
-          << html_escape(internal::margin_text(report.units, precondition)) << "</td><td>"
-          << witness_table(report, precondition, variable_units) << "</td><td>"
-          << blame_bars(precondition) << "</td><td class=\"num\">"
+          << "</code></td><td data-label=\"verdict\">" << verdict_span(verdict)
+          << "</td><td data-label=\"requirement\">"
+          << html_escape(internal::requirement_text(precondition))
+          << "</td><td data-label=\"bound\">" << html_escape(internal::bound_text(precondition))
+          << "<br><span class=\"note\">inner "
+          << html_escape(internal::bound_text(precondition, true))
+          << "</span></td><td data-label=\"bound vs threshold\">" << bound_bar(precondition)
+          << "</td><td data-label=\"holds up to\">"
+          << html_escape(internal::margin_text(report.units, precondition))
+          << "</td><td data-label=\"witness\">"
+          << witness_table(report, precondition, variable_units) << "</td><td data-label=\"blame\">"
+          << blame_bars(precondition) << "</td><td class=\"num\" data-label=\"sampled violations\">"
           << (precondition.monte_carlo_violation
                   ? rounded(100 * *precondition.monte_carlo_violation, 3) + "%"
                   : std::string("-"))
           << "</td></tr>\n";
     }
   }
-  out << "</table></section>\n";
+  out << "</table></div></section>\n";
 }
 
 void repairs_section(const Report& report, std::ostringstream& out) {
@@ -378,33 +378,42 @@ void repairs_section(const Report& report, std::ostringstream& out) {
     out << "<p>None tried: no precondition failed before repair.</p></section>\n";
     return;
   }
-  out << "<table><tr><th>insertion</th><th>for step</th><th>outcome</th><th>precondition</th>"
-         "<th>before</th><th>after</th></tr>\n";
-  for (const Repair& repair : *chosen.repairs) {
-    const std::vector<RepairBound>& before = repair.before;
-    const std::vector<RepairBound>& after = repair.after;
-    const auto target = step_position(chosen, repair.for_step);
-    for (std::size_t i = 0; i < before.size() && i < after.size(); ++i)
-      out << "<tr><td>" << html_escape(repair.action + " " + repair.object) << "</td><td>"
-          << repair.for_step << " "
-          << (target ? html_escape(internal::step_title(chosen.steps[*target])) : "") << "</td><td>"
-          << (repair.helped ? "kept" : "dropped") << "</td><td><code>"
-          << html_escape(before[i].name.value_or("")) << "</code></td><td>"
-          << html_escape(internal::repair_bound_text(report.units, before[i])) << " "
-          << verdict_span(before[i].verdict) << "</td><td>"
-          << html_escape(internal::repair_bound_text(report.units, after[i])) << " "
-          << verdict_span(after[i].verdict) << "</td></tr>\n";
+  // The kept insertions with the bounds they changed; the dropped ones in one line.
+  const std::vector<std::optional<std::size_t>> positions = internal::repair_positions(chosen);
+  bool any_kept = false;
+  for (std::size_t r = 0; r < chosen.repairs->size(); ++r) {
+    const Repair& repair = (*chosen.repairs)[r];
+    if (!repair.helped) continue;
+    if (!any_kept)
+      out << "<div class=\"scroll\"><table id=\"repair-table\"><tr><th>insertion</th>"
+             "<th>precondition</th><th>before</th><th>after</th></tr>\n";
+    any_kept = true;
+    for (std::size_t i = 0; i < repair.before.size() && i < repair.after.size(); ++i)
+      out << "<tr><td>" << html_escape(internal::repair_title(chosen, repair, positions[r]))
+          << "</td><td><code>" << html_escape(repair.before[i].name.value_or(""))
+          << "</code></td><td>"
+          << html_escape(internal::repair_bound_text(report.units, repair.before[i])) << " "
+          << verdict_span(repair.before[i].verdict) << "</td><td>"
+          << html_escape(internal::repair_bound_text(report.units, repair.after[i])) << " "
+          << verdict_span(repair.after[i].verdict) << "</td></tr>\n";
   }
-  out << "</table></section>\n";
+  if (any_kept) out << "</table></div>\n";
+  const std::string dropped = internal::dropped_repairs(chosen);
+  if (!dropped.empty())
+    out << "<p class=\"dropped\">Tried and dropped (they did not help): " << html_escape(dropped)
+        << ".</p>\n";
+  out << "</section>\n";
 }
 
 void verification_section(const Report& report, std::ostringstream& out) {
   out << "<section id=\"verification\"><h2>Verification and recovery</h2>\n";
   bool any = false;
-  for (const Step& step : report.chosen->steps) {
+  const Chosen& chosen = *report.chosen;
+  for (std::size_t k = 0; k < chosen.steps.size(); ++k) {
+    const Step& step = chosen.steps[k];
     if (!step.verification) continue;
     any = true;
-    out << "<h3>Step " << step.id << ": " << html_escape(internal::step_title(step)) << "</h3><ul>";
+    out << "<h3>" << html_escape(step_label(chosen, k)) << "</h3><ul>";
     if (step.sensor_residual_needed)
       out << "<li>"
           << html_escape(internal::sensor_residual_text(report.units, *step.sensor_residual_needed))
@@ -435,18 +444,25 @@ void uncertainty_section(const Report& report, std::ostringstream& out) {
   if (!report.chosen->uncertainty_variables || report.chosen->uncertainty_variables->empty())
     return;
   const std::vector<UncertaintyVariable>& variables = *report.chosen->uncertainty_variables;
-  out << "<section id=\"uncertainty\"><h2>Uncertainty variables</h2>\n<table><tr><th>variable</th>"
-         "<th>source</th><th>object</th><th>step</th><th>range</th></tr>\n";
+  out << "<section id=\"uncertainty\"><h2>Uncertainty variables</h2>\n<div class=\"scroll\">"
+         "<table><tr><th>variable</th><th>source</th><th>object</th><th>allocated by</th>"
+         "<th>range</th></tr>\n";
   for (const UncertaintyVariable& variable : variables)
     out << "<tr><td>" << html_escape(variable.name) << "</td><td>" << html_escape(variable.source)
-        << "</td><td>" << html_escape(variable.object.value_or("(arm)"))
-        << "</td><td class=\"num\">" << (variable.step ? std::to_string(*variable.step) : "")
+        << "</td><td>" << html_escape(variable.object.value_or("(arm)")) << "</td><td>"
+        << html_escape(internal::allocated_by(*report.chosen, variable))
         << "</td><td class=\"num\">" << html_escape(internal::half_width_text(variable))
         << "</td></tr>\n";
-  out << "</table></section>\n";
+  out << "</table></div></section>\n";
 }
 
-// The family's ordering graph (transitive reduction), layered top-down by longest path.
+// About how wide `text` is at `font_size` in the report's sans-serif (for boxes that fit it).
+double text_width(const std::string& text, double font_size) {
+  return 0.58 * font_size * static_cast<double>(text.size());
+}
+
+// The family's ordering graph (transitive reduction), layered top-down by longest path. Each step
+// is named as everywhere ("#3 pickup block"), with the family's text under it, never cut.
 void ordering_section(const Report& report, std::ostringstream& out) {
   const Family& family = report.family;
   const std::vector<FamilyStep>& steps = family.steps;
@@ -459,37 +475,49 @@ void ordering_section(const Report& report, std::ostringstream& out) {
   }
   const internal::LayeredLayout layout =
       internal::layered_layout(static_cast<int>(steps.size()), edges);
-  constexpr int kWidth = 250, kHeight = 30, kColumn = 270, kRow = 62;
-  const auto centre_x = [&](int node) { return 10 + layout.position[node] * kColumn + kWidth / 2; };
-  const auto top = [&](int node) { return 10 + layout.layer[node] * kRow; };
+  std::vector<std::string> labels;
+  double width = 120;
+  for (const FamilyStep& step : steps) {
+    labels.push_back(internal::family_step_label(report, step));
+    width = std::max({width, text_width(labels.back(), 11) + 16, text_width(step.text, 10) + 16});
+  }
+  constexpr double kHeight = 38, kRow = 66;
+  const double column = width + 20;
+  const auto centre_x = [&](int node) { return 10 + layout.position[node] * column + width / 2; };
+  const auto top = [&](int node) { return 10.0 + layout.layer[node] * kRow; };
+  const double svg_width = std::max(1, layout.widest) * column + 20;
+  const double svg_height = layout.layers * kRow + 20;
   out << "<section id=\"ordering\"><h2>Ordering graph of the plan family</h2>\n<p class=\"note\">"
       << steps.size() << " steps, " << edges.size()
       << " ordering constraints (prior_to, transitive reduction); layers by longest path from the "
-         "initial state.</p>\n<div class=\"scroll\"><svg xmlns=\"http://www.w3.org/2000/svg\" "
-         "width=\""
-      << std::max(1, layout.widest) * kColumn + 20 << "\" height=\"" << layout.layers * kRow + 20
+         "initial state. Steps are numbered as in the chosen plan.</p>\n<div class=\"scroll\">"
+         "<svg xmlns=\"http://www.w3.org/2000/svg\" viewBox=\"0 0 "
+      << px(svg_width) << " " << px(svg_height) << "\" width=\"" << px(svg_width) << "\" height=\""
+      << px(svg_height)
       << "\" role=\"img\" aria-label=\"ordering graph\"><defs><marker id=\"arrow-ordering\" "
          "viewBox=\"0 0 10 10\" refX=\"9\" refY=\"5\" markerWidth=\"7\" markerHeight=\"7\" "
          "orient=\"auto\"><path d=\"M0,0 L10,5 L0,10 z\" fill=\"#6b7480\"/></marker></defs>\n";
   for (const auto& [from, to] : edges)
-    out << "<line x1=\"" << centre_x(from) << "\" y1=\"" << top(from) + kHeight << "\" x2=\""
-        << centre_x(to) << "\" y2=\"" << top(to) - 2
+    out << "<line x1=\"" << px(centre_x(from)) << "\" y1=\"" << px(top(from) + kHeight)
+        << "\" x2=\"" << px(centre_x(to)) << "\" y2=\"" << px(top(to) - 2)
         << "\" stroke=\"#6b7480\" stroke-width=\"1.3\" marker-end=\"url(#arrow-ordering)\"/>\n";
   for (std::size_t i = 0; i < steps.size(); ++i) {
     const int node = static_cast<int>(i);
-    std::string label = steps[i].text;
-    if (label.size() > 40) label = label.substr(0, 38) + "...";
-    out << "<g><title>" << html_escape(steps[i].text) << "</title><rect x=\""
-        << centre_x(node) - kWidth / 2 << "\" y=\"" << top(node) << "\" width=\"" << kWidth
-        << "\" height=\"" << kHeight << "\" rx=\"5\" fill=\"" << action_colour(steps[i].action)
-        << "\" stroke=\"#55606e\"/><text x=\"" << centre_x(node) << "\" y=\"" << top(node) + 19
-        << "\" font-size=\"11\" text-anchor=\"middle\">" << steps[i].id << ": "
-        << html_escape(label) << "</text></g>\n";
+    out << "<g><title>" << html_escape(labels[i] + ": " + steps[i].text) << "</title><rect x=\""
+        << px(centre_x(node) - width / 2) << "\" y=\"" << px(top(node)) << "\" width=\""
+        << px(width) << "\" height=\"" << px(kHeight) << "\" rx=\"5\" fill=\""
+        << action_colour(steps[i].action) << "\" stroke=\"#55606e\"/><text x=\""
+        << px(centre_x(node)) << "\" y=\"" << px(top(node) + 15)
+        << "\" font-size=\"11\" font-weight=\"bold\" text-anchor=\"middle\">"
+        << html_escape(labels[i]) << "</text><text x=\"" << px(centre_x(node)) << "\" y=\""
+        << px(top(node) + 30) << "\" font-size=\"10\" text-anchor=\"middle\">"
+        << html_escape(steps[i].text) << "</text></g>\n";
   }
   out << "</svg></div></section>\n";
 }
 
-// The geometric constraint network: variables on a circle, arcs labelled with their pair counts.
+// The geometric constraint network: variables on a circle, arcs labelled with their pair counts;
+// each variable names the steps that use it ("#2 pickup peg").
 void network_section(const Report& report, std::ostringstream& out) {
   const Family& family = report.family;
   const std::vector<PlanVariable>& variables = family.variables;
@@ -503,19 +531,26 @@ void network_section(const Report& report, std::ostringstream& out) {
     if (first != node_of.end() && second != node_of.end())
       edges.emplace_back(first->second, second->second);
   }
+  std::vector<std::string> users;
+  double width = 120;
+  for (const PlanVariable& variable : variables) {
+    users.push_back(internal::variable_users(report, variable.name));
+    width = std::max({width, text_width(variable.name, 11) + 20, text_width(users.back(), 9) + 20});
+  }
   const std::vector<internal::Point> ring = internal::circular_layout(count);
   const std::vector<int> slot = internal::circle_order(count, edges);
-  // Nodes 120 wide: the circle's circumference gives each about 170 px.
-  const double radius = std::max(110.0, 170.0 * count / (2 * 3.14159265358979));
-  const double size = 2 * radius + 200;
+  // The circle's circumference gives each node its width and a gap.
+  const double radius = std::max(110.0, (width + 40) * count / (2 * 3.14159265358979));
+  const double size = 2 * radius + width + 60;
   const auto x = [&](int node) { return size / 2 + radius * ring[slot[node]].x; };
   const auto y = [&](int node) { return size / 2 + radius * ring[slot[node]].y; };
   out << "<section id=\"network\"><h2>Geometric constraint network</h2>\n<p class=\"note\">"
-      << count << " plan variables (grasps, positions) with their label sets; "
-      << family.arcs.size()
+      << count << " plan variables (grasps, positions) with their label sets and the steps that "
+      << "use them; " << family.arcs.size()
       << " binary constraints, each labelled with its number of allowed label pairs.</p>\n"
-      << "<div class=\"scroll\"><svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << px(size)
-      << "\" height=\"" << px(size) << "\" role=\"img\" aria-label=\"constraint network\">\n";
+      << "<div class=\"scroll\"><svg xmlns=\"http://www.w3.org/2000/svg\" viewBox=\"0 0 "
+      << px(size) << " " << px(size) << "\" width=\"" << px(size) << "\" height=\"" << px(size)
+      << "\" role=\"img\" aria-label=\"constraint network\">\n";
   for (const Arc& arc : family.arcs) {
     const auto first = node_of.find(arc.variables[0]);
     const auto second = node_of.find(arc.variables[1]);
@@ -534,17 +569,33 @@ void network_section(const Report& report, std::ostringstream& out) {
     for (const std::string& label : variable.labels)
       labels.append(labels.empty() ? "" : " ").append(label);
     out << "<g><title>" << html_escape(variable.name) << " (" << html_escape(variable.type)
-        << " of " << html_escape(variable.object) << "): " << html_escape(labels)
-        << "</title><rect x=\"" << px(x(i) - 60) << "\" y=\"" << px(y(i) - 16)
-        << "\" width=\"120\" height=\"32\" rx=\"14\" fill=\""
+        << " of " << html_escape(variable.object) << "; " << html_escape(users[i])
+        << "): " << html_escape(labels) << "</title><rect x=\"" << px(x(i) - width / 2) << "\" y=\""
+        << px(y(i) - 22) << "\" width=\"" << px(width) << "\" height=\"44\" rx=\"14\" fill=\""
         << (variable.type == "grasp" ? "#cfe0fb" : "#cdeee6") << "\" stroke=\"#55606e\"/><text x=\""
-        << px(x(i)) << "\" y=\"" << px(y(i) - 2) << "\" font-size=\"11\" text-anchor=\"middle\">"
+        << px(x(i)) << "\" y=\"" << px(y(i) - 8) << "\" font-size=\"11\" text-anchor=\"middle\">"
         << html_escape(variable.name) << "</text><text x=\"" << px(x(i)) << "\" y=\""
-        << px(y(i) + 11) << "\" font-size=\"9\" text-anchor=\"middle\" fill=\"#55606e\">"
-        << variable.labels.size() << " label" << (variable.labels.size() == 1 ? "" : "s")
-        << "</text></g>\n";
+        << px(y(i) + 5) << "\" font-size=\"9\" text-anchor=\"middle\">" << html_escape(users[i])
+        << "</text><text x=\"" << px(x(i)) << "\" y=\"" << px(y(i) + 17)
+        << "\" font-size=\"9\" text-anchor=\"middle\" fill=\"#55606e\">" << variable.labels.size()
+        << " label" << (variable.labels.size() == 1 ? "" : "s") << "</text></g>\n";
   }
   out << "</svg></div></section>\n";
+}
+
+// The work cell from above and from the front: the initial state, then after every pickup,
+// putdown and assembly (internal/cell_svg.hpp).
+void cell_section(const Report& report, std::ostringstream& out) {
+  out << "<section id=\"cell\"><h2>The work cell</h2>\n<p class=\"note\">From above (x right, y "
+         "up) and from the front (x right, z up), lengths in "
+      << html_escape(report.units.length)
+      << ": the table, the robot's base and its reach (dashed, an upper bound), the places "
+         "(crosses), each object's outline (held: orange), the gripper (grey), the box of "
+         "positions the handled object may occupy (red, true scale) and inserted sensing "
+         "(dashed rings).</p>\n<div class=\"cell-views\">\n";
+  for (std::size_t v = 0; v < report.cell->views.size(); ++v)
+    out << "<figure>" << internal::cell_view_svg(report, v, false) << "</figure>\n";
+  out << "</div></section>\n";
 }
 
 void instances_section(const Report& report, std::ostringstream& out) {
@@ -553,10 +604,11 @@ void instances_section(const Report& report, std::ostringstream& out) {
       << (instances.count == 1 ? " plan instance enumerated" : " plan instances enumerated")
       << (instances.limit_reached ? " (the limit was reached: more exist)" : "")
       << "; phase 2 examines them in order until one has no error.</p>\n"
-      << "<table id=\"instance-table\"><tr><th>instance</th><th>errors</th><th>steps</th>"
+      << "<div class=\"scroll\"><table "
+         "id=\"instance-table\"><tr><th>instance</th><th>errors</th><th>steps</th>"
          "<th>inserted</th><th>failed preconditions</th><th></th></tr>\n";
   for (const ExaminedInstance& examined : instances.examined) {
-    out << "<tr class=\"instance\"><td class=\"num\">#" << examined.index + 1
+    out << "<tr class=\"instance\"><td class=\"num\">" << examined.index + 1
         << "</td><td class=\"num\">" << examined.errors << "</td><td class=\"num\">"
         << examined.steps << "</td><td class=\"num\">" << examined.inserted
         << "</td><td class=\"num\">" << examined.failed_preconditions << " / "
@@ -564,18 +616,20 @@ void instances_section(const Report& report, std::ostringstream& out) {
         << (report.chosen && report.chosen->index == examined.index ? "chosen" : "")
         << "</td></tr>\n";
   }
-  out << "</table></section>\n";
+  out << "</table></div></section>\n";
 }
 
 std::string html(const Report& report) {
   std::ostringstream out;
-  out << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>spar "
+  out << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
+         "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n<title>spar "
          "report: "
       << html_escape(report.scenario) << "</title>\n<style>" << kStyle
       << "</style>\n</head>\n<body>\n";
   summary_section(report, out);
   if (report.chosen) {
     timeline_section(report, out);
+    if (report.cell) cell_section(report, out);
     preconditions_section(report, out);
     repairs_section(report, out);
     verification_section(report, out);

@@ -2,6 +2,7 @@
 
 #include <sstream>
 
+#include "spar/reports/internal/cell_svg.hpp"
 #include "spar/reports/internal/check.hpp"
 #include "spar/reports/internal/text.hpp"
 #include "spar/reports/json.hpp"
@@ -16,12 +17,12 @@ std::string plural(std::size_t count, const char* noun) {
   return std::to_string(count) + " " + noun + (count == 1 ? "" : "s");
 }
 
-// Inserted steps as "range-scan block, range-scan peg".
-std::string inserted_list(const std::vector<Step>& steps) {
+// Inserted steps as "#5 range-scan block, #6 range-scan peg".
+std::string inserted_list(const Chosen& chosen) {
   std::string out;
-  for (const Step& step : steps)
-    if (step.inserted.value_or(false))
-      out += (out.empty() ? "" : ", ") + internal::step_title(step);
+  for (std::size_t k = 0; k < chosen.steps.size(); ++k)
+    if (chosen.steps[k].inserted.value_or(false))
+      out += (out.empty() ? "" : ", ") + step_label(chosen, k);
   return out;
 }
 
@@ -33,7 +34,7 @@ std::string summary_lines(const Report& report) {
     return out.str();
   }
   const Chosen& chosen = *report.chosen;
-  const std::string inserted = inserted_list(chosen.steps);
+  const std::string inserted = inserted_list(chosen);
   out << ", " << plural(chosen.steps.size(), "step")
       << (inserted.empty() ? "" : " (inserted by phase 2: " + inserted + ")") << '\n';
   const internal::VerdictCounts counts = internal::verdict_counts(report);
@@ -46,20 +47,21 @@ std::string summary_lines(const Report& report) {
         << '\n';
   out << "  instances: " << report.instances.count << " enumerated"
       << (report.instances.limit_reached ? " (limit reached)" : "") << ", "
-      << report.instances.examined.size() << " examined, chosen #" << chosen.index + 1 << '\n';
+      << report.instances.examined.size() << " examined, instance " << chosen.index + 1
+      << " chosen\n";
   return out.str();
 }
 
 void plan_section(const Report& report, std::ostringstream& out) {
+  const Chosen& chosen = *report.chosen;
   out << "\n## Chosen plan, in execution order\n\n"
-      << "| # | step | action | details | preconditions |\n"
-      << "|--:|--:|---|---|---|\n";
-  int number = 0;
-  for (const Step& step : report.chosen->steps) {
+      << "| step | details | preconditions |\n"
+      << "|---|---|---|\n";
+  for (std::size_t k = 0; k < chosen.steps.size(); ++k) {
+    const Step& step = chosen.steps[k];
     const auto [holds, total] = internal::holding(step);
-    out << "| " << ++number << " | " << step.id << " | " << internal::step_title(step)
-        << (step.inserted.value_or(false) ? " *(inserted)*" : "") << " | "
-        << cell_escape(internal::step_details(report.units, step)) << " | "
+    out << "| " << step_label(chosen, k) << (step.inserted.value_or(false) ? " *(inserted)*" : "")
+        << " | " << cell_escape(internal::step_details(report.units, step)) << " | "
         << (total == 0 ? std::string("none")
                        : std::to_string(holds) + "/" + std::to_string(total) + " hold")
         << (step.failed.value_or(false) ? " **(failed)**" : "") << " |\n";
@@ -72,16 +74,15 @@ void preconditions_section(const Report& report, std::ostringstream& out) {
          "attained at witness points (the true range lies between the two). Lengths in "
       << report.units.length
       << "; exact values, expressions (SI) and witnesses are in the JSON report.\n\n"
-      << "| # step | precondition | verdict | requirement | bound | inner bound | holds up to |\n"
+      << "| step | precondition | verdict | requirement | bound | inner bound | holds up to |\n"
       << "|---|---|---|---|---|---|---|\n";
-  int number = 0;  // execution position, as in the plan table
-  for (const Step& step : report.chosen->steps) {
-    ++number;
+  const Chosen& chosen = *report.chosen;
+  for (std::size_t k = 0; k < chosen.steps.size(); ++k) {
+    const Step& step = chosen.steps[k];
     if (!step.preconditions) continue;
     for (const Precondition& precondition : *step.preconditions) {
       const std::string& verdict = precondition.verdict;
-      out << "| " << number << ". " << internal::step_title(step) << " | `"
-          << cell_escape(precondition.name) << "` | "
+      out << "| " << step_label(chosen, k) << " | `" << cell_escape(precondition.name) << "` | "
           << (verdict == "satisfied" ? verdict : "**" + verdict + "**") << " | "
           << internal::requirement_text(precondition) << " | " << internal::bound_text(precondition)
           << " | " << internal::bound_text(precondition, true) << " | "
@@ -97,11 +98,11 @@ void repairs_section(const Report& report, std::ostringstream& out) {
     out << "None tried: no precondition failed before repair.\n";
     return;
   }
-  for (const Repair& repair : *chosen.repairs) {
-    const auto target = step_position(chosen, repair.for_step);
-    out << "- " << repair.action << " " << repair.object << " for step " << repair.for_step
-        << (target ? " (" + internal::step_title(chosen.steps[*target]) + ")" : "") << ": "
-        << (repair.helped ? "kept" : "did not help, dropped") << '\n';
+  const std::vector<std::optional<std::size_t>> positions = internal::repair_positions(chosen);
+  for (std::size_t r = 0; r < chosen.repairs->size(); ++r) {
+    const Repair& repair = (*chosen.repairs)[r];
+    if (!repair.helped) continue;  // the dropped ones: one line below
+    out << "- " << internal::repair_title(chosen, repair, positions[r]) << ": kept\n";
     for (std::size_t i = 0; i < repair.before.size() && i < repair.after.size(); ++i) {
       const RepairBound &before = repair.before[i], &after = repair.after[i];
       if (before.verdict == "satisfied" && after.verdict == "satisfied")
@@ -112,15 +113,19 @@ void repairs_section(const Report& report, std::ostringstream& out) {
           << '\n';
     }
   }
+  const std::string dropped = internal::dropped_repairs(chosen);
+  if (!dropped.empty()) out << "- Tried and dropped (they did not help): " << dropped << ".\n";
 }
 
 void verification_section(const Report& report, std::ostringstream& out) {
   out << "\n## Verification and recovery\n\n";
   bool any = false;
-  for (const Step& step : report.chosen->steps) {
+  const Chosen& chosen = *report.chosen;
+  for (std::size_t k = 0; k < chosen.steps.size(); ++k) {
+    const Step& step = chosen.steps[k];
     if (!step.verification) continue;
     any = true;
-    out << "- step " << step.id << " (" << internal::step_title(step) << ")\n";
+    out << "- " << step_label(chosen, k) << "\n";
     if (step.sensor_residual_needed)
       out << "  - " << internal::sensor_residual_text(report.units, *step.sensor_residual_needed)
           << '\n';
@@ -157,8 +162,7 @@ void probability_section(const Report& report, std::ostringstream& out) {
       << "| step | precondition | σ | P first order | P Monte Carlo | note |\n"
       << "|---|---|---|---|---|---|\n";
   for (const PreconditionProbability& entry : probability.preconditions) {
-    const Step& step = report.chosen->steps.at(entry.step);
-    out << "| " << step.id << " " << internal::step_title(step) << " | `" << cell_escape(entry.name)
+    out << "| " << step_label(*report.chosen, entry.step) << " | `" << cell_escape(entry.name)
         << "` | " << internal::sigma_text(report, entry) << " | "
         << internal::probability_text(entry.p_first_order, entry.proved) << " | "
         << internal::monte_carlo_text(entry.p_monte_carlo, entry.ci, entry.proved) << " | "
@@ -170,10 +174,22 @@ void probability_section(const Report& report, std::ostringstream& out) {
   out << "\n| parameter | half-width | allocated | cost |\n|---|---|---|---|\n";
   for (const ToleranceParameter& parameter : tolerances.parameters) {
     const ToleranceDisplay& display = parameter.display;
-    out << "| " << parameter.name << " | " << rounded(display.half_width) << " " << display.unit
-        << " | " << rounded(display.allocated) << " " << display.unit << " | "
+    out << "| " << parameter.name << " | "
+        << internal::tolerance_text(display.half_width, display.unit) << " | "
+        << internal::tolerance_text(display.allocated, display.unit) << " | "
         << rounded(parameter.cost) << " |\n";
   }
+}
+
+// The cell's views, written beside the report as SVG files (write.hpp).
+void cell_section(const Report& report, std::ostringstream& out) {
+  out << "\n## The work cell\n\n"
+      << "From above and from the front (lengths in " << report.units.length
+      << "): the table, the robot's base and reach, the places, each object's outline (held: "
+         "orange), the gripper, the box of positions the handled object may occupy (red) and "
+         "inserted sensing (dashed rings).\n\n";
+  for (std::size_t v = 0; v < report.cell->views.size(); ++v)
+    out << "![" << report.cell->views[v].title << "](" << internal::cell_view_file(v) << ")\n";
 }
 
 void instances_section(const Report& report, std::ostringstream& out) {
@@ -186,7 +202,7 @@ void instances_section(const Report& report, std::ostringstream& out) {
       << "| instance | errors | steps | inserted | failed preconditions | |\n"
       << "|--:|--:|--:|--:|--:|---|\n";
   for (const ExaminedInstance& examined : instances.examined)
-    out << "| #" << examined.index + 1 << " | " << examined.errors << " | " << examined.steps
+    out << "| " << examined.index + 1 << " | " << examined.errors << " | " << examined.steps
         << " | " << examined.inserted << " | " << examined.failed_preconditions << " / "
         << examined.preconditions << " | "
         << (report.chosen && report.chosen->index == examined.index ? "chosen" : "") << " |\n";
@@ -201,6 +217,7 @@ std::string markdown(const Report& report) {
       << summary_lines(report) << "```\n";
   if (!report.chosen) return out.str();
   plan_section(report, out);
+  if (report.cell) cell_section(report, out);
   preconditions_section(report, out);
   repairs_section(report, out);
   verification_section(report, out);

@@ -2,10 +2,12 @@
 // report model (reports/model.hpp); the same model always gives the same bytes.
 //
 // Sections: title and summary (status, steps, verdict counts, errors, instances), the chosen plan
-// in execution order, the per-precondition verdict table (bounds rounded to 3 significant digits,
-// in the scenario's length unit where they are lengths), inserted sensing and squeeze with the
-// bounds before and after, verification and recovery, and the instances considered. summary()
-// gives the few lines `spar plan` prints.
+// in execution order, the work cell (links to cell-<k>.svg, written beside report.md by
+// write_reports), the per-precondition verdict table (bounds rounded to 3 significant digits, in
+// the scenario's length unit where they are lengths), inserted sensing and squeeze with the
+// bounds before and after (the dropped ones in one line), verification and recovery, failure
+// probability and tolerances, and the instances considered. A step is always "#k action object",
+// k its place in the plan. summary() gives the few lines `spar plan` prints.
 //
 // Example:
 //   const Report report = build_report(planner::plan(scenario, domain));

@@ -284,6 +284,7 @@ struct Precondition {
   // The chosen instance's extras (absent elsewhere):
   std::optional<std::vector<Blame>> blame;      // largest share first
   std::optional<double> holds_up_to_scale;      // reverse analysis: proved up to this scale
+  std::optional<bool> holds_up_to_capped;       // the scale is the search's cap: it holds beyond
   std::optional<Margin> margin;                 // with holds_up_to_scale
   std::optional<double> monte_carlo_violation;  // share of uniform samples violating it
   template <class Self, class Field>
@@ -305,6 +306,7 @@ struct Precondition {
     field("display", s.display);
     field("blame", s.blame);
     field("holds_up_to_scale", s.holds_up_to_scale);
+    field("holds_up_to_capped", s.holds_up_to_capped);
     field("margin", s.margin);
     field("monte_carlo_violation", s.monte_carlo_violation);
   }
@@ -312,11 +314,13 @@ struct Precondition {
 
 // A failed step: the range-scan residual (scenario units) that would make it hold.
 struct SensorResidual {
-  double scale{0.0};  // times the scenario's residual
+  double scale{0.0};   // times the scenario's residual
+  bool capped{false};  // the scale is the search's cap: a residual this much coarser would do
   double dx{0.0}, dy{0.0}, dz{0.0}, dtheta{0.0};
   template <class Self, class Field>
   static void fields(Self& s, Field&& field) {
     field("scale", s.scale);
+    field("capped", s.capped);
     field("dx", s.dx);
     field("dy", s.dy);
     field("dz", s.dz);
@@ -357,6 +361,19 @@ struct Recovery {
   }
 };
 
+// How close a step's robot comes to the other objects (issue 21): at the step's configuration,
+// the distance in metres (whatever the scenario's unit; inf when there is no other object) from
+// the gripper and what it moves to the nearest other object, and that object.
+struct Clearance {
+  double min_distance{0.0};
+  Nullable<std::string> to;
+  template <class Self, class Field>
+  static void fields(Self& s, Field&& field) {
+    field("min_distance", s.min_distance);
+    field("to", s.to);
+  }
+};
+
 // One step of the chosen instance, in execution order. The presence of a member follows the
 // step's kind: a grasp for manipulations, poses where the step has a position, the fixed object
 // for assemblies, phase 2's results when phase 2 ran.
@@ -385,6 +402,8 @@ struct Step {
   std::optional<std::string> fixed_object;              // assemblies
   std::optional<Matrix> fixed_pose;
   std::optional<Matrix> held_pose;
+  Nullable<Clearance> clearance;     // null for steps that do not move the gripper (sensing)
+  std::vector<std::string> carried;  // objects assembled into `object` that move with it
   // Phase 2:
   std::optional<bool> inserted;
   // Inserted steps: the preconditions it turned to satisfied (never empty).
@@ -410,6 +429,8 @@ struct Step {
     field("fixed_object", s.fixed_object);
     field("fixed_pose", s.fixed_pose);
     field("held_pose", s.held_pose);
+    field("clearance", s.clearance);
+    field("carried", s.carried);
     field("inserted", s.inserted);
     field("turned", s.turned);
     field("finger_opening", s.finger_opening);
@@ -646,6 +667,112 @@ struct Chosen {
   }
 };
 
+// ---- the work cell, drawn (reports/internal/cell_svg.hpp) ----
+
+// A closed polygon: [x, y] points in the length unit, the last joined to the first.
+using Ring = std::vector<std::array<double, 2>>;
+
+// What is seen of a body from above (world x, y) and from the front (world x, z, looking along
+// +y): its silhouette as rings (outer boundaries counter-clockwise, holes clockwise).
+struct Silhouette {
+  std::vector<Ring> top;
+  std::vector<Ring> side;
+  template <class Self, class Field>
+  static void fields(Self& s, Field&& field) {
+    field("top", s.top);
+    field("side", s.side);
+  }
+};
+
+struct CellObject {
+  std::string name;
+  bool held{false};  // in the gripper
+  Silhouette outline;
+  template <class Self, class Field>
+  static void fields(Self& s, Field&& field) {
+    field("name", s.name);
+    field("held", s.held);
+    field("outline", s.outline);
+  }
+};
+
+// The box of positions an object's frame origin may occupy (world, length unit): sound, the
+// bound of its propagated pose error over the instance's uncertainty box.
+struct UncertaintyRegion {
+  std::string object;
+  std::array<double, 3> lo{}, hi{};
+  template <class Self, class Field>
+  static void fields(Self& s, Field&& field) {
+    field("object", s.object);
+    field("lo", s.lo);
+    field("hi", s.hi);
+  }
+};
+
+// Sensing phase 2 inserted: the step and the object it looks at.
+struct CellSensing {
+  std::string step;  // "#5 range-scan block"
+  std::string object;
+  template <class Self, class Field>
+  static void fields(Self& s, Field&& field) {
+    field("step", s.step);
+    field("object", s.object);
+  }
+};
+
+// The cell after one step of the chosen plan (or in its initial state).
+struct CellView {
+  Nullable<int> after;  // execution position (1-based) of the step it follows; null: initial
+  std::string title;    // "initial state", "after #2 pickup block"
+  std::vector<CellObject> objects;
+  Nullable<Silhouette> gripper;        // at the step's gripper pose
+  Nullable<UncertaintyRegion> region;  // of the object the step handled (held after a pickup)
+  std::vector<CellSensing> sensed;     // inserted sensing since the previous view
+  template <class Self, class Field>
+  static void fields(Self& s, Field&& field) {
+    field("after", s.after);
+    field("title", s.title);
+    field("objects", s.objects);
+    field("gripper", s.gripper);
+    field("region", s.region);
+    field("sensed", s.sensed);
+  }
+};
+
+struct CellPlace {
+  std::string name;
+  double x{0.0}, y{0.0};  // length unit
+  double yaw{0.0};        // angle unit
+  template <class Self, class Field>
+  static void fields(Self& s, Field&& field) {
+    field("name", s.name);
+    field("x", s.x);
+    field("y", s.y);
+    field("yaw", s.yaw);
+  }
+};
+
+// The work cell of the chosen plan: the table top (z = 0) drawn over the region the plan uses,
+// the robot's base and reach, the places, and one view per state the plan passes through.
+struct Cell {
+  std::array<double, 2> table_x{}, table_y{};  // the table top's extent drawn (length unit)
+  std::array<double, 3> robot_base{};          // the base frame's origin
+  double reach{0.0};     // an upper bound of the gripper's distance from the shoulder (length)
+  double shoulder{0.0};  // height of the shoulder (first joint's offset) above the base
+  std::vector<CellPlace> places;
+  std::vector<CellView> views;  // the initial state, then after each pickup, putdown, assemble
+  template <class Self, class Field>
+  static void fields(Self& s, Field&& field) {
+    field("table_x", s.table_x);
+    field("table_y", s.table_y);
+    field("robot_base", s.robot_base);
+    field("reach", s.reach);
+    field("shoulder", s.shoulder);
+    field("places", s.places);
+    field("views", s.views);
+  }
+};
+
 struct Report {
   std::string schema{kReportSchema};
   std::string scenario;
@@ -656,7 +783,8 @@ struct Report {
   Robot robot;
   Family family;
   Instances instances;
-  Nullable<Chosen> chosen;  // null without a plan
+  Nullable<Chosen> chosen;   // null without a plan
+  std::optional<Cell> cell;  // with a chosen plan
   template <class Self, class Field>
   static void fields(Self& s, Field&& field) {
     field("schema", s.schema);
@@ -669,17 +797,20 @@ struct Report {
     field("family", s.family);
     field("instances", s.instances);
     field("chosen", s.chosen);
+    field("cell", s.cell);
   }
 };
 
 // ---- sound bounds of one expression: `spar bound --json`, each line of `--jsonl`, spar.bound ----
 
 struct BoundRecord {
-  std::optional<std::string> name;      // a corpus record's name
-  double lo{0.0}, hi{0.0};              // sound: every value over the (constrained) box lies inside
-  double inner_lo{0.0}, inner_hi{0.0};  // attained at argmin / argmax
-  NamedValues<double> argmin, argmax;   // empty when there is no witness
-  std::string status;                   // converged | effort_limit | unbounded | infeasible
+  std::optional<std::string> name;  // a corpus record's name
+  double lo{0.0}, hi{0.0};          // sound: every value over the (constrained) box lies inside
+  // Attained at argmin / argmax; null when no attained range is known (no_inner_range says why).
+  Nullable<double> inner_lo, inner_hi;
+  std::optional<std::string> no_inner_range;
+  NamedValues<double> argmin, argmax;  // empty when there is no witness
+  std::string status;                  // converged | effort_limit | unbounded | infeasible
   bool possibly_undefined{false};
   bool time_limited{false};  // stopped by the time limit (the answer depends on the machine)
   double relative_gap{0.0};
@@ -692,6 +823,7 @@ struct BoundRecord {
     field("hi", s.hi);
     field("inner_lo", s.inner_lo);
     field("inner_hi", s.inner_hi);
+    field("no_inner_range", s.no_inner_range);
     field("argmin", s.argmin);
     field("argmax", s.argmax);
     field("status", s.status);

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Runs every command of README.md's ```sh blocks, in order, from the repository root, with the
-# built `spar` first on PATH, and fails on the first that fails: the README cannot rot. The
+# built `spar` first on PATH, and fails on the first that fails (exits otherwise than 0, or than
+# the status a trailing "# exits N" documents): the README cannot rot. The
 # exception is scripts/test.sh (it runs this script: it would recurse); it is checked by CI itself.
 # Python lines are skipped, with a line saying so, in a build without the Python module.
 # Files the tour writes go to a scratch folder (README commands write report/ and my_task.yaml,
@@ -18,16 +19,21 @@ while IFS= read -r line; do
   case "$line" in "" | "#"* | *scripts/test.sh*) continue ;; esac
   # A sanitizer build has no Python module (python/ is not built there): its Release build runs
   # these lines.
-  if [[ "$line" == *python3* && ! -d "$build/python/spar" ]]; then
+  if [[ "$line" == *python3* ]] && grep -q "^SPAR_SANITIZE:BOOL=ON" "$build/CMakeCache.txt"; then
     echo "check-readme: skipped (no Python module in $build): $line"
     continue
   fi
   count=$((count + 1))
   echo "check-readme: \$ $line"
-  if ! bash -euo pipefail -c "$line" >/tmp/check-readme.$$ 2>&1 </dev/null; then
+  # A line that documents its exit status ("# exits 3") must exit with it; every other, 0.
+  expected=0
+  if [[ "$line" =~ \#\ exits\ ([0-9]+) ]]; then expected=${BASH_REMATCH[1]}; fi
+  status=0
+  bash -euo pipefail -c "$line" >/tmp/check-readme.$$ 2>&1 </dev/null || status=$?
+  if [ "$status" -ne "$expected" ]; then
     cat /tmp/check-readme.$$ >&2
     rm -f /tmp/check-readme.$$
-    echo "check-readme: FAILED: $line" >&2
+    echo "check-readme: FAILED (exit status $status, expected $expected): $line" >&2
     exit 1
   fi
 done <<<"$commands"

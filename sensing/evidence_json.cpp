@@ -6,37 +6,17 @@
 #include <sstream>
 
 #include "spar/sensing/error.hpp"
+#include "spar/sensing/internal/json_text.hpp"
 
 namespace spar::sensing {
 namespace {
 
+using internal::shown;
 using nlohmann::json;
-
-// The value as JSON text, shortened for a message.
-std::string shown(const json& value) {
-  std::string text = value.dump();
-  if (text.size() > 40) text = text.substr(0, 37) + "...";
-  return text;
-}
 
 [[noreturn]] void fail(const std::string& source, const std::string& path,
                        const std::string& what) {
   throw SensingError(source + ": " + path + ": " + what);
-}
-
-// "line:col" (1-based) of byte offset `byte` (nlohmann counts from 1 past the offending byte).
-std::string line_and_column(std::string_view text, std::size_t byte) {
-  const std::size_t end = std::min(byte > 0 ? byte - 1 : 0, text.size());
-  int line = 1, column = 1;
-  for (std::size_t i = 0; i < end; ++i) {
-    if (text[i] == '\n') {
-      ++line;
-      column = 1;
-    } else {
-      ++column;
-    }
-  }
-  return std::to_string(line) + ":" + std::to_string(column);
 }
 
 Frame read_frame(const json& document, const std::string& source) {
@@ -139,19 +119,7 @@ EvidenceInput load_evidence_file(const std::filesystem::path& path) {
 }
 
 EvidenceInput parse_evidence_json(std::string_view text, const std::string& source) {
-  json document;
-  try {
-    document = json::parse(text);
-  } catch (const json::parse_error& error) {
-    std::string what = error.what();
-    // nlohmann's message "[json.exception.parse_error.101] parse error at line 1, column 2:
-    // syntax error ..." keeps only its reason; the place is ours.
-    if (const std::size_t colon = what.find(": "); colon != std::string::npos)
-      what = what.substr(colon + 2);
-    throw SensingError(source + ":" + line_and_column(text, error.byte) +
-                       ": JSON syntax error: " + what);
-  }
-  return evidence_input(document, source);
+  return evidence_input(internal::parse_json_text(text, source), source);
 }
 
 nlohmann::ordered_json evidence_json(const Frame& frame, const Combination& result) {

@@ -28,7 +28,8 @@ void check_uses_only(symbolic::Expr expression, std::span<const symbolic::Expr> 
 // the rigorous argmin_value.hi / argmax_value.lo until order_inner_bounds()).
 void offer_witness(BoundResult& result, std::span<const double> point, const Interval& value);
 // Final inner bounds: without witnesses inner_lo = hi and inner_hi = lo; else argmin_value.hi and
-// argmax_value.lo clamped into [lo, hi], and their midpoint for both if they cross.
+// argmax_value.lo clamped into [lo, hi], and their midpoint for both if they cross by a rounding
+// (1e-12 relative); crossing by more, inner_lo = hi and inner_hi = lo (nothing attained known).
 void order_inner_bounds(BoundResult& result);
 
 }  // namespace spar::bounds::internal

@@ -211,7 +211,15 @@ class Reader {
   [[nodiscard]] std::vector<int> faces(const YAML::Node& node, const std::string& path,
                                        const ObjectSpec& object, bool features) const;
   [[nodiscard]] std::vector<Place> read_places(const YAML::Node& node) const;
+  [[nodiscard]] CollisionSettings read_collision(const YAML::Node& node) const;
+  [[nodiscard]] bool boolean(const YAML::Node& node, const std::string& path) const;
+  [[nodiscard]] AtGoal read_at(const YAML::Node& node, const std::string& path,
+                               const Scenario& scenario) const;
+  // Goals that cannot all hold, or that name a fixed object as moving: the first such goal fails.
+  void check_goals(const Scenario& scenario, const std::vector<YAML::Node>& nodes) const;
   [[nodiscard]] std::optional<RangeScanSensor> read_sensors(const YAML::Node& node) const;
+  [[nodiscard]] std::vector<CameraSensor> read_cameras(const YAML::Node& sensors) const;
+  [[nodiscard]] CameraSensor read_camera(const YAML::Node& node, const std::string& path) const;
   [[nodiscard]] AssembledGoal read_assembled(const YAML::Node& node, const std::string& path,
                                              const Scenario& scenario) const;
 
@@ -504,7 +512,7 @@ void Reader::read_gripper(const YAML::Node& node, geometry::GripperSpec& gripper
 void Reader::read_robot(const YAML::Node& node, RobotSpec& robot) const {
   const Fields fields(*this, node, "robot",
                       {"model", "dh", "urdf", "tip", "package_path", "base", "tool", "gripper",
-                       "max_tilt", "uncertainty"});
+                       "max_tilt", "approach_distance", "uncertainty"});
   const YAML::Node model = fields.get("model"), urdf = fields.get("urdf");
   if (model.IsDefined() && urdf.IsDefined())
     fail(urdf, "robot.urdf: give either model: <name> or urdf: <file>, not both");
@@ -554,6 +562,9 @@ void Reader::read_robot(const YAML::Node& node, RobotSpec& robot) const {
   if (const YAML::Node tilt = fields.get("max_tilt"); tilt.IsDefined()) {
     robot.max_tool_tilt = quantity(tilt, "robot.max_tilt", "robot.max_tilt");
   }
+  if (const YAML::Node distance = fields.get("approach_distance"); distance.IsDefined())
+    robot.approach_distance =
+        quantity(distance, "robot.approach_distance", "robot.approach_distance");
   if (fields.has("uncertainty")) {
     const YAML::Node node = fields.get("uncertainty");
     robot.uncertainty =
@@ -746,7 +757,7 @@ void Reader::read_pose(const YAML::Node& node, const std::string& path, ObjectSp
 ObjectSpec Reader::read_object(const YAML::Node& key, const YAML::Node& node) const {
   const std::string name = identifier(key, "objects");
   const Fields entry(*this, node, "objects." + name,
-                     {"builtin", "mesh", "features", "pose", "uncertainty"});
+                     {"builtin", "mesh", "features", "pose", "uncertainty", "fixed"});
   std::string shape;
   geometry::ObjectModel model = object_model(entry, name, shape);
   std::vector<geometry::StablePose> stable_poses = geometry::stable_poses(model);
@@ -758,7 +769,9 @@ ObjectSpec Reader::read_object(const YAML::Node& key, const YAML::Node& node) co
                     .initial_pose = Transform::Identity(),
                     .initial_stable_pose = std::nullopt,
                     .uncertainty = {},
-                    .location = where(key)};
+                    .fixed = false,
+                    .location = where(key),
+                    .pose_location = {}};
   if (const YAML::Node features = entry.get("features"); features.IsDefined()) {
     // A map from feature names (the user's own, so not checked against known keys) to faces.
     for (const auto& feature : expect_map(features, entry.path("features"))) {
@@ -770,6 +783,9 @@ ObjectSpec Reader::read_object(const YAML::Node& key, const YAML::Node& node) co
     }
   }
   read_pose(entry.require("pose"), entry.path("pose"), object);
+  object.pose_location = where(entry.get("pose"));
+  if (const YAML::Node fixed = entry.get("fixed"); fixed.IsDefined())
+    object.fixed = boolean(fixed, entry.path("fixed"));
   if (entry.has("uncertainty"))
     object.uncertainty =
         uncertainty(entry.get("uncertainty"), entry.path("uncertainty"), object.uncertainty_model);
@@ -783,6 +799,7 @@ std::vector<Place> Reader::read_places(const YAML::Node& node) const {
     const std::string path = "places[" + std::to_string(i) + "]";
     const Fields fields(*this, node[i], path, {"name", "at", "yaw"});
     Place place;
+    place.location = where(node[i]);
     place.name = identifier(fields.require("name"), fields.path("name"));
     for (const Place& other : places)
       if (other.name == place.name)
@@ -792,21 +809,196 @@ std::vector<Place> Reader::read_places(const YAML::Node& node) const {
         quantities(fields.require("at"), fields.path("at"), 2, "pose.position");
     place.x = at[0];
     place.y = at[1];
-    if (fields.has("yaw"))
-      place.yaw = quantity(fields.get("yaw"), fields.path("yaw"), "pose.angle");
+    if (const YAML::Node yaw = fields.get("yaw"); yaw.IsSequence()) {
+      if (yaw.size() == 0) fail(yaw, fields.path("yaw") + ": the list of yaws is empty");
+      place.yaws.clear();
+      for (std::size_t k = 0; k < yaw.size(); ++k) {
+        const std::string at_k = fields.path("yaw") + "[" + std::to_string(k) + "]";
+        const double value = quantity(yaw[k], at_k, "pose.angle");
+        if (std::find(place.yaws.begin(), place.yaws.end(), value) != place.yaws.end())
+          fail(yaw[k], at_k + ": yaw " + yaw[k].Scalar() + " is listed twice");
+        place.yaws.push_back(value);
+      }
+    } else if (yaw.IsDefined()) {
+      place.yaws = {quantity(yaw, fields.path("yaw"), "pose.angle")};
+    }
     places.push_back(place);
   }
   return places;
 }
 
 std::optional<RangeScanSensor> Reader::read_sensors(const YAML::Node& node) const {
-  const Fields sensors(*this, node, "sensors", {"range_scan"});
+  const Fields sensors(*this, node, "sensors", {"range_scan", "cameras"});
   if (!sensors.has("range_scan")) return std::nullopt;
   const Fields range_scan(*this, sensors.get("range_scan"), "sensors.range_scan", {"residual"});
   RangeScanSensor sensor;
   sensor.residual = uncertainty(range_scan.require("residual"), range_scan.path("residual"),
                                 sensor.residual_model);
   return sensor;
+}
+
+CollisionSettings Reader::read_collision(const YAML::Node& node) const {
+  const Fields fields(*this, node, "collision", {"margin"});
+  CollisionSettings settings;
+  if (const YAML::Node margin = fields.get("margin"); margin.IsDefined())
+    settings.margin = quantity(margin, "collision.margin", "collision.margin");
+  return settings;
+}
+
+bool Reader::boolean(const YAML::Node& node, const std::string& path) const {
+  if (node.IsScalar() && (node.Scalar() == "true" || node.Scalar() == "false"))
+    return node.Scalar() == "true";
+  fail(node, path + ": expected true or false, got " + describe(node));
+}
+
+AtGoal Reader::read_at(const YAML::Node& node, const std::string& path,
+                       const Scenario& scenario) const {
+  const Fields fields(*this, node, path, {"object", "place"});
+  AtGoal goal;
+  const YAML::Node object = fields.require("object");
+  goal.object = text(object, fields.path("object"));
+  std::vector<std::string> objects;
+  for (const ObjectSpec& spec : scenario.objects) objects.push_back(spec.name);
+  if (std::find(objects.begin(), objects.end(), goal.object) == objects.end())
+    fail(object, fields.path("object") + ": unknown object '" + goal.object + "'" +
+                     suggestion(goal.object, objects) + "; objects: " + join(objects));
+  const YAML::Node place = fields.require("place");
+  goal.place = text(place, fields.path("place"));
+  if (scenario.place_index(goal.place) < 0) {
+    std::vector<std::string> places;
+    for (const Place& known : scenario.places) places.push_back(known.name);
+    fail(place, fields.path("place") + ": unknown place '" + goal.place + "'" +
+                    suggestion(goal.place, places) + "; places: " + join(places));
+  }
+  goal.location = where(node);
+  return goal;
+}
+
+void Reader::check_goals(const Scenario& scenario, const std::vector<YAML::Node>& nodes) const {
+  // An earlier goal, as "goals[i] (file:line:col)".
+  const auto earlier = [&](std::size_t i) {
+    return "goals[" + std::to_string(i) + "] (" + location(scenario.goals[i]).str() + ")";
+  };
+  const auto is_fixed = [&](const std::string& name) { return scenario.object(name).fixed; };
+  for (std::size_t i = 0; i < scenario.goals.size(); ++i) {
+    const std::string path = "goals[" + std::to_string(i) + "]";
+    const Goal& goal = scenario.goals[i];
+    const auto contradiction = [&](std::size_t j, const std::string& why) {
+      fail(nodes[i], path + ": " + describe(goal) + " contradicts " + describe(scenario.goals[j]) +
+                         " of " + earlier(j) + ": " + why);
+    };
+    if (const auto* assembled = std::get_if<AssembledGoal>(&goal)) {
+      if (is_fixed(assembled->held))
+        fail(nodes[i], path + ": " + describe(goal) + ": object '" + assembled->held +
+                           "' is fixed (never moves) and cannot be the held object");
+      for (std::size_t j = 0; j < i; ++j) {
+        if (const auto* other = std::get_if<AssembledGoal>(&scenario.goals[j])) {
+          if (other->held == assembled->held && other->fixed == assembled->fixed)
+            contradiction(j, other->relative.isApprox(assembled->relative, 1e-9)
+                                 ? "the same goal twice"
+                                 : "the same pair with another relative pose");
+          if (other->held == assembled->held)
+            contradiction(j, assembled->held + " cannot go into two objects");
+          if (other->held == assembled->fixed && other->fixed == assembled->held)
+            contradiction(j, "each would be inside the other");
+        } else if (std::get<AtGoal>(scenario.goals[j]).object == assembled->held) {
+          contradiction(
+              j, assembled->held + " would rest inside " + assembled->fixed + ", not at a place");
+        }
+      }
+      // A longer cycle: following held -> fixed from `fixed` comes back to `held`.
+      std::string next = assembled->fixed;
+      for (std::size_t hops = 0; hops <= i; ++hops) {
+        const auto found =
+            std::find_if(scenario.goals.begin(), scenario.goals.begin() + i, [&](const Goal& g) {
+              const auto* a = std::get_if<AssembledGoal>(&g);
+              return a != nullptr && a->held == next;
+            });
+        if (found == scenario.goals.begin() + i) break;
+        next = std::get<AssembledGoal>(*found).fixed;
+        if (next == assembled->held)
+          contradiction(static_cast<std::size_t>(found - scenario.goals.begin()),
+                        "the assemblies form a cycle through " + assembled->held);
+      }
+      continue;
+    }
+    const AtGoal& at = std::get<AtGoal>(goal);
+    for (std::size_t j = 0; j < i; ++j) {
+      if (const auto* other = std::get_if<AtGoal>(&scenario.goals[j])) {
+        if (other->object == at.object)
+          contradiction(j, at.object + (other->place == at.place ? " is sent there twice"
+                                                                 : " cannot rest at two places"));
+        if (other->place == at.place)
+          contradiction(j, "place " + at.place + " holds one object at a time");
+      } else if (std::get<AssembledGoal>(scenario.goals[j]).held == at.object) {
+        contradiction(j, at.object + " would rest inside " +
+                             std::get<AssembledGoal>(scenario.goals[j]).fixed + ", not at a place");
+      }
+    }
+    const ObjectSpec& object = scenario.object(at.object);
+    if (object.fixed && !resting_yaw(object, scenario.places[scenario.place_index(at.place)]))
+      fail(nodes[i], path + ": " + describe(goal) + ": object '" + at.object +
+                         "' is fixed (never moves) and does not rest at place '" + at.place + "'");
+  }
+}
+
+std::vector<CameraSensor> Reader::read_cameras(const YAML::Node& node) const {
+  const Fields sensors(*this, node, "sensors", {"range_scan", "cameras"});
+  std::vector<CameraSensor> cameras;
+  const YAML::Node list = sensors.get("cameras");
+  if (!list.IsDefined()) return cameras;
+  check_count(expect_list(list, "sensors.cameras"), "sensors.cameras", "sensors.cameras");
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    CameraSensor camera = read_camera(list[i], "sensors.cameras[" + std::to_string(i) + "]");
+    for (const CameraSensor& other : cameras)
+      if (other.name == camera.name)
+        fail(list[i], "sensors.cameras[" + std::to_string(i) + "].name: duplicate camera name '" +
+                          camera.name + "'");
+    cameras.push_back(std::move(camera));
+  }
+  return cameras;
+}
+
+// {name, pose: {xyz, rpy}, intrinsics: {fx, fy, cx, cy, width, height}, noise_px,
+// detection_probability, projection, uncertainty}: intrinsics in pixels, the pose in the file's
+// units.
+CameraSensor Reader::read_camera(const YAML::Node& node, const std::string& path) const {
+  const Fields fields(*this, node, path,
+                      {"name", "pose", "intrinsics", "noise_px", "detection_probability",
+                       "projection", "uncertainty"});
+  CameraSensor camera;
+  camera.name = identifier(fields.require("name"), fields.path("name"));
+  camera.location = where(node);
+  camera.pose = rigid_pose(fields.require("pose"), fields.path("pose"));
+  if (const YAML::Node kind = fields.get("projection"); kind.IsDefined()) {
+    const std::string name = text(kind, fields.path("projection"));
+    const std::vector<std::string> known = {"pinhole", "orthographic"};
+    if (name == "orthographic")
+      camera.projection = sensing::Projection::kOrthographic;
+    else if (name != "pinhole")
+      fail(kind, fields.path("projection") + ": unknown projection '" + name + "'" +
+                     suggestion(name, known) + "; known: " + join(known));
+  }
+  const Fields k(*this, fields.require("intrinsics"), fields.path("intrinsics"),
+                 {"fx", "fy", "cx", "cy", "width", "height"});
+  const auto pixels = [&](const char* key, std::string_view limit_key) {
+    return quantity(k.require(key), k.path(key), limit_key);
+  };
+  camera.intrinsics = {.fx = pixels("fx", "camera.focal"),
+                       .fy = pixels("fy", "camera.focal"),
+                       .cx = pixels("cx", "camera.principal_point"),
+                       .cy = pixels("cy", "camera.principal_point"),
+                       .width = static_cast<int>(pixels("width", "camera.image_side")),
+                       .height = static_cast<int>(pixels("height", "camera.image_side"))};
+  if (const YAML::Node value = fields.get("noise_px"); value.IsDefined())
+    camera.noise_px = quantity(value, fields.path("noise_px"), "camera.noise_px");
+  if (const YAML::Node value = fields.get("detection_probability"); value.IsDefined())
+    camera.detection_probability =
+        quantity(value, fields.path("detection_probability"), "camera.detection_probability");
+  if (fields.has("uncertainty"))
+    camera.uncertainty = uncertainty(fields.get("uncertainty"), fields.path("uncertainty"),
+                                     camera.uncertainty_model);
+  return camera;
 }
 
 AssembledGoal Reader::read_assembled(const YAML::Node& node, const std::string& path,
@@ -860,7 +1052,7 @@ Scenario Reader::read(std::string_view document_text) {
     throw ScenarioError(source_ + ":1:1: the scenario is empty (it needs at least 'objects')");
   const Fields top(*this, document, "",
                    {"name", "description", "units", "robot", "objects", "places", "sensors",
-                    "grasping", "goals"});
+                    "collision", "grasping", "goals"});
   Scenario scenario;
   scenario.name = top.has("name") ? text(top.get("name"), "name")
                                   : std::filesystem::path(source_).stem().string();
@@ -883,19 +1075,31 @@ Scenario Reader::read(std::string_view document_text) {
     scenario.objects.push_back(read_object(key, entry.second));
   }
   if (top.has("places")) scenario.places = read_places(top.get("places"));
-  if (top.has("sensors")) scenario.range_scan = read_sensors(top.get("sensors"));
+  if (top.has("sensors")) {
+    scenario.range_scan = read_sensors(top.get("sensors"));
+    scenario.cameras = read_cameras(top.get("sensors"));
+  }
+  if (top.has("collision")) scenario.collision = read_collision(top.get("collision"));
   scenario.warnings = warnings_;  // after every object's mesh
   if (const YAML::Node goals = top.get("goals"); goals.IsDefined()) {
     check_count(expect_list(goals, "goals"), "goals", "scenario.goals");
+    std::vector<YAML::Node> nodes;
     for (std::size_t i = 0; i < goals.size(); ++i) {
       const std::string path = "goals[" + std::to_string(i) + "]";
       const YAML::Node goal = goals[i];
       if (!goal.IsMap() || goal.size() != 1)
-        fail(goal, path + ": expected one goal, e.g. 'assembled: {held: ..., fixed: ...}'");
-      const Fields kind(*this, goal, path, {"assembled"});
-      scenario.goals.emplace_back(
-          read_assembled(kind.get("assembled"), kind.path("assembled"), scenario));
+        fail(goal, path +
+                       ": expected one goal, e.g. 'assembled: {held: ..., fixed: ...}' or "
+                       "'at: {object: ..., place: ...}'");
+      const Fields kind(*this, goal, path, {"assembled", "at"});
+      if (kind.has("at"))
+        scenario.goals.emplace_back(read_at(kind.get("at"), kind.path("at"), scenario));
+      else
+        scenario.goals.emplace_back(
+            read_assembled(kind.get("assembled"), kind.path("assembled"), scenario));
+      nodes.push_back(goal);
     }
+    check_goals(scenario, nodes);
   }
   return scenario;
 }

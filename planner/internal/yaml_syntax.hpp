@@ -104,8 +104,8 @@ template <class Error>
     const std::vector<YAML::Mark>& starts = documents.starts;
     for (std::size_t i = 1; i < starts.size(); ++i)
       if (starts[i].pos == starts[i - 1].pos)
-        throw Error(yaml_where(source, starts[i]) + ": YAML syntax error: " +
-                    stuck_token_message(text, starts[i]));
+        throw Error(yaml_where(source, starts[i]) +
+                    ": YAML syntax error: " + stuck_token_message(text, starts[i]));
     if (starts.size() > 1)
       throw Error(yaml_where(source, starts[1]) + ": a second YAML document (after '---'): " +
                   "the file must hold one document, and the second would be ignored");

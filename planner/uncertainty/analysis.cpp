@@ -265,14 +265,13 @@ void InstanceAnalyser::run(std::vector<Phase2Step> steps, InstanceAnalysis& out)
         state.on_table(steps[k].object))
       steps[k].object_pose = state.on_table(steps[k].object)->ideal;
     const std::vector<Precondition> preconditions = state.step(steps[k], k + 1);
-    AnalysedStep step{
-        .step = steps[k],
-        .action = domain_.actions[steps[k].action].name,
-        .inserted = steps[k].instance_step < 0,
-        .preconditions = decisions_.decide(preconditions, state.space()),
-        .failed = false,
-        .verification = {},
-        .sensor_scale_needed = std::nullopt};
+    AnalysedStep step{.step = steps[k],
+                      .action = domain_.actions[steps[k].action].name,
+                      .inserted = steps[k].instance_step < 0,
+                      .preconditions = decisions_.decide(preconditions, state.space()),
+                      .failed = false,
+                      .verification = {},
+                      .sensor_scale_needed = std::nullopt};
     if (!all_hold(step.preconditions) && options_.repair && !step.inserted &&
         !attempted.contains(steps[k].instance_step)) {
       attempted.insert(steps[k].instance_step);

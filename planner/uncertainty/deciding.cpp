@@ -98,8 +98,7 @@ std::vector<PreconditionResult> DecisionCache::decide(
     ++hits_;
     return found->second;
   }
-  std::vector<PreconditionResult> results =
-      planner::decide(preconditions, space, quick_, full_);
+  std::vector<PreconditionResult> results = planner::decide(preconditions, space, quick_, full_);
   entries_.emplace(std::move(key), results);
   return results;
 }

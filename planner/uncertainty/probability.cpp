@@ -276,8 +276,7 @@ SampledViolations sample_violations(const InstanceAnalysis& analysis,
 
 // Sets p's Monte Carlo estimate and its Wilson interval, and notes where the first-order estimate
 // disagrees with it (or, for a proved precondition, any sampled violation: a soundness bug).
-void compare_with_samples(PreconditionProbability& p, std::size_t samples,
-                          std::size_t violations) {
+void compare_with_samples(PreconditionProbability& p, std::size_t samples, std::size_t violations) {
   p.samples = samples;
   p.violations = violations;
   p.p_monte_carlo = static_cast<double>(p.violations) / p.samples;
@@ -733,9 +732,8 @@ ToleranceAllocation allocate_tolerances(const Scenario& scenario, const Instance
     }
     // If the clamps kept some row violated, shrink uniformly (p = 0 satisfies every row).
     if (!violated_rows(p).empty())
-      p *= internal::largest_holding(0.0, 1.0, 60, [&](double scale) {
-        return violated_rows(scale * p).empty();
-      });
+      p *= internal::largest_holding(
+          0.0, 1.0, 60, [&](double scale) { return violated_rows(scale * p).empty(); });
     if (!options.verify) break;
     // Verify with the sound bounds over the scaled box.
     out.misses.clear();

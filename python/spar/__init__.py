@@ -1,7 +1,7 @@
 """spar: symbolic worst-case uncertainty analysis of robot task plans, from Python.
 
-The C++ engine (spar._spar, built from python/module.cpp over python/facade.hpp) with Pythonic
-names:
+The compiled engine (spar._spar) with Pythonic names; the typed interface, with every
+docstring, is spar/__init__.pyi beside this file:
 
     import spar
     f = spar.Expr("x^2 - y")
@@ -42,6 +42,7 @@ from spar._spar import (  # noqa: F401 (re-exported)
     ShostakError,
     SymbolicError,
     UncertainPose,
+    __version__,
     fk,
     ik,
     possible_manipulator_pose,
@@ -79,7 +80,8 @@ def bound(expr, box, *, tolerance=1e-3, constraints=(), max_box_evaluations=200_
 
     Returns a BoundResult: lo <= inner_lo <= inner_hi <= hi, where [lo, hi] encloses every value
     on the (constrained) box and inner_lo / inner_hi are attained at argmin / argmax ({name:
-    value}); status is converged, effort_limit, unbounded or infeasible. `constraints` are
+    value}); inner_lo and inner_hi are None when no attained range is known (no_inner_range
+    says why); status is converged, effort_limit, unbounded or infeasible. `constraints` are
     'lhs <= rhs' texts, (g, relation) pairs meaning g relation 0, or {'g', 'rel'} dicts.
     The GIL is released while bounding. Raises spar.BoundsError for a bad box or a variable of
     `expr` without a range.
@@ -88,14 +90,6 @@ def bound(expr, box, *, tolerance=1e-3, constraints=(), max_box_evaluations=200_
     return _spar._bound(_expr(expr), ranges, [_constraint(c) for c in constraints],
                         float(tolerance), int(max_box_evaluations), float(max_seconds),
                         bool(inner))
-
-
-def _engine_doc(function):
-    """A binding's docstring without the signature line pybind11 puts first."""
-    return function.__doc__.split("\n", 1)[1].strip()
-
-
-bound.__doc__ += "\n" + _engine_doc(_spar._bound)
 
 
 def bound_record(record, **options):
@@ -204,5 +198,5 @@ def plan_run(source, *, instances=16, max_nodes=200_000, max_steps=64, domain=No
                                      probability, chosen_extras))
 
 
-plan.__doc__ += _PLAN_OPTIONS_DOC + "\n" + _engine_doc(_spar._plan)
-plan_run.__doc__ += _PLAN_OPTIONS_DOC + "\n" + _engine_doc(_spar._plan_run)
+plan.__doc__ += _PLAN_OPTIONS_DOC
+plan_run.__doc__ += _PLAN_OPTIONS_DOC

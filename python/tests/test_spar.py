@@ -106,6 +106,17 @@ def test_bound_constraints_in_three_forms():
 def test_bound_infeasible_constraints():
     r = spar.bound("x", {"x": (0, 1)}, constraints=["x >= 2"])
     assert r.status == "infeasible"
+    # No attained range: None and why (issue 22: they were inf > -inf).
+    assert r.inner_lo is None and r.inner_hi is None
+    assert r.no_inner_range.startswith("no point of the box satisfies the constraints")
+    assert r.as_dict()["inner_lo"] is None
+
+
+def test_bound_of_sin_far_out_attains_its_true_value():
+    # Issue 22: the witness at 1e15 "attained" 0; sin(1e15) = 0.858...
+    r = spar.bound("sin(x)", {"x": (1e15, 1e15)})
+    assert r.inner_lo == pytest.approx(math.sin(1e15), abs=1e-9)
+    assert r.no_inner_range is None
 
 
 # ---- kinematics ----
@@ -269,6 +280,14 @@ def test_analysis_gives_the_report_records(face_down_run):
     assert list(analysis) == [k for k in chosen if k != "probability"]
 
 
+def test_version_is_the_cli_version():
+    assert spar.__version__.count(".") == 2
+    cli = os.environ.get("SPAR_CLI")
+    if cli:
+        out = subprocess.run([cli, "--version"], check=True, capture_output=True, text=True).stdout
+        assert out == spar.__version__ + "\n"
+
+
 # ---- errors ----
 
 def test_errors_are_a_hierarchy_with_the_engine_messages():
@@ -298,7 +317,7 @@ def test_errors_are_a_hierarchy_with_the_engine_messages():
     assert "column" in record["error"]
 
 
-def test_docstrings_come_from_the_headers():
-    assert "SUP/INF" in spar.bound.__doc__ and "(from bounds/bound.hpp)" in spar.bound.__doc__
-    assert "Grammar" in spar.Expr.__doc__
+def test_docstrings_are_python_with_examples():
+    # The compiled part's come from spar/__init__.pyi (test_stubs.py checks them all).
+    assert "spar.Expr(" in spar.Expr.__doc__ and "(from " not in spar.bound.__doc__
     assert "spar-report/1" in spar.plan.__doc__

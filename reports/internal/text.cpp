@@ -95,6 +95,78 @@ std::string step_title(const Step& step) {
   return title;
 }
 
+std::string family_step_label(const Report& report, const FamilyStep& step) {
+  if (step.action == "start") return "initial state";
+  if (step.action == "finish") return "goal";
+  if (report.chosen)
+    if (const auto position = step_position(*report.chosen, step.id))
+      return step_label(*report.chosen, *position);
+  return "step " + std::to_string(step.id);
+}
+
+std::string variable_users(const Report& report, const std::string& name) {
+  std::string out;
+  for (const FamilyStep& step : report.family.steps)
+    if (std::find(step.args.begin(), step.args.end(), name) != step.args.end())
+      out += (out.empty() ? "" : ", ") + family_step_label(report, step);
+  return out;
+}
+
+std::string allocated_by(const Chosen& chosen, const UncertaintyVariable& variable) {
+  if (!variable.step || *variable.step < 1 || std::size_t(*variable.step) > chosen.steps.size())
+    return "initial";
+  return step_label(chosen, std::size_t(*variable.step) - 1);
+}
+
+std::vector<std::optional<std::size_t>> repair_positions(const Chosen& chosen) {
+  std::vector<std::optional<std::size_t>> out;
+  std::vector<bool> used(chosen.steps.size(), false);
+  for (const Repair& repair : chosen.repairs.value_or(std::vector<Repair>{})) {
+    std::optional<std::size_t>& position = out.emplace_back();
+    if (!repair.helped) continue;
+    for (std::size_t k = 0; k < chosen.steps.size() && !position; ++k) {
+      const Step& step = chosen.steps[k];
+      if (!used[k] && step.inserted.value_or(false) && step.action == repair.action &&
+          step.object.value_or("") == repair.object)
+        used[k] = true, position = k;
+    }
+  }
+  return out;
+}
+
+namespace {
+
+// "for #8 assemble peg": the step a repair was tried for.
+std::string repair_target(const Chosen& chosen, const Repair& repair) {
+  const auto target = step_position(chosen, repair.for_step);
+  return "for " +
+         (target ? step_label(chosen, *target) : "step " + std::to_string(repair.for_step));
+}
+
+}  // namespace
+
+std::string repair_title(const Chosen& chosen, const Repair& repair,
+                         std::optional<std::size_t> position) {
+  if (position) return step_label(chosen, *position) + ", " + repair_target(chosen, repair);
+  return repair.action + " " + repair.object + " " + repair_target(chosen, repair);
+}
+
+std::string dropped_repairs(const Chosen& chosen) {
+  std::string out;
+  for (const RepairSearch& search : chosen.repair_searches.value_or(std::vector<RepairSearch>{})) {
+    std::string kinds;
+    for (const auto& [kind, count] : search.dropped)
+      if (count > 0) kinds += (kinds.empty() ? "" : " and ") + std::to_string(count) + " " + kind;
+    if (kinds.empty()) continue;
+    const auto target = step_position(chosen, search.for_step);
+    out += (out.empty() ? "" : "; ") + kinds + " for " +
+           (target ? step_label(chosen, *target) : "step " + std::to_string(search.for_step)) +
+           " (" + std::to_string(search.sets_tried) + " sets of " +
+           std::to_string(search.candidates) + " candidates tried)";
+  }
+  return out;
+}
+
 namespace {
 
 std::string unit_suffix(const std::string& unit) {
@@ -150,6 +222,7 @@ std::string margin_text(const Units& units, const Precondition& precondition) {
     parts.push_back("±" + rounded(margin.displacement, 2) + " " + units.length);
   if (margin.rotation > 0) parts.push_back("±" + rounded(margin.rotation, 2) + " " + units.angle);
   std::string out = "x" + rounded(*precondition.holds_up_to_scale, 2);
+  if (precondition.holds_up_to_capped.value_or(false)) out = "≥ " + out + ", search cap";
   for (std::size_t i = 0; i < parts.size(); ++i) out.append(i == 0 ? " (" : ", ").append(parts[i]);
   if (!parts.empty()) out.append(")");
   return out;
@@ -166,7 +239,9 @@ std::string sensor_residual_text(const Units& units, const SensorResidual& neede
   const double largest = std::max({needed.dx, needed.dy, needed.dz});
   return "a range-scan with a residual of ±" + rounded(largest, 2) + " " + units.length + ", ±" +
          rounded(needed.dtheta, 2) + " " + units.angle + " (x" + rounded(needed.scale, 2) +
-         " of the scenario's sensor) would make this step hold";
+         (needed.capped ? " of the scenario's sensor, the search cap, or coarser"
+                        : " of the scenario's sensor") +
+         ") would make this step hold";
 }
 
 std::pair<int, int> holding(const Step& step) {
@@ -210,6 +285,11 @@ std::string sigma_text(const Report& report, const PreconditionProbability& entr
   const bool length = probability_precondition(*report.chosen, entry).unit == "m";
   return "σ " + rounded(precondition_display(report, entry, entry.sigma)) +
          (length ? " " + report.units.length : std::string());
+}
+
+std::string tolerance_text(double half_width, const std::string& unit) {
+  if (half_width == 0) return "must be exact";
+  return rounded(half_width) + " " + unit;
 }
 
 std::string probability_text(double probability, bool proved) {

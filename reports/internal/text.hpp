@@ -8,8 +8,10 @@
 //   out << html_escape(step.action);
 #pragma once
 
+#include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "spar/reports/model.hpp"
 
@@ -32,13 +34,33 @@ namespace spar::reports::internal {
 // "pickup block" / "assemble peg into block": what a chosen step does, in words.
 [[nodiscard]] std::string step_title(const Step& step);
 
+// ---- one numbering: a chosen step is "#k action object" (model.hpp's step_label) ----
+// A family step by its place in the chosen plan: "#3 pickup block"; "initial state" and "goal"
+// for the start and finish; "step <id>" for one the plan does not execute.
+[[nodiscard]] std::string family_step_label(const Report& report, const FamilyStep& step);
+// The chosen steps whose arguments name plan variable `name`: "#2 pickup peg, #8 assemble peg".
+[[nodiscard]] std::string variable_users(const Report& report, const std::string& name);
+// The step that allocated an uncertainty variable: "#3 pickup block", or "initial".
+[[nodiscard]] std::string allocated_by(const Chosen& chosen, const UncertaintyVariable& variable);
+// Per repair of chosen.repairs: the position of the inserted step it became (kept repairs: the
+// inserted steps with its action and object, in order), nullopt for a dropped one.
+[[nodiscard]] std::vector<std::optional<std::size_t>> repair_positions(const Chosen& chosen);
+// "#5 range-scan block, for #8 assemble peg" (kept) / "range-scan block for #8 assemble peg".
+[[nodiscard]] std::string repair_title(const Chosen& chosen, const Repair& repair,
+                                       std::optional<std::size_t> position);
+// The repair candidates phase 2 searched and dropped (chosen.repair_searches), in one line:
+// "1 range-scan and 4 squeeze for #5 assemble peg (19 sets of 6 candidates tried)"; "" when none
+// was dropped.
+[[nodiscard]] std::string dropped_repairs(const Chosen& chosen);
+
 // "grasp G4 (faces 3/5, width 3 in), object at (20, 0, 1.5) in, stable pose P6, arm lun".
 [[nodiscard]] std::string step_details(const Units& units, const Step& step);
 // A precondition's requirement in display units: "< 0 in", ">= 0.999 (cosine)".
 [[nodiscard]] std::string requirement_text(const Precondition& precondition);
 // "[lo, hi] unit" from a precondition's display values (`inner` picks inner_lo, inner_hi).
 [[nodiscard]] std::string bound_text(const Precondition& precondition, bool inner = false);
-// The reverse-analysis margin: "x2.3 (+-0.25 in, +-13 deg)", or "" when not computed.
+// The reverse-analysis margin: "x2.3 (+-0.25 in, +-13 deg)", "≥ x8, search cap (...)" when the
+// search stopped at its cap, or "" when not computed.
 [[nodiscard]] std::string margin_text(const Units& units, const Precondition& precondition);
 // "[lo, hi] in" range of a repair's before/after entry, converted to the report's units.
 [[nodiscard]] std::string repair_bound_text(const Units& units, const RepairBound& entry);
@@ -52,6 +74,8 @@ namespace spar::reports::internal {
 // A value of that precondition (SI) in display units: lengths in the report's unit.
 [[nodiscard]] double precondition_display(const Report& report,
                                           const PreconditionProbability& entry, double si);
+// A tolerance in display units, a zero one as the requirement it is: "0.05 in", "must be exact".
+[[nodiscard]] std::string tolerance_text(double half_width, const std::string& unit);
 // "σ 0.012 in" / "σ 0.0021" for an entry.
 [[nodiscard]] std::string sigma_text(const Report& report, const PreconditionProbability& entry);
 // "0 (proved)", "12.3%", "0.0041%".

@@ -9,10 +9,10 @@
 #include <limits>
 #include <string>
 
+#include "random_expression.hpp"
 #include "spar/bounds/inequality.hpp"
 #include "spar/bounds/internal/gradient.hpp"
 #include "spar/bounds/internal/linear_enclosure.hpp"
-#include "random_expression.hpp"
 #include "spar/symbolic/operations.hpp"
 #include "spar/symbolic/parse.hpp"
 #include "spar/symbolic/tape.hpp"
@@ -184,6 +184,85 @@ TEST(Bound, ConstantsWithoutVariablesDoNotCrash) {
   const BoundResult e = bound(symbolic::parse(pool, "exp(1)"), empty);
   EXPECT_LE(e.inner_lo, e.inner_hi);
   EXPECT_EQ(e.status, BoundStatus::kConverged);
+}
+
+// Issue 22: far out, a periodic function's witness value was enclosed by [-1, 1], so the inner
+// bounds became its midpoint: `sin(x)` at x = 1e15 "attained [0, 0]" (sin(1e15) = 0.858). Each
+// row bounds f at one huge point; glibc's sin/cos/tan (correctly reduced) give the true value.
+TEST(Bound, PeriodicFunctionsAttainTheirTrueValueFarOut) {
+  struct Row {
+    const char* text;
+    double x;
+    double (*f)(double);
+  };
+  const Row rows[] = {
+      {"sin(x)", 1e15, [](double x) { return std::sin(x); }},
+      {"cos(x)", -3e17, [](double x) { return std::cos(x); }},
+      {"tan(x)", 1e22, [](double x) { return std::tan(x); }},
+      {"sin(x) + cos(x)", 1e13, [](double x) { return std::sin(x) + std::cos(x); }},
+      {"2*sin(x)^2", 7.5e200, [](double x) { return 2 * std::sin(x) * std::sin(x); }},
+  };
+  for (const Row& row : rows) {
+    ExprPool pool;
+    Box box;
+    box.add(pool.variable("x"), row.x, row.x);
+    const BoundResult r = bound(symbolic::parse(pool, row.text), box);
+    r.check_invariants();
+    const double truth = row.f(row.x);
+    ASSERT_TRUE(r.has_inner_range()) << row.text << ": " << r.why_no_inner_range();
+    EXPECT_NEAR(r.inner_lo, truth, 1e-9) << row.text << " at " << row.x;
+    EXPECT_NEAR(r.inner_hi, truth, 1e-9) << row.text << " at " << row.x;
+    EXPECT_LE(r.lo, truth) << row.text;
+    EXPECT_GE(r.hi, truth) << row.text;
+  }
+}
+
+// Property: over huge points (1e12 to 1e300 either sign), the attained value of sin, cos and
+// their product is the true one (glibc's correctly reduced functions) within 1e-9.
+RC_GTEST_PROP(Bound, PeriodicWitnessesFarOutAreTrueValues, ()) {
+  const double x =
+      *rc::gen::element(-1.0, 1.0) *
+      std::pow(10.0, *rc::gen::map(rc::gen::inRange(1200, 30000), [](int v) { return v / 100.0; }));
+  ExprPool pool;
+  Box box;
+  box.add(pool.variable("x"), x, x);
+  const BoundResult r = bound(symbolic::parse(pool, "sin(x)*cos(x) + cos(x)"), box);
+  const double truth = std::sin(x) * std::cos(x) + std::cos(x);
+  RC_ASSERT(r.has_inner_range());
+  RC_ASSERT(std::fabs(r.inner_lo - truth) <= 1e-9);
+  RC_ASSERT(std::fabs(r.inner_hi - truth) <= 1e-9);
+}
+
+// Issue 22: witness values enclosed too loosely (an overflow, atan2 on its cut) gave a made-up
+// midpoint as the attained value; infeasible boxes gave inner_lo = inf > inner_hi = -inf. Now
+// each has no inner range and says why.
+TEST(Bound, NoInnerRangeSaysWhy) {
+  struct Row {
+    const char* text;
+    double x_lo, x_hi;
+    const char* constraint;  // "" for none
+    const char* why;
+  };
+  const Row rows[] = {
+      {"exp(1000) + x", 0, 0, "", "enclosed too loosely"},
+      {"x", 0, 1, "x - 2", "no point of the box satisfies the constraints"},
+      {"log(x - 1)", 0, 1, "", "no point of the box satisfies the constraints and gives"},
+      {"tan(x)", 1.5707963267948966, 1.5707963267948966, "",
+       "no point was found where the expression is certainly defined"},
+  };
+  for (const Row& row : rows) {
+    ExprPool pool;
+    Box box;
+    box.add(pool.variable("x"), row.x_lo, row.x_hi);
+    std::vector<Constraint> constraints;
+    if (*row.constraint)
+      constraints.push_back({symbolic::parse(pool, row.constraint), Relation::kGreaterEqual});
+    const BoundResult r = bound(symbolic::parse(pool, row.text), box, {}, constraints);
+    r.check_invariants();
+    EXPECT_FALSE(r.has_inner_range()) << row.text;
+    EXPECT_NE(std::string(r.why_no_inner_range()).find(row.why), std::string::npos)
+        << row.text << ": " << r.why_no_inner_range();
+  }
 }
 
 // Issue 12: integer powers above 2^30 were compiled as exp(n log x), undefined for x < 0, so a

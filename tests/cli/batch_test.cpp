@@ -19,8 +19,10 @@ namespace fs = std::filesystem;
 
 const fs::path& scratch() {
   static const fs::path root = [] {
-    const fs::path dir = fs::temp_directory_path() / "spar-batch-test";
-    fs::remove_all(dir);
+    // A fresh folder per process (ctest runs each test case as its own process, in parallel).
+    std::string pattern = (fs::temp_directory_path() / "spar-batch-test-XXXXXX").string();
+    if (mkdtemp(pattern.data()) == nullptr) throw std::runtime_error("mkdtemp failed");
+    const fs::path dir(pattern);
     fs::create_directories(dir / "cells");
     const std::string good =
         read_file(fs::path(SPAR_SOURCE_DIR) / "examples" / "peg_block_face_up.yaml");

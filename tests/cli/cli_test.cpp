@@ -82,7 +82,19 @@ const fs::path& scratch() {
     write_text(root / "overlap.off", cubes);
     write_text(root / "huge.off",
                "OFF\n4 4 0\n0 0 0\n1e300 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n");
+    // A cube to be put at a place 5 m out, beyond the robot's reach: no plan (issue 21).
+    write_text(root / "no_plan.yaml",
+               "objects:\n  cube: {builtin: cube, pose: {stable: P1, at: [0.5, 0]}}\n"
+               "places: [{name: far, at: [5, 0]}]\n"
+               "goals: [{at: {object: cube, place: far}}]\n");
     fs::create_directory(root / "folder.off");
+    // Image files for `spar vision match`: three edges that are nothing the sidewalk camera
+    // expects, and an edge without its end.
+    write_text(root / "clutter_only.json",
+               R"({"edges": [{"id": 1, "p0": [10, 10], "p1": [200, 30]},
+                             {"id": 2, "p0": [600, 400], "p1": [420, 300]},
+                             {"id": 3, "p0": [100, 450], "p1": [110, 300]}]})");
+    write_text(root / "bad_image.json", R"({"edges": [{"id": "a", "p0": [1, 2]}]})");
     write_text(root / "bad_mass.json",
                "{\"frame\": [\"a\", \"b\"],\n \"sources\": [[{\"set\": [\"a\"], \"mass\": 1.5}]]}");
     write_text(root / "conflict.json",
@@ -177,6 +189,8 @@ TEST_P(CliCase, ExitStatusAndMessages) {
 constexpr int kError = 1;
 const std::string kFull = "/dev/full";
 const std::string kLost = "cannot write the output to standard output: No space left on device";
+const std::string kSidewalk = "@SRC@/examples/vision/pseiki_sidewalk.yaml";
+const std::string kSidewalkImage = "@SRC@/examples/vision/pseiki_sidewalk_image.json";
 const std::string kPose =
     "1 0 0 0.5 0 -1 0 0.1 0 0 -1 0.2 0 0 0 1";  // a flange pose spar ik solves
 
@@ -190,6 +204,20 @@ const std::vector<Case> kCases = {
   {"BoundLeadingMinus", {"bound", "-x", "--var", "x=0:1"}, 0, "range +\\[-1, -?0\\]", ""},
   {"BoundConstraintLeadingMinus", {"bound", "x", "--var", "x=0:1", "--constraint", "-x<=-0.5"},
    0, "range +\\[0.5, 1\\]", ""},
+  // CLI11 reads "-(" and "-." as short options too; a report's expressions start with "-(".
+  {"SimplifyLeadingMinusGroup", {"simplify", "-(x)"}, 0, "^-x\n$", ""},
+  {"BoundLeadingMinusGroup", {"bound", "-(x+1)", "--var", "x=0:1"}, 0, "range +\\[-2, -1\\]", ""},
+  {"BoundConstraintLeadingMinusGroup",
+   {"bound", "x", "--var", "x=0:1", "--constraint", "-(x)<=-0.5"}, 0, "range +\\[0.5, 1\\]", ""},
+  {"SimplifyLeadingMinusNumber", {"simplify", "-2*x"}, 0, "^-2\\*x\n$", ""},
+  // Far out, sin is evaluated at its true phase (issue 22: "attained [0, 0]" for 0.858...).
+  {"BoundHugeSinAttained", {"bound", "sin(x)", "--var", "x=1e15:1e15"}, 0,
+   "attained \\[0.85827279317", ""},
+  // No attained range: null and why (was inner_lo "inf" > inner_hi "-inf").
+  {"BoundInfeasibleInnerIsNull",
+   {"bound", "x", "--var", "x=0:1", "--constraint", "x>=2", "--json"}, 0,
+   "\"inner_lo\": null,\n  \"inner_hi\": null,\n  \"no_inner_range\": \"no point of the box "
+   "satisfies the constraints", ""},
   {"BoundAfterDoubleDash", {"bound", "--var", "x=0:1", "--", "-x"}, 0, "range +\\[-1, -?0\\]", ""},
   // --var: one value per occurrence, repeatable, in any order.
   {"VarBeforeExpression", {"bound", "--var", "x=0:1", "x"}, 0, "range +\\[0, 1\\]", ""},
@@ -215,8 +243,35 @@ const std::vector<Case> kCases = {
    "--q: must be a finite number, got 'inf'"},
   {"MaxOpeningNaN", {"object", "cube", "--max-opening", "nan"}, kError, "",
    "--max-opening: must be a positive number, got 'nan'"},
-  {"DemoFormatWithoutReport", {"demo", "--format", "md"}, kError, "",
+  {"DemoFormatWritesThatFormat", {"demo", "--format", "md", "--report", "@DIR@/demo"}, 0,
+   "\nreport: [^\n]*/demo/report.md\n$", ""},
+  {"PlanFormatWithoutReport",
+   {"plan", "@SRC@/examples/peg_block_face_up.yaml", "--format", "md"}, kError, "",
    "^spar: error: --format needs --report DIR\n$"},
+  // Issue 21's examples plan and render their reports.
+  {"PlanFixtureExampleReports", {"plan", "@SRC@/examples/fixture_two_pins.yaml", "--samples", "0",
+   "--report", "@DIR@/fixture"}, 0, "planned", ""},
+  {"PlanStackExampleReports", {"plan", "@SRC@/examples/stack_in_tray.yaml", "--samples", "0",
+   "--report", "@DIR@/stack"}, 0, "planned", ""},
+  {"PlanCrowdedExampleReports", {"plan", "@SRC@/examples/crowded_table.yaml", "--samples", "0",
+   "--instances", "2", "--report", "@DIR@/crowded"}, 0, "planned", ""},
+  // No plan is a result, not a success: the report says why, the exit status is 2.
+  {"PlanUnreachablePlaceNoPlan", {"plan", "@DIR@/no_plan.yaml", "--json", "--samples", "0"}, 2,
+   "\"status\": \"no_plan\",\\s*\"reason\": \"no_plan: .*goal at\\(cube, far\\)", ""},
+  // spar plan's exit status says its verdict: 0 proved, 2 no plan, 3 errors left to verify.
+  {"PlanProvedExitsZero",
+   {"plan", "@SRC@/examples/peg_block_face_up.yaml", "--samples", "0", "--report", "@DIR@/up"}, 0,
+   "errors: 0 \\(nothing to verify at execution\\)", ""},
+  {"PlanNoPlanExitsTwo",
+   {"plan", "@SRC@/examples/peg_block_face_down.yaml", "--max-nodes", "3", "--report",
+    "@DIR@/np"},
+   2, "^plan peg_block_face_down: no_plan \\(", "^$"},
+  {"PlanWithErrorsExitsThree",
+   {"plan", "@SRC@/examples/peg_block_on_back.yaml", "--samples", "0", "--report", "@DIR@/ob"}, 3,
+   "errors: 1 \\(verification and recovery posted\\)", "^$"},
+  {"Version", {"--version"}, 0, "^[0-9]+\\.[0-9]+\\.[0-9]+\n$", ""},
+  {"HelpNamesTheExitStatuses", {"plan", "--help"}, 0,
+   "Exit status: 0 planned, every precondition proved; 1 bad input or usage; 2 no plan; 3", ""},
   {"PlanInstancesZero", {"plan", "@SRC@/examples/peg_block_face_up.yaml", "--instances", "0"},
    kError, "", "--instances: must be a whole number from 1 to 100000, got '0'"},
   {"PlanSamplesNegative", {"plan", "@SRC@/examples/peg_block_face_up.yaml", "--samples", "-1"},
@@ -300,6 +355,37 @@ const std::vector<Case> kCases = {
   {"EvidenceBadMass", {"evidence", "@DIR@/bad_mass.json"}, kError, "",
    "bad_mass.json: sources\\[0\\]\\[0\\].mass: must be a number in \\[0, 1\\], got 1.5"},
   {"EvidenceTotalConflict", {"evidence", "@DIR@/conflict.json"}, kError, "", "total conflict"},
+  // PSEIKI verification vision (issue 27) on the survey's sidewalk example.
+  {"VisionRender", {"vision", "render", kSidewalk, "--camera", "front", "--json"}, 0,
+   "\"edges\": \\[\n *\\{\n *\"id\": \"walk/e1\",\n *\"object\": \"walk\",\n *\"faces\": "
+   "\\[\n *\"walk/f1\"\n *\\],\n *\"p0\": \\[", ""},
+  {"VisionMatch", {"vision", "match", kSidewalk, "--camera", "front", "--image", kSidewalkImage,
+                   "--json"}, 0,
+   "\"scene\": \\{\n *\"belief\": 0.85[0-9]*,\n *\"disbelief\": [0-9.e-]+,\n *\"accepted\": "
+   "true[^]*\"pose_correction\": \\{\n *\"object\": \"front\"", ""},
+  {"VisionMatchText", {"vision", "match", kSidewalk, "--camera", "front", "--image",
+                       kSidewalkImage}, 0,
+   "^scene belief 0.85 \\(threshold 0.50\\): accepted\n", ""},
+  {"VisionMatchRejects", {"vision", "match", kSidewalk, "--camera", "front", "--image",
+                          "@DIR@/clutter_only.json"}, 0,
+   "^scene belief 0.00 \\(threshold 0.50\\): rejected\n", ""},
+  {"VisionSimulate", {"vision", "simulate", kSidewalk, "--camera", "front", "--seed", "3",
+                      "--perturb", "split=0.1,clutter=5"}, 0,
+   // No [^]* across the whole output: libstdc++'s regex recurses once per character and
+   // overflows the stack under AddressSanitizer on these ~100 KB.
+   "\n *\"truth\": \"walk/e[0-9]+\"\n", ""},
+  {"VisionUnknownCamera", {"vision", "render", kSidewalk, "--camera", "back"}, kError, "",
+   "scenario 'pseiki_sidewalk' has no camera 'back' \\(cameras: front\\)"},
+  {"VisionImageMissing", {"vision", "match", kSidewalk, "--camera", "front", "--image",
+                          "@DIR@/none.json"}, kError, "",
+   "none.json: cannot read the image file: no such file"},
+  {"VisionImageBadEdge", {"vision", "match", kSidewalk, "--camera", "front", "--image",
+                          "@DIR@/bad_image.json"}, kError, "",
+   "bad_image.json: edges\\[0\\]: missing key 'p1'"},
+  {"VisionPerturbUnknownKey", {"vision", "simulate", kSidewalk, "--camera", "front", "--perturb",
+                               "shade=1"}, kError, "", "--perturb: unknown key 'shade'"},
+  {"VisionRenderFull", {"vision", "render", kSidewalk, "--camera", "front"}, kError, "", kLost,
+   kFull},
   // Output that cannot be written fails the command.
   {"SimplifyFull", {"simplify", "x+x"}, kError, "", kLost, kFull},
   {"BoundFull", {"bound", "x", "--var", "x=0:1"}, kError, "", kLost, kFull},
@@ -320,10 +406,25 @@ const std::vector<Case> kCases = {
   {"UnknownRobot", {"fk", "--robot", "puma999", "--q", "0 0 0 0 0 0"}, kError, "",
    "--robot: unknown robot 'puma999' \\(built-in: puma560, puma762, ur5, panda; or a URDF "
    "file\\)"},
+  {"PlanReportEmpty", {"plan", "@SRC@/examples/peg_block_face_up.yaml", "--report", ""}, kError,
+   "", "--report: give a folder name, not ''"},
   {"UnknownVariable", {"bound", "x+y", "--var", "x=0:1"}, kError, "",
    "unknown variable 'y' in the expression: give it a range"},
 };
 // clang-format on
+
+// Every expression spar prints is accepted back as a positional argument (issue 22: the
+// pickup/assembly expressions of a report all start with "-(" and were refused as options).
+TEST(CliReadsBack, ReportExpressionsStartingWithMinus) {
+  const std::string report =
+      read_file(fs::path(SPAR_SOURCE_DIR) / "tests/reports/golden" / "peg_block_face_up.json");
+  static const std::regex expression("\"expression\": \"(-[^\"]*)\"");
+  std::smatch found;
+  ASSERT_TRUE(std::regex_search(report, found, expression)) << "no expression starting with -";
+  const Case row{"ReportExpression", {"simplify", found[1].str()}, 0, "dtheta", ""};
+  const std::string wrong = problems(row, run_spar(row, row.name));
+  EXPECT_EQ(wrong, "") << found[1].str();
+}
 
 INSTANTIATE_TEST_SUITE_P(Spar, CliCase, testing::ValuesIn(kCases),
                          [](const testing::TestParamInfo<Case>& info) { return info.param.name; });

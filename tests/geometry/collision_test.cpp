@@ -197,6 +197,20 @@ Body body_of(const OrientedBox& box) {
   return Body("box", CollisionShape::box(-box.half, box.half));
 }
 
+// Found by the property below (CI's sanitizer stage, 25 cases): a box inside a slightly larger
+// one with four faces coincident was "apart" at 3.5e-18 m, FCL's collide missing the coplanar
+// triangles and the inside test seeing a vertex on the surface.
+TEST(Collision, NestedBoxesSharingFacesIntersect) {
+  Pose pose(Eigen::Translation3d(0.47052, 0.47052, 0.47052) *
+            Eigen::AngleAxisd(std::acos(0.226099), Eigen::Vector3d::UnitX()));
+  const Body outer = body_of({{0.02002, 0.02, 0.02}, pose});
+  const Body inner = body_of({{0.02, 0.02, 0.02}, pose});
+  const Proximity p = proximity({&outer, pose}, {&inner, pose});
+  EXPECT_TRUE(p.intersecting);
+  EXPECT_EQ(p.distance, 0.0);
+  EXPECT_TRUE(collide({&outer, pose}, {&inner, pose}, 0.0));
+}
+
 // Intersection as FCL and the inside test report it matches the separating-axis test.
 RC_GTEST_PROP(CollisionProperty, IntersectionMatchesSeparatingAxes, ()) {
   const OrientedBox a = *random_box(), b = *random_box();

@@ -160,8 +160,10 @@ TEST(HostileScenario, CrOnlyAndCrLfFilesLoadLikeLf) {
 // A scratch folder with a FIFO, a dangling link and a folder named like a scenario.
 const fs::path& scratch() {
   static const fs::path dir = [] {
-    const fs::path root = fs::temp_directory_path() / "spar_hostile_input_test";
-    fs::remove_all(root);
+    // A fresh folder per process (ctest runs each test case as its own process, in parallel).
+    std::string pattern = (fs::temp_directory_path() / "spar_hostile_input_test-XXXXXX").string();
+    if (mkdtemp(pattern.data()) == nullptr) throw std::runtime_error("mkdtemp failed");
+    const fs::path root(pattern);
     fs::create_directories(root / "folder.yaml");
     fs::create_symlink(root / "nowhere.yaml", root / "dangling.yaml");
     if (mkfifo((root / "fifo.yaml").c_str(), 0600) != 0) throw std::runtime_error("mkfifo");

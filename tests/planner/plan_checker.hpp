@@ -8,8 +8,10 @@
 // are within their limits; the gripper's approach axis points down within the robot's tilt cone;
 // no contact face of the grasp lies on the table in the object's current pose (and at its
 // destination); a put-down object rests on the table (lowest vertex at z = 0); at an insertion the
-// fixed object's mating faces are off the table and the mating vector points down. At the end,
-// every assembled goal holds.
+// fixed object's mating faces are off the table and the mating vector points down. Objects
+// assembled into one move with it. At the end, every goal holds: an assembled pair at its
+// relative pose, an object at its place (resting, its centre of mass above the place, turned by
+// one of the place's yaws). Collisions: collision_checker.hpp.
 #pragma once
 
 #include <cmath>
@@ -66,6 +68,25 @@ inline std::vector<std::string> check_instance(
       if (scenario.objects[i].name == name) return static_cast<int>(i);
     return -1;
   };
+  // What each object is assembled into (it moves with that one): goals true at the start first.
+  std::vector<int> carrier(scenario.objects.size(), -1);
+  for (const Goal& goal : scenario.goals)
+    if (const auto* a = std::get_if<AssembledGoal>(&goal)) {
+      const int h = find(a->held), f = find(a->fixed);
+      if ((poses[f] * a->relative).isApprox(poses[h], 1e-7)) {
+        carrier[h] = f;
+        assembled_into[h] = true;
+      }
+    }
+  // Moves `object` to `pose` and what is assembled into it along.
+  const auto move = [&](int object, const kinematics::Transform& pose) {
+    std::vector<int> group = {object};
+    for (std::size_t i = 0; i < group.size(); ++i)
+      for (std::size_t k = 0; k < carrier.size(); ++k)
+        if (carrier[k] == group[i]) group.push_back(static_cast<int>(k));
+    const kinematics::Transform change = pose * poses[object].inverse(Eigen::Isometry);
+    for (const int k : group) poses[k] = change * poses[k];
+  };
   int number = 0;
   for (const InstanceStep& step : instance.steps) {
     ++number;
@@ -101,15 +122,17 @@ inline std::vector<std::string> check_instance(
       if (std::abs(lowest_z(model, step.object_pose)) > 1e-6) fail("destination not on the table");
       if (intersects(faces_on_table(model, step.object_pose), contacts))
         fail("a contact face would lie on the table");
-      poses[step.object] = step.object_pose;
+      move(step.object, step.object_pose);
       held = -1;
     } else if (step.action_name == "assemble") {
       if (held != step.object) fail("not holding the held object");
       if (!same_pose(poses[step.fixed_object], step.fixed_pose)) fail("fixed object is elsewhere");
       for (const Goal& goal : scenario.goals) {
-        const AssembledGoal& assembled = std::get<AssembledGoal>(goal);
-        if (find(assembled.held) != step.object || find(assembled.fixed) != step.fixed_object)
+        const auto* found = std::get_if<AssembledGoal>(&goal);
+        if (found == nullptr || find(found->held) != step.object ||
+            find(found->fixed) != step.fixed_object)
           continue;
+        const AssembledGoal& assembled = *found;
         if (!same_pose(step.held_pose, step.fixed_pose * assembled.relative))
           fail("held pose is not T_fixed Ta");
         const geometry::ObjectModel& fixed = scenario.objects[step.fixed_object].model;
@@ -120,6 +143,8 @@ inline std::vector<std::string> check_instance(
         if (intersects(grasp.obscured_faces, assembled.held_faces))
           fail("the grasp obscures a mating face of the held object");
         assembled_into[step.object] = true;
+        move(step.object, step.held_pose);
+        carrier[step.object] = step.fixed_object;
       }
       held = -1;
     } else {
@@ -127,10 +152,30 @@ inline std::vector<std::string> check_instance(
     }
   }
   for (const Goal& goal : scenario.goals) {
-    const AssembledGoal& assembled = std::get<AssembledGoal>(goal);
-    if (!assembled_into[find(assembled.held)])
-      problems.push_back("goal assembled(" + assembled.held + ", " + assembled.fixed +
-                         ") not reached");
+    if (const auto* assembled = std::get_if<AssembledGoal>(&goal)) {
+      const int h = find(assembled->held), f = find(assembled->fixed);
+      if (!assembled_into[h] || !same_pose(poses[h], poses[f] * assembled->relative))
+        problems.push_back("goal assembled(" + assembled->held + ", " + assembled->fixed +
+                           ") not reached");
+      continue;
+    }
+    // at(object, place): resting on the table with its frame's turn about z one of the place's
+    // yaws and its centre of mass above the place.
+    const AtGoal& at = std::get<AtGoal>(goal);
+    const int o = find(at.object);
+    const ObjectSpec& object = scenario.objects[o];
+    const Place& place = scenario.places[scenario.place_index(at.place)];
+    const Eigen::Vector3d com = poses[o] * object.model.center_of_mass();
+    bool there = std::abs(lowest_z(object.model, poses[o])) < 1e-6 &&
+                 std::hypot(com.x() - place.x, com.y() - place.y) < 1e-6;
+    bool turned = false;
+    for (const geometry::StablePose& stable : object.stable_poses)
+      for (const double yaw : place.yaws)
+        turned |= same_pose(poses[o], Eigen::Translation3d(place.x, place.y, 0) *
+                                          Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) *
+                                          stable.object_to_world);
+    if (!there || !turned)
+      problems.push_back("goal at(" + at.object + ", " + at.place + ") not reached");
   }
   if (held != -1) problems.push_back("the plan ends holding an object");
   return problems;

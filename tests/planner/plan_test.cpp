@@ -10,6 +10,7 @@
 #include <string_view>
 #include <vector>
 
+#include "tests/planner/collision_checker.hpp"
 #include "tests/planner/plan_checker.hpp"
 #include "tests/planner/plan_options.hpp"
 #include "tests/planner/random_placement.hpp"
@@ -48,10 +49,13 @@ std::vector<std::string> actions(const Scenario& scenario, const PlanInstance& i
 
 void expect_every_instance_valid(const Scenario& scenario, const PlanResult& result) {
   const auto grasps = grasps_of(scenario);
+  const testing::IndependentCollisionChecker collisions(scenario, grasps);
   ASSERT_FALSE(result.instances.instances.empty());
   for (const PlanInstance& instance : result.instances.instances) {
     const std::vector<std::string> problems = check_instance(scenario, grasps, instance);
     EXPECT_TRUE(problems.empty()) << "instance " << instance.index << ": " << problems.front();
+    const std::vector<std::string> hits = collisions.check(instance);
+    EXPECT_TRUE(hits.empty()) << "instance " << instance.index << ": " << hits.front();
   }
 }
 
@@ -149,9 +153,11 @@ RC_GTEST_PROP(PlanProperty, RandomInitialPosesGiveValidPlans, ()) {
   const PlanResult result = plan(scenario, builtin_domain(), options);
   RC_CLASSIFY(result.planned(), "planned");
   if (!result.planned()) return;
+  const testing::IndependentCollisionChecker collisions(scenario, grasps);
   for (const PlanInstance& instance : result.instances.instances) {
     const std::vector<std::string> problems = check_instance(scenario, grasps, instance);
     RC_ASSERT(problems.empty());
+    RC_ASSERT(collisions.check(instance).empty());
   }
 }
 
@@ -168,7 +174,8 @@ TEST(PlanFamily, NoPlanNamesTheObjectOutOfReach) {
   peg.initial_pose.translation().x() += 3.0;  // 3 m further out: beyond the Puma's reach
   const PlanResult result = plan(scenario, builtin_domain(), phase1_only());
   EXPECT_EQ(result.family.status, PostingStatus::kNoPlan);
-  EXPECT_NE(result.family.reason.find("cannot grasp peg at its initial pose"), std::string::npos)
+  EXPECT_NE(result.family.reason.find("peg: no grasp reaches it at its initial pose"),
+            std::string::npos)
       << result.family.reason;
 }
 

@@ -9,10 +9,12 @@
 #include <regex>
 #include <string>
 
+#include "spar/common/limits.hpp"
 #include "spar/common/units.hpp"
 #include "spar/geometry/stable_poses.hpp"
 #include "spar/kinematics/robot.hpp"
 #include "spar/planner/error.hpp"
+#include "spar/sensing/camera.hpp"
 
 namespace spar::planner {
 namespace {
@@ -109,6 +111,82 @@ TEST(Scenario, ValidTextLoadsWithDefaultsAndConvertedUnits) {
   EXPECT_NEAR(goal.relative.translation().z(), 6 * in, 1e-15);
   EXPECT_TRUE(goal.mating_vector.isApprox(Eigen::Vector3d(0, 0, -1)));
   EXPECT_FALSE(scenario.range_scan.has_value());
+}
+
+// sensors.cameras (normative): intrinsics in pixels, the pose in the file's units; the lookup by
+// name lists the known cameras.
+TEST(Scenario, CamerasLoadWithIntrinsicsInPixelsAndThePoseInTheFilesUnits) {
+  const Scenario scenario = parse_scenario(kValid + R"(sensors:
+  cameras:
+    - name: overhead
+      pose: {xyz: [20, 0, 30], rpy: [180, 0, 0]}
+      intrinsics: {fx: 800, fy: 810, cx: 320, cy: 240, width: 640, height: 480}
+      noise_px: 0.5
+      detection_probability: 0.9
+      uncertainty: {dx: 0.5, dtheta: 2}
+    - {name: side, pose: {xyz: [0, 0, 10]}, projection: orthographic,
+       intrinsics: {fx: 100, fy: 100, cx: 64, cy: 64, width: 128, height: 128}}
+)",
+                                           "cell.yaml", ".");
+  ASSERT_EQ(scenario.cameras.size(), 2u);
+  const CameraSensor& overhead = scenario.camera("overhead");
+  EXPECT_EQ(overhead.projection, sensing::Projection::kPinhole);
+  EXPECT_EQ(overhead.intrinsics.fy, 810);
+  EXPECT_EQ(overhead.intrinsics.height, 480);
+  EXPECT_NEAR(overhead.pose.translation().z(), 30 * in, 1e-15);
+  EXPECT_TRUE(overhead.pose.linear().col(2).isApprox(Eigen::Vector3d(0, 0, -1), 1e-12));
+  EXPECT_EQ(overhead.noise_px, 0.5);
+  EXPECT_EQ(overhead.detection_probability, 0.9);
+  EXPECT_NEAR(overhead.uncertainty.dx, 0.5 * in, 1e-15);
+  EXPECT_NEAR(overhead.uncertainty.dtheta, 2 * deg, 1e-15);
+  EXPECT_EQ(overhead.location.str(), "cell.yaml:16:7");
+  const CameraSensor& side = scenario.camera("side");
+  EXPECT_EQ(side.projection, sensing::Projection::kOrthographic);
+  EXPECT_EQ(side.noise_px, 0.0);
+  EXPECT_EQ(side.detection_probability, 1.0);
+  try {
+    (void)scenario.camera("wrist");
+    ADD_FAILURE() << "no error";
+  } catch (const ScenarioError& error) {
+    EXPECT_STREQ(error.what(), "scenario 'cell' has no camera 'wrist' (cameras: overhead, side)");
+  }
+}
+
+TEST(ScenarioErrors, CameraMistakesNameTheKey) {
+  const std::string camera =
+      "sensors:\n  cameras:\n    - {name: c, pose: {xyz: [0, 0, 30]}, intrinsics: {fx: 800, fy: "
+      "800, cx: 320, cy: 240, width: 640, height: 480}}\n";
+  const auto broken = [&](const std::string& from, const std::string& to) {
+    return kValid + replaced(camera, from, to);
+  };
+  expect_error(
+      broken("fx: 800", "fx: 0"), 16, 59,
+      "sensors.cameras[0].intrinsics.fx: must be a number > 0 and <= 1e+06 (a focal length "
+      "in pixels), got 0");
+  expect_error(broken("width: 640", "width: 64.5"), 16, 98,
+               "sensors.cameras[0].intrinsics.width: must be a whole number >= 1 and <= 16384 (an "
+               "image side in pixels), got 64.5");
+  expect_error(broken("height: 480", "height: 0"), 16, 111,
+               "sensors.cameras[0].intrinsics.height: must be a whole number >= 1 and <= 16384 (an "
+               "image side in pixels), got 0");
+  expect_error(broken("}}", "}, detection_probability: 1.5}"), 16, 140,
+               "sensors.cameras[0].detection_probability: must be a number > 0 and <= 1 (a "
+               "probability), got 1.5");
+  expect_error(broken("}}", "}, noise_px: -1}"), 16, 127,
+               "sensors.cameras[0].noise_px: must be a number >= 0 and <= 100 (an edge detector's "
+               "noise in pixels), got -1");
+  expect_error(broken("}}", "}, projection: pinhol}"), 16, 129,
+               "unknown projection 'pinhol' (did you mean 'pinhole'?)");
+  expect_error(broken("}}", "}, noise: 1}"), 16, 117, "sensors.cameras[0]: unknown key 'noise'");
+  expect_error(kValid + camera +
+                   "    - {name: c, pose: {}, intrinsics: {fx: 1, fy: 1, cx: 0, cy: 0, "
+                   "width: 1, height: 1}}\n",
+               17, 7, "sensors.cameras[1].name: duplicate camera name 'c'");
+}
+
+// common/limits.cpp cannot include sensing/, so its image side must be checked against it here.
+TEST(ScenarioLimits, TheImageSideIsTheRenderersLimit) {
+  EXPECT_EQ(numeric_limit("camera.image_side").high, sensing::kMaxImageSide);
 }
 
 TEST(Scenario, UnitsConvertBothWays) {
@@ -482,7 +560,8 @@ TEST(SeedExperiments, EveryInitialPoseAndEveryPlaceIsWithinReach) {
         for (const geometry::StablePose& stable : object.stable_poses) {
           const kinematics::Transform pose =
               Eigen::Translation3d(place.x, place.y, 0) *
-              Eigen::AngleAxisd(place.yaw, Eigen::Vector3d::UnitZ()) * stable.object_to_world;
+              Eigen::AngleAxisd(place.yaws.front(), Eigen::Vector3d::UnitZ()) *
+              stable.object_to_world;
           EXPECT_TRUE(some_grasp_reachable(scenario, stable, pose, grasps, gripper))
               << object.name << " " << stable.label << " at " << place.name;
         }
@@ -496,7 +575,7 @@ TEST(SeedExperiments, EveryInitialPoseAndEveryPlaceIsWithinReach) {
     for (const Place& place : scenario.places) {
       const kinematics::Transform block_pose =
           Eigen::Translation3d(place.x, place.y, 0) *
-          Eigen::AngleAxisd(place.yaw, Eigen::Vector3d::UnitZ()) * hole_up.object_to_world;
+          Eigen::AngleAxisd(place.yaws.front(), Eigen::Vector3d::UnitZ()) * hole_up.object_to_world;
       bool mate_reachable = false;
       for (const geometry::Grasp& grasp : peg_grasps)
         mate_reachable |=

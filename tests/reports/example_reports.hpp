@@ -1,14 +1,17 @@
 // The reports of the seed's four peg-and-block experiments (examples/peg_block_*.yaml), planned
-// once per test binary with the default options (phase 2 with blame, reverse analysis and Monte
+// once per test binary (each test process: ctest runs every test on its own) with the default
+// options (phase 2 with blame, reverse analysis and Monte
 // Carlo, as `spar plan` runs it), plus a run whose search budget is too small to find a plan.
 #pragma once
 
+#include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
 #include "spar/planner/plan.hpp"
+#include "spar/reports/json.hpp"
 #include "spar/reports/plan_json.hpp"
 
 namespace spar::reports::testing {
@@ -31,6 +34,24 @@ inline const nlohmann::ordered_json& example_report(const std::string& name) {
                 .emplace(name, plan_json(planner::plan(planner::load_scenario(example_path(name)),
                                                        planner::builtin_domain())))
                 .first;
+  return found->second;
+}
+
+// The golden report of an example (tests/reports/golden/<name>.json, which GoldenReport checks
+// against the planner), read once per test binary: renderer tests use it and plan nothing.
+inline const nlohmann::ordered_json& golden_json(const std::string& name) {
+  static std::map<std::string, nlohmann::ordered_json> cache;
+  auto found = cache.find(name);
+  if (found == cache.end()) {
+    std::ifstream in(std::string(SPAR_SOURCE_DIR) + "/tests/reports/golden/" + name + ".json");
+    found = cache.emplace(name, nlohmann::ordered_json::parse(in)).first;
+  }
+  return found->second;
+}
+inline const Report& golden_report(const std::string& name) {
+  static std::map<std::string, Report> cache;
+  auto found = cache.find(name);
+  if (found == cache.end()) found = cache.emplace(name, report_from_json(golden_json(name))).first;
   return found->second;
 }
 

@@ -14,67 +14,12 @@
 #include "spar/sensing/error.hpp"
 #include "spar/sensing/evidence_json.hpp"
 #include "tests/common/expect_message.hpp"
+#include "tests/sensing/dense_evidence.hpp"
 
 namespace spar::sensing {
 namespace {
 
 constexpr double kTolerance = 1e-12;
-
-// ---- the brute-force reference: subsets of an n-frame as bitmasks 0 .. 2^n - 1 ----
-
-using Dense = std::vector<double>;  // Dense[mask] = m(mask), mask 0 = the empty set
-
-Dense dense(const MassFunction& m) {
-  Dense out(std::size_t{1} << m.frame_size(), 0.0);
-  for (const FocalElement& element : m.elements()) {
-    unsigned mask = 0;
-    for (const int x : element.set.members()) mask |= 1U << x;
-    out[mask] = element.mass;
-  }
-  return out;
-}
-
-FocalSet set_of(unsigned mask, int n) {
-  FocalSet set(n);
-  for (int x = 0; x < n; ++x)
-    if (mask & (1U << x)) set.insert(x);
-  return set;
-}
-
-struct DenseCombination {
-  Dense mass;
-  double conflict{0};
-};
-
-DenseCombination brute_dempster(const Dense& a, const Dense& b) {
-  Dense joint(a.size(), 0.0);
-  for (unsigned x = 1; x < a.size(); ++x)
-    for (unsigned y = 1; y < b.size(); ++y) joint[x & y] += a[x] * b[y];
-  DenseCombination out{Dense(a.size(), 0.0), joint[0]};
-  for (unsigned z = 1; z < a.size(); ++z) out.mass[z] = joint[z] / (1 - joint[0]);
-  return out;
-}
-
-double brute_belief(const Dense& m, unsigned set) {
-  double total = 0;
-  for (unsigned b = 1; b < m.size(); ++b)
-    if ((b & ~set) == 0) total += m[b];
-  return total;
-}
-
-double brute_plausibility(const Dense& m, unsigned set) {
-  double total = 0;
-  for (unsigned b = 1; b < m.size(); ++b)
-    if (b & set) total += m[b];
-  return total;
-}
-
-double brute_pignistic(const Dense& m, int x) {
-  double total = 0;
-  for (unsigned b = 1; b < m.size(); ++b)
-    if (b & (1U << x)) total += m[b] / std::popcount(b);
-  return total;
-}
 
 void expect_equal(const MassFunction& actual, const Dense& expected) {
   const Dense got = dense(actual);
@@ -333,7 +278,7 @@ TEST(EvidenceJson, CombinesTheFilesSources) {
   EXPECT_NEAR(out["plausibility"]["c"].get<double>(), 1.0 / 6, 1e-15);
   EXPECT_NEAR(out["pignistic"]["a"].get<double>(), 0.0, 1e-15);
   ASSERT_EQ(out["masses"].size(), 2U);
-  EXPECT_EQ(out["masses"][0]["set"], nlohmann::json::array({"b"}));
+  EXPECT_EQ(out["masses"][0]["set"], nlohmann::ordered_json::array({"b"}));
   const double ambiguity = -(5.0 / 6 * std::log2(5.0 / 6) + 1.0 / 6 * std::log2(1.0 / 6));
   EXPECT_NEAR(out["ambiguity"].get<double>(), ambiguity, 1e-15);
 }

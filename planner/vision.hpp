@@ -1,0 +1,75 @@
+// A scenario's camera as PSEIKI sees it (sensing/pseiki/): the scene of the scenario's objects at
+// their believed poses, the camera, and how uncertain both are. `spar vision`, Python's
+// spar.vision_* and the planner's camera verification start here.
+//
+// VisionSetup owns the objects' features (model edges); its scene refers to them and to the
+// scenario's object models, so the scenario must outlive it. It moves (the features move with
+// their storage) but does not copy.
+//
+// Simulated images (`spar vision simulate`) may change the scene first: `missing` objects are
+// left out of the image, and a `swaps` entry {name, other} puts the other object's model where
+// `name` is believed to be (its edges' truth then names no edge of the expected scene).
+//
+// Example:
+//   const Scenario scenario = load_scenario("examples/pseiki_sidewalk.yaml");
+//   const VisionSetup setup(scenario, "front");
+//   const auto result = sensing::pseiki::verify(setup.scene(), setup.camera(),
+//                                               setup.uncertainty(), image.edges, setup.options());
+#pragma once
+
+#include <memory>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include "spar/planner/scenario.hpp"
+#include "spar/sensing/pseiki/matcher.hpp"
+#include "spar/sensing/pseiki/simulate.hpp"
+#include "spar/sensing/pseiki/vision_json.hpp"
+
+namespace spar::planner {
+
+class VisionSetup {
+ public:
+  // ScenarioError naming the known cameras when there is none called `camera`.
+  VisionSetup(const Scenario& scenario, std::string_view camera);
+  VisionSetup(VisionSetup&&) = default;
+  VisionSetup& operator=(VisionSetup&&) = default;
+  VisionSetup(const VisionSetup&) = delete;
+  VisionSetup& operator=(const VisionSetup&) = delete;
+
+  [[nodiscard]] const CameraSensor& sensor() const { return *sensor_; }
+  [[nodiscard]] const sensing::Scene& scene() const { return scene_; }
+  [[nodiscard]] const sensing::Camera& camera() const { return camera_; }
+  [[nodiscard]] const sensing::pseiki::ExpectationUncertainty& uncertainty() const {
+    return uncertainty_;
+  }
+  // Matching options with the camera's detection probability.
+  [[nodiscard]] sensing::pseiki::MatchOptions options() const;
+  [[nodiscard]] sensing::pseiki::OutputUnits units() const;
+  // The scene index of an object (ScenarioError naming the objects).
+  [[nodiscard]] int object_index(std::string_view name) const;
+
+  struct Swap {
+    std::string name, other;
+  };
+  // The scene with `missing` objects left out and `swaps` applied (names checked; a swapped
+  // object is called "name~other"), with the uncertainties of the objects it keeps.
+  struct ChangedScene {
+    sensing::Scene scene;
+    sensing::pseiki::ExpectationUncertainty uncertainty;
+  };
+  [[nodiscard]] ChangedScene changed_scene(const std::vector<std::string>& missing,
+                                           const std::vector<Swap>& swaps) const;
+
+ private:
+  const Scenario* scenario_;
+  const CameraSensor* sensor_;
+  std::unique_ptr<std::vector<sensing::ObjectFeatures>> features_;  // [object], stable addresses
+  sensing::Scene scene_;
+  sensing::Camera camera_;
+  sensing::pseiki::ExpectationUncertainty uncertainty_;
+};
+
+}  // namespace spar::planner

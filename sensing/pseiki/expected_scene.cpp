@@ -1,0 +1,261 @@
+#include "spar/sensing/pseiki/expected_scene.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+
+#include "spar/sensing/error.hpp"
+#include "spar/sensing/render.hpp"
+
+namespace spar::sensing::pseiki {
+namespace {
+
+constexpr double kVertexMerge = 0.5;  // pixels: end points this close are one vertex
+constexpr double kEndSlack = 1.0;     // pixels an edge detector may lose or add at an end
+
+// Every corner of a half-width box: each uncertain component at -h and +h. None when exact.
+std::vector<PoseOffset> corners(const kinematics::PoseUncertainty& h) {
+  std::vector<PoseOffset> out = {{}};
+  const auto split = [&](double half_width, double PoseOffset::*member) {
+    if (!(half_width > 0)) return;
+    std::vector<PoseOffset> next;
+    for (PoseOffset offset : out)
+      for (const double sign : {-1.0, 1.0}) {
+        offset.*member = sign * half_width;
+        next.push_back(offset);
+      }
+    out = std::move(next);
+  };
+  split(h.dx, &PoseOffset::dx);
+  split(h.dy, &PoseOffset::dy);
+  split(h.dz, &PoseOffset::dz);
+  split(h.dtheta, &PoseOffset::dtheta);
+  return out.size() == 1 ? std::vector<PoseOffset>{} : out;
+}
+
+// How much a tolerance grows at one corner: the change of a line's angle, the largest distance
+// of the moved end points from the expected line, and their largest shift along it.
+struct Misfit {
+  double angle{0}, offset{0}, along{0};
+  void widen(const Misfit& other) {
+    angle = std::max(angle, other.angle);
+    offset = std::max(offset, other.offset);
+    along = std::max(along, other.along);
+  }
+};
+
+Misfit misfit(const Segment& expected, const Segment& moved) {
+  const Eigen::Vector2d direction = expected.direction();
+  return {.angle = line_angle(expected, moved),
+          .offset = std::max(expected.line_distance(moved.p0), expected.line_distance(moved.p1)),
+          .along = std::max(std::abs((moved.p0 - expected.p0).dot(direction)),
+                            std::abs((moved.p1 - expected.p1).dot(direction)))};
+}
+
+// The tolerance from what the object's and the camera's uncertainty do (their sum) and the noise.
+Tolerance tolerance_of(const Misfit& object, const Misfit& camera, double noise_px) {
+  return {.angle = object.angle + camera.angle,
+          .offset = object.offset + camera.offset + 3 * noise_px + kMinimumOffsetPx,
+          .margin = object.along + camera.along + 3 * noise_px + kEndSlack,
+          .noise_px = noise_px};
+}
+
+// One pose hypothesis of the corner analysis: the camera and one object's pose, possibly moved.
+struct CornerView {
+  Camera camera;
+  int moved_object{-1};                                            // -1: only the camera moved
+  Eigen::Isometry3d object_motion{Eigen::Isometry3d::Identity()};  // world -> world
+};
+
+}  // namespace
+
+Eigen::Isometry3d offset_pose(const Eigen::Isometry3d& pose, const PoseOffset& offset) {
+  Eigen::Isometry3d out = Eigen::Isometry3d::Identity();
+  out.linear() =
+      Eigen::AngleAxisd(offset.dtheta, Eigen::Vector3d::UnitZ()).toRotationMatrix() * pose.linear();
+  out.translation() = pose.translation() + Eigen::Vector3d(offset.dx, offset.dy, offset.dz);
+  return out;
+}
+
+ModelPanel::ModelPanel(const Scene& scene, const Camera& camera,
+                       const ExpectationUncertainty& uncertainty,
+                       const ExpectedSceneOptions& options)
+    : camera_(camera), uncertainty_(uncertainty) {
+  const auto& scene_objects = scene.objects();
+  if (!uncertainty.objects.empty() && uncertainty.objects.size() != scene_objects.size())
+    throw SensingError("expected scene: " + std::to_string(uncertainty.objects.size()) +
+                       " object uncertainties for " + std::to_string(scene_objects.size()) +
+                       " objects");
+  if (!(uncertainty.noise_px >= 0 && std::isfinite(uncertainty.noise_px)))
+    throw SensingError("expected scene: the image noise must be a number >= 0 (pixels)");
+  const Rendering seen =
+      render(scene, camera, {.faces = true, .edges = true, .supersampling = options.supersampling});
+
+  // Edges: the renderer's pieces, grouped by (object, model edge); world end points of the span.
+  std::vector<std::array<Eigen::Vector3d, 2>> span_world;
+  for (const EdgeView& view : seen.edges) {
+    if (edges_.empty() || edges_.back().object != view.object ||
+        edges_.back().model_edge != view.edge) {
+      const SceneObject& object = scene_objects[static_cast<std::size_t>(view.object)];
+      const ModelEdge& model = object.features->edges[static_cast<std::size_t>(view.edge - 1)];
+      PanelEdge edge;
+      edge.id = object.name + "/e" + std::to_string(view.edge);
+      edge.object = view.object;
+      edge.model_edge = view.edge;
+      edge.p0 = model.p0;
+      edge.p1 = model.p1;
+      edges_.push_back(std::move(edge));
+      span_world.push_back({view.p0, view.p1});
+    }
+    PanelEdge& edge = edges_.back();
+    edge.pieces.push_back({view.u0, view.u1});
+    edge.visible_length += (view.u1 - view.u0).norm();
+    edge.silhouette = edge.silhouette || view.silhouette;
+    span_world.back()[1] = view.p1;
+  }
+  for (PanelEdge& edge : edges_) edge.span = {edge.pieces.front().p0, edge.pieces.back().p1};
+
+  // Faces: visible ones with a visible edge.
+  const double samples_per_pixel = options.supersampling * options.supersampling;
+  for (const FaceView& view : seen.faces) {
+    PanelFace face;
+    face.object = view.object;
+    face.model_face = view.face;
+    for (std::size_t e = 0; e < edges_.size(); ++e) {
+      const PanelEdge& edge = edges_[e];
+      if (edge.object != view.object) continue;
+      const ModelEdge& model = scene_objects[static_cast<std::size_t>(edge.object)]
+                                   .features->edges[static_cast<std::size_t>(edge.model_edge - 1)];
+      if (model.face_a == view.face || model.face_b == view.face)
+        face.edges.push_back(static_cast<int>(e));
+    }
+    if (face.edges.empty()) continue;
+    face.id = scene_objects[static_cast<std::size_t>(view.object)].name + "/f" +
+              std::to_string(view.face);
+    face.area_px = view.samples / samples_per_pixel;
+    for (const int e : face.edges)
+      edges_[static_cast<std::size_t>(e)].faces.push_back(static_cast<int>(faces_.size()));
+    faces_.push_back(std::move(face));
+  }
+
+  // Vertices: the pieces' end points, merged when closer than kVertexMerge.
+  for (std::size_t e = 0; e < edges_.size(); ++e) {
+    PanelEdge& edge = edges_[e];
+    for (const Segment& piece : edge.pieces) {
+      std::array<int, 2> ends{};
+      for (int k = 0; k < 2; ++k) {
+        const Eigen::Vector2d& p = k == 0 ? piece.p0 : piece.p1;
+        auto found = std::find_if(vertices_.begin(), vertices_.end(), [&](const PanelVertex& v) {
+          return (v.pixel - p).norm() < kVertexMerge;
+        });
+        if (found == vertices_.end()) {
+          vertices_.push_back({.pixel = p, .edges = {}});
+          found = vertices_.end() - 1;
+        }
+        if (found->edges.empty() || found->edges.back() != static_cast<int>(e))
+          found->edges.push_back(static_cast<int>(e));
+        ends[static_cast<std::size_t>(k)] = static_cast<int>(found - vertices_.begin());
+      }
+      edge.vertices.push_back(ends);
+    }
+  }
+  for (PanelFace& face : faces_) {
+    std::vector<Eigen::Vector2d> corners_of_face;
+    for (const int e : face.edges)
+      for (const std::array<int, 2>& ends : edges_[static_cast<std::size_t>(e)].vertices)
+        for (const int v : ends)
+          corners_of_face.push_back(vertices_[static_cast<std::size_t>(v)].pixel);
+    face.region = internal::convex_hull(corners_of_face);
+  }
+
+  for (std::size_t o = 0; o < scene_objects.size(); ++o)
+    objects_.push_back({.name = scene_objects[o].name,
+                        .faces = {},
+                        .edges = {},
+                        .visible_length = 0,
+                        .pose = scene_objects[o].pose});
+  for (std::size_t f = 0; f < faces_.size(); ++f)
+    objects_[static_cast<std::size_t>(faces_[f].object)].faces.push_back(static_cast<int>(f));
+  for (std::size_t e = 0; e < edges_.size(); ++e) {
+    PanelObject& object = objects_[static_cast<std::size_t>(edges_[e].object)];
+    object.edges.push_back(static_cast<int>(e));
+    object.visible_length += edges_[e].visible_length;
+  }
+
+  neighbours_.resize(edges_.size());
+  for (const PanelFace& face : faces_)
+    for (const int a : face.edges)
+      for (const int b : face.edges)
+        if (a != b) neighbours_[static_cast<std::size_t>(a)].push_back(b);
+  for (std::vector<int>& list : neighbours_) {
+    std::sort(list.begin(), list.end());
+    list.erase(std::unique(list.begin(), list.end()), list.end());
+  }
+
+  // Tolerances: every edge's span at every corner of the camera's box and of its object's box.
+  std::vector<CornerView> views;
+  for (const PoseOffset& offset : corners(uncertainty.camera))
+    views.push_back({.camera = Camera(camera.projection(), camera.intrinsics(),
+                                      offset_pose(camera.pose(), offset)),
+                     .moved_object = -1,
+                     .object_motion = Eigen::Isometry3d::Identity()});
+  if (!uncertainty.objects.empty())
+    for (std::size_t o = 0; o < scene_objects.size(); ++o)
+      for (const PoseOffset& offset : corners(uncertainty.objects[o])) {
+        const Eigen::Isometry3d& pose = scene_objects[o].pose;
+        views.push_back({.camera = camera,
+                         .moved_object = static_cast<int>(o),
+                         .object_motion = offset_pose(pose, offset) * pose.inverse()});
+      }
+  // Which edges a view moves: all (camera) or its object's.
+  const auto moves = [&](const CornerView& view, const PanelEdge& edge) {
+    return view.moved_object < 0 || view.moved_object == edge.object;
+  };
+  const auto seen_at = [&](const CornerView& view, std::size_t e) -> std::optional<Segment> {
+    const Eigen::Vector3d w0 = view.object_motion * span_world[e][0];
+    const Eigen::Vector3d w1 = view.object_motion * span_world[e][1];
+    const auto u0 = view.camera.project(w0), u1 = view.camera.project(w1);
+    if (!u0 || !u1) return std::nullopt;
+    return Segment{*u0, *u1};
+  };
+  for (std::size_t e = 0; e < edges_.size(); ++e) {
+    Misfit by_object, by_camera;
+    for (const CornerView& view : views) {
+      if (!moves(view, edges_[e])) continue;
+      if (const auto moved = seen_at(view, e))
+        (view.moved_object < 0 ? by_camera : by_object).widen(misfit(edges_[e].span, *moved));
+    }
+    edges_[e].tolerance = tolerance_of(by_object, by_camera, uncertainty.noise_px);
+  }
+  for (std::size_t a = 0; a < edges_.size(); ++a)
+    for (const int b : neighbours_[a]) {
+      Misfit by_object, by_camera;
+      for (const CornerView& view : views) {
+        if (!moves(view, edges_[a])) continue;
+        const auto seen_a = seen_at(view, a);
+        const auto seen_b = seen_at(view, static_cast<std::size_t>(b));
+        if (!seen_a || !seen_b) continue;
+        const Segment predicted =
+            predicted_partner(*seen_b, edges_[a].span, edges_[static_cast<std::size_t>(b)].span);
+        (view.moved_object < 0 ? by_camera : by_object).widen(misfit(predicted, *seen_a));
+      }
+      relational_[{static_cast<int>(a), b}] =
+          tolerance_of(by_object, by_camera, uncertainty.noise_px);
+    }
+}
+
+int ModelPanel::edge_index(std::string_view id) const {
+  for (std::size_t e = 0; e < edges_.size(); ++e)
+    if (edges_[e].id == id) return static_cast<int>(e);
+  return -1;
+}
+
+const Tolerance& ModelPanel::relational(int a, int b) const {
+  const auto found = relational_.find({a, b});
+  if (found == relational_.end())
+    throw SensingError("expected scene: edges " + std::to_string(a) + " and " + std::to_string(b) +
+                       " share no visible face");
+  return found->second;
+}
+
+}  // namespace spar::sensing::pseiki

@@ -1,0 +1,56 @@
+// The grouper, PSEIKI's knowledge source that "determines which image elements in the lower
+// levels of the hierarchy should be grouped to form an image element on a higher level" (survey
+// seed 003, section 4): compatibly labelled edges into faces, faces into objects, objects into the
+// scene, each with the belief in its label. Beliefs flow up ("any evidence confirming a data
+// element's label should also provide evidence that its parent's label is correct"); doubt flows
+// down through the labeler's next round.
+//
+// Faces. For every visible model face F, the image face F' is the set of active edges labelled
+//   with F's edges (none: no image face). Its region is the convex hull of its members' vertices.
+//   Evidence, combined by Dempster's rule for hierarchical evidence (root -> F's object -> F and
+//   the object's other faces; "none"):
+//     for F        support(F') = min(kMaxSupport, sum over F's edges m of w_m c_m b_m / p), with
+//                  w_m m's share of F's visible edge length, c_m the fraction of m's visible
+//                  length its members cover (their projections on m's line, merged), b_m their
+//                  length-weighted mean belief, p the camera's detection probability: a face
+//                  seen as well as the camera can see it gets full support;
+//     against F    for every other image face G': the survey's face-level incompatibility, the
+//                  overlap of the two regions normalised by their mean area, less the same
+//                  quantity of the two model faces (faces of a non-convex object overlap in the
+//                  expected scene too), times support(G');
+//     against F's object   Bel(not O) of its image object from the previous round.
+// Objects. For every visible model object O, the image object O' (made of the image faces with
+//   O's faces; it exists even with none, so that a missing object counts against the scene):
+//     for O        sum over O's faces F of a_F Bel(F'), a_F F's share of O's visible area;
+//     against O    the deficit of seen edges: coverage(O') = the fraction of O's visible edge
+//                  length covered by its edges' members of belief >= kDetectionBelief. The camera
+//                  finds a share p of the n edges it should see, give or take the binomial
+//                  sigma = sqrt(p (1 - p) / n) (n the effective number of edges, (sum l)^2 /
+//                  sum l^2 for lengths l, as coverage weighs them by length); coverage below
+//                  floor = p - 2 sigma says the object is not where it was believed to be
+//                  (missing, moved, another object): deficit = (floor - coverage) / floor,
+//                  clamped to [0, kMaxSupport].
+// Scene. Evidence for "the image is the expected scene": for it, sum over objects of
+//   l_O Bel(O') (l_O O's share of the visible edge length); against it, each object's Bel(not
+//   O') as a piece of its own (one missing object contradicts the scene).
+//
+// Example:
+//   Grouper().group(board);
+//   board.scene.belief;             // the top of the hierarchy: accept above the threshold
+//   board.faces[0].members;         // image edges of the first face found
+#pragma once
+
+#include "spar/sensing/pseiki/blackboard.hpp"
+
+namespace spar::sensing::pseiki {
+
+class Grouper {
+ public:
+  void group(Blackboard& board) const;
+  // The three levels separately (group() runs them in order).
+  void group_faces(Blackboard& board) const;
+  void group_objects(Blackboard& board) const;
+  void group_scene(Blackboard& board) const;
+};
+
+}  // namespace spar::sensing::pseiki

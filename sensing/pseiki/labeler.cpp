@@ -1,0 +1,159 @@
+#include "spar/sensing/pseiki/labeler.hpp"
+
+#include <algorithm>
+#include <map>
+
+#include "spar/sensing/error.hpp"
+
+namespace spar::sensing::pseiki {
+namespace {
+
+double capped(double support) { return std::clamp(support, 0.0, kMaxSupport); }
+
+// Doubt about each panel face and object, from the last grouping (0 where none was formed).
+struct Doubts {
+  std::vector<double> face, object;
+  explicit Doubts(const Blackboard& board)
+      : face(board.model().faces().size(), 0.0), object(board.model().objects().size(), 0.0) {
+    for (const ImageFace& f : board.faces) face[static_cast<std::size_t>(f.label)] = f.disbelief;
+    for (const ImageObject& o : board.objects)
+      object[static_cast<std::size_t>(o.label)] = o.disbelief;
+  }
+};
+
+ElementEvidence evidence_of(const Blackboard& board, int element, const Doubts& doubts) {
+  const ModelPanel& model = board.model();
+  const ImageEdge& edge = board.edges[static_cast<std::size_t>(element)];
+  ElementEvidence out;
+  HypothesisTree& tree = out.tree;
+  // One node per object with a candidate, in candidate order; each gets a leaf for its other
+  // edges when the candidates do not cover it.
+  std::map<int, int> object_node;
+  std::map<int, int> candidates_of_object;
+  for (const LabelCandidate& candidate : edge.candidates)
+    ++candidates_of_object[model.edges()[static_cast<std::size_t>(candidate.edge)].object];
+  for (const LabelCandidate& candidate : edge.candidates) {
+    const PanelEdge& panel = model.edges()[static_cast<std::size_t>(candidate.edge)];
+    auto [it, inserted] = object_node.try_emplace(panel.object, 0);
+    if (inserted) {
+      it->second = tree.add_node(0, model.objects()[static_cast<std::size_t>(panel.object)].name);
+    }
+    out.candidate_leaves.push_back(tree.add_node(it->second, panel.id));
+  }
+  for (const auto& [object, node] : object_node)
+    if (candidates_of_object[object] <
+        static_cast<int>(model.objects()[static_cast<std::size_t>(object)].edges.size()))
+      tree.add_node(node, model.objects()[static_cast<std::size_t>(object)].name + "/other");
+  out.none_leaf = tree.add_node(0, "none");
+
+  const Tolerance same_label = Tolerance::noise_only(model.uncertainty().noise_px);
+  for (std::size_t c = 0; c < edge.candidates.size(); ++c) {
+    const int a = edge.candidates[c].edge;
+    const int leaf = out.candidate_leaves[c];
+    const PanelEdge& panel_a = model.edges()[static_cast<std::size_t>(a)];
+    tree.add_for(leaf, capped(edge.candidates[c].collinearity));
+    const std::vector<int>& related = model.neighbours(a);
+    // The relational pairs pooled: belief-weighted sums of (in)compatibility and of belief.
+    double compatible = 0, incompatible = 0, weight = 0;
+    for (std::size_t other = 0; other < board.edges.size(); ++other) {
+      const ImageEdge& neighbour = board.edges[other];
+      if (static_cast<int>(other) == element || !neighbour.active || neighbour.label < 0 ||
+          neighbour.belief < kMinimumNeighbourBelief)
+        continue;
+      const int b = neighbour.label;
+      if (b == a) {
+        tree.add_evidence(leaf,
+                          capped(edge_collinearity(edge.segment, neighbour.segment, same_label) *
+                                 neighbour.belief),
+                          capped(edge_noncollinearity(edge.segment, neighbour.segment, same_label) *
+                                 neighbour.belief));
+      } else if (std::binary_search(related.begin(), related.end(), b)) {
+        const PanelEdge& panel_b = model.edges()[static_cast<std::size_t>(b)];
+        const Tolerance& relational = model.relational(a, b);
+        compatible += neighbour.belief * compatibility(edge.segment, neighbour.segment,
+                                                       panel_a.span, panel_b.span, relational);
+        incompatible += neighbour.belief * incompatibility(edge.segment, neighbour.segment,
+                                                           panel_a.span, panel_b.span, relational);
+        weight += neighbour.belief;
+      }
+    }
+    if (weight > 0) {
+      const double scale = 1 / std::max(1.0, weight);
+      tree.add_evidence(leaf, capped(kRelationalWeight * compatible * scale),
+                        capped(incompatible * scale));
+    }
+    for (const int face : panel_a.faces)
+      if (doubts.face[static_cast<std::size_t>(face)] > 0)
+        tree.add_against(leaf, capped(doubts.face[static_cast<std::size_t>(face)]));
+  }
+  for (const auto& [object, node] : object_node)
+    if (doubts.object[static_cast<std::size_t>(object)] > 0)
+      tree.add_against(node, capped(doubts.object[static_cast<std::size_t>(object)]));
+  return out;
+}
+
+}  // namespace
+
+Labeler::Labeler(int max_candidates) : max_candidates_(max_candidates) {
+  if (max_candidates < 1)
+    throw SensingError("labeler: at least one candidate label per edge, got " +
+                       std::to_string(max_candidates));
+}
+
+void Labeler::label(Blackboard& board) const {
+  const ModelPanel& model = board.model();
+  for (ImageEdge& edge : board.edges) {
+    if (!edge.active || !edge.candidates.empty()) continue;
+    for (std::size_t m = 0; m < model.edges().size(); ++m) {
+      const PanelEdge& panel = model.edges()[m];
+      const double degree = collinearity(edge.segment, panel.pieces, panel.tolerance);
+      if (degree > 0) edge.candidates.push_back({static_cast<int>(m), degree, degree});
+    }
+    std::stable_sort(edge.candidates.begin(), edge.candidates.end(),
+                     [](const LabelCandidate& x, const LabelCandidate& y) {
+                       return x.collinearity > y.collinearity;
+                     });
+    if (static_cast<int>(edge.candidates.size()) > max_candidates_)
+      edge.candidates.resize(static_cast<std::size_t>(max_candidates_));
+    edge.label = edge.candidates.empty() ? -1 : edge.candidates.front().edge;
+    edge.belief = edge.candidates.empty() ? 0.0 : capped(edge.candidates.front().collinearity);
+  }
+}
+
+ElementEvidence Labeler::evidence(const Blackboard& board, int element) const {
+  return evidence_of(board, element, Doubts(board));
+}
+
+void Labeler::update(Blackboard& board) const {
+  const Doubts doubts(board);
+  // All from the previous round: compute every element's new beliefs, then assign.
+  std::vector<std::vector<double>> beliefs(board.edges.size());
+  std::vector<double> none(board.edges.size(), 0.0);
+  for (std::size_t e = 0; e < board.edges.size(); ++e) {
+    const ImageEdge& edge = board.edges[e];
+    if (!edge.active || edge.candidates.empty()) continue;
+    const ElementEvidence evidence = evidence_of(board, static_cast<int>(e), doubts);
+    const TreeBeliefs combined = evidence.tree.combine();
+    for (const int leaf : evidence.candidate_leaves)
+      beliefs[e].push_back(combined.belief[static_cast<std::size_t>(leaf)]);
+    none[e] = combined.belief[static_cast<std::size_t>(evidence.none_leaf)];
+  }
+  for (std::size_t e = 0; e < board.edges.size(); ++e) {
+    ImageEdge& edge = board.edges[e];
+    if (!edge.active || edge.candidates.empty()) continue;
+    std::size_t best = 0;
+    for (std::size_t c = 0; c < edge.candidates.size(); ++c) {
+      edge.candidates[c].belief = beliefs[e][c];
+      if (beliefs[e][c] > beliefs[e][best]) best = c;
+    }
+    if (beliefs[e][best] >= kMinimumLabelBelief) {
+      edge.label = edge.candidates[best].edge;
+      edge.belief = beliefs[e][best];
+    } else {
+      edge.label = -1;
+      edge.belief = none[e];
+    }
+  }
+}
+
+}  // namespace spar::sensing::pseiki

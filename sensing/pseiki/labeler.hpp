@@ -1,0 +1,74 @@
+// The labeler, PSEIKI's knowledge source that "establish[es] correspondences between image
+// elements and model elements and ... accumulate[s] evidence on the validity of those labels"
+// (survey seed 003, section 4), at the edge level.
+//
+// label(): initial labels. Each active image edge without candidates gets the model edges it is
+//   collinear with (collinearity.hpp, under each model edge's tolerance), best first, at most
+//   `max_candidates`; its label is the most collinear one and its belief that degree.
+// update(): one round of constraint-based updates, every element at once from the previous
+//   round's labels and beliefs (so the order of the elements does not matter). For an element e
+//   and each candidate label A, the pieces of evidence are
+//     for A              collinearity(e, A)                       (the initial measure)
+//     for / against A    collinearity(e, e2) x Bel(e2), noncollinearity(e, e2) x Bel(e2)
+//                        for every other element e2 labelled A (one piece each, as the survey
+//                        writes them);
+//     for / against A    compatibility(e, e2) x Bel(e2), incompatibility(e, e2) x Bel(e2) for
+//                        the elements e2 labelled with an edge B sharing a visible face with A
+//                        (collinearity.hpp: after the rigid motion T_{A->B}), pooled into one
+//                        piece: their sums divided by max(1, sum of their beliefs), the support
+//                        further weighed by kRelationalWeight. Pooled, because neighbours agree
+//                        for one reason (the relation survives the same misregistration) and
+//                        Dempster's rule would count that reason once per neighbour; weighed,
+//                        because a relation cannot tell an edge from a parallel one a few pixels
+//                        off (a shadow), which only the edge's own collinearity and its rivals
+//                        for the same label can;
+//     against A          Bel(not F) of each image face F labelled with a face of A: "if a face is
+//                        mislabeled, then all its constituent edges are also most likely
+//                        mislabeled" (the survey's downward flow);
+//     against A's object Bel(not O) of the image object labelled with A's object.
+//   Every strength is at most kMaxSupport. The hypotheses of e form a tree: root -> one node per
+//   object with a candidate -> its candidates (and one leaf for its other edges), plus a leaf
+//   "none" (clutter, shadow); the pieces combine by Dempster's rule for hierarchical evidence
+//   (hierarchical_evidence.hpp), so the object-level doubt bears on all of that object's
+//   candidates at once. The new label is the candidate of highest belief if that is at least
+//   kMinimumLabelBelief, else none (and the element's belief is then Bel(none)).
+//   Neighbours count only from kMinimumNeighbourBelief: an element nobody believes says nothing.
+//
+// Example:
+//   const Labeler labeler;
+//   labeler.label(board);
+//   for (int round = 0; round < 4; ++round) { labeler.update(board); Grouper().group(board); }
+#pragma once
+
+#include <vector>
+
+#include "spar/sensing/pseiki/blackboard.hpp"
+#include "spar/sensing/pseiki/hierarchical_evidence.hpp"
+
+namespace spar::sensing::pseiki {
+
+inline constexpr double kMinimumLabelBelief = 0.1;
+inline constexpr double kMinimumNeighbourBelief = 0.05;
+inline constexpr double kRelationalWeight = 0.5;
+
+// One element's hypotheses and evidence: the tree, the leaf of each candidate (in the element's
+// candidate order) and the leaf "none".
+struct ElementEvidence {
+  HypothesisTree tree;
+  std::vector<int> candidate_leaves;
+  int none_leaf{-1};
+};
+
+class Labeler {
+ public:
+  explicit Labeler(int max_candidates = 4);
+  void label(Blackboard& board) const;
+  void update(Blackboard& board) const;
+  // The evidence update() combines for `element`.
+  [[nodiscard]] ElementEvidence evidence(const Blackboard& board, int element) const;
+
+ private:
+  int max_candidates_;
+};
+
+}  // namespace spar::sensing::pseiki

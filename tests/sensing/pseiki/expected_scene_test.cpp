@@ -1,0 +1,103 @@
+// The model panel (sensing/pseiki/expected_scene.hpp): its five levels for a box seen from a
+// corner, the ids `spar vision render` prints, and tolerances worked out by hand for a camera
+// looking straight down (a pose offset of dx moves every edge by f dx / z pixels).
+#include "spar/sensing/pseiki/expected_scene.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <set>
+
+#include "spar/sensing/error.hpp"
+#include "tests/common/expect_message.hpp"
+#include "tests/sensing/pseiki/scenes.hpp"
+
+namespace spar::sensing::pseiki {
+namespace {
+
+using testing::at;
+using testing::TestScene;
+
+// A box seen from a corner above shows three faces and nine edges.
+TEST(ExpectedScene, ABoxFromACornerHasThreeFacesNineEdgesSevenVertices) {
+  TestScene test(Camera(Projection::kPinhole,
+                        {.fx = 800, .fy = 800, .cx = 320, .cy = 240, .width = 640, .height = 480},
+                        look_at({1, -1, 1}, {0, 0, 0.05}, {0, 0, 1})));
+  test.add("box", {0.2, 0.2, 0.1}, at(0, 0), {});
+  const ModelPanel panel(test.scene, test.camera, test.uncertainty);
+  EXPECT_EQ(panel.faces().size(), 3U);
+  EXPECT_EQ(panel.edges().size(), 9U);
+  EXPECT_EQ(panel.vertices().size(), 7U);
+  ASSERT_EQ(panel.objects().size(), 1U);
+  EXPECT_EQ(panel.objects()[0].edges.size(), 9U);
+  std::set<std::string> ids;
+  for (const PanelEdge& edge : panel.edges()) {
+    EXPECT_EQ(edge.id.rfind("box/e", 0), 0U) << edge.id;
+    EXPECT_TRUE(ids.insert(edge.id).second);
+    EXPECT_EQ(panel.edge_index(edge.id), &edge - panel.edges().data());
+    EXPECT_EQ(edge.pieces.size(), 1U);
+    // Three edges of the silhouette's six bound one visible face, the three inner ones two.
+    EXPECT_EQ(edge.faces.size(), edge.silhouette ? 1U : 2U) << edge.id;
+  }
+  for (const PanelFace& face : panel.faces()) {
+    EXPECT_EQ(face.edges.size(), 4U);
+    EXPECT_GT(face.area_px, 100);
+    EXPECT_GT(internal::area(face.region), 0.9 * face.area_px);
+    EXPECT_LT(internal::area(face.region), 1.1 * face.area_px);
+  }
+  EXPECT_EQ(panel.edge_index("box/e99"), -1);
+}
+
+// Straight down from 1 m with f = 800: a 5 mm error in x moves every edge 4 px; with no
+// uncertainty only the noise (3 sigma) and half a pixel remain.
+TEST(ExpectedScene, TolerancesAreWhatTheUncertaintyDoesInPixels) {
+  const Camera down(Projection::kPinhole,
+                    {.fx = 800, .fy = 800, .cx = 320, .cy = 240, .width = 640, .height = 480},
+                    look_at({0, 0, 1.1}, {0, 0, 0}, {0, 1, 0}));
+  TestScene test(down);
+  test.add("slab", {0.3, 0.2, 0.1}, at(0, 0), {.dx = 0.005});
+  test.uncertainty.noise_px = 0.5;
+  const ModelPanel panel(test.scene, test.camera, test.uncertainty);
+  ASSERT_EQ(panel.edges().size(), 4U);  // the top face's outline
+  for (const PanelEdge& edge : panel.edges()) {
+    const bool across_x = std::abs(edge.span.direction().x()) < 0.5;  // moved across by dx
+    EXPECT_NEAR(edge.tolerance.offset, (across_x ? 4.0 : 0.0) + 1.5 + kMinimumOffsetPx, 1e-6)
+        << edge.id;
+    EXPECT_NEAR(edge.tolerance.angle, 0, 1e-9);
+  }
+  // The relation between two edges of the face does not change under a translation.
+  const int a = 0, b = panel.neighbours(0).front();
+  EXPECT_NEAR(panel.relational(a, b).offset, 1.5 + kMinimumOffsetPx, 1e-6);
+  test.uncertainty.objects[0] = {};
+  const ModelPanel exact(test.scene, test.camera, test.uncertainty);
+  for (const PanelEdge& edge : exact.edges())
+    EXPECT_NEAR(edge.tolerance.offset, 1.5 + kMinimumOffsetPx, 1e-9);
+}
+
+// A tall box in front of a long low one hides the middle of its far top edge: one edge, two
+// pieces, its overlap measured on the pieces.
+TEST(ExpectedScene, AnEdgeHiddenInItsMiddleHasTwoPieces) {
+  TestScene test(Camera(Projection::kPinhole,
+                        {.fx = 800, .fy = 800, .cx = 320, .cy = 240, .width = 640, .height = 480},
+                        look_at({0, -1.2, 0.35}, {0, 0, 0.05}, {0, 0, 1})));
+  test.add("wall", {0.5, 0.05, 0.1}, at(0, 0.1), {});
+  test.add("post", {0.06, 0.06, 0.3}, at(0, -0.2), {});
+  const ModelPanel panel(test.scene, test.camera, test.uncertainty);
+  int split = 0;
+  for (const PanelEdge& edge : panel.edges())
+    if (edge.pieces.size() == 2) ++split;
+  EXPECT_GE(split, 1);
+}
+
+TEST(ExpectedScene, MistakesAreNamed) {
+  testing::TestScene test = testing::two_boxes();
+  test.uncertainty.objects.pop_back();
+  EXPECT_THROW_MESSAGE(ModelPanel(test.scene, test.camera, test.uncertainty),
+                       "1 object uncertainties for 2 objects");
+  test = testing::two_boxes();
+  const ModelPanel panel(test.scene, test.camera, test.uncertainty);
+  EXPECT_THROW_MESSAGE(panel.relational(0, 0), "share no visible face");
+}
+
+}  // namespace
+}  // namespace spar::sensing::pseiki

@@ -1,0 +1,294 @@
+// PSEIKI's knowledge sources one at a time (labeler.hpp, merger.hpp, splitter.hpp, grouper.hpp)
+// on images made from the expected scene itself, changed in one way per test.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "spar/sensing/pseiki/grouper.hpp"
+#include "spar/sensing/pseiki/labeler.hpp"
+#include "spar/sensing/pseiki/merger.hpp"
+#include "spar/sensing/pseiki/splitter.hpp"
+#include "tests/common/expect_message.hpp"
+#include "tests/sensing/pseiki/scenes.hpp"
+
+namespace spar::sensing::pseiki {
+namespace {
+
+// The expected scene as an image: every visible piece, ids "e1", "e2", ... in panel order.
+std::vector<ImageEdgeInput> image_of(const ModelPanel& panel) {
+  std::vector<ImageEdgeInput> out;
+  for (const PanelEdge& edge : panel.edges())
+    for (const Segment& piece : edge.pieces)
+      out.push_back({std::string("e").append(std::to_string(out.size() + 1)), piece});
+  return out;
+}
+
+// The panel edge an input came from in image_of (one piece per edge in these scenes).
+int truth_of(const ModelPanel& panel, int input) {
+  int count = 0;
+  for (std::size_t e = 0; e < panel.edges().size(); ++e)
+    for (std::size_t p = 0; p < panel.edges()[e].pieces.size(); ++p)
+      if (count++ == input) return static_cast<int>(e);
+  return -1;
+}
+
+// Segment `s` moved by `shift` pixels along its normal.
+Segment shifted(const Segment& s, double shift) {
+  const Eigen::Vector2d d = s.direction(), n(-d.y(), d.x());
+  return {s.p0 + shift * n, s.p1 + shift * n};
+}
+
+struct Fixture {
+  testing::TestScene test = testing::two_boxes();
+  ModelPanel panel{test.scene, test.camera, test.uncertainty};
+};
+
+TEST(Labeler, TheExpectedSceneItselfGetsItsOwnLabels) {
+  const Fixture f;
+  Blackboard board(f.panel, image_of(f.panel), 1.0);
+  Labeler().label(board);
+  for (std::size_t i = 0; i < board.edges.size(); ++i) {
+    EXPECT_EQ(board.edges[i].label, truth_of(f.panel, static_cast<int>(i)));
+    EXPECT_EQ(board.edges[i].belief, kMaxSupport);  // collinearity 1, capped
+    EXPECT_LE(board.edges[i].candidates.size(), 4U);
+  }
+}
+
+// The survey: "The belief of the match made then is set to the degree of collinearity".
+TEST(Labeler, InitialBeliefIsTheDegreeOfCollinearity) {
+  const Fixture f;
+  const PanelEdge& edge = f.panel.edges()[0];
+  const Segment off = shifted(edge.pieces[0], 0.5 * edge.tolerance.offset);
+  Blackboard board(f.panel, {{"a", off}}, 1.0);
+  Labeler(1).label(board);
+  EXPECT_EQ(board.edges[0].label, 0);
+  EXPECT_NEAR(board.edges[0].belief, collinearity(off, edge.pieces, edge.tolerance), 1e-15);
+  EXPECT_NEAR(board.edges[0].belief, 0.75, 0.05);
+}
+
+// Relational evidence: an edge whose neighbours on its faces agree with its label gains belief;
+// one that sits where no model edge is, given its neighbours, loses it.
+TEST(Labeler, ConstraintsRaiseConsistentLabelsAndLowerInconsistentOnes) {
+  const Fixture f;
+  std::vector<ImageEdgeInput> image = image_of(f.panel);
+  // Move every edge by half its tolerance: initial beliefs drop to about 0.75.
+  for (std::size_t i = 0; i < image.size(); ++i)
+    image[i].segment = shifted(
+        image[i].segment,
+        0.5 * f.panel.edges()[static_cast<std::size_t>(truth_of(f.panel, static_cast<int>(i)))]
+                  .tolerance.offset);
+  // ... except that the whole image moving together keeps the relations; and one clutter edge.
+  Blackboard board(f.panel, image, 1.0);
+  const Labeler labeler;
+  labeler.label(board);
+  std::vector<double> initial;
+  for (const ImageEdge& edge : board.edges) initial.push_back(edge.belief);
+  labeler.update(board);
+  int raised = 0;
+  for (std::size_t i = 0; i < board.edges.size(); ++i)
+    if (board.edges[i].belief > initial[i]) ++raised;
+  EXPECT_GT(raised, static_cast<int>(board.edges.size()) / 2);
+}
+
+TEST(Labeler, AShadowBesideAnEdgeLosesToTheEdge) {
+  const Fixture f;
+  std::vector<ImageEdgeInput> image = image_of(f.panel);
+  const Segment shadow = shifted(image[0].segment, 0.6 * f.panel.edges()[0].tolerance.offset);
+  image.push_back({"shadow", shadow});
+  Blackboard board(f.panel, image, 1.0);
+  const Labeler labeler;
+  labeler.label(board);
+  for (int round = 0; round < 4; ++round) {
+    labeler.update(board);
+    Grouper().group(board);
+  }
+  EXPECT_EQ(board.edges[0].label, truth_of(f.panel, 0));
+  EXPECT_GT(board.edges[0].belief, board.edges.back().belief);
+}
+
+// Downward flow: doubt about an object bears on the labels of all its candidates at once (an
+// internal node of the element's hypothesis tree).
+TEST(Labeler, DoubtAboutTheObjectLowersItsEdgesLabels) {
+  const Fixture f;
+  Blackboard board(f.panel, image_of(f.panel), 1.0);
+  const Labeler labeler;
+  labeler.label(board);
+  const double before = labeler.evidence(board, 0).tree.combine().belief[static_cast<std::size_t>(
+      labeler.evidence(board, 0).candidate_leaves[0])];
+  board.objects.push_back({.label = f.panel.edges()[0].object,
+                           .faces = {},
+                           .coverage = 0,
+                           .belief = 0,
+                           .disbelief = 0.5});
+  const ElementEvidence doubted = labeler.evidence(board, 0);
+  const double after =
+      doubted.tree.combine().belief[static_cast<std::size_t>(doubted.candidate_leaves[0])];
+  EXPECT_LT(after, before);
+}
+
+TEST(Labeler, AtLeastOneCandidate) {
+  EXPECT_THROW_MESSAGE(Labeler(0), "at least one candidate label per edge, got 0");
+}
+
+// Two pieces of one edge with a gap become one element (the survey's "top:38%").
+TEST(Merger, TwoPiecesOfOneEdgeBecomeOne) {
+  const Fixture f;
+  const Segment& whole = f.panel.edges()[0].pieces[0];
+  const Eigen::Vector2d d = whole.direction();
+  const double length = whole.length();
+  Blackboard board(f.panel,
+                   {{"a", {whole.p0, whole.p0 + 0.4 * length * d}},
+                    {"b", {whole.p0 + 0.5 * length * d, whole.p1}}},
+                   1.0);
+  Labeler().label(board);
+  ASSERT_EQ(board.edges[0].label, 0);
+  ASSERT_EQ(board.edges[1].label, 0);
+  EXPECT_EQ(Merger().merge(board), 1);
+  ASSERT_EQ(board.edges.size(), 3U);
+  EXPECT_FALSE(board.edges[0].active);
+  EXPECT_FALSE(board.edges[1].active);
+  EXPECT_EQ(board.edges[2].inputs, (std::vector<int>{0, 1}));
+  EXPECT_NEAR(board.edges[2].segment.length(), length, 1e-9);
+  EXPECT_EQ(board.element_of(0), 2);
+  EXPECT_EQ(board.element_of(1), 2);
+}
+
+// A parallel edge a few pixels aside is not a piece of the same line.
+TEST(Merger, AParallelEdgeAsideIsNotMerged) {
+  const Fixture f;
+  const Segment& whole = f.panel.edges()[0].pieces[0];
+  Blackboard board(f.panel, {{"a", whole}, {"b", shifted(whole, 5)}}, 1.0);
+  Labeler().label(board);
+  ASSERT_EQ(board.edges[1].label, 0);
+  EXPECT_EQ(Merger().merge(board), 0);
+}
+
+// One image edge along two collinear model edges (two slabs' borders in a row) is cut where
+// one ends and the other begins, and each piece gets its own label.
+TEST(Splitter, AnEdgeAlongTwoCollinearModelEdgesIsCutBetweenThem) {
+  const Camera down(Projection::kPinhole,
+                    {.fx = 800, .fy = 800, .cx = 320, .cy = 240, .width = 640, .height = 480},
+                    look_at({0, 0, 1.1}, {0, 0, 0}, {0, 1, 0}));
+  testing::TestScene test(down);
+  test.add("left", {0.2, 0.2, 0.02}, testing::at(-0.105, 0), {});
+  test.add("right", {0.2, 0.2, 0.02}, testing::at(0.105, 0), {});
+  test.uncertainty.noise_px = 0.5;
+  const ModelPanel panel(test.scene, test.camera, test.uncertainty);
+  // The two slabs' edges at the same y, end to end: one image edge over both.
+  int first = -1, second = -1;
+  for (std::size_t a = 0; a < panel.edges().size(); ++a)
+    for (std::size_t b = 0; b < panel.edges().size(); ++b) {
+      const Segment& x = panel.edges()[a].span;
+      const Segment& y = panel.edges()[b].span;
+      if (panel.edges()[a].object == 0 && panel.edges()[b].object == 1 &&
+          std::abs(x.direction().y()) < 1e-6 && std::abs(y.direction().y()) < 1e-6 &&
+          std::abs(x.p0.y() - y.p0.y()) < 1e-6 && first < 0) {
+        first = static_cast<int>(a);
+        second = static_cast<int>(b);
+      }
+    }
+  ASSERT_GE(first, 0);
+  const Segment& x = panel.edges()[static_cast<std::size_t>(first)].span;
+  const Segment& y = panel.edges()[static_cast<std::size_t>(second)].span;
+  const double left = std::min({x.p0.x(), x.p1.x()}), right = std::max({y.p0.x(), y.p1.x()});
+  const Segment joined{{left, x.p0.y()}, {right, x.p0.y()}};
+  Blackboard board(panel, {{"border", joined}}, 1.0);
+  const Labeler labeler;
+  labeler.label(board);
+  EXPECT_EQ(Splitter().split(board), 1);
+  labeler.label(board);
+  ASSERT_EQ(board.edges.size(), 3U);
+  EXPECT_FALSE(board.edges[0].active);
+  std::vector<int> labels = {board.edges[1].label, board.edges[2].label};
+  std::sort(labels.begin(), labels.end());
+  std::vector<int> expected = {first, second};
+  std::sort(expected.begin(), expected.end());
+  EXPECT_EQ(labels, expected);
+  EXPECT_EQ(board.edges[1].split_from, 0);
+  EXPECT_EQ(board.edges[1].inputs, (std::vector<int>{0}));
+}
+
+TEST(Splitter, AnEdgeWithinOneModelEdgeIsLeftAlone) {
+  const Fixture f;
+  Blackboard board(f.panel, image_of(f.panel), 1.0);
+  Labeler().label(board);
+  EXPECT_EQ(Splitter().split(board), 0);
+}
+
+// Faces group the edges labelled with their edges; with the whole expected scene seen, every
+// visible face and object is found and believed, and the scene accepted.
+TEST(Grouper, TheWholeSceneGroupsIntoItsFacesAndObjects) {
+  const Fixture f;
+  Blackboard board(f.panel, image_of(f.panel), 1.0);
+  Labeler().label(board);
+  Grouper().group(board);
+  EXPECT_EQ(board.faces.size(), f.panel.faces().size());
+  for (const ImageFace& face : board.faces) {
+    EXPECT_EQ(face.members.size(),
+              f.panel.faces()[static_cast<std::size_t>(face.label)].edges.size());
+    EXPECT_GT(face.belief, 0.9);
+  }
+  ASSERT_EQ(board.objects.size(), 2U);
+  for (const ImageObject& object : board.objects) {
+    EXPECT_NEAR(object.coverage, 1, 1e-9);
+    EXPECT_GT(object.belief, 0.9);
+    EXPECT_EQ(object.disbelief, 0);
+  }
+  EXPECT_GT(board.scene.belief, 0.9);
+}
+
+// An object of which nothing is seen is doubted as much as evidence allows, and so is the scene.
+TEST(Grouper, AMissingObjectIsDoubtedAndSoIsTheScene) {
+  const Fixture f;
+  std::vector<ImageEdgeInput> image;  // the first object's edges only
+  for (const PanelEdge& edge : f.panel.edges())
+    if (edge.object == 0) image.push_back({edge.id, edge.pieces[0]});
+  Blackboard board(f.panel, image, 1.0);
+  Labeler().label(board);
+  Grouper().group(board);
+  ASSERT_EQ(board.objects.size(), 2U);
+  EXPECT_GT(board.objects[0].belief, 0.9);
+  EXPECT_EQ(board.objects[1].coverage, 0);
+  EXPECT_NEAR(board.objects[1].disbelief, kMaxSupport, 1e-12);
+  EXPECT_LT(board.scene.belief, 0.1);
+}
+
+// The survey's face-level incompatibility: an edge wrongly labelled with an edge of face F but
+// lying across face G makes F's region overlap G's, and both faces are doubted.
+TEST(Grouper, OverlappingFacesAreIncompatible) {
+  const Fixture f;
+  const auto belief_of = [](const Blackboard& board, int face) {
+    for (const ImageFace& image_face : board.faces)
+      if (image_face.label == face) return image_face.belief;
+    return -1.0;
+  };
+  // Two faces of one object sharing an edge, and an edge of the second not on the first.
+  const PanelFace& first = f.panel.faces()[0];
+  int second = -1, far_edge = -1;
+  for (std::size_t g = 1; g < f.panel.faces().size() && second < 0; ++g) {
+    const PanelFace& face = f.panel.faces()[g];
+    if (face.object != first.object) continue;
+    for (const int e : face.edges)
+      if (std::find(first.edges.begin(), first.edges.end(), e) == first.edges.end()) {
+        second = static_cast<int>(g);
+        far_edge = e;
+      }
+  }
+  ASSERT_GE(second, 0);
+  Blackboard clean(f.panel, image_of(f.panel), 1.0);
+  Labeler().label(clean);
+  Grouper().group(clean);
+  std::vector<ImageEdgeInput> image = image_of(f.panel);
+  image.push_back({"stray", f.panel.edges()[static_cast<std::size_t>(far_edge)].pieces[0]});
+  Blackboard stray(f.panel, image, 1.0);
+  Labeler().label(stray);
+  stray.edges.back().label = first.edges[0];  // the stray edge claims to be on the first face
+  stray.edges.back().belief = 0.9;
+  Grouper().group(stray);
+  EXPECT_LT(belief_of(stray, second), belief_of(clean, second));
+  EXPECT_LT(belief_of(stray, 0), belief_of(clean, 0));
+}
+
+}  // namespace
+}  // namespace spar::sensing::pseiki
