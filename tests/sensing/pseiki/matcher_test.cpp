@@ -12,26 +12,16 @@
 
 #include "spar/sensing/pseiki/simulate.hpp"
 #include "tests/common/expect_message.hpp"
+#include "tests/sensing/pseiki/label_score.hpp"
 #include "tests/sensing/pseiki/scenes.hpp"
 
 namespace spar::sensing::pseiki {
 namespace {
 
-constexpr int kTrials = 8;
+constexpr int kTrials = 10;
 
-const ImagePerturbation kPerturbation{.pose_scale = 1,
-                                      .noise_px = 0.5,
-                                      .drop = 0.2,
-                                      .split = 0.1,
-                                      .join = 0,
-                                      .shadow = 0.1,
-                                      .clutter = 8};
-
-std::vector<ImageEdgeInput> inputs_of(const SimulatedImage& image) {
-  std::vector<ImageEdgeInput> out;
-  for (const SimulatedEdge& edge : image.edges) out.push_back(edge.edge);
-  return out;
-}
+using testing::inputs_of;
+const ImagePerturbation& kPerturbation = testing::kIssuePerturbation;
 
 // The pose error of an eq. 2 offset, each component as a fraction of its half-width.
 double normalised(const PoseOffset& o, const kinematics::PoseUncertainty& h) {
@@ -46,28 +36,6 @@ PoseOffset minus(const PoseOffset& a, const PoseOffset& b) {
   return {a.dx - b.dx, a.dy - b.dy, a.dz - b.dz, a.dtheta - b.dtheta};
 }
 
-struct Score {
-  int surviving{0}, right{0}, clutter{0}, clutter_believed{0};
-};
-
-Score score(const Verification& result, const SimulatedImage& image) {
-  Score out;
-  for (std::size_t i = 0; i < image.edges.size(); ++i) {
-    const int element = result.board.element_of(static_cast<int>(i));
-    const ImageEdge& edge = result.board.edges[static_cast<std::size_t>(element)];
-    const std::string label =
-        edge.label < 0 ? "" : result.expected->edges()[static_cast<std::size_t>(edge.label)].id;
-    if (image.edges[i].truth.empty()) {
-      ++out.clutter;
-      if (!label.empty() && edge.belief >= kDetectionBelief) ++out.clutter_believed;
-    } else {
-      ++out.surviving;
-      if (label == image.edges[i].truth) ++out.right;
-    }
-  }
-  return out;
-}
-
 TEST(Verification, SimulatedImagesAreLabelledAcceptedAndCorrected) {
   const testing::TestScene test = testing::two_boxes();
   MatchOptions options;
@@ -77,7 +45,7 @@ TEST(Verification, SimulatedImagesAreLabelledAcceptedAndCorrected) {
                                           static_cast<std::uint64_t>(seed));
     const Verification result =
         verify(test.scene, test.camera, test.uncertainty, inputs_of(image), options);
-    const Score s = score(result, image);
+    const testing::LabelScore s = testing::score(result, image);
     EXPECT_GE(s.right, 0.9 * s.surviving)
         << "seed " << seed << ": " << s.right << " of " << s.surviving;
     EXPECT_EQ(s.clutter_believed, 0) << "seed " << seed << " of " << s.clutter;
