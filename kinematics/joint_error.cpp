@@ -31,8 +31,7 @@ Transform rotation_only(const Eigen::Matrix3d& rotation) {
 }  // namespace
 
 SymbolicTransform joint_error_transform(const RobotModel& robot, std::span<const double> q,
-                                        const Transform& tool,
-                                        std::span<const symbolic::Expr> dq) {
+                                        const Transform& tool, std::span<const symbolic::Expr> dq) {
   if (dq.size() != robot.dof())
     throw KinematicsError("joint_error_transform: " + robot.name() + " has " +
                           std::to_string(robot.dof()) + " moving joints, got " +
@@ -49,9 +48,8 @@ SymbolicTransform joint_error_transform(const RobotModel& robot, std::span<const
     const MovingJoint& joint = robot.joints()[i];
     const Transform along = rotation_only(frame_along(joint.axis));
     folded = folded * joint.origin * joint_motion(joint, q[i]) * along;
-    const SymbolicTransform motion = joint.type == JointType::kPrismatic
-                                         ? trans(zero, zero, dq[i])
-                                         : rotz(dq[i]);
+    const SymbolicTransform motion =
+        joint.type == JointType::kPrismatic ? trans(zero, zero, dq[i]) : rotz(dq[i]);
     error = error * SymbolicTransform::from_numeric(pool, folded) * motion;
     folded = along.inverse(Eigen::Isometry);
   }

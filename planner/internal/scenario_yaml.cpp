@@ -567,21 +567,19 @@ void Reader::read_robot(const YAML::Node& node, RobotSpec& robot) const {
         quantity(distance, "robot.approach_distance", "robot.approach_distance");
   if (fields.has("uncertainty")) {
     const YAML::Node node = fields.get("uncertainty");
-    robot.uncertainty =
-        uncertainty(node, "robot.uncertainty", robot.uncertainty_model, {"joints"});
+    robot.uncertainty = uncertainty(node, "robot.uncertainty", robot.uncertainty_model, {"joints"});
     if (const YAML::Node joints = node["joints"]; joints.IsDefined()) {
       // One half-width per moving joint: an angle (revolute) or a length (prismatic).
       const std::string path = "robot.uncertainty.joints";
       const std::size_t n = robot.arm.dof();
       if (!joints.IsSequence() || joints.size() != n)
-        fail(joints, path + ": give one half-width per moving joint of " + robot.arm.name() +
-                         " (" + std::to_string(n) + ")");
+        fail(joints, path + ": give one half-width per moving joint of " + robot.arm.name() + " (" +
+                         std::to_string(n) + ")");
       for (std::size_t i = 0; i < n; ++i)
-        robot.joint_uncertainty.push_back(
-            quantity(joints[i], path + "[" + std::to_string(i) + "]",
-                     robot.arm.joints()[i].type == kinematics::JointType::kPrismatic
-                         ? "uncertainty.length"
-                         : "uncertainty.angle"));
+        robot.joint_uncertainty.push_back(quantity(
+            joints[i], path + "[" + std::to_string(i) + "]",
+            robot.arm.joints()[i].type == kinematics::JointType::kPrismatic ? "uncertainty.length"
+                                                                            : "uncertainty.angle"));
     }
   }
 }

@@ -100,8 +100,7 @@ struct Precondition {
 [[nodiscard]] std::vector<Precondition> pickup_preconditions(const WorldModel& world,
                                                              const Phase2Step& step,
                                                              const TableState& state,
-                                                             const ArmError& arm,
-                                                             Builder kind);
+                                                             const ArmError& arm, Builder kind);
 
 // The insertion's clearance inequalities of step.object (held as `held`) into step.fixed_object
 // (on the table in `fixed`). Throws PlanError if no goal joins the two.

@@ -75,11 +75,11 @@ Propagation::Propagation(const WorldModel& world, const Domain& domain, symbolic
 ArmError Propagation::arm_error(const Phase2Step& step, int index) {
   std::string tag = "g";  // appended, not "g" + ...: GCC 12 warns falsely (-Wrestrict) on that
   tag += std::to_string(index);
-  ArmError arm{space_.allocate_pose(
-                   world_->scenario().robot.uncertainty,
-                   {.source = UncertaintySource::kManipulator, .object = -1, .step = index}, tag,
-                   sigmas(world_->scenario().robot.uncertainty_model)),
-               std::nullopt};
+  ArmError arm{
+      space_.allocate_pose(world_->scenario().robot.uncertainty,
+                           {.source = UncertaintySource::kManipulator, .object = -1, .step = index},
+                           tag, sigmas(world_->scenario().robot.uncertainty_model)),
+      std::nullopt};
   if (!world_->scenario().robot.joint_uncertainty.empty()) arm.joints = joint_error(step, index);
   return arm;
 }
@@ -137,8 +137,7 @@ SymbolicTransform Propagation::grip_after_grasp(const Phase2Step& step, const Ar
   }
   // H = T_ΔM^-1 trans(q_x, Δy, q_z) rotz(Δθ): its rotation cancels, leaving the translation
   // rotz(-Δθ) (q_x - Δx, 0, q_z - Δz).
-  const SymbolicPoint offset = {centre[0] - arm.pose.dx, pool.integer(0),
-                                centre[2] - arm.pose.dz};
+  const SymbolicPoint offset = {centre[0] - arm.pose.dx, pool.integer(0), centre[2] - arm.pose.dz};
   const SymbolicPoint turned = kinematics::rotz(-arm.pose.dtheta).apply(offset);
   return kinematics::trans(turned[0], turned[1], turned[2]);
 }

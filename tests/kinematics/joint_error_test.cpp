@@ -35,14 +35,12 @@ RobotModel oblique_chain() {
       .source = "test",
       .base_link = "base",
       .tip_link = "tip",
-      .chain = {joint("j1", "base", "l1", JointType::kRevolute, -Eigen::Vector3d::UnitZ(),
-                      {0, 0, 0.3}),
-                joint("j2", "l1", "l2", JointType::kRevolute, Eigen::Vector3d::UnitX(),
-                      {0.1, 0, 0.2}),
-                joint("j3", "l2", "l3", JointType::kRevolute, Eigen::Vector3d(0.6, 0.8, 0),
-                      {0, 0.4, 0}),
-                joint("j4", "l3", "tip", JointType::kPrismatic, -Eigen::Vector3d::UnitY(),
-                      {0.2, 0, 0.1})},
+      .chain =
+          {joint("j1", "base", "l1", JointType::kRevolute, -Eigen::Vector3d::UnitZ(), {0, 0, 0.3}),
+           joint("j2", "l1", "l2", JointType::kRevolute, Eigen::Vector3d::UnitX(), {0.1, 0, 0.2}),
+           joint("j3", "l2", "l3", JointType::kRevolute, Eigen::Vector3d(0.6, 0.8, 0), {0, 0.4, 0}),
+           joint("j4", "l3", "tip", JointType::kPrismatic, -Eigen::Vector3d::UnitY(),
+                 {0.2, 0, 0.1})},
       .attachments = {},
       .links = {},
       .dh = nullptr};
@@ -71,7 +69,8 @@ double mismatch(const RobotModel& robot, const std::vector<double>& q, const Tra
 std::vector<double> within_limits(const RobotModel& robot) {
   std::vector<double> q;
   for (const MovingJoint& joint : robot.joints()) {
-    const double lower = std::max(joint.limits.lower, -3.0), upper = std::min(joint.limits.upper, 3.0);
+    const double lower = std::max(joint.limits.lower, -3.0),
+                 upper = std::min(joint.limits.upper, 3.0);
     q.push_back(lower + (upper - lower) * *rc::gen::inRange(0, 1001) / 1000.0);
   }
   return q;
@@ -123,9 +122,10 @@ TEST(JointError, IsTheIdentityWithoutErrorsAndMovesWithOne) {
 TEST(JointError, RefusesACountMismatch) {
   symbolic::ExprPool pool;
   const std::vector<symbolic::Expr> dq = {pool.variable("a"), pool.variable("b")};
-  EXPECT_THROW_MESSAGE(joint_error_transform(builtin_robot_model("ur5"),
-                                             std::vector<double>(6, 0.0), Transform::Identity(), dq),
-                       "ur5 has 6 moving joints, got 2 joint errors");
+  EXPECT_THROW_MESSAGE(
+      joint_error_transform(builtin_robot_model("ur5"), std::vector<double>(6, 0.0),
+                            Transform::Identity(), dq),
+      "ur5 has 6 moving joints, got 2 joint errors");
 }
 
 }  // namespace
