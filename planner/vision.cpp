@@ -79,4 +79,24 @@ VisionSetup::ChangedScene VisionSetup::changed_scene(const std::vector<std::stri
   return out;
 }
 
+std::optional<VisionCheck> vision_check(const Scenario& scenario, int object,
+                                        const kinematics::Transform& pose) {
+  const ObjectSpec& spec = scenario.objects.at(static_cast<std::size_t>(object));
+  const sensing::ObjectFeatures features = sensing::object_features(spec.model);
+  sensing::Scene scene;
+  scene.add(spec.name, spec.model, features, pose);
+  std::optional<VisionCheck> best;
+  for (const CameraSensor& sensor : scenario.cameras) {
+    const sensing::pseiki::ExpectationUncertainty uncertainty{
+        .objects = {spec.uncertainty}, .camera = sensor.uncertainty, .noise_px = sensor.noise_px};
+    const sensing::pseiki::ModelPanel panel(scene, camera_of(sensor), uncertainty);
+    VisionCheck check{sensor.name, spec.name, {}, sensing::pseiki::MatchOptions{}.acceptance};
+    for (const sensing::pseiki::PanelEdge& edge : panel.edges())
+      if (!edge.pieces.empty()) check.edges.push_back(edge.id);
+    if (!check.edges.empty() && (!best || check.edges.size() > best->edges.size()))
+      best = std::move(check);
+  }
+  return best;
+}
+
 }  // namespace spar::planner

@@ -18,6 +18,7 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -71,5 +72,20 @@ class VisionSetup {
   sensing::Camera camera_;
   sensing::pseiki::ExpectationUncertainty uncertainty_;
 };
+
+// What PSEIKI must see to accept the verification of a step (issue 27; the verification step of an
+// error, seed 001 fig. 11): the camera, the object, and the object's model edges it expects to see
+// (ids as `spar vision render` prints them, "peg/e3"); the interpretation is accepted when the
+// scene belief reaches `acceptance`. The object is rendered alone at the step's ideal pose, by the
+// camera that sees the most of its edges (ties: the first in file order); the gripper and the other
+// objects are not drawn, so an edge they hide at that step is still listed. nullopt when the
+// scenario has no camera or none sees the object.
+struct VisionCheck {
+  std::string camera, object;
+  std::vector<std::string> edges;
+  double acceptance{0};
+};
+[[nodiscard]] std::optional<VisionCheck> vision_check(const Scenario& scenario, int object,
+                                                      const kinematics::Transform& pose);
 
 }  // namespace spar::planner

@@ -207,6 +207,9 @@ void add_verification(const std::vector<planner::VerificationPlan>& plans, Step&
     verification.name = plan.name;
     verification.sense = plan.sense;
     verification.expect = plan.expect;
+    if (plan.vision)
+      verification.vision = VisionCheck{plan.vision->camera, plan.vision->object,
+                                        plan.vision->edges, plan.vision->acceptance};
     for (const auto& outcome : plan.outcomes) {
       verification.outcomes.push_back({outcome.when, outcome.error, outcome.recovery});
       step.recovery->push_back({outcome.error, outcome.recovery, outcome.recovery_steps});

@@ -338,15 +338,31 @@ struct Outcome {
   }
 };
 
+// What PSEIKI must see to accept (planner/vision.hpp's VisionCheck).
+struct VisionCheck {
+  std::string camera, object;
+  std::vector<std::string> edges;  // model edges expected visible, "peg/e3"
+  double acceptance{0.0};          // scene belief that accepts
+  template <class Self, class Field>
+  static void fields(Self& s, Field&& field) {
+    field("camera", s.camera);
+    field("object", s.object);
+    field("edges", s.edges);
+    field("acceptance", s.acceptance);
+  }
+};
+
 struct Verification {
   std::string name, sense, expect;
   std::vector<Outcome> outcomes;
+  std::optional<VisionCheck> vision;  // scenarios with cameras that see the object
   template <class Self, class Field>
   static void fields(Self& s, Field&& field) {
     field("name", s.name);
     field("sense", s.sense);
     field("expect", s.expect);
     field("outcomes", s.outcomes);
+    field("vision", s.vision);
   }
 };
 

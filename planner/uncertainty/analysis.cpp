@@ -84,10 +84,12 @@ std::vector<VerificationPlan> verification_plans(const WorldModel& world, const 
     for (const auto& [key, value] : values) text = replace_all(text, key, value);
     return text;
   };
+  const std::optional<VisionCheck> vision =
+      step.object >= 0 ? vision_check(scenario, step.object, step.object_pose) : std::nullopt;
   std::vector<VerificationPlan> plans;
   for (const std::string& name : domain.actions[step.action].verification) {
     const VerificationTemplate& verification = domain.verification(name);
-    VerificationPlan plan{name, fill(verification.sense), fill(verification.expect), {}};
+    VerificationPlan plan{name, fill(verification.sense), fill(verification.expect), {}, vision};
     for (const VerificationOutcome& outcome : verification.outcomes) {
       VerificationPlan::Outcome out{fill(outcome.when), outcome.error, outcome.recovery, {}};
       for (const std::string& line : domain.recovery(outcome.recovery).steps)

@@ -48,6 +48,7 @@
 #include "spar/planner/uncertainty/deciding.hpp"
 #include "spar/planner/uncertainty/propagation.hpp"
 #include "spar/planner/uncertainty/repair.hpp"
+#include "spar/planner/vision.hpp"
 
 namespace spar::planner {
 
@@ -62,6 +63,7 @@ struct VerificationPlan {
     std::vector<std::string> recovery_steps;  // instantiated
   };
   std::vector<Outcome> outcomes;
+  std::optional<VisionCheck> vision;  // what a camera must see to accept (scenarios with cameras)
 };
 
 // One examined step (execution order), original or inserted by phase 2.

@@ -9,11 +9,15 @@
 
 #include <algorithm>
 #include <map>
+#include <set>
 #include <string>
 #include <vector>
 
 #include "spar/common/units.hpp"
 #include "spar/planner/plan.hpp"
+#include "spar/planner/vision.hpp"
+#include "spar/sensing/camera.hpp"
+#include "spar/sensing/model_features.hpp"
 #include "spar/symbolic/operations.hpp"
 #include "tests/planner/plan_options.hpp"
 
@@ -254,6 +258,52 @@ TEST(Phase2SeedExample, CoarseSensorGivesVerificationRecoveryAndOneError) {
     EXPECT_EQ(text.find('{'), std::string::npos) << "uninstantiated: " << text;
   EXPECT_EQ(recoveries,
             (std::vector<std::string>{"grope", "retry_toward_contact", "summon_operator"}));
+}
+
+// Issue 27: with cameras, the failed pickup's verification names what PSEIKI must see to accept:
+// the camera that sees the peg (not the one looking away, though it comes first), the peg, and the
+// peg's model edges expected visible at the pickup's pose; without cameras there is none.
+TEST(Phase2SeedExample, VerificationNamesTheEdgesACameraMustSee) {
+  Scenario scenario = widened();
+  scenario.range_scan = RangeScanSensor{{1.0 * kInch, 1.0 * kInch, 1.0 * kInch, 0.2}};
+  const auto check_of = [](const Scenario& s) {
+    const PlanResult result = plan(s, builtin_domain(), quick_options(1));
+    const AnalysedStep& pickup = result.chosen_analysis()->steps.front();
+    EXPECT_TRUE(pickup.failed);
+    return pickup.verification.at(0).vision;
+  };
+  EXPECT_FALSE(check_of(scenario).has_value());
+
+  const sensing::Intrinsics intrinsics{
+      .fx = 800, .fy = 800, .cx = 320, .cy = 240, .width = 640, .height = 480};
+  const Eigen::Vector3d peg = peg_of(scenario).initial_pose.translation();
+  scenario.cameras.push_back({.name = "away",
+                              .intrinsics = intrinsics,
+                              .pose = sensing::look_at(peg + Eigen::Vector3d(0, 0, 1),
+                                                       peg + Eigen::Vector3d(0, 0, 2), {0, 1, 0}),
+                              .location = {}});
+  scenario.cameras.push_back(
+      {.name = "overhead",
+       .intrinsics = intrinsics,
+       .pose = sensing::look_at(peg + Eigen::Vector3d(0, -0.4, 0.6), peg, {0, 0, 1}),
+       .location = {}});
+  const std::optional<VisionCheck> check = check_of(scenario);
+  ASSERT_TRUE(check.has_value());
+  EXPECT_EQ(check->camera, "overhead");
+  EXPECT_EQ(check->object, "peg");
+  EXPECT_EQ(check->acceptance, sensing::pseiki::MatchOptions{}.acceptance);
+  // Some of the peg's edges, each once: hidden-line removal leaves out those facing away.
+  const std::size_t model_edges = sensing::object_features(peg_of(scenario).model).edges.size();
+  EXPECT_GT(check->edges.size(), 0u);
+  EXPECT_LT(check->edges.size(), model_edges);
+  std::set<std::string> ids(check->edges.begin(), check->edges.end());
+  EXPECT_EQ(ids.size(), check->edges.size());
+  for (const std::string& edge : check->edges) {
+    ASSERT_EQ(edge.rfind("peg/e", 0), 0u) << edge;
+    const int id = std::stoi(edge.substr(5));
+    EXPECT_GE(id, 1) << edge;
+    EXPECT_LE(static_cast<std::size_t>(id), model_edges) << edge;
+  }
 }
 
 // Reverse analysis of the sensor: the coarse sensor's failed pickup says by how much the residual
