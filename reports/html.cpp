@@ -421,6 +421,7 @@ void verification_section(const Report& report, std::ostringstream& out) {
     for (const Verification& plan : *step.verification) {
       out << "<li>verify: " << html_escape(plan.sense) << " (expect " << html_escape(plan.expect)
           << ")<ul>";
+      if (plan.vision) out << "<li>" << html_escape(internal::vision_text(*plan.vision)) << "</li>";
       for (const Outcome& outcome : plan.outcomes)
         out << "<li>if " << html_escape(outcome.when) << ": " << html_escape(outcome.error)
             << ", recover by <b>" << html_escape(outcome.recovery) << "</b></li>";

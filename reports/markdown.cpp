@@ -131,6 +131,7 @@ void verification_section(const Report& report, std::ostringstream& out) {
           << '\n';
     for (const Verification& plan : *step.verification) {
       out << "  - verify: " << plan.sense << " (expect " << plan.expect << ")\n";
+      if (plan.vision) out << "    - " << internal::vision_text(*plan.vision) << '\n';
       for (const Outcome& outcome : plan.outcomes)
         out << "    - if " << outcome.when << ": " << outcome.error << ", recover by "
             << outcome.recovery << '\n';

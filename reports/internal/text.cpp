@@ -244,6 +244,13 @@ std::string sensor_residual_text(const Units& units, const SensorResidual& neede
          ") would make this step hold";
 }
 
+std::string vision_text(const VisionCheck& vision) {
+  std::string edges;
+  for (const std::string& edge : vision.edges) edges += (edges.empty() ? "" : ", ") + edge;
+  return "camera " + vision.camera + " must see " + edges +
+         " (PSEIKI accepts at scene belief >= " + rounded(vision.acceptance, 2) + ")";
+}
+
 std::pair<int, int> holding(const Step& step) {
   int holds = 0, total = 0;
   if (step.preconditions)

@@ -66,6 +66,8 @@ namespace spar::reports::internal {
 [[nodiscard]] std::string repair_bound_text(const Units& units, const RepairBound& entry);
 // "a range-scan with residual +-0.018 in, +-0.9 deg (x0.9 of the sensor's) would make it hold".
 [[nodiscard]] std::string sensor_residual_text(const Units& units, const SensorResidual& needed);
+// "camera overhead must see peg/e1, peg/e4 (PSEIKI accepts at scene belief >= 0.5)".
+[[nodiscard]] std::string vision_text(const VisionCheck& vision);
 
 // ---- chosen.probability ----
 // The chosen step's precondition an entry of chosen.probability.preconditions describes.

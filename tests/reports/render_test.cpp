@@ -70,6 +70,17 @@ TEST(Markdown, FailedStepShowsVerificationAndRecovery) {
   EXPECT_NE(summary(report).find("errors: 1"), std::string::npos);
 }
 
+// Issue 27: with a camera, each verification says what PSEIKI must see, in Markdown and HTML.
+TEST(Markdown, AVerificationNamesTheEdgesTheCameraMustSee) {
+  const Report report = report_from_json(camera_report());
+  const std::string markdown = render_markdown(report);
+  const std::string section = markdown.substr(markdown.find("## Verification and recovery"));
+  const std::regex vision(
+      R"(\n    - camera overhead must see peg/e\d+(, peg/e\d+)* \(PSEIKI accepts at scene belief >= 0\.5\)\n)");
+  EXPECT_TRUE(std::regex_search(section, vision)) << section;
+  EXPECT_NE(render_html(report).find("<li>camera overhead must see peg/e"), std::string::npos);
+}
+
 TEST(Markdown, NoPlanGivesTheReason) {
   const std::string markdown = render_markdown(no_plan_report());
   EXPECT_NE(markdown.find("no_plan ("), std::string::npos);
