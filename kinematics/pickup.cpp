@@ -50,19 +50,23 @@ bool PickupCondition::holds_at(const std::map<std::string, double>& values) cons
   return positive ? value > 0.0 : value < 0.0;
 }
 
-std::array<PickupCondition, 4> pickup_conditions(const PickupGeometry& geometry,
-                                                 const PoseError& manipulator,
-                                                 const PoseError& object,
-                                                 const PickupOptions& options) {
+namespace {
+
+// The four conditions; `manipulator_error()` makes T_ΔM, called where eq. 1's form always built
+// it (after the ideal gripper's numbers), so that form keeps its expressions node for node.
+template <class MakeError>
+std::array<PickupCondition, 4> conditions_over(const PickupGeometry& geometry, ExprPool& pool,
+                                               const PoseError& object,
+                                               const PickupOptions& options,
+                                               MakeError&& manipulator_error_of) {
   internal::check_pickup_geometry(geometry);
-  ExprPool& pool = manipulator.dx.pool();
   if (&object.dx.pool() != &pool) {
     throw KinematicsError("pickup: gripper and object uncertainties use different pools");
   }
   const SymbolicTransform object_pose = SymbolicTransform::from_numeric(pool, geometry.object_pose);
   const SymbolicTransform grasp = SymbolicTransform::from_numeric(pool, geometry.grasp);
   const SymbolicTransform ideal_gripper = object_pose * grasp;  // constants: folds to numbers
-  const SymbolicTransform manipulator_error = manipulator_error_transform(manipulator);
+  const SymbolicTransform manipulator_error = manipulator_error_of();
 
   const double half_opening = geometry.finger_opening / 2, half_width = geometry.object_width / 2;
   const SymbolicPoint contacts[2] = {grasp.apply(constant_point(pool, 0, +half_width, 0)),
@@ -83,6 +87,24 @@ std::array<PickupCondition, 4> pickup_conditions(const PickupGeometry& geometry,
       c.expression = symbolic::simplify(c.expression, simplify_options);
   }
   return conditions;
+}
+
+}  // namespace
+
+std::array<PickupCondition, 4> pickup_conditions(const PickupGeometry& geometry,
+                                                 const PoseError& manipulator,
+                                                 const PoseError& object,
+                                                 const PickupOptions& options) {
+  return conditions_over(geometry, manipulator.dx.pool(), object, options,
+                         [&] { return manipulator_error_transform(manipulator); });
+}
+
+std::array<PickupCondition, 4> pickup_conditions(const PickupGeometry& geometry,
+                                                 const SymbolicTransform& manipulator_error,
+                                                 const PoseError& object,
+                                                 const PickupOptions& options) {
+  return conditions_over(geometry, manipulator_error.pool(), object, options,
+                         [&] { return manipulator_error; });
 }
 
 PickupPreconditions pickup_preconditions(const PickupGeometry& geometry,

@@ -82,6 +82,11 @@ struct PickupOptions {
                                                                const PoseError& manipulator,
                                                                const PoseError& object,
                                                                const PickupOptions& options = {});
+// The same with the manipulator's error T_ΔM given as any rigid transform (e.g. one that joint
+// errors make, kinematics/joint_error.hpp, tilting the fingers too): the conditions stay exact.
+[[nodiscard]] std::array<PickupCondition, 4> pickup_conditions(
+    const PickupGeometry& geometry, const SymbolicTransform& manipulator_error,
+    const PoseError& object, const PickupOptions& options = {});
 
 // The worked example of SPAR's paper (peg and block), used by `spar demo`, the tests and the
 // benchmark, in metres and radians (the paper's inch and degree values converted exactly).

@@ -110,6 +110,10 @@ struct RobotSpec {
   double approach_distance{0.1};              // metres
   kinematics::PoseUncertainty uncertainty{};  // Δx_g, Δy_g, Δz_g, Δθ_g of eq. 1
   UncertaintyModel uncertainty_model{};       // how they are distributed (probability only)
+  // Half-widths of per-joint errors δq_i (rad or m, one per moving joint of `arm`), or empty:
+  // each step then adds the joints' error ΔT(δq) at its IK solution (kinematics/joint_error.hpp).
+  // Distributed as `uncertainty_model` says (Gaussian: sigma = half-width / 3).
+  std::vector<double> joint_uncertainty{};
 };
 
 // One candidate shape of an object whose identity is uncertain (`identity: [block, cube]`).

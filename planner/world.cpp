@@ -4,6 +4,8 @@
 #include <cstdio>
 #include <map>
 #include <mutex>
+#include <optional>
+#include <span>
 
 #include "spar/geometry/stable_poses.hpp"
 #include "spar/planner/error.hpp"
@@ -65,6 +67,86 @@ std::optional<geometry::Body> other_faces(const ObjectSpec& object, const std::v
 }
 
 // A placed body moved by `offset` (world frame).
+// A link of the arm with collision geometry, as a body in the link's frame.
+struct ArmLink {
+  std::size_t link{0};  // index into RobotModel::links()
+  int body{0};          // the moving body it rides on (RobotLinkInfo::body)
+  geometry::Body shape;
+};
+
+// The links that move with the arm (the base's never do), each a body of its collision shapes:
+// a mesh as it is, a box as itself, a cylinder or a sphere as the box around it (conservative).
+// A shape without volume (an empty mesh, a zero-sized box) is left out.
+std::vector<ArmLink> arm_links(const kinematics::RobotModel& arm) {
+  using kinematics::ShapeKind;
+  std::vector<ArmLink> result;
+  for (std::size_t l = 0; l < arm.links().size(); ++l) {
+    const kinematics::RobotLinkInfo& link = arm.links()[l];
+    if (link.body == 0) continue;
+    std::vector<geometry::BodyPart> parts;
+    for (const kinematics::LinkShape& shape : link.collision) {
+      if (shape.kind == ShapeKind::kMesh) {
+        if (shape.mesh && !shape.mesh->triangles.empty())
+          parts.push_back({geometry::CollisionShape(*shape.mesh), shape.origin});
+        continue;
+      }
+      const Eigen::Vector3d half =
+          shape.kind == ShapeKind::kSphere ? shape.size
+          : shape.kind == ShapeKind::kCylinder
+              ? Eigen::Vector3d(shape.size.x(), shape.size.y(), shape.size.z() / 2)
+              : Eigen::Vector3d(shape.size / 2);
+      if ((half.array() > 0).all())
+        parts.push_back({geometry::CollisionShape::box(-half, half), shape.origin});
+    }
+    if (!parts.empty())
+      result.push_back({l, link.body, geometry::Body(link.name, std::move(parts))});
+  }
+  return result;
+}
+
+// The arm's links at joint values q, in the world.
+std::vector<geometry::PlacedBody> placed_arm(const RobotSpec& robot,
+                                             const std::vector<ArmLink>& links,
+                                             std::span<const double> q) {
+  std::vector<geometry::PlacedBody> placed;
+  if (links.empty()) return placed;
+  const std::vector<Transform> poses = robot.arm.link_poses(q);
+  for (const ArmLink& link : links) placed.push_back({&link.shape, robot.base * poses[link.link]});
+  return placed;
+}
+
+// Some link of the arm at q reaches below the table (the box test first: it is cheap).
+bool arm_below_table(const RobotSpec& robot, const std::vector<ArmLink>& links,
+                     std::span<const double> q) {
+  for (const geometry::PlacedBody& placed : placed_arm(robot, links, q))
+    if (geometry::world_bounds(placed).min().z() < -geometry::kTableTolerance &&
+        geometry::lowest_z(placed) < -geometry::kTableTolerance)
+      return true;
+  return false;
+}
+
+// What the arm at the step's IK solution hits among `obstacles` (objects, with their `object`
+// index and `placed` body): "the arm's <link> (IK branch <configuration>) hits <object>", or
+// nullopt. The links riding on the last body (next to the gripper, which is checked itself) are
+// exempt; so is what the gripper holds (never among the obstacles).
+template <typename Obstacles>
+std::optional<std::string> arm_conflict(const Scenario& scenario, const std::vector<ArmLink>& links,
+                                        const Reach& reach, const Obstacles& obstacles,
+                                        double margin) {
+  if (!reach.solution || links.empty()) return std::nullopt;
+  const std::vector<geometry::PlacedBody> placed =
+      placed_arm(scenario.robot, links, reach.solution->q);
+  const int last_body = static_cast<int>(scenario.robot.arm.dof());
+  for (std::size_t l = 0; l < links.size(); ++l) {
+    if (links[l].body == last_body) continue;
+    for (const auto& obstacle : obstacles)
+      if (geometry::collide(placed[l], obstacle.placed, margin))
+        return "the arm's " + links[l].shape.name() + " (IK branch " +
+               reach.solution->configuration + ") hits " + scenario.objects[obstacle.object].name;
+  }
+  return std::nullopt;
+}
+
 geometry::PlacedBody shifted(const geometry::PlacedBody& placed, const Eigen::Vector3d& offset) {
   return {placed.body, Eigen::Translation3d(offset) * placed.pose};
 }
@@ -74,6 +156,8 @@ geometry::PlacedBody shifted(const geometry::PlacedBody& placed, const Eigen::Ve
 struct WorldModel::Caches {
   std::mutex mutex;
   std::map<std::pair<int, int>, Table> initial, insertion, placement;
+  // Not a memo: the arm's link bodies, built once by the constructor and shared by copies too.
+  std::vector<ArmLink> arm;
 };
 
 std::vector<int> WorldState::moving_with(int object) const {
@@ -93,6 +177,7 @@ WorldModel::WorldModel(Scenario scenario) : scenario_(std::move(scenario)) {
   gripper_ = scenario_.robot.gripper;
   gripper_.max_approach_tilt = scenario_.robot.max_tool_tilt;
   caches_ = std::make_shared<Caches>();
+  caches_->arm = arm_links(scenario_.robot.arm);
   for (const ObjectSpec& spec : scenario_.objects)
     bodies_.emplace_back(spec.name, geometry::CollisionShape(spec.model.mesh()));
   open_gripper_ = geometry::gripper_body(gripper_, gripper_.max_opening);
@@ -255,7 +340,7 @@ Reach WorldModel::reach(const Transform& gripper_pose) const {
   if (result.tilt > scenario_.robot.max_tool_tilt) return result;  // SPAR: never reach up
   for (kinematics::JointSolution& solution :
        scenario_.robot.arm.inverse(flange_in_base(gripper_pose)))
-    if (solution.within_limits) {
+    if (solution.within_limits && !arm_below_table(scenario_.robot, caches_->arm, solution.q)) {
       result.solution = std::move(solution);
       break;
     }
@@ -490,6 +575,8 @@ StepCheck WorldModel::grasp_check(int object, int grasp, const kinematics::Trans
   if (const int hit = first_hit(held, -approach, others, margin()); hit >= 0)
     return fail(name + " in the gripper hits " + scenario_.objects[others[hit].object].name);
   if (below_table(held, -approach)) return fail(name + " in the gripper goes below the table");
+  if (const auto hit = arm_conflict(scenario_, caches_->arm, reach(gripper_pose), others, margin()))
+    return fail(*hit);
   if (!measure) return check;
   std::vector<geometry::PlacedBody> placed;
   for (const Obstacle& other : others) placed.push_back(other.placed);
@@ -604,6 +691,11 @@ StepCheck WorldModel::insertion_check(int goal, int grasp, const kinematics::Tra
                 scenario_.objects[around[hit].object].name);
   if (below_table(open_end, retreat))
     return fail("the open gripper, leaving " + held_name + ", goes below the table");
+  std::vector<Obstacle> with_fixed = others;
+  with_fixed.push_back({tables.fixed, {&bodies_[tables.fixed], fixed_pose}});
+  if (const auto hit =
+          arm_conflict(scenario_, caches_->arm, reach(gripper_pose), with_fixed, margin()))
+    return fail(*hit);
   if (!measure) return check;
   // Clearance at T: the gripper with h against the others, the gripper against f.
   std::vector<geometry::PlacedBody> placed;

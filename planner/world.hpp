@@ -51,6 +51,10 @@
 // posting.hpp) and, exactly, per plan instance (check_grasp, check_insertion on the simulated
 // WorldState). The initial world is checked once: objects that meet (unless assembled there
 // already), rest below the table or float are an error naming them at their `pose`.
+// The arm (a robot with collision geometry): reach() takes the first in-limit IK branch with no
+// moving link below the table; at a grasp or insertion the links of that branch, except those on
+// the last body (next to the gripper), keep the margin from every object but the held one, else
+// the step is refused naming the link, the branch and the object (docs/scenario.md, Collisions).
 //
 // Example:
 //   const WorldModel world(load_scenario("examples/peg_block_face_down.yaml"));
@@ -136,7 +140,8 @@ struct Reach {
   bool reachable{false};  // an in-limit solution exists and the approach axis points down
   double tilt{0.0};       // angle between the gripper z axis and world -z
   // The first in-limit solution in the robot's order (kinematics/robot.hpp: Puma and UR arms by
-  // label, lun first; a 7-joint arm's largest limit margin first); none when the tilt fails.
+  // label, lun first; a 7-joint arm's largest limit margin first) whose arm links are all above
+  // the table; none when the tilt fails.
   std::optional<kinematics::JointSolution> solution;
 };
 

@@ -190,7 +190,7 @@ Precondition build_precondition(const planner::Scenario& scenario,
     double displacement = 0.0, rotation = 0.0;
     for (std::size_t v = 0; v < result.variables.size(); ++v) {
       const planner::SpaceVariable& variable = space.at(result.variables[v].index);
-      if (variable.provenance.source == planner::UncertaintySource::kManipulator) continue;
+      if (planner::of_the_arm(variable.provenance.source)) continue;
       const double half_width = std::max(-result.box[v].lo, result.box[v].hi) * s;
       double& widest = variable.angle() ? rotation : displacement;
       widest = std::max(widest, half_width);

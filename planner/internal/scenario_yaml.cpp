@@ -193,10 +193,11 @@ class Reader {
   void read_units(const YAML::Node& node, Units& units) const;
   [[nodiscard]] Transform rigid_pose(const YAML::Node& node, const std::string& path) const;
   [[nodiscard]] Transform rigid_pose(const Fields& pose) const;
-  // Half-widths {dx, dy, dz, dtheta}, and in `model` how they are distributed.
-  [[nodiscard]] kinematics::PoseUncertainty uncertainty(const YAML::Node& node,
-                                                        const std::string& path,
-                                                        UncertaintyModel& model) const;
+  // Half-widths {dx, dy, dz, dtheta}, and in `model` how they are distributed; `also` names
+  // further keys the caller reads (robot.uncertainty's joints).
+  [[nodiscard]] kinematics::PoseUncertainty uncertainty(
+      const YAML::Node& node, const std::string& path, UncertaintyModel& model,
+      const std::vector<std::string>& also = {}) const;
   void read_robot(const YAML::Node& node, RobotSpec& robot) const;
   [[nodiscard]] kinematics::DhChain dh_chain(const YAML::Node& node, const std::string& path) const;
   void read_gripper(const YAML::Node& node, geometry::GripperSpec& gripper) const;
@@ -410,9 +411,11 @@ Transform Reader::rigid_pose(const Fields& pose) const {
 }
 
 kinematics::PoseUncertainty Reader::uncertainty(const YAML::Node& node, const std::string& path,
-                                                UncertaintyModel& model) const {
-  const Fields fields(*this, node, path,
-                      {"dx", "dy", "dz", "dtheta", "distribution", "sigma", "cost"});
+                                                UncertaintyModel& model,
+                                                const std::vector<std::string>& also) const {
+  std::vector<std::string> known = {"dx", "dy", "dz", "dtheta", "distribution", "sigma", "cost"};
+  known.insert(known.end(), also.begin(), also.end());
+  const Fields fields(*this, node, path, known);
   kinematics::PoseUncertainty result;
   // Each of the four components with its target in the half-widths, sigma and cost, and whether
   // it is an angle.
@@ -577,9 +580,23 @@ void Reader::read_robot(const YAML::Node& node, RobotSpec& robot) const {
   if (const YAML::Node distance = fields.get("approach_distance"); distance.IsDefined())
     robot.approach_distance =
         quantity(distance, "robot.approach_distance", "robot.approach_distance");
-  if (fields.has("uncertainty"))
-    robot.uncertainty =
-        uncertainty(fields.get("uncertainty"), "robot.uncertainty", robot.uncertainty_model);
+  if (fields.has("uncertainty")) {
+    const YAML::Node node = fields.get("uncertainty");
+    robot.uncertainty = uncertainty(node, "robot.uncertainty", robot.uncertainty_model, {"joints"});
+    if (const YAML::Node joints = node["joints"]; joints.IsDefined()) {
+      // One half-width per moving joint: an angle (revolute) or a length (prismatic).
+      const std::string path = "robot.uncertainty.joints";
+      const std::size_t n = robot.arm.dof();
+      if (!joints.IsSequence() || joints.size() != n)
+        fail(joints, path + ": give one half-width per moving joint of " + robot.arm.name() + " (" +
+                         std::to_string(n) + ")");
+      for (std::size_t i = 0; i < n; ++i)
+        robot.joint_uncertainty.push_back(quantity(
+            joints[i], path + "[" + std::to_string(i) + "]",
+            robot.arm.joints()[i].type == kinematics::JointType::kPrismatic ? "uncertainty.length"
+                                                                            : "uncertainty.angle"));
+    }
+  }
 }
 
 void Reader::read_grasping(const YAML::Node& node, geometry::GraspQuantization& grasping) const {

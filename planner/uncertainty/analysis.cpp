@@ -317,6 +317,9 @@ bool holds(const bounds::Inequality& inequality, double value) {
 
 }  // namespace
 
+// The largest tree (nodes) a precondition's expression is printed as.
+constexpr double kMaxPrintedTree = 1e7;
+
 InstanceAnalysis analyse_instance(const WorldModel& world, const Domain& domain,
                                   const PlanInstance& instance, const AnalysisOptions& options) {
   InstanceAnalysis analysis;
@@ -326,8 +329,11 @@ InstanceAnalysis analyse_instance(const WorldModel& world, const Domain& domain,
       .run(phase2_steps(domain, instance), analysis);
   for (AnalysedStep& step : analysis.steps)
     for (PreconditionResult& result : step.preconditions) {
-      result.expression = symbolic::to_string(result.inequality.expression);
       result.nodes = symbolic::dag_size(result.inequality.expression);
+      // The tree form of a DAG can be exponentially larger (joint uncertainty composes the
+      // chain's rotations): past the printer's limit the text is left empty.
+      if (symbolic::tree_size(result.inequality.expression) <= kMaxPrintedTree)
+        result.expression = symbolic::to_string(result.inequality.expression, kMaxPrintedTree);
     }
   return analysis;
 }
@@ -385,8 +391,7 @@ std::optional<double> proved_scale(const PreconditionResult& result, bounds::Bou
     std::vector<Interval> box = result.box;
     for (std::size_t v = 0; v < box.size(); ++v) {
       const SpaceVariable& meta = variables[result.variables[v].index];
-      if (meta.provenance.source == UncertaintySource::kManipulator && !options.scale_manipulator)
-        continue;
+      if (of_the_arm(meta.provenance.source) && !options.scale_manipulator) continue;
       box[v] = Interval(meta.lower * scale, meta.upper * scale);
     }
     return bounds::decide(result.inequality, problem.bound(box, deciding)) == Verdict::kSatisfied;

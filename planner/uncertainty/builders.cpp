@@ -58,29 +58,42 @@ class FixedFrame {
 
 }  // namespace
 
-SymbolicPoint held_point(const WorldModel& world, const Phase2Step& step,
-                         const kinematics::PoseError& arm, const SymbolicTransform& grip,
-                         const Eigen::Vector3d& local) {
+SymbolicTransform ArmError::transform() const {
+  const SymbolicTransform eq1 = kinematics::manipulator_error_transform(pose);
+  return joints ? *joints * eq1 : eq1;
+}
+
+Expr ArmError::yaw() const {
+  if (!joints) return pose.dtheta;
+  const SymbolicTransform error = transform();
+  return atan2(error.rotation(1, 0), error.rotation(0, 0));
+}
+
+SymbolicPoint held_point(const WorldModel& world, const Phase2Step& step, const ArmError& arm,
+                         const SymbolicTransform& grip, const Eigen::Vector3d& local) {
   // No transform product is built: each coordinate stays a short sum.
-  symbolic::ExprPool& pool = arm.dx.pool();
+  symbolic::ExprPool& pool = arm.pose.dx.pool();
   const Transform& grasp = world.object(step.object).grasps[step.grasp].gripper_in_object;
   const SymbolicPoint in_grasp =
       grip.apply(constant_point(pool, grasp.inverse(Eigen::Isometry) * local));
-  const SymbolicPoint in_ideal = kinematics::manipulator_error_transform(arm).apply(in_grasp);
+  const SymbolicPoint in_ideal = arm.transform().apply(in_grasp);
   return SymbolicTransform::from_numeric(pool, step.object_pose * grasp).apply(in_ideal);
 }
 
 std::vector<Precondition> pickup_preconditions(const WorldModel& world, const Phase2Step& step,
-                                               const TableState& state,
-                                               const kinematics::PoseError& arm, Builder kind) {
+                                               const TableState& state, const ArmError& arm,
+                                               Builder kind) {
   const geometry::Grasp& grasp = world.object(step.object).grasps[step.grasp];
   const kinematics::PickupGeometry geometry{.object_pose = state.ideal,
                                             .grasp = grasp.gripper_in_object,
                                             .finger_opening = world.gripper().max_opening,
                                             .object_width = grasp.width};
   std::vector<Precondition> out;
-  for (const kinematics::PickupCondition& condition :
-       kinematics::pickup_conditions(geometry, arm, state.error))
+  // Without joints, eq. 1's four as SPAR (the pickup header's expressions, unchanged).
+  const std::array<kinematics::PickupCondition, 4> conditions =
+      arm.joints ? kinematics::pickup_conditions(geometry, arm.transform(), state.error)
+                 : kinematics::pickup_conditions(geometry, arm.pose, state.error);
+  for (const kinematics::PickupCondition& condition : conditions)
     out.push_back(
         {kind,
          {condition.name, condition.expression,
@@ -90,7 +103,7 @@ std::vector<Precondition> pickup_preconditions(const WorldModel& world, const Ph
 
 std::vector<Precondition> assemble_preconditions(const WorldModel& world, const Phase2Step& step,
                                                  const HeldState& held, const TableState& fixed,
-                                                 const kinematics::PoseError& arm) {
+                                                 const ArmError& arm) {
   const GoalWorld* tables = world.goal(step.object, step.fixed_object);
   if (tables == nullptr) throw PlanError("internal: an insertion no goal names");
   const AssembledGoal& goal =

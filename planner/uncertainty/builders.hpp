@@ -31,6 +31,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -67,6 +68,20 @@ struct HeldState {
   kinematics::SymbolicTransform grip;  // H: the grasp frame relative to the actual gripper
 };
 
+// The arm's error at one step, in the ideal gripper's frame: the actual gripper is M T_ΔM with
+//   T_ΔM = ΔT(δq) trans(Δx_g, Δy_g, Δz_g) rotz(Δθ_g),
+// SPAR's eq. 1 after the joints' ΔT (kinematics/joint_error.hpp) when the robot has joint
+// uncertainty; eq. 1 alone otherwise.
+struct ArmError {
+  kinematics::PoseError pose;
+  std::optional<kinematics::SymbolicTransform> joints;  // ΔT(δq); nullopt: no joint model
+  // T_ΔM as one transform.
+  [[nodiscard]] kinematics::SymbolicTransform transform() const;
+  // The rotation about the gripper's approach (z) axis: Δθ_g, or with joints the z-y-x yaw of
+  // T_ΔM, atan2(R_10, R_00) (its tilt about x and y is not part of it).
+  [[nodiscard]] symbolic::Expr yaw() const;
+};
+
 struct Precondition {
   Builder kind{Builder::kPickup};  // the builder that made it
   bounds::Inequality inequality;
@@ -76,7 +91,7 @@ struct Precondition {
 // The world position of `local` (object frame) of the object held with `grip` at `step` (ideal
 // gripper at step.object_pose T_G, arm error `arm`): M T_ΔM H T_G^-1 local, applied right to left.
 [[nodiscard]] kinematics::SymbolicPoint held_point(const WorldModel& world, const Phase2Step& step,
-                                                   const kinematics::PoseError& arm,
+                                                   const ArmError& arm,
                                                    const kinematics::SymbolicTransform& grip,
                                                    const Eigen::Vector3d& local);
 
@@ -85,8 +100,7 @@ struct Precondition {
 [[nodiscard]] std::vector<Precondition> pickup_preconditions(const WorldModel& world,
                                                              const Phase2Step& step,
                                                              const TableState& state,
-                                                             const kinematics::PoseError& arm,
-                                                             Builder kind);
+                                                             const ArmError& arm, Builder kind);
 
 // The insertion's clearance inequalities of step.object (held as `held`) into step.fixed_object
 // (on the table in `fixed`). Throws PlanError if no goal joins the two.
@@ -94,6 +108,6 @@ struct Precondition {
                                                                const Phase2Step& step,
                                                                const HeldState& held,
                                                                const TableState& fixed,
-                                                               const kinematics::PoseError& arm);
+                                                               const ArmError& arm);
 
 }  // namespace spar::planner

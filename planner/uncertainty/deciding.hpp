@@ -40,7 +40,8 @@ struct PreconditionResult {
   Builder kind{Builder::kPickup};  // the builder that made it
   bounds::Inequality inequality;
   bool length{true};       // the expression is a length in metres (else dimensionless)
-  std::string expression;  // spar's infix syntax (parseable by `spar bound`)
+  std::string expression;  // spar's infix syntax (parseable by `spar bound`); "" when its tree
+                           // form exceeds 1e7 nodes (joint uncertainty: `nodes` is the DAG's)
   std::size_t nodes{0};    // DAG nodes of the expression
   bounds::Verdict verdict{bounds::Verdict::kUndecided};
   bounds::BoundResult bound;

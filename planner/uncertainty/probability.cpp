@@ -578,6 +578,8 @@ auto block_of(S& scenario, UncertaintySource source, int object) {
     case UncertaintySource::kManipulator:
       block = Block{&scenario.robot.uncertainty, &scenario.robot.uncertainty_model, "robot"};
       break;
+    case UncertaintySource::kJoint:  // per joint, no block of four: not allocated
+      break;
     case UncertaintySource::kSensor:
       if (scenario.range_scan)
         block = Block{&scenario.range_scan->residual, &scenario.range_scan->residual_model,

@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "spar/kinematics/joint_error.hpp"
 #include "spar/planner/error.hpp"
 #include "spar/planner/uncertainty/probability.hpp"
 
@@ -71,16 +72,47 @@ Propagation::Propagation(const WorldModel& world, const Domain& domain, symbolic
   }
 }
 
-PoseError Propagation::arm_error(int index) {
+ArmError Propagation::arm_error(const Phase2Step& step, int index) {
   std::string tag = "g";  // appended, not "g" + ...: GCC 12 warns falsely (-Wrestrict) on that
   tag += std::to_string(index);
-  return space_.allocate_pose(
-      world_->scenario().robot.uncertainty,
-      {.source = UncertaintySource::kManipulator, .object = -1, .step = index}, tag,
-      sigmas(world_->scenario().robot.uncertainty_model));
+  ArmError arm{
+      space_.allocate_pose(world_->scenario().robot.uncertainty,
+                           {.source = UncertaintySource::kManipulator, .object = -1, .step = index},
+                           tag, sigmas(world_->scenario().robot.uncertainty_model)),
+      std::nullopt};
+  if (!world_->scenario().robot.joint_uncertainty.empty()) arm.joints = joint_error(step, index);
+  return arm;
 }
 
-SymbolicTransform Propagation::grip_after_grasp(const Phase2Step& step, const PoseError& arm) {
+SymbolicTransform Propagation::joint_error(const Phase2Step& step, int index) {
+  const RobotSpec& robot = world_->scenario().robot;
+  if (step.grasp < 0)
+    throw PlanError("step " + std::to_string(index) +
+                    ": joint uncertainty needs the step's grasp (where the arm is)");
+  const Reach reach = world_->reach(
+      step.object_pose * world_->object(step.object).grasps[step.grasp].gripper_in_object);
+  if (!reach.solution)
+    throw PlanError("step " + std::to_string(index) +
+                    ": the robot does not reach the step's gripper pose, so its joint errors "
+                    "have no configuration to act at");
+  const bool gaussian = robot.uncertainty_model.distribution == Distribution::kGaussian;
+  std::vector<Expr> dq;
+  for (std::size_t i = 0; i < robot.joint_uncertainty.size(); ++i) {
+    const double half_width = robot.joint_uncertainty[i];
+    const std::string name = "dq" + std::to_string(i + 1) + "_g" + std::to_string(index);
+    const bool prismatic = robot.arm.joints()[i].type == kinematics::JointType::kPrismatic;
+    dq.push_back(space_.symbol(space_.allocate(
+        {.component = prismatic ? PoseComponent::kDx : PoseComponent::kDtheta,
+         .half_width = half_width,
+         .sigma = gaussian ? half_width / 3 : 0.0,
+         .provenance = {.source = UncertaintySource::kJoint, .object = -1, .step = index},
+         .tag = name,
+         .name = name})));
+  }
+  return kinematics::joint_error_transform(robot.arm, reach.solution->q, robot.tool, dq);
+}
+
+SymbolicTransform Propagation::grip_after_grasp(const Phase2Step& step, const ArmError& arm) {
   symbolic::ExprPool& pool = space_.pool();
   const TableState& state = *table_[step.object];
   const Transform& grasp = world_->object(step.object).grasps[step.grasp].gripper_in_object;
@@ -89,14 +121,28 @@ SymbolicTransform Propagation::grip_after_grasp(const Phase2Step& step, const Po
   // The grasp centre's offset from the ideal gripper (x and z kept; y becomes the arm's Δy).
   const SymbolicPoint centre = kinematics::possible_object_point_in(
       ideal_gripper, state.ideal, constant_point(pool, grasp.translation()), state.error);
+  if (arm.joints) {
+    // H = R_Δ^T trans(q_x - t_x, 0, q_z - t_z) for T_ΔM = (R_Δ, t) (see the header).
+    const SymbolicTransform error = arm.transform();
+    const SymbolicPoint& t = error.translation();
+    const SymbolicPoint offset = {centre[0] - t[0], pool.integer(0), centre[2] - t[2]};
+    const SymbolicTransform rotation(
+        pool,
+        {error.rotation(0, 0), error.rotation(0, 1), error.rotation(0, 2), error.rotation(1, 0),
+         error.rotation(1, 1), error.rotation(1, 2), error.rotation(2, 0), error.rotation(2, 1),
+         error.rotation(2, 2)},
+        {pool.integer(0), pool.integer(0), pool.integer(0)});
+    const SymbolicPoint turned = rotation.apply_inverse(offset);
+    return kinematics::trans(turned[0], turned[1], turned[2]);
+  }
   // H = T_ΔM^-1 trans(q_x, Δy, q_z) rotz(Δθ): its rotation cancels, leaving the translation
   // rotz(-Δθ) (q_x - Δx, 0, q_z - Δz).
-  const SymbolicPoint offset = {centre[0] - arm.dx, pool.integer(0), centre[2] - arm.dz};
-  const SymbolicPoint turned = kinematics::rotz(-arm.dtheta).apply(offset);
+  const SymbolicPoint offset = {centre[0] - arm.pose.dx, pool.integer(0), centre[2] - arm.pose.dz};
+  const SymbolicPoint turned = kinematics::rotz(-arm.pose.dtheta).apply(offset);
   return kinematics::trans(turned[0], turned[1], turned[2]);
 }
 
-TableState Propagation::released(const Phase2Step& step, const PoseError& arm,
+TableState Propagation::released(const Phase2Step& step, const ArmError& arm,
                                  const SymbolicTransform& grip) const {
   const Transform& grasp = world_->object(step.object).grasps[step.grasp].gripper_in_object;
   const SymbolicPoint origin = held_point(*world_, step, arm, grip, Eigen::Vector3d::Zero());
@@ -104,7 +150,7 @@ TableState Propagation::released(const Phase2Step& step, const PoseError& arm,
   const double approach_up = (step.object_pose * grasp).linear().col(2).z();
   return {step.object_pose,
           {origin[0] - t.x(), origin[1] - t.y(), origin[2] - t.z(),
-           approach_up >= 0 ? arm.dtheta : -arm.dtheta}};
+           approach_up >= 0 ? arm.yaw() : -arm.yaw()}};
 }
 
 std::optional<Reading> Propagation::unmoved_scan(int object) const {
@@ -142,7 +188,7 @@ void Propagation::require_held(int object, int index, const char* doing) const {
 }
 
 std::vector<Precondition> Propagation::build(const Phase2Step& step, int index,
-                                             const std::optional<PoseError>& arm) {
+                                             const std::optional<ArmError>& arm) {
   std::vector<Precondition> preconditions;
   for (const Builder builder : domain_->actions.at(step.action).uncertainty) {
     std::vector<Precondition> built;
@@ -177,7 +223,7 @@ void Propagation::sense(int object, int index) {
       world_->scenario().objects[object].name + "_s" + std::to_string(index), reading.sigmas);
 }
 
-void Propagation::apply(const Phase2Step& step, int index, const std::optional<PoseError>& arm) {
+void Propagation::apply(const Phase2Step& step, int index, const std::optional<ArmError>& arm) {
   switch (step.effect) {
     case Effect::kGrasp:
       require_on_table(step.object, index);
@@ -211,9 +257,9 @@ void Propagation::apply(const Phase2Step& step, int index, const std::optional<P
 }
 
 std::vector<Precondition> Propagation::step(const Phase2Step& step, int index) {
-  std::optional<PoseError> arm;
+  std::optional<ArmError> arm;
   if (moves_arm(step.effect) || !domain_->actions.at(step.action).uncertainty.empty())
-    arm = arm_error(index);
+    arm = arm_error(step, index);
   std::vector<Precondition> preconditions = build(step, index, arm);
   apply(step, index, arm);
   return preconditions;

@@ -26,7 +26,18 @@
 //   insert  the held object joins the fixed one (it is no longer tracked).
 //   none    nothing changes.
 // A step whose effect moves the arm, or that has builders, gets a fresh arm error (arm_error:
-// the one place the arm's uncertainty enters; a joint-level model replaces it there).
+// the one place the arm's uncertainty enters): eq. 1's four variables and, when the robot has
+// joint uncertainty (RobotSpec::joint_uncertainty), one variable δq_i per moving joint, through
+// the exact kinematics of the chain at the step's IK solution (WorldModel::reach of the ideal
+// gripper M = object_pose T_G): T_ΔM = ΔT(δq) trans(Δx_g, Δy_g, Δz_g) rotz(Δθ_g) (builders.hpp's
+// ArmError). The rules above then read, for a T_ΔM with rotation R_Δ and translation t:
+//   grasp   H = R_Δ^T trans(q_x - t_x, 0, q_z - t_z) (the fingers centre the object along their
+//           axis and square it with the actual gripper, tilt included; R_Δ = rotz(Δθ_g) gives
+//           SPAR's rule above exactly);
+//   release d as above (exact for any T_ΔM); θ the z-y-x yaw of T_ΔM about the approach axis
+//           (the tilt about the gripper's x and y is taken to settle on the table, like a tilted
+//           approach's).
+// Pickup and insertion preconditions use T_ΔM whole (exact for any rigid error).
 //
 // Invariants: an object is in at most one of table_ and held_; every error is an expression over
 // space_'s variables. A copy is a snapshot (state and space). The world and domain must outlive
@@ -80,17 +91,21 @@ class Propagation {
   [[nodiscard]] const Domain& domain() const { return *domain_; }
 
  private:
-  // The arm's error at step `index` (eq. 1): four fresh manipulator variables.
-  [[nodiscard]] kinematics::PoseError arm_error(int index);
+  // The arm's error at step `index`: four fresh manipulator variables (eq. 1) and, with joint
+  // uncertainty, one per joint at the step's IK solution. Throws PlanError when the joints are
+  // modelled and the robot does not reach the step's gripper pose.
+  [[nodiscard]] ArmError arm_error(const Phase2Step& step, int index);
+  // ΔT(δq) of the step's IK solution over fresh joint variables dq<i>_g<index>.
+  [[nodiscard]] kinematics::SymbolicTransform joint_error(const Phase2Step& step, int index);
   // The residual of the last scan of `object` if it has not moved since, else nullopt.
   [[nodiscard]] std::optional<ScanReading> unmoved_scan(int object) const;
   [[nodiscard]] kinematics::SymbolicTransform grip_after_grasp(const Phase2Step& step,
-                                                               const kinematics::PoseError& arm);
-  [[nodiscard]] TableState released(const Phase2Step& step, const kinematics::PoseError& arm,
+                                                               const ArmError& arm);
+  [[nodiscard]] TableState released(const Phase2Step& step, const ArmError& arm,
                                     const kinematics::SymbolicTransform& grip) const;
   [[nodiscard]] std::vector<Precondition> build(const Phase2Step& step, int index,
-                                                const std::optional<kinematics::PoseError>& arm);
-  void apply(const Phase2Step& step, int index, const std::optional<kinematics::PoseError>& arm);
+                                                const std::optional<ArmError>& arm);
+  void apply(const Phase2Step& step, int index, const std::optional<ArmError>& arm);
   void sense(int object, int index);
   // Throws PlanError naming the step unless `object` is on the table / held.
   void require_on_table(int object, int index) const;

@@ -14,14 +14,21 @@ const char* to_string(UncertaintySource source) {
       return "manipulator";
     case UncertaintySource::kSensor:
       return "sensor";
+    case UncertaintySource::kJoint:
+      return "joint";
   }
   return "?";
 }
 
 namespace {
 
+std::string name_of(const VariableSpec& spec) {
+  if (!spec.name.empty()) return std::string(spec.name);
+  return std::string(to_string(spec.component)) + "_" + std::string(spec.tag);
+}
+
 void check_spec(const VariableSpec& spec) {
-  const std::string name = std::string(to_string(spec.component)) + "_" + std::string(spec.tag);
+  const std::string name = name_of(spec);
   if (!std::isfinite(spec.half_width) || spec.half_width < 0)
     throw PlanError("uncertainty half-width of " + name + " must be finite and >= 0");
   if (!std::isfinite(spec.sigma) || spec.sigma < 0)
@@ -32,7 +39,7 @@ void check_spec(const VariableSpec& spec) {
 
 VariableId UncertaintySpace::allocate(const VariableSpec& spec) {
   check_spec(spec);
-  const std::string base = std::string(to_string(spec.component)) + "_" + std::string(spec.tag);
+  const std::string base = name_of(spec);
   std::string name = base;
   for (int suffix = 2; names_.contains(name); ++suffix) name = base + "_" + std::to_string(suffix);
   const VariableId id{static_cast<std::uint32_t>(variables_.size())};

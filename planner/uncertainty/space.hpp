@@ -9,6 +9,8 @@
 //   initial      an object's pose error in the scenario (eq. 2): dx_<object>, ..., dtheta_<object>
 //   manipulator  the arm's error at one step (eq. 1): dx_g<step>, ..., dtheta_g<step>
 //   sensor       the residual of a range-scan of an object at one step: dx_<object>_s<step>, ...
+//   joint        the error δq_i of the arm's moving joint i (1-based) at one step: dq<i>_g<step>,
+//                an angle (revolute) or a length (prismatic); see RobotSpec::joint_uncertainty
 // Ranges are symmetric half-widths around the nominal 0, in metres and radians (is_angle of the
 // component). A range can be narrowed or replaced later (sensing, reverse analysis); ranges()
 // produces the box of a list of ids.
@@ -56,8 +58,13 @@ struct VariableId {
   friend auto operator<=>(VariableId, VariableId) = default;
 };
 
-enum class UncertaintySource { kInitial, kManipulator, kSensor };
-[[nodiscard]] const char* to_string(UncertaintySource source);  // initial, manipulator, sensor
+enum class UncertaintySource { kInitial, kManipulator, kSensor, kJoint };
+// initial, manipulator, sensor, joint
+[[nodiscard]] const char* to_string(UncertaintySource source);
+// The arm's own error (eq. 1's four or a joint's): reverse analysis scales it only when asked.
+[[nodiscard]] inline bool of_the_arm(UncertaintySource source) {
+  return source == UncertaintySource::kManipulator || source == UncertaintySource::kJoint;
+}
 
 struct Provenance {
   UncertaintySource source{UncertaintySource::kInitial};
@@ -78,13 +85,15 @@ struct SpaceVariable {
   [[nodiscard]] double half_width() const { return upper > -lower ? upper : -lower; }
 };
 
-// One variable to allocate: named `<component>_<tag>`, ranging over [-half_width, half_width].
+// One variable to allocate: named `<component>_<tag>` (or `name` when given), ranging over
+// [-half_width, half_width]. `component` says its unit: kDtheta an angle, the others a length.
 struct VariableSpec {
   PoseComponent component{PoseComponent::kDx};
   double half_width{0.0};
   double sigma{0.0};
   Provenance provenance;
   std::string_view tag;
+  std::string_view name{};
 };
 
 class UncertaintySpace {
