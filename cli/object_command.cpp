@@ -91,9 +91,9 @@ void run(const ObjectOptions& options) {
   const bool builtin = !std::filesystem::exists(options.object);
   if (!options.write_off.empty()) {
     write_file(options.write_off, "the mesh", [&](std::ostream& file) {
-      geometry::write_off(object.mesh(), file,
-                          builtin ? geometry::builtin_description(options.object)
-                                  : "spar object " + object.name());
+      geometry::write_off(
+          object.mesh(), file,
+          builtin ? geometry::builtin_description(options.object) : "spar object " + object.name());
     });
   }
   status.show("stable poses");

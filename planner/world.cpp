@@ -620,9 +620,8 @@ std::optional<std::string> WorldModel::insertion_pair_conflict(
   // The gripper (with h's parts) along the mating vector against f.
   const std::optional<geometry::Body> with_parts =
       carrying(closed_[tables.held][grasp], gripper_pose, held_parts);
-  const geometry::PlacedBody gripper_start{
-      with_parts ? &*with_parts : &closed_[tables.held][grasp],
-      Eigen::Translation3d(-insertion) * gripper_pose};
+  const geometry::PlacedBody gripper_start{with_parts ? &*with_parts : &closed_[tables.held][grasp],
+                                           Eigen::Translation3d(-insertion) * gripper_pose};
   if (first_hit(gripper_start, insertion, fixed_alone, margin()) >= 0)
     return "the gripper, inserting " + held_name + ", hits " + fixed_name;
   // h against f: they may touch on their mating faces (that is the joint), and where those meet

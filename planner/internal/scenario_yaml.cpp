@@ -653,9 +653,9 @@ geometry::ObjectModel Reader::shape_model(const YAML::Node& node, const std::str
 std::vector<ObjectIdentity> Reader::read_identities(const YAML::Node& node, const std::string& path,
                                                     const std::string& name) const {
   if (!node.IsSequence() || node.size() < 2)
-    fail(node, path + ": expected a list of at least two candidate shapes, got " +
-                   (node.IsSequence() ? "a list of " + std::to_string(node.size())
-                                      : describe(node)));
+    fail(node,
+         path + ": expected a list of at least two candidate shapes, got " +
+             (node.IsSequence() ? "a list of " + std::to_string(node.size()) : describe(node)));
   check_count(node, path, "object.identity");
   std::vector<ObjectIdentity> out;
   for (std::size_t i = 0; i < node.size(); ++i) {
@@ -833,8 +833,8 @@ void Reader::read_hypotheses(const Fields& pose, ObjectSpec& object) const {
                                   .identity = static_cast<int>(i),
                                   .stable_pose = std::nullopt,
                                   .pose = placed};
-      if (const auto id = geometry::classify_orientation(candidates[i].stable_poses,
-                                                         placed.linear()))
+      if (const auto id =
+              geometry::classify_orientation(candidates[i].stable_poses, placed.linear()))
         hypothesis.stable_pose = *id - 1;
       hypotheses.push_back(hypothesis);
     }
@@ -842,7 +842,8 @@ void Reader::read_hypotheses(const Fields& pose, ObjectSpec& object) const {
     // Stable poses: the listed ones (or one), or every one of each identity when none is listed.
     std::vector<std::pair<std::string, YAML::Node>> listed;
     if (stable.IsSequence()) {
-      if (stable.size() == 0) fail(stable, pose.path("stable") + ": the list of stable poses is empty");
+      if (stable.size() == 0)
+        fail(stable, pose.path("stable") + ": the list of stable poses is empty");
       for (std::size_t k = 0; k < stable.size(); ++k) {
         const std::string item = pose.path("stable") + "[" + std::to_string(k) + "]";
         const std::string label = text(stable[k], item);
@@ -859,8 +860,8 @@ void Reader::read_hypotheses(const Fields& pose, ObjectSpec& object) const {
         quantities(pose.require("at"), pose.path("at"), 2, "pose.position");
     const double yaw =
         pose.has("yaw") ? quantity(pose.get("yaw"), pose.path("yaw"), "pose.angle") : 0.0;
-    const Transform above = Eigen::Translation3d(at[0], at[1], 0) *
-                            Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ());
+    const Transform above =
+        Eigen::Translation3d(at[0], at[1], 0) * Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ());
     for (const auto& [label, node] : listed) {
       bool any = false;
       for (const ObjectIdentity& candidate : candidates)
@@ -908,8 +909,8 @@ ObjectSpec Reader::read_object(const YAML::Node& key, const YAML::Node& node) co
   if (const YAML::Node identity = entry.get("identity"); identity.IsDefined()) {
     for (const char* key : {"builtin", "mesh"})
       if (entry.has(key))
-        fail(entry.get(key), entry.path(key) + ": give either '" + key +
-                                 "' or 'identity', not both");
+        fail(entry.get(key),
+             entry.path(key) + ": give either '" + key + "' or 'identity', not both");
     identities = read_identities(identity, entry.path("identity"), name);
   }
   geometry::ObjectModel model =
@@ -994,8 +995,8 @@ void Reader::read_sensors(const YAML::Node& node, Scenario& scenario) const {
     sensor.residual = uncertainty(range_scan.require("residual"), range_scan.path("residual"),
                                   sensor.residual_model);
     // On the wrist (at the gripper's frame) unless it has a pose.
-    model.mount = mount(range_scan, range_scan.has("pose") ? sensing::Mount::kFixed
-                                                           : sensing::Mount::kWrist);
+    model.mount =
+        mount(range_scan, range_scan.has("pose") ? sensing::Mount::kFixed : sensing::Mount::kWrist);
     if (const YAML::Node pose = range_scan.get("pose"); pose.IsDefined())
       model.pose = rigid_pose(pose, range_scan.path("pose"));
     else if (model.mount == sensing::Mount::kFixed)
@@ -1005,8 +1006,7 @@ void Reader::read_sensors(const YAML::Node& node, Scenario& scenario) const {
     model.detection_probability = detection_probability(range_scan, model.detection_probability);
     for (const auto& [key, target] :
          {std::pair{"position_noise", &model.position_noise},
-          std::pair{"normal_noise", &model.normal_noise},
-          std::pair{"max_angle", &model.max_angle}})
+          std::pair{"normal_noise", &model.normal_noise}, std::pair{"max_angle", &model.max_angle}})
       if (const YAML::Node value = range_scan.get(key); value.IsDefined())
         *target = quantity(value, range_scan.path(key), std::string("sensor.") + key);
     scenario.range_scan = sensor;
@@ -1022,8 +1022,9 @@ void Reader::read_sensors(const YAML::Node& node, Scenario& scenario) const {
         fail(list[i], path + ".name: duplicate camera name '" + camera.name + "'");
     // Sense planning names its operations by sensor: the range scanner is `range_scan`.
     if (camera.name == "range_scan")
-      fail(list[i], path + ".name: 'range_scan' is the range scanner's name; name the camera "
-                           "otherwise");
+      fail(list[i], path +
+                        ".name: 'range_scan' is the range scanner's name; name the camera "
+                        "otherwise");
     scenario.cameras.push_back(std::move(camera));
   }
 }
@@ -1195,20 +1196,21 @@ sensing::Intrinsics Reader::intrinsics(const YAML::Node& node, const std::string
 
 double Reader::detection_probability(const Fields& fields, double fallback) const {
   const YAML::Node value = fields.get("detection_probability");
-  return value.IsDefined() ? quantity(value, fields.path("detection_probability"),
-                                      "sensor.detection_probability")
-                           : fallback;
+  return value.IsDefined()
+             ? quantity(value, fields.path("detection_probability"), "sensor.detection_probability")
+             : fallback;
 }
 
 SensingSettings Reader::read_sensing(const YAML::Node& node) const {
-  const Fields fields(*this, node, "sensing", {"ambiguity_threshold", "max_operations", "standoff"});
+  const Fields fields(*this, node, "sensing",
+                      {"ambiguity_threshold", "max_operations", "standoff"});
   SensingSettings settings;
   if (const YAML::Node value = fields.get("ambiguity_threshold"); value.IsDefined())
     settings.ambiguity_threshold =
         quantity(value, fields.path("ambiguity_threshold"), "sensing.ambiguity_threshold");
   if (const YAML::Node value = fields.get("max_operations"); value.IsDefined())
-    settings.max_operations = static_cast<int>(
-        quantity(value, fields.path("max_operations"), "sensing.max_operations"));
+    settings.max_operations =
+        static_cast<int>(quantity(value, fields.path("max_operations"), "sensing.max_operations"));
   if (const YAML::Node value = fields.get("standoff"); value.IsDefined())
     settings.standoff = quantity(value, fields.path("standoff"), "sensing.standoff");
   return settings;
