@@ -65,9 +65,10 @@ PlanResult plan_branches(Scenario scenario, std::size_t index, const Domain& dom
     return result;
   }
   for (std::size_t h = 0; h < object.hypotheses.size(); ++h)
-    result.branches.push_back({.object = object.name,
-                               .outcome = object.hypotheses[h].label,
-                               .result = plan(uncertain.resolved(object.name, h), domain, options)});
+    result.branches.push_back(
+        {.object = object.name,
+         .outcome = object.hypotheses[h].label,
+         .result = plan(uncertain.resolved(object.name, h), domain, options)});
   return result;
 }
 

@@ -65,8 +65,7 @@ Scenario Scenario::resolved(std::string_view name, std::size_t hypothesis) const
                           std::to_string(object.hypotheses.size()) + ")");
     const ObjectHypothesis chosen = object.hypotheses[hypothesis];
     if (!object.identities.empty()) {
-      const ObjectIdentity& identity =
-          object.identities[static_cast<std::size_t>(chosen.identity)];
+      const ObjectIdentity& identity = object.identities[static_cast<std::size_t>(chosen.identity)];
       object.shape = identity.shape;
       object.model = identity.model;
       object.stable_poses = identity.stable_poses;

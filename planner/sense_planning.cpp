@@ -58,8 +58,8 @@ sensing::SelectionProblem SensingContext::problem(std::size_t index) const {
   if (!target.uncertain())
     throw ScenarioError("object '" + target.name + "' is certain: nothing to disambiguate");
   if (sensors_.empty())
-    throw ScenarioError(target.location.str() + ": object '" + target.name +
-                        "' is uncertain (" + std::to_string(target.hypotheses.size()) +
+    throw ScenarioError(target.location.str() + ": object '" + target.name + "' is uncertain (" +
+                        std::to_string(target.hypotheses.size()) +
                         " hypotheses) but the scenario has no sensor to look at it: add "
                         "sensors.range_scan or sensors.cameras");
   sensing::SelectionProblem problem;
@@ -70,7 +70,7 @@ sensing::SelectionProblem SensingContext::problem(std::size_t index) const {
     for (std::size_t o = 0; o < scenario_.objects.size(); ++o) {
       const ObjectSpec& object = scenario_.objects[o];
       // The target as this hypothesis has it; other uncertain objects as their first hypothesis.
-      const ObjectHypothesis* as = o == index ? &hypothesis
+      const ObjectHypothesis* as = o == index           ? &hypothesis
                                    : object.uncertain() ? &object.hypotheses.front()
                                                         : nullptr;
       const Shape& model = shape(o, as ? as->identity : 0);
@@ -113,8 +113,8 @@ sensing::SelectionProblem SensingContext::problem(std::size_t index) const {
   refining.erase(std::remove_if(refining.begin(), refining.end(),
                                 [](const sensing::FocalSet& set) { return set.empty(); }),
                  refining.end());
-  problem.prior = sensing::refine(
-      sensing::MassFunction::vacuous(static_cast<int>(refining.size())), refining);
+  problem.prior =
+      sensing::refine(sensing::MassFunction::vacuous(static_cast<int>(refining.size())), refining);
   return problem;
 }
 

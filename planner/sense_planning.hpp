@@ -64,7 +64,7 @@ class SensingContext {
   const Scenario& scenario_;
   const WorldModel& world_;
   std::vector<sensing::SensorModel> sensors_;
-  std::deque<Shape> shapes_;  // stable addresses
+  std::deque<Shape> shapes_;                        // stable addresses
   std::vector<std::vector<std::size_t>> shape_of_;  // [object][identity] -> index into shapes_
 };
 

@@ -508,9 +508,9 @@ Report build_report(const planner::PlanResult& result) {
   out.description = scenario.description;
   out.status = result.planned() ? "planned" : "no_plan";
   if (!result.planned() && !(result.sensing && !result.branches.empty()))
-    out.reason = result.sensing ? "sensing: " + result.family.reason
-                                : std::string(to_string(result.family.status)) + ": " +
-                                      result.family.reason;
+    out.reason = result.sensing
+                     ? "sensing: " + result.family.reason
+                     : std::string(to_string(result.family.status)) + ": " + result.family.reason;
   out.units = {std::string(scenario.units.length_name()), std::string(scenario.units.angle_name()),
                scenario.units.metres_per_length_unit(), scenario.units.radians_per_angle_unit()};
   out.robot.model = scenario.robot.model;

@@ -151,8 +151,8 @@ std::string bound_bar(const Precondition& precondition) {
       << ", " << rounded(hi, 8) << "]" << unit << "; inner bound "
       << (attained ? "[" + rounded(inner_lo, 8) + ", " + rounded(inner_hi, 8) + "]" + unit
                    : html_escape(internal::bound_text(precondition, true)))
-      << "; requirement " << html_escape(relation) << " "
-      << rounded(threshold, 8) << unit << "</title>\n";
+      << "; requirement " << html_escape(relation) << " " << rounded(threshold, 8) << unit
+      << "</title>\n";
   const double t = at(threshold);
   if (below_ok)
     svg << "<rect x=\"" << px(t) << "\" y=\"4\" width=\"" << px(kWidth - kRight - t)

@@ -282,9 +282,9 @@ struct Precondition {
   // why: no witness, or witness values enclosed too loosely), never a swapped [hi, lo].
   Nullable<double> inner_lo, inner_hi;
   std::optional<std::string> no_inner_range;
-  std::string verdict;  // satisfied | violated | undecided
-  NamedValues<double> witness;                            // the worst point found (SI)
-  NamedValues<std::array<double, 2>> box;                 // the ranges the bound holds over
+  std::string verdict;                     // satisfied | violated | undecided
+  NamedValues<double> witness;             // the worst point found (SI)
+  NamedValues<std::array<double, 2>> box;  // the ranges the bound holds over
   DisplayBounds display;
   // The chosen instance's extras (absent elsewhere):
   std::optional<std::vector<Blame>> blame;      // largest share first
@@ -413,8 +413,8 @@ struct PreconditionRef {
 // A sensing step's operation (`steps[].sensing`, normative), chosen by minimax ambiguity.
 struct SensingChoice {
   std::string sensor;
-  std::string viewpoint;  // a fixed sensor's name, or V1, V2, ... of a wrist sensor
-  std::string aspect;     // the aspect the object shows it under the first hypothesis
+  std::string viewpoint;                // a fixed sensor's name, or V1, V2, ... of a wrist sensor
+  std::string aspect;                   // the aspect the object shows it under the first hypothesis
   double predicted_max_ambiguity{0.0};  // bits
   template <class Self, class Field>
   static void fields(Self& s, Field&& field) {
@@ -440,8 +440,8 @@ struct Step {
   std::optional<Matrix> fixed_pose;
   std::optional<Matrix> held_pose;
   std::optional<SensingChoice> sensing;  // sensing steps of an uncertain object
-  Nullable<Clearance> clearance;     // null for steps that do not move the gripper (sensing)
-  std::vector<std::string> carried;  // objects assembled into `object` that move with it
+  Nullable<Clearance> clearance;         // null for steps that do not move the gripper (sensing)
+  std::vector<std::string> carried;      // objects assembled into `object` that move with it
   // Phase 2:
   std::optional<bool> inserted;
   // Inserted steps: the preconditions it turned to satisfied (never empty).
@@ -690,7 +690,7 @@ struct RepairSearch {
 // One candidate sensing operation: a sensor at a viewpoint class.
 struct SensingCandidate {
   std::string sensor;
-  std::string viewpoint;  // a fixed sensor's name, or V1, V2, ... of a wrist sensor
+  std::string viewpoint;              // a fixed sensor's name, or V1, V2, ... of a wrist sensor
   std::array<double, 3> direction{};  // unit, world, from the object toward the sensor
   bool reachable{true};
   NamedValues<std::string> aspects;  // hypothesis -> the aspect it shows ("" for none)
@@ -767,7 +767,7 @@ struct ObjectSensing {
   std::string object;
   std::vector<std::string> hypotheses;
   std::vector<std::string> identities;
-  double threshold{0.0};  // bits
+  double threshold{0.0};               // bits
   NamedValues<double> beliefs_before;  // pignistic probabilities
   double ambiguity_before{0.0};
   std::vector<SensingCandidate> candidates;
@@ -808,8 +808,8 @@ struct SensePlanRecord {
 struct Branch {
   std::string outcome;  // the hypothesis: "P1", "cube", "cube:P3"
   std::string object;
-  std::string status;        // planned | no_plan (the report's `reason` names the first)
-  std::vector<Step> steps;   // the branch's chosen steps (empty without a plan)
+  std::string status;         // planned | no_plan (the report's `reason` names the first)
+  std::vector<Step> steps;    // the branch's chosen steps (empty without a plan)
   std::optional<int> errors;  // phase 2's
   template <class Self, class Field>
   static void fields(Self& s, Field&& field) {
@@ -961,7 +961,7 @@ struct Report {
   Nullable<Chosen> chosen;  // null without a plan; with an uncertain object: its sensing steps
   std::optional<std::vector<ObjectSensing>> sensing;  // with an uncertain object
   std::optional<std::vector<Branch>> branches;        // with an uncertain object, one per outcome
-  std::optional<Cell> cell;  // with a chosen plan
+  std::optional<Cell> cell;                           // with a chosen plan
   template <class Self, class Field>
   static void fields(Self& s, Field&& field) {
     field("schema", s.schema);

@@ -17,7 +17,8 @@ constexpr int kSampleLevel = 2;  // the drawings' samples: 320 directions
 
 std::array<double, 3> array_of(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
 
-NamedValues<double> named(const std::vector<std::string>& names, const std::vector<double>& values) {
+NamedValues<double> named(const std::vector<std::string>& names,
+                          const std::vector<double>& values) {
   NamedValues<double> out;
   for (std::size_t i = 0; i < names.size() && i < values.size(); ++i)
     out.emplace_back(names[i], values[i]);
@@ -143,8 +144,8 @@ std::string sensing_markdown(const std::vector<ObjectSensing>& objects) {
   for (const ObjectSensing& object : objects) {
     out << "\n### " << object.object << ": " << object.hypotheses.size()
         << " hypotheses, threshold " << rounded(object.threshold) << " bits\n\n"
-        << "Beliefs before (pignistic): " << beliefs_text(object.beliefs_before)
-        << "; ambiguity " << rounded(object.ambiguity_before) << " bits.\n\n"
+        << "Beliefs before (pignistic): " << beliefs_text(object.beliefs_before) << "; ambiguity "
+        << rounded(object.ambiguity_before) << " bits.\n\n"
         << "| sensor | viewpoint | direction | aspects | predicted ambiguity | max |\n"
         << "|---|---|---|---|---|--:|\n";
     for (const SensingCandidate& candidate : object.candidates)
@@ -157,14 +158,14 @@ std::string sensing_markdown(const std::vector<ObjectSensing>& objects) {
     if (object.sequence.empty()) out << "No operation lowers the ambiguity.\n";
     int number = 0;
     for (const SensingOperation& operation : object.sequence)
-      out << ++number << ". " << operation.sensor << " at " << operation.viewpoint
-          << " (aspect " << (operation.aspect.empty() ? "-" : operation.aspect)
-          << "): at most " << rounded(operation.predicted_max_ambiguity) << " bits (worst case "
-          << operation.worst_case << "), beliefs then " << beliefs_text(operation.beliefs)
-          << "\n";
-    out << "\n" << (object.resolved ? "Resolved" : "Not resolved") << ": beliefs after, worst case: "
-        << beliefs_text(object.beliefs_after) << "; ambiguity " << rounded(object.ambiguity_after)
-        << " bits.\n";
+      out << ++number << ". " << operation.sensor << " at " << operation.viewpoint << " (aspect "
+          << (operation.aspect.empty() ? "-" : operation.aspect) << "): at most "
+          << rounded(operation.predicted_max_ambiguity) << " bits (worst case "
+          << operation.worst_case << "), beliefs then " << beliefs_text(operation.beliefs) << "\n";
+    out << "\n"
+        << (object.resolved ? "Resolved" : "Not resolved")
+        << ": beliefs after, worst case: " << beliefs_text(object.beliefs_after) << "; ambiguity "
+        << rounded(object.ambiguity_after) << " bits.\n";
   }
   return out.str();
 }
@@ -204,7 +205,8 @@ std::string sensing_html(const std::vector<ObjectSensing>& objects) {
   out << "<section><h2>Sensing</h2>\n";
   for (const ObjectSensing& object : objects) {
     out << "<h3>" << html_escape(object.object) << ": " << object.hypotheses.size()
-        << " hypotheses, threshold " << rounded(object.threshold) << " bits</h3>\n<p>Beliefs before "
+        << " hypotheses, threshold " << rounded(object.threshold)
+        << " bits</h3>\n<p>Beliefs before "
         << "(pignistic): " << html_escape(beliefs_text(object.beliefs_before)) << "; ambiguity "
         << rounded(object.ambiguity_before) << " bits.</p>\n<div class=\"scroll\"><table><tr>"
         << "<th>sensor</th><th>viewpoint</th><th>direction</th><th>aspects</th>"

@@ -6,8 +6,8 @@
 // by the aspect the object shows along it.
 //
 // Example:
-//   const SensePlanRecord record = build_sense_plan(scenario, planner::plan_sensing(scenario, world));
-//   std::cout << to_json(record).dump(2);                // `spar sense-plan --json`
+//   const SensePlanRecord record = build_sense_plan(scenario, planner::plan_sensing(scenario,
+//   world)); std::cout << to_json(record).dump(2);                // `spar sense-plan --json`
 //   std::cout << sensing_markdown(record.objects);       // `spar sense-plan`
 #pragma once
 

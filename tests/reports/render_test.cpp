@@ -108,7 +108,8 @@ TEST(Renderers, APreconditionWithoutAWitnessShowsNoSwappedInnerBound) {
   const std::string html = render_html(again);
   EXPECT_NE(html.find("inner bound none (" + why + ")"), std::string::npos);
   EXPECT_EQ(count(html, "class=\"bound-bar\""), precondition_count(again));
-  for (const std::string& text : {markdown, html}) EXPECT_EQ(text.find("inf, -inf"), std::string::npos);
+  for (const std::string& text : {markdown, html})
+    EXPECT_EQ(text.find("inf, -inf"), std::string::npos);
   std::string precondition = json.dump();
   precondition = precondition.substr(precondition.find("\"no_inner_range\"") - 200, 400);
   EXPECT_NE(precondition.find("\"inner_lo\":null,\"inner_hi\":null,\"no_inner_range\":\"" + why),
