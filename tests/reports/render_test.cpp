@@ -381,6 +381,42 @@ TEST(SensingReport, ShowsTheSensePlanAndEveryBranch) {
   EXPECT_EQ(count(html, "<h3>Branch P"), 2U);
 }
 
+// The candidates table holds the reachable viewpoints only, least worst-case ambiguity first;
+// the unreachable ones are counted and named once (folded in HTML).
+TEST(SensingReport, ListsReachableCandidatesBestFirstAndNamesTheUnreachable) {
+  const Json& report = sensing_report();
+  const Json& candidates = report["sensing"][0]["candidates"];
+  std::vector<double> reachable;
+  std::size_t unreachable = 0;
+  for (const Json& candidate : candidates) {
+    if (candidate["reachable"].get<bool>())
+      reachable.push_back(candidate["predicted_max_ambiguity"].get<double>());
+    else
+      ++unreachable;
+  }
+  ASSERT_GT(reachable.size(), 1U);
+  ASSERT_GT(unreachable, 0U);
+  const std::string markdown = render_markdown(report);
+  const std::size_t table = markdown.find("| sensor | viewpoint |");
+  ASSERT_NE(table, std::string::npos);
+  // The header, its rule and one line per reachable candidate, each ending in '\n'.
+  const std::string rows = markdown.substr(table, markdown.find("\n\n", table) + 1 - table);
+  EXPECT_EQ(count(rows, "\n"), 2 + reachable.size());
+  std::vector<double> shown;
+  const std::regex max_cell(R"(\| ([0-9.e-]+) bits \|\n)");
+  for (auto it = std::sregex_iterator(rows.begin(), rows.end(), max_cell);
+       it != std::sregex_iterator(); ++it)
+    shown.push_back(std::stod((*it)[1].str()));
+  EXPECT_EQ(shown.size(), reachable.size());
+  EXPECT_TRUE(std::ranges::is_sorted(shown));
+  EXPECT_NE(markdown.find(std::to_string(unreachable) + " unreachable viewpoints: range_scan V"),
+            std::string::npos);
+  const std::string html = render_html(report);
+  EXPECT_NE(html.find("<details><summary>" + std::to_string(unreachable) +
+                      " unreachable viewpoints</summary>"),
+            std::string::npos);
+}
+
 TEST(Renderers, RefuseADocumentThatIsNotAReport) {
   EXPECT_THROW_MESSAGE(render_html(Json::parse(R"({"status": "planned"})")),
                        "cannot render HTML: not a spar-report/1 report");
