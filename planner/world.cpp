@@ -754,8 +754,29 @@ const WorldModel::Table& WorldModel::initial_conflicts(int object, int other) co
   const std::vector<int> group = start.moving_with(object);
   if (std::find(group.begin(), group.end(), other) != group.end()) return table;
   const std::vector<Obstacle> obstacle = {{other, {&bodies_[other], start.poses[other]}}};
+  const Eigen::AlignedBox3d other_box = geometry::world_bounds(obstacle.front().placed);
+  // A reachable grasp and position already passed every check that needs no other object, so
+  // with an arm that has no link geometry only the two sweeps can meet `other`: when `other`
+  // lies `margin` or more beyond the boxes they sweep (geometry::sweep's own broad phase, over
+  // the same boxes), the grasp is clear of it without running grasp_check.
+  const auto beyond_sweeps = [&](int g, std::size_t p) {
+    if (!caches_->arm.empty()) return false;
+    const kinematics::Transform gripper_pose =
+        labels.positions[p].pose * labels.grasps[static_cast<std::size_t>(g)].gripper_in_object;
+    const Eigen::Translation3d back(-scenario_.robot.approach_distance *
+                                    gripper_pose.linear().col(2));
+    Eigen::AlignedBox3d swept = geometry::world_bounds({&*open_gripper_, gripper_pose});
+    swept.extend(geometry::world_bounds({&*open_gripper_, back * gripper_pose}));
+    const geometry::Body& held =
+        held_[static_cast<std::size_t>(object)][static_cast<std::size_t>(g)];
+    swept.extend(geometry::world_bounds({&held, gripper_pose}));
+    swept.extend(geometry::world_bounds({&held, back * gripper_pose}));
+    const double gap = std::sqrt(swept.squaredExteriorDistance(other_box));
+    return gap > 0 && gap >= margin();
+  };
   fill_conflicts(table, labels.reachable, labels.positions.size(), [&](int g, std::size_t p) {
-    return !grasp_check(object, g, labels.positions[p].pose, obstacle, {}).clear;
+    return !beyond_sweeps(g, p) &&
+           !grasp_check(object, g, labels.positions[p].pose, obstacle, {}).clear;
   });
   return table;
 }

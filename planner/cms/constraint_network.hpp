@@ -11,12 +11,12 @@
 // one such labeling (its witness); where the change breaks it, it first tries to repair it one
 // variable at a time (no backtracking). If that fails, each connected component concerned gets a
 // new labeling: read off without backtracking if the component is a tree (arc consistency alone
-// decides trees, Freuder 1982), else found by search (backtracking with forward checking,
-// within the explicit SearchBudget). Tree-structured networks, SPAR's usual grasp-position
-// pairs, are therefore never refused for lack of budget. The operation returns kConsistent and
-// keeps the change, or returns kInconsistent / kBudgetExhausted and leaves the network exactly as
-// it was (operator== holds). Hence every network a caller can observe is arc consistent and has a
-// consistent labeling.
+// decides trees, Freuder 1982), else found by search (backtracking with forward checking and
+// arc consistency maintained after every assignment, within the explicit SearchBudget).
+// Tree-structured networks, SPAR's usual grasp-position pairs, are therefore never refused for lack
+// of budget. The operation returns kConsistent and keeps the change, or returns kInconsistent /
+// kBudgetExhausted and leaves the network exactly as it was (operator== holds). Hence every network
+// a caller can observe is arc consistent and has a consistent labeling.
 //
 // Costs (n variables, e arcs, d labels per domain): an operation costs O(n + e) for the witness
 // check plus AC-3 on bit rows (a revision is O(d²/64); O(e·d³/64) at worst, a few revisions

@@ -1,5 +1,7 @@
 #include "spar/planner/cms/internal/search.hpp"
 
+#include <algorithm>
+#include <stdexcept>
 #include <utility>
 
 namespace spar::planner::cms::internal {
@@ -11,7 +13,70 @@ ForwardChecking::ForwardChecking(BitsetArray domains, std::vector<std::vector<Ne
       domains_{std::move(domains)},
       assigned_(static_cast<std::size_t>(domains_.count()), 0),
       frames_(static_cast<std::size_t>(domains_.count())),
-      assignment_(static_cast<std::size_t>(domains_.count()), -1) {}
+      assignment_(static_cast<std::size_t>(domains_.count()), -1) {
+  reverse_.resize(neighbors_.size());
+  for (std::size_t v = 0; v < neighbors_.size(); ++v)
+    for (const Neighbor& neighbor : neighbors_[v]) {
+      const std::vector<Neighbor>& back = neighbors_[static_cast<std::size_t>(neighbor.variable)];
+      const auto entry = std::find_if(back.begin(), back.end(), [&](const Neighbor& n) {
+        return n.variable == static_cast<int>(v);
+      });
+      if (entry == back.end()) throw std::logic_error("forward checking: an arc has one end");
+      reverse_[v].push_back(static_cast<int>(entry - back.begin()));
+    }
+  queued_.assign(neighbors_.size(), 0);
+}
+
+bool ForwardChecking::propagate(std::span<const std::uint64_t> pool, int variable, int label) {
+  queue_.clear();
+  const auto enqueue = [&](int v) {
+    if (queued_[static_cast<std::size_t>(v)] != 0) return;
+    queued_[static_cast<std::size_t>(v)] = 1;
+    queue_.push_back(v);
+  };
+  bool wiped = false;
+  for (const Neighbor& neighbor : neighbors_[static_cast<std::size_t>(variable)]) {
+    if (assigned_[static_cast<std::size_t>(neighbor.variable)] != 0) continue;
+    const auto width = static_cast<std::size_t>(neighbor.row_words);
+    const BitsRef domain = domains_[neighbor.variable];
+    if (!domain.intersect_with(
+            pool.subspan(neighbor.rows + static_cast<std::size_t>(label) * width, width)))
+      continue;
+    if (domain.none()) {
+      wiped = true;
+      break;
+    }
+    enqueue(neighbor.variable);
+  }
+  // Revise the unassigned neighbours u of each shrunk v: u keeps label l only while the row of
+  // l (read from u's end of the arc) meets v's domain.
+  for (std::size_t head = 0; !wiped && head < queue_.size(); ++head) {
+    const int v = queue_[head];
+    queued_[static_cast<std::size_t>(v)] = 0;
+    const ConstBitsRef supports = domains_[v];
+    const std::vector<Neighbor>& around = neighbors_[static_cast<std::size_t>(v)];
+    for (std::size_t k = 0; k < around.size() && !wiped; ++k) {
+      const int u = around[k].variable;
+      if (assigned_[static_cast<std::size_t>(u)] != 0) continue;
+      const Neighbor& back =
+          neighbors_[static_cast<std::size_t>(u)][static_cast<std::size_t>(reverse_[v][k])];
+      const auto width = static_cast<std::size_t>(back.row_words);
+      const BitsRef domain = domains_[u];
+      bool shrank = false;
+      for (int l = domain.find_first(); l >= 0; l = domain.find_next(l + 1))
+        if (!supports.intersects(
+                pool.subspan(back.rows + static_cast<std::size_t>(l) * width, width))) {
+          domain.reset(l);
+          shrank = true;
+        }
+      if (!shrank) continue;
+      if (domain.none()) wiped = true;
+      enqueue(u);
+    }
+  }
+  for (const int v : queue_) queued_[static_cast<std::size_t>(v)] = 0;
+  return !wiped;
+}
 
 int ForwardChecking::choose_variable(int depth) const {
   if (order_ == Order::kAsGiven) return depth;
@@ -76,18 +141,8 @@ ForwardChecking::Outcome ForwardChecking::next(std::span<const std::uint64_t> po
     const BitsRef own = domains_[frame.variable];
     own.clear();
     own.set(label);
-    descend = true;
-    for (const Neighbor& neighbor : neighbors_[variable]) {
-      const auto other = static_cast<std::size_t>(neighbor.variable);
-      if (assigned_[other] != 0) continue;
-      const auto width = static_cast<std::size_t>(neighbor.row_words);
-      domains_[neighbor.variable].intersect_with(
-          pool.subspan(neighbor.rows + static_cast<std::size_t>(label) * width, width));
-      if (domains_[neighbor.variable].none()) {
-        descend = false;  // wiped out: try the next label at this level
-        break;
-      }
-    }
+    // Wiped out: try the next label at this level.
+    descend = propagate(pool, frame.variable, label);
   }
 }
 

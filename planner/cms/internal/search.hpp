@@ -1,6 +1,7 @@
-// The binary constraint network's arcs and its backtracking search with forward checking
-// (Dechter & Pearl 1987), over a subset of the network's variables renumbered 0..k-1.
-// Private to planner/cms/: ConstraintNetwork and Labelings drive it.
+// The binary constraint network's arcs and its backtracking search with forward checking and
+// maintained arc consistency (Dechter & Pearl 1987; Sabin & Freuder 1994), over a subset of the
+// network's variables renumbered 0..k-1. Private to planner/cms/: ConstraintNetwork and Labelings
+// drive it.
 #pragma once
 
 #include <cstddef>
@@ -41,11 +42,16 @@ struct Arc {
   friend bool operator==(const Arc&, const Arc&) = default;
 };
 
-// Resumable depth-first search over label assignments with forward checking: assigning a label
-// removes, from every unassigned neighbour's domain, the labels the arc does not allow with it; a
-// neighbour left empty rejects the label. Labels are tried in ascending order; the variable
-// order is fixed (the order given: solutions come out lexicographically) or dynamic (fewest
-// remaining labels first, for a quick yes/no). Every label tried costs one node of the budget.
+// Resumable depth-first search over label assignments with forward checking and maintained arc
+// consistency (MAC, Sabin & Freuder 1994): assigning a label removes, from every unassigned
+// neighbour's domain, the labels the arc does not allow with it, and then every unassigned
+// variable whose domain shrank has its unassigned neighbours revised in turn (a label stays only
+// while some label of each neighbour supports it), until nothing changes; a domain left empty
+// rejects the label. Removed labels belong to no solution extending the current assignment, so
+// the solutions and their order are those of plain backtracking; only dead ends are cut earlier.
+// Labels are tried in ascending order; the variable order is fixed (the order given: solutions come
+// out lexicographically) or dynamic (fewest remaining labels first, for a quick yes/no). Every
+// label tried costs one node of the budget.
 class ForwardChecking {
  public:
   struct Neighbor {
@@ -71,9 +77,16 @@ class ForwardChecking {
     BitsetArray saved;  // the domains before this level's assignment
   };
   [[nodiscard]] int choose_variable(int depth) const;
+  // Forward checks `variable`'s new label, then restores arc consistency among the unassigned
+  // variables; false when some domain is wiped out.
+  [[nodiscard]] bool propagate(std::span<const std::uint64_t> pool, int variable, int label);
 
   Order order_;
   std::vector<std::vector<Neighbor>> neighbors_;
+  // reverse_[v][k]: the index, in the list of v's k-th neighbour u, of u's entry for v.
+  std::vector<std::vector<int>> reverse_;
+  std::vector<int> queue_;  // variables whose domain shrank, to revise their neighbours
+  std::vector<char> queued_;
   BitsetArray domains_;  // current domains; an assigned variable's holds its one label
   std::vector<char> assigned_;
   std::vector<Frame> frames_;  // one per variable; the first depth_ are the active levels
