@@ -2,6 +2,8 @@
 //   Phase 1 (issue 9): load_scenario, WorldModel and post_plan timed separately and together on the
 //   four seed experiments; partial plans per second; scaling with N peg-into-block pairs (N = 1..8)
 //   on generated layouts, each pair first checked solvable alone.
+//   Phase 1 with its collision checks (issue 21): the collision layer's share of phase 1 on the
+//   seed experiments, the crowded table and a 20-object table.
 //   Phase 2 (issue 10): per-instance analysis time on the seed experiments (expression building
 //   alone, the analysis, the chosen-instance extras); the k-chain (one object picked up and put
 //   down k times between two places, then picked up again) built with Propagation::step; and the
@@ -32,6 +34,8 @@
 #include "spar/bounds/condition_set.hpp"
 #include "spar/bounds/inequality.hpp"
 #include "spar/bounds/interval.hpp"
+#include "spar/common/error.hpp"
+#include "spar/geometry/collision.hpp"
 #include "spar/planner/plan.hpp"
 #include "spar/planner/uncertainty/propagation.hpp"
 #include "spar/symbolic/operations.hpp"
@@ -105,6 +109,89 @@ void seed_phase1(int repeats, double& total_expanded, double& total_generated,
 }
 
 // ---------------------------------------------------------------------------------------------
+// Phase 1 with its collision checks (issue 21): plan() with phase 2 off (the world model with its
+// collision tables, the search with each complete family's instances checked for collisions, the
+// instances), timed after load_scenario, and the collision layer's own time counted by a
+// spar::geometry::CollisionTally around the same calls: its share of phase 1, and FCL's share of it
+// (FCL's traversal of the very part pairs spar hands it: the rest is spar's broad phase, inside
+// tests and sweep stepping). Scenes: the seed experiments, the crowded table (8 objects) and
+// table20, the crowded table with 12 more cubes (20 objects).
+
+// table20's extra cubes (in): grid points 3 in apart, 10-28 in from the base, >= 4.5 in from
+// every object and place of the crowded table and >= 4 in from each other, nearest to (18, 0)
+// first. The world model refuses a layout where two objects meet, so the bench cannot time an
+// impossible table.
+constexpr std::array<std::array<double, 2>, 12> kTable20Cubes = {{{18, -9},
+                                                                  {27, 0},
+                                                                  {27, 6},
+                                                                  {9, -9},
+                                                                  {6, 9},
+                                                                  {9, 12},
+                                                                  {18, -15},
+                                                                  {18, 15},
+                                                                  {6, -12},
+                                                                  {9, -15},
+                                                                  {15, -18},
+                                                                  {15, 18}}};
+
+planner::Scenario table20() {
+  std::ifstream file(example_path("crowded_table"));
+  std::string text((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+  std::string cubes;
+  for (std::size_t i = 0; i < kTable20Cubes.size(); ++i)
+    cubes +=
+        "  extra" + std::to_string(i + 1) + ":\n    builtin: cube\n    pose: {stable: P5, at: [" +
+        std::to_string(kTable20Cubes[i][0]) + ", " + std::to_string(kTable20Cubes[i][1]) + "]}\n";
+  const std::size_t places = text.find("\nplaces:");
+  if (places == std::string::npos) throw std::runtime_error("crowded_table.yaml has no places");
+  text.insert(places + 1, cubes);
+  return planner::parse_scenario(text, "table20 (crowded_table.yaml + 12 cubes)",
+                                 std::string(SPAR_SOURCE_DIR) + "/examples");
+}
+
+void collision_share(int repeats) {
+  std::printf(
+      "\n## phase 1 with collision checks (median of %d runs; ms)\n\n| scene | objects | "
+      "status | steps | phase 1 | collision queries | FCL calls | in collision layer | share of "
+      "phase 1 | of which FCL | queries/s |\n|---|---|---|---|---|---|---|---|---|---|---|\n",
+      repeats);
+  std::vector<std::pair<std::string, planner::Scenario>> scenes;
+  for (const char* name : kExamples)
+    scenes.emplace_back(name, planner::load_scenario(example_path(name)));
+  scenes.emplace_back("crowded_table", planner::load_scenario(example_path("crowded_table")));
+  scenes.emplace_back("table20", table20());
+  planner::PlanOptions options;
+  options.uncertainty = false;
+  const planner::Domain& domain = planner::builtin_domain();
+  for (const auto& [name, scenario] : scenes) {
+    std::vector<double> totals, layer, fcl;
+    std::vector<long long> queries, calls;
+    std::optional<planner::PlanResult> result;
+    for (int r = 0; r < repeats; ++r) {
+      const spar::geometry::CollisionTally tally;
+      const auto start = std::chrono::steady_clock::now();
+      result.emplace(planner::plan(scenario, domain, options));
+      totals.push_back(seconds_since(start));
+      const spar::geometry::CollisionCounts counts = tally.counts();
+      layer.push_back(counts.seconds);
+      fcl.push_back(counts.fcl_seconds);
+      queries.push_back(counts.queries);
+      calls.push_back(counts.fcl_calls);
+    }
+    const double total = median(totals), in_layer = median(layer);
+    std::printf("| %s | %zu | %s | %zu | %.2f | %lld | %lld | %.2f | %.0f%% | %.0f%% | %.3g |\n",
+                name.c_str(), scenario.objects.size(), planner::to_string(result->family.status),
+                result->family.steps.size() - 2, 1e3 * total, queries.back(), calls.back(),
+                1e3 * in_layer, 100 * in_layer / total, 100 * median(fcl) / in_layer,
+                static_cast<double>(queries.back()) / in_layer);
+    if (name == "table20" && total >= 2.0)
+      std::printf("  MISS: table20 took %.2f s (target < 2 s)\n", total);
+    if (name.starts_with("peg_block") && total >= 0.020)
+      std::printf("  MISS: %s took %.1f ms (target < 20 ms)\n", name.c_str(), 1e3 * total);
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
 // Phase 1 scaling: N peg-into-block pairs.
 //
 // Layout (inches, robot base at the origin): candidate spots on four arcs in front of the robot
@@ -114,10 +201,11 @@ void seed_phase1(int repeats, double& total_expanded, double& total_generated,
 // lying, block hole up + peg standing), so N = 4 has each once; the face-down block needs two free
 // places to be turned over, the one on its side one, the standing peg one. Spots are queued
 // nearest to straight ahead first and taken greedily: pair i gets the first free spots (block,
-// peg, its places) with which it is solvable ALONE (a scenario with that pair and its own places
-// only) by a plan at most one regrasp (two actions) longer than its kind's shortest; a spot that
-// fails goes to the back of the queue. The N-pair task then holds pairs 1..N and all their places
-// (one place, one object).
+// peg, its places) with which pairs 1..i together plan within the node budget, pair i adding at
+// most one regrasp (two actions) more than its kind's shortest; a spot that fails goes to the back
+// of the queue. (Planning each pair alone no longer suffices since plans are collision-free: a
+// pair's place next to another pair's part is a place no gripper reaches.) The N-pair task then
+// holds pairs 1..N and all their places (one place, one object).
 
 struct PairKind {
   const char* block_pose;
@@ -207,6 +295,7 @@ std::string pairs_scenario(const std::vector<PairLayout>& pairs) {
 struct PostRun {
   planner::PlanFamily family;
   double parse{0}, world{0}, post{0};
+  double post_collision{0};  // of post: in the collision layer (conflict tables built lazily)
   [[nodiscard]] std::size_t actions() const {
     return family.steps.size() >= 2 ? family.steps.size() - 2 : 0;
   }
@@ -223,16 +312,20 @@ PostRun run_pairs(const std::vector<PairLayout>& pairs,
   const planner::WorldModel world(std::move(scenario));
   run.world = seconds_since(start);
   start = std::chrono::steady_clock::now();
+  const spar::geometry::CollisionTally tally;
   run.family = planner::post_plan(world, planner::builtin_domain(), posting);
   run.post = seconds_since(start);
+  run.post_collision = tally.counts().seconds;
   return run;
 }
 
-// Pairs 1..count, each solvable alone (see the section comment). Prints each pair's layout.
-std::vector<PairLayout> solvable_pairs(int count) {
+// Pairs 1..count, each solvable with the earlier ones (see the section comment). Prints each
+// pair's layout.
+std::vector<PairLayout> solvable_pairs(int count, const planner::PostingOptions& posting) {
   std::vector<Eigen::Vector2d> queue = layout_spots();
   std::vector<PairLayout> pairs;
-  std::printf("Each pair alone first (its spots and its own places):\n");
+  std::printf("Each pair with the earlier ones first (its spots and its own places added):\n");
+  std::size_t earlier_actions = 0;
   for (int i = 0; i < count; ++i) {
     PairLayout pair{.index = i, .block = {}, .peg = {}, .places = {}};
     const std::size_t needed = 2 + pair.kind().places;
@@ -241,11 +334,18 @@ std::vector<PairLayout> solvable_pairs(int count) {
       pair.block = queue[0];
       pair.peg = queue[1];
       pair.places.assign(queue.begin() + 2, queue.begin() + needed);
-      PostRun run = run_pairs({pair});
-      if (run.family.status == planner::PostingStatus::kPlanned &&
-          run.actions() <= 4 + 2 * pair.places.size()) {
-        solved = std::move(run);
-        break;
+      // A layout whose objects meet (the lying peg is longer than the spots' spacing) is refused
+      // by the world model: the spot is not solvable, like one without a plan.
+      try {
+        std::vector<PairLayout> scene = pairs;
+        scene.push_back(pair);
+        PostRun run = run_pairs(scene, posting);
+        if (run.family.status == planner::PostingStatus::kPlanned &&
+            run.actions() <= earlier_actions + 4 + 2 * pair.places.size()) {
+          solved = std::move(run);
+          break;
+        }
+      } catch (const spar::Error&) {
       }
       std::rotate(queue.begin(), queue.begin() + 1, queue.end());
     }
@@ -254,6 +354,7 @@ std::vector<PairLayout> solvable_pairs(int count) {
       break;
     }
     queue.erase(queue.begin(), queue.begin() + needed);
+    earlier_actions = solved->actions();
     std::printf(
         "  pair %d (block %s at [%.1f, %.1f], peg %s at [%.1f, %.1f], %zu places): %zu "
         "actions, %zu expanded, %.2f ms\n",
@@ -271,11 +372,11 @@ void scaling(int max_pairs, std::size_t max_nodes, const std::string& scenario_d
              std::string& largest) {
   std::printf("\n## phase 1 scaling: N peg-into-block pairs (max_nodes %zu)\n\n", max_nodes);
   const planner::PostingOptions posting{.max_nodes = max_nodes};
-  const std::vector<PairLayout> all = solvable_pairs(max_pairs);
+  const std::vector<PairLayout> all = solvable_pairs(max_pairs, posting);
   std::printf(
-      "\n| N | places | status | actions | post_plan ms | parse+world ms | expanded | "
-      "generated | expanded/s | generated/s | variables | arcs | ordering arcs |\n"
-      "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+      "\n| N | places | status | actions | post_plan ms | of which collision ms | parse+world ms | "
+      "expanded | generated | expanded/s | generated/s | variables | arcs | ordering arcs |\n"
+      "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (std::size_t n = 1; n <= all.size(); ++n) {
     const std::vector<PairLayout> pairs(all.begin(), all.begin() + n);
     std::size_t places = 0;
@@ -287,9 +388,10 @@ void scaling(int max_pairs, std::size_t max_nodes, const std::string& scenario_d
     const planner::PlanFamily& family = run.family;
     const auto& stats = family.stats;
     std::printf(
-        "| %zu | %zu | %s | %zu | %.1f | %.1f | %zu | %zu | %.3g | %.3g | %d | %zu | %zu |\n", n,
-        places, planner::to_string(family.status), run.actions(), 1e3 * run.post,
-        1e3 * (run.parse + run.world), stats.expanded, stats.generated,
+        "| %zu | %zu | %s | %zu | %.1f | %.1f | %.1f | %zu | %zu | %.3g | %.3g | %d | %zu | %zu "
+        "|\n",
+        n, places, planner::to_string(family.status), run.actions(), 1e3 * run.post,
+        1e3 * run.post_collision, 1e3 * (run.parse + run.world), stats.expanded, stats.generated,
         stats.expanded / stats.seconds, stats.generated / stats.seconds,
         family.network.variable_count(), family.network.arcs().size(),
         family.ordering.arcs().size());
@@ -1145,6 +1247,7 @@ int main(int argc, char** argv) {
   try {
     double seed_expanded = 0, seed_generated = 0, seed_seconds = 0;
     seed_phase1(repeats, seed_expanded, seed_generated, seed_seconds);
+    collision_share(repeats);
     double scale_expanded = 0, scale_generated = 0, scale_seconds = 0;
     std::string largest_task = "none solvable";
     // The N-pair searches run to the node budget from N = 2 on (see RESULTS.md): --quick gives

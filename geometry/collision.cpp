@@ -4,6 +4,8 @@
 #include <fcl/narrowphase/distance.h>
 
 #include <algorithm>
+#include <atomic>
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -33,6 +35,44 @@ struct ShapeAccess {
 };
 
 namespace {
+
+// The live CollisionTally's counters (nanoseconds as integers, so that threads can add).
+struct AtomicCounts {
+  std::atomic<long long> queries{0}, fcl_calls{0}, nanoseconds{0}, fcl_nanoseconds{0};
+};
+std::atomic<AtomicCounts*> live_tally{nullptr};
+thread_local int query_depth = 0;  // top-level queries of this thread in progress
+
+long long now_ns() {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(
+             std::chrono::steady_clock::now().time_since_epoch())
+      .count();
+}
+
+// Counts one top-level query (or one FCL call) for its lifetime into the live tally, if any.
+class Counted {
+ public:
+  explicit Counted(bool fcl_call) : fcl_call_(fcl_call) {
+    if (!fcl_call_ && query_depth++ > 0) return;  // nested in another query
+    tally_ = live_tally.load(std::memory_order_acquire);
+    if (tally_ != nullptr) start_ = now_ns();
+  }
+  ~Counted() {
+    if (!fcl_call_) --query_depth;
+    if (tally_ == nullptr) return;
+    const long long elapsed = now_ns() - start_;
+    (fcl_call_ ? tally_->fcl_calls : tally_->queries).fetch_add(1, std::memory_order_relaxed);
+    (fcl_call_ ? tally_->fcl_nanoseconds : tally_->nanoseconds)
+        .fetch_add(elapsed, std::memory_order_relaxed);
+  }
+  Counted(const Counted&) = delete;
+  Counted& operator=(const Counted&) = delete;
+
+ private:
+  bool fcl_call_;
+  AtomicCounts* tally_{nullptr};
+  long long start_{0};
+};
 
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
 // A sweep measures distances exactly only up to this many margins (further ones are bounded
@@ -119,8 +159,11 @@ Proximity part_proximity(const PlacedPart& a, const PlacedPart& b, double bound)
   Proximity out;
   fcl::CollisionRequestd collision_request;
   fcl::CollisionResultd collision;
-  fcl::collide(a.shape->bvh.get(), a.pose, b.shape->bvh.get(), b.pose, collision_request,
-               collision);
+  {
+    const Counted counted(/*fcl_call=*/true);
+    fcl::collide(a.shape->bvh.get(), a.pose, b.shape->bvh.get(), b.pose, collision_request,
+                 collision);
+  }
   if (collision.isCollision()) {
     out.intersecting = true;
     out.point_a = out.point_b = collision.getContact(0).pos;
@@ -131,7 +174,10 @@ Proximity part_proximity(const PlacedPart& a, const PlacedPart& b, double bound)
   fcl::DistanceRequestd request(/*enable_nearest_points=*/true);
   fcl::DistanceResultd result;
   if (std::isfinite(bound)) result.min_distance = bound;
-  fcl::distance(a.shape->bvh.get(), a.pose, b.shape->bvh.get(), b.pose, request, result);
+  {
+    const Counted counted(/*fcl_call=*/true);
+    fcl::distance(a.shape->bvh.get(), a.pose, b.shape->bvh.get(), b.pose, request, result);
+  }
   if (!(result.min_distance < bound)) return out;
   // Surfaces that meet along coincident faces (coplanar triangles, which FCL's collide misses)
   // come out of the distance query as rounding noise (3e-18 m for two nested boxes sharing
@@ -265,6 +311,7 @@ Eigen::AlignedBox3d world_bounds(const PlacedBody& placed) {
 }
 
 double lowest_z(const PlacedBody& placed) {
+  const Counted counted(/*fcl_call=*/false);
   double lowest = kInfinity;
   for (const BodyPart& part : placed.body->parts()) {
     const Pose pose = placed.pose * part.pose;
@@ -277,16 +324,19 @@ double lowest_z(const PlacedBody& placed) {
 }
 
 Proximity proximity(const PlacedBody& a, const PlacedBody& b) {
+  const Counted counted(/*fcl_call=*/false);
   return body_proximity(a, b, kInfinity);
 }
 
 bool collide(const PlacedBody& a, const PlacedBody& b, double margin) {
+  const Counted counted(/*fcl_call=*/false);
   const double gap = box_gap(world_bounds(a), world_bounds(b));
   if (gap > 0 && gap >= margin) return false;
   return too_close(body_proximity(a, b, margin), margin);
 }
 
 Nearest nearest(const PlacedBody& body, std::span<const PlacedBody> others) {
+  const Counted counted(/*fcl_call=*/false);
   Nearest best{.index = -1, .distance = kInfinity};
   const Eigen::AlignedBox3d box = world_bounds(body);
   for (std::size_t i = 0; i < others.size(); ++i) {
@@ -300,6 +350,7 @@ Nearest nearest(const PlacedBody& body, std::span<const PlacedBody> others) {
 
 Sweep sweep(const PlacedBody& moving, const Eigen::Vector3d& motion,
             std::span<const PlacedBody> obstacles, double margin) {
+  const Counted counted(/*fcl_call=*/false);
   Sweep result;
   result.min_distance = kInfinity;
   const double length = motion.norm();
@@ -340,6 +391,26 @@ Sweep sweep(const PlacedBody& moving, const Eigen::Vector3d& motion,
     if (travelled >= length) return result;
     travelled = std::min(length, travelled + std::max(least_step, closest - margin / 2));
   }
+}
+
+CollisionTally::CollisionTally() {
+  AtomicCounts* expected = nullptr;
+  if (!live_tally.compare_exchange_strong(expected, new AtomicCounts()))
+    throw GeometryError("a CollisionTally is already counting");
+}
+
+CollisionTally::~CollisionTally() {
+  // Queries still running on other threads hold the pointer: a tally lives only around work
+  // that has returned (the benches' use), so deleting here is safe.
+  delete live_tally.exchange(nullptr);
+}
+
+CollisionCounts CollisionTally::counts() const {
+  const AtomicCounts& live = *live_tally.load();
+  return {.queries = live.queries.load(),
+          .fcl_calls = live.fcl_calls.load(),
+          .seconds = 1e-9 * static_cast<double>(live.nanoseconds.load()),
+          .fcl_seconds = 1e-9 * static_cast<double>(live.fcl_nanoseconds.load())};
 }
 
 Body gripper_body(const GripperSpec& gripper, double opening, double shrink) {

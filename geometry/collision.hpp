@@ -166,6 +166,27 @@ struct Sweep {
 [[nodiscard]] Sweep sweep(const PlacedBody& moving, const Eigen::Vector3d& motion,
                           std::span<const PlacedBody> obstacles, double margin);
 
+// The work of the collision layer, counted while a CollisionTally is alive (bench/planner_bench
+// reports with it the share of phase 1 spent checking collisions, and how much of that is FCL's
+// own traversal of the same part pairs). Queries from every thread count; a query made inside
+// another one (a sweep's distances) counts only in the outer one. At most one tally is alive at
+// a time (a second one throws GeometryError). Counting costs two clock reads per top-level query
+// and per FCL call; without a tally, one atomic load per query.
+struct CollisionCounts {
+  long long queries{0};     // top-level calls of proximity, collide, nearest, sweep, lowest_z
+  long long fcl_calls{0};   // FCL collide and distance calls on part pairs made by them
+  double seconds{0.0};      // wall time inside the top-level queries
+  double fcl_seconds{0.0};  // of which inside FCL's calls
+};
+class CollisionTally {
+ public:
+  CollisionTally();
+  ~CollisionTally();
+  CollisionTally(const CollisionTally&) = delete;
+  CollisionTally& operator=(const CollisionTally&) = delete;
+  [[nodiscard]] CollisionCounts counts() const;
+};
+
 // The parallel-jaw gripper as three boxes in its frame (grasps.hpp: origin midway between the
 // finger pads, closing along y, approaching along +z): two fingers of finger_width (x) x
 // finger_thickness (y) x finger_length (z), their inner faces at y = +-opening/2, reaching

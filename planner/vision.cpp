@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "spar/geometry/collision.hpp"
+#include "spar/geometry/mesh.hpp"
 #include "spar/planner/error.hpp"
 
 namespace spar::planner {
@@ -15,6 +17,60 @@ sensing::Camera camera_of(const CameraSensor& sensor) {
                         "in the world");
   return sensing::Camera(sensor.projection, sensor.intrinsics, sensor.pose);
 }
+
+// The scene at a verification step: the object first (scene index 0), then the other objects
+// where they rest, then the gripper's boxes. Owns the models and features the scene points to.
+class StepScene {
+ public:
+  StepScene(const Scenario& scenario, int object, const kinematics::Transform& pose,
+            const VisionOccluders& occluders) {
+    add_object(scenario.objects.at(static_cast<std::size_t>(object)), pose);
+    for (const auto& [other, at] : occluders.objects)
+      if (other != object) add_object(scenario.objects.at(static_cast<std::size_t>(other)), at);
+    if (occluders.gripper)
+      add_gripper(*occluders.gripper, occluders.gripper_pose, occluders.opening);
+  }
+  [[nodiscard]] const sensing::Scene& scene() const { return scene_; }
+  // The uncertainties the panel's tolerances need: the object's, the camera's and its noise
+  // (occluders exact: only the object's edges are listed).
+  [[nodiscard]] sensing::pseiki::ExpectationUncertainty uncertainty(
+      const CameraSensor& sensor) const {
+    sensing::pseiki::ExpectationUncertainty out{
+        .objects = {}, .camera = sensor.uncertainty, .noise_px = sensor.noise_px};
+    out.objects.resize(scene_.objects().size());
+    out.objects.front() = object_uncertainty_;
+    return out;
+  }
+
+ private:
+  void add_object(const ObjectSpec& spec, const kinematics::Transform& pose) {
+    if (scene_.objects().empty()) object_uncertainty_ = spec.uncertainty;
+    const sensing::ObjectFeatures& features = *features_.emplace_back(
+        std::make_unique<sensing::ObjectFeatures>(sensing::object_features(spec.model)));
+    scene_.add(spec.name, spec.model, features, pose);
+  }
+  // geometry::gripper_body's three boxes, each an object of its own (the renderer draws closed
+  // meshes; a box model is cheap).
+  void add_gripper(const geometry::GripperSpec& gripper, const kinematics::Transform& pose,
+                   double opening) {
+    static const char* const kNames[] = {"gripper/finger+y", "gripper/finger-y", "gripper/palm"};
+    const geometry::Body body = geometry::gripper_body(gripper, opening);
+    for (std::size_t p = 0; p < body.parts().size(); ++p) {
+      const geometry::BodyPart& part = body.parts()[p];
+      const Eigen::AlignedBox3d& box = part.shape.bounds();
+      const geometry::ObjectModel& model = *models_.emplace_back(
+          std::make_unique<geometry::ObjectModel>(kNames[p], geometry::make_box(box.sizes())));
+      const sensing::ObjectFeatures& features = *features_.emplace_back(
+          std::make_unique<sensing::ObjectFeatures>(sensing::object_features(model)));
+      scene_.add(kNames[p], model, features, pose * part.pose * Eigen::Translation3d(box.min()));
+    }
+  }
+
+  sensing::Scene scene_;
+  kinematics::PoseUncertainty object_uncertainty_{};
+  std::vector<std::unique_ptr<geometry::ObjectModel>> models_;  // stable addresses
+  std::vector<std::unique_ptr<sensing::ObjectFeatures>> features_;
+};
 
 }  // namespace
 
@@ -85,20 +141,27 @@ VisionSetup::ChangedScene VisionSetup::changed_scene(const std::vector<std::stri
 }
 
 std::optional<VisionCheck> vision_check(const Scenario& scenario, int object,
-                                        const kinematics::Transform& pose) {
-  const ObjectSpec& spec = scenario.objects.at(static_cast<std::size_t>(object));
-  const sensing::ObjectFeatures features = sensing::object_features(spec.model);
-  sensing::Scene scene;
-  scene.add(spec.name, spec.model, features, pose);
+                                        const kinematics::Transform& pose,
+                                        const VisionOccluders& occluders) {
+  const StepScene step(scenario, object, pose, occluders);
   std::optional<VisionCheck> best;
   for (const CameraSensor& sensor : scenario.cameras) {
     if (sensor.mount == sensing::Mount::kWrist) continue;  // PSEIKI needs a world pose (above)
-    const sensing::pseiki::ExpectationUncertainty uncertainty{
-        .objects = {spec.uncertainty}, .camera = sensor.uncertainty, .noise_px = sensor.noise_px};
-    const sensing::pseiki::ModelPanel panel(scene, camera_of(sensor), uncertainty);
-    VisionCheck check{sensor.name, spec.name, {}, sensing::pseiki::MatchOptions{}.acceptance};
-    for (const sensing::pseiki::PanelEdge& edge : panel.edges())
-      if (!edge.pieces.empty()) check.edges.push_back(edge.id);
+    const sensing::pseiki::ModelPanel panel(step.scene(), camera_of(sensor),
+                                            step.uncertainty(sensor));
+    VisionCheck check{.camera = sensor.name,
+                      .object = scenario.objects.at(static_cast<std::size_t>(object)).name,
+                      .edges = {},
+                      .acceptance = sensing::pseiki::MatchOptions{}.acceptance,
+                      .width = sensor.intrinsics.width,
+                      .height = sensor.intrinsics.height,
+                      .drawing = {}};
+    for (const sensing::pseiki::PanelEdge& edge : panel.edges()) {
+      if (edge.pieces.empty()) continue;
+      const std::string& body = step.scene().objects()[static_cast<std::size_t>(edge.object)].name;
+      if (edge.object == 0) check.edges.push_back(edge.id);
+      check.drawing.push_back({edge.id, body, edge.pieces});
+    }
     if (!check.edges.empty() && (!best || check.edges.size() > best->edges.size()))
       best = std::move(check);
   }

@@ -24,6 +24,7 @@
 #include <utility>
 #include <vector>
 
+#include "spar/geometry/grasps.hpp"
 #include "spar/planner/scenario.hpp"
 #include "spar/sensing/pseiki/matcher.hpp"
 #include "spar/sensing/pseiki/simulate.hpp"
@@ -77,17 +78,38 @@ class VisionSetup {
 // What PSEIKI must see to accept the verification of a step (issue 27; the verification step of an
 // error, seed 001 fig. 11): the camera, the object, and the object's model edges it expects to see
 // (ids as `spar vision render` prints them, "peg/e3"); the interpretation is accepted when the
-// scene belief reaches `acceptance`. The object is rendered alone at the step's ideal pose, by the
-// fixed camera that sees the most of its edges (ties: the first in file order; a wrist camera's
-// world pose depends on the step, so it is not one); the gripper and the other
-// objects are not drawn, so an edge they hide at that step is still listed. nullopt when the
-// scenario has no camera or none sees the object.
+// scene belief reaches `acceptance`. The scene is rendered as it stands at the step: the object at
+// the step's ideal pose, the `occluders` (the other objects where they rest, and the gripper at
+// the step's grasp, closed to its width) drawn with it, so an edge they hide (hidden-line removal
+// between objects, sensing/render.hpp) is not listed and a camera that sees the object only
+// behind them is not chosen. The camera is the fixed one that sees the most of the object's edges
+// (ties: the first in file order; a wrist camera's world pose depends on the step, so it is not
+// one). nullopt when the scenario has no camera or none sees the object.
+//
+// `drawing` is that camera's model panel for the reports (the expected scene as it renders it):
+// every visible edge of every body, object and occluders, in pixels (u right, v down). The
+// gripper's three boxes are the bodies "gripper/palm", "gripper/finger-y", "gripper/finger+y"
+// (their edges "gripper/palm/e4"). Not drawn: objects already inserted into another (the planner
+// no longer tracks them on their own) and the arm's links.
+struct VisionEdge {
+  std::string id, object;  // "peg/e3", "peg"
+  std::vector<sensing::pseiki::Segment> pieces;
+};
 struct VisionCheck {
   std::string camera, object;
   std::vector<std::string> edges;
   double acceptance{0};
+  int width{0}, height{0};  // the camera's image, pixels
+  std::vector<VisionEdge> drawing;
+};
+struct VisionOccluders {
+  std::vector<std::pair<int, kinematics::Transform>> objects;  // scenario index, ideal pose
+  const geometry::GripperSpec* gripper{nullptr};               // none: no gripper at the step
+  kinematics::Transform gripper_pose{kinematics::Transform::Identity()};  // world
+  double opening{0};                                                      // metres
 };
 [[nodiscard]] std::optional<VisionCheck> vision_check(const Scenario& scenario, int object,
-                                                      const kinematics::Transform& pose);
+                                                      const kinematics::Transform& pose,
+                                                      const VisionOccluders& occluders = {});
 
 }  // namespace spar::planner

@@ -1,6 +1,7 @@
 #include "spar/reports/build.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <tuple>
 
 #include "spar/kinematics/puma.hpp"
@@ -204,6 +205,19 @@ Precondition build_precondition(const planner::Scenario& scenario,
   return out;
 }
 
+// What PSEIKI must see, with the rendered scene (pixels to 0.01: the drawing needs no more).
+VisionCheck vision_of(const planner::VisionCheck& check) {
+  const auto pixel = [](double value) { return std::round(100 * value) / 100; };
+  VisionView view{check.width, check.height, {}};
+  for (const planner::VisionEdge& edge : check.drawing) {
+    VisionViewEdge& drawn = view.edges.emplace_back(VisionViewEdge{edge.id, edge.object, {}});
+    for (const sensing::pseiki::Segment& piece : edge.pieces)
+      drawn.pieces.push_back(
+          {pixel(piece.p0.x()), pixel(piece.p0.y()), pixel(piece.p1.x()), pixel(piece.p1.y())});
+  }
+  return {check.camera, check.object, check.edges, check.acceptance, std::move(view)};
+}
+
 // Verification sensing of a failed step and, per outcome, its recovery plan.
 void add_verification(const std::vector<planner::VerificationPlan>& plans, Step& step) {
   step.verification.emplace();
@@ -213,9 +227,7 @@ void add_verification(const std::vector<planner::VerificationPlan>& plans, Step&
     verification.name = plan.name;
     verification.sense = plan.sense;
     verification.expect = plan.expect;
-    if (plan.vision)
-      verification.vision = VisionCheck{plan.vision->camera, plan.vision->object,
-                                        plan.vision->edges, plan.vision->acceptance};
+    if (plan.vision) verification.vision = vision_of(*plan.vision);
     for (const auto& outcome : plan.outcomes) {
       verification.outcomes.push_back({outcome.when, outcome.error, outcome.recovery});
       step.recovery->push_back({outcome.error, outcome.recovery, outcome.recovery_steps});

@@ -13,6 +13,7 @@
 #include "spar/reports/json.hpp"
 #include "spar/reports/markdown.hpp"
 #include "spar/reports/sensing.hpp"
+#include "spar/reports/vision_svg.hpp"
 
 namespace spar::reports {
 namespace {
@@ -411,6 +412,16 @@ void repairs_section(const Report& report, std::ostringstream& out) {
   out << "</section>\n";
 }
 
+// What PSEIKI must see, and the expected scene as the camera renders it (reports of this version).
+void vision_item(const VisionCheck& vision, std::ostringstream& out) {
+  out << "<li>" << html_escape(internal::vision_text(vision));
+  if (vision.view)
+    out << "<figure class=\"vision\" style=\"margin:6px 0\">" << expected_scene_svg(vision)
+        << "<figcaption class=\"note\">" << html_escape(internal::vision_view_text(vision))
+        << "</figcaption></figure>";
+  out << "</li>";
+}
+
 void verification_section(const Report& report, std::ostringstream& out) {
   out << "<section id=\"verification\"><h2>Verification and recovery</h2>\n";
   bool any = false;
@@ -427,7 +438,7 @@ void verification_section(const Report& report, std::ostringstream& out) {
     for (const Verification& plan : *step.verification) {
       out << "<li>verify: " << html_escape(plan.sense) << " (expect " << html_escape(plan.expect)
           << ")<ul>";
-      if (plan.vision) out << "<li>" << html_escape(internal::vision_text(*plan.vision)) << "</li>";
+      if (plan.vision) vision_item(*plan.vision, out);
       for (const Outcome& outcome : plan.outcomes)
         out << "<li>if " << html_escape(outcome.when) << ": " << html_escape(outcome.error)
             << ", recover by <b>" << html_escape(outcome.recovery) << "</b></li>";

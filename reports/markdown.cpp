@@ -140,7 +140,12 @@ void verification_section(const Report& report, std::ostringstream& out) {
           << '\n';
     for (const Verification& plan : *step.verification) {
       out << "  - verify: " << plan.sense << " (expect " << plan.expect << ")\n";
-      if (plan.vision) out << "    - " << internal::vision_text(*plan.vision) << '\n';
+      if (plan.vision) {
+        out << "    - " << internal::vision_text(*plan.vision) << '\n';
+        if (plan.vision->view)
+          out << "    - " << internal::vision_view_text(*plan.vision)
+              << " (drawn in the HTML report)\n";
+      }
       for (const Outcome& outcome : plan.outcomes)
         out << "    - if " << outcome.when << ": " << outcome.error << ", recover by "
             << outcome.recovery << '\n';

@@ -344,17 +344,43 @@ struct Outcome {
   }
 };
 
+// One visible edge of the expected scene, in the camera's pixels (u right, v down).
+struct VisionViewEdge {
+  std::string id, object;                     // "peg/e3", "peg"
+  std::vector<std::array<double, 4>> pieces;  // visible pieces, [u0, v0, u1, v1]
+  template <class Self, class Field>
+  static void fields(Self& s, Field&& field) {
+    field("id", s.id);
+    field("object", s.object);
+    field("pieces", s.pieces);
+  }
+};
+
+// The expected scene as the camera renders it (the model panel), for the reports' drawing.
+struct VisionView {
+  int width{0}, height{0};  // the image, pixels
+  std::vector<VisionViewEdge> edges;
+  template <class Self, class Field>
+  static void fields(Self& s, Field&& field) {
+    field("width", s.width);
+    field("height", s.height);
+    field("edges", s.edges);
+  }
+};
+
 // What PSEIKI must see to accept (planner/vision.hpp's VisionCheck).
 struct VisionCheck {
   std::string camera, object;
   std::vector<std::string> edges;  // model edges expected visible, "peg/e3"
   double acceptance{0.0};          // scene belief that accepts
+  std::optional<VisionView> view;  // absent in reports of earlier versions
   template <class Self, class Field>
   static void fields(Self& s, Field&& field) {
     field("camera", s.camera);
     field("object", s.object);
     field("edges", s.edges);
     field("acceptance", s.acceptance);
+    field("view", s.view);
   }
 };
 

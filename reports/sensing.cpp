@@ -1,5 +1,6 @@
 #include "spar/reports/sensing.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <sstream>
@@ -64,7 +65,33 @@ std::string direction_text(const std::array<double, 3>& d) {
 }
 
 std::string max_text(const Nullable<double>& value) {
-  return value ? rounded(*value) + " bits" : "unreachable";
+  return value ? rounded(*value) + " bits" : "-";
+}
+
+// The reachable candidates, least predicted worst-case ambiguity first (ties in planning order):
+// the table a reader scans for the best view. The unreachable ones are only listed by name.
+std::vector<const SensingCandidate*> reachable_by_ambiguity(const ObjectSensing& object) {
+  std::vector<const SensingCandidate*> rows;
+  for (const SensingCandidate& candidate : object.candidates)
+    if (candidate.reachable) rows.push_back(&candidate);
+  std::ranges::stable_sort(rows, {}, [](const SensingCandidate* candidate) {
+    return candidate->predicted_max_ambiguity.value_or(0.0);
+  });
+  return rows;
+}
+
+// "3 unreachable viewpoints: camera v12, camera v13, arm v2" (empty when every one is reachable).
+std::string unreachable_text(const ObjectSensing& object) {
+  std::string names;
+  int count = 0;
+  for (const SensingCandidate& candidate : object.candidates)
+    if (!candidate.reachable) {
+      names += (names.empty() ? "" : ", ") + candidate.sensor + " " + candidate.viewpoint;
+      ++count;
+    }
+  if (count == 0) return "";
+  return std::to_string(count) +
+         (count == 1 ? " unreachable viewpoint: " : " unreachable viewpoints: ") + names;
 }
 
 // A colour per aspect label, far apart for neighbours (golden-angle hues).
@@ -148,13 +175,15 @@ std::string sensing_markdown(const std::vector<ObjectSensing>& objects) {
         << rounded(object.ambiguity_before) << " bits.\n\n"
         << "| sensor | viewpoint | direction | aspects | predicted ambiguity | max |\n"
         << "|---|---|---|---|---|--:|\n";
-    for (const SensingCandidate& candidate : object.candidates)
-      out << "| " << cell_escape(candidate.sensor) << " | " << cell_escape(candidate.viewpoint)
-          << " | " << direction_text(candidate.direction) << " | "
-          << cell_escape(aspects_text(candidate.aspects)) << " | "
-          << cell_escape(beliefs_text(candidate.predicted_ambiguity)) << " | "
-          << max_text(candidate.predicted_max_ambiguity) << " |\n";
+    for (const SensingCandidate* candidate : reachable_by_ambiguity(object))
+      out << "| " << cell_escape(candidate->sensor) << " | " << cell_escape(candidate->viewpoint)
+          << " | " << direction_text(candidate->direction) << " | "
+          << cell_escape(aspects_text(candidate->aspects)) << " | "
+          << cell_escape(beliefs_text(candidate->predicted_ambiguity)) << " | "
+          << max_text(candidate->predicted_max_ambiguity) << " |\n";
     out << '\n';
+    if (const std::string unreachable = unreachable_text(object); !unreachable.empty())
+      out << unreachable << ".\n\n";
     if (object.sequence.empty()) out << "No operation lowers the ambiguity.\n";
     int number = 0;
     for (const SensingOperation& operation : object.sequence)
@@ -211,13 +240,19 @@ std::string sensing_html(const std::vector<ObjectSensing>& objects) {
         << rounded(object.ambiguity_before) << " bits.</p>\n<div class=\"scroll\"><table><tr>"
         << "<th>sensor</th><th>viewpoint</th><th>direction</th><th>aspects</th>"
         << "<th>predicted ambiguity</th><th>max</th></tr>\n";
-    for (const SensingCandidate& candidate : object.candidates)
-      out << "<tr><td>" << html_escape(candidate.sensor) << "</td><td>"
-          << html_escape(candidate.viewpoint) << "</td><td>" << direction_text(candidate.direction)
-          << "</td><td>" << html_escape(aspects_text(candidate.aspects)) << "</td><td>"
-          << html_escape(beliefs_text(candidate.predicted_ambiguity)) << "</td><td>"
-          << max_text(candidate.predicted_max_ambiguity) << "</td></tr>\n";
-    out << "</table></div>\n<ol>";
+    for (const SensingCandidate* candidate : reachable_by_ambiguity(object))
+      out << "<tr><td>" << html_escape(candidate->sensor) << "</td><td>"
+          << html_escape(candidate->viewpoint) << "</td><td>"
+          << direction_text(candidate->direction) << "</td><td>"
+          << html_escape(aspects_text(candidate->aspects)) << "</td><td>"
+          << html_escape(beliefs_text(candidate->predicted_ambiguity)) << "</td><td>"
+          << max_text(candidate->predicted_max_ambiguity) << "</td></tr>\n";
+    out << "</table></div>\n";
+    if (const std::string unreachable = unreachable_text(object); !unreachable.empty())
+      out << "<details><summary>" << html_escape(unreachable.substr(0, unreachable.find(':')))
+          << "</summary><p>" << html_escape(unreachable.substr(unreachable.find(':') + 2))
+          << "</p></details>\n";
+    out << "<ol>";
     for (const SensingOperation& operation : object.sequence)
       out << "<li>" << html_escape(operation.sensor) << " at " << html_escape(operation.viewpoint)
           << " (aspect " << html_escape(operation.aspect.empty() ? "-" : operation.aspect)

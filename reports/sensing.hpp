@@ -1,9 +1,10 @@
 // The "Sensing" part of reports: the records of sense planning (reports/model.hpp's
 // ObjectSensing) built from planner/sense_planning.hpp's result, and their Markdown and HTML:
-// the candidate operations' table, the chosen operations, the hypotheses' beliefs before and
-// after (the worst case of the chosen sequence), and each identity's view sphere drawn as two
-// hemispheres (seen from above and from below, orthographically), every sample direction coloured
-// by the aspect the object shows along it.
+// the reachable candidate operations' table (least predicted worst-case ambiguity first; the
+// unreachable viewpoints only named, folded in HTML), the chosen operations, the hypotheses'
+// beliefs before and after (the worst case of the chosen sequence), and each identity's view sphere
+// drawn as two hemispheres (seen from above and from below, orthographically), every sample
+// direction coloured by the aspect the object shows along it.
 //
 // Example:
 //   const SensePlanRecord record = build_sense_plan(scenario, planner::plan_sensing(scenario,

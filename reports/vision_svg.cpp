@@ -1,6 +1,7 @@
 #include "spar/reports/vision_svg.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <sstream>
 
@@ -24,6 +25,13 @@ std::string colour(int label) {
   return kPalette[label % 8];
 }
 
+void line(std::ostringstream& svg, double x1, double y1, double x2, double y2,
+          const std::string& stroke, double width) {
+  svg << "<line x1=\"" << internal::fixed(x1, 2) << "\" y1=\"" << internal::fixed(y1, 2)
+      << "\" x2=\"" << internal::fixed(x2, 2) << "\" y2=\"" << internal::fixed(y2, 2)
+      << "\" stroke=\"" << stroke << "\" stroke-width=\"" << width << "\"/>";
+}
+
 }  // namespace
 
 std::string vision_svg(const sensing::pseiki::ModelPanel& expected,
@@ -40,12 +48,10 @@ std::string vision_svg(const sensing::pseiki::ModelPanel& expected,
   for (const double left : {kMargin, right})
     svg << "<rect x=\"" << left << "\" y=\"" << kMargin << "\" width=\"" << width << "\" height=\""
         << height << "\" fill=\"white\" stroke=\"black\"/>\n";
-  const auto line = [&](double left, const Segment& s, const std::string& stroke, double w) {
-    svg << "<line x1=\"" << internal::fixed(left + scale * s.p0.x(), 2) << "\" y1=\""
-        << internal::fixed(kMargin + scale * s.p0.y(), 2) << "\" x2=\""
-        << internal::fixed(left + scale * s.p1.x(), 2) << "\" y2=\""
-        << internal::fixed(kMargin + scale * s.p1.y(), 2) << "\" stroke=\"" << stroke
-        << "\" stroke-width=\"" << w << "\"/>\n";
+  const auto segment = [&](double left, const Segment& s, const std::string& stroke, double w) {
+    line(svg, left + scale * s.p0.x(), kMargin + scale * s.p0.y(), left + scale * s.p1.x(),
+         kMargin + scale * s.p1.y(), stroke, w);
+    svg << '\n';
   };
   const auto text = [&](double left, const Eigen::Vector2d& at, const std::string& words,
                         const std::string& fill) {
@@ -56,14 +62,14 @@ std::string vision_svg(const sensing::pseiki::ModelPanel& expected,
   // (a) the expected scene: the believed poses' edges, labelled.
   for (std::size_t e = 0; e < expected.edges().size(); ++e) {
     const PanelEdge& edge = expected.edges()[e];
-    for (const Segment& piece : edge.pieces) line(kMargin, piece, "black", 1);
+    for (const Segment& piece : edge.pieces) segment(kMargin, piece, "black", 1);
     text(kMargin, edge.span.midpoint(), edge.id, "black");
   }
   // (b) the image panel: every active element, coloured by its label, with "label:NN%".
   const auto& matched = *result.expected;
   for (const ImageEdge& edge : result.board.edges) {
     if (!edge.active) continue;
-    line(right, edge.segment, colour(edge.label), edge.label < 0 ? 1 : 1.5);
+    segment(right, edge.segment, colour(edge.label), edge.label < 0 ? 1 : 1.5);
     if (edge.label >= 0)
       text(right, edge.segment.midpoint(),
            matched.edges()[static_cast<std::size_t>(edge.label)].id + ":" +
@@ -78,6 +84,54 @@ std::string vision_svg(const sensing::pseiki::ModelPanel& expected,
       << internal::fixed(result.board.scene.belief, 2) << ": "
       << (result.accepted ? "accepted" : "rejected") << " after " << result.passes
       << (result.passes == 1 ? " pass" : " passes") << "</text>\n</svg>\n";
+  return svg.str();
+}
+
+std::string expected_scene_svg(const VisionCheck& check) {
+  constexpr double kEdge = 8, kLegend = 40;
+  constexpr const char* kObject = "#b3261e";
+  constexpr const char* kOther = "#8a94a3";
+  const VisionView& view = *check.view;
+  const double scale = kPanelWidth / std::max(1, view.width);
+  const double width = 2 * kEdge + scale * view.width;
+  const double height = 2 * kEdge + scale * view.height + kLegend;
+  std::size_t others = 0;
+  for (const VisionViewEdge& edge : view.edges) others += edge.object != check.object;
+  std::ostringstream svg;
+  svg << "<svg xmlns=\"http://www.w3.org/2000/svg\" class=\"vision-view\" viewBox=\"0 0 "
+      << internal::fixed(width, 2) << " " << internal::fixed(height, 2) << "\" width=\""
+      << internal::fixed(width, 2) << "\" height=\"" << internal::fixed(height, 2)
+      << "\" style=\"max-width:100%;height:auto\" font-size=\"11\" role=\"img\"><title>"
+      << internal::html_escape("the expected scene: camera " + check.camera + ", " +
+                               std::to_string(view.width) + " x " + std::to_string(view.height) +
+                               " px")
+      << "</title>\n<rect class=\"image\" x=\"" << kEdge << "\" y=\"" << kEdge << "\" width=\""
+      << internal::fixed(scale * view.width, 2) << "\" height=\""
+      << internal::fixed(scale * view.height, 2) << "\" fill=\"#fbfcfd\" stroke=\"#55606e\"/>\n";
+  // The other bodies first, so that the object's edges are drawn over them.
+  for (const bool object : {false, true})
+    for (const VisionViewEdge& edge : view.edges) {
+      if ((edge.object == check.object) != object) continue;
+      svg << "<g class=\"edge" << (object ? " object" : "") << "\" data-edge=\""
+          << internal::html_escape(edge.id) << "\"><title>" << internal::html_escape(edge.id)
+          << "</title>";
+      for (const std::array<double, 4>& piece : edge.pieces)
+        line(svg, kEdge + scale * piece[0], kEdge + scale * piece[1], kEdge + scale * piece[2],
+             kEdge + scale * piece[3], object ? kObject : kOther, object ? 2 : 1);
+      svg << "</g>\n";
+    }
+  const double legend = 2 * kEdge + scale * view.height + 6;
+  const auto key = [&](double y, const char* stroke, double w, const std::string& words) {
+    line(svg, kEdge, y, kEdge + 24, y, stroke, w);
+    svg << "<text x=\"" << kEdge + 30 << "\" y=\"" << internal::fixed(y + 4, 2) << "\">"
+        << internal::html_escape(words) << "</text>\n";
+  };
+  key(legend + 6, kObject, 2,
+      check.object + ": the " + std::to_string(check.edges.size()) + " edges PSEIKI must see");
+  key(legend + 24, kOther, 1,
+      others ? "the other objects and the gripper (" + std::to_string(others) + " edges)"
+             : "nothing else in view");
+  svg << "</svg>";
   return svg.str();
 }
 

@@ -9,10 +9,18 @@
 //   const Verification result = verify(scene, camera, uncertainty, image.edges, options);
 //   std::ofstream("match.svg") << vision_svg(ModelPanel(scene, camera, uncertainty), result,
 //   image);
+//
+// expected_scene_svg draws a report's verification view (reports/model.hpp's VisionCheck.view):
+// the expected scene alone, as the camera renders it at the step (y down, like the image), the
+// verified object's edges emphasised, the other bodies' (objects, gripper) thin and grey, each
+// edge a g.edge with its id as a <title> tooltip, and a legend under it. A viewBox sized to the
+// image scaled to 480 px wide, so that it shrinks to a phone's width. Inline HTML (no XML
+// declaration).
 #pragma once
 
 #include <string>
 
+#include "spar/reports/model.hpp"
 #include "spar/sensing/pseiki/matcher.hpp"
 #include "spar/sensing/pseiki/vision_json.hpp"
 
@@ -21,5 +29,8 @@ namespace spar::reports {
 [[nodiscard]] std::string vision_svg(const sensing::pseiki::ModelPanel& expected,
                                      const sensing::pseiki::Verification& result,
                                      const sensing::pseiki::ImageFile& image);
+
+// `check.view` must be set.
+[[nodiscard]] std::string expected_scene_svg(const VisionCheck& check);
 
 }  // namespace spar::reports

@@ -68,8 +68,26 @@ std::string length_text(const Units& units, double metres) {
   return buffer;
 }
 
+// What may hide the step's object from a camera: the other objects where they rest before the
+// step, and the gripper at the step's grasp, closed on the object.
+VisionOccluders occluders_at(const WorldModel& world, const Propagation& before,
+                             const Phase2Step& step) {
+  VisionOccluders occluders;
+  for (int o = 0; o < static_cast<int>(world.scenario().objects.size()); ++o)
+    if (o != step.object && before.on_table(o))
+      occluders.objects.emplace_back(o, before.on_table(o)->ideal);
+  if (step.grasp >= 0) {
+    const geometry::Grasp& grasp = world.object(step.object).grasps[step.grasp];
+    occluders.gripper = &world.gripper();
+    occluders.gripper_pose = step.object_pose * grasp.gripper_in_object;
+    occluders.opening = grasp.width;
+  }
+  return occluders;
+}
+
 std::vector<VerificationPlan> verification_plans(const WorldModel& world, const Domain& domain,
-                                                 const Phase2Step& step) {
+                                                 const Phase2Step& step,
+                                                 const Propagation& before) {
   const Scenario& scenario = world.scenario();
   std::map<std::string, std::string> values;
   if (step.object >= 0) values["{object}"] = scenario.objects[step.object].name;
@@ -86,7 +104,9 @@ std::vector<VerificationPlan> verification_plans(const WorldModel& world, const 
     return text;
   };
   const std::optional<VisionCheck> vision =
-      step.object >= 0 ? vision_check(scenario, step.object, step.object_pose) : std::nullopt;
+      step.object >= 0
+          ? vision_check(scenario, step.object, step.object_pose, occluders_at(world, before, step))
+          : std::nullopt;
   std::vector<VerificationPlan> plans;
   for (const std::string& name : domain.actions[step.action].verification) {
     const VerificationTemplate& verification = domain.verification(name);
@@ -289,7 +309,7 @@ void InstanceAnalyser::run(std::vector<Phase2Step> steps, InstanceAnalysis& out)
     if (!all_hold(step.preconditions)) {
       step.failed = true;
       if (options_.reverse) step.sensor_scale_needed = sensor_margin(steps, snapshots, k);
-      step.verification = verification_plans(world_, domain_, steps[k]);
+      step.verification = verification_plans(world_, domain_, steps[k], snapshots[k]);
       ++out.errors;
     }
     analysed.push_back(std::move(step));

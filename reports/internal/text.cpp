@@ -257,6 +257,17 @@ std::string vision_text(const VisionCheck& vision) {
          " (PSEIKI accepts at scene belief >= " + rounded(vision.acceptance, 2) + ")";
 }
 
+std::string vision_view_text(const VisionCheck& vision) {
+  const VisionView& view = *vision.view;
+  std::size_t own = 0;
+  for (const VisionViewEdge& edge : view.edges) own += edge.object == vision.object;
+  return "the expected scene as camera " + vision.camera + " renders it at this step, " +
+         std::to_string(view.width) + " x " + std::to_string(view.height) +
+         " px: " + std::to_string(own) + " edges of " + vision.object + ", " +
+         std::to_string(view.edges.size() - own) +
+         " of the other objects and the gripper, which hide what lies behind them";
+}
+
 std::pair<int, int> holding(const Step& step) {
   int holds = 0, total = 0;
   if (step.preconditions)

@@ -69,6 +69,9 @@ namespace spar::reports::internal {
 [[nodiscard]] std::string sensor_residual_text(const Units& units, const SensorResidual& needed);
 // "camera overhead must see peg/e1, peg/e4 (PSEIKI accepts at scene belief >= 0.5)".
 [[nodiscard]] std::string vision_text(const VisionCheck& vision);
+// "the expected scene as camera overhead renders it at this step, 640 x 480 px: 7 edges of peg,
+// 25 of the other objects and the gripper, which hide what lies behind them" (vision.view set).
+[[nodiscard]] std::string vision_view_text(const VisionCheck& vision);
 
 // ---- chosen.probability ----
 // The chosen step's precondition an entry of chosen.probability.preconditions describes.

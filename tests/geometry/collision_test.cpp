@@ -117,6 +117,31 @@ TEST(Collision, SweepDoesNotStepOverAThinPlate) {
   EXPECT_FALSE(through.clear);
 }
 
+// The tally counts top-level queries once (a sweep's own distances are inside it), the FCL calls
+// they make, and nothing before or after its lifetime; two tallies at once are refused.
+TEST(CollisionTally, CountsTopLevelQueriesAndTheirFclCallsWhileAlive) {
+  const PlacedBody a{&unit_cube(), at(0, 0, 0)}, near{&unit_cube(), at(1.0005, 0, 0)},
+      far{&unit_cube(), at(10, 0, 0)};
+  (void)collide(a, near, 0.001);  // before the tally: not counted
+  CollisionCounts counts;
+  {
+    const CollisionTally tally;
+    EXPECT_THROW_MESSAGE(CollisionTally(), "a CollisionTally is already counting");
+    EXPECT_TRUE(collide(a, near, 0.001));  // FCL collide, then distance
+    EXPECT_FALSE(collide(a, far, 0.001));  // broad phase only: no FCL call
+    const std::vector<PlacedBody> obstacles = {{&unit_cube(), at(0.2, 0.2, 0)}};
+    const Sweep down = sweep({&unit_cube(), at(0, 0, 3)}, {0, 0, -2.5}, obstacles, 0.001);
+    EXPECT_FALSE(down.clear);
+    counts = tally.counts();
+  }
+  EXPECT_EQ(counts.queries, 3);
+  EXPECT_GE(counts.fcl_calls, 3);
+  EXPECT_GT(counts.seconds, 0.0);
+  EXPECT_LE(counts.fcl_seconds, counts.seconds);
+  const CollisionTally again;  // the first one is gone
+  EXPECT_EQ(again.counts().queries, 0);
+}
+
 TEST(Collision, GripperFingersAreAtHalfTheOpening) {
   const GripperSpec spec;
   const Body gripper = gripper_body(spec, 0.05);

@@ -81,6 +81,52 @@ TEST(Markdown, AVerificationNamesTheEdgesTheCameraMustSee) {
   EXPECT_NE(render_html(report).find("<li>camera overhead must see peg/e"), std::string::npos);
 }
 
+// Issue 27: the HTML report draws the expected scene as the camera renders it at the step (an
+// inline SVG that scales to a phone's width): the object's edges to see, emphasised and each with
+// its id as a tooltip, over the other bodies'; Markdown says what the drawing shows.
+TEST(Html, AVerificationDrawsTheExpectedSceneTheCameraRenders) {
+  const Report report = report_from_json(camera_report());
+  const VisionCheck* vision = nullptr;
+  for (const Step& step : report.chosen->steps)
+    if (step.verification)
+      for (const Verification& plan : *step.verification)
+        if (plan.vision && !vision) vision = &*plan.vision;
+  ASSERT_NE(vision, nullptr);
+  ASSERT_TRUE(vision->view.has_value());
+  EXPECT_EQ(vision->view->width, 640);
+  EXPECT_EQ(vision->view->height, 480);
+  // The view's edges of the object are exactly the edges to see; the gripper is drawn too.
+  std::vector<std::string> own;
+  bool gripper = false;
+  for (const VisionViewEdge& edge : vision->view->edges) {
+    if (edge.object == vision->object) own.push_back(edge.id);
+    gripper |= edge.object == "gripper/palm";
+    for (const auto& piece : edge.pieces) {
+      EXPECT_TRUE(piece[0] >= 0 && piece[0] <= 640 && piece[1] >= 0 && piece[1] <= 480) << edge.id;
+    }
+  }
+  EXPECT_EQ(own, vision->edges);
+  EXPECT_TRUE(gripper);
+
+  const std::string html = render_html(report);
+  const std::size_t at =
+      html.find("<svg xmlns=\"http://www.w3.org/2000/svg\" class=\"vision-view\"");
+  ASSERT_NE(at, std::string::npos);
+  const std::string svg = html.substr(at, html.find("</svg>", at) - at);
+  EXPECT_NE(svg.find("viewBox=\"0 0 496 416\""), std::string::npos) << svg.substr(0, 200);
+  EXPECT_NE(svg.find("style=\"max-width:100%;height:auto\""), std::string::npos);
+  EXPECT_EQ(count(svg, "<g class=\"edge object\""), vision->edges.size());
+  EXPECT_EQ(count(svg, "<g class=\"edge"), vision->view->edges.size());
+  EXPECT_NE(svg.find("<title>" + vision->edges.front() + "</title>"), std::string::npos);
+  EXPECT_NE(svg.find("peg: the " + std::to_string(vision->edges.size()) + " edges PSEIKI must see"),
+            std::string::npos);
+
+  const std::string markdown = render_markdown(report);
+  const std::regex line(
+      R"(\n    - the expected scene as camera overhead renders it at this step, 640 x 480 px: \d+ edges of peg, \d+ of the other objects and the gripper, which hide what lies behind them \(drawn in the HTML report\)\n)");
+  EXPECT_TRUE(std::regex_search(markdown, line)) << markdown;
+}
+
 TEST(Markdown, NoPlanGivesTheReason) {
   const std::string markdown = render_markdown(no_plan_report());
   EXPECT_NE(markdown.find("no_plan ("), std::string::npos);
@@ -333,6 +379,42 @@ TEST(SensingReport, ShowsTheSensePlanAndEveryBranch) {
   const std::string html = render_html(report);
   EXPECT_NE(html.find("class=\"view-sphere\""), std::string::npos);
   EXPECT_EQ(count(html, "<h3>Branch P"), 2U);
+}
+
+// The candidates table holds the reachable viewpoints only, least worst-case ambiguity first;
+// the unreachable ones are counted and named once (folded in HTML).
+TEST(SensingReport, ListsReachableCandidatesBestFirstAndNamesTheUnreachable) {
+  const Json& report = sensing_report();
+  const Json& candidates = report["sensing"][0]["candidates"];
+  std::vector<double> reachable;
+  std::size_t unreachable = 0;
+  for (const Json& candidate : candidates) {
+    if (candidate["reachable"].get<bool>())
+      reachable.push_back(candidate["predicted_max_ambiguity"].get<double>());
+    else
+      ++unreachable;
+  }
+  ASSERT_GT(reachable.size(), 1U);
+  ASSERT_GT(unreachable, 0U);
+  const std::string markdown = render_markdown(report);
+  const std::size_t table = markdown.find("| sensor | viewpoint |");
+  ASSERT_NE(table, std::string::npos);
+  // The header, its rule and one line per reachable candidate, each ending in '\n'.
+  const std::string rows = markdown.substr(table, markdown.find("\n\n", table) + 1 - table);
+  EXPECT_EQ(count(rows, "\n"), 2 + reachable.size());
+  std::vector<double> shown;
+  const std::regex max_cell(R"(\| ([0-9.e-]+) bits \|\n)");
+  for (auto it = std::sregex_iterator(rows.begin(), rows.end(), max_cell);
+       it != std::sregex_iterator(); ++it)
+    shown.push_back(std::stod((*it)[1].str()));
+  EXPECT_EQ(shown.size(), reachable.size());
+  EXPECT_TRUE(std::ranges::is_sorted(shown));
+  EXPECT_NE(markdown.find(std::to_string(unreachable) + " unreachable viewpoints: range_scan V"),
+            std::string::npos);
+  const std::string html = render_html(report);
+  EXPECT_NE(html.find("<details><summary>" + std::to_string(unreachable) +
+                      " unreachable viewpoints</summary>"),
+            std::string::npos);
 }
 
 TEST(Renderers, RefuseADocumentThatIsNotAReport) {

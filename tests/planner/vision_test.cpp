@@ -1,0 +1,153 @@
+// planner/vision.hpp's vision_check: what PSEIKI must see at a verification step is what the
+// camera sees of the object with the other objects and the gripper in the scene (issue 27:
+// hidden-line removal between objects applies to the verification's edge list).
+#include "spar/planner/vision.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <numbers>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "spar/common/units.hpp"
+#include "spar/planner/scenario.hpp"
+#include "spar/sensing/camera.hpp"
+
+namespace spar::planner {
+namespace {
+
+// Two 1 in cubes: `part` at (20, 0), `front` between it and a camera 10 in away on -y that looks
+// along +y, shifted half a cube sideways so that it hides about half of the part.
+Scenario two_cubes() {
+  return parse_scenario(
+      "units: {length: in, angle: deg}\n"
+      "objects:\n"
+      "  part: {builtin: cube, pose: {stable: P1, at: [20, 0]}}\n"
+      "  front: {builtin: cube, pose: {stable: P1, at: [20.5, -3]}}\n"
+      "sensors:\n  cameras:\n"
+      "    - {name: side, pose: {xyz: [20, -10, 0.5], rpy: [-90, 0, 0]},\n"
+      "       intrinsics: {fx: 800, fy: 800, cx: 320, cy: 240, width: 640, height: 480}}\n",
+      "test.yaml", ".");
+}
+
+// Whether `p` lies inside the convex hull of `points` by more than `margin` pixels.
+bool deep_inside_hull(std::vector<Eigen::Vector2d> points, const Eigen::Vector2d& p,
+                      double margin) {
+  std::sort(points.begin(), points.end(), [](const auto& a, const auto& b) {
+    return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y());
+  });
+  const auto cross = [](const Eigen::Vector2d& o, const Eigen::Vector2d& a,
+                        const Eigen::Vector2d& b) {
+    return (a - o).x() * (b - o).y() - (a - o).y() * (b - o).x();
+  };
+  std::vector<Eigen::Vector2d> hull(2 * points.size());
+  std::size_t k = 0;
+  for (std::size_t i = 0; i < points.size(); ++i) {  // Andrew's monotone chain, counter-clockwise
+    while (k >= 2 && cross(hull[k - 2], hull[k - 1], points[i]) <= 0) --k;
+    hull[k++] = points[i];
+  }
+  for (std::size_t i = points.size() - 1, lower = k + 1; i-- > 0;) {
+    while (k >= lower && cross(hull[k - 2], hull[k - 1], points[i]) <= 0) --k;
+    hull[k++] = points[i];
+  }
+  hull.resize(k - 1);
+  for (std::size_t i = 0; i < hull.size(); ++i) {
+    const Eigen::Vector2d& a = hull[i];
+    const Eigen::Vector2d& b = hull[(i + 1) % hull.size()];
+    if (cross(a, b, p) / (b - a).norm() <= margin) return false;
+  }
+  return true;
+}
+
+// The image points of `object`'s mesh vertices as `camera` sees them.
+std::vector<Eigen::Vector2d> projected(const Scenario& scenario, const std::string& object,
+                                       const std::string& camera) {
+  const ObjectSpec& spec = scenario.object(object);
+  const CameraSensor& sensor = scenario.camera(camera);
+  const sensing::Camera view(sensor.projection, sensor.intrinsics, sensor.pose);
+  std::vector<Eigen::Vector2d> out;
+  for (const Eigen::Vector3d& vertex : spec.model.mesh().vertices)
+    out.push_back(*view.project(spec.initial_pose * vertex));
+  return out;
+}
+
+// The midpoints of the drawn pieces of `object`'s edges.
+std::vector<Eigen::Vector2d> midpoints(const VisionCheck& check, const std::string& object) {
+  std::vector<Eigen::Vector2d> out;
+  for (const VisionEdge& edge : check.drawing)
+    if (edge.object == object)
+      for (const sensing::pseiki::Segment& piece : edge.pieces) out.push_back(piece.midpoint());
+  return out;
+}
+
+double visible_length(const VisionCheck& check, const std::string& object) {
+  double length = 0;
+  for (const VisionEdge& edge : check.drawing)
+    if (edge.object == object)
+      for (const sensing::pseiki::Segment& piece : edge.pieces) length += piece.length();
+  return length;
+}
+
+TEST(VisionCheck, AnObjectInFrontHidesPartOfTheVerifiedOnesEdges) {
+  const Scenario scenario = two_cubes();
+  const int part = 0;
+  const kinematics::Transform& pose = scenario.object("part").initial_pose;
+  const std::optional<VisionCheck> alone = vision_check(scenario, part, pose);
+  VisionOccluders front;
+  front.objects = {{1, scenario.object("front").initial_pose}};
+  const std::optional<VisionCheck> hidden = vision_check(scenario, part, pose, front);
+  ASSERT_TRUE(alone && hidden);
+  EXPECT_EQ(hidden->camera, "side");
+  EXPECT_EQ(hidden->width, 640);
+  // The front cube is drawn whole; the part loses what lies behind it, and nothing of what it
+  // keeps is drawn inside the front cube's outline (which, alone, it was).
+  EXPECT_FALSE(midpoints(*hidden, "front").empty());
+  const std::vector<Eigen::Vector2d> outline = projected(scenario, "front", "side");
+  const auto behind = [&](const VisionCheck& check) {
+    int count = 0;
+    for (const Eigen::Vector2d& p : midpoints(check, "part"))
+      count += deep_inside_hull(outline, p, 1.0);
+    return count;
+  };
+  EXPECT_GT(behind(*alone), 0);
+  EXPECT_EQ(behind(*hidden), 0);
+  EXPECT_LT(visible_length(*hidden, "part"), 0.8 * visible_length(*alone, "part"));
+  // The edges to see are the part's visible ones: fewer, each also visible alone.
+  EXPECT_LT(hidden->edges.size(), alone->edges.size());
+  const std::set<std::string> seen_alone(alone->edges.begin(), alone->edges.end());
+  for (const std::string& edge : hidden->edges) {
+    EXPECT_TRUE(seen_alone.contains(edge)) << edge;
+    EXPECT_EQ(edge.rfind("part/e", 0), 0u) << edge;
+  }
+}
+
+// The gripper at the step's grasp is drawn as its three boxes: it hides what it covers, and what
+// lies behind the part is hidden.
+TEST(VisionCheck, TheGripperIsDrawnAndHidesWhatItCovers) {
+  const Scenario scenario = two_cubes();
+  const kinematics::Transform& pose = scenario.object("part").initial_pose;
+  const geometry::GripperSpec gripper{};
+  // Closed on the part across y, approaching from above (its z down): the -y finger stands
+  // between the camera and the part, the palm above it.
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  for (const Eigen::Vector3d& vertex : scenario.object("part").model.mesh().vertices)
+    centre += pose * vertex / 8.0;
+  VisionOccluders occluders;
+  occluders.gripper = &gripper;
+  occluders.gripper_pose =
+      Eigen::Translation3d(centre) * Eigen::AngleAxisd(std::numbers::pi, Eigen::Vector3d::UnitX());
+  occluders.opening = 1.0 * units::kInch;
+  const std::optional<VisionCheck> alone = vision_check(scenario, 0, pose);
+  const std::optional<VisionCheck> held = vision_check(scenario, 0, pose, occluders);
+  ASSERT_TRUE(alone && held);
+  std::set<std::string> bodies;
+  for (const VisionEdge& edge : held->drawing) bodies.insert(edge.object);
+  // Gripper +y is world -y: that finger stands in front of the part, the other behind it, hidden.
+  EXPECT_EQ(bodies, (std::set<std::string>{"gripper/finger+y", "gripper/palm", "part"}));
+  EXPECT_LT(visible_length(*held, "part"), visible_length(*alone, "part"));
+}
+
+}  // namespace
+}  // namespace spar::planner
