@@ -29,6 +29,7 @@
 #include <vector>
 
 #include "bench/timing.hpp"
+#include "spar/planner/vision.hpp"
 #include "spar/sensing/error.hpp"
 #include "spar/sensing/evidence.hpp"
 #include "spar/sensing/pseiki/hierarchical_evidence.hpp"
@@ -143,45 +144,63 @@ void matching(bool quick) {
 // Issue 27's label criteria over many seeds of its simulated image (label_score.hpp): the share of
 // surviving edges with their true label (mean and worst seed; the issue asks >= 90%), clutter and
 // shadow edges labelled with belief >= 0.2 (the issue asks none), accepted interpretations.
+void label_row(const std::string& name, const spar::sensing::Scene& scene,
+               const spar::sensing::Camera& camera,
+               const pseiki::ExpectationUncertainty& uncertainty,
+               const pseiki::MatchOptions& options, int seeds) {
+  double sum = 0, worst = 1;
+  int below = 0, believed = 0, clutter = 0, accepted = 0, seeds_believed = 0;
+  for (int seed = 1; seed <= seeds; ++seed) {
+    const pseiki::SimulatedImage image =
+        pseiki::simulate(scene, camera, uncertainty, pseiki::testing::kIssuePerturbation,
+                         static_cast<std::uint64_t>(seed));
+    const pseiki::Verification result =
+        pseiki::verify(scene, camera, uncertainty, pseiki::testing::inputs_of(image), options);
+    const pseiki::testing::LabelScore score = pseiki::testing::score(result, image);
+    sum += score.accuracy();
+    worst = std::min(worst, score.accuracy());
+    below += score.accuracy() < 0.9 ? 1 : 0;
+    believed += score.clutter_believed;
+    seeds_believed += score.clutter_believed > 0 ? 1 : 0;
+    clutter += score.clutter;
+    accepted += result.accepted ? 1 : 0;
+  }
+  std::printf("%12s %9.4f %9.4f %10d %11d of %4d (%2d seeds) %6d/%d\n", name.c_str(), sum / seeds,
+              worst, below, believed, clutter, seeds_believed, accepted, seeds);
+}
+
 void labels(bool quick) {
   const int seeds = quick ? 10 : 40;
   std::printf("\n== labels: seeds 1..%d of the issue's simulated image ==\n", seeds);
-  std::printf("%12s %9s %9s %10s %18s %9s\n", "scene", "mean_acc", "min_acc", "seeds<90%",
+  std::printf("%12s %9s %9s %10s %28s %9s\n", "scene", "mean_acc", "min_acc", "seeds<90%",
               "clutter_believed", "accepted");
   for (const int k : {0, 4, 8}) {
     // Built in place: the scene refers to the models the TestScene holds.
     const pseiki::testing::TestScene test = k == 0 ? pseiki::testing::two_boxes() : boxes(k);
-    const std::string name = k == 0 ? "two_boxes" : "boxes" + std::to_string(k);
     pseiki::MatchOptions options;
     options.detection_probability = 0.8;
-    double sum = 0, worst = 1;
-    int below = 0, believed = 0, clutter = 0, accepted = 0;
-    for (int seed = 1; seed <= seeds; ++seed) {
-      const pseiki::SimulatedImage image =
-          pseiki::simulate(test.scene, test.camera, test.uncertainty,
-                           pseiki::testing::kIssuePerturbation, static_cast<std::uint64_t>(seed));
-      const pseiki::Verification result = pseiki::verify(
-          test.scene, test.camera, test.uncertainty, pseiki::testing::inputs_of(image), options);
-      const pseiki::testing::LabelScore score = pseiki::testing::score(result, image);
-      sum += score.accuracy();
-      worst = std::min(worst, score.accuracy());
-      below += score.accuracy() < 0.9 ? 1 : 0;
-      believed += score.clutter_believed;
-      clutter += score.clutter;
-      accepted += result.accepted ? 1 : 0;
-    }
-    std::printf("%12s %9.4f %9.4f %10d %11d of %4d %6d/%d\n", name.c_str(), sum / seeds, worst,
-                below, believed, clutter, accepted, seeds);
+    label_row(k == 0 ? "two_boxes" : "boxes" + std::to_string(k), test.scene, test.camera,
+              test.uncertainty, options, seeds);
   }
+  // The survey's own application: examples/vision/pseiki_sidewalk.yaml (camera uncertain).
+  const spar::planner::Scenario sidewalk = spar::planner::load_scenario(
+      std::string(SPAR_SOURCE_DIR) + "/examples/vision/pseiki_sidewalk.yaml");
+  const spar::planner::VisionSetup setup(sidewalk, "front");
+  label_row("sidewalk", setup.scene(), setup.camera(), setup.uncertainty(), setup.options(), seeds);
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
+  // --quick: fewer runs and seeds; --labels: the labels table only.
   const bool quick = argc > 1 && std::strcmp(argv[1], "--quick") == 0;
+  const bool labels_only = argc > 1 && std::strcmp(argv[1], "--labels") == 0;
   std::printf("pseiki_bench%s; load average %s (a shared machine: compare ratios within a run)\n",
-              quick ? " --quick" : "", spar::bench::load_average().c_str());
-  combination(quick);
-  matching(quick);
+              argc > 1 ? (std::string(" ") + argv[1]).c_str() : "",
+              spar::bench::load_average().c_str());
+  if (!labels_only) {
+    combination(quick);
+    matching(quick);
+  }
   labels(quick);
 }

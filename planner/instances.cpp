@@ -142,6 +142,9 @@ std::optional<std::string> check_collisions(PlanInstance& instance, const WorldM
     } else {
       step.collision = world.check_grasp(state, step.object, step.grasp, step.object_pose, measure);
     }
+    // The step uses the first IK branch clear of everything where it is (the table-only choice
+    // of build() may hit an object).
+    if (step.collision.arm) step.reach.solution = step.collision.arm;
     if (!step.collision.clear)
       return domain.actions[step.action].name + "(" + world.scenario().objects[step.object].name +
              ", " + world.object(step.object).grasps[step.grasp].label + ", " +

@@ -10,7 +10,8 @@
 // Per step (in execution order), for manipulations: the grasp (object's grasp label), the object's
 // world pose when the step starts (for a putdown and an assembly: where the step puts it), the
 // gripper frame's world pose at the grasp, T = T_O T_G (assembly: T = T_fixed Ta T_G), and the
-// first in-limit IK solution reaching it (kinematics/ik.hpp's order: lun, luf, ...).
+// IK branch it uses (the first in-limit one, in the robot's order, whose arm clears the table and,
+// once the instance is checked, every object: world.hpp, "The arm").
 //
 // Only collision-free instances are returned: each is simulated on a WorldState from the initial
 // world (objects move with what is assembled into them) and every step's motions are checked

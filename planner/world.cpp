@@ -1,7 +1,10 @@
 #include "spar/planner/world.hpp"
 
+#include <array>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <map>
 #include <mutex>
 #include <optional>
@@ -66,12 +69,12 @@ std::optional<geometry::Body> other_faces(const ObjectSpec& object, const std::v
                         geometry::CollisionShape::surface(mesh, rest, 1e-6));
 }
 
-// A placed body moved by `offset` (world frame).
 // A link of the arm with collision geometry, as a body in the link's frame.
 struct ArmLink {
   std::size_t link{0};  // index into RobotModel::links()
   int body{0};          // the moving body it rides on (RobotLinkInfo::body)
   geometry::Body shape;
+  double radius{0.0};  // the farthest point of its shapes from its body's frame origin
 };
 
 // The links that move with the arm (the base's never do), each a body of its collision shapes:
@@ -84,10 +87,15 @@ std::vector<ArmLink> arm_links(const kinematics::RobotModel& arm) {
     const kinematics::RobotLinkInfo& link = arm.links()[l];
     if (link.body == 0) continue;
     std::vector<geometry::BodyPart> parts;
+    double radius = 0.0;
     for (const kinematics::LinkShape& shape : link.collision) {
+      const Transform in_body = link.offset * shape.origin;
       if (shape.kind == ShapeKind::kMesh) {
-        if (shape.mesh && !shape.mesh->triangles.empty())
+        if (shape.mesh && !shape.mesh->triangles.empty()) {
           parts.push_back({geometry::CollisionShape(*shape.mesh), shape.origin});
+          for (const Eigen::Vector3d& v : shape.mesh->vertices)
+            radius = std::max(radius, (in_body * v).norm());
+        }
         continue;
       }
       const Eigen::Vector3d half =
@@ -95,13 +103,52 @@ std::vector<ArmLink> arm_links(const kinematics::RobotModel& arm) {
           : shape.kind == ShapeKind::kCylinder
               ? Eigen::Vector3d(shape.size.x(), shape.size.y(), shape.size.z() / 2)
               : Eigen::Vector3d(shape.size / 2);
-      if ((half.array() > 0).all())
+      if ((half.array() > 0).all()) {
         parts.push_back({geometry::CollisionShape::box(-half, half), shape.origin});
+        radius = std::max(radius, in_body.translation().norm() + half.norm());
+      }
     }
     if (!parts.empty())
-      result.push_back({l, link.body, geometry::Body(link.name, std::move(parts))});
+      result.push_back({l, link.body, geometry::Body(link.name, std::move(parts)), radius});
   }
   return result;
+}
+
+// Per link l and moving joint i: a bound on the distance from joint i's axis to any point of link
+// l (its radius about its body's origin plus the lengths of the joints in between, a prismatic
+// joint's stroke at its larger limit; 0 when joint i does not move the link), so turning joint i
+// alone by dq moves no point of the link farther than lever[l][i] |dq| (a prismatic joint: |dq|).
+std::vector<std::vector<double>> joint_levers(const kinematics::RobotModel& arm,
+                                              const std::vector<ArmLink>& links) {
+  using kinematics::JointType;
+  const std::vector<kinematics::MovingJoint>& joints = arm.joints();
+  std::vector<std::vector<double>> lever(links.size(), std::vector<double>(joints.size(), 0.0));
+  for (std::size_t l = 0; l < links.size(); ++l)
+    for (std::size_t i = 0; static_cast<int>(i) < links[l].body; ++i) {  // body k follows joint k-1
+      if (joints[i].type == JointType::kPrismatic) {
+        lever[l][i] = 1.0;
+        continue;
+      }
+      double length = links[l].radius;
+      for (std::size_t j = i + 1; static_cast<int>(j) < links[l].body; ++j) {
+        length += joints[j].origin.translation().norm();
+        if (joints[j].type == JointType::kPrismatic)
+          length += std::max(std::abs(joints[j].limits.lower), std::abs(joints[j].limits.upper));
+      }
+      lever[l][i] = length;
+    }
+  return lever;
+}
+
+// The arm's moving links with collision geometry, and joint_levers over them.
+struct ArmGeometry {
+  std::vector<ArmLink> links;
+  std::vector<std::vector<double>> lever;  // [link][moving joint]
+};
+
+// The flange pose in the robot's base frame for a gripper pose in the world.
+Transform flange_pose(const RobotSpec& robot, const Transform& gripper_pose) {
+  return robot.base.inverse(Eigen::Isometry) * gripper_pose * robot.tool.inverse(Eigen::Isometry);
 }
 
 // The arm's links at joint values q, in the world.
@@ -125,26 +172,176 @@ bool arm_below_table(const RobotSpec& robot, const std::vector<ArmLink>& links,
   return false;
 }
 
-// What the arm at the step's IK solution hits among `obstacles` (objects, with their `object`
-// index and `placed` body): "the arm's <link> (IK branch <configuration>) hits <object>", or
-// nullopt. The links riding on the last body (next to the gripper, which is checked itself) are
-// exempt; so is what the gripper holds (never among the obstacles).
-template <typename Obstacles>
-std::optional<std::string> arm_conflict(const Scenario& scenario, const std::vector<ArmLink>& links,
-                                        const Reach& reach, const Obstacles& obstacles,
-                                        double margin) {
-  if (!reach.solution || links.empty()) return std::nullopt;
-  const std::vector<geometry::PlacedBody> placed =
-      placed_arm(scenario.robot, links, reach.solution->q);
-  const int last_body = static_cast<int>(scenario.robot.arm.dof());
-  for (std::size_t l = 0; l < links.size(); ++l) {
-    if (links[l].body == last_body) continue;
-    for (const auto& obstacle : obstacles)
-      if (geometry::collide(placed[l], obstacle.placed, margin))
-        return "the arm's " + links[l].shape.name() + " (IK branch " +
-               reach.solution->configuration + ") hits " + scenario.objects[obstacle.object].name;
+// The gap between two boxes (0 when they overlap): a lower bound on the distance of what they hold.
+double box_gap(const Eigen::AlignedBox3d& a, const Eigen::AlignedBox3d& b) {
+  const Eigen::Vector3d gap =
+      (a.min() - b.max()).cwiseMax(b.min() - a.max()).cwiseMax(Eigen::Vector3d::Zero());
+  return gap.norm();
+}
+
+// Checks IK branches of the arm against the table and a set of obstacles at the step's gripper
+// pose T and along the gripper's straight lines from it (world.hpp, "The arm"). Along a line the
+// branch is followed by its label (the closed forms' labels name continuous branches; the numeric
+// solver's ranks "n1", "n2", ... do not, so there the solution nearest to the last one is taken)
+// and sampled by bisection until, between every two consecutive samples, each link's
+// displacement bound sum_i lever[l][i] |dq_i| is within its slack at one of them (its distance
+// bound to every obstacle less half the margin, its height above the table).
+class BranchCheck {
+ public:
+  BranchCheck(const RobotSpec& robot, const ArmGeometry& arm,
+              std::vector<geometry::PlacedBody> obstacles, std::vector<std::string> names,
+              double margin)
+      : robot_(robot),
+        arm_(arm),
+        obstacles_(std::move(obstacles)),
+        names_(std::move(names)),
+        margin_(margin) {
+    for (const geometry::PlacedBody& obstacle : obstacles_)
+      boxes_.push_back(geometry::world_bounds(obstacle));
   }
-  return std::nullopt;
+
+  // What the branch hits at T or along `lines` ("forearm_link hits block along the approach"),
+  // or nullopt.
+  [[nodiscard]] std::optional<std::string> conflict(const kinematics::JointSolution& branch,
+                                                    const Transform& gripper_pose,
+                                                    std::span<const ArmLine> lines) const {
+    if (arm_.links.empty() || (lines.empty() && obstacles_.empty())) return std::nullopt;
+    const Sample at = sample(branch.q);
+    if (at.hit) return at.hit;
+    for (const ArmLine& line : lines) {
+      const Segment start{0.0, branch.q, at.slack};
+      const auto pose = [&](double s) {
+        return Eigen::Translation3d(s * line.travel) * gripper_pose;
+      };
+      std::optional<std::string> hit;
+      if (const std::optional<std::vector<double>> q =
+              follow(branch.configuration, pose(1.0), start.q)) {
+        const Sample end = sample(*q);
+        hit =
+            end.hit ? end.hit : between(branch.configuration, pose, start, {1.0, *q, end.slack}, 0);
+      } else {
+        hit = kLost;
+      }
+      if (hit) return *hit + " along the " + line.name;
+    }
+    return std::nullopt;
+  }
+
+ private:
+  // One sample of a line: its hit, or per link how far its points may move with it still clear.
+  struct Sample {
+    std::optional<std::string> hit;
+    std::vector<double> slack;
+  };
+  struct Segment {
+    double s{0.0};  // fraction of the line
+    std::vector<double> q;
+    std::vector<double> slack;
+  };
+  static constexpr int kMaxDepth = 16;  // at most 2^16 samples on a line
+  static constexpr const char* kLost = "leaves its reach or joint limits";
+
+  [[nodiscard]] Sample sample(std::span<const double> q) const {
+    const std::vector<geometry::PlacedBody> placed = placed_arm(robot_, arm_.links, q);
+    const int last_body = static_cast<int>(robot_.arm.dof());
+    Sample result{std::nullopt, {}};
+    for (std::size_t l = 0; l < placed.size(); ++l) {
+      const Eigen::AlignedBox3d box = geometry::world_bounds(placed[l]);
+      double height = box.min().z();
+      if (height < -geometry::kTableTolerance) height = geometry::lowest_z(placed[l]);
+      if (height < -geometry::kTableTolerance)
+        return {arm_.links[l].shape.name() + " goes below the table", {}};
+      double slack = height + geometry::kTableTolerance;
+      if (arm_.links[l].body != last_body)  // links next to the gripper are exempt
+        for (std::size_t o = 0; o < obstacles_.size(); ++o) {
+          double distance = box_gap(box, boxes_[o]);
+          if (distance < margin_) {
+            if (geometry::collide(placed[l], obstacles_[o], margin_))
+              return {arm_.links[l].shape.name() + " hits " + names_[o], {}};
+            distance = margin_;
+          }
+          slack = std::min(slack, distance - margin_ / 2);
+        }
+      result.slack.push_back(slack);
+    }
+    return result;
+  }
+
+  // sum_i lever[link][i] |q1_i - q0_i| (revolute joints by the shorter way round).
+  [[nodiscard]] double displacement(std::size_t link, std::span<const double> q0,
+                                    std::span<const double> q1) const {
+    double total = 0.0;
+    for (std::size_t i = 0; i < q0.size(); ++i) {
+      const bool prismatic = robot_.arm.joints()[i].type == kinematics::JointType::kPrismatic;
+      const double change =
+          prismatic ? q1[i] - q0[i] : std::remainder(q1[i] - q0[i], 2 * std::numbers::pi);
+      total += arm_.lever[link][i] * std::abs(change);
+    }
+    return total;
+  }
+
+  // The branch `label` at gripper pose `pose`: nullopt when it has no in-limit solution there.
+  [[nodiscard]] std::optional<std::vector<double>> follow(const std::string& label,
+                                                          const Transform& pose,
+                                                          std::span<const double> near) const {
+    const bool ranked = label.size() > 1 && label[0] == 'n' && std::isdigit(label[1]) != 0;
+    std::optional<std::vector<double>> best;
+    double best_distance = std::numeric_limits<double>::infinity();
+    for (kinematics::JointSolution& solution : robot_.arm.inverse(flange_pose(robot_, pose))) {
+      if (!solution.within_limits) continue;
+      if (!ranked) {
+        if (solution.configuration == label) return std::move(solution.q);
+        continue;
+      }
+      double distance = 0.0;
+      for (std::size_t l = 0; l < arm_.links.size(); ++l)
+        distance = std::max(distance, displacement(l, near, solution.q));
+      if (distance < best_distance) {
+        best_distance = distance;
+        best = std::move(solution.q);
+      }
+    }
+    return best;
+  }
+
+  // The motion between two clear samples: nullopt when clear, else what the samples between hit.
+  template <typename Pose>
+  [[nodiscard]] std::optional<std::string> between(const std::string& label, const Pose& pose,
+                                                   const Segment& from, const Segment& to,
+                                                   int depth) const {
+    bool clear = true;
+    for (std::size_t l = 0; l < arm_.links.size() && clear; ++l)
+      clear = displacement(l, from.q, to.q) <= std::max(from.slack[l], to.slack[l]);
+    if (clear) return std::nullopt;
+    if (depth == kMaxDepth)
+      return std::string("moves its joints too fast to be checked (near a singularity?)");
+    const double s = (from.s + to.s) / 2;
+    const std::optional<std::vector<double>> q = follow(label, pose(s), from.q);
+    if (!q) return std::string(kLost);
+    const Sample middle = sample(*q);
+    if (middle.hit) return middle.hit;
+    const Segment mid{s, *q, middle.slack};
+    if (std::optional<std::string> hit = between(label, pose, from, mid, depth + 1)) return hit;
+    return between(label, pose, mid, to, depth + 1);
+  }
+
+  const RobotSpec& robot_;
+  const ArmGeometry& arm_;
+  std::vector<geometry::PlacedBody> obstacles_;
+  std::vector<std::string> names_;
+  std::vector<Eigen::AlignedBox3d> boxes_;
+  double margin_;
+};
+
+// "every IK branch of the arm is blocked: lun: forearm_link hits block; ..." (at most kListed
+// branches named).
+std::string every_branch_hits(const std::vector<std::string>& hits) {
+  constexpr std::size_t kListed = 6;
+  std::string text = "every IK branch of the arm is blocked: ";
+  for (std::size_t i = 0; i < hits.size() && i < kListed; ++i) text += (i ? "; " : "") + hits[i];
+  if (hits.size() > kListed)
+    text += "; and " + std::to_string(hits.size() - kListed) + " more branches";
+  return text;
 }
 
 geometry::PlacedBody shifted(const geometry::PlacedBody& placed, const Eigen::Vector3d& offset) {
@@ -157,7 +354,7 @@ struct WorldModel::Caches {
   std::mutex mutex;
   std::map<std::pair<int, int>, Table> initial, insertion, placement;
   // Not a memo: the arm's link bodies, built once by the constructor and shared by copies too.
-  std::vector<ArmLink> arm;
+  ArmGeometry arm;
 };
 
 std::vector<int> WorldState::moving_with(int object) const {
@@ -177,7 +374,8 @@ WorldModel::WorldModel(Scenario scenario) : scenario_(std::move(scenario)) {
   gripper_ = scenario_.robot.gripper;
   gripper_.max_approach_tilt = scenario_.robot.max_tool_tilt;
   caches_ = std::make_shared<Caches>();
-  caches_->arm = arm_links(scenario_.robot.arm);
+  caches_->arm.links = arm_links(scenario_.robot.arm);
+  caches_->arm.lever = joint_levers(scenario_.robot.arm, caches_->arm.links);
   for (const ObjectSpec& spec : scenario_.objects)
     bodies_.emplace_back(spec.name, geometry::CollisionShape(spec.model.mesh()));
   open_gripper_ = geometry::gripper_body(gripper_, gripper_.max_opening);
@@ -330,22 +528,45 @@ const GoalWorld* WorldModel::goal(int held, int fixed) const {
 }
 
 Transform WorldModel::flange_in_base(const Transform& gripper_pose) const {
-  return scenario_.robot.base.inverse(Eigen::Isometry) * gripper_pose *
-         scenario_.robot.tool.inverse(Eigen::Isometry);
+  return flange_pose(scenario_.robot, gripper_pose);
 }
 
 Reach WorldModel::reach(const Transform& gripper_pose) const {
   Reach result;
   result.tilt = tilt_from_down(gripper_pose);
-  if (result.tilt > scenario_.robot.max_tool_tilt) return result;  // SPAR: never reach up
-  for (kinematics::JointSolution& solution :
-       scenario_.robot.arm.inverse(flange_in_base(gripper_pose)))
-    if (solution.within_limits && !arm_below_table(scenario_.robot, caches_->arm, solution.q)) {
-      result.solution = std::move(solution);
-      break;
-    }
+  result.solution = arm_branch(gripper_pose, {}, {}).branch;
   result.reachable = result.solution.has_value();
   return result;
+}
+
+WorldModel::ArmChoice WorldModel::arm_branch(const Transform& gripper_pose,
+                                             std::span<const ArmLine> lines,
+                                             const std::vector<Obstacle>& obstacles) const {
+  ArmChoice choice;
+  if (tilt_from_down(gripper_pose) > scenario_.robot.max_tool_tilt)
+    return choice;  // never reach up
+  std::vector<geometry::PlacedBody> placed;
+  std::vector<std::string> names;
+  for (const Obstacle& obstacle : obstacles) {
+    placed.push_back(obstacle.placed);
+    names.push_back(scenario_.objects[obstacle.object].name);
+  }
+  const BranchCheck check(scenario_.robot, caches_->arm, std::move(placed), std::move(names),
+                          margin());
+  std::vector<std::string> hits;
+  for (kinematics::JointSolution& solution :
+       scenario_.robot.arm.inverse(flange_in_base(gripper_pose))) {
+    if (!solution.within_limits || arm_below_table(scenario_.robot, caches_->arm.links, solution.q))
+      continue;
+    if (std::optional<std::string> hit = check.conflict(solution, gripper_pose, lines)) {
+      hits.push_back(solution.configuration + ": " + *hit);
+      continue;
+    }
+    choice.branch = std::move(solution);
+    return choice;
+  }
+  if (!hits.empty()) choice.conflict = every_branch_hits(hits);
+  return choice;
 }
 
 std::optional<std::string> WorldModel::relaxed_obstacle() const {
@@ -575,8 +796,10 @@ StepCheck WorldModel::grasp_check(int object, int grasp, const kinematics::Trans
   if (const int hit = first_hit(held, -approach, others, margin()); hit >= 0)
     return fail(name + " in the gripper hits " + scenario_.objects[others[hit].object].name);
   if (below_table(held, -approach)) return fail(name + " in the gripper goes below the table");
-  if (const auto hit = arm_conflict(scenario_, caches_->arm, reach(gripper_pose), others, margin()))
-    return fail(*hit);
+  const ArmLine line{-approach, "approach"};
+  ArmChoice arm = arm_branch(gripper_pose, std::span(&line, 1), others);
+  if (arm.conflict) return fail(std::move(*arm.conflict));
+  check.arm = std::move(arm.branch);
   if (!measure) return check;
   std::vector<geometry::PlacedBody> placed;
   for (const Obstacle& other : others) placed.push_back(other.placed);
@@ -692,9 +915,10 @@ StepCheck WorldModel::insertion_check(int goal, int grasp, const kinematics::Tra
     return fail("the open gripper, leaving " + held_name + ", goes below the table");
   std::vector<Obstacle> with_fixed = others;
   with_fixed.push_back({tables.fixed, {&bodies_[tables.fixed], fixed_pose}});
-  if (const auto hit =
-          arm_conflict(scenario_, caches_->arm, reach(gripper_pose), with_fixed, margin()))
-    return fail(*hit);
+  const std::array lines = {ArmLine{-insertion, "insertion"}, ArmLine{retreat, "retreat"}};
+  ArmChoice arm = arm_branch(gripper_pose, lines, with_fixed);
+  if (arm.conflict) return fail(std::move(*arm.conflict));
+  check.arm = std::move(arm.branch);
   if (!measure) return check;
   // Clearance at T: the gripper with h against the others, the gripper against f.
   std::vector<geometry::PlacedBody> placed;

@@ -51,10 +51,29 @@
 // posting.hpp) and, exactly, per plan instance (check_grasp, check_insertion on the simulated
 // WorldState). The initial world is checked once: objects that meet (unless assembled there
 // already), rest below the table or float are an error naming them at their `pose`.
-// The arm (a robot with collision geometry): reach() takes the first in-limit IK branch with no
-// moving link below the table; at a grasp or insertion the links of that branch, except those on
-// the last body (next to the gripper), keep the margin from every object but the held one, else
-// the step is refused naming the link, the branch and the object (docs/scenario.md, Collisions).
+// The arm (a robot with collision geometry; a DH table has none, so Puma plans are unchanged):
+// reach() takes the first in-limit IK branch, in the robot's order, with no moving link below the
+// table. A grasp or insertion takes the first such branch whose links, except those on the last
+// body (next to the gripper), keep the margin from every object but the held one (the fixed one
+// of an insertion included) and whose moving links stay above the table, at T and along each of
+// the step's straight lines (grasp: T to T - d a; insertion: T to T - d m and T to T - d a),
+// following the same branch, within its joint limits and the arm's reach all along (the closed
+// forms' label; the numeric solver's solution nearest the last sample). When every branch is
+// blocked the step is refused: "every IK branch of the arm is blocked: lun: forearm_link hits
+// block; run: upper_arm_link hits block along the approach; ruf: leaves its reach or joint
+// limits along the approach" (docs/scenario.md, Collisions). StepCheck::arm is the branch taken:
+// the plan instance reports it and joint-level uncertainty acts at it.
+// Along a line the branch is sampled by bisection until, between every two consecutive samples,
+// each link's sum_i lever_i |dq_i| (lever_i bounds the distance from joint i's axis to the
+// link's points, so this bounds how far any of them moves when the joints change by dq) is at
+// most the link's slack at one of the two: its distance bound to every obstacle less margin/2
+// (the distance of the boxes, or the margin when only FCL says they are clear) and its height
+// above the table. Guarantee: every sample keeps the margin, and if each joint moves
+// monotonically between two consecutive samples (which the bisection makes close) no point of
+// the arm comes closer than margin/2 to an object or goes below the table. A line that needs
+// more than 2^16 samples counts as blocked for that branch. Cost: a few IK and FK evaluations per
+// line when the arm is far from everything, about (link travel) / (margin/2) where it passes
+// within a few margins of an object; a 7-joint arm's IK is its whole redundancy sweep.
 //
 // Example:
 //   const WorldModel world(load_scenario("examples/peg_block_face_down.yaml"));
@@ -67,6 +86,7 @@
 #include <memory>
 #include <numbers>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -129,10 +149,20 @@ struct WorldState {
 struct StepCheck {
   bool clear{true};
   std::string conflict;  // what hit what, when not clear: "the open gripper hits cube"
+  // The IK branch the step uses (the first clear one, see the header comment): the joints the
+  // report shows and joint-level uncertainty acts at. None when not clear or out of reach.
+  std::optional<kinematics::JointSolution> arm{};
   // At the step's configuration (the gripper at T, closed): the distance from the gripper and
   // what it moves to the nearest other object (+inf when there is none), and that object.
   double clearance{0.0};
   int nearest{-1};
+};
+
+// A straight line of the gripper from a step's pose T: to T + travel (world), named in messages
+// ("approach", "insertion", "retreat").
+struct ArmLine {
+  Eigen::Vector3d travel{Eigen::Vector3d::Zero()};
+  const char* name{""};
 };
 
 // One IK query: the gripper frame at `gripper_pose` (world).
@@ -141,7 +171,7 @@ struct Reach {
   double tilt{0.0};       // angle between the gripper z axis and world -z
   // The first in-limit solution in the robot's order (kinematics/robot.hpp: Puma and UR arms by
   // label, lun first; a 7-joint arm's largest limit margin first) whose arm links are all above
-  // the table; none when the tilt fails.
+  // the table; none when the tilt fails. A step may take a later one (StepCheck::arm).
   std::optional<kinematics::JointSolution> solution;
 };
 
@@ -211,6 +241,17 @@ class WorldModel {
   [[nodiscard]] std::vector<Obstacle> obstacles(const WorldState& state,
                                                 const std::vector<int>& except) const;
   void check_initial_world() const;
+  // The IK branch of a step at `gripper_pose`: the first in-limit one in the robot's order whose
+  // links clear the table and `obstacles` there and along `lines` (the header comment); when
+  // every such branch is blocked, `conflict` names what blocks each. Neither when the tilt
+  // fails or no in-limit branch clears the table at T (reach() is this with nothing to hit).
+  struct ArmChoice {
+    std::optional<kinematics::JointSolution> branch;
+    std::optional<std::string> conflict;
+  };
+  [[nodiscard]] ArmChoice arm_branch(const kinematics::Transform& gripper_pose,
+                                     std::span<const ArmLine> lines,
+                                     const std::vector<Obstacle>& obstacles) const;
   // The checks behind check_grasp and check_insertion, against `others` (and the parts moving
   // with the handled object); `measure`: also the clearance (the tables need only the verdict).
   [[nodiscard]] StepCheck grasp_check(int object, int grasp, const kinematics::Transform& pose,

@@ -250,6 +250,7 @@ planner::InstanceStep inserted_step(const planner::PlanResult& result,
     step.gripper_pose =
         step.object_pose * result.world.object(step.object).grasps[step.grasp].gripper_in_object;
     step.reach = result.world.reach(step.gripper_pose);
+    if (analysed.step.arm) step.reach.solution = analysed.step.arm;  // what phase 2 analysed
   }
   return step;
 }

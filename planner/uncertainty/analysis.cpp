@@ -42,6 +42,7 @@ std::vector<Phase2Step> phase2_steps(const Domain& domain, const PlanInstance& i
     step.fixed_object = source.fixed_object;
     step.object_pose = source.object_pose;
     step.fixed_pose = source.fixed_pose;
+    step.arm = source.reach.solution;
     step.instance_step = static_cast<int>(i);
     steps.push_back(step);
   }

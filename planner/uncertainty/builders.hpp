@@ -54,6 +54,9 @@ struct Phase2Step {
   // Ideal: where the object is (grasp, squeeze, scan) or goes (release; insert: T_f Ta).
   kinematics::Transform object_pose{kinematics::Transform::Identity()};
   kinematics::Transform fixed_pose{kinematics::Transform::Identity()};
+  // The IK branch the step's collisions were checked at (InstanceStep::reach); none for a step
+  // phase 2 inserted with another grasp (then WorldModel::reach's).
+  std::optional<kinematics::JointSolution> arm{};
   int instance_step{-1};  // index into PlanInstance::steps; -1 when inserted by phase 2
   int repair{-1};         // inserted by phase 2's repair: index into InstanceAnalysis::repairs
 };

@@ -89,9 +89,14 @@ SymbolicTransform Propagation::joint_error(const Phase2Step& step, int index) {
   if (step.grasp < 0)
     throw PlanError("step " + std::to_string(index) +
                     ": joint uncertainty needs the step's grasp (where the arm is)");
-  const Reach reach = world_->reach(
-      step.object_pose * world_->object(step.object).grasps[step.grasp].gripper_in_object);
-  if (!reach.solution)
+  // The branch the step's collisions were checked at, so the bounds hold where the arm is.
+  const std::optional<kinematics::JointSolution> arm =
+      step.arm ? step.arm
+               : world_
+                     ->reach(step.object_pose *
+                             world_->object(step.object).grasps[step.grasp].gripper_in_object)
+                     .solution;
+  if (!arm)
     throw PlanError("step " + std::to_string(index) +
                     ": the robot does not reach the step's gripper pose, so its joint errors "
                     "have no configuration to act at");
@@ -109,7 +114,7 @@ SymbolicTransform Propagation::joint_error(const Phase2Step& step, int index) {
          .tag = name,
          .name = name})));
   }
-  return kinematics::joint_error_transform(robot.arm, reach.solution->q, robot.tool, dq);
+  return kinematics::joint_error_transform(robot.arm, arm->q, robot.tool, dq);
 }
 
 SymbolicTransform Propagation::grip_after_grasp(const Phase2Step& step, const ArmError& arm) {

@@ -28,9 +28,10 @@
 // A step whose effect moves the arm, or that has builders, gets a fresh arm error (arm_error:
 // the one place the arm's uncertainty enters): eq. 1's four variables and, when the robot has
 // joint uncertainty (RobotSpec::joint_uncertainty), one variable δq_i per moving joint, through
-// the exact kinematics of the chain at the step's IK solution (WorldModel::reach of the ideal
-// gripper M = object_pose T_G): T_ΔM = ΔT(δq) trans(Δx_g, Δy_g, Δz_g) rotz(Δθ_g) (builders.hpp's
-// ArmError). The rules above then read, for a T_ΔM with rotation R_Δ and translation t:
+// the exact kinematics of the chain at the step's IK solution (Phase2Step::arm, the branch its
+// collisions were checked at; else WorldModel::reach of the ideal gripper M = object_pose T_G):
+// T_ΔM = ΔT(δq) trans(Δx_g, Δy_g, Δz_g) rotz(Δθ_g) (builders.hpp's ArmError). The rules above then
+// read, for a T_ΔM with rotation R_Δ and translation t:
 //   grasp   H = R_Δ^T trans(q_x - t_x, 0, q_z - t_z) (the fingers centre the object along their
 //           axis and square it with the actual gripper, tilt included; R_Δ = rotz(Δθ_g) gives
 //           SPAR's rule above exactly);

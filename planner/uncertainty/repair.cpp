@@ -114,6 +114,7 @@ SplicedPlan splice(const std::vector<Phase2Step>& steps, int k,
     Phase2Step step;
     if (c.effect == Effect::kReduce) {
       step = steps[c.position];  // the pickup it precedes: same object, position, pose
+      if (step.grasp != c.grasp) step.arm.reset();  // that arm is the pickup grasp's
       step.action = squeeze;
       step.grasp = c.grasp;
     } else {

@@ -1,6 +1,7 @@
 #include "spar/sensing/pseiki/labeler.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 
 #include "spar/sensing/error.hpp"
@@ -20,6 +21,62 @@ struct Doubts {
       object[static_cast<std::size_t>(o.label)] = o.disbelief;
   }
 };
+
+// The junction evidence for labelling `element` with `a` (labeler.hpp).
+struct Junctions {
+  double support{0}, against{0}, weight{0};
+};
+Junctions junctions_of(const Blackboard& board, int element, int a) {
+  const ModelPanel& model = board.model();
+  const PanelEdge& panel_a = model.edges()[static_cast<std::size_t>(a)];
+  const Segment& own = board.edges[static_cast<std::size_t>(element)].segment;
+  const double noise = model.uncertainty().noise_px;
+  Junctions out;
+  for (std::size_t k = 0; k < panel_a.pieces.size(); ++k)
+    for (const int side : {0, 1}) {
+      // At this end of the piece, A runs `inward`; b is every other edge with a piece ending here.
+      const Segment& piece = panel_a.pieces[k];
+      const Eigen::Vector2d inward = side == 0 ? piece.p1 - piece.p0 : piece.p0 - piece.p1;
+      const PanelVertex& vertex =
+          model.vertices()[static_cast<std::size_t>(panel_a.vertices[k][side])];
+      for (const int b : vertex.edges) {
+        if (b == a) continue;
+        // The end q of an image edge labelled b nearest to an end p of the element.
+        double gap = kJunctionGap, belief = 0;
+        Eigen::Vector2d q = Eigen::Vector2d::Zero(), p = q, far = q;
+        for (std::size_t other = 0; other < board.edges.size(); ++other) {
+          const ImageEdge& neighbour = board.edges[other];
+          if (static_cast<int>(other) == element || !neighbour.active || neighbour.label != b ||
+              neighbour.belief < kMinimumNeighbourBelief)
+            continue;
+          for (const Eigen::Vector2d& end : {neighbour.segment.p0, neighbour.segment.p1})
+            for (const bool first : {true, false}) {
+              const Eigen::Vector2d& mine = first ? own.p0 : own.p1;
+              if ((end - mine).norm() < gap) {
+                gap = (end - mine).norm();
+                q = end;
+                p = mine;
+                far = first ? own.p1 : own.p0;
+                belief = neighbour.belief;
+              }
+            }
+        }
+        if (belief == 0) continue;  // nothing labelled b ends near the element
+        const double t = std::max(1.0, 3 * std::sqrt(2.0) * noise * (1 + gap / own.length()));
+        const double d = own.line_distance(q) / t;
+        // The element must leave the junction along A, not run past it.
+        const double junction = (far - p).dot(inward) > 0 ? std::max(0.0, 1 - d * d) : 0.0;
+        out.support += junction * belief;
+        out.against += (1 - junction) * belief;
+        out.weight += belief;
+      }
+    }
+  if (out.weight > 1) {
+    out.support /= out.weight;
+    out.against /= out.weight;
+  }
+  return out;
+}
 
 ElementEvidence evidence_of(const Blackboard& board, int element, const Doubts& doubts) {
   const ModelPanel& model = board.model();
@@ -53,6 +110,9 @@ ElementEvidence evidence_of(const Blackboard& board, int element, const Doubts& 
     const PanelEdge& panel_a = model.edges()[static_cast<std::size_t>(a)];
     tree.add_for(leaf, capped(edge.candidates[c].collinearity));
     const std::vector<int>& related = model.neighbours(a);
+    // A believed piece of A on e's line confirms e's line, not that e lies within A's extent.
+    const double overlap =
+        collinearity_terms(edge.segment, panel_a.pieces, panel_a.tolerance).overlap;
     // The relational pairs pooled: belief-weighted sums of (in)compatibility and of belief.
     double compatible = 0, incompatible = 0, weight = 0;
     for (std::size_t other = 0; other < board.edges.size(); ++other) {
@@ -64,7 +124,7 @@ ElementEvidence evidence_of(const Blackboard& board, int element, const Doubts& 
       if (b == a) {
         tree.add_evidence(leaf,
                           capped(edge_collinearity(edge.segment, neighbour.segment, same_label) *
-                                 neighbour.belief),
+                                 neighbour.belief * overlap),
                           capped(edge_noncollinearity(edge.segment, neighbour.segment, same_label) *
                                  neighbour.belief));
       } else if (std::binary_search(related.begin(), related.end(), b)) {
@@ -82,6 +142,9 @@ ElementEvidence evidence_of(const Blackboard& board, int element, const Doubts& 
       tree.add_evidence(leaf, capped(kRelationalWeight * compatible * scale),
                         capped(incompatible * scale));
     }
+    const Junctions junctions = junctions_of(board, element, a);
+    if (junctions.weight > 0)
+      tree.add_evidence(leaf, capped(junctions.support), capped(junctions.against));
     for (const int face : panel_a.faces)
       if (doubts.face[static_cast<std::size_t>(face)] > 0)
         tree.add_against(leaf, capped(doubts.face[static_cast<std::size_t>(face)]));

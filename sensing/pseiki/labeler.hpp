@@ -9,9 +9,12 @@
 //   round's labels and beliefs (so the order of the elements does not matter). For an element e
 //   and each candidate label A, the pieces of evidence are
 //     for A              collinearity(e, A)                       (the initial measure)
-//     for / against A    collinearity(e, e2) x Bel(e2), noncollinearity(e, e2) x Bel(e2)
-//                        for every other element e2 labelled A (one piece each, as the survey
-//                        writes them);
+//     for / against A    collinearity(e, e2) x Bel(e2) x overlap(e, A), noncollinearity(e, e2) x
+//                        Bel(e2) for every other element e2 labelled A (one piece each, as the
+//                        survey writes them; overlap: collinearity.hpp's share of e within A's
+//                        extent, because a believed piece of A on e's line confirms the line,
+//                        not that e lies where A is: clutter along a border, past A's end, is
+//                        not confirmed by it);
 //     for / against A    compatibility(e, e2) x Bel(e2), incompatibility(e, e2) x Bel(e2) for
 //                        the elements e2 labelled with an edge B sharing a visible face with A
 //                        (collinearity.hpp: after the rigid motion T_{A->B}), pooled into one
@@ -22,6 +25,19 @@
 //                        because a relation cannot tell an edge from a parallel one a few pixels
 //                        off (a shadow), which only the edge's own collinearity and its rivals
 //                        for the same label can;
+//     for / against A    junctions: at each vertex of the expected scene where A meets a model
+//                        edge B (a piece of each ends there), the end q of an image edge e2
+//                        labelled B nearest to an end p of e (within kJunctionGap pixels); with d
+//                        the distance of q from e's line and t = max(1, 3 sqrt(2) noise (1 +
+//                        |q - p| / |e|)) (two noisy end points, e's line extrapolated over the
+//                        gap), junction = closeness(d, t) when e leaves p along A (toward A's
+//                        other end, not past the vertex), else 0; pieces junction x Bel(e2) for
+//                        and (1 - junction) x Bel(e2) against, pooled like the relational pairs.
+//                        Where two edges meet is a fact of the image alone, kept by any
+//                        misregistration, so its tolerance is the noise's: it tells an edge from
+//                        a shadow or clutter a few pixels beside it, which its collinearity
+//                        with A (under the pose's tolerance) and the symmetric rival evidence
+//                        cannot (the grouping level's cue, used at the edge level);
 //     against A          Bel(not F) of each image face F labelled with a face of A: "if a face is
 //                        mislabeled, then all its constituent edges are also most likely
 //                        mislabeled" (the survey's downward flow);
@@ -50,6 +66,7 @@ namespace spar::sensing::pseiki {
 inline constexpr double kMinimumLabelBelief = 0.1;
 inline constexpr double kMinimumNeighbourBelief = 0.05;
 inline constexpr double kRelationalWeight = 0.5;
+inline constexpr double kJunctionGap = 12;  // pixels between the ends of a junction's two edges
 
 // One element's hypotheses and evidence: the tree, the leaf of each candidate (in the element's
 // candidate order) and the leaf "none".
