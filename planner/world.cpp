@@ -984,7 +984,7 @@ const WorldModel::Table& WorldModel::initial_conflicts(int object, int other) co
   // lies `margin` or more beyond the boxes they sweep (geometry::sweep's own broad phase, over
   // the same boxes), the grasp is clear of it without running grasp_check.
   const auto beyond_sweeps = [&](int g, std::size_t p) {
-    if (!caches_->arm.empty()) return false;
+    if (!caches_->arm.links.empty()) return false;
     const kinematics::Transform gripper_pose =
         labels.positions[p].pose * labels.grasps[static_cast<std::size_t>(g)].gripper_in_object;
     const Eigen::Translation3d back(-scenario_.robot.approach_distance *
