@@ -137,6 +137,17 @@ Transform cube_at(const Eigen::Vector3d& point) {
   return Eigen::Translation3d(point - Eigen::Vector3d::Constant(half)) * Transform::Identity();
 }
 
+// The UR5 example with the cube, the peg's grasp, and the first branch reaching it.
+struct CubeScene {
+  WorldModel world = ur5_with_cube();
+  const RobotSpec& robot = world.scenario().robot;
+  int cube = world.object_index("cube");
+  PegGrasp peg = peg_grasp(world);
+  std::optional<kinematics::JointSolution> first = world.reach(peg.gripper).solution;
+  geometry::Body cube_body{"cube",
+                           geometry::CollisionShape(world.scenario().objects[cube].model.mesh())};
+};
+
 // World points on the checked links' meshes at q (every `stride`-th vertex).
 std::vector<Eigen::Vector3d> link_points(const RobotSpec& robot, const std::vector<double>& q,
                                          std::size_t stride) {
@@ -198,15 +209,11 @@ TEST(ArmCollision, AnObjectHittingEveryBranchBlocksTheGrasp) {
 // A cube on the first branch's arm but clear of another branch's: the grasp takes that branch
 // (the first clear one), and says so.
 TEST(ArmCollision, AnObjectOnTheFirstBranchMakesTheStepTakeAnother) {
-  const WorldModel world = ur5_with_cube();
-  const RobotSpec& robot = world.scenario().robot;
-  const int cube = world.object_index("cube");
-  const auto [peg, grasp, peg_pose, gripper] = peg_grasp(world);
+  const CubeScene scene;
+  const auto& [world, robot, cube, peg_grip, first, cube_body] = scene;
+  const auto& [peg, grasp, peg_pose, gripper] = peg_grip;
   ASSERT_GE(grasp, 0);
-  const std::optional<kinematics::JointSolution> first = world.reach(gripper).solution;
   ASSERT_TRUE(first);
-  const geometry::Body cube_body(
-      "cube", geometry::CollisionShape(world.scenario().objects[cube].model.mesh()));
   WorldState state = world.initial_state();
   std::optional<StepCheck> taken;
   for (const Eigen::Vector3d& point : link_points(robot, first->q, 97)) {
@@ -236,19 +243,15 @@ TEST(ArmCollision, AnObjectOnTheFirstBranchMakesTheStepTakeAnother) {
 // approach (approach_distance above): the branch is not taken, and when no other is clear the
 // message says where it hits.
 TEST(ArmCollision, AnObjectBesideTheApproachLineStopsTheBranch) {
-  const WorldModel world = ur5_with_cube();
-  const RobotSpec& robot = world.scenario().robot;
-  const int cube = world.object_index("cube");
-  const auto [peg, grasp, peg_pose, gripper] = peg_grasp(world);
+  const CubeScene scene;
+  const auto& [world, robot, cube, peg_grip, first, cube_body] = scene;
+  const auto& [peg, grasp, peg_pose, gripper] = peg_grip;
   ASSERT_GE(grasp, 0);
-  const std::optional<kinematics::JointSolution> first = world.reach(gripper).solution;
   ASSERT_TRUE(first);
   const Transform above =
       Eigen::Translation3d(-robot.approach_distance * gripper.linear().col(2)) * gripper;
   const std::optional<std::vector<double>> raised = branch_at(world, above, first->configuration);
   ASSERT_TRUE(raised);
-  const geometry::Body cube_body(
-      "cube", geometry::CollisionShape(world.scenario().objects[cube].model.mesh()));
   WorldState state = world.initial_state();
   int placements = 0;
   for (const Eigen::Vector3d& point : link_points(robot, *raised, 97)) {
