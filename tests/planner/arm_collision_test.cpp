@@ -5,6 +5,7 @@
 // hits, only when none is. The verdicts are verified here with the URDF's own meshes, posed
 // independently of the world model's collision bodies.
 #include <gtest/gtest.h>
+#include <rapidcheck/gtest.h>
 
 #include <algorithm>
 #include <fstream>
@@ -273,6 +274,41 @@ TEST(ArmCollision, AnObjectBesideTheApproachLineStopsTheBranch) {
     }
   }
   EXPECT_GT(placements, 0);
+}
+
+// A cube at random near the first branch's arm somewhere along the approach: when the grasp is
+// clear, the branch it takes keeps half the margin from the cube at 200 evenly spaced points of
+// the line (the branch followed by its label), and the margin at the grasp itself.
+RC_GTEST_PROP(ArmCollisionProperty, AClearBranchKeepsHalfTheMarginAlongTheApproach, ()) {
+  static const CubeScene scene;
+  const auto& [world, robot, cube, peg_grip, first, cube_body] = scene;
+  const auto& [peg, grasp, peg_pose, gripper] = peg_grip;
+  RC_ASSERT(grasp >= 0 && first.has_value());
+  const Eigen::Vector3d line = -robot.approach_distance * gripper.linear().col(2);
+  const auto on_line = [&](double s) { return Eigen::Translation3d(s * line) * gripper; };
+  const double s = *rc::gen::inRange(0, 101) / 100.0;
+  const std::optional<std::vector<double>> q = branch_at(world, on_line(s), first->configuration);
+  RC_PRE(q.has_value());
+  const std::vector<Eigen::Vector3d> points = link_points(robot, *q, 211);
+  const Eigen::Vector3d offset(*rc::gen::inRange(-30, 31) * 1e-3, *rc::gen::inRange(-30, 31) * 1e-3,
+                               *rc::gen::inRange(-30, 31) * 1e-3);
+  WorldState state = world.initial_state();
+  state.poses[cube] = cube_at(points[*rc::gen::inRange<std::size_t>(0, points.size())] + offset);
+  const StepCheck check = world.check_grasp(state, peg, grasp, peg_pose, false);
+  RC_CLASSIFY(check.clear, "clear");
+  RC_CLASSIFY(check.clear && check.arm->configuration != first->configuration, "another branch");
+  if (!check.clear) return;
+  const geometry::PlacedBody placed_cube{&cube_body, state.poses[cube]};
+  RC_ASSERT(!link_hit(robot, check.arm->q, placed_cube, world.margin()));
+  for (int k = 0; k <= 200; ++k) {
+    const std::optional<std::vector<double>> at =
+        branch_at(world, on_line(k / 200.0), check.arm->configuration);
+    RC_ASSERT(at.has_value());
+    if (const std::optional<std::string> hit =
+            link_hit(robot, *at, placed_cube, world.margin() / 2))
+      RC_FAIL(*hit + " of " + check.arm->configuration + " within half the margin of the cube at " +
+              std::to_string(k) + "/200 of the approach");
+  }
 }
 
 }  // namespace
