@@ -5,15 +5,18 @@
 // hits, only when none is. The verdicts are verified here with the URDF's own meshes, posed
 // independently of the world model's collision bodies.
 #include <gtest/gtest.h>
+#include <rapidcheck/gtest.h>
 
 #include <algorithm>
 #include <fstream>
+#include <functional>
 #include <limits>
 #include <numbers>
 #include <optional>
 #include <random>
 #include <sstream>
 #include <string>
+#include <variant>
 #include <vector>
 
 #include "spar/planner/plan.hpp"
@@ -137,6 +140,17 @@ Transform cube_at(const Eigen::Vector3d& point) {
   return Eigen::Translation3d(point - Eigen::Vector3d::Constant(half)) * Transform::Identity();
 }
 
+// The UR5 example with the cube, the peg's grasp, and the first branch reaching it.
+struct CubeScene {
+  WorldModel world = ur5_with_cube();
+  const RobotSpec& robot = world.scenario().robot;
+  int cube = world.object_index("cube");
+  PegGrasp peg = peg_grasp(world);
+  std::optional<kinematics::JointSolution> first = world.reach(peg.gripper).solution;
+  geometry::Body cube_body{"cube",
+                           geometry::CollisionShape(world.scenario().objects[cube].model.mesh())};
+};
+
 // World points on the checked links' meshes at q (every `stride`-th vertex).
 std::vector<Eigen::Vector3d> link_points(const RobotSpec& robot, const std::vector<double>& q,
                                          std::size_t stride) {
@@ -149,6 +163,61 @@ std::vector<Eigen::Vector3d> link_points(const RobotSpec& robot, const std::vect
   }
   return points;
 }
+
+// One CubeScene for every test (building the world takes a while).
+const CubeScene& cube_scene() {
+  static const CubeScene scene;
+  return scene;
+}
+
+// Tests on the cube scene, which must have the peg's grasp and a branch reaching it.
+class ArmCube : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    ASSERT_GE(peg_grip.grasp, 0);
+    ASSERT_TRUE(first);
+  }
+  const WorldModel& world = cube_scene().world;
+  const RobotSpec& robot = cube_scene().robot;
+  const int cube = cube_scene().cube;
+  const PegGrasp& peg_grip = cube_scene().peg;
+  const std::optional<kinematics::JointSolution>& first = cube_scene().first;
+  const geometry::Body& cube_body = cube_scene().cube_body;
+
+  // Cubes on `branch`'s links where the gripper is approach_distance above `gripper` (the far
+  // end of the step's lines), clear of the branch at `gripper` by three margins: the step
+  // (`check` with the cube there) never takes the branch, and when no branch is clear the message
+  // names it and contains `where`. Returns how many placements reached the arm check.
+  int expect_line_blocks(const Transform& gripper, const kinematics::JointSolution& branch,
+                         const std::string& where,
+                         const std::function<StepCheck(const WorldState&)>& check) const {
+    const Transform above =
+        Eigen::Translation3d(-robot.approach_distance * gripper.linear().col(2)) * gripper;
+    const std::optional<std::vector<double>> raised = branch_at(world, above, branch.configuration);
+    if (!raised) ADD_FAILURE() << branch.configuration << " does not reach above the step";
+    WorldState state = world.initial_state();
+    int placements = 0;
+    for (const Eigen::Vector3d& point :
+         raised ? link_points(robot, *raised, 97) : std::vector<Eigen::Vector3d>()) {
+      state.poses[cube] = cube_at(point);
+      const geometry::PlacedBody placed_cube{&cube_body, state.poses[cube]};
+      if (link_hit(robot, branch.q, placed_cube, 3 * world.margin())) continue;
+      EXPECT_TRUE(link_hit(robot, *raised, placed_cube, world.margin()));
+      const StepCheck result = check(state);
+      const bool arm_refused = result.conflict.rfind("every IK branch of the arm", 0) == 0;
+      if (!result.clear && !arm_refused) continue;  // the gripper or the held object hit it
+      ++placements;
+      if (result.clear) {
+        EXPECT_NE(result.arm->configuration, branch.configuration);
+      } else {
+        EXPECT_NE(result.conflict.find(branch.configuration + ": "), std::string::npos)
+            << result.conflict;
+        EXPECT_NE(result.conflict.find(where), std::string::npos) << result.conflict;
+      }
+    }
+    return placements;
+  }
+};
 
 // A block standing where the forearm passes hits every branch clear of the table: the grasp is
 // refused, naming per branch the link and what it hits.
@@ -197,16 +266,8 @@ TEST(ArmCollision, AnObjectHittingEveryBranchBlocksTheGrasp) {
 
 // A cube on the first branch's arm but clear of another branch's: the grasp takes that branch
 // (the first clear one), and says so.
-TEST(ArmCollision, AnObjectOnTheFirstBranchMakesTheStepTakeAnother) {
-  const WorldModel world = ur5_with_cube();
-  const RobotSpec& robot = world.scenario().robot;
-  const int cube = world.object_index("cube");
-  const auto [peg, grasp, peg_pose, gripper] = peg_grasp(world);
-  ASSERT_GE(grasp, 0);
-  const std::optional<kinematics::JointSolution> first = world.reach(gripper).solution;
-  ASSERT_TRUE(first);
-  const geometry::Body cube_body(
-      "cube", geometry::CollisionShape(world.scenario().objects[cube].model.mesh()));
+TEST_F(ArmCube, AnObjectOnTheFirstBranchMakesTheStepTakeAnother) {
+  const auto& [peg, grasp, peg_pose, gripper] = peg_grip;
   WorldState state = world.initial_state();
   std::optional<StepCheck> taken;
   for (const Eigen::Vector3d& point : link_points(robot, first->q, 97)) {
@@ -235,41 +296,71 @@ TEST(ArmCollision, AnObjectOnTheFirstBranchMakesTheStepTakeAnother) {
 // A cube clear of the first branch's arm at the grasp, but on it where the gripper starts its
 // approach (approach_distance above): the branch is not taken, and when no other is clear the
 // message says where it hits.
-TEST(ArmCollision, AnObjectBesideTheApproachLineStopsTheBranch) {
-  const WorldModel world = ur5_with_cube();
-  const RobotSpec& robot = world.scenario().robot;
-  const int cube = world.object_index("cube");
-  const auto [peg, grasp, peg_pose, gripper] = peg_grasp(world);
-  ASSERT_GE(grasp, 0);
-  const std::optional<kinematics::JointSolution> first = world.reach(gripper).solution;
-  ASSERT_TRUE(first);
-  const Transform above =
-      Eigen::Translation3d(-robot.approach_distance * gripper.linear().col(2)) * gripper;
-  const std::optional<std::vector<double>> raised = branch_at(world, above, first->configuration);
-  ASSERT_TRUE(raised);
-  const geometry::Body cube_body(
-      "cube", geometry::CollisionShape(world.scenario().objects[cube].model.mesh()));
-  WorldState state = world.initial_state();
-  int placements = 0;
-  for (const Eigen::Vector3d& point : link_points(robot, *raised, 97)) {
-    state.poses[cube] = cube_at(point);
-    const geometry::PlacedBody placed_cube{&cube_body, state.poses[cube]};
-    // Clear of the branch at the grasp by three margins (so only the line can hit it).
-    if (link_hit(robot, first->q, placed_cube, 3 * world.margin())) continue;
-    ASSERT_TRUE(link_hit(robot, *raised, placed_cube, world.margin()));
-    const StepCheck check = world.check_grasp(state, peg, grasp, peg_pose, false);
-    if (!check.clear && check.conflict.rfind("the open gripper", 0) == 0) continue;
-    ++placements;
-    if (check.clear) {
-      EXPECT_NE(check.arm->configuration, first->configuration);
-    } else {
-      EXPECT_NE(check.conflict.find(first->configuration + ": "), std::string::npos)
-          << check.conflict;
-      EXPECT_NE(check.conflict.find(" hits cube along the approach"), std::string::npos)
-          << check.conflict;
+TEST_F(ArmCube, AnObjectBesideTheApproachLineStopsTheBranch) {
+  const auto& [peg, grasp, peg_pose, gripper] = peg_grip;
+  EXPECT_GT(expect_line_blocks(gripper, *first, " hits cube along the approach",
+                               [&](const WorldState& state) {
+                                 return world.check_grasp(state, peg, grasp, peg_pose, false);
+                               }),
+            0);
+}
+
+// The same for an insertion of the peg into the block (its retreat line, which here runs with
+// the insertion's: both go straight up).
+TEST_F(ArmCube, AnObjectBesideTheInsertionLinesStopsTheBranch) {
+  const GoalWorld& goal = world.goals().at(0);
+  const auto& relative = std::get<AssembledGoal>(world.scenario().goals[0]).relative;
+  for (std::size_t g = 0; g < goal.mate_reachable.size(); ++g)
+    for (std::size_t p = 0; p < goal.mate_reachable[g].size(); ++p) {
+      if (!goal.mate_reachable[g][p]) continue;
+      const Transform& fixed_pose = world.object(goal.fixed).positions[p].pose;
+      const Transform gripper =
+          fixed_pose * relative * world.object(goal.held).grasps[g].gripper_in_object;
+      const std::optional<kinematics::JointSolution> branch = world.reach(gripper).solution;
+      ASSERT_TRUE(branch);
+      EXPECT_GT(expect_line_blocks(gripper, *branch, " hits cube along the ",
+                                   [&](const WorldState& state) {
+                                     return world.check_insertion(state, 0, static_cast<int>(g),
+                                                                  fixed_pose, false);
+                                   }),
+                0);
+      return;  // one insertion is enough
     }
+  FAIL() << "no insertion of the peg into the block is reachable";
+}
+
+// A cube at random near the first branch's arm somewhere along the approach: when the grasp is
+// clear, the branch it takes keeps half the margin from the cube at 200 evenly spaced points of
+// the line (the branch followed by its label), and the margin at the grasp itself.
+RC_GTEST_PROP(ArmCollisionProperty, AClearBranchKeepsHalfTheMarginAlongTheApproach, ()) {
+  const auto& [world, robot, cube, peg_grip, first, cube_body] = cube_scene();
+  const auto& [peg, grasp, peg_pose, gripper] = peg_grip;
+  RC_ASSERT(grasp >= 0 && first.has_value());
+  const Eigen::Vector3d line = -robot.approach_distance * gripper.linear().col(2);
+  const auto on_line = [&](double s) { return Eigen::Translation3d(s * line) * gripper; };
+  const double s = *rc::gen::inRange(0, 101) / 100.0;
+  const std::optional<std::vector<double>> q = branch_at(world, on_line(s), first->configuration);
+  RC_PRE(q.has_value());
+  const std::vector<Eigen::Vector3d> points = link_points(robot, *q, 211);
+  const Eigen::Vector3d offset(*rc::gen::inRange(-30, 31) * 1e-3, *rc::gen::inRange(-30, 31) * 1e-3,
+                               *rc::gen::inRange(-30, 31) * 1e-3);
+  WorldState state = world.initial_state();
+  state.poses[cube] = cube_at(points[*rc::gen::inRange<std::size_t>(0, points.size())] + offset);
+  const StepCheck check = world.check_grasp(state, peg, grasp, peg_pose, false);
+  RC_CLASSIFY(check.clear, "clear");
+  RC_CLASSIFY(check.clear && check.arm->configuration != first->configuration, "another branch");
+  if (!check.clear) return;
+  const geometry::PlacedBody placed_cube{&cube_body, state.poses[cube]};
+  RC_ASSERT(!link_hit(robot, check.arm->q, placed_cube, world.margin()));
+  for (int k = 0; k <= 200; ++k) {
+    const std::optional<std::vector<double>> at =
+        branch_at(world, on_line(k / 200.0), check.arm->configuration);
+    RC_ASSERT(at.has_value());
+    if (const std::optional<std::string> hit =
+            link_hit(robot, *at, placed_cube, world.margin() / 2))
+      RC_FAIL(*hit + " of " + check.arm->configuration + " within half the margin of the cube at " +
+              std::to_string(k) + "/200 of the approach");
   }
-  EXPECT_GT(placements, 0);
 }
 
 }  // namespace

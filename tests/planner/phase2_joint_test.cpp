@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <map>
+#include <optional>
 #include <random>
 #include <string>
 #include <vector>
@@ -32,12 +33,11 @@ int action_with(const Domain& domain, Effect effect) {
   return -1;
 }
 
-// The actual gripper at step `index`: G(q + δq) for the IK solution q of `gripper`, the δq drawn
-// into `values` as dq<i>_g<index> (every other variable of the step stays 0).
-Transform actual_gripper(const WorldModel& world, const Transform& gripper, int index,
+// The actual gripper at step `index`: G(q + δq) for joints q, the δq drawn into `values` as
+// dq<i>_g<index> (every other variable of the step stays 0).
+Transform actual_gripper(const WorldModel& world, std::vector<double> q, int index,
                          std::mt19937& random, std::map<std::string, double>& values) {
   const RobotSpec& robot = world.scenario().robot;
-  std::vector<double> q = world.reach(gripper).solution.value().q;
   for (std::size_t i = 0; i < q.size(); ++i) {
     const double h = robot.joint_uncertainty[i];
     const double dq = std::uniform_real_distribution<double>(-h, h)(random);
@@ -86,39 +86,62 @@ TEST(JointUncertaintyInput, RefusesAWrongCount) {
 }
 
 // The pickup's finger conditions at random joint errors equal the physics: the contact points of
-// the ideal object in the frames of the actual fingers G(q + δq) trans(0, ∓W_m/2, 0).
+// the ideal object in the frames of the actual fingers G(q + δq) trans(0, ∓W_m/2, 0), q the
+// step's IK branch: reach()'s first one by default, or the one its collisions were checked at
+// (Phase2Step::arm, here the next in-limit branch), whose joints err differently.
 TEST_F(JointUncertainty, PickupConditionsAreTheFingersAtTheActualJoints) {
   ASSERT_GE(grasp_, 0);
   const Domain& domain = builtin_domain();
   const Transform& object_pose = world_.scenario().objects[peg_].initial_pose;
   const geometry::Grasp& grasp = world_.object(peg_).grasps[grasp_];
-  const Phase2Step step{.action = action_with(domain, Effect::kGrasp),
-                        .effect = Effect::kGrasp,
-                        .object = peg_,
-                        .grasp = grasp_,
-                        .object_pose = object_pose};
-  symbolic::ExprPool pool;
-  Propagation propagation(world_, domain, pool);
-  const std::vector<Precondition> pickup = propagation.step(step, 1);
-  ASSERT_EQ(pickup.size(), 4u);
-  std::mt19937 random(23);
-  const double half_opening = world_.gripper().max_opening / 2, half_width = grasp.width / 2;
-  for (int sample = 0; sample < 20; ++sample) {
-    std::map<std::string, double> values;
-    const Transform gripper =
-        actual_gripper(world_, object_pose * grasp.gripper_in_object, 1, random, values);
-    values = with_zeros(propagation.space(), values);
-    for (int finger = 0; finger < 2; ++finger)
-      for (int contact = 0; contact < 2; ++contact) {
-        const Transform finger_frame =
-            gripper * Eigen::Translation3d(0, finger == 0 ? -half_opening : half_opening, 0);
-        const Eigen::Vector3d point =
-            object_pose * grasp.gripper_in_object *
-            Eigen::Vector3d(0, contact == 0 ? half_width : -half_width, 0);
-        const double expected = (finger_frame.inverse(Eigen::Isometry) * point).y();
-        EXPECT_NEAR(symbolic::evaluate(pickup[finger * 2 + contact].inequality.expression, values),
-                    expected, 1e-12);
-      }
+  const Transform ideal = object_pose * grasp.gripper_in_object;
+  const kinematics::JointSolution first = world_.reach(ideal).solution.value();
+  std::optional<kinematics::JointSolution> other;
+  for (kinematics::JointSolution& s :
+       world_.scenario().robot.arm.inverse(world_.flange_in_base(ideal)))
+    if (s.within_limits && s.configuration != first.configuration && !other) other = std::move(s);
+  ASSERT_TRUE(other);
+  for (const bool taken_other : {false, true}) {
+    const kinematics::JointSolution& branch = taken_other ? *other : first;
+    SCOPED_TRACE(branch.configuration);
+    const Phase2Step step{.action = action_with(domain, Effect::kGrasp),
+                          .effect = Effect::kGrasp,
+                          .object = peg_,
+                          .grasp = grasp_,
+                          .object_pose = object_pose,
+                          .arm = taken_other ? other : std::nullopt};
+    symbolic::ExprPool pool;
+    Propagation propagation(world_, domain, pool);
+    const std::vector<Precondition> pickup = propagation.step(step, 1);
+    ASSERT_EQ(pickup.size(), 4u);
+    std::mt19937 random(23);
+    const double half_opening = world_.gripper().max_opening / 2, half_width = grasp.width / 2;
+    double off_first = 0.0;  // how far the conditions are from the first branch's physics
+    for (int sample = 0; sample < 20; ++sample) {
+      std::map<std::string, double> values;
+      std::mt19937 same = random;
+      const Transform gripper = actual_gripper(world_, branch.q, 1, random, values);
+      std::map<std::string, double> unused;
+      const Transform at_first = actual_gripper(world_, first.q, 1, same, unused);
+      values = with_zeros(propagation.space(), values);
+      for (int finger = 0; finger < 2; ++finger)
+        for (int contact = 0; contact < 2; ++contact) {
+          const auto finger_y = [&](const Transform& actual) {
+            const Transform finger_frame =
+                actual * Eigen::Translation3d(0, finger == 0 ? -half_opening : half_opening, 0);
+            const Eigen::Vector3d point =
+                ideal * Eigen::Vector3d(0, contact == 0 ? half_width : -half_width, 0);
+            return (finger_frame.inverse(Eigen::Isometry) * point).y();
+          };
+          const double value =
+              symbolic::evaluate(pickup[finger * 2 + contact].inequality.expression, values);
+          EXPECT_NEAR(value, finger_y(gripper), 1e-12);
+          off_first = std::max(off_first, std::abs(value - finger_y(at_first)));
+        }
+    }
+    if (taken_other) {
+      EXPECT_GT(off_first, 1e-7);  // the branch matters
+    }
   }
 }
 
@@ -149,7 +172,8 @@ TEST_F(JointUncertainty, ReleaseLeavesTheObjectWhereTheActualJointsPutIt) {
   for (int sample = 0; sample < 20; ++sample) {
     std::map<std::string, double> values;
     const Transform gripper =
-        actual_gripper(world_, there * grasp.gripper_in_object, 2, random, values);
+        actual_gripper(world_, world_.reach(there * grasp.gripper_in_object).solution.value().q, 2,
+                       random, values);
     values = with_zeros(propagation.space(), values);
     const Transform actual = gripper * grasp.gripper_in_object.inverse(Eigen::Isometry);
     const Eigen::Vector3d d = actual.translation() - there.translation();
@@ -193,7 +217,9 @@ TEST(JointUncertaintyPlan, BlameNamesTheJoints) {
   const InstanceAnalysis* analysis = result.chosen_analysis();
   ASSERT_NE(analysis, nullptr);
   for (const SpaceVariable& v : analysis->variables)
-    if (v.provenance.source == UncertaintySource::kJoint) EXPECT_EQ(v.name.rfind("dq", 0), 0u);
+    if (v.provenance.source == UncertaintySource::kJoint) {
+      EXPECT_EQ(v.name.rfind("dq", 0), 0u);
+    }
   int blamed_joints = 0;
   for (const AnalysedStep& step : analysis->steps)
     for (const PreconditionResult& p : step.preconditions) {
