@@ -385,10 +385,27 @@ WorldModel::WorldModel(Scenario scenario) : scenario_(std::move(scenario)) {
   std::vector<int> movable;
   for (std::size_t o = 0; o < scenario_.objects.size(); ++o)
     if (!scenario_.objects[o].fixed) movable.push_back(static_cast<int>(o));
+  // The gripper's approach to its own object, a translation in the object's frame: the open
+  // gripper, its pads allowed to rest on the contact faces (shrunk by a micrometre), must keep
+  // clear of the object along the whole approach.
+  const geometry::Body open_shrunk = geometry::gripper_body(gripper_, gripper_.max_opening, 1e-6);
+  // The closed gripper at each grasp width, built once (grasps share widths; a body builds three
+  // box hierarchies); copies share them.
+  std::map<double, geometry::Body> closed_at_width;
+  std::map<std::uint64_t, std::vector<geometry::Grasp>> grasps_of_shape;
   for (const ObjectSpec& spec : scenario_.objects) {
     ObjectWorld object;
     if (!spec.fixed) {
-      object.grasps = geometry::compute_grasps(spec.model, gripper_, scenario_.grasping);
+      // Grasps depend on the mesh alone (its faces and face pairs are derived from it): parts
+      // of one shape (a table of cubes) share one computation.
+      const std::uint64_t shape = geometry::content_digest(spec.model.mesh());
+      auto grasps = grasps_of_shape.find(shape);
+      if (grasps == grasps_of_shape.end())
+        grasps =
+            grasps_of_shape
+                .emplace(shape, geometry::compute_grasps(spec.model, gripper_, scenario_.grasping))
+                .first;
+      object.grasps = grasps->second;
       if (object.grasps.empty())
         throw PlanError(spec.location.str() + ": object '" + spec.name +
                         "' has no grasp the gripper can make (opening " +
@@ -407,10 +424,6 @@ WorldModel::WorldModel(Scenario scenario) : scenario_(std::move(scenario)) {
       for (const Obstacle& other : fixed_objects)
         if (geometry::collide({&own, object.positions[p].pose}, other.placed, margin()))
           position_free[p] = 0;
-    // The gripper's approach to its own object, a translation in the object's frame: the open
-    // gripper, its pads allowed to rest on the contact faces (shrunk by a micrometre), must keep
-    // clear of the object along the whole approach.
-    const geometry::Body open_shrunk = geometry::gripper_body(gripper_, gripper_.max_opening, 1e-6);
     held_.emplace_back();
     closed_.emplace_back();
     object.reachable.assign(object.grasps.size(), std::vector<char>(object.positions.size(), 0));
@@ -418,7 +431,11 @@ WorldModel::WorldModel(Scenario scenario) : scenario_(std::move(scenario)) {
     ObjectWorld& added = objects_.back();
     for (std::size_t g = 0; g < added.grasps.size(); ++g) {
       const geometry::Grasp& grasp = added.grasps[g];
-      closed_.back().push_back(geometry::gripper_body(gripper_, grasp.width));
+      auto closed = closed_at_width.find(grasp.width);
+      if (closed == closed_at_width.end())
+        closed = closed_at_width.emplace(grasp.width, geometry::gripper_body(gripper_, grasp.width))
+                     .first;
+      closed_.back().push_back(closed->second);
       held_.back().push_back(closed_.back().back().joined(
           own, grasp.gripper_in_object.inverse(Eigen::Isometry), spec.name + " in the gripper"));
       const Eigen::Vector3d approach =
