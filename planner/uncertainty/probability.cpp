@@ -609,152 +609,210 @@ ToleranceAllocation allocate_tolerances(const Scenario& scenario, const Instance
   return allocate_tolerances(scenario, analysis, sensitivities(analysis), options);
 }
 
-ToleranceAllocation allocate_tolerances(const Scenario& scenario, const InstanceAnalysis& analysis,
-                                        const Sensitivities& jacobian,
-                                        const AllocationOptions& options) {
-  ToleranceAllocation out;
-  // Parameters: one per (block, component) with a positive half-width that some variable uses.
+namespace {
+
+// The allocation's parameters (one per block and component with a positive half-width that some
+// variable uses), which parameter each variable scales (-1: none), and each variable's reach
+// max |x_j| over its range.
+struct AllocationParameters {
+  std::vector<ToleranceParameter> list;
+  std::vector<int> of_variable;
+  std::vector<double> reach;
+};
+
+AllocationParameters allocation_parameters(const Scenario& scenario,
+                                           const InstanceAnalysis& analysis) {
+  AllocationParameters out;
   std::map<std::tuple<int, int, int>, std::size_t> parameter_of;
-  std::vector<int> parameter(analysis.variables.size(), -1);  // per variable
-  std::vector<double> reach(analysis.variables.size(), 0.0);  // max |x_j| over its range
+  out.of_variable.assign(analysis.variables.size(), -1);
+  out.reach.assign(analysis.variables.size(), 0.0);
   for (std::size_t j = 0; j < analysis.variables.size(); ++j) {
     const SpaceVariable& v = analysis.variables[j];
-    reach[j] = std::max(std::abs(v.lower), std::abs(v.upper));
+    out.reach[j] = std::max(std::abs(v.lower), std::abs(v.upper));
     const Provenance& from = v.provenance;
     const int object = from.source == UncertaintySource::kInitial ? from.object : -1;
     const auto block = block_of(scenario, from.source, object);
     const int c = index_of(v.component);
     if (!block || !(block->widths->*kComponentMember[c] > 0)) continue;
     const auto key = std::make_tuple(static_cast<int>(from.source), object, c);
-    auto [it, fresh] = parameter_of.emplace(key, out.parameters.size());
+    auto [it, fresh] = parameter_of.emplace(key, out.list.size());
     if (fresh) {
       const double width = block->widths->*kComponentMember[c];
-      out.parameters.push_back({.source = from.source,
-                                .object = object,
-                                .component = v.component,
-                                .name = block->name + "." + std::string(to_string(v.component)),
-                                .half_width = width,
-                                .cost = block->model->cost.*kComponentMember[c],
-                                .allocated = width});
+      out.list.push_back({.source = from.source,
+                          .object = object,
+                          .component = v.component,
+                          .name = block->name + "." + std::string(to_string(v.component)),
+                          .half_width = width,
+                          .cost = block->model->cost.*kComponentMember[c],
+                          .allocated = width});
     }
-    parameter[j] = static_cast<int>(it->second);
+    out.of_variable[j] = static_cast<int>(it->second);
   }
-  const std::size_t np = out.parameters.size();
+  return out;
+}
 
-  // Rows: A p <= b - ε with A_kp = Σ_{j in p} |J_kj| reach_j / p0_p, b_k the room the nominal
-  // value leaves (minus what the variables of no parameter take).
+// The first-order model of every precondition (a row k per row of J): A p <= room - ε, with
+// A_kp = Σ_{j in p} |J_kj| reach_j / p0_p and room_k what the nominal value leaves (minus what
+// the variables of no parameter take); ε a positive margin relative to the row's spread, raised
+// by verification.
+struct AllocationRows {
+  Eigen::SparseMatrix<double, Eigen::RowMajor> a;  // row k's parameters: those f_k depends on
+  std::vector<double> room, epsilon;
+  std::vector<const PreconditionResult*> results;
+  Eigen::VectorXd spread0;  // A p0
+
+  // The rows the parameters `p` break.
+  [[nodiscard]] std::vector<std::size_t> violated(const Eigen::VectorXd& p) const {
+    const Eigen::VectorXd spread = a * p;
+    std::vector<std::size_t> out;
+    for (std::size_t k = 0; k < room.size(); ++k)
+      if (spread[static_cast<Eigen::Index>(k)] > room[k] - epsilon[k]) out.push_back(k);
+    return out;
+  }
+};
+
+AllocationRows allocation_rows(const InstanceAnalysis& analysis, const Sensitivities& jacobian,
+                               const AllocationParameters& parameters, const Eigen::VectorXd& p0) {
   if (jacobian.cols != analysis.variables.size())
     throw PlanError("internal: allocate_tolerances needs J of this instance");
   const std::size_t rows = jacobian.rows;
-  std::vector<Eigen::Triplet<double>> a_entries;
-  std::vector<double> room(rows);
-  std::vector<const PreconditionResult*> results(rows);
+  AllocationRows out;
+  out.room.resize(rows);
+  out.results.resize(rows);
   for (std::size_t k = 0; k < rows; ++k) {
-    results[k] = &analysis.steps[jacobian.row_step[k]].preconditions[jacobian.row_precondition[k]];
-    const bounds::Inequality& q = results[k]->inequality;
-    room[k] = upper_limit(q.relation) ? q.threshold - jacobian.nominal[k]
-                                      : jacobian.nominal[k] - q.threshold;
+    out.results[k] =
+        &analysis.steps[jacobian.row_step[k]].preconditions[jacobian.row_precondition[k]];
+    const bounds::Inequality& q = out.results[k]->inequality;
+    out.room[k] = upper_limit(q.relation) ? q.threshold - jacobian.nominal[k]
+                                          : jacobian.nominal[k] - q.threshold;
   }
+  std::vector<Eigen::Triplet<double>> entries;
   for (std::size_t j = 0; j < jacobian.cols; ++j)
     for (std::int64_t i = jacobian.column_start[j]; i < jacobian.column_start[j + 1]; ++i) {
-      const double spread = std::abs(jacobian.value[i]) * reach[j];
-      if (parameter[j] < 0)
-        room[jacobian.row_index[i]] -= spread;
+      const double spread = std::abs(jacobian.value[i]) * parameters.reach[j];
+      const int q = parameters.of_variable[j];
+      if (q < 0)
+        out.room[jacobian.row_index[i]] -= spread;
       else
-        a_entries.emplace_back(jacobian.row_index[i], parameter[j],
-                               spread / out.parameters[parameter[j]].half_width);
+        entries.emplace_back(jacobian.row_index[i], q,
+                             spread / parameters.list[static_cast<std::size_t>(q)].half_width);
     }
-  // Row-major and sparse (duplicates summed): row k's parameters are those f_k depends on.
-  Eigen::SparseMatrix<double, Eigen::RowMajor> a_rows(static_cast<Eigen::Index>(rows),
-                                                      static_cast<Eigen::Index>(np));
-  a_rows.setFromTriplets(a_entries.begin(), a_entries.end());
-  Eigen::VectorXd p0(static_cast<Eigen::Index>(np)), cost(static_cast<Eigen::Index>(np));
-  for (std::size_t q = 0; q < np; ++q) {
-    p0[q] = out.parameters[q].half_width;
-    cost[q] = out.parameters[q].cost;
-  }
-  // ε: a positive margin, relative to each row's first-order spread; raised by verification.
-  const Eigen::VectorXd spread0 = a_rows * p0;
-  std::vector<double> epsilon(rows);
+  // Duplicates summed.
+  out.a.resize(static_cast<Eigen::Index>(rows), p0.size());
+  out.a.setFromTriplets(entries.begin(), entries.end());
+  out.spread0 = out.a * p0;
+  out.epsilon.resize(rows);
   for (std::size_t k = 0; k < rows; ++k)
-    epsilon[k] = 1e-9 * (1 + std::abs(results[k]->inequality.threshold)) + 1e-6 * spread0[k];
+    out.epsilon[k] = 1e-9 * (1 + std::abs(out.results[k]->inequality.threshold)) +
+                     1e-6 * out.spread0[static_cast<Eigen::Index>(k)];
+  return out;
+}
 
-  std::vector<bounds::BoundProblem> problems;
-  std::vector<std::vector<std::size_t>> variable_index(rows);  // result.variables -> space index
-  for (std::size_t k = 0; k < rows && options.verify; ++k) {
-    problems.emplace_back(results[k]->inequality.expression, inputs_of(analysis, *results[k]));
-    for (const VariableId id : results[k]->variables) variable_index[k].push_back(id.index);
+// One first-order allocation: active-set least squares (the violated rows as equalities,
+// min Σ c (δ/p0)^2, clamped to [0, p0]), then, if the clamps left a row violated, a uniform
+// shrink (p = 0 satisfies every row, as the caller checked).
+Eigen::VectorXd first_order_allocation(const AllocationRows& rows, const Eigen::VectorXd& p0,
+                                       const Eigen::VectorXd& cost, LinearAlgebra algebra) {
+  const auto np = static_cast<std::size_t>(p0.size());
+  Eigen::VectorXd p = p0;
+  for (int iteration = 0; iteration < 100; ++iteration) {
+    const std::vector<std::size_t> active = rows.violated(p);
+    if (active.empty()) break;
+    const Eigen::VectorXd spread = rows.a * p;
+    std::vector<Triplet> m;
+    Eigen::VectorXd r(static_cast<Eigen::Index>(active.size()));
+    for (std::size_t i = 0; i < active.size(); ++i) {
+      const std::size_t k = active[i];
+      r[static_cast<Eigen::Index>(i)] =
+          spread[static_cast<Eigen::Index>(k)] - (rows.room[k] - rows.epsilon[k]);
+      for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(
+               rows.a, static_cast<Eigen::Index>(k));
+           it; ++it) {
+        const auto q = static_cast<std::size_t>(it.col());
+        if (p[it.col()] > 0 && it.value() != 0)
+          m.push_back({i, q, it.value() * p0[it.col()] / std::sqrt(cost[it.col()])});
+      }
+    }
+    Csc matrix = to_csc(active.size(), np, std::move(m));
+    const Eigen::VectorXd z = min_norm_solve(matrix, r, algebra);
+    for (Eigen::Index q = 0; q < p0.size(); ++q)
+      p[q] = std::clamp(p[q] - p0[q] * z[q] / std::sqrt(cost[q]), 0.0, p0[q]);
   }
+  if (!rows.violated(p).empty())
+    p *= internal::largest_holding(0.0, 1.0, 60,
+                                   [&](double scale) { return rows.violated(scale * p).empty(); });
+  return p;
+}
 
-  const auto violated_rows = [&](const Eigen::VectorXd& p) {
-    const Eigen::VectorXd spread = a_rows * p;
-    std::vector<std::size_t> v;
-    for (std::size_t k = 0; k < rows; ++k)
-      if (spread[k] > room[k] - epsilon[k]) v.push_back(k);
-    return v;
-  };
+// Checks the allocation `p` with the sound bounds over the scaled box (problems[k]: row k's
+// compiled precondition): the rows not proved, and their ε raised by how far their bound lies
+// past the threshold (for the next round).
+std::vector<ToleranceAllocation::Miss> verify_allocation(
+    const Sensitivities& jacobian, const AllocationParameters& parameters,
+    const Eigen::VectorXd& p0, const Eigen::VectorXd& p,
+    std::vector<bounds::BoundProblem>& problems, const bounds::BoundOptions& options,
+    AllocationRows& rows) {
+  std::vector<ToleranceAllocation::Miss> misses;
+  for (std::size_t k = 0; k < rows.results.size(); ++k) {
+    const PreconditionResult& result = *rows.results[k];
+    std::vector<bounds::Interval> box = result.box;
+    for (std::size_t v = 0; v < box.size(); ++v) {
+      const int q = parameters.of_variable[result.variables[v].index];
+      if (q >= 0) box[v] = bounds::Interval(box[v].lo * p[q] / p0[q], box[v].hi * p[q] / p0[q]);
+    }
+    const bounds::BoundResult bound = problems[k].bound(box, options);
+    if (bounds::decide(result.inequality, bound) == bounds::Verdict::kSatisfied) continue;
+    const double t = result.inequality.threshold;
+    const double by = upper_limit(result.inequality.relation) ? bound.hi - t : t - bound.lo;
+    misses.push_back({jacobian.row_step[k], jacobian.row_precondition[k], std::max(0.0, by)});
+    rows.epsilon[k] += 1.5 * std::max(by, 0.0) + 1e-6 * rows.spread0[static_cast<Eigen::Index>(k)];
+  }
+  return misses;
+}
+
+}  // namespace
+
+ToleranceAllocation allocate_tolerances(const Scenario& scenario, const InstanceAnalysis& analysis,
+                                        const Sensitivities& jacobian,
+                                        const AllocationOptions& options) {
+  ToleranceAllocation out;
+  AllocationParameters parameters = allocation_parameters(scenario, analysis);
+  const auto np = static_cast<Eigen::Index>(parameters.list.size());
+  Eigen::VectorXd p0(np), cost(np);
+  for (Eigen::Index q = 0; q < np; ++q) {
+    p0[q] = parameters.list[static_cast<std::size_t>(q)].half_width;
+    cost[q] = parameters.list[static_cast<std::size_t>(q)].cost;
+  }
+  AllocationRows rows = allocation_rows(analysis, jacobian, parameters, p0);
+  out.parameters = parameters.list;
   // Nothing to do when phase 2 proved every precondition over this very box already (even where
   // the first-order margin, which ignores curvature, is not positive).
-  if (std::all_of(results.begin(), results.end(), [](const PreconditionResult* r) {
+  if (std::all_of(rows.results.begin(), rows.results.end(), [](const PreconditionResult* r) {
         return r->verdict == bounds::Verdict::kSatisfied;
       }))
     return out;  // kNotNeeded, rounds 0: every parameter keeps its half-width
   Eigen::VectorXd p = p0;
+  std::vector<bounds::BoundProblem> problems;  // per row
   for (out.rounds = 1; out.rounds <= options.max_rounds; ++out.rounds) {
-    for (std::size_t k = 0; k < rows; ++k)
-      if (room[k] - epsilon[k] < 0) {  // even with every tolerance 0
+    for (std::size_t k = 0; k < rows.room.size(); ++k)
+      if (rows.room[k] - rows.epsilon[k] < 0) {  // even with every tolerance 0
         out.status = AllocationStatus::kInfeasible;
         out.misses.push_back(
-            {jacobian.row_step[k], jacobian.row_precondition[k], epsilon[k] - room[k]});
+            {jacobian.row_step[k], jacobian.row_precondition[k], rows.epsilon[k] - rows.room[k]});
       }
     if (out.status == AllocationStatus::kInfeasible) return out;
-    // Active-set least squares: the violated rows as equalities, min Σ c (δ/p0)^2, clamped.
-    p = p0;
-    for (int iteration = 0; iteration < 100; ++iteration) {
-      const std::vector<std::size_t> active = violated_rows(p);
-      if (active.empty()) break;
-      const Eigen::VectorXd spread = a_rows * p;
-      std::vector<Triplet> m;
-      Eigen::VectorXd r(static_cast<Eigen::Index>(active.size()));
-      for (std::size_t i = 0; i < active.size(); ++i) {
-        const std::size_t k = active[i];
-        r[i] = spread[k] - (room[k] - epsilon[k]);
-        for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(a_rows, k); it; ++it) {
-          const auto q = static_cast<std::size_t>(it.col());
-          if (p[q] > 0 && it.value() != 0)
-            m.push_back({i, q, it.value() * p0[q] / std::sqrt(cost[q])});
-        }
-      }
-      Csc matrix = to_csc(active.size(), np, std::move(m));
-      const Eigen::VectorXd z = min_norm_solve(matrix, r, options.algebra);
-      for (std::size_t q = 0; q < np; ++q)
-        p[q] = std::clamp(p[q] - p0[q] * z[q] / std::sqrt(cost[q]), 0.0, p0[q]);
-    }
-    // If the clamps kept some row violated, shrink uniformly (p = 0 satisfies every row).
-    if (!violated_rows(p).empty())
-      p *= internal::largest_holding(
-          0.0, 1.0, 60, [&](double scale) { return violated_rows(scale * p).empty(); });
+    p = first_order_allocation(rows, p0, cost, options.algebra);
     if (!options.verify) break;
-    // Verify with the sound bounds over the scaled box.
-    out.misses.clear();
-    for (std::size_t k = 0; k < rows; ++k) {
-      std::vector<bounds::Interval> box = results[k]->box;
-      for (std::size_t v = 0; v < box.size(); ++v) {
-        const int q = parameter[variable_index[k][v]];
-        if (q >= 0) box[v] = bounds::Interval(box[v].lo * p[q] / p0[q], box[v].hi * p[q] / p0[q]);
-      }
-      const bounds::BoundResult bound = problems[k].bound(box, options.verify_bounds);
-      if (bounds::decide(results[k]->inequality, bound) == bounds::Verdict::kSatisfied) continue;
-      const double t = results[k]->inequality.threshold;
-      const double by = upper_limit(results[k]->inequality.relation) ? bound.hi - t : t - bound.lo;
-      out.misses.push_back({jacobian.row_step[k], jacobian.row_precondition[k], std::max(0.0, by)});
-      epsilon[k] += 1.5 * std::max(by, 0.0) + 1e-6 * spread0[k];
-    }
+    if (problems.empty())  // compiled once, for every round
+      for (const PreconditionResult* result : rows.results)
+        problems.emplace_back(result->inequality.expression, inputs_of(analysis, *result));
+    out.misses =
+        verify_allocation(jacobian, parameters, p0, p, problems, options.verify_bounds, rows);
     if (out.misses.empty()) break;
   }
   out.rounds = std::min(out.rounds, options.max_rounds);
-  for (std::size_t q = 0; q < np; ++q) {
-    out.parameters[q].allocated = p[q];
+  for (Eigen::Index q = 0; q < np; ++q) {
+    out.parameters[static_cast<std::size_t>(q)].allocated = p[q];
     const double change = (p0[q] - p[q]) / p0[q];
     out.cost += cost[q] * change * change;
   }
