@@ -297,10 +297,12 @@ TEST_F(ArmCube, AnObjectOnTheFirstBranchMakesTheStepTakeAnother) {
 // approach (approach_distance above): the branch is not taken, and when no other is clear the
 // message says where it hits.
 TEST_F(ArmCube, AnObjectBesideTheApproachLineStopsTheBranch) {
-  const auto& [peg, grasp, peg_pose, gripper] = peg_grip;
-  EXPECT_GT(expect_line_blocks(gripper, *first, " hits cube along the approach",
+  // Members, not structured bindings: clang 14 (Debian 12) cannot capture those in a lambda.
+  const PegGrasp& grip = peg_grip;
+  EXPECT_GT(expect_line_blocks(grip.gripper, *first, " hits cube along the approach",
                                [&](const WorldState& state) {
-                                 return world.check_grasp(state, peg, grasp, peg_pose, false);
+                                 return world.check_grasp(state, grip.peg, grip.grasp,
+                                                          grip.peg_pose, false);
                                }),
             0);
 }
@@ -333,8 +335,14 @@ TEST_F(ArmCube, AnObjectBesideTheInsertionLinesStopsTheBranch) {
 // clear, the branch it takes keeps half the margin from the cube at 200 evenly spaced points of
 // the line (the branch followed by its label), and the margin at the grasp itself.
 RC_GTEST_PROP(ArmCollisionProperty, AClearBranchKeepsHalfTheMarginAlongTheApproach, ()) {
-  const auto& [world, robot, cube, peg_grip, first, cube_body] = cube_scene();
-  const auto& [peg, grasp, peg_pose, gripper] = peg_grip;
+  // Plain references, not structured bindings: clang 14 (Debian 12) cannot capture those.
+  const CubeScene& scene = cube_scene();
+  const WorldModel& world = scene.world;
+  const RobotSpec& robot = scene.robot;
+  const int cube = scene.cube, peg = scene.peg.peg, grasp = scene.peg.grasp;
+  const std::optional<kinematics::JointSolution>& first = scene.first;
+  const geometry::Body& cube_body = scene.cube_body;
+  const Transform &peg_pose = scene.peg.peg_pose, &gripper = scene.peg.gripper;
   RC_ASSERT(grasp >= 0 && first.has_value());
   const Eigen::Vector3d line = -robot.approach_distance * gripper.linear().col(2);
   const auto on_line = [&](double s) { return Eigen::Translation3d(s * line) * gripper; };
