@@ -394,9 +394,11 @@ Sweep sweep(const PlacedBody& moving, const Eigen::Vector3d& motion,
 }
 
 CollisionTally::CollisionTally() {
+  auto counts = std::make_unique<AtomicCounts>();
   AtomicCounts* expected = nullptr;
-  if (!live_tally.compare_exchange_strong(expected, new AtomicCounts()))
+  if (!live_tally.compare_exchange_strong(expected, counts.get()))
     throw GeometryError("a CollisionTally is already counting");
+  counts.release();  // live_tally owns it until the destructor
 }
 
 CollisionTally::~CollisionTally() {
