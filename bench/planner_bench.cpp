@@ -829,25 +829,6 @@ void decide_breakdown(const planner::WorldModel& world, const planner::InstanceA
   std::printf("\n");
 }
 
-// The instance's steps as phase 2 sees them (the same mapping as analysis.cpp's private one, which
-// has no public name).
-std::vector<planner::Phase2Step> phase2_steps(const planner::Domain& domain,
-                                              const planner::PlanInstance& instance) {
-  std::vector<planner::Phase2Step> steps;
-  for (std::size_t i = 0; i < instance.steps.size(); ++i) {
-    const planner::InstanceStep& source = instance.steps[i];
-    steps.push_back({.action = source.action,
-                     .effect = domain.actions[source.action].effect,
-                     .object = source.object,
-                     .grasp = source.grasp,
-                     .fixed_object = source.fixed_object,
-                     .object_pose = source.object_pose,
-                     .fixed_pose = source.fixed_pose,
-                     .instance_step = static_cast<int>(i)});
-  }
-  return steps;
-}
-
 void seed_phase2(int repeats, Comparison& all, double& our_seconds, double& peer_seconds) {
   std::printf(
       "\n## phase 2: one instance of each seed experiment (median of %d runs; ms)\n\n"
@@ -870,7 +851,7 @@ void seed_phase2(int repeats, Comparison& all, double& our_seconds, double& peer
     }
     const planner::InstanceList instances = planner::enumerate_instances(family, world, domain, 1);
     const planner::PlanInstance& instance = instances.instances.front();
-    const std::vector<planner::Phase2Step> steps = phase2_steps(domain, instance);
+    const std::vector<planner::Phase2Step> steps = planner::phase2_steps(domain, instance);
     const double build = time_median(repeats, [&] {
       symbolic::ExprPool pool;
       planner::Propagation propagation(world, planner::builtin_domain(), pool);
@@ -901,6 +882,8 @@ void seed_phase2(int repeats, Comparison& all, double& our_seconds, double& peer
                 steps.size(), analysis.steps.size(), preconditions, analysis.errors, 1e3 * build,
                 1e3 * bare, 1e3 * analyse, 1e3 * extras, 1e3 * (analyse + extras),
                 preconditions ? 1e3 * analyse / preconditions : 0.0);
+    std::printf("  step decisions: %zu made, %zu reused (DecisionCache)\n", analysis.steps_decided,
+                analysis.steps_reused);
     // Peer over the analysed steps (inserted scans and squeezes included), against spar's tight
     // bounds of the chosen-instance extras.
     Comparison here;

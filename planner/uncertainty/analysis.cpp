@@ -16,18 +16,6 @@
 #include "spar/symbolic/tape.hpp"
 
 namespace spar::planner {
-namespace {
-
-using bounds::Interval;
-using bounds::Verdict;
-using symbolic::Expr;
-
-// The first action with `effect` (the one phase 2 splices in for sensing or squeezing), or -1.
-int find_action(const Domain& domain, Effect effect) {
-  for (std::size_t a = 0; a < domain.actions.size(); ++a)
-    if (domain.actions[a].effect == effect) return static_cast<int>(a);
-  return -1;
-}
 
 std::vector<Phase2Step> phase2_steps(const Domain& domain, const PlanInstance& instance) {
   std::vector<Phase2Step> steps;
@@ -44,9 +32,23 @@ std::vector<Phase2Step> phase2_steps(const Domain& domain, const PlanInstance& i
     step.fixed_pose = source.fixed_pose;
     step.arm = source.reach.solution;
     step.instance_step = static_cast<int>(i);
+    step.label = static_cast<int>(i) + 1;
     steps.push_back(step);
   }
   return steps;
+}
+
+namespace {
+
+using bounds::Interval;
+using bounds::Verdict;
+using symbolic::Expr;
+
+// The first action with `effect` (the one phase 2 splices in for sensing or squeezing), or -1.
+int find_action(const Domain& domain, Effect effect) {
+  for (std::size_t a = 0; a < domain.actions.size(); ++a)
+    if (domain.actions[a].effect == effect) return static_cast<int>(a);
+  return -1;
 }
 
 bool all_hold(const std::vector<PreconditionResult>& results) {
@@ -151,6 +153,10 @@ class InstanceAnalyser {
   int repair(std::vector<Phase2Step>& steps, const std::vector<Propagation>& snapshots,
              const std::vector<AnalysedStep>& analysed, int k,
              const std::vector<PreconditionResult>& failing, InstanceAnalysis& out) const;
+  // Sets out.variables, out.symbols and the preconditions' expressions to the chosen plan's
+  // numbered by execution position (dx_g<position>, ...), as the reports show the steps;
+  // `searched` is the space the search built, numbered by Phase2Step::label.
+  void number_by_position(InstanceAnalysis& out, const UncertaintySpace& searched) const;
 
   const WorldModel& world_;
   const Domain& domain_;
@@ -166,7 +172,7 @@ std::map<int, std::vector<PreconditionResult>> InstanceAnalyser::replay(
     Propagation state, const std::vector<Phase2Step>& steps, int from, int through) const {
   std::map<int, std::vector<PreconditionResult>> decided;
   for (int i = from; i <= through; ++i) {
-    const std::vector<Precondition> preconditions = state.step(steps[i], i + 1);
+    const std::vector<Precondition> preconditions = state.step(steps[i], steps[i].label);
     decided[i] = decisions_.decide(preconditions, state.space());
   }
   return decided;
@@ -287,7 +293,7 @@ void InstanceAnalyser::run(std::vector<Phase2Step> steps, InstanceAnalysis& out)
     if (steps[k].effect == Effect::kSense && steps[k].object >= 0 &&
         state.on_table(steps[k].object))
       steps[k].object_pose = state.on_table(steps[k].object)->ideal;
-    const std::vector<Precondition> preconditions = state.step(steps[k], k + 1);
+    const std::vector<Precondition> preconditions = state.step(steps[k], steps[k].label);
     AnalysedStep step{.step = steps[k],
                       .action = domain_.actions[steps[k].action].name,
                       .inserted = steps[k].instance_step < 0,
@@ -318,8 +324,37 @@ void InstanceAnalyser::run(std::vector<Phase2Step> steps, InstanceAnalysis& out)
     ++k;
   }
   out.steps = std::move(analysed);
-  out.variables = snapshots.back().space().variables();
-  out.symbols = snapshots.back().space().symbols();
+  out.steps_decided = decisions_.misses();
+  out.steps_reused = decisions_.hits();
+  number_by_position(out, snapshots.back().space());
+}
+
+void InstanceAnalyser::number_by_position(InstanceAnalysis& out,
+                                          const UncertaintySpace& searched) const {
+  bool numbered = true;
+  for (std::size_t i = 0; i < out.steps.size(); ++i)
+    numbered = numbered && out.steps[i].step.label == static_cast<int>(i) + 1;
+  if (numbered) {
+    out.variables = searched.variables();
+    out.symbols = searched.symbols();
+    return;
+  }
+  // The same steps propagated again, numbered by position: the same allocations in the same order
+  // (so every VariableId, box and witness stands) and the same expressions over renamed symbols.
+  Propagation state(world_, domain_, pool_);
+  for (std::size_t i = 0; i < out.steps.size(); ++i) {
+    const std::vector<Precondition> built = state.step(out.steps[i].step, static_cast<int>(i) + 1);
+    std::vector<PreconditionResult>& results = out.steps[i].preconditions;
+    if (built.size() != results.size())
+      throw PlanError("internal: step " + std::to_string(i + 1) +
+                      " has other preconditions when numbered by position");
+    for (std::size_t j = 0; j < built.size(); ++j)
+      results[j].inequality.expression = built[j].inequality.expression;
+  }
+  if (state.space().size() != searched.size())
+    throw PlanError("internal: the plan has other variables when numbered by position");
+  out.variables = state.space().variables();
+  out.symbols = state.space().symbols();
 }
 
 bool holds(const bounds::Inequality& inequality, double value) {

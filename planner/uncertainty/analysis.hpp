@@ -15,6 +15,9 @@
 //   3. if none helps: the error count goes up by one, and the step gets the verification
 //      templates its action names and, per outcome, the recovery plan, instantiated with the
 //      plan's values.
+// While it searches, a step's variables are named after its Phase2Step::label, which a splice does
+// not move (replays rebuild the same expressions, and DecisionCache answers them); the result is
+// numbered by execution position (dx_g<position>, ...), as the reports show the steps.
 // Then, on the chosen instance only (options permitting):
 //   reverse analysis  per precondition, the largest uniform scale s in [0, max_scale] of the
 //                     uncertainty of the objects it depends on (their initial / sensed variables,
@@ -113,6 +116,9 @@ struct InstanceAnalysis {
   std::vector<SpaceVariable> variables;
   std::vector<symbolic::Expr> symbols;
   int errors{0};
+  // Step decisions made and reused (DecisionCache misses and hits: repair search, sensor margin
+  // and the resumed analysis decide steps again).
+  std::size_t steps_decided{0}, steps_reused{0};
   std::unique_ptr<symbolic::ExprPool> pool;  // owns every expression above
 };
 
@@ -133,6 +139,10 @@ struct AnalysisOptions {
   bool blame{true};
   std::size_t samples{2000};  // Monte Carlo samples per precondition (0: off)
 };
+
+// The instance's steps as phase 2 sees them, each labelled instance_step + 1 (Phase2Step::label).
+[[nodiscard]] std::vector<Phase2Step> phase2_steps(const Domain& domain,
+                                                   const PlanInstance& instance);
 
 // Phase 2 on one instance. Throws PlanError if the instance does not fit its world.
 [[nodiscard]] InstanceAnalysis analyse_instance(const WorldModel& world, const Domain& domain,

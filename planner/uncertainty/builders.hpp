@@ -59,6 +59,14 @@ struct Phase2Step {
   std::optional<kinematics::JointSolution> arm{};
   int instance_step{-1};  // index into PlanInstance::steps; -1 when inserted by phase 2
   int repair{-1};         // inserted by phase 2's repair: index into InstanceAnalysis::repairs
+  // The number phase 2 names the step's variables after while it searches (dx_g<label>, ...):
+  // instance_step + 1 for an instance step (phase2_steps); for a step the repair search splices
+  // in, a number past every instance step's, fixed by the failing step it serves and its
+  // candidate index (splice). Unlike the execution position it does not move when a step is
+  // spliced in before it, so a replay rebuilds the same expressions and hits the decisions cached
+  // for them (DecisionCache); the analysis renumbers the chosen plan's variables by execution
+  // position at the end. -1: not numbered (callers of Propagation::step number steps themselves).
+  int label{-1};
 };
 
 struct TableState {

@@ -66,10 +66,14 @@ std::vector<PreconditionResult> decide(const std::vector<Precondition>& precondi
 
 namespace {
 
-// The words that determine decide()'s answer for one step (see DecisionCache). Doubles enter by
-// their bits, so -0.0 and 0.0 differ: at worst a miss, never a wrong hit.
+// The words that determine decide()'s answer for one step (see DecisionCache), and the step's
+// variables. A variable enters by its symbol and range, in the order of its id, not by the id: a
+// replay with a step spliced in earlier allocates more variables before it, which shifts the ids
+// of the same symbols without changing what deciding computes (the tape's inputs are the symbols
+// in that order). Doubles enter by their bits, so -0.0 and 0.0 differ: at worst a miss, never a
+// wrong hit.
 std::vector<std::uint64_t> step_key(const std::vector<Precondition>& preconditions,
-                                    const UncertaintySpace& space) {
+                                    const UncertaintySpace& space, std::vector<VariableId>& ids) {
   std::vector<std::uint64_t> key;
   std::vector<symbolic::Expr> expressions;
   for (const Precondition& p : preconditions) {
@@ -79,9 +83,9 @@ std::vector<std::uint64_t> step_key(const std::vector<Precondition>& preconditio
     key.push_back(std::bit_cast<std::uint64_t>(p.inequality.threshold));
     key.push_back(static_cast<std::uint64_t>(p.kind) << 1 | (p.length ? 1u : 0u));
   }
-  for (const VariableId id : variables_of(expressions, space)) {
-    const bounds::Interval range = space.ranges(std::span(&id, 1)).front();
-    key.push_back(id.index);
+  ids = variables_of(expressions, space);
+  for (const VariableId id : ids) {
+    const bounds::Interval range = space.range(id);
     key.push_back(space.symbol(id).id());
     key.push_back(std::bit_cast<std::uint64_t>(range.lo));
     key.push_back(std::bit_cast<std::uint64_t>(range.hi));
@@ -93,10 +97,14 @@ std::vector<std::uint64_t> step_key(const std::vector<Precondition>& preconditio
 
 std::vector<PreconditionResult> DecisionCache::decide(
     const std::vector<Precondition>& preconditions, const UncertaintySpace& space) {
-  std::vector<std::uint64_t> key = step_key(preconditions, space);
+  std::vector<VariableId> ids;
+  std::vector<std::uint64_t> key = step_key(preconditions, space, ids);
   if (const auto found = entries_.find(key); found != entries_.end()) {
     ++hits_;
-    return found->second;
+    // The same symbols in the same order, so only their ids in this space differ.
+    std::vector<PreconditionResult> results = found->second;
+    for (PreconditionResult& result : results) result.variables = ids;
+    return results;
   }
   std::vector<PreconditionResult> results = planner::decide(preconditions, space, quick_, full_);
   entries_.emplace(std::move(key), results);

@@ -70,9 +70,11 @@ struct PreconditionResult {
                                                      const bounds::BoundOptions& full);
 
 // decide() with memory: a step whose preconditions (expressions, relations, thresholds, kinds) and
-// variables (ids, symbols and ranges) equal those of a step decided before gets the earlier
-// results. decide() is a deterministic function of exactly these (and of the options, fixed per
-// cache), so a hit returns what deciding again would return.
+// variables (symbols and ranges, in the order of their ids) equal those of a step decided before
+// gets the earlier results, with PreconditionResult::variables the ids of those symbols in the
+// space asked (a replay with a step spliced in earlier shifts the ids, not the symbols: see
+// Phase2Step::label). decide() is a deterministic function of exactly these (and of the options,
+// fixed per cache), so a hit returns what deciding again would return.
 // Invariant: every entry was computed with the options given at construction.
 // Cost: a key is O(preconditions + variables) to build; a hit costs a map lookup and a copy.
 class DecisionCache {

@@ -73,10 +73,12 @@ class Propagation {
   // `pool`.
   Propagation(const WorldModel& world, const Domain& domain, symbolic::ExprPool& pool);
 
-  // Allocates the arm's error for step `index` (1-based position in execution order) if the step
-  // needs one, builds its preconditions from the current state (the builders its action lists,
-  // in order), then applies its effect. Throws PlanError when the step does not fit the state
-  // (e.g. grasping a held object).
+  // Allocates the arm's error for step `index` if the step needs one, builds its preconditions
+  // from the current state (the builders its action lists, in order), then applies its effect.
+  // `index` numbers the step: it names the step's variables (dx_g<index>, <object>_s<index>,
+  // dq<i>_g<index>), is their Provenance::step and names the step in errors; its 1-based position
+  // in execution order, or while phase 2 searches its Phase2Step::label. Throws PlanError when the
+  // step does not fit the state (e.g. grasping a held object).
   [[nodiscard]] std::vector<Precondition> step(const Phase2Step& step, int index);
 
   // The table state of an object (nullopt while held or once inserted).

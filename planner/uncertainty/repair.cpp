@@ -101,7 +101,9 @@ std::vector<RepairCandidate> repair_candidates(const WorldModel& world,
     const ObjectWorld& object = world.object(pickup.object);
     std::optional<WorldState> before;  // computed for the first reachable grasp
     int added = 0;
-    for (int g = 0; g < static_cast<int>(object.grasps.size()) && added < squeeze_grasps; ++g) {
+    for (int g = 0; g < static_cast<int>(object.grasps.size()) && added < squeeze_grasps &&
+                    static_cast<int>(out.size()) < kMaxCandidates;
+         ++g) {
       if (g == pickup.grasp || !object.reachable[g][pickup.position]) continue;
       if (!before) before = state_before(world, steps, pickup_at);
       StepCheck check =
@@ -127,6 +129,12 @@ SplicedPlan splice(const std::vector<Phase2Step>& steps, int k,
   std::vector<int> rank(candidates.size(), -1);
   for (std::size_t r = 0, i = 0; i < candidates.size(); ++i)
     if (set >> i & 1u) rank[i] = static_cast<int>(r++);
+  // Labels of the inserted steps (Phase2Step::label): past every instance step's, one block of
+  // kMaxCandidates per failing instance step, so the same candidate gets the same label in every
+  // set tried and no two candidates of one plan share one.
+  int instance_steps = 0;
+  for (const Phase2Step& s : steps) instance_steps = std::max(instance_steps, s.instance_step + 1);
+  const int first_label = instance_steps + 1 + std::max(steps[k].instance_step, 0) * kMaxCandidates;
   int shift_total = 0;
   for (const int i : order) {
     const RepairCandidate& c = candidates[i];
@@ -143,6 +151,7 @@ SplicedPlan splice(const std::vector<Phase2Step>& steps, int k,
     step.effect = c.effect;
     step.instance_step = -1;
     step.repair = repair_id + rank[i];
+    step.label = first_label + i;
     // Candidates at the same position keep candidate order: insert after the ones already there.
     int at = c.position;
     for (const int j : order) {

@@ -7,10 +7,11 @@
 //   the gripper is empty and the object rests where the step finds it;
 //   a range-scan of the handled object likewise before its pickup;
 //   a squeeze just before that pickup with each other grasp the robot reaches there (up to
-//   `squeeze_grasps`): it re-centres the object across those fingers. A squeeze is a grasp and
-//   release in place, so it passes the pickup's collision check (WorldModel::check_grasp, the
-//   other objects where they rest before the pickup) and acts at the IK branch that check takes
-//   (its joint errors are bounded there); a grasp whose check fails gives no squeeze.
+//   `squeeze_grasps`; kMaxCandidates in all): it re-centres the object across those fingers. A
+//   squeeze is a grasp and release in place, so it passes the pickup's collision check
+//   (WorldModel::check_grasp, the other objects where they rest before the pickup) and acts at
+//   the IK branch that check takes (its joint errors are bounded there); a grasp whose check
+//   fails gives no squeeze.
 // The search (choose_repair) scores a set by re-propagating the plan with the set spliced in and
 // deciding every original step from the earliest candidate position through the failing step:
 //   Score = (original steps that fail, their preconditions not satisfied), lexicographic;
@@ -73,8 +74,12 @@ struct RepairCandidate {
                                                              int k, int squeeze_grasps,
                                                              bool sensing, bool squeezing);
 
+// The most candidates one failing step can have (a set is a bit set of them).
+inline constexpr int kMaxCandidates = 32;
+
 // `steps` with the candidates in `set` (bit i: candidates[i]) spliced in; inserted steps get
-// action `scan` or `squeeze` and Phase2Step::repair = `repair_id` + their rank in the set.
+// action `scan` or `squeeze`, Phase2Step::repair = `repair_id` + their rank in the set and a label
+// of their own that depends only on the failing step and i (Phase2Step::label).
 struct SplicedPlan {
   std::vector<Phase2Step> steps;
   int failing{-1};            // where steps[k] is now

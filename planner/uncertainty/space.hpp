@@ -69,7 +69,8 @@ enum class UncertaintySource { kInitial, kManipulator, kSensor, kJoint };
 struct Provenance {
   UncertaintySource source{UncertaintySource::kInitial};
   int object{-1};  // the object's index; -1 for the manipulator
-  int step{-1};    // position in the instance's execution order (1-based); -1 for initial
+  int step{-1};    // the step's number (Propagation::step's index): its position in execution
+                   // order (1-based) in an analysis' result; -1 for initial
 };
 
 struct SpaceVariable {
