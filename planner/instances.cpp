@@ -143,8 +143,9 @@ std::optional<std::string> check_collisions(PlanInstance& instance, const WorldM
       step.collision = world.check_grasp(state, step.object, step.grasp, step.object_pose, measure);
     }
     // The step uses the first IK branch clear of everything where it is (the table-only choice
-    // of build() may hit an object).
-    if (step.collision.arm) step.reach.solution = step.collision.arm;
+    // of build() may hit an object), and no other: none when no branch is clear.
+    step.reach.solution = step.collision.arm;
+    step.reach.reachable = step.reach.solution.has_value();
     if (!step.collision.clear)
       return domain.actions[step.action].name + "(" + world.scenario().objects[step.object].name +
              ", " + world.object(step.object).grasps[step.grasp].label + ", " +

@@ -45,7 +45,9 @@ struct InstanceStep {
   int stable_pose{-1};  // of the object at `object_pose`, -1 if none
   kinematics::Transform object_pose{kinematics::Transform::Identity()};
   kinematics::Transform gripper_pose{kinematics::Transform::Identity()};  // valid if grasp >= 0
-  Reach reach;                                                            // of gripper_pose
+  // Of gripper_pose: its tilt, and (once check_collisions ran) the collision-checked IK branch
+  // the step uses, the one reports show and joint uncertainty acts at.
+  Reach reach;
   // Objects assembled into `object` (directly or not) that move with it in this step.
   std::vector<int> carried;
   // The step's collision check: clearance at its configuration and the nearest other object.

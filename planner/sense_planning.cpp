@@ -125,11 +125,13 @@ sensing::SelectionOptions SensingContext::options() const {
   options.standoff = scenario_.sensing.standoff;
   const std::vector<sensing::SensorModel>& sensors = sensors_;
   const WorldModel& world = world_;
-  options.reachable = [&sensors, &world](int sensor, const Eigen::Isometry3d& sensor_pose) {
-    // The gripper frame that puts the sensor there: sensor = gripper * mount.
+  options.reachable = [&sensors, &world, start = world.initial_state()](
+                          int sensor, const Eigen::Isometry3d& sensor_pose) {
+    // The gripper frame that puts the sensor there: sensor = gripper * mount; the arm and the
+    // gripper must clear the objects where they start, and the table.
     const Eigen::Isometry3d gripper =
         sensor_pose * sensors[static_cast<std::size_t>(sensor)].pose.inverse(Eigen::Isometry);
-    return world.reach(gripper).solution.has_value();
+    return world.still_branch(start, gripper).has_value();
   };
   return options;
 }

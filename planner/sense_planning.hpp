@@ -4,9 +4,11 @@
 // chosen by minimax ambiguity (sensing/selection.hpp) among the scenario's sensors: the range
 // scanner (`sensors.range_scan`, on the wrist unless it has a pose) and the cameras
 // (`sensors.cameras`, fixed or on the wrist). Wrist viewpoints are those the robot reaches: an
-// in-limit inverse kinematics solution for the gripper frame that puts the sensor there (the
-// sensor's `pose` is its frame in the gripper's); the grasping tilt cone does not apply to
-// looking.
+// in-limit inverse kinematics branch for the gripper frame that puts the sensor there (the
+// sensor's `pose` is its frame in the gripper's) whose links, and the open gripper, clear the
+// objects where they start (an uncertain one as its first hypothesis: the other hypotheses'
+// poses and shapes are not obstacles yet) and the table (WorldModel::still_branch: the check
+// steps use, at one pose); the robot's max_tool_tilt applies to looking as to grasping.
 //
 // The world of each hypothesis is the scenario's objects at their initial poses, the uncertain
 // object as the hypothesis has it, and any other uncertain object as its first hypothesis.

@@ -984,6 +984,16 @@ StepCheck WorldModel::check_insertion(const WorldState& state, int goal, int gra
                          obstacles(moved, not_parts), measure);
 }
 
+std::optional<kinematics::JointSolution> WorldModel::still_branch(
+    const WorldState& state, const kinematics::Transform& gripper_pose) const {
+  const std::vector<Obstacle> all = obstacles(state, {});
+  const geometry::PlacedBody open{&*open_gripper_, gripper_pose};
+  if (below_table(open, Eigen::Vector3d::Zero())) return std::nullopt;
+  for (const Obstacle& obstacle : all)
+    if (geometry::collide(open, obstacle.placed, margin())) return std::nullopt;
+  return arm_branch(gripper_pose, {}, all).branch;
+}
+
 const WorldModel::Table& WorldModel::initial_conflicts(int object, int other) const {
   const std::lock_guard lock(caches_->mutex);
   const auto [entry, fresh] = caches_->initial.try_emplace({object, other});

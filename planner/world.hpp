@@ -194,6 +194,13 @@ class WorldModel {
   [[nodiscard]] const geometry::GripperSpec& gripper() const { return gripper_; }
 
   [[nodiscard]] Reach reach(const kinematics::Transform& gripper_pose) const;
+  // The IK branch that holds the open gripper still at `gripper_pose` among the objects where
+  // `state` has them (sense planning's wrist viewpoints): the first in-limit one, in the robot's
+  // order, whose links keep the margin from every object (links on the last body exempt, as for
+  // steps) and stay above the table, the open gripper there keeping the margin and above the
+  // table too; none when no branch is clear or the tilt fails.
+  [[nodiscard]] std::optional<kinematics::JointSolution> still_branch(
+      const WorldState& state, const kinematics::Transform& gripper_pose) const;
 
   // Why the goals cannot be reached even with the interactions between steps ignored (each object
   // moved alone, places shared): "goal <goal> (file:line:col): <object>: <what is empty>", naming

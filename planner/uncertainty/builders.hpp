@@ -54,8 +54,8 @@ struct Phase2Step {
   // Ideal: where the object is (grasp, squeeze, scan) or goes (release; insert: T_f Ta).
   kinematics::Transform object_pose{kinematics::Transform::Identity()};
   kinematics::Transform fixed_pose{kinematics::Transform::Identity()};
-  // The IK branch the step's collisions were checked at (InstanceStep::reach); none for a step
-  // phase 2 inserted with another grasp (then WorldModel::reach's).
+  // The IK branch the step's collisions were checked at (InstanceStep::reach; a squeeze's:
+  // RepairCandidate::arm). Joint uncertainty acts there and refuses a step without one.
   std::optional<kinematics::JointSolution> arm{};
   int instance_step{-1};  // index into PlanInstance::steps; -1 when inserted by phase 2
   int repair{-1};         // inserted by phase 2's repair: index into InstanceAnalysis::repairs

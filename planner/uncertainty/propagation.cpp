@@ -91,17 +91,13 @@ SymbolicTransform Propagation::joint_error(const Phase2Step& step, int index) {
   if (step.grasp < 0)
     throw PlanError("step " + std::to_string(index) +
                     ": joint uncertainty needs the step's grasp (where the arm is)");
-  // The branch the step's collisions were checked at, so the bounds hold where the arm is.
-  const std::optional<kinematics::JointSolution> arm =
-      step.arm ? step.arm
-               : world_
-                     ->reach(step.object_pose *
-                             world_->object(step.object).grasps[step.grasp].gripper_in_object)
-                     .solution;
+  // The branch the step's collisions were checked at, so the bounds hold where the arm is; no
+  // other branch stands in for it (its joints would err differently).
+  const std::optional<kinematics::JointSolution>& arm = step.arm;
   if (!arm)
     throw PlanError("step " + std::to_string(index) +
-                    ": the robot does not reach the step's gripper pose, so its joint errors "
-                    "have no configuration to act at");
+                    ": the step has no collision-checked arm configuration, so its joint errors "
+                    "have nowhere to act");
   const bool gaussian = robot.uncertainty_model.distribution == Distribution::kGaussian;
   std::vector<Expr> dq;
   for (std::size_t i = 0; i < robot.joint_uncertainty.size(); ++i) {

@@ -17,6 +17,19 @@ std::vector<int> held_before(const std::vector<Phase2Step>& steps) {
   return held;
 }
 
+// Where the objects are just before steps[until] (the effects of the steps before it replayed on
+// the initial world, as instances.hpp's apply_step does for instance steps).
+WorldState state_before(const WorldModel& world, const std::vector<Phase2Step>& steps, int until) {
+  WorldState state = world.initial_state();
+  for (int i = 0; i < until; ++i) {
+    const Phase2Step& step = steps[i];
+    if (step.effect == Effect::kRelease || step.effect == Effect::kInsert)
+      state.move(step.object, step.object_pose);
+    if (step.effect == Effect::kInsert) state.carrier[step.object] = step.fixed_object;
+  }
+  return state;
+}
+
 bool moves(const Phase2Step& step, int object) {
   return step.object == object && moves_object(step.effect);
 }
@@ -81,18 +94,24 @@ std::vector<RepairCandidate> repair_candidates(const WorldModel& world,
     if (at >= 0) out.push_back({Effect::kSense, failing.object, -1, at});
   }
   // A squeeze uses another grasp than the pickup's (with the same one its preconditions would be
-  // the failing pickup's own), one the robot reaches where the object lies.
+  // the failing pickup's own), one the robot reaches where the object lies and whose grasp and
+  // release there clear everything (the IK branch that check takes is the squeeze's arm).
   if (squeezing && pickup_at >= 0 && steps[pickup_at].position >= 0) {
     const Phase2Step& pickup = steps[pickup_at];
     const ObjectWorld& object = world.object(pickup.object);
+    std::optional<WorldState> before;  // computed for the first reachable grasp
     int added = 0;
-    for (std::size_t g = 0; g < object.grasps.size() && added < squeeze_grasps &&
-                            static_cast<int>(out.size()) < kMaxCandidates;
-         ++g)
-      if (static_cast<int>(g) != pickup.grasp && object.reachable[g][pickup.position]) {
-        out.push_back({Effect::kReduce, pickup.object, static_cast<int>(g), pickup_at});
-        ++added;
-      }
+    for (int g = 0; g < static_cast<int>(object.grasps.size()) && added < squeeze_grasps &&
+                    static_cast<int>(out.size()) < kMaxCandidates;
+         ++g) {
+      if (g == pickup.grasp || !object.reachable[g][pickup.position]) continue;
+      if (!before) before = state_before(world, steps, pickup_at);
+      StepCheck check =
+          world.check_grasp(*before, pickup.object, g, pickup.object_pose, /*measure=*/false);
+      if (!check.clear || !check.arm) continue;
+      out.push_back({Effect::kReduce, pickup.object, g, pickup_at, std::move(check.arm)});
+      ++added;
+    }
   }
   return out;
 }
@@ -122,9 +141,9 @@ SplicedPlan splice(const std::vector<Phase2Step>& steps, int k,
     Phase2Step step;
     if (c.effect == Effect::kReduce) {
       step = steps[c.position];  // the pickup it precedes: same object, position, pose
-      if (step.grasp != c.grasp) step.arm.reset();  // that arm is the pickup grasp's
       step.action = squeeze;
       step.grasp = c.grasp;
+      step.arm = c.arm;
     } else {
       step.action = scan;
       step.object = c.object;

@@ -7,7 +7,11 @@
 //   the gripper is empty and the object rests where the step finds it;
 //   a range-scan of the handled object likewise before its pickup;
 //   a squeeze just before that pickup with each other grasp the robot reaches there (up to
-//   `squeeze_grasps`; kMaxCandidates in all): it re-centres the object across those fingers.
+//   `squeeze_grasps`; kMaxCandidates in all): it re-centres the object across those fingers. A
+//   squeeze is a grasp and release in place, so it passes the pickup's collision check
+//   (WorldModel::check_grasp, the other objects where they rest before the pickup) and acts at
+//   the IK branch that check takes (its joint errors are bounded there); a grasp whose check
+//   fails gives no squeeze.
 // The search (choose_repair) scores a set by re-propagating the plan with the set spliced in and
 // deciding every original step from the earliest candidate position through the failing step:
 //   Score = (original steps that fail, their preconditions not satisfied), lexicographic;
@@ -36,6 +40,7 @@
 
 #include <functional>
 #include <map>
+#include <optional>
 #include <utility>
 #include <vector>
 
@@ -58,6 +63,7 @@ struct RepairCandidate {
   int object{-1};
   int grasp{-1};  // squeeze: the grasp it closes with
   int position{-1};
+  std::optional<kinematics::JointSolution> arm{};  // squeeze: its collision-checked IK branch
 };
 [[nodiscard]] const char* repair_kind(const RepairCandidate& candidate);  // range-scan, squeeze
 

@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "spar/planner/plan.hpp"
+#include "spar/planner/sense_planning.hpp"
 
 namespace spar::planner {
 namespace {
@@ -71,16 +72,20 @@ TEST(ArmCollision, ReachChoosesABranchAboveTheTable) {
   EXPECT_GT(avoided, 0);
 }
 
-// The UR5 example with a 1 in cube far from the others (the tests move it where they need it).
-WorldModel ur5_with_cube() {
+// The UR5 example with one more object (`entry`: its YAML under `objects:`).
+WorldModel ur5_with(const std::string& entry) {
   std::ifstream file(kUr5);
   std::stringstream text;
   text << file.rdbuf();
   std::string yaml = text.str();
   const std::string objects = "objects:\n";
-  yaml.insert(yaml.find(objects) + objects.size(),
-              "  cube:\n    builtin: cube\n    pose: {stable: P5, at: [-20, -20]}\n");
+  yaml.insert(yaml.find(objects) + objects.size(), entry);
   return WorldModel(parse_scenario(yaml, kUr5, std::string(SPAR_SOURCE_DIR) + "/examples"));
+}
+
+// The UR5 example with a 1 in cube far from the others (the tests move it where they need it).
+WorldModel ur5_with_cube() {
+  return ur5_with("  cube:\n    builtin: cube\n    pose: {stable: P5, at: [-20, -20]}\n");
 }
 
 // The moving links' meshes, except those on the last body (next to the gripper), as bodies of
@@ -329,6 +334,52 @@ TEST_F(ArmCube, AnObjectBesideTheInsertionLinesStopsTheBranch) {
       return;  // one insertion is enough
     }
   FAIL() << "no insertion of the peg into the block is reachable";
+}
+
+// Sense planning's wrist viewpoints: with a 30 in pillar standing beside the block, gripper poses
+// (pointing down) around it that reach() reaches and where the open gripper is clear: the range
+// scanner's viewpoint there is kept exactly when some in-limit branch above the table keeps its
+// links clear of every object (checked with the URDF's meshes), and some are refused (every
+// branch reach() could take hits the pillar).
+TEST(ArmCollision, AWristViewpointNeedsABranchClearOfTheObjects) {
+  const WorldModel world = ur5_with("  pillar:\n    mesh: " + std::string(SPAR_SOURCE_DIR) +
+                                    "/tests/planner/data/pillar.off\n    fixed: true\n"
+                                    "    pose: {xyz: [19, -15, 0], rpy: [0, 0, 0]}\n");
+  const RobotSpec& robot = world.scenario().robot;
+  const SensingContext context(world.scenario(), world);
+  const sensing::SelectionOptions options = context.options();
+  const sensing::SensorModel scanner = scenario_sensors(world.scenario()).front();
+  ASSERT_EQ(scanner.mount, sensing::Mount::kWrist);
+  const WorldState start = world.initial_state();
+  std::vector<geometry::PlacedBody> objects;
+  for (std::size_t o = 0; o < start.poses.size(); ++o)
+    objects.push_back({&world.body(static_cast<int>(o)), start.poses[o]});
+  const geometry::Body open = geometry::gripper_body(world.gripper(), world.gripper().max_opening);
+  const double inch = 0.0254;
+  int kept = 0, refused = 0;
+  for (int x = 12; x <= 28; x += 4)
+    for (int y = -24; y <= -6; y += 3)
+      for (int z = 2; z <= 14; z += 4) {
+        const Transform gripper = Eigen::Translation3d(x * inch, y * inch, z * inch) *
+                                  Eigen::AngleAxisd(std::numbers::pi, Eigen::Vector3d::UnitX());
+        if (!world.reach(gripper).solution) continue;
+        const geometry::PlacedBody gripper_there{&open, gripper};
+        if (std::ranges::any_of(objects, [&](const geometry::PlacedBody& object) {
+              return geometry::collide(gripper_there, object, world.margin());
+            }))
+          continue;  // the gripper's own case, not the arm's
+        bool clear_branch = false;
+        for (const kinematics::JointSolution& s : robot.arm.inverse(world.flange_in_base(gripper)))
+          if (s.within_limits && lowest_link_z(robot, s.q) >= -geometry::kTableTolerance)
+            clear_branch |= std::ranges::none_of(objects, [&](const geometry::PlacedBody& object) {
+              return link_hit(robot, s.q, object, world.margin()).has_value();
+            });
+        const bool viewed = options.reachable(0, gripper * scanner.pose);
+        EXPECT_EQ(viewed, clear_branch) << x << ", " << y << ", " << z << " in";
+        ++(viewed ? kept : refused);
+      }
+  EXPECT_GT(kept, 0);
+  EXPECT_GT(refused, 0);
 }
 
 // A cube at random near the first branch's arm somewhere along the approach: when the grasp is

@@ -6,15 +6,19 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <fstream>
+#include <functional>
 #include <map>
 #include <optional>
 #include <random>
+#include <sstream>
 #include <string>
 #include <vector>
 
 #include "spar/planner/error.hpp"
 #include "spar/planner/plan.hpp"
 #include "spar/planner/uncertainty/propagation.hpp"
+#include "spar/planner/uncertainty/repair.hpp"
 #include "spar/symbolic/operations.hpp"
 #include "tests/common/expect_message.hpp"
 
@@ -45,6 +49,18 @@ Transform actual_gripper(const WorldModel& world, std::vector<double> q, int ind
     q[i] += dq;
   }
   return robot.base * robot.arm.forward(q) * robot.tool;
+}
+
+// Pickup condition i (finger i / 2, contact i % 2) as physics: the y of the ideal object's
+// contact point (grasp `grasp`, ideal gripper `ideal`) in the frame of the actual finger.
+double finger_contact_y(const WorldModel& world, const geometry::Grasp& grasp,
+                        const Transform& ideal, const Transform& actual, int i) {
+  const double half_opening = world.gripper().max_opening / 2, half_width = grasp.width / 2;
+  const Transform finger_frame =
+      actual * Eigen::Translation3d(0, i / 2 == 0 ? -half_opening : half_opening, 0);
+  const Eigen::Vector3d point =
+      ideal * Eigen::Vector3d(0, i % 2 == 0 ? half_width : -half_width, 0);
+  return (finger_frame.inverse(Eigen::Isometry) * point).y();
 }
 
 // Every variable of the space at 0 except those already in `values`.
@@ -87,8 +103,8 @@ TEST(JointUncertaintyInput, RefusesAWrongCount) {
 
 // The pickup's finger conditions at random joint errors equal the physics: the contact points of
 // the ideal object in the frames of the actual fingers G(q + δq) trans(0, ∓W_m/2, 0), q the
-// step's IK branch: reach()'s first one by default, or the one its collisions were checked at
-// (Phase2Step::arm, here the next in-limit branch), whose joints err differently.
+// step's IK branch (Phase2Step::arm, the one its collisions were checked at): reach()'s first one,
+// or the next in-limit branch, whose joints err differently.
 TEST_F(JointUncertainty, PickupConditionsAreTheFingersAtTheActualJoints) {
   ASSERT_GE(grasp_, 0);
   const Domain& domain = builtin_domain();
@@ -109,13 +125,12 @@ TEST_F(JointUncertainty, PickupConditionsAreTheFingersAtTheActualJoints) {
                           .object = peg_,
                           .grasp = grasp_,
                           .object_pose = object_pose,
-                          .arm = taken_other ? other : std::nullopt};
+                          .arm = branch};
     symbolic::ExprPool pool;
     Propagation propagation(world_, domain, pool);
     const std::vector<Precondition> pickup = propagation.step(step, 1);
     ASSERT_EQ(pickup.size(), 4u);
     std::mt19937 random(23);
-    const double half_opening = world_.gripper().max_opening / 2, half_width = grasp.width / 2;
     double off_first = 0.0;  // how far the conditions are from the first branch's physics
     for (int sample = 0; sample < 20; ++sample) {
       std::map<std::string, double> values;
@@ -124,20 +139,12 @@ TEST_F(JointUncertainty, PickupConditionsAreTheFingersAtTheActualJoints) {
       std::map<std::string, double> unused;
       const Transform at_first = actual_gripper(world_, first.q, 1, same, unused);
       values = with_zeros(propagation.space(), values);
-      for (int finger = 0; finger < 2; ++finger)
-        for (int contact = 0; contact < 2; ++contact) {
-          const auto finger_y = [&](const Transform& actual) {
-            const Transform finger_frame =
-                actual * Eigen::Translation3d(0, finger == 0 ? -half_opening : half_opening, 0);
-            const Eigen::Vector3d point =
-                ideal * Eigen::Vector3d(0, contact == 0 ? half_width : -half_width, 0);
-            return (finger_frame.inverse(Eigen::Isometry) * point).y();
-          };
-          const double value =
-              symbolic::evaluate(pickup[finger * 2 + contact].inequality.expression, values);
-          EXPECT_NEAR(value, finger_y(gripper), 1e-12);
-          off_first = std::max(off_first, std::abs(value - finger_y(at_first)));
-        }
+      for (int i = 0; i < 4; ++i) {
+        const double value = symbolic::evaluate(pickup[i].inequality.expression, values);
+        EXPECT_NEAR(value, finger_contact_y(world_, grasp, ideal, gripper, i), 1e-12);
+        off_first = std::max(off_first,
+                             std::abs(value - finger_contact_y(world_, grasp, ideal, at_first, i)));
+      }
     }
     if (taken_other) {
       EXPECT_GT(off_first, 1e-7);  // the branch matters
@@ -154,15 +161,20 @@ TEST_F(JointUncertainty, ReleaseLeavesTheObjectWhereTheActualJointsPutIt) {
   const Transform there = Eigen::Translation3d(0.02, -0.03, 0) * object_pose;
   const geometry::Grasp& grasp = world_.object(peg_).grasps[grasp_];
   ASSERT_TRUE(world_.reach(there * grasp.gripper_in_object).reachable);
+  const std::optional<kinematics::JointSolution> at_there =
+      world_.reach(there * grasp.gripper_in_object).solution;
+  ASSERT_TRUE(at_there);
   Phase2Step pickup{.action = action_with(domain, Effect::kGrasp),
                     .effect = Effect::kGrasp,
                     .object = peg_,
                     .grasp = grasp_,
-                    .object_pose = object_pose};
+                    .object_pose = object_pose,
+                    .arm = world_.reach(object_pose * grasp.gripper_in_object).solution};
   Phase2Step putdown = pickup;
   putdown.action = action_with(domain, Effect::kRelease);
   putdown.effect = Effect::kRelease;
   putdown.object_pose = there;
+  putdown.arm = at_there;
   symbolic::ExprPool pool;
   Propagation propagation(world_, domain, pool);
   (void)propagation.step(pickup, 1);
@@ -171,9 +183,7 @@ TEST_F(JointUncertainty, ReleaseLeavesTheObjectWhereTheActualJointsPutIt) {
   std::mt19937 random(2323);
   for (int sample = 0; sample < 20; ++sample) {
     std::map<std::string, double> values;
-    const Transform gripper =
-        actual_gripper(world_, world_.reach(there * grasp.gripper_in_object).solution.value().q, 2,
-                       random, values);
+    const Transform gripper = actual_gripper(world_, at_there->q, 2, random, values);
     values = with_zeros(propagation.space(), values);
     const Transform actual = gripper * grasp.gripper_in_object.inverse(Eigen::Isometry);
     const Eigen::Vector3d d = actual.translation() - there.translation();
@@ -181,6 +191,176 @@ TEST_F(JointUncertainty, ReleaseLeavesTheObjectWhereTheActualJointsPutIt) {
     EXPECT_NEAR(symbolic::evaluate(state.error.dy, values), d.y(), 1e-12);
     EXPECT_NEAR(symbolic::evaluate(state.error.dz, values), d.z(), 1e-12);
   }
+}
+
+// A step without a collision-checked branch has no configuration for its joint errors: refused,
+// never bounded at some other branch.
+TEST_F(JointUncertainty, RefusesAStepWithoutItsArmBranch) {
+  ASSERT_GE(grasp_, 0);
+  const Domain& domain = builtin_domain();
+  const Phase2Step step{.action = action_with(domain, Effect::kGrasp),
+                        .effect = Effect::kGrasp,
+                        .object = peg_,
+                        .grasp = grasp_,
+                        .object_pose = world_.scenario().objects[peg_].initial_pose};
+  symbolic::ExprPool pool;
+  Propagation propagation(world_, domain, pool);
+  EXPECT_THROW_MESSAGE((void)propagation.step(step, 3),
+                       "step 3: the step has no collision-checked arm configuration, so its joint "
+                       "errors have nowhere to act");
+}
+
+// The joint-uncertainty scenario with a 1 in cube far from the others, and a squeeze of the peg
+// where it starts: the cube put (by an earlier putdown) on the first IK branch of the squeeze's
+// grasp, so that the squeeze's grasp check takes another branch.
+class JointUncertaintySqueeze : public ::testing::Test {
+ protected:
+  static WorldModel with_cube() {
+    std::ifstream file(kScenario);
+    std::stringstream text;
+    text << file.rdbuf();
+    std::string yaml = text.str();
+    const std::string objects = "objects:\n";
+    yaml.insert(yaml.find(objects) + objects.size(),
+                "  cube:\n    builtin: cube\n    pose: {stable: P5, at: [-20, -20]}\n");
+    return WorldModel(parse_scenario(yaml, kScenario, std::string(SPAR_SOURCE_DIR) + "/examples"));
+  }
+
+  // The phase 2 steps: the cube picked up and put down at `cube_pose`, then the peg's pickup
+  // with grasp `pickup_grasp` where it starts (the step the squeezes go before).
+  [[nodiscard]] std::vector<Phase2Step> steps(const Transform& cube_pose) const {
+    const Transform& peg_pose = world_.scenario().objects[peg_].initial_pose;
+    const Phase2Step take{.action = action_with(domain_, Effect::kGrasp),
+                          .effect = Effect::kGrasp,
+                          .object = cube_,
+                          .grasp = 0,
+                          .position = 0,
+                          .object_pose = world_.scenario().objects[cube_].initial_pose};
+    Phase2Step put = take;
+    put.action = action_with(domain_, Effect::kRelease);
+    put.effect = Effect::kRelease;
+    put.object_pose = cube_pose;
+    const Phase2Step pickup{
+        .action = action_with(domain_, Effect::kGrasp),
+        .effect = Effect::kGrasp,
+        .object = peg_,
+        .grasp = pickup_grasp_,
+        .position = 0,
+        .object_pose = peg_pose,
+        .arm = world_.reach(peg_pose * world_.object(peg_).grasps[pickup_grasp_].gripper_in_object)
+                   .solution};
+    return {take, put, pickup};
+  }
+
+  // Calls `visit(grasp, first branch, cube pose)` for each squeeze grasp reachable where the peg
+  // starts and each cube centred at a frame origin of that grasp's first branch's moving links.
+  void each_cube_on_first_branch(const std::function<void(int, const kinematics::JointSolution&,
+                                                          const Transform&)>& visit) const {
+    const RobotSpec& robot = world_.scenario().robot;
+    const Transform& peg_pose = world_.scenario().objects[peg_].initial_pose;
+    const double half = 0.0254 / 2;
+    for (int g = 0; g < static_cast<int>(world_.object(peg_).grasps.size()); ++g) {
+      if (g == pickup_grasp_ || !world_.object(peg_).reachable[g][0]) continue;
+      const std::optional<kinematics::JointSolution> first =
+          world_.reach(peg_pose * world_.object(peg_).grasps[g].gripper_in_object).solution;
+      if (!first) continue;
+      for (const Transform& link : robot.arm.link_poses(first->q))
+        visit(g, *first,
+              Eigen::Translation3d((robot.base * link).translation() -
+                                   Eigen::Vector3d::Constant(half)) *
+                  Transform::Identity());
+    }
+  }
+
+  // The candidate squeeze with `grasp`, or nullptr.
+  static const RepairCandidate* squeeze_with(const std::vector<RepairCandidate>& candidates,
+                                             int grasp) {
+    for (const RepairCandidate& c : candidates)
+      if (c.effect == Effect::kReduce && c.grasp == grasp) return &c;
+    return nullptr;
+  }
+
+  const Domain& domain_ = builtin_domain();
+  WorldModel world_ = with_cube();
+  int peg_ = world_.object_index("peg"), cube_ = world_.object_index("cube");
+  int pickup_grasp_ = [this] {
+    for (std::size_t g = 0; g < world_.object(peg_).grasps.size(); ++g)
+      if (world_.object(peg_).reachable[g][0]) return static_cast<int>(g);
+    return -1;
+  }();
+};
+
+// The squeeze acts at the branch its grasp check takes, not at reach()'s first one: its four
+// conditions at random joint errors are the fingers' physics at that branch's q + δq (and not at
+// the first branch's, which hits the cube).
+TEST_F(JointUncertaintySqueeze, BoundsTheSqueezeAtItsCollisionCheckedBranch) {
+  ASSERT_GE(pickup_grasp_, 0);
+  int squeezed = 0;
+  each_cube_on_first_branch(
+      [&](int g, const kinematics::JointSolution& first, const Transform& cube_pose) {
+        if (squeezed > 0) return;
+        // The squeeze's grasp check with the cube where the putdown leaves it takes another
+        // branch than the first (the first hits the cube).
+        WorldState state = world_.initial_state();
+        state.poses[cube_] = cube_pose;
+        const Transform& peg_pose = world_.scenario().objects[peg_].initial_pose;
+        const StepCheck check = world_.check_grasp(state, peg_, g, peg_pose, false);
+        if (!check.clear || check.arm->configuration == first.configuration) return;
+        ++squeezed;
+        const std::vector<Phase2Step> plan = steps(cube_pose);
+        const std::vector<RepairCandidate> candidates =
+            repair_candidates(world_, plan, 2, 100, /*sensing=*/false, /*squeezing=*/true);
+        const RepairCandidate* squeeze = squeeze_with(candidates, g);
+        ASSERT_NE(squeeze, nullptr);
+        const unsigned set = 1u << (squeeze - candidates.data());
+        const SplicedPlan spliced =
+            splice(plan, 2, candidates, set, -1, action_with(domain_, Effect::kReduce), 0);
+        const Phase2Step& step = spliced.steps.at(spliced.inserted.at(0));
+        ASSERT_TRUE(step.arm);
+        EXPECT_EQ(step.arm->configuration, check.arm->configuration);
+        // Its conditions, propagated from the initial world (the peg where the squeeze finds it).
+        symbolic::ExprPool pool;
+        Propagation propagation(world_, domain_, pool);
+        const std::vector<Precondition> conditions = propagation.step(step, 1);
+        ASSERT_EQ(conditions.size(), 4u);
+        const geometry::Grasp& grasp = world_.object(peg_).grasps[g];
+        const Transform ideal = step.object_pose * grasp.gripper_in_object;
+        std::mt19937 random(2324);
+        double off_first = 0.0;
+        for (int sample = 0; sample < 20; ++sample) {
+          std::map<std::string, double> values;
+          std::mt19937 same = random;
+          const Transform actual = actual_gripper(world_, check.arm->q, 1, random, values);
+          std::map<std::string, double> unused;
+          const Transform at_first = actual_gripper(world_, first.q, 1, same, unused);
+          values = with_zeros(propagation.space(), values);
+          for (int i = 0; i < 4; ++i) {
+            const double value = symbolic::evaluate(conditions[i].inequality.expression, values);
+            EXPECT_NEAR(value, finger_contact_y(world_, grasp, ideal, actual, i), 1e-12);
+            off_first = std::max(
+                off_first, std::abs(value - finger_contact_y(world_, grasp, ideal, at_first, i)));
+          }
+        }
+        EXPECT_GT(off_first, 1e-7);  // the branch matters
+      });
+  EXPECT_GT(squeezed, 0) << "no cube on a first branch leaves the squeeze another branch";
+}
+
+// A squeeze whose every branch (or gripper) hits the cube is not a candidate: it is never kept
+// with some other configuration standing in for its arm.
+TEST_F(JointUncertaintySqueeze, NoSqueezeWhereItsGraspCheckFails) {
+  ASSERT_GE(pickup_grasp_, 0);
+  int refused = 0;
+  each_cube_on_first_branch([&](int g, const kinematics::JointSolution&, const Transform& pose) {
+    WorldState state = world_.initial_state();
+    state.poses[cube_] = pose;
+    const Transform& peg_pose = world_.scenario().objects[peg_].initial_pose;
+    if (world_.check_grasp(state, peg_, g, peg_pose, false).clear) return;
+    ++refused;
+    EXPECT_EQ(squeeze_with(repair_candidates(world_, steps(pose), 2, 100, false, true), g),
+              nullptr);
+  });
+  EXPECT_GT(refused, 0);
 }
 
 // Planning options for the end-to-end tests: one instance, no probability or reverse analysis,
