@@ -65,6 +65,7 @@
 #include <cstdint>
 #include <memory>
 #include <numbers>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -156,6 +157,11 @@ enum class IkMethod : std::uint8_t {
 struct InverseOptions {
   // 7-joint arms: q7 takes every multiple of this step within its limits. > 0.
   double redundancy_step{5.0 * std::numbers::pi / 180.0};
+  // 7-joint closed form: q7 at this value only, as one sample of the sweep (that sample's
+  // solutions, labels and limit checks; no numeric fallback). Following one branch along a path
+  // (its q7 fixed by its label) costs one sample instead of the whole sweep. Other solvers
+  // ignore it.
+  std::optional<double> redundancy_at{};
   // Numeric solver: random starts, and distinct solutions it collects before it stops.
   int numeric_attempts{64};
   std::size_t numeric_solutions{8};

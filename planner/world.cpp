@@ -287,7 +287,13 @@ class BranchCheck {
     const bool ranked = label.size() > 1 && label[0] == 'n' && std::isdigit(label[1]) != 0;
     std::optional<std::vector<double>> best;
     double best_distance = std::numeric_limits<double>::infinity();
-    for (kinematics::JointSolution& solution : robot_.arm.inverse(flange_pose(robot_, pose))) {
+    // A 7-joint closed form's branch keeps the q7 of its label ("run@q7=35deg"), the q7 of every
+    // sample of it: that one sample of the sweep has the branch's solution.
+    kinematics::InverseOptions options;
+    if (!ranked && robot_.arm.ik_method() == kinematics::IkMethod::kRedundantClosedForm)
+      options.redundancy_at = near.back();
+    for (kinematics::JointSolution& solution :
+         robot_.arm.inverse(flange_pose(robot_, pose), options)) {
       if (!solution.within_limits) continue;
       if (!ranked) {
         if (solution.configuration == label) return std::move(solution.q);

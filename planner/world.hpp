@@ -73,7 +73,9 @@
 // the arm comes closer than margin/2 to an object or goes below the table. A line that needs
 // more than 2^16 samples counts as blocked for that branch. Cost: a few IK and FK evaluations per
 // line when the arm is far from everything, about (link travel) / (margin/2) where it passes
-// within a few margins of an object; a 7-joint arm's IK is its whole redundancy sweep.
+// within a few margins of an object. A 7-joint arm's branch keeps its label's q7, so a sample
+// along a line solves that one q7 (InverseOptions::redundancy_at: the same solution as the
+// sweep's at it); the branches at T come from the whole redundancy sweep.
 //
 // Example:
 //   const WorldModel world(load_scenario("examples/peg_block_face_down.yaml"));

@@ -322,8 +322,15 @@ class RedundantIk final : public IkSolver {
     const JointLimits& limits = joints_[6].limits;
     const double lower = std::isfinite(limits.lower) ? limits.lower : -std::numbers::pi;
     const double upper = std::isfinite(limits.upper) ? limits.upper : std::numbers::pi;
-    const long first = static_cast<long>(std::ceil(lower / options.redundancy_step - 1e-9));
-    const long last = static_cast<long>(std::floor(upper / options.redundancy_step + 1e-9));
+    std::vector<double> samples;
+    if (options.redundancy_at) {
+      samples.push_back(*options.redundancy_at);
+    } else {
+      const long first = static_cast<long>(std::ceil(lower / options.redundancy_step - 1e-9));
+      const long last = static_cast<long>(std::floor(upper / options.redundancy_step + 1e-9));
+      for (long k = first; k <= last; ++k)
+        samples.push_back(static_cast<double>(k) * options.redundancy_step);
+    }
     struct Ranked {
       JointSolution solution;
       double margin;
@@ -331,8 +338,7 @@ class RedundantIk final : public IkSolver {
     };
     std::vector<Ranked> ranked;
     bool within_reach = false;
-    for (long k = first; k <= last; ++k) {
-      const double q7 = static_cast<double>(k) * options.redundancy_step;
+    for (const double q7 : samples) {
       // The tip at q1..q6 = 0 with joint 7 at q7: turned about axis 7.
       Transform turn = Transform::Identity();
       turn.linear() = rotation_about(axis7_, q7);
@@ -360,7 +366,8 @@ class RedundantIk final : public IkSolver {
     std::vector<JointSolution> solutions;
     for (Ranked& entry : ranked) solutions.push_back(std::move(entry.solution));
     // Within reach but no sample within limits: the limits may still allow q7 between samples.
-    if (solutions.empty() && within_reach) return solve_numerically(joints_, tip_, target, options);
+    if (solutions.empty() && within_reach && !options.redundancy_at)
+      return solve_numerically(joints_, tip_, target, options);
     return solutions;
   }
 

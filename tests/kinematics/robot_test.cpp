@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 #include <rapidcheck/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <random>
@@ -75,8 +76,8 @@ bool same_joints(const std::vector<double>& a, const std::vector<double>& b, dou
 }
 
 // The built-in robot's ends and its FK against `by_hand` at random joint values within limits.
-void expect_forward_kinematics(const char* name, const char* base, const char* tip,
-                               std::size_t dof, Transform (*by_hand)(const std::vector<double>&)) {
+void expect_forward_kinematics(const char* name, const char* base, const char* tip, std::size_t dof,
+                               Transform (*by_hand)(const std::vector<double>&)) {
   const RobotModel& robot = builtin_robot_model(name);
   EXPECT_EQ(robot.base_link(), base);
   EXPECT_EQ(robot.tip_link(), tip);
@@ -175,6 +176,33 @@ TEST(RobotModel, PandaRedundancyStepSetsTheSamples) {
   }
   EXPECT_THROW_MESSAGE(panda.inverse(pose, {.redundancy_step = 0.0}),
                        "the redundancy step must be a positive angle");
+}
+
+// One sample of the sweep (redundancy_at): exactly the sweep's solutions with that q7, bit for bit
+// and with their labels (what following one branch along a line relies on).
+TEST(RobotModel, PandaOneRedundancySampleIsThatPartOfTheSweep) {
+  const RobotModel& panda = builtin_robot_model("panda");
+  const std::vector<double> q = {0.2, -0.4, 0.1, -2.0, 0.3, 1.8, 0.35};
+  const Transform pose = panda.forward(q);
+  const std::vector<JointSolution> sweep = panda.inverse(pose);
+  int compared = 0;
+  for (const double q7 : {sweep.front().q[6], sweep.back().q[6]}) {
+    std::vector<JointSolution> part;
+    for (const JointSolution& solution : sweep)
+      if (solution.q[6] == q7) part.push_back(solution);
+    const std::vector<JointSolution> alone = panda.inverse(pose, {.redundancy_at = q7});
+    ASSERT_EQ(alone.size(), part.size());
+    std::ranges::sort(part, {}, &JointSolution::configuration);
+    std::vector<JointSolution> sorted = alone;
+    std::ranges::sort(sorted, {}, &JointSolution::configuration);
+    for (std::size_t i = 0; i < part.size(); ++i, ++compared) {
+      EXPECT_EQ(sorted[i].configuration, part[i].configuration);
+      EXPECT_EQ(sorted[i].q, part[i].q) << part[i].configuration;
+    }
+  }
+  EXPECT_GT(compared, 1);
+  // Out of q7's limits: nothing (no numeric fallback).
+  EXPECT_TRUE(panda.inverse(pose, {.redundancy_at = 3.5}).empty());
 }
 
 TEST(RobotModel, ForwardKinematicsRefusesBadJointValues) {
