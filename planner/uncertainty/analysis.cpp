@@ -163,7 +163,7 @@ class InstanceAnalyser {
   const AnalysisOptions& options_;
   symbolic::ExprPool& pool_;
   const int scan_, squeeze_;  // the domain's first sense and reduce actions (-1: none)
-  // Every step decision of this instance: the repair search, the sensor margin and the resumed
+  // Every step decision of this instance: the repair search and the resumed
   // analysis after a repair decide many steps again over the same boxes.
   mutable DecisionCache decisions_;
 };
@@ -273,10 +273,16 @@ std::optional<double> InstanceAnalyser::sensor_margin(const std::vector<Phase2St
   const SplicedPlan trial = splice(steps, k, scans, all, scan_, squeeze_, -1);
   int earliest = k;
   for (const RepairCandidate& c : scans) earliest = std::min(earliest, c.position);
+  // Propagated and compiled once: a scale is new ranges of the residuals' scale variables.
+  Propagation state = snapshots[earliest];
+  state.set_sensor_scale(1.0);
+  std::vector<Precondition> failing;
+  for (int i = earliest; i <= trial.failing; ++i)
+    failing = state.step(trial.steps[i], trial.steps[i].label);
+  CompiledStep compiled(failing, state.space());
   const auto holds_at = [&](double scale) {
-    Propagation start = snapshots[earliest];
-    start.set_sensor_scale(scale);
-    return all_hold(replay(start, trial.steps, earliest, trial.failing).at(trial.failing));
+    state.set_sensor_scale(scale);
+    return all_hold(compiled.decide(state.space(), options_.quick, options_.bound));
   };
   if (!holds_at(0.0)) return std::nullopt;
   return internal::largest_holding(0.0, options_.max_scale, options_.reverse_iterations, holds_at);

@@ -116,8 +116,8 @@ struct InstanceAnalysis {
   std::vector<SpaceVariable> variables;
   std::vector<symbolic::Expr> symbols;
   int errors{0};
-  // Step decisions made and reused (DecisionCache misses and hits: repair search, sensor margin
-  // and the resumed analysis decide steps again).
+  // Step decisions made and reused (DecisionCache misses and hits: the repair search and the
+  // resumed analysis after a repair decide steps again).
   std::size_t steps_decided{0}, steps_reused{0};
   std::unique_ptr<symbolic::ExprPool> pool;  // owns every expression above
 };

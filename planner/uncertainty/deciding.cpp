@@ -21,30 +21,34 @@ std::vector<VariableId> variables_of(std::span<const symbolic::Expr> expressions
   return ids;
 }
 
-std::vector<PreconditionResult> decide(const std::vector<Precondition>& preconditions,
-                                       const UncertaintySpace& space,
-                                       const bounds::BoundOptions& quick,
-                                       const bounds::BoundOptions& full) {
-  std::vector<PreconditionResult> results;
-  if (preconditions.empty()) return results;
+CompiledStep::CompiledStep(const std::vector<Precondition>& preconditions,
+                           const UncertaintySpace& space)
+    : preconditions_(preconditions) {
+  if (preconditions_.empty()) return;
   std::vector<symbolic::Expr> expressions;
   std::vector<bounds::Inequality> inequalities;
-  for (const Precondition& p : preconditions) {
+  for (const Precondition& p : preconditions_) {
     expressions.push_back(p.inequality.expression);
     inequalities.push_back(p.inequality);
   }
-  const std::vector<VariableId> ids = variables_of(expressions, space);
-  std::vector<symbolic::Expr> variables;
-  for (const VariableId id : ids) variables.push_back(space.symbol(id));
-  const std::vector<bounds::Interval> box = space.ranges(ids);
-  bounds::ConditionSet set(inequalities, variables);
+  ids_ = variables_of(expressions, space);
+  for (const VariableId id : ids_) variables_.push_back(space.symbol(id));
+  set_.emplace(std::move(inequalities), variables_);
+}
+
+std::vector<PreconditionResult> CompiledStep::decide(const UncertaintySpace& space,
+                                                     const bounds::BoundOptions& quick,
+                                                     const bounds::BoundOptions& full) {
+  std::vector<PreconditionResult> results;
+  if (preconditions_.empty()) return results;
+  const std::vector<bounds::Interval> box = space.ranges(ids_);
   const std::vector<bounds::ConditionCheck> checks =
-      set.check(box, quick, bounds::Escalation::kDecide);
-  for (std::size_t i = 0; i < preconditions.size(); ++i) {
+      set_->check(box, quick, bounds::Escalation::kDecide);
+  for (std::size_t i = 0; i < preconditions_.size(); ++i) {
     PreconditionResult result;
-    result.kind = preconditions[i].kind;
-    result.inequality = preconditions[i].inequality;
-    result.length = preconditions[i].length;
+    result.kind = preconditions_[i].kind;
+    result.inequality = preconditions_[i].inequality;
+    result.length = preconditions_[i].length;
     result.verdict = checks[i].verdict;
     result.bound = checks[i].bound;
     result.witness = checks[i].witness;
@@ -52,16 +56,27 @@ std::vector<PreconditionResult> decide(const std::vector<Precondition>& precondi
       bounds::BoundOptions deciding = full;
       deciding.decide =
           bounds::DecisionTarget{result.inequality.relation, result.inequality.threshold};
-      result.bound =
-          bounds::BoundProblem(result.inequality.expression, variables).bound(box, deciding);
+      auto problem = problems_.find(i);
+      if (problem == problems_.end())
+        problem =
+            problems_.emplace(i, bounds::BoundProblem(result.inequality.expression, variables_))
+                .first;
+      result.bound = problem->second.bound(box, deciding);
       result.verdict = bounds::decide(result.inequality, result.bound);
       result.witness = bounds::witness(result.inequality, result.bound);
     }
     result.box = box;
-    result.variables = ids;
+    result.variables = ids_;
     results.push_back(std::move(result));
   }
   return results;
+}
+
+std::vector<PreconditionResult> decide(const std::vector<Precondition>& preconditions,
+                                       const UncertaintySpace& space,
+                                       const bounds::BoundOptions& quick,
+                                       const bounds::BoundOptions& full) {
+  return CompiledStep(preconditions, space).decide(space, quick, full);
 }
 
 namespace {

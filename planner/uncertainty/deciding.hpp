@@ -12,7 +12,8 @@
 // is a point of that box in the same order.
 // Cost: one tape evaluation over intervals and one at the centre per step; a bound only for the
 // preconditions the natural pass leaves undecided. DecisionCache remembers whole steps: phase 2's
-// repair search and sensor margin replay the same steps over the same boxes many times.
+// repair search replays the same steps over the same boxes many times; CompiledStep keeps one
+// step's compiled problems for many boxes (the sensor margin's scales).
 //
 // Example:
 //   const std::vector<Precondition> built = propagation.step(step, 1);
@@ -30,6 +31,7 @@
 #include <vector>
 
 #include "spar/bounds/bound.hpp"
+#include "spar/bounds/condition_set.hpp"
 #include "spar/bounds/inequality.hpp"
 #include "spar/planner/uncertainty/builders.hpp"
 #include "spar/planner/uncertainty/space.hpp"
@@ -62,6 +64,27 @@ struct PreconditionResult {
 // that is not the space's.
 [[nodiscard]] std::vector<VariableId> variables_of(std::span<const symbolic::Expr> expressions,
                                                    const UncertaintySpace& space);
+
+// A step's preconditions compiled once (one ConditionSet tape; a BoundProblem per precondition
+// the natural pass leaves undecided, built on first need and kept, with its SMP rewrites per box
+// widths) and decided over the current ranges of any space holding the same variables (the same
+// ids): what decide() answers, without compiling again. Phase 2's sensor margin decides one step
+// at many residual scales this way (Propagation::set_sensor_scale changes ranges only).
+// A result does not depend on earlier calls (ConditionSet and BoundProblem guarantee it).
+class CompiledStep {
+ public:
+  CompiledStep(const std::vector<Precondition>& preconditions, const UncertaintySpace& space);
+  [[nodiscard]] std::vector<PreconditionResult> decide(const UncertaintySpace& space,
+                                                       const bounds::BoundOptions& quick,
+                                                       const bounds::BoundOptions& full);
+
+ private:
+  std::vector<Precondition> preconditions_;
+  std::vector<VariableId> ids_;
+  std::vector<symbolic::Expr> variables_;  // their symbols, in box order
+  std::optional<bounds::ConditionSet> set_;
+  std::map<std::size_t, bounds::BoundProblem> problems_;  // by precondition index
+};
 
 // Decides `preconditions` over the space's current ranges (see the header comment).
 [[nodiscard]] std::vector<PreconditionResult> decide(const std::vector<Precondition>& preconditions,

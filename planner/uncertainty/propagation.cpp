@@ -1,6 +1,8 @@
 #include "spar/planner/uncertainty/propagation.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "spar/kinematics/joint_error.hpp"
 #include "spar/planner/error.hpp"
@@ -211,17 +213,64 @@ std::vector<Precondition> Propagation::build(const Phase2Step& step, int index,
 }
 
 void Propagation::sense(int object, int index) {
+  if (sensor_scale_) return sense_scaled(object, index);
   const RangeScanSensor sensor = world_->scenario().range_scan.value_or(RangeScanSensor{});
-  const kinematics::PoseUncertainty& r = sensor.residual;
-  const kinematics::PoseUncertainty s = sigmas(sensor.residual_model);
-  const double k = sensor_scale_;
-  Reading reading{{r.dx * k, r.dy * k, r.dz * k, r.dtheta * k},
-                  {s.dx * k, s.dy * k, s.dz * k, s.dtheta * k}};
+  Reading reading{sensor.residual, sigmas(sensor.residual_model)};
   if (const std::optional<Reading> earlier = unmoved_scan(object))
     reading = fused(*earlier, reading, object);
   table_[object]->error = space_.allocate_pose(
       reading.half_widths, {.source = UncertaintySource::kSensor, .object = object, .step = index},
       world_->scenario().objects[object].name + "_s" + std::to_string(index), reading.sigmas);
+}
+
+void Propagation::set_sensor_scale(double scale) {
+  sensor_scale_ = scale;
+  for (const ScaleVariable& s : scale_variables_) {
+    const double value = std::min(s.cap, scale);
+    space_.set_range(s.id, value, value);
+  }
+}
+
+void Propagation::sense_scaled(int object, int index) {
+  const RangeScanSensor sensor = world_->scenario().range_scan.value_or(RangeScanSensor{});
+  const kinematics::PoseUncertainty& r = sensor.residual;
+  const double residual[4] = {r.dx, r.dy, r.dz, r.dtheta};
+  // Fusion with an unmoved earlier reading keeps the smaller half-width per component: the scale
+  // is capped at the earlier one's share of the residual (the worst case only; uniform).
+  std::array<double, 4> caps;
+  caps.fill(std::numeric_limits<double>::infinity());
+  const PoseError& now = table_.at(object)->error;
+  if (const std::optional<Reading> earlier = unmoved_scan(object)) {
+    const double widths[4] = {earlier->half_widths.dx, earlier->half_widths.dy,
+                              earlier->half_widths.dz, earlier->half_widths.dtheta};
+    for (int i = 0; i < 4; ++i)
+      if (residual[i] > 0) caps[i] = widths[i] / residual[i];
+  } else if (const auto last = scaled_scans_.find(object);
+             last != scaled_scans_.end() && last->second.error.dx == now.dx &&
+             last->second.error.dy == now.dy && last->second.error.dz == now.dz &&
+             last->second.error.dtheta == now.dtheta) {
+    caps = last->second.caps;
+  }
+  const Provenance provenance{
+      .source = UncertaintySource::kSensor, .object = object, .step = index};
+  const std::string tag = world_->scenario().objects[object].name + "_s" + std::to_string(index);
+  const std::string unit_tag = tag + "_unit", scale_tag = tag + "_scale";
+  Expr error[4];
+  for (const PoseComponent component : kPoseComponents) {
+    const int i = index_of(component);
+    const double value = std::min(caps[i], *sensor_scale_);
+    const VariableId scale = space_.allocate(
+        {.component = component, .half_width = 0.0, .provenance = provenance, .tag = scale_tag});
+    space_.set_range(scale, value, value);
+    scale_variables_.push_back({scale, caps[i]});
+    const VariableId unit = space_.allocate({.component = component,
+                                             .half_width = residual[i],
+                                             .provenance = provenance,
+                                             .tag = unit_tag});
+    error[i] = space_.symbol(scale) * space_.symbol(unit);
+  }
+  table_[object]->error = {error[0], error[1], error[2], error[3]};
+  scaled_scans_[object] = {table_[object]->error, caps};
 }
 
 void Propagation::apply(const Phase2Step& step, int index, const std::optional<ArmError>& arm) {

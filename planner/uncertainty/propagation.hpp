@@ -21,7 +21,9 @@
 //           readings are fused (planner/uncertainty/fusion.hpp): the worst-case box is their
 //           intersection, and a Gaussian residual gets the information-form sigma (CHOLMOD),
 //           e.g. sigma / sqrt(2) for two equal readings; a uniform one stays uniform over the
-//           intersection. The verdicts see only the box.
+//           intersection. The verdicts see only the box. For the reverse analysis of the sensor
+//           (set_sensor_scale) the residual is s·u per component (a scale variable times one over
+//           the scenario's residual), so that a new scale is new ranges, not new expressions.
 //   reduce  a grasp and a release in place with the same arm error (squeeze: no motion between).
 //   insert  the held object joins the fixed one (it is no longer tracked).
 //   none    nothing changes.
@@ -52,6 +54,8 @@
 //     for (const Precondition& p : propagation.step(steps[k], k + 1)) check(p);
 #pragma once
 
+#include <array>
+#include <map>
 #include <optional>
 #include <vector>
 
@@ -86,9 +90,14 @@ class Propagation {
     return table_.at(object);
   }
   [[nodiscard]] bool held(int object) const { return held_.at(object).has_value(); }
-  // Range-scans from now on leave `scale` times the scenario's residual (reverse analysis of the
-  // sensor); 1 by default.
-  void set_sensor_scale(double scale) { sensor_scale_ = scale; }
+  // Reverse analysis of the sensor: range-scans from now on leave `scale` times the scenario's
+  // residual, each component as a product s·u of a variable u over the scenario's residual and a
+  // scale variable s whose range is the one value `scale` (an unmoved earlier reading's share at
+  // most, as fusion keeps). Called again, it re-scales every such residual already allocated by
+  // setting the ranges of their s, so the same expressions are decided at another scale without
+  // propagating or compiling again. Without a call, scans leave the scenario's residual as plain
+  // variables.
+  void set_sensor_scale(double scale);
   [[nodiscard]] const UncertaintySpace& space() const { return space_; }
   [[nodiscard]] UncertaintySpace& space() { return space_; }
   [[nodiscard]] const Domain& domain() const { return *domain_; }
@@ -114,12 +123,28 @@ class Propagation {
   void require_on_table(int object, int index) const;
   void require_held(int object, int index, const char* doing) const;
 
+  // sense() in set_sensor_scale's form.
+  void sense_scaled(int object, int index);
+
   const WorldModel* world_;
   const Domain* domain_;
   UncertaintySpace space_;
   std::vector<std::optional<TableState>> table_;  // per object
   std::vector<std::optional<HeldState>> held_;    // per object
-  double sensor_scale_{1.0};
+  // set_sensor_scale: the scale (nullopt: not called), every scale variable with the largest value
+  // it may take (an earlier reading's share, else infinity), and per object the error its last
+  // scaled scan left with those caps (still its error while it has not moved).
+  std::optional<double> sensor_scale_;
+  struct ScaleVariable {
+    VariableId id;
+    double cap;
+  };
+  std::vector<ScaleVariable> scale_variables_;
+  struct ScaledScan {
+    kinematics::PoseError error;
+    std::array<double, 4> caps;
+  };
+  std::map<int, ScaledScan> scaled_scans_;
 };
 
 }  // namespace spar::planner

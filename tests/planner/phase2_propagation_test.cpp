@@ -8,8 +8,10 @@
 #include <map>
 #include <random>
 #include <string>
+#include <utility>
 #include <vector>
 
+#include "spar/bounds/bound.hpp"
 #include "spar/common/units.hpp"
 #include "spar/planner/error.hpp"
 #include "spar/planner/plan.hpp"
@@ -286,6 +288,56 @@ TEST(Propagation, StepsThatDoNotFitTheStateAreRefused) {
     EXPECT_NE(std::string(error.what()).find("peg on the table"), std::string::npos)
         << error.what();
   }
+}
+
+// Reverse analysis of the sensor (set_sensor_scale): a scan's residual is a scale variable times a
+// variable over the scenario's residual, so a new scale is new ranges of the same expressions. At
+// every scale it encloses exactly the scaled residual, and a scan of an unmoved object fused with
+// an earlier reading never exceeds that reading (fusion keeps the smaller half-width).
+TEST(Propagation, ScaledResidualsCoverTheScaledBoxAndFusionCapsThem) {
+  const WorldModel world(
+      load_scenario(std::string(SPAR_SOURCE_DIR) + "/tests/planner/data/phase2_peg_pickup.yaml"));
+  const Domain& domain = builtin_domain();
+  const int peg = world.object_index("peg");
+  const double residual_dx = world.scenario().range_scan->residual.dx;
+  const Phase2Step scan{.action = action_with(domain, Effect::kSense),
+                        .effect = Effect::kSense,
+                        .object = peg,
+                        .object_pose = world.scenario().objects[peg].initial_pose};
+  const auto dx_range = [](const Propagation& state, int object) {
+    const symbolic::Expr dx = state.on_table(object)->error.dx;
+    bounds::Box box;
+    for (const symbolic::Expr v : symbolic::free_variables(dx)) {
+      const bounds::Interval range = state.space().range(*state.space().id_of(v));
+      box.add(v, range.lo, range.hi);
+    }
+    const bounds::BoundResult bound = bounds::bound(dx, box);
+    return std::pair(bound.lo, bound.hi);
+  };
+  symbolic::ExprPool pool;
+  Propagation scaled(world, domain, pool);
+  scaled.set_sensor_scale(1.0);
+  (void)scaled.step(scan, 1);
+  const symbolic::Expr expression = scaled.on_table(peg)->error.dx;
+  for (const double k : {0.0, 0.3, 1.0, 2.5}) {
+    scaled.set_sensor_scale(k);
+    EXPECT_EQ(scaled.on_table(peg)->error.dx, expression);  // ranges change, not expressions
+    const auto [lo, hi] = dx_range(scaled, peg);
+    EXPECT_NEAR(lo, -k * residual_dx, 1e-15) << k;
+    EXPECT_NEAR(hi, k * residual_dx, 1e-15) << k;
+  }
+  // An earlier plain reading of the unmoved peg caps a scaled one at its own half-width.
+  Propagation fused(world, domain, pool);
+  (void)fused.step(scan, 1);
+  fused.set_sensor_scale(2.0);
+  (void)fused.step(scan, 2);
+  EXPECT_NEAR(dx_range(fused, peg).second, residual_dx, 1e-15);
+  fused.set_sensor_scale(0.5);
+  EXPECT_NEAR(dx_range(fused, peg).second, 0.5 * residual_dx, 1e-15);
+  // And a second scaled scan keeps the first one's cap.
+  (void)fused.step(scan, 3);
+  fused.set_sensor_scale(3.0);
+  EXPECT_NEAR(dx_range(fused, peg).second, residual_dx, 1e-15);
 }
 
 }  // namespace
