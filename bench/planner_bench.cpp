@@ -160,6 +160,9 @@ void collision_share(int repeats) {
     scenes.emplace_back(name, planner::load_scenario(example_path(name)));
   scenes.emplace_back("crowded_table", planner::load_scenario(example_path("crowded_table")));
   scenes.emplace_back("table20", table20());
+  // URDF arms (issue 23): their links' checks (the IK branch clear of the objects) are counted.
+  for (const char* name : {"ur5_peg_block", "panda_peg_block"})
+    scenes.emplace_back(name, planner::load_scenario(example_path(name)));
   planner::PlanOptions options;
   options.uncertainty = false;
   const planner::Domain& domain = planner::builtin_domain();

@@ -70,6 +70,34 @@ std::map<std::string, double> with_zeros(const UncertaintySpace& space,
   return values;
 }
 
+// The four pickup (or squeeze) `conditions` of step 1 (grasp `grasp`, ideal gripper `ideal`) equal
+// the fingers' physics at joints q + δq for 20 random δq (seeded by `seed`); returns how far they
+// are at most from the physics at `other` + δq.
+double expect_fingers_at(const WorldModel& world, const std::vector<Precondition>& conditions,
+                         const UncertaintySpace& space, const geometry::Grasp& grasp,
+                         const Transform& ideal, const std::vector<double>& q,
+                         const std::vector<double>& other, unsigned seed) {
+  EXPECT_EQ(conditions.size(), 4u);
+  std::mt19937 random(seed);
+  double off_other = 0.0;
+  for (int sample = 0; sample < 20; ++sample) {
+    std::map<std::string, double> values;
+    std::mt19937 same = random;
+    const Transform actual = actual_gripper(world, q, 1, random, values);
+    std::map<std::string, double> unused;
+    const Transform at_other = actual_gripper(world, other, 1, same, unused);
+    values = with_zeros(space, values);
+    for (std::size_t i = 0; i < 4 && i < conditions.size(); ++i) {
+      const double value = symbolic::evaluate(conditions[i].inequality.expression, values);
+      const int c = static_cast<int>(i);
+      EXPECT_NEAR(value, finger_contact_y(world, grasp, ideal, actual, c), 1e-12);
+      off_other =
+          std::max(off_other, std::abs(value - finger_contact_y(world, grasp, ideal, at_other, c)));
+    }
+  }
+  return off_other;
+}
+
 class JointUncertainty : public ::testing::Test {
  protected:
   JointUncertainty() : world_(load_scenario(kScenario)) {
@@ -130,22 +158,8 @@ TEST_F(JointUncertainty, PickupConditionsAreTheFingersAtTheActualJoints) {
     Propagation propagation(world_, domain, pool);
     const std::vector<Precondition> pickup = propagation.step(step, 1);
     ASSERT_EQ(pickup.size(), 4u);
-    std::mt19937 random(23);
-    double off_first = 0.0;  // how far the conditions are from the first branch's physics
-    for (int sample = 0; sample < 20; ++sample) {
-      std::map<std::string, double> values;
-      std::mt19937 same = random;
-      const Transform gripper = actual_gripper(world_, branch.q, 1, random, values);
-      std::map<std::string, double> unused;
-      const Transform at_first = actual_gripper(world_, first.q, 1, same, unused);
-      values = with_zeros(propagation.space(), values);
-      for (int i = 0; i < 4; ++i) {
-        const double value = symbolic::evaluate(pickup[i].inequality.expression, values);
-        EXPECT_NEAR(value, finger_contact_y(world_, grasp, ideal, gripper, i), 1e-12);
-        off_first = std::max(off_first,
-                             std::abs(value - finger_contact_y(world_, grasp, ideal, at_first, i)));
-      }
-    }
+    const double off_first =
+        expect_fingers_at(world_, pickup, propagation.space(), grasp, ideal, branch.q, first.q, 23);
     if (taken_other) {
       EXPECT_GT(off_first, 1e-7);  // the branch matters
     }
@@ -325,23 +339,9 @@ TEST_F(JointUncertaintySqueeze, BoundsTheSqueezeAtItsCollisionCheckedBranch) {
         ASSERT_EQ(conditions.size(), 4u);
         const geometry::Grasp& grasp = world_.object(peg_).grasps[g];
         const Transform ideal = step.object_pose * grasp.gripper_in_object;
-        std::mt19937 random(2324);
-        double off_first = 0.0;
-        for (int sample = 0; sample < 20; ++sample) {
-          std::map<std::string, double> values;
-          std::mt19937 same = random;
-          const Transform actual = actual_gripper(world_, check.arm->q, 1, random, values);
-          std::map<std::string, double> unused;
-          const Transform at_first = actual_gripper(world_, first.q, 1, same, unused);
-          values = with_zeros(propagation.space(), values);
-          for (int i = 0; i < 4; ++i) {
-            const double value = symbolic::evaluate(conditions[i].inequality.expression, values);
-            EXPECT_NEAR(value, finger_contact_y(world_, grasp, ideal, actual, i), 1e-12);
-            off_first = std::max(
-                off_first, std::abs(value - finger_contact_y(world_, grasp, ideal, at_first, i)));
-          }
-        }
-        EXPECT_GT(off_first, 1e-7);  // the branch matters
+        EXPECT_GT(expect_fingers_at(world_, conditions, propagation.space(), grasp, ideal,
+                                    check.arm->q, first.q, 2324),
+                  1e-7);  // the branch matters
       });
   EXPECT_GT(squeezed, 0) << "no cube on a first branch leaves the squeeze another branch";
 }
