@@ -97,7 +97,8 @@ PlanInstance InstanceEnumerator::build(const std::vector<int>& labeling,
     if (step.grasp >= 0) {
       step.gripper_pose =
           step.object_pose * world_.object(step.object).grasps[step.grasp].gripper_in_object;
-      step.reach = world_.reach(step.gripper_pose);
+      // The branch comes from check_collisions (the collision-checked one), never from reach().
+      step.reach.tilt = tilt_from_down(step.gripper_pose);
     }
     instance.steps.push_back(std::move(step));
   }

@@ -14,15 +14,15 @@
 #include "spar/planner/error.hpp"
 
 namespace spar::planner {
-namespace {
 
-using kinematics::Transform;
-
-// The angle between the frame's z axis and world -z.
-double tilt_from_down(const Transform& pose) {
+double tilt_from_down(const kinematics::Transform& pose) {
   const double cosine = -pose.linear().col(2).z();
   return std::acos(std::clamp(cosine, -1.0, 1.0));
 }
+
+namespace {
+
+using kinematics::Transform;
 
 // "/180" for a place with several yaws (in the file's angle unit), "" for one.
 std::string yaw_suffix(const Place& place, std::size_t k, const Units& units) {

@@ -167,6 +167,9 @@ struct ArmLine {
   const char* name{""};
 };
 
+// The angle between the frame's z axis (a gripper's approach) and world -z.
+[[nodiscard]] double tilt_from_down(const kinematics::Transform& pose);
+
 // One IK query: the gripper frame at `gripper_pose` (world).
 struct Reach {
   bool reachable{false};  // an in-limit solution exists and the approach axis points down
