@@ -5,6 +5,8 @@
 #include <cmath>
 #include <tuple>
 
+#include "spar/geometry/internal/polygon2d.hpp"
+
 namespace spar::geometry {
 
 std::vector<StablePose> stable_poses(const ObjectModel& object) {
@@ -59,6 +61,29 @@ std::optional<int> classify_orientation(const std::vector<StablePose>& poses,
   for (const StablePose& pose : poses)
     if (pose.facet_normal.dot(down_in_object) >= std::cos(angle_tolerance)) return pose.id;
   return std::nullopt;
+}
+
+std::optional<double> resting_margin(std::span<const PosedPart> parts, double tolerance) {
+  std::vector<Eigen::Vector2d> footing;
+  Eigen::Vector3d weighted = Eigen::Vector3d::Zero();
+  double volume = 0;
+  for (const PosedPart& part : parts) {
+    const Mesh& mesh = part.model->mesh();
+    std::vector<char> used(mesh.vertices.size(), 0);  // unreferenced vertices are not the body
+    for (const auto& triangle : mesh.triangles)
+      for (const int v : triangle) used[v] = 1;
+    for (std::size_t v = 0; v < used.size(); ++v) {
+      if (!used[v]) continue;
+      const Eigen::Vector3d world = part.pose * mesh.vertices[v];
+      if (world.z() < -tolerance) return std::nullopt;
+      if (world.z() <= tolerance) footing.push_back(world.head<2>());
+    }
+    weighted += part.model->volume() * (part.pose * part.model->center_of_mass());
+    volume += part.model->volume();
+  }
+  const internal::Polygon2 hull = internal::convex_hull_2d(std::move(footing));
+  if (hull.size() < 3 || volume <= 0) return std::nullopt;
+  return internal::inset_distance(hull, (weighted / volume).head<2>());
 }
 
 }  // namespace spar::geometry

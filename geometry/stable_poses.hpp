@@ -11,12 +11,21 @@
 // only on edges and corners, come last, ordered by their facet normal (x, then y, then z,
 // ascending), so the labels "P1", "P2", ... depend on the shape alone (scenario files use them).
 //
+// Several objects joined rigidly (a subassembly) rest as one body: resting_margin() takes the
+// parts where they are in the world and says how firmly the whole stands on the table there. Its
+// footing is the convex hull, seen from above, of the mesh vertices within `tolerance` of z = 0;
+// its centre of mass is the parts' centres weighted by their volumes (one density for all); the
+// margin is the centre's distance to the footing's boundary, positive inside. It stands when the
+// margin exceeds `tolerance` (the same strictness as a stable pose).
+//
 // Example:
 //   ObjectModel cube("cube", make_box({1, 1, 1}));
 //   std::vector<StablePose> poses = stable_poses(cube);       // 6 poses
 //   poses[0].table_faces;                                      // {1}
 //   pose_leaves_free(poses[0], std::vector<int>{2, 3});        // true: faces 2, 3 stay free
 //   classify_orientation(poses, Eigen::Matrix3d::Identity());  // the pose resting on "-z"
+//   const PosedPart on_table[] = {{&cube, poses[0].object_to_world}};
+//   resting_margin(on_table, 1e-7);                            // 0.5: centre 0.5 inside
 #pragma once
 
 #include <Eigen/Geometry>
@@ -52,5 +61,17 @@ struct StablePose {
 [[nodiscard]] std::optional<int> classify_orientation(const std::vector<StablePose>& poses,
                                                       const Eigen::Matrix3d& rotation,
                                                       double angle_tolerance = 0.05);
+
+// One part of a rigid body: its model at its world pose (the model must outlive the query).
+struct PosedPart {
+  const ObjectModel* model{nullptr};
+  Eigen::Isometry3d pose{Eigen::Isometry3d::Identity()};
+};
+
+// How firmly `parts`, joined, stand on the table as posed (see the header comment); nullopt when
+// some vertex lies more than `tolerance` below z = 0 or the footing has no area (the body touches
+// the table along an edge, at a point or not at all).
+[[nodiscard]] std::optional<double> resting_margin(std::span<const PosedPart> parts,
+                                                   double tolerance);
 
 }  // namespace spar::geometry

@@ -147,14 +147,18 @@ std::optional<std::string> check_collisions(PlanInstance& instance, const WorldM
     // of build() may hit an object), and no other: none when no branch is clear.
     step.reach.solution = step.collision.arm;
     step.reach.reachable = step.reach.solution.has_value();
-    if (!step.collision.clear)
+    const int positioned = step.is_assembly() ? step.fixed_object : step.object;
+    const auto refused = [&](const std::string& why) {
       return domain.actions[step.action].name + "(" + world.scenario().objects[step.object].name +
              ", " + world.object(step.object).grasps[step.grasp].label + ", " +
-             world.object(step.is_assembly() ? step.fixed_object : step.object)
-                 .positions[step.position]
-                 .name +
-             "): " + step.collision.conflict;
+             world.object(positioned).positions[step.position].name + "): " + why;
+    };
+    if (!step.collision.clear) return refused(step.collision.conflict);
     apply_step(state, step, domain);
+    // Released, what the step put down (or inserted into) must stand as one body.
+    if (state.held < 0)
+      if (std::optional<std::string> topples = world.check_rest(state, positioned))
+        return refused(*topples);
   }
   return std::nullopt;
 }

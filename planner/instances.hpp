@@ -106,8 +106,9 @@ class InstanceEnumerator {
 // down, a lift marks it held, sensing changes nothing.
 void apply_step(WorldState& state, const InstanceStep& step, const Domain& domain);
 
-// Simulates `instance` from the initial world and checks each step's motions, filling each
-// step's `carried` and `collision` (its clearance only when `measure`); returns the first
+// Simulates `instance` from the initial world and checks each step's motions and, after each
+// release, that the subassembly released stands on the table (WorldModel::check_rest), filling
+// each step's `carried` and `collision` (its clearance only when `measure`); returns the first
 // conflict, or nullopt when there is none.
 [[nodiscard]] std::optional<std::string> check_collisions(PlanInstance& instance,
                                                           const WorldModel& world,

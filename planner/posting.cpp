@@ -90,9 +90,11 @@ class Planner {
   [[nodiscard]] bool post_geometric(PartialPlan& node, const FamilyStep& step,
                                     const GeometricPrecondition& geometric) const;
   [[nodiscard]] bool separate_places(PartialPlan& node, int step, int variable) const;
-  // Once assemble(h, f) has run, f carries h: every step ordered after it that takes f must use a
-  // grasp that clears h (GoalWorld::grasp_clears_assembled). False when that empties a domain.
-  [[nodiscard]] bool grasps_clear_assembled(PartialPlan& node) const;
+  // Once assemble(h, f) has run, f carries h and they move as one: every step ordered after it
+  // that takes f must use a grasp that clears h (GoalWorld::grasp_clears_assembled) and a
+  // position where f with h rests on the table (GoalWorld::rests_assembled). False when that
+  // empties a domain.
+  [[nodiscard]] bool subassemblies_move_as_one(PartialPlan& node) const;
   // Whether a step handling `object` (and `partner`, the fixed object of an insertion, or -1)
   // must keep clear of `other` where it starts: not a fixed object (the world's tables already
   // avoid those), not one of them or what starts assembled into them (those move with them; the
@@ -336,38 +338,62 @@ bool Planner::separate_places(PartialPlan& node, int step, int variable) const {
   return true;
 }
 
-bool Planner::grasps_clear_assembled(PartialPlan& node) const {
+bool Planner::subassemblies_move_as_one(PartialPlan& node) const {
+  // Every join of h into f: its goal's tables and the step that makes it (none when it holds
+  // from the start: then every step comes after it).
+  std::vector<std::pair<const GoalWorld*, const FamilyStep*>> joins;
+  for (const GoalWorld& goal : world_.goals())
+    if (goal.kind == GoalWorld::Kind::kAssembled && goal.initially_true)
+      joins.emplace_back(&goal, nullptr);
   for (const FamilyStep& assembly : node.plan.steps) {
     if (assembly.action < 0) continue;
     const ActionTemplate& action = domain_.actions[assembly.action];
-    const auto joins = std::find_if(action.add.begin(), action.add.end(),
-                                    [](const Atom& atom) { return atom.predicate == "assembled"; });
-    if (joins == action.add.end() || joins->args.size() != 2) continue;
-    const int held = assembly.args[action.parameter_index(joins->args[0])].index;
-    const int fixed = assembly.args[action.parameter_index(joins->args[1])].index;
-    const GoalWorld* goal = world_.goal(held, fixed);
-    if (goal == nullptr) continue;
-    std::vector<int> clear;
-    for (std::size_t g = 0; g < goal->grasp_clears_assembled.size(); ++g)
-      if (goal->grasp_clears_assembled[g]) clear.push_back(static_cast<int>(g));
+    const auto adds = std::find_if(action.add.begin(), action.add.end(),
+                                   [](const Atom& atom) { return atom.predicate == "assembled"; });
+    if (adds == action.add.end() || adds->args.size() != 2) continue;
+    if (const GoalWorld* goal =
+            world_.goal(assembly.args[action.parameter_index(adds->args[0])].index,
+                        assembly.args[action.parameter_index(adds->args[1])].index))
+      joins.emplace_back(goal, &assembly);
+  }
+  for (const auto& [goal, assembly] : joins) {
+    const int held = goal->held, fixed = goal->fixed;
+    const auto allowed = [](const std::vector<char>& table) {
+      std::vector<int> labels;
+      for (std::size_t l = 0; l < table.size(); ++l)
+        if (table[l]) labels.push_back(static_cast<int>(l));
+      return labels;
+    };
+    const std::vector<int> clear = allowed(goal->grasp_clears_assembled);
+    const std::vector<int> resting = allowed(goal->rests_assembled);
+    const std::string& fixed_name = world_.scenario().objects[fixed].name;
+    const std::string& held_name = world_.scenario().objects[held].name;
     for (const FamilyStep& later : node.plan.steps) {
-      if (later.action < 0 || !node.plan.ordering.precedes(assembly.id, later.id)) continue;
+      if (later.action < 0 ||
+          (assembly != nullptr && !node.plan.ordering.precedes(assembly->id, later.id)))
+        continue;
       const ActionTemplate& taking = domain_.actions[later.action];
       for (std::size_t p = 0; p < taking.parameters.size(); ++p) {
         const Parameter& parameter = taking.parameters[p];
-        if (parameter.type != ParameterType::kGrasp ||
+        if (parameter.type == ParameterType::kObject ||
             later.args[taking.parameter_index(parameter.of)].index != fixed)
           continue;
+        const bool grasp = parameter.type == ParameterType::kGrasp;
+        const std::vector<int>& kept = grasp ? clear : resting;
         const int variable = later.args[p].index;
         cms::ConstraintNetwork& network = node.plan.network;
         bool narrower = false;
         for (const int label : network.labels(variable))
-          narrower |= std::find(clear.begin(), clear.end(), label) == clear.end();
-        if (narrower && (clear.empty() || !accepted(network.restrict(variable, clear, budget())))) {
-          last_refusal_ = node.plan.describe(later, world_, domain_) + " after " +
-                          node.plan.describe(assembly, world_, domain_) + ": no grasp of " +
-                          world_.scenario().objects[fixed].name + " clears " +
-                          world_.scenario().objects[held].name + " assembled into it";
+          narrower |= std::find(kept.begin(), kept.end(), label) == kept.end();
+        if (narrower && (kept.empty() || !accepted(network.restrict(variable, kept, budget())))) {
+          last_refusal_ =
+              node.plan.describe(later, world_, domain_) +
+              (assembly != nullptr ? " after " + node.plan.describe(*assembly, world_, domain_)
+                                   : std::string()) +
+              ": " +
+              (grasp ? "no grasp of " + fixed_name + " clears " + held_name + " assembled into it"
+                     : "no position left for " + fixed_name + " where it rests on the table with " +
+                           held_name + " assembled into it");
           return false;
         }
       }
@@ -741,7 +767,7 @@ PlanFamily Planner::run() {
     ++stats.expanded;
     std::erase_if(node.threats, [&](const Threat& t) { return !is_threat(node, t); });
     children.clear();
-    if (!grasps_clear_assembled(node)) continue;
+    if (!subassemblies_move_as_one(node)) continue;
     if (!node.threats.empty()) {
       resolve(node, node.threats.front(), children);
     } else if (!node.open.empty()) {

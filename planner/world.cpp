@@ -489,13 +489,22 @@ WorldModel::WorldModel(Scenario scenario) : scenario_(std::move(scenario)) {
     for (const geometry::Grasp& grasp : held.grasps)
       tables.grasp_leaves_mating_free.push_back(
           geometry::grasp_leaves_free(grasp, assembled.held_faces));
+    const ObjectSpec& held_spec = scenario_.objects[tables.held];
     for (const PositionLabel& position : fixed.positions) {
       const bool faces_free =
           position.stable_pose < 0 ||
           geometry::pose_leaves_free(fixed_spec.stable_poses[position.stable_pose],
                                      assembled.fixed_faces);
       const Eigen::Vector3d mating = position.pose.linear() * assembled.mating_vector;
-      tables.mating_pose.push_back(faces_free && -mating.z() >= std::cos(kFrictionCone));
+      const geometry::PosedPart pair[] = {{&fixed_spec.model, position.pose},
+                                          {&held_spec.model, position.pose * assembled.relative}};
+      const std::optional<double> margin =
+          fixed_spec.fixed || position.stable_pose < 0
+              ? std::optional<double>(std::numeric_limits<double>::infinity())
+              : geometry::resting_margin(pair, geometry::kTableTolerance);
+      tables.rests_assembled.push_back(margin && *margin > geometry::kTableTolerance);
+      tables.mating_pose.push_back(faces_free && -mating.z() >= std::cos(kFrictionCone) &&
+                                   tables.rests_assembled.back());
     }
     std::vector<int> except = movable;
     except.push_back(tables.fixed);
@@ -715,26 +724,53 @@ std::vector<WorldModel::Obstacle> WorldModel::obstacles(const WorldState& state,
   return out;
 }
 
+std::string WorldModel::length_text(double metres) const {
+  char text[48];
+  std::snprintf(text, sizeof text, "%.4g %s", scenario_.units.to_file_length(metres),
+                std::string(scenario_.units.length_name()).c_str());
+  return text;
+}
+
+std::optional<std::string> WorldModel::check_rest(const WorldState& state, int object) const {
+  int root = object;
+  while (state.carrier[root] >= 0) root = state.carrier[root];
+  const std::vector<int> group = state.moving_with(root);
+  const ObjectSpec& base = scenario_.objects[root];
+  const bool unmoved_unstable =
+      !base.initial_stable_pose && state.poses[root].isApprox(base.initial_pose, 1e-9);
+  if (group.size() < 2 || base.fixed || unmoved_unstable) return std::nullopt;
+  std::vector<geometry::PosedPart> parts;
+  std::string named = base.name + " with ";
+  for (std::size_t k = 0; k < group.size(); ++k) {
+    parts.push_back({&scenario_.objects[group[k]].model, state.poses[group[k]]});
+    if (k > 0) named += (k > 1 ? ", " : "") + scenario_.objects[group[k]].name;
+  }
+  named += " assembled into it does not ";
+  const std::optional<double> margin = geometry::resting_margin(parts, geometry::kTableTolerance);
+  if (!margin)
+    return named + "stand flat on the table there (it touches it along an edge or at a corner " +
+           "only, or a part goes below it)";
+  if (*margin > geometry::kTableTolerance) return std::nullopt;
+  return named + "rest on the table there: its centre of mass lies " +
+         (*margin < 0 ? length_text(-*margin) + " outside" : std::string("on the edge of")) +
+         " its footing";
+}
+
 void WorldModel::check_initial_world() const {
   const WorldState state = initial_state();
   const auto where = [&](std::size_t o) {
     return "objects." + scenario_.objects[o].name + ".pose (" +
            scenario_.objects[o].pose_location.str() + ")";
   };
-  const auto length = [&](double metres) {
-    char text[48];
-    std::snprintf(text, sizeof text, "%.4g %s", scenario_.units.to_file_length(metres),
-                  std::string(scenario_.units.length_name()).c_str());
-    return std::string(text);
-  };
   constexpr double kResting = 1e-6;  // metres: how far from z = 0 still counts as on the table
   for (std::size_t o = 0; o < bodies_.size(); ++o) {
     const double lowest = geometry::lowest_z({&bodies_[o], state.poses[o]});
     if (lowest < -kResting)
-      throw PlanError(where(o) + ": " + scenario_.objects[o].name + " reaches " + length(-lowest) +
-                      " below the table (the plane z = 0)");
+      throw PlanError(where(o) + ": " + scenario_.objects[o].name + " reaches " +
+                      length_text(-lowest) + " below the table (the plane z = 0)");
     if (lowest > kResting && state.carrier[o] < 0)
-      throw PlanError(where(o) + ": " + scenario_.objects[o].name + " floats " + length(lowest) +
+      throw PlanError(where(o) + ": " + scenario_.objects[o].name + " floats " +
+                      length_text(lowest) +
                       " above the table: an object rests on the table or sits assembled in " +
                       "another (an assembled goal that holds at the start)");
   }

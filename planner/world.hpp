@@ -20,7 +20,13 @@
 //   mating_poses          the fixed object's positions whose stable pose leaves its mating faces
 //                         off the table and turn the mating vector into the friction cone (within
 //                         kFrictionCone of world -z: the insertion pushes the object onto the
-//                         table).
+//                         table), and where it rests with the held object in it;
+//   rests_assembled(p)    the fixed object at position p, with the held object assembled into it,
+//                         stands on the table as one body (geometry::resting_margin above
+//                         geometry::kTableTolerance). Once joined, they move as one: only these
+//                         positions are the fixed object's destinations. A `fixed: true` object
+//                         (held by its fixture) and an initial pose that is no stable pose (the
+//                         sensing system tells how it is supported) count as resting.
 // An initial pose that is not a stable pose has no table lookup: its contact faces count as free
 // (SPAR: the sensing system tells), and it is a mating pose only by the mating-vector test.
 // Goals: world.goals()[i] belongs to scenario().goals[i]; an at goal's table is the object's
@@ -49,24 +55,24 @@
 // meet a fixed object is nobody's destination. What depends on the order of the steps (where the
 // other movable objects are) is checked by posting (initial_conflicts, placement_conflicts: see
 // posting.hpp) and, exactly, per plan instance (check_grasp, check_insertion on the simulated
-// WorldState). The initial world is checked once: objects that meet (unless assembled there
-// already), rest below the table or float are an error naming them at their `pose`.
-// The arm (a robot with collision geometry; a DH table has none, so Puma plans are unchanged):
-// reach() takes the first in-limit IK branch, in the robot's order, with no moving link below the
-// table. A grasp or insertion takes the first such branch whose links, except those on the last
-// body (next to the gripper), keep the margin from every object but the held one (the fixed one
-// of an insertion included) and whose moving links stay above the table, at T and along each of
-// the step's straight lines (grasp: T to T - d a; insertion: T to T - d m and T to T - d a),
-// following the same branch, within its joint limits and the arm's reach all along (the closed
-// forms' label; the numeric solver's solution nearest the last sample). When every branch is
-// blocked the step is refused: "every IK branch of the arm is blocked: lun: forearm_link hits
-// block; run: upper_arm_link hits block along the approach; ruf: leaves its reach or joint
-// limits along the approach" (docs/scenario.md, Collisions). StepCheck::arm is the branch taken:
-// the plan instance reports it and joint-level uncertainty acts at it.
-// Along a line the branch is sampled by bisection until, between every two consecutive samples,
-// each link's sum_i lever_i |dq_i| (lever_i bounds the distance from joint i's axis to the
-// link's points, so this bounds how far any of them moves when the joints change by dq) is at
-// most the link's slack at one of the two: its distance bound to every obstacle less margin/2
+// WorldState, and check_rest after every release: a subassembly must stand as one body). The
+// initial world is checked once: objects that meet (unless assembled there already), rest below the
+// table or float are an error naming them at their `pose`. The arm (a robot with collision
+// geometry; a DH table has none, so Puma plans are unchanged): reach() takes the first in-limit IK
+// branch, in the robot's order, with no moving link below the table. A grasp or insertion takes the
+// first such branch whose links, except those on the last body (next to the gripper), keep the
+// margin from every object but the held one (the fixed one of an insertion included) and whose
+// moving links stay above the table, at T and along each of the step's straight lines (grasp: T to
+// T - d a; insertion: T to T - d m and T to T - d a), following the same branch, within its joint
+// limits and the arm's reach all along (the closed forms' label; the numeric solver's solution
+// nearest the last sample). When every branch is blocked the step is refused: "every IK branch of
+// the arm is blocked: lun: forearm_link hits block; run: upper_arm_link hits block along the
+// approach; ruf: leaves its reach or joint limits along the approach" (docs/scenario.md,
+// Collisions). StepCheck::arm is the branch taken: the plan instance reports it and joint-level
+// uncertainty acts at it. Along a line the branch is sampled by bisection until, between every two
+// consecutive samples, each link's sum_i lever_i |dq_i| (lever_i bounds the distance from joint i's
+// axis to the link's points, so this bounds how far any of them moves when the joints change by dq)
+// is at most the link's slack at one of the two: its distance bound to every obstacle less margin/2
 // (the distance of the boxes, or the margin when only FCL says they are clear) and its height
 // above the table. Guarantee: every sample keeps the margin, and if each joint moves
 // monotonically between two consecutive samples (which the bisection makes close) no point of
@@ -126,6 +132,7 @@ struct GoalWorld {
   bool initially_true{false};                     // the goal holds in the initial world
   std::vector<char> grasp_leaves_mating_free;     // [held grasp]
   std::vector<char> mating_pose;                  // [fixed position]
+  std::vector<char> rests_assembled;              // [fixed position]
   std::vector<std::vector<char>> mate_reachable;  // [held grasp][fixed position]
   int place{-1};                                  // an at goal's place
   std::vector<int> at_place;                      // the object's position labels at it
@@ -236,6 +243,12 @@ class WorldModel {
   // [grasp][position] of `object`: its grasp or release there hits `other` resting where it
   // starts. Computed on first use, then cached (the cache is shared by copies).
   [[nodiscard]] const Table& initial_conflicts(int object, int other) const;
+  // Whether the subassembly `object` belongs to rests on the table as `state` has it (call it
+  // after a release): nullopt when it does, or when there is nothing to check (an object alone
+  // rests in its stable pose; a fixed root, or a root unmoved in an initial pose that is no stable
+  // pose, is supported otherwise); else why not: "base with part assembled into it does not rest
+  // on the table there: its centre of mass lies 0.2121 in outside its footing".
+  [[nodiscard]] std::optional<std::string> check_rest(const WorldState& state, int object) const;
   // [held grasp][fixed position] of assembled goal `goal`: its insertion hits `other` where it
   // starts.
   [[nodiscard]] const Table& insertion_conflicts(int goal, int other) const;
@@ -253,6 +266,8 @@ class WorldModel {
   [[nodiscard]] std::vector<Obstacle> obstacles(const WorldState& state,
                                                 const std::vector<int>& except) const;
   void check_initial_world() const;
+  // A length in the scenario file's unit: "0.25 in".
+  [[nodiscard]] std::string length_text(double metres) const;
   // The IK branch of a step at `gripper_pose`: the first in-limit one in the robot's order whose
   // links clear the table and `obstacles` there and along `lines` (the header comment); when
   // every such branch is blocked, `conflict` names what blocks each. Neither when the tilt

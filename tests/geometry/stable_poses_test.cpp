@@ -191,5 +191,63 @@ TEST(StablePoses, PosesOnNoFaceAreLabelledByNormalWhateverTheMeshOrder) {
   }
 }
 
+// --- a subassembly resting as one body ---
+
+Eigen::Isometry3d shifted_by(double x, double y, double z) {
+  return Eigen::Isometry3d(Eigen::Translation3d(x, y, z));
+}
+
+TEST(RestingMargin, ACubeAloneRestsByItsStablePoseMargin) {
+  const ObjectModel cube("cube", make_box({1, 1, 1}));
+  const PosedPart alone[] = {{&cube, stable_poses(cube)[0].object_to_world}};
+  ASSERT_TRUE(resting_margin(alone, 1e-7).has_value());
+  EXPECT_NEAR(*resting_margin(alone, 1e-7), stable_poses(cube)[0].margin, 1e-12);
+}
+
+TEST(RestingMargin, TheJointCentreOfMassDecides) {
+  // A 4 x 4 x 0.5 plate (volume 8, centre x = 2) with a 1 x 1 post standing on it.
+  const ObjectModel plate("plate", make_box({4, 4, 0.5}));
+  const ObjectModel short_post("post", make_box({1, 1, 3}));  // volume 3
+  const PosedPart inside[] = {{&plate, Eigen::Isometry3d::Identity()},
+                              {&short_post, shifted_by(0, 0, 0.5)}};
+  // Centre x = (8 * 2 + 3 * 0.5) / 11; the nearest footing edge is x = 0.
+  EXPECT_NEAR(resting_margin(inside, 1e-7).value(), 17.5 / 11, 1e-12);
+  // A long post beyond the plate's edge (volume 20, centre x = -1.5) pulls the centre to x = -0.5,
+  // outside the footing [0, 4] x [0, 4]; the post is above the table, so it adds no footing.
+  const ObjectModel long_post("post", make_box({1, 1, 20}));
+  const PosedPart overhanging[] = {{&plate, Eigen::Isometry3d::Identity()},
+                                   {&long_post, shifted_by(-2, 0, 0.5)}};
+  EXPECT_NEAR(resting_margin(overhanging, 1e-7).value(), -0.5, 1e-12);
+}
+
+TEST(RestingMargin, EveryPartOnTheTableMakesTheFooting) {
+  // The plate raised onto a 1 x 1 foot under one corner stands on the foot alone: its centre
+  // (2, 2) lies outside the foot's square [0, 1] x [0, 1].
+  const ObjectModel plate("plate", make_box({4, 4, 0.5}));
+  const ObjectModel foot("foot", make_box({1, 1, 0.5}));
+  const PosedPart on_foot[] = {{&plate, shifted_by(0, 0, 0.5)}, {&foot, shifted_by(0, 0, 0)}};
+  EXPECT_LT(resting_margin(on_foot, 1e-7).value(), 0);
+  // Four feet, one under each corner: the footing is the whole square again.
+  const PosedPart on_four[] = {{&plate, shifted_by(0, 0, 0.5)},
+                               {&foot, shifted_by(0, 0, 0)},
+                               {&foot, shifted_by(3, 0, 0)},
+                               {&foot, shifted_by(0, 3, 0)},
+                               {&foot, shifted_by(3, 3, 0)}};
+  EXPECT_GT(resting_margin(on_four, 1e-7).value(), 1.5);
+}
+
+TEST(RestingMargin, EdgesCornersAirAndBelowTheTableDoNotStand) {
+  const ObjectModel cube("cube", make_box({1, 1, 1}));
+  // On an edge: turned 45 degrees about x, it rests on its edge along x (every other vertex up).
+  const Eigen::Isometry3d on_edge(
+      Eigen::AngleAxisd(std::numbers::pi / 4, Eigen::Vector3d::UnitX()));
+  const PosedPart edge[] = {{&cube, on_edge}};
+  EXPECT_FALSE(resting_margin(edge, 1e-7).has_value());
+  const PosedPart in_air[] = {{&cube, shifted_by(0, 0, 0.1)}};
+  EXPECT_FALSE(resting_margin(in_air, 1e-7).has_value());
+  const PosedPart sunk[] = {{&cube, shifted_by(0, 0, -0.1)}};
+  EXPECT_FALSE(resting_margin(sunk, 1e-7).has_value());
+}
+
 }  // namespace
 }  // namespace spar::geometry

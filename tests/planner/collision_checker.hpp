@@ -28,7 +28,10 @@
 // overlap the planner's sweep let through, which keeps half the margin everywhere, would show).
 // The table: no body below z = -1e-6 m at a motion's ends (translations: the lowest point is at
 // an end). After every step every object rests on the table or sits in the one it is assembled
-// into.
+// into, and every subassembly that has moved (or started in a stable pose) stands as one body:
+// its centre of mass (the parts' volume centres, from signed tetrahedra, weighted by volume)
+// lies seen from above strictly inside the convex hull of its vertices on the table (brute
+// force: inside every line through two of them that has all of them on one side).
 #pragma once
 
 #include <Eigen/Geometry>
@@ -174,6 +177,41 @@ inline double lowest(const Triangles& set) {
   return z;
 }
 
+// The volume and the centre of a closed set (signed tetrahedra from the origin).
+inline std::pair<double, Eigen::Vector3d> volume_and_centre(const Triangles& closed) {
+  double volume = 0;
+  Eigen::Vector3d moment = Eigen::Vector3d::Zero();
+  for (const auto& f : closed.faces) {
+    const double v = f[0].dot(f[1].cross(f[2])) / 6;
+    volume += v;
+    moment += v * (f[0] + f[1] + f[2]) / 4;
+  }
+  return {volume, moment / volume};
+}
+
+// `point` lies further than `inset` inside every supporting line of `points` (a line through two
+// of them with none on its right); false when there is no such line or the points are collinear
+// (then both orientations of their line support them).
+inline bool strictly_inside_hull(const std::vector<Eigen::Vector2d>& points,
+                                 const Eigen::Vector2d& point, double inset) {
+  const auto cross = [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+    return a.x() * b.y() - a.y() * b.x();
+  };
+  bool supported = false;
+  for (const auto& p : points)
+    for (const auto& q : points) {
+      const Eigen::Vector2d edge = q - p;
+      if (edge.norm() < 1e-12) continue;
+      const bool supporting = std::all_of(points.begin(), points.end(), [&](const auto& r) {
+        return cross(edge, r - p) / edge.norm() >= -1e-12;
+      });
+      if (!supporting) continue;
+      supported = true;
+      if (cross(edge, point - p) / edge.norm() <= inset) return false;
+    }
+  return supported;
+}
+
 class IndependentCollisionChecker {
  public:
   static constexpr double kStep = 0.00025;  // metres between samples of a motion
@@ -276,6 +314,9 @@ class IndependentCollisionChecker {
         const double z = lowest(posed(meshes_[o], poses[o]));
         if (std::abs(z) > 1e-6)
           problems.push_back(where + scenario_.objects[o].name + " is not on the table after it");
+        else if (!stands(group(static_cast<int>(o)), poses))
+          problems.push_back(where + scenario_.objects[o].name +
+                             " with its parts topples after it");
       }
     }
     return problems;
@@ -293,6 +334,33 @@ class IndependentCollisionChecker {
           a != nullptr && index(a->held) == held && index(a->fixed) == fixed)
         return *a;
     throw std::logic_error("no goal");
+  }
+  // Whether the subassembly `group` (root first) stands on the table: alone, fixed, or unmoved
+  // in an initial pose that is no stable pose, it needs no check (see the header comment).
+  bool stands(const std::vector<int>& group,
+              const std::vector<kinematics::Transform>& poses) const {
+    const ObjectSpec& root = scenario_.objects[group.front()];
+    if (group.size() < 2 || root.fixed ||
+        (!root.initial_stable_pose && poses[group.front()].isApprox(root.initial_pose, 1e-9)))
+      return true;
+    double volume = 0;
+    Eigen::Vector3d moment = Eigen::Vector3d::Zero();
+    std::vector<Eigen::Vector2d> footing;
+    for (const int o : group) {
+      const Triangles placed = posed(meshes_[o], poses[o]);
+      const auto [v, centre] = volume_and_centre(placed);
+      volume += v;
+      moment += v * centre;
+      for (const auto& face : placed.faces)
+        for (const auto& corner : face)
+          if (std::abs(corner.z()) <= 1e-6) footing.push_back(corner.head<2>());
+    }
+    const auto before = [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+      return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y());
+    };
+    std::sort(footing.begin(), footing.end(), before);  // a corner is in several triangles
+    footing.erase(std::unique(footing.begin(), footing.end()), footing.end());
+    return strictly_inside_hull(footing, (moment / volume).head<2>(), 1e-7);
   }
   std::vector<std::pair<std::string, Triangles>> others(
       const std::vector<kinematics::Transform>& poses, const std::vector<int>& except) const {

@@ -233,6 +233,122 @@ TEST(CollisionPlanning, CrowdedTaskWithoutPlanIsProvedSo) {
   EXPECT_EQ(result.family.reason.find("search budget"), std::string::npos) << result.family.reason;
 }
 
+// --- subassemblies rest on the table as one body ---
+
+Scenario subassembly_moved() {
+  return load_scenario(std::string(SPAR_SOURCE_DIR) + "/tests/planner/data/subassembly_moved.yaml");
+}
+
+// The names of `object`'s positions where `table` is set.
+std::vector<std::string> positions_where(const WorldModel& world, int object,
+                                         const std::vector<char>& table) {
+  std::vector<std::string> names;
+  for (std::size_t p = 0; p < table.size(); ++p)
+    if (table[p]) names.push_back(world.object(object).positions[p].name);
+  return names;
+}
+
+TEST(Subassemblies, ThePairGoesOnlyWhereItRestsByItself) {
+  const PlanResult result = plan_checked(subassembly_moved());
+  ASSERT_TRUE(result.planned()) << result.family.reason;
+  const int bar = result.world.object_index("bar");
+  const GoalWorld* goal = result.world.goal(result.world.object_index("post"), bar);
+  ASSERT_NE(goal, nullptr);
+  // The bar's six stable poses at the spare place: P5 (flat, post up) and P2 (on the post's end)
+  // hold the pair; on its sides (P3, P4) and its other end (P1) the pair's centre of mass lies
+  // outside the footing; upside down (P6) the post goes below the table.
+  const std::vector<std::string> rests = {"initial", "P2@spare", "P5@spare"};
+  EXPECT_EQ(positions_where(result.world, bar, goal->rests_assembled), rests);
+  int putdowns = 0;
+  for (const PlanInstance& instance : result.instances.instances)
+    for (const InstanceStep& step : instance.steps)
+      if (step.action_name == "putdown" && step.object == bar) {
+        ++putdowns;
+        const std::string& where = result.world.object(bar).positions[step.position].name;
+        EXPECT_NE(std::find(rests.begin(), rests.end(), where), rests.end()) << where;
+      }
+  EXPECT_GT(putdowns, 0);
+}
+
+// The chosen instance with the bar put down (with every grasp, the pickup's changed to match)
+// at each position where the pair does not rest; the ones the collision check lets through come
+// back, with what check_collisions says of them.
+std::vector<std::pair<PlanInstance, std::string>> toppling_variants(const PlanResult& result) {
+  const WorldModel& world = result.world;
+  const int bar = world.object_index("bar");
+  const GoalWorld* goal = world.goal(world.object_index("post"), bar);
+  const ObjectWorld& labels = world.object(bar);
+  std::vector<std::pair<PlanInstance, std::string>> variants;
+  for (std::size_t p = 1; p < labels.positions.size(); ++p) {
+    if (goal->rests_assembled[p]) continue;
+    for (std::size_t g = 0; g < labels.grasps.size(); ++g) {
+      PlanInstance planted = result.chosen();
+      for (InstanceStep& step : planted.steps) {
+        if (step.object != bar) continue;
+        step.grasp = static_cast<int>(g);
+        if (step.action_name == "putdown") {
+          step.position = static_cast<int>(p);
+          step.stable_pose = labels.positions[p].stable_pose;
+          step.object_pose = labels.positions[p].pose;
+        }
+        step.gripper_pose = step.object_pose * labels.grasps[g].gripper_in_object;
+      }
+      std::optional<std::string> refusal = check_collisions(planted, world, result.domain);
+      if (refusal && refusal->find("assembled into it does not") != std::string::npos)
+        variants.emplace_back(std::move(planted), std::move(*refusal));
+    }
+  }
+  return variants;
+}
+
+TEST(Subassemblies, AnInstanceLeavingThePairToToppleIsRefused) {
+  const PlanResult result = plan_checked(subassembly_moved());
+  ASSERT_TRUE(result.planned()) << result.family.reason;
+  const WorldModel& world = result.world;
+  const int bar = world.object_index("bar");
+  const GoalWorld* goal = world.goal(world.object_index("post"), bar);
+  // check_rest on its own: every position where the pair does not rest says why.
+  int outside = 0, not_flat = 0;
+  const std::vector<PositionLabel>& positions = world.object(bar).positions;
+  EXPECT_FALSE(world.check_rest(world.initial_state(), bar).has_value());
+  for (std::size_t p = 1; p < positions.size(); ++p) {
+    WorldState state = world.initial_state();
+    state.move(bar, positions[p].pose);
+    const std::optional<std::string> why = world.check_rest(state, bar);
+    EXPECT_EQ(why.has_value(), !goal->rests_assembled[p]) << positions[p].name;
+    if (!why) continue;
+    outside += why->starts_with(
+                   "bar with post assembled into it does not rest on the table there: its "
+                   "centre of mass lies ") &&
+               why->ends_with(" in outside its footing");
+    not_flat +=
+        why->starts_with("bar with post assembled into it does not stand flat on the table there");
+  }
+  EXPECT_GT(outside, 0);
+  EXPECT_GT(not_flat, 0);
+  // Through the instance check: some putdown the motions allow leaves the pair to topple, and
+  // check_collisions refuses it, naming the step.
+  const auto variants = toppling_variants(result);
+  ASSERT_FALSE(variants.empty());
+  EXPECT_TRUE(variants.front().second.starts_with("putdown(bar, G")) << variants.front().second;
+}
+
+TEST(IndependentChecker, FindsASubassemblyLeftToTopple) {
+  const Scenario scenario = subassembly_moved();
+  const PlanResult result = plan_checked(scenario);
+  ASSERT_TRUE(result.planned()) << result.family.reason;
+  const testing::IndependentCollisionChecker checker(scenario, grasps_of(result));
+  EXPECT_TRUE(checker.check(result.chosen()).empty());
+  const auto variants = toppling_variants(result);
+  ASSERT_FALSE(variants.empty());
+  for (const auto& [planted, refusal] : variants) {
+    const std::vector<std::string> problems = checker.check(planted);
+    ASSERT_FALSE(problems.empty()) << refusal;
+    EXPECT_NE(problems.front().find("bar with its parts topples after it"), std::string::npos)
+        << problems.front();
+  }
+}
+
 // --- random scenes ---
 
 // 2-6 objects (cubes, pegs, blocks, L-shapes) at random spots of a grid in front of the robot,
