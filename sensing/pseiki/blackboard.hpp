@@ -50,9 +50,9 @@ struct ImageEdge {
   std::vector<int> inputs;  // input edges it is made of (several once merged)
   int split_from{-1};       // the element this is a piece of, -1 if none
   bool active{true};        // false once merged into another element or split into pieces
-  std::vector<LabelCandidate> candidates;  // most collinear first
-  int label{-1};                           // panel edge, or -1 (none)
-  double belief{0};                        // Bel(label); for no label, Bel(none)
+  std::vector<LabelCandidate> candidates{};  // most collinear first
+  int label{-1};                             // panel edge, or -1 (none)
+  double belief{0};                          // Bel(label); for no label, Bel(none)
   std::array<int, 2> vertices{-1, -1};
 };
 
@@ -62,17 +62,17 @@ struct ImageVertex {
 };
 
 struct ImageFace {
-  int label{-1};             // panel face
-  std::vector<int> members;  // image edges
-  internal::Polygon region;  // convex hull of the members' vertices
-  double support{0};         // what its members say for its label (grouper.hpp)
+  int label{-1};               // panel face
+  std::vector<int> members{};  // image edges
+  internal::Polygon region{};  // convex hull of the members' vertices
+  double support{0};           // what its members say for its label (grouper.hpp)
   double belief{0}, disbelief{0};
 };
 
 struct ImageObject {
-  int label{-1};           // panel object (= scene object index)
-  std::vector<int> faces;  // image faces
-  double coverage{0};      // fraction of its expected edge length seen and labelled
+  int label{-1};             // panel object (= scene object index)
+  std::vector<int> faces{};  // image faces
+  double coverage{0};        // fraction of its expected edge length seen and labelled
   double belief{0}, disbelief{0};
 };
 

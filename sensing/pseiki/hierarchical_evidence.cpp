@@ -74,15 +74,14 @@ void check_strength(double value, const char* what, int node, const std::string&
 
 HypothesisTree::HypothesisTree() : parent_{-1}, children_(1), name_{"frame"}, evidence_(1) {}
 
-int HypothesisTree::checked(int node) const {
+void HypothesisTree::check_node(int node) const {
   if (node < 0 || node >= size())
     throw SensingError("hypothesis tree: no node " + std::to_string(node) + " (it has " +
                        std::to_string(size()) + ")");
-  return node;
 }
 
 int HypothesisTree::add_node(int parent, std::string name) {
-  checked(parent);
+  check_node(parent);
   const int node = size();
   parent_.push_back(parent);
   children_.emplace_back();
@@ -93,7 +92,7 @@ int HypothesisTree::add_node(int parent, std::string name) {
 }
 
 void HypothesisTree::add_evidence(int node, double support_for, double support_against) {
-  checked(node);
+  check_node(node);
   if (node == 0) throw SensingError("hypothesis tree: evidence about the whole frame says nothing");
   check_strength(support_for, "for", node, name(node));
   check_strength(support_against, "against", node, name(node));
@@ -219,7 +218,7 @@ Frame HypothesisTree::frame() const {
 }
 
 FocalSet HypothesisTree::leaf_set(int node) const {
-  checked(node);
+  check_node(node);
   const std::vector<int> all = leaves();
   FocalSet set(static_cast<int>(all.size()));
   for (std::size_t i = 0; i < all.size(); ++i) {

@@ -100,7 +100,7 @@ class HypothesisTree {
   struct Piece {
     double support_for{0}, support_against{0};
   };
-  [[nodiscard]] int checked(int node) const;
+  void check_node(int node) const;  // throws SensingError for a node the tree lacks
   std::vector<int> parent_;
   std::vector<std::vector<int>> children_;
   std::vector<std::string> name_;

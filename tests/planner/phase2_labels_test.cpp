@@ -123,7 +123,9 @@ TEST_F(OnBack, DistinctStepsHaveDistinctArmVariablesEvenWithACandidateSplicedInT
       const SpaceVariable& variable = propagation.space().variables()[v];
       if (of_the_arm(variable.provenance.source)) arm.insert(propagation.space().symbols()[v].id());
     }
-    if (moves_arm(step.effect)) EXPECT_EQ(arm.size(), 4u);
+    if (moves_arm(step.effect)) {
+      EXPECT_EQ(arm.size(), 4u);
+    }
     arm_of_step.push_back(arm);
   }
   for (std::size_t a = 0; a < arm_of_step.size(); ++a)

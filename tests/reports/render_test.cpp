@@ -226,8 +226,9 @@ TEST(Numbering, OrderingGraphAndNetworkUseThePlanNumbers) {
   const std::string html = render_html(report);
   const std::string ordering = html.substr(html.find("id=\"ordering\""));
   for (std::size_t k = 0; k < report.chosen->steps.size(); ++k)
-    if (!report.chosen->steps[k].inserted.value_or(false))  // inserted steps are not in the family
+    if (!report.chosen->steps[k].inserted.value_or(false)) {  // inserted steps: not in the family
       EXPECT_NE(ordering.find(">" + step_label(*report.chosen, k) + "<"), std::string::npos) << k;
+    }
   EXPECT_NE(ordering.find(">initial state<"), std::string::npos);
   EXPECT_NE(ordering.find(">goal<"), std::string::npos);
   // Labels are never cut: every family step's text is there in full.
