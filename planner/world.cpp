@@ -787,6 +787,10 @@ void WorldModel::check_initial_world() const {
                         scenario_.objects[b].name +
                         " interpenetrate or touch in the initial world");
     }
+  for (std::size_t o = 0; o < bodies_.size(); ++o)
+    if (state.carrier[o] < 0)
+      if (const std::optional<std::string> topples = check_rest(state, static_cast<int>(o)))
+        throw PlanError(where(o) + ": " + *topples);
 }
 
 namespace {

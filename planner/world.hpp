@@ -56,23 +56,25 @@
 // other movable objects are) is checked by posting (initial_conflicts, placement_conflicts: see
 // posting.hpp) and, exactly, per plan instance (check_grasp, check_insertion on the simulated
 // WorldState, and check_rest after every release: a subassembly must stand as one body). The
-// initial world is checked once: objects that meet (unless assembled there already), rest below the
-// table or float are an error naming them at their `pose`. The arm (a robot with collision
-// geometry; a DH table has none, so Puma plans are unchanged): reach() takes the first in-limit IK
-// branch, in the robot's order, with no moving link below the table. A grasp or insertion takes the
-// first such branch whose links, except those on the last body (next to the gripper), keep the
-// margin from every object but the held one (the fixed one of an insertion included) and whose
-// moving links stay above the table, at T and along each of the step's straight lines (grasp: T to
-// T - d a; insertion: T to T - d m and T to T - d a), following the same branch, within its joint
-// limits and the arm's reach all along (the closed forms' label; the numeric solver's solution
-// nearest the last sample). When every branch is blocked the step is refused: "every IK branch of
-// the arm is blocked: lun: forearm_link hits block; run: upper_arm_link hits block along the
-// approach; ruf: leaves its reach or joint limits along the approach" (docs/scenario.md,
-// Collisions). StepCheck::arm is the branch taken: the plan instance reports it and joint-level
-// uncertainty acts at it. Along a line the branch is sampled by bisection until, between every two
-// consecutive samples, each link's sum_i lever_i |dq_i| (lever_i bounds the distance from joint i's
-// axis to the link's points, so this bounds how far any of them moves when the joints change by dq)
-// is at most the link's slack at one of the two: its distance bound to every obstacle less margin/2
+// initial world is checked once: objects that meet (unless assembled there already), rest below
+// the table or float, and subassemblies that do not stand are an error naming them at their
+// `pose`.
+// The arm (a robot with collision geometry; a DH table has none, so Puma plans are unchanged):
+// reach() takes the first in-limit IK branch, in the robot's order, with no moving link below the
+// table. A grasp or insertion takes the first such branch whose links, except those on the last
+// body (next to the gripper), keep the margin from every object but the held one (the fixed one
+// of an insertion included) and whose moving links stay above the table, at T and along each of
+// the step's straight lines (grasp: T to T - d a; insertion: T to T - d m and T to T - d a),
+// following the same branch, within its joint limits and the arm's reach all along (the closed
+// forms' label; the numeric solver's solution nearest the last sample). When every branch is
+// blocked the step is refused: "every IK branch of the arm is blocked: lun: forearm_link hits
+// block; run: upper_arm_link hits block along the approach; ruf: leaves its reach or joint
+// limits along the approach" (docs/scenario.md, Collisions). StepCheck::arm is the branch taken:
+// the plan instance reports it and joint-level uncertainty acts at it.
+// Along a line the branch is sampled by bisection until, between every two consecutive samples,
+// each link's sum_i lever_i |dq_i| (lever_i bounds the distance from joint i's axis to the
+// link's points, so this bounds how far any of them moves when the joints change by dq) is at
+// most the link's slack at one of the two: its distance bound to every obstacle less margin/2
 // (the distance of the boxes, or the margin when only FCL says they are clear) and its height
 // above the table. Guarantee: every sample keeps the margin, and if each joint moves
 // monotonically between two consecutive samples (which the bisection makes close) no point of

@@ -235,7 +235,7 @@ struct Grasp {
 struct DisplayBounds {
   std::string unit;  // the length unit, or "1" (dimensionless)
   double threshold{0.0}, lo{0.0}, hi{0.0};
-  Nullable<double> inner_lo, inner_hi;  // null as the precondition's
+  Nullable<double> inner_lo{}, inner_hi{};  // null as the precondition's
   template <class Self, class Field>
   static void fields(Self& s, Field&& field) {
     field("unit", s.unit);

@@ -6,6 +6,8 @@
 #include <rapidcheck/gtest.h>
 
 #include <algorithm>
+#include <fstream>
+#include <iterator>
 #include <string>
 #include <vector>
 
@@ -235,9 +237,16 @@ TEST(CollisionPlanning, CrowdedTaskWithoutPlanIsProvedSo) {
 
 // --- subassemblies rest on the table as one body ---
 
-Scenario subassembly_moved() {
-  return load_scenario(std::string(SPAR_SOURCE_DIR) + "/tests/planner/data/subassembly_moved.yaml");
+std::string data_file(const std::string& name) {
+  return std::string(SPAR_SOURCE_DIR) + "/tests/planner/data/" + name;
 }
+
+std::string read_text(const std::string& path) {
+  std::ifstream in(path);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+Scenario subassembly_moved() { return load_scenario(data_file("subassembly_moved.yaml")); }
 
 // The names of `object`'s positions where `table` is set.
 std::vector<std::string> positions_where(const WorldModel& world, int object,
@@ -331,6 +340,23 @@ TEST(Subassemblies, AnInstanceLeavingThePairToToppleIsRefused) {
   const auto variants = toppling_variants(result);
   ASSERT_FALSE(variants.empty());
   EXPECT_TRUE(variants.front().second.starts_with("putdown(bar, G")) << variants.front().second;
+}
+
+TEST(InitialWorld, ASubassemblyThatDoesNotStandIsAnError) {
+  // The bar on its side with the post sticking out sideways at the height of the bar's middle:
+  // their centre of mass lies 0.4545 in beyond the bar's footing.
+  std::string yaml =
+      replaced(replaced(read_text(data_file("subassembly_moved.yaml")), "pose: {xyz: [16, 6, 0]}",
+                        "pose: {xyz: [16, 6, 1], rpy: [90, 0, 0]}"),
+               "pose: {xyz: [19.5, 6, 1]}", "pose: {xyz: [19.5, 5, 1], rpy: [90, 0, 0]}");
+  try {
+    (void)WorldModel(parse_scenario(yaml, "test.yaml", data_file("")));
+    ADD_FAILURE() << "no error";
+  } catch (const Error& error) {
+    EXPECT_EQ(std::string(error.what()),
+              "objects.bar.pose (test.yaml:23:11): bar with post assembled into it does not rest "
+              "on the table there: its centre of mass lies 0.4545 in outside its footing");
+  }
 }
 
 TEST(IndependentChecker, FindsASubassemblyLeftToTopple) {
