@@ -310,6 +310,24 @@ std::vector<std::pair<PlanInstance, std::string>> toppling_variants(const PlanRe
   return variants;
 }
 
+TEST(Subassemblies, NoRestingPositionLeftIsTheReason) {
+  // The post held out 20 in beyond the bar's middle: the pair's centre of mass lies beyond every
+  // footing of the bar's (its initial pose counts as sensed, so it may start there). The bar alone
+  // could go to the spare place, the pair cannot.
+  Scenario scenario = subassembly_moved();
+  ASSERT_EQ(scenario.objects[0].name, "bar");
+  auto& joined = std::get<AssembledGoal>(scenario.goals[1]);
+  joined.relative = Eigen::Translation3d(20 * 0.0254, 0, 0.0254) * Eigen::Isometry3d::Identity();
+  scenario.objects[0].initial_stable_pose.reset();
+  scenario.objects[1].initial_pose = scenario.objects[0].initial_pose * joined.relative;
+  const PlanResult result = plan_checked(scenario);
+  EXPECT_FALSE(result.planned());
+  EXPECT_NE(result.family.reason.find(
+                "no position left for bar where it rests on the table with post assembled into it"),
+            std::string::npos)
+      << result.family.reason;
+}
+
 TEST(Subassemblies, AnInstanceLeavingThePairToToppleIsRefused) {
   const PlanResult result = plan_checked(subassembly_moved());
   ASSERT_TRUE(result.planned()) << result.family.reason;
