@@ -258,6 +258,10 @@ const std::vector<Case> kCases = {
    "--report", "@DIR@/stack"}, 0, "planned", ""},
   {"PlanCrowdedExampleReports", {"plan", "@SRC@/examples/crowded_table.yaml", "--samples", "0",
    "--instances", "2", "--report", "@DIR@/crowded"}, 0, "planned", ""},
+  // Issue 27's camera example: the verification names what PSEIKI must see.
+  {"PlanCameraExampleNamesWhatPseikiMustSee",
+   {"plan", "@SRC@/examples/peg_block_on_back_camera.yaml", "--samples", "0"}, 3,
+   "camera overhead must see peg/e[0-9]+(, peg/e[0-9]+)* \\(PSEIKI accepts", ""},
   // No plan is a result, not a success: the report says why, the exit status is 2.
   {"PlanUnreachablePlaceNoPlan", {"plan", "@DIR@/no_plan.yaml", "--json", "--samples", "0"}, 2,
    "\"status\": \"no_plan\",\\s*\"reason\": \"no_plan: .*goal at\\(cube, far\\)", ""},

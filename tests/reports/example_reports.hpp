@@ -2,7 +2,7 @@
 // once per test binary (each test process: ctest runs every test on its own) with the default
 // options (phase 2 with blame, reverse analysis and Monte
 // Carlo, as `spar plan` runs it), plus a run whose search budget is too small to find a plan and
-// the on-back task with a camera.
+// the on-back task with a camera (examples/peg_block_on_back_camera.yaml).
 #pragma once
 
 #include <fstream>
@@ -11,11 +11,9 @@
 #include <string>
 #include <vector>
 
-#include "spar/common/units.hpp"
 #include "spar/planner/plan.hpp"
 #include "spar/reports/json.hpp"
 #include "spar/reports/plan_json.hpp"
-#include "spar/sensing/camera.hpp"
 
 namespace spar::reports::testing {
 
@@ -79,19 +77,9 @@ inline const nlohmann::ordered_json& sensing_report() {
 
 // The on-back task (its assembly is an error left to verify at execution) with a camera looking
 // at the block, where the peg is inserted (18, -4, 6) in: the verification names what PSEIKI must
-// see to accept (issue 27).
+// see to accept (issue 27). The camera is the example's (examples/peg_block_on_back_camera.yaml).
 inline const nlohmann::ordered_json& camera_report() {
-  static const nlohmann::ordered_json report = [] {
-    planner::Scenario scenario = planner::load_scenario(example_path("peg_block_on_back"));
-    const Eigen::Vector3d target = Eigen::Vector3d(18, -4, 6) * units::kInch;
-    scenario.cameras.push_back(
-        {.name = "overhead",
-         .intrinsics = {.fx = 800, .fy = 800, .cx = 320, .cy = 240, .width = 640, .height = 480},
-         .pose = sensing::look_at(target + Eigen::Vector3d(0.4, -0.4, 0.6), target, {0, 0, 1}),
-         .location = {}});
-    return plan_json(planner::plan(scenario, planner::builtin_domain()));
-  }();
-  return report;
+  return example_report("peg_block_on_back_camera");
 }
 
 }  // namespace spar::reports::testing
