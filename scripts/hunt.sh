@@ -11,9 +11,10 @@
 #      case count divided by SPAR_PROPERTY_DIVISOR (default 4, tests/common/rapidcheck_seed.cpp):
 #      the Release stage has just run them at the full count; this stage looks for memory and
 #      undefined-behaviour errors on the same paths, at a quarter of the speed.
-#   2. Each fuzz target for SPAR_FUZZ_SECONDS (default 45) from its seed corpus, with libFuzzer
-#      seed SPAR_FUZZ_SEED (default fixed: reproducible; 0: random) (a scratch copy: the
-#      repository's corpus is never written). Any crash, hang (> 10 s on one input), leak,
+#   2. Each fuzz target for SPAR_FUZZ_SECONDS (default 45) from its seed corpus, SPAR_FUZZ_JOBS
+#      targets at a time (default: the number of cores), with libFuzzer seed SPAR_FUZZ_SEED
+#      (default fixed: reproducible; 0: random) (a scratch copy: the repository's corpus is
+#      never written). Any crash, hang (> 10 s on one input), leak,
 #      out-of-memory or sanitizer report fails the run; libFuzzer leaves the input that caused it
 #      in the build folder as <target>-crash-... (or -timeout-, -leak-, -oom-).
 # Build folder: $SPAR_HUNT_BUILD_DIR (default <Release build folder>/hunt).
@@ -40,14 +41,41 @@ ctest --test-dir "$build" --output-on-failure -j2 -E '^readme$'
 
 scratch=$(mktemp -d)
 trap 'rm -rf "$scratch"' EXIT
+# The targets run side by side, SPAR_FUZZ_JOBS at a time (default: one per core): each still fuzzes
+# for its full time, the stage takes 1/jobs of it. Each target's output goes to its own log,
+# printed when it ends: whole if it found something, its final statistics otherwise.
+jobs=${SPAR_FUZZ_JOBS:-$(nproc)}
+declare -A running=()  # pid -> target name
+findings=0
+finish_one() {
+  local pid status=0
+  wait -n -p pid "${!running[@]}" || status=$?
+  local name=${running[$pid]}
+  unset "running[$pid]"
+  if [ "$status" = 0 ]; then
+    echo "hunt: $name fuzzed for $seconds s, no findings:"
+    grep '^stat::' "$scratch/$name.log" || true
+  else
+    cat "$scratch/$name.log"
+    echo "hunt: $name FOUND SOMETHING (exit status $status; its input is in $build)"
+    findings=$((findings + 1))
+  fi
+}
 for corpus in tests/fuzz/corpus/*/; do
   name=$(basename "$corpus")
   dictionary=()
   [ -f "tests/fuzz/$name.dict" ] && dictionary=("-dict=tests/fuzz/$name.dict")
   mkdir -p "$scratch/$name"
+  [ "${#running[@]}" -ge "$jobs" ] && finish_one
   echo "hunt: fuzzing $name for $seconds s"
   "$build/tests/fuzz/${name}_fuzz" -seed="$seed" -max_total_time="$seconds" -timeout=10 \
     -rss_limit_mb=2048 -max_len=4096 -print_final_stats=1 -artifact_prefix="$build/${name}_fuzz-" \
-    "${dictionary[@]}" "$scratch/$name" "$corpus"
+    "${dictionary[@]}" "$scratch/$name" "$corpus" >"$scratch/$name.log" 2>&1 &
+  running[$!]=$name
 done
+while [ "${#running[@]}" -gt 0 ]; do finish_one; done
+if [ "$findings" != 0 ]; then
+  echo "hunt: $findings fuzz target(s) found something"
+  exit 1
+fi
 echo "hunt: no findings"
