@@ -14,9 +14,9 @@
 #   2. Each fuzz target for SPAR_FUZZ_SECONDS (default 45) from its seed corpus, SPAR_FUZZ_JOBS
 #      targets at a time (default: the number of cores), with libFuzzer seed SPAR_FUZZ_SEED
 #      (default fixed: reproducible; 0: random) (a scratch copy: the repository's corpus is
-#      never written). Any crash, hang (> 10 s on one input), leak,
-#      out-of-memory or sanitizer report fails the run; libFuzzer leaves the input that caused it
-#      in the build folder as <target>-crash-... (or -timeout-, -leak-, -oom-).
+#      never written). Any crash, hang (> 10 s on one input), leak, out-of-memory or sanitizer
+#      report fails the run; libFuzzer leaves the input that caused it in the build folder as
+#      <target>-crash-... (or -timeout-, -leak-, -oom-).
 # Build folder: $SPAR_HUNT_BUILD_DIR (default <Release build folder>/hunt).
 set -euo pipefail
 cd "$(dirname "$0")/.."
