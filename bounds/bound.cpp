@@ -20,6 +20,7 @@
 #include "spar/bounds/internal/checks.hpp"
 #include "spar/bounds/internal/gradient.hpp"
 #include "spar/bounds/internal/linear_enclosure.hpp"
+#include "spar/bounds/internal/ulp.hpp"
 #include "spar/common/deadline.hpp"
 #include "spar/symbolic/operations.hpp"
 #include "spar/symbolic/smp.hpp"
@@ -28,9 +29,9 @@
 namespace spar::bounds {
 namespace {
 
+using internal::kInf;
 using symbolic::Expr;
 using symbolic::Tape;
-constexpr double kInf = std::numeric_limits<double>::infinity();
 // NLopt's global stage (DIRECT) runs up to this many variables; SLSQP (the local stage) up to
 // kMaxSlsqpVariables, MMA above. A box evaluation costs about kPassesPerBox tape passes (value and
 // gradient forward and back, the face, the centre); the tree keeps at most kMaxStoredIntervals.

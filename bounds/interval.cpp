@@ -11,7 +11,7 @@
 namespace spar::bounds {
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
+using internal::kInf;
 // Below this magnitude an fma residual may itself round (underflow): widen unconditionally.
 constexpr double kTiny = 0x1p-960;
 

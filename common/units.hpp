@@ -20,5 +20,6 @@ inline constexpr double kMillimetre = 0.001;  // metres per millimetre
 inline constexpr double kInch = 0.0254;       // metres per inch
 inline constexpr double kRadian = 1.0;
 inline constexpr double kDegree = std::numbers::pi / 180;  // radians per degree
+inline constexpr double kPi = std::numbers::pi;            // radians per half turn
 
 }  // namespace spar::units

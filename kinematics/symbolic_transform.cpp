@@ -176,5 +176,8 @@ SymbolicTransform rotz(Expr theta) { return axis_rotation(theta, 2); }
 SymbolicPoint constant_point(ExprPool& pool, double x, double y, double z) {
   return {pool.constant(x), pool.constant(y), pool.constant(z)};
 }
+SymbolicPoint constant_point(ExprPool& pool, const Eigen::Vector3d& p) {
+  return constant_point(pool, p.x(), p.y(), p.z());
+}
 
 }  // namespace spar::kinematics

@@ -79,5 +79,6 @@ class SymbolicTransform {
 
 // A point with constant coordinates.
 [[nodiscard]] SymbolicPoint constant_point(symbolic::ExprPool& pool, double x, double y, double z);
+[[nodiscard]] SymbolicPoint constant_point(symbolic::ExprPool& pool, const Eigen::Vector3d& p);
 
 }  // namespace spar::kinematics

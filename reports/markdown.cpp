@@ -61,7 +61,7 @@ std::string summary_lines(const Report& report) {
   return out.str();
 }
 
-void plan_section(const Report& report, std::ostringstream& out) {
+void markdown_plan(const Report& report, std::ostringstream& out) {
   const Chosen& chosen = *report.chosen;
   out << "\n## Chosen plan, in execution order\n\n"
       << "| step | details | preconditions |\n"
@@ -77,7 +77,7 @@ void plan_section(const Report& report, std::ostringstream& out) {
   }
 }
 
-void preconditions_section(const Report& report, std::ostringstream& out) {
+void markdown_preconditions(const Report& report, std::ostringstream& out) {
   out << "\n## Preconditions\n\n"
       << "Sound bounds [lo, hi] hold for every uncertainty value in the box; the inner bound is "
          "attained at witness points (the true range lies between the two). Lengths in "
@@ -100,7 +100,7 @@ void preconditions_section(const Report& report, std::ostringstream& out) {
   }
 }
 
-void repairs_section(const Report& report, std::ostringstream& out) {
+void markdown_repairs(const Report& report, std::ostringstream& out) {
   out << "\n## Inserted sensing and squeeze\n\n";
   const Chosen& chosen = *report.chosen;
   if (!chosen.repairs || chosen.repairs->empty()) {
@@ -126,7 +126,7 @@ void repairs_section(const Report& report, std::ostringstream& out) {
   if (!dropped.empty()) out << "- Tried and dropped (they did not help): " << dropped << ".\n";
 }
 
-void verification_section(const Report& report, std::ostringstream& out) {
+void markdown_verification(const Report& report, std::ostringstream& out) {
   out << "\n## Verification and recovery\n\n";
   bool any = false;
   const Chosen& chosen = *report.chosen;
@@ -160,7 +160,7 @@ void verification_section(const Report& report, std::ostringstream& out) {
 }
 
 // chosen.probability: σ and P(violation) per precondition, the tolerance allocation.
-void probability_section(const Report& report, std::ostringstream& out) {
+void markdown_probability(const Report& report, std::ostringstream& out) {
   const Probability& probability = *report.chosen->probability;
   const Jacobian& jacobian = probability.jacobian;
   out << "\n## Failure probability and tolerances\n\n"
@@ -197,7 +197,7 @@ void probability_section(const Report& report, std::ostringstream& out) {
 }
 
 // The cell's views, written beside the report as SVG files (write.hpp).
-void cell_section(const Report& report, std::ostringstream& out) {
+void markdown_cell(const Report& report, std::ostringstream& out) {
   out << "\n## The work cell\n\n"
       << "From above and from the front (lengths in " << report.units.length
       << "): the table, the robot's base and reach, the places, each object's outline (held: "
@@ -207,7 +207,7 @@ void cell_section(const Report& report, std::ostringstream& out) {
     out << "![" << report.cell->views[v].title << "](" << internal::cell_view_file(v) << ")\n";
 }
 
-void instances_section(const Report& report, std::ostringstream& out) {
+void markdown_instances(const Report& report, std::ostringstream& out) {
   const Instances& instances = report.instances;
   out << "\n## Instances considered\n\n"
       << instances.count
@@ -224,15 +224,15 @@ void instances_section(const Report& report, std::ostringstream& out) {
 }
 
 // One section per outcome of sensing: the branch's steps and preconditions, as a plan's.
-void branches_section(const Report& report, std::ostringstream& out) {
+void markdown_branches(const Report& report, std::ostringstream& out) {
   out << "\n## Branches: one plan per outcome of sensing\n";
   for (const Branch& branch : *report.branches) {
     out << "\n### Branch " << branch.outcome << " (" << branch.object << " is " << branch.outcome
         << "): " << branch.status << "\n";
     if (branch.steps.empty()) continue;
     const Report view = branch_as_plan(report, branch);
-    plan_section(view, out);
-    preconditions_section(view, out);
+    markdown_plan(view, out);
+    markdown_preconditions(view, out);
   }
 }
 
@@ -245,17 +245,17 @@ std::string markdown(const Report& report) {
       << summary_lines(report) << "```\n";
   if (report.sensing) out << sensing_markdown(*report.sensing);
   if (!report.chosen) return out.str();
-  plan_section(report, out);
+  markdown_plan(report, out);
   if (report.branches) {
-    branches_section(report, out);
+    markdown_branches(report, out);
     return out.str();
   }
-  if (report.cell) cell_section(report, out);
-  preconditions_section(report, out);
-  repairs_section(report, out);
-  verification_section(report, out);
-  if (report.chosen->probability) probability_section(report, out);
-  instances_section(report, out);
+  if (report.cell) markdown_cell(report, out);
+  markdown_preconditions(report, out);
+  markdown_repairs(report, out);
+  markdown_verification(report, out);
+  if (report.chosen->probability) markdown_probability(report, out);
+  markdown_instances(report, out);
   return out.str();
 }
 

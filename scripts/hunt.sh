@@ -29,7 +29,7 @@ seed=${SPAR_FUZZ_SEED:-20261201}
 # -O1 with line tables: fast enough to build and run, and every report has file:line frames.
 CC=clang CXX=clang++ cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -gline-tables-only" -DSPAR_SANITIZE=ON -DSPAR_FUZZ=ON \
-  -DSPAR_BUILD_BENCH=OFF
+  -DSPAR_BUILD_BENCH=OFF -DCMAKE_UNITY_BUILD=ON
 cmake --build "$build" -j2
 
 export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:check_initialization_order=1

@@ -1259,7 +1259,6 @@ std::vector<Expr> topological_order(std::span<const Expr> roots) {
 // Operators and functions
 
 namespace {
-const Number kOne = Number::integer(1);
 const Number kMinusOne = Number::integer(-1);
 }  // namespace
 
@@ -1272,11 +1271,11 @@ Expr operator+(Expr a, Expr b) {
     if (m.is_integer_constant(b.id(), 0)) return a;
     if (m.is_integer_constant(a.id(), 0)) return b;
   }
-  const Term terms[] = {{a, kOne}, {b, kOne}};
+  const Term terms[] = {{a, Number::one()}, {b, Number::one()}};
   return a.pool().sum(Number(), terms);
 }
 Expr operator-(Expr a, Expr b) {
-  const Term terms[] = {{a, kOne}, {b, kMinusOne}};
+  const Term terms[] = {{a, Number::one()}, {b, kMinusOne}};
   return a.pool().sum(Number(), terms);
 }
 Expr operator*(Expr a, Expr b) {
@@ -1287,15 +1286,15 @@ Expr operator*(Expr a, Expr b) {
     if (m.is_integer_constant(b.id(), 0) && !m.nodes[a.id()].partial) return b;
     if (m.is_integer_constant(a.id(), 0) && !m.nodes[b.id()].partial) return a;
   }
-  const Term factors[] = {{a, kOne}, {b, kOne}};
-  return a.pool().product(kOne, factors);
+  const Term factors[] = {{a, Number::one()}, {b, Number::one()}};
+  return a.pool().product(Number::one(), factors);
 }
 Expr operator/(Expr a, Expr b) {
-  const Term factors[] = {{a, kOne}, {b, kMinusOne}};
-  return a.pool().product(kOne, factors);
+  const Term factors[] = {{a, Number::one()}, {b, kMinusOne}};
+  return a.pool().product(Number::one(), factors);
 }
 Expr operator-(Expr a) {
-  const Term factors[] = {{a, kOne}};
+  const Term factors[] = {{a, Number::one()}};
   return a.pool().product(kMinusOne, factors);
 }
 Expr operator+(Expr a, double b) { return a + a.pool().constant(b); }

@@ -40,6 +40,7 @@ class Number {
   constexpr Number() = default;
 
   [[nodiscard]] static Number integer(std::int64_t value);
+  [[nodiscard]] static const Number& one();  // integer(1), built once
   // Throws SymbolicError if denominator == 0.
   [[nodiscard]] static Number rational(std::int64_t numerator, std::int64_t denominator);
   // An exact double (measured data). Integers of magnitude below 2^53 become exact rationals, so
@@ -117,5 +118,10 @@ class Number {
   double lower_{0.0};            // lower_ <= true value <= upper_, always
   double upper_{0.0};
 };
+
+inline const Number& Number::one() {
+  static const Number kOne = integer(1);
+  return kOne;
+}
 
 }  // namespace spar::symbolic

@@ -9,8 +9,6 @@
 namespace spar::symbolic {
 namespace {
 
-const Number kOne = Number::integer(1);
-
 bool is_zero(Expr e) { return e.is_constant() && e.constant().is_zero(); }
 
 // The function set the table's derivative formulas (symbolic/functions.hpp) are written over, as
@@ -54,9 +52,9 @@ Expr derivative_of_node(Expr e, Expr variable, Derivative&& d) {
         if (is_zero(di)) continue;
         factors.clear();
         for (std::size_t j = 0; j < e.operand_count(); ++j) {
-          factors.push_back({e.operand(j), j == i ? e.factor(j) - kOne : e.factor(j)});
+          factors.push_back({e.operand(j), j == i ? e.factor(j) - Number::one() : e.factor(j)});
         }
-        factors.push_back({di, kOne});
+        factors.push_back({di, Number::one()});
         terms.push_back(pool.product(e.constant() * e.factor(i), factors));
       }
       return pool.sum(terms);

@@ -13,7 +13,6 @@
 namespace spar::symbolic {
 namespace {
 
-const Number kOne = Number::integer(1);
 // expand() leaves a product as it is rather than build more terms than this.
 constexpr std::size_t kMaxExpandTerms = 4096;
 // Distribution inside simplify() is a cancellation search: small products only.
@@ -27,7 +26,7 @@ std::span<const Expr> just(const Expr& e) { return {&e, 1}; }
 
 // c·e, built directly (there is no Number·Expr operator).
 Expr scaled(const Number& c, Expr e) {
-  const Term t[] = {{e, kOne}};
+  const Term t[] = {{e, Number::one()}};
   return e.pool().product(c, t);
 }
 
@@ -89,7 +88,7 @@ SumTerm decompose(Expr t, const Number& coefficient) {
       term.factors.push_back({t.operand(i), t.factor(i)});
     }
   } else {
-    term.factors.push_back({t, kOne});
+    term.factors.push_back({t, Number::one()});
   }
   return term;
 }
@@ -109,7 +108,7 @@ Expr rest_of(ExprPool& pool, const SumTerm& term, std::size_t j, const Number& b
   std::vector<Term> factors = term.factors;
   factors[j].factor = factors[j].factor - by;
   if (l) factors[*l].factor = factors[*l].factor - by;
-  return pool.product(kOne, factors);
+  return pool.product(Number::one(), factors);
 }
 
 // The sum `e` with terms `drop` removed and `added` appended (with coefficient one).
@@ -121,7 +120,7 @@ Expr replace_terms(Expr e, std::initializer_list<std::size_t> drop, std::span<co
       kept.push_back({e.operand(i), e.factor(i)});
     }
   }
-  for (Expr a : added) kept.push_back({a, kOne});
+  for (Expr a : added) kept.push_back({a, Number::one()});
   return e.pool().sum(constant, kept);
 }
 
@@ -220,7 +219,7 @@ std::optional<Expr> angle_sum(Expr e) {
         } else if (op_x == Op::kCos) {
           std::swap(x, y);
         }
-        pairs.push_back({kind, x, y, rest_of(pool, terms[i], j, kOne, l), i});
+        pairs.push_back({kind, x, y, rest_of(pool, terms[i], j, Number::one(), l), i});
       }
     }
   }
@@ -258,7 +257,8 @@ std::optional<Expr> harmonic(Expr e) {
     for (std::size_t j = 0; j < terms[i].factors.size(); ++j) {
       const Term& f = terms[i].factors[j];
       if (is_trig(f.expr) && f.factor.is_integer() && f.factor.numerator() >= 1) {
-        singles.push_back({f.expr.op(), f.expr.operand(0), rest_of(pool, terms[i], j, kOne), i});
+        singles.push_back(
+            {f.expr.op(), f.expr.operand(0), rest_of(pool, terms[i], j, Number::one()), i});
       }
     }
   }
@@ -339,16 +339,16 @@ std::vector<Expr> factor_common(Expr e, std::size_t max_candidates) {
       for (Term& f : factors) {
         if (f.expr == s.base) f.factor = f.factor - s.exponent;
       }
-      inner.push_back({pool.product(terms[i].coefficient, factors), kOne});
+      inner.push_back({pool.product(terms[i].coefficient, factors), Number::one()});
     }
-    const Term factored[] = {{pool.sum(Number(), inner), kOne}, {s.base, s.exponent}};
+    const Term factored[] = {{pool.sum(Number(), inner), Number::one()}, {s.base, s.exponent}};
     std::vector<Term> outer;
     for (std::size_t i = 0; i < terms.size(); ++i) {
       if (std::find(s.terms.begin(), s.terms.end(), i) == s.terms.end()) {
         outer.push_back({e.operand(i), e.factor(i)});
       }
     }
-    outer.push_back({pool.product(kOne, factored), kOne});
+    outer.push_back({pool.product(Number::one(), factored), Number::one()});
     candidates.push_back(pool.sum(e.constant(), outer));
   }
   return candidates;
@@ -400,7 +400,7 @@ std::optional<Expr> distribute(Expr e, std::size_t max_terms) {
     distributed = true;
   }
   if (!distributed) return std::nullopt;
-  const Expr rest = pool.product(kOne, others);
+  const Expr rest = pool.product(Number::one(), others);
   for (Expr& p : products) p = p * rest;
   return pool.sum(products);
 }
@@ -432,7 +432,7 @@ std::optional<Expr> quotient(Expr e) {
       if (j != i) rest.push_back({e.operand(j), e.factor(j)});
     }
     if (rest.empty()) continue;
-    const Expr n = pool.product(kOne, rest);
+    const Expr n = pool.product(Number::one(), rest);
     const bool n_is_sum = n.op() == Op::kAdd;
     const std::size_t n_terms = n_is_sum ? n.operand_count() : 1;
     if (n_terms != d.operand_count()) continue;
@@ -440,7 +440,7 @@ std::optional<Expr> quotient(Expr e) {
     bool proportional = true;
     for (std::size_t k = 0; k < n_terms && proportional; ++k) {
       const Expr term = n_is_sum ? n.operand(k) : n;
-      const Number coefficient = n_is_sum ? n.factor(k) : kOne;
+      const Number coefficient = n_is_sum ? n.factor(k) : Number::one();
       if (!(term == d.operand(k)) || d.factor(k).is_zero()) {
         proportional = false;
         break;
@@ -631,7 +631,7 @@ struct DomainConditions {
 Expr keep_domain(Expr original, Expr result) {
   if (result == original || !original.is_partial()) return result;
   DomainConditions kept(result);
-  std::vector<Term> guarded{{result, kOne}};
+  std::vector<Term> guarded{{result, Number::one()}};
   const std::vector<Expr> order = topological_order(just(original));
   for (auto it = order.rbegin(); it != order.rend(); ++it) {  // outermost first
     if (kept.covers(*it)) continue;
@@ -659,30 +659,31 @@ Expr collect(Expr f, std::span<const Expr> variables) {
     if (!v.is_variable()) throw SymbolicError("collect: can only collect in variables");
     collected.insert(v.id());
   }
-  return keep_domain(
-      f, rewrite_bottom_up(expand(f), [&](Expr e) {
-        if (e.op() != Op::kAdd) return e;
-        ExprPool& pool = e.pool();
-        // Monomial -> the coefficients of its terms, in order of first appearance.
-        std::vector<std::pair<Expr, std::vector<Term>>> groups;
-        std::unordered_map<std::uint32_t, std::size_t> group_of;
-        for (const SumTerm& term : terms_of(e)) {
-          std::vector<Term> monomial, coefficient;
-          for (const Term& factor : term.factors) {
-            const bool in = collected.contains(factor.expr.id()) && factor.factor.is_integer();
-            (in ? monomial : coefficient).push_back(factor);
-          }
-          const Expr m = pool.product(kOne, monomial);
-          const auto [it, fresh] = group_of.emplace(m.id(), groups.size());
-          if (fresh) groups.push_back({m, {}});
-          groups[it->second].second.push_back({pool.product(term.coefficient, coefficient), kOne});
-        }
-        std::vector<Expr> grouped;
-        for (const auto& [monomial, coefficients] : groups) {
-          grouped.push_back(monomial * pool.sum(Number(), coefficients));
-        }
-        return pool.constant(e.constant()) + pool.sum(grouped);
-      }));
+  return keep_domain(f, rewrite_bottom_up(expand(f), [&](Expr e) {
+                       if (e.op() != Op::kAdd) return e;
+                       ExprPool& pool = e.pool();
+                       // Monomial -> the coefficients of its terms, in order of first appearance.
+                       std::vector<std::pair<Expr, std::vector<Term>>> groups;
+                       std::unordered_map<std::uint32_t, std::size_t> group_of;
+                       for (const SumTerm& term : terms_of(e)) {
+                         std::vector<Term> monomial, coefficient;
+                         for (const Term& factor : term.factors) {
+                           const bool in =
+                               collected.contains(factor.expr.id()) && factor.factor.is_integer();
+                           (in ? monomial : coefficient).push_back(factor);
+                         }
+                         const Expr m = pool.product(Number::one(), monomial);
+                         const auto [it, fresh] = group_of.emplace(m.id(), groups.size());
+                         if (fresh) groups.push_back({m, {}});
+                         groups[it->second].second.push_back(
+                             {pool.product(term.coefficient, coefficient), Number::one()});
+                       }
+                       std::vector<Expr> grouped;
+                       for (const auto& [monomial, coefficients] : groups) {
+                         grouped.push_back(monomial * pool.sum(Number(), coefficients));
+                       }
+                       return pool.constant(e.constant()) + pool.sum(grouped);
+                     }));
 }
 
 Expr simplify(Expr f, const SimplifyOptions& options) {

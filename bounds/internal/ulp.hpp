@@ -12,6 +12,8 @@
 
 namespace spar::bounds::internal {
 
+inline constexpr double kInf = std::numeric_limits<double>::infinity();
+
 [[nodiscard]] inline double next_up(double x) {
   if (!(x < std::numeric_limits<double>::infinity())) return x;  // NaN, +inf
   if (x == 0) return std::numeric_limits<double>::denorm_min();  // +0 and -0

@@ -8,14 +8,11 @@
 namespace spar::planner {
 namespace {
 
+using kinematics::constant_point;
 using kinematics::SymbolicPoint;
 using kinematics::SymbolicTransform;
 using kinematics::Transform;
 using symbolic::Expr;
-
-SymbolicPoint constant_point(symbolic::ExprPool& pool, const Eigen::Vector3d& p) {
-  return kinematics::constant_point(pool, p.x(), p.y(), p.z());
-}
 
 Expr dot(const SymbolicPoint& p, const Eigen::Vector3d& u) {
   return p[0] * u.x() + p[1] * u.y() + p[2] * u.z();

@@ -11,15 +11,12 @@
 namespace spar::planner {
 namespace {
 
+using kinematics::constant_point;
 using kinematics::PoseError;
 using kinematics::SymbolicPoint;
 using kinematics::SymbolicTransform;
 using kinematics::Transform;
 using symbolic::Expr;
-
-SymbolicPoint constant_point(symbolic::ExprPool& pool, const Eigen::Vector3d& p) {
-  return kinematics::constant_point(pool, p.x(), p.y(), p.z());
-}
 
 // The space's sigmas of a block (SpaceVariable::sigma): all 0 when it is uniform.
 kinematics::PoseUncertainty sigmas(const UncertaintyModel& model) {

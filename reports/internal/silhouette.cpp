@@ -10,23 +10,26 @@ namespace spar::reports::internal {
 namespace {
 
 namespace bg = boost::geometry;
-using Point = bg::model::d2::point_xy<double>;
-using Polygon = bg::model::polygon<Point>;  // clockwise outer rings, closed (Boost's default)
-using Shape = bg::model::multi_polygon<Polygon>;
+using BoostPoint = bg::model::d2::point_xy<double>;
+// Clockwise outer rings, closed (Boost's default).
+using BoostPolygon = bg::model::polygon<BoostPoint>;
+using BoostShape = bg::model::multi_polygon<BoostPolygon>;
 
 // The union of shapes[first, last): halves, then their union.
-Shape cascaded_union(const std::vector<Shape>& shapes, std::size_t first, std::size_t last) {
+BoostShape cascaded_union(const std::vector<BoostShape>& shapes, std::size_t first,
+                          std::size_t last) {
   if (last - first == 1) return shapes[first];
   const std::size_t middle = first + (last - first) / 2;
-  const Shape a = cascaded_union(shapes, first, middle), b = cascaded_union(shapes, middle, last);
-  Shape out;
+  const BoostShape a = cascaded_union(shapes, first, middle),
+                   b = cascaded_union(shapes, middle, last);
+  BoostShape out;
   bg::union_(a, b, out);
   return out;
 }
 
 // A Boost ring (closed; outer rings clockwise, holes counter-clockwise) as a Ring turning the
 // way the header says (the reverse), without the repeated last point.
-Ring ring_of(const bg::model::ring<Point>& boost_ring) {
+Ring ring_of(const bg::model::ring<BoostPoint>& boost_ring) {
   Ring ring;
   for (std::size_t i = 0; i + 1 < boost_ring.size(); ++i)
     ring.push_back({boost_ring[i].x(), boost_ring[i].y()});
@@ -43,34 +46,34 @@ std::vector<Ring> silhouette(const std::vector<Polygon2>& pieces) {
     for (const Eigen::Vector2d& p : piece) low = low.cwiseMin(p), high = high.cwiseMax(p);
   if (pieces.empty() || !(low.array() <= high.array()).all()) return {};
   const double size = std::max((high - low).norm(), 1e-12);
-  std::vector<Shape> shapes;
+  std::vector<BoostShape> shapes;
   for (const Polygon2& piece : pieces) {
     if (piece.size() < 3) continue;
-    Polygon polygon;
-    for (const Eigen::Vector2d& p : piece) bg::append(polygon.outer(), Point(p.x(), p.y()));
-    bg::append(polygon.outer(), Point(piece[0].x(), piece[0].y()));
+    BoostPolygon polygon;
+    for (const Eigen::Vector2d& p : piece) bg::append(polygon.outer(), BoostPoint(p.x(), p.y()));
+    bg::append(polygon.outer(), BoostPoint(piece[0].x(), piece[0].y()));
     if (std::fabs(bg::area(polygon)) <= 1e-9 * size * size) continue;  // seen edge-on
     bg::correct(polygon);
-    shapes.push_back(Shape{polygon});
+    shapes.push_back(BoostShape{polygon});
   }
   if (shapes.empty()) return {};
-  Shape united;
+  BoostShape united;
   try {
     united = cascaded_union(shapes, 0, shapes.size());
   } catch (const bg::exception&) {
     united.clear();
   }
   if (united.empty()) {  // the fallback: the convex hull contains the silhouette
-    Shape all;
-    for (const Shape& shape : shapes) all.push_back(shape.front());
-    Polygon hull;
+    BoostShape all;
+    for (const BoostShape& shape : shapes) all.push_back(shape.front());
+    BoostPolygon hull;
     bg::convex_hull(all, hull);
-    united = Shape{hull};
+    united = BoostShape{hull};
   }
-  Shape simple;
+  BoostShape simple;
   bg::simplify(united, simple, 1e-7 * size);
   std::vector<Ring> rings;
-  for (const Polygon& polygon : simple) {
+  for (const BoostPolygon& polygon : simple) {
     if (polygon.outer().size() >= 4) rings.push_back(ring_of(polygon.outer()));
     for (const auto& hole : polygon.inners())
       if (hole.size() >= 4) rings.push_back(ring_of(hole));

@@ -23,6 +23,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <array>
 #include <string>
 #include <vector>
@@ -112,6 +113,7 @@ class Blackboard {
 // The largest support one piece of evidence may give: a measured degree of collinearity never
 // proves a label, and two certain pieces for and against would conflict totally.
 inline constexpr double kMaxSupport = 0.99;
+[[nodiscard]] inline double capped(double support) { return std::clamp(support, 0.0, kMaxSupport); }
 // An image edge counts as a detection of its label from this belief on (the deficit of objects,
 // grouper.hpp), and below it clutter counts as unlabelled.
 inline constexpr double kDetectionBelief = 0.2;

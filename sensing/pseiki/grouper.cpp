@@ -9,8 +9,6 @@
 namespace spar::sensing::pseiki {
 namespace {
 
-double capped(double support) { return std::clamp(support, 0.0, kMaxSupport); }
-
 // The fraction of panel edge `m`'s visible length covered by `members` (image edges) projected on
 // its line, and their length-weighted mean belief.
 struct Cover {

@@ -9,8 +9,6 @@
 namespace spar::sensing::pseiki {
 namespace {
 
-double capped(double support) { return std::clamp(support, 0.0, kMaxSupport); }
-
 // Doubt about each panel face and object, from the last grouping (0 where none was formed).
 struct Doubts {
   std::vector<double> face, object;

@@ -27,7 +27,7 @@ BoundResult one_to_four() {
   return r;
 }
 
-struct Row {
+struct VerdictRow {
   Relation relation;
   double threshold;
   Verdict expected;
@@ -36,7 +36,7 @@ struct Row {
 TEST(Decide, VerdictTableOverEveryRelationAndBoundary) {
   symbolic::ExprPool pool;
   const BoundResult r = one_to_four();
-  const Row rows[] = {
+  const VerdictRow rows[] = {
       // f < t: proved iff hi < t; violated iff the attained inner_hi >= t.
       {Relation::kLess, 4.5, Verdict::kSatisfied},
       {Relation::kLess, 4.0, Verdict::kUndecided},  // hi = t: strict needs strict proof
@@ -60,7 +60,7 @@ TEST(Decide, VerdictTableOverEveryRelationAndBoundary) {
       {Relation::kGreaterEqual, 2.0, Verdict::kUndecided},  // f(argmin) may be exactly 2
       {Relation::kGreaterEqual, 2.1, Verdict::kViolated},
   };
-  for (const Row& row : rows) {
+  for (const VerdictRow& row : rows) {
     const Inequality q{"q", pool.variable("x"), row.relation, row.threshold};
     EXPECT_EQ(decide(q, r), row.expected)
         << "f " << to_string(row.relation) << ' ' << row.threshold << ": got "

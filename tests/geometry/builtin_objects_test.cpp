@@ -10,7 +10,7 @@
 namespace spar::geometry {
 namespace {
 
-constexpr double in = units::kInch;  // the built-ins are the seed's inch shapes, in metres
+constexpr double inch = units::kInch;  // the built-ins are the seed's inch shapes, in metres
 
 std::vector<int> faces_named_prefix(const ObjectModel& object, const std::string& prefix) {
   std::vector<int> ids;
@@ -28,7 +28,7 @@ TEST(BuiltinObjects, ExampleFilesMatchTheBuiltins) {
     for (const Face& face : built.faces()) {
       EXPECT_EQ(loaded.face(face.id).name, face.name);
       EXPECT_TRUE(loaded.face(face.id).normal.isApprox(face.normal, 1e-12));
-      EXPECT_NEAR(loaded.face(face.id).area, face.area, 1e-9 * in * in);
+      EXPECT_NEAR(loaded.face(face.id).area, face.area, 1e-9 * inch * inch);
     }
     EXPECT_EQ(stable_poses(loaded).size(), stable_poses(built).size()) << name;
     EXPECT_EQ(compute_grasps(loaded, GripperSpec{}, GraspQuantization{}).size(),
@@ -50,8 +50,9 @@ TEST(BuiltinObjects, BlockHasOnePoseForInsertingThePegFromAbove) {
   // SPAR's BP5: the block's mating faces (the peg hole's opening ring and floor) must be off the
   // table and the mating vector (-z in the block frame, into the hole) must point down.
   const ObjectModel block = make_builtin_object("block");
-  EXPECT_NEAR(block.volume(), (3.5 * 3 * 3 - 1.6 * 1.6 * 2 - 0.5 * 0.5 * (3 - 1.6)) * in * in * in,
-              1e-9 * in * in * in);
+  EXPECT_NEAR(block.volume(),
+              (3.5 * 3 * 3 - 1.6 * 1.6 * 2 - 0.5 * 0.5 * (3 - 1.6)) * inch * inch * inch,
+              1e-9 * inch * inch * inch);
   const auto poses = stable_poses(block);
   EXPECT_EQ(poses.size(), 6u);
   const std::vector<int> top = faces_named_prefix(block, "top");
@@ -68,7 +69,7 @@ TEST(BuiltinObjects, PegStandsOnBaseOrShaftButNotOnTheBaseSides) {
   const ObjectModel peg = make_builtin_object("peg");
   const auto poses = stable_poses(peg);
   // The centre of mass is above the 1.5 in high base, so the base's vertical sides are not stable.
-  EXPECT_GT(peg.center_of_mass().z(), 1.5 * in);
+  EXPECT_GT(peg.center_of_mass().z(), 1.5 * inch);
   for (const StablePose& pose : poses)
     EXPECT_GT(std::abs(pose.facet_normal.z()), 1e-6) << pose.label;
   bool on_base = false, on_shaft = false;
@@ -79,10 +80,12 @@ TEST(BuiltinObjects, PegStandsOnBaseOrShaftButNotOnTheBaseSides) {
   EXPECT_TRUE(on_base && on_shaft);
   // Grasps across the 3-inch base (W_p = 3 in the seed) exist and fit the 4-inch opening.
   const auto grasps = compute_grasps(peg, GripperSpec{}, GraspQuantization{});
-  EXPECT_TRUE(std::any_of(grasps.begin(), grasps.end(),
-                          [](const Grasp& g) { return std::abs(g.width - 3 * in) < 1e-9 * in; }));
-  EXPECT_TRUE(std::any_of(grasps.begin(), grasps.end(),
-                          [](const Grasp& g) { return std::abs(g.width - 1.5 * in) < 1e-9 * in; }));
+  EXPECT_TRUE(std::any_of(grasps.begin(), grasps.end(), [](const Grasp& g) {
+    return std::abs(g.width - 3 * inch) < 1e-9 * inch;
+  }));
+  EXPECT_TRUE(std::any_of(grasps.begin(), grasps.end(), [](const Grasp& g) {
+    return std::abs(g.width - 1.5 * inch) < 1e-9 * inch;
+  }));
 }
 
 TEST(BuiltinObjects, AreBuiltInMetresFromInchDimensions) {
@@ -90,7 +93,7 @@ TEST(BuiltinObjects, AreBuiltInMetresFromInchDimensions) {
   double largest = 0;
   for (const Eigen::Vector3d& v : cube.mesh().vertices) largest = std::max(largest, v.maxCoeff());
   EXPECT_EQ(largest, 0.0254);  // exactly 1 in
-  EXPECT_NEAR(cube.volume(), in * in * in, 1e-12 * in * in * in);
+  EXPECT_NEAR(cube.volume(), inch * inch * inch, 1e-12 * inch * inch * inch);
   bool named_in_inches = false;
   for (const Face& face : cube.faces()) named_in_inches |= face.name == "+z (z=1 in)";
   EXPECT_TRUE(named_in_inches);
@@ -100,7 +103,7 @@ TEST(BuiltinObjects, AreBuiltInMetresFromInchDimensions) {
              right = faces_named_prefix(block, "right +x");
   ASSERT_EQ(left.size(), 1u);
   ASSERT_EQ(right.size(), 1u);
-  EXPECT_NEAR(block.face(left[0]).offset + block.face(right[0]).offset, 3.5 * in, 1e-15);
+  EXPECT_NEAR(block.face(left[0]).offset + block.face(right[0]).offset, 3.5 * inch, 1e-15);
 }
 
 }  // namespace

@@ -6,13 +6,14 @@
 #include <numbers>
 #include <vector>
 
+#include "spar/common/units.hpp"
 #include "spar/kinematics/puma.hpp"
 #include "tests/common/expect_message.hpp"
 
 namespace spar::kinematics {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
+using units::kPi;
 
 TEST(DhChain, ForwardIsTheProductOfLinkTransforms) {
   const DhChain& robot = puma560();

@@ -8,13 +8,14 @@
 #include <span>
 #include <vector>
 
+#include "spar/common/units.hpp"
 #include "spar/kinematics/puma.hpp"
 #include "tests/common/expect_message.hpp"
 
 namespace spar::kinematics {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
+using units::kPi;
 
 Transform fk(const DhChain& robot, const JointVector& q) {
   return robot.forward(std::span<const double>(q.data(), 6));

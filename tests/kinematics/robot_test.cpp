@@ -12,6 +12,7 @@
 #include <random>
 #include <vector>
 
+#include "spar/common/units.hpp"
 #include "spar/kinematics/puma.hpp"
 #include "spar/kinematics/robots.hpp"
 #include "tests/common/expect_message.hpp"
@@ -19,7 +20,7 @@
 namespace spar::kinematics {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
+using units::kPi;
 
 Transform translation(double x, double y, double z) {
   return Transform(Eigen::Translation3d(x, y, z));

@@ -10,6 +10,7 @@
 #include <numbers>
 #include <string>
 
+#include "spar/common/units.hpp"
 #include "spar/kinematics/robots.hpp"
 #include "tests/common/expect_message.hpp"
 
@@ -17,7 +18,7 @@ namespace spar::kinematics {
 namespace {
 
 namespace fs = std::filesystem;
-constexpr double kPi = std::numbers::pi;
+using units::kPi;
 
 // A fresh folder per test under the system's temporary folder.
 class Urdf : public ::testing::Test {

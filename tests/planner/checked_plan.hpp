@@ -10,17 +10,13 @@
 #include <vector>
 
 #include "spar/planner/plan.hpp"
+#include "tests/common/replaced.hpp"
 #include "tests/planner/collision_checker.hpp"
 #include "tests/planner/plan_checker.hpp"
 
 namespace spar::planner::testing {
 
-// `text` with the first `from` replaced by `to`; a test failure when `from` is not there.
-inline std::string replaced(std::string text, const std::string& from, const std::string& to) {
-  const std::size_t at = text.find(from);
-  EXPECT_NE(at, std::string::npos) << from;
-  return at == std::string::npos ? text : text.replace(at, from.size(), to);
-}
+using test_support::replaced;
 
 inline Scenario scenario_of(const std::string& yaml) {
   return parse_scenario(yaml, "test.yaml", ".");

@@ -22,6 +22,7 @@
 #include "spar/planner/error.hpp"
 #include "spar/planner/scenario.hpp"
 #include "tests/common/expect_message.hpp"
+#include "tests/common/replaced.hpp"
 
 namespace spar::planner {
 namespace {
@@ -41,11 +42,9 @@ objects:
 places: [{name: left, at: [14, -8]}]
 )";
 
-std::string with(const std::string& from, const std::string& to) {
-  std::string text = kCell;
-  const std::size_t at = text.find(from);
-  EXPECT_NE(at, std::string::npos) << from;
-  return at == std::string::npos ? text : text.replace(at, from.size(), to);
+// kCell with the first `from` replaced by `to`.
+std::string cell_with(const std::string& from, const std::string& to) {
+  return test_support::replaced(kCell, from, to);
 }
 
 std::string scenario_error(const std::string& text) {
@@ -66,41 +65,42 @@ struct Hostile {
 TEST(HostileScenario, EachIsRefusedAtFileLineColumn) {
   const std::vector<Hostile> cases = {
       {"approach step that makes billions of grasps",
-       with("approach_step: 45", "approach_step: 1e-9"),
+       cell_with("approach_step: 45", "approach_step: 1e-9"),
        "cell.yaml:4:27: grasping.approach_step: must be an angle >= 1 and <= 360 deg"},
-      {"a million positions per axis", with("positions_per_axis: 1", "positions_per_axis: 1000000"),
+      {"a million positions per axis",
+       cell_with("positions_per_axis: 1", "positions_per_axis: 1000000"),
        "cell.yaml:4:51: grasping.positions_per_axis: must be a whole number >= 1 and <= 20"},
-      {"fractional positions", with("positions_per_axis: 1", "positions_per_axis: 2.5"),
+      {"fractional positions", cell_with("positions_per_axis: 1", "positions_per_axis: 2.5"),
        "cell.yaml:4:51: grasping.positions_per_axis: must be a whole number"},
-      {"gripper opening of 1e308", with("max_opening: 4", "max_opening: 1e308"),
+      {"gripper opening of 1e308", cell_with("max_opening: 4", "max_opening: 1e308"),
        "cell.yaml:3:32: robot.gripper.max_opening: must be a length > 0 and <= 78.7402 in"},
-      {"a tilt past straight up", with("max_tilt: 60", "max_tilt: 270"),
+      {"a tilt past straight up", cell_with("max_tilt: 60", "max_tilt: 270"),
        "cell.yaml:3:46: robot.max_tilt: must be an angle > 0 and <= 180 deg"},
-      {"a place a light year away", with("at: [14, -8]", "at: [1e300, -8]"),
+      {"a place a light year away", cell_with("at: [14, -8]", "at: [1e300, -8]"),
        "cell.yaml:10:28: places[0].at[0]: must be a length from -3937.01 in to 3937.01 in"},
-      {"a yaw of 1e20 degrees", with("yaw: 0", "yaw: 1e20"),
+      {"a yaw of 1e20 degrees", cell_with("yaw: 0", "yaw: 1e20"),
        "cell.yaml:8:42: objects.cube.pose.yaw: must be an angle from -360 deg to 360 deg"},
-      {"an angular uncertainty of many turns", with("dtheta: 2", "dtheta: 1e9"),
+      {"an angular uncertainty of many turns", cell_with("dtheta: 2", "dtheta: 1e9"),
        "cell.yaml:9:54: objects.cube.uncertainty.dtheta: must be an angle >= 0 and <= 180 deg"},
-      {"a negative half-width", with("dx: 0.1", "dx: -0.1"),
+      {"a negative half-width", cell_with("dx: 0.1", "dx: -0.1"),
        "cell.yaml:9:23: objects.cube.uncertainty.dx: must be a length >= 0"},
       {"too many places",
-       with("places: [{name: left, at: [14, -8]}]",
-            [] {
-              std::string places = "places: [";
-              for (int i = 0; i < 1001; ++i)
-                places += "{name: p" + std::to_string(i) + ", at: [14, -8]}, ";
-              return places + "]";
-            }()),
+       cell_with("places: [{name: left, at: [14, -8]}]",
+                 [] {
+                   std::string places = "places: [";
+                   for (int i = 0; i < 1001; ++i)
+                     places += "{name: p" + std::to_string(i) + ", at: [14, -8]}, ";
+                   return places + "]";
+                 }()),
        "cell.yaml:10:9: places: holds 1001 entries; their number must be a whole number >= 0 and "
        "<= 1000"},
-      {"a name that is not UTF-8", with("name: cell", "name: ce\xffll"),
+      {"a name that is not UTF-8", cell_with("name: cell", "name: ce\xffll"),
        "cell.yaml:1:9: invalid UTF-8 (byte 0xff); cell.yaml must be UTF-8 text"},
-      {"a NUL escape in the name", with("name: cell", "name: \"peg\\0block\""),
+      {"a NUL escape in the name", cell_with("name: cell", "name: \"peg\\0block\""),
        "cell.yaml:1:7: name: 'peg\\0block' holds a control character"},
-      {"a backspace escape in the name", with("name: cell", "name: \"peg\\block\""),
+      {"a backspace escape in the name", cell_with("name: cell", "name: \"peg\\block\""),
        "cell.yaml:1:7: name: 'peg\\x08lock' holds a control character"},
-      {"a raw control character", with("name: cell", "name: ce\x01ll"),
+      {"a raw control character", cell_with("name: cell", "name: ce\x01ll"),
        "cell.yaml:1:9: control character '\\x01' in the file"},
       {"two documents", kCell + "---\nname: second\n",
        "cell.yaml:11:1: a second YAML document (after '---')"},
@@ -113,7 +113,7 @@ TEST(HostileScenario, EachIsRefusedAtFileLineColumn) {
        "cell.yaml:2:1: YAML syntax error: ',' cannot start a value"},
       {"a stray comma after the document", kCell + ",\n",
        "cell.yaml:11:1: YAML syntax error: end of map not found"},
-      {"an escape sequence in an unknown key", with("name: cell", "\"\\e[31mred\": 1"),
+      {"an escape sequence in an unknown key", cell_with("name: cell", "\"\\e[31mred\": 1"),
        "cell.yaml:1:1: unknown key '\\x1b[31mred'"},
       {"a file over the YAML limit", kCell + "# " + std::string(1 << 20, 'x') + "\n",
        "cell.yaml: is larger than 1 MB, the limit for a YAML file"},
@@ -130,7 +130,7 @@ TEST(HostileScenario, EachIsRefusedAtFileLineColumn) {
 TEST(HostileScenario, GarbageEchoedInAMessageIsShortAndEscaped) {
   const std::string garbage = std::string(5000, 'z') + "\\e";
   const std::string message =
-      scenario_error(with("robot: {gripper", "robot: {model: \"" + garbage + "\", gripper"));
+      scenario_error(cell_with("robot: {gripper", "robot: {model: \"" + garbage + "\", gripper"));
   EXPECT_EQ(message.rfind("cell.yaml:3:16: robot.model: 'zzzz", 0), 0u) << message;
   EXPECT_NE(message.find("... (5001 bytes)' holds a control character"), std::string::npos)
       << message;
@@ -150,7 +150,7 @@ TEST(HostileScenario, CrOnlyAndCrLfFilesLoadLikeLf) {
     EXPECT_TRUE(other.objects[0].initial_pose.isApprox(lf.objects[0].initial_pose));
   }
   // Line numbers count CR line ends too.
-  std::string bad = with("yaw: 0", "yaw: 1e20");
+  std::string bad = cell_with("yaw: 0", "yaw: 1e20");
   for (char& c : bad)
     if (c == '\n') c = '\r';
   EXPECT_EQ(scenario_error(bad).rfind("cell.yaml:8:42: objects.cube.pose.yaw:", 0), 0u)
@@ -250,7 +250,7 @@ RC_GTEST_PROP(HostileScenario, LoadedNumbersStayInsideTheTable, ()) {
   const double value = mantissa * std::pow(10.0, exponent);
   std::string number = format_number(value);
   if (key.to_prefix.starts_with("at: [")) number += "]";
-  const std::string text = with(key.from, key.to_prefix + number);
+  const std::string text = cell_with(key.from, key.to_prefix + number);
   const std::string message = scenario_error(text);
   if (message.empty()) {
     const Scenario scenario = parse_scenario(text, "cell.yaml", ".");

@@ -10,10 +10,13 @@
 
 #include "spar/planner/error.hpp"
 #include "spar/planner/plan.hpp"
+#include "tests/common/replaced.hpp"
 #include "tests/planner/plan_options.hpp"
 
 namespace spar::planner {
 namespace {
+
+using testing::peg_pickup;
 
 std::string shipped_text() {
   std::ifstream in(std::filesystem::path(SPAR_SOURCE_DIR) / "planner" / "domain.yaml");
@@ -22,16 +25,7 @@ std::string shipped_text() {
   return text.str();
 }
 
-std::string replaced(std::string text, const std::string& from, const std::string& to) {
-  const std::size_t at = text.find(from);
-  EXPECT_NE(at, std::string::npos) << from;
-  if (at != std::string::npos) text.replace(at, from.size(), to);
-  return text;
-}
-
-Scenario peg_pickup() {
-  return load_scenario(std::string(SPAR_SOURCE_DIR) + "/tests/planner/data/phase2_peg_pickup.yaml");
-}
+using test_support::replaced;
 
 const AnalysedStep* first_step(const InstanceAnalysis& analysis, const std::string& action) {
   for (const AnalysedStep& step : analysis.steps)

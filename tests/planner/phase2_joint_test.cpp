@@ -21,21 +21,17 @@
 #include "spar/planner/uncertainty/repair.hpp"
 #include "spar/symbolic/operations.hpp"
 #include "tests/common/expect_message.hpp"
+#include "tests/planner/plan_options.hpp"
 
 namespace spar::planner {
 namespace {
+
+using testing::action_with;
 
 using kinematics::Transform;
 
 const std::string kScenario =
     std::string(SPAR_SOURCE_DIR) + "/tests/planner/data/ur5_joint_uncertainty.yaml";
-
-int action_with(const Domain& domain, Effect effect) {
-  for (std::size_t a = 0; a < domain.actions.size(); ++a)
-    if (domain.actions[a].effect == effect) return static_cast<int>(a);
-  ADD_FAILURE() << "the domain has no action with that effect";
-  return -1;
-}
 
 // The actual gripper at step `index`: G(q + δq) for joints q, the δq drawn into `values` as
 // dq<i>_g<index> (every other variable of the step stays 0).

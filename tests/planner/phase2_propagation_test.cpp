@@ -18,18 +18,14 @@
 #include "spar/planner/uncertainty/propagation.hpp"
 #include "spar/symbolic/operations.hpp"
 #include "tests/planner/phase2_simulation.hpp"
+#include "tests/planner/plan_options.hpp"
 
 namespace spar::planner {
 namespace {
 
-constexpr int kMaxRoundTrips = 100;
+using testing::action_with;
 
-int action_with(const Domain& domain, Effect effect) {
-  for (std::size_t a = 0; a < domain.actions.size(); ++a)
-    if (domain.actions[a].effect == effect) return static_cast<int>(a);
-  ADD_FAILURE() << "the domain has no action with that effect";
-  return -1;
-}
+constexpr int kMaxRoundTrips = 100;
 
 // The chain over one object between two places: pickup at A, putdown at B, pickup at B, putdown at
 // A, ... Records the DAG size of the pickup preconditions a grasp would have after each round

@@ -15,12 +15,10 @@
 namespace spar::planner {
 namespace {
 
-const char* const kExamples[] = {"peg_block_face_down", "peg_block_on_sides", "peg_block_face_up",
-                                 "peg_block_on_back"};
+using testing::example;
 
-Scenario example(const std::string& name) {
-  return load_scenario(std::string(SPAR_SOURCE_DIR) + "/examples/" + name + ".yaml");
-}
+const char* const kExampleNames[] = {"peg_block_face_down", "peg_block_on_sides",
+                                     "peg_block_face_up", "peg_block_on_back"};
 
 kinematics::PoseUncertainty scaled(kinematics::PoseUncertainty u, double by) {
   u.dx *= by;
@@ -84,7 +82,7 @@ TEST(Phase2Repair, HalvingEveryHalfWidthOfOnSidesIsNoWorseThanTable2) {
 }
 
 TEST(Phase2Repair, EveryInsertedStepTurnedAVerdictAndDroppedOnesAreCounted) {
-  for (const char* name : kExamples) {
+  for (const char* name : kExampleNames) {
     SCOPED_TRACE(name);
     const PlanResult result = plan(example(name), builtin_domain(), testing::quick_options(2));
     ASSERT_TRUE(result.planned());
@@ -126,7 +124,7 @@ TEST(Phase2Repair, EveryInsertedStepTurnedAVerdictAndDroppedOnesAreCounted) {
 // in (0, 1) at a base scale in [0.1, 2] never raises the errors or the violated count.
 RC_GTEST_PROP(Phase2RepairProperty, ShrinkingUncertaintyNeverMakesThePlanWorse, ()) {
   const std::string name = *rc::gen::elementOf(std::vector<std::string>(
-      std::begin(kExamples), std::end(kExamples) - 1));  // on_back's phase 1 is the slowest
+      std::begin(kExampleNames), std::end(kExampleNames) - 1));  // on_back's phase 1 is the slowest
   const double base = *rc::gen::inRange(1, 21) / 10.0;
   const double factor = *rc::gen::inRange(1, 10) / 10.0;
   const Block block =

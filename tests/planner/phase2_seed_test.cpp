@@ -24,12 +24,10 @@
 namespace spar::planner {
 namespace {
 
+using testing::peg_pickup;
+
 using bounds::Verdict;
 constexpr double kInch = units::kInch;
-
-Scenario peg_pickup() {
-  return load_scenario(std::string(SPAR_SOURCE_DIR) + "/tests/planner/data/phase2_peg_pickup.yaml");
-}
 
 using testing::quick_options;
 

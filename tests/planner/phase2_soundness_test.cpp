@@ -26,13 +26,11 @@
 namespace spar::planner {
 namespace {
 
+using testing::example;
+
 using bounds::Verdict;
 using testing::NumericCondition;
 using testing::NumericPlan;
-
-Scenario example(const std::string& name) {
-  return load_scenario(std::string(SPAR_SOURCE_DIR) + "/examples/" + name + ".yaml");
-}
 
 using testing::quick_options;
 

@@ -10,6 +10,7 @@
 #include <string_view>
 #include <vector>
 
+#include "tests/planner/checked_plan.hpp"
 #include "tests/planner/collision_checker.hpp"
 #include "tests/planner/plan_checker.hpp"
 #include "tests/planner/plan_options.hpp"
@@ -18,6 +19,7 @@
 namespace spar::planner {
 namespace {
 
+using testing::actions;
 using testing::check_instance;
 
 Scenario example(const std::string& name) {
@@ -37,14 +39,6 @@ PlanOptions phase1_only() {
   PlanOptions options;
   options.uncertainty = false;
   return options;
-}
-
-// "pickup block", "putdown block", ... of an instance.
-std::vector<std::string> actions(const Scenario& scenario, const PlanInstance& instance) {
-  std::vector<std::string> out;
-  for (const InstanceStep& step : instance.steps)
-    out.push_back(step.action_name + " " + scenario.objects[step.object].name);
-  return out;
 }
 
 void expect_every_instance_valid(const Scenario& scenario, const PlanResult& result) {

@@ -18,6 +18,7 @@
 #include "spar/planner/plan.hpp"
 #include "spar/symbolic/operations.hpp"
 #include "spar/symbolic/parse.hpp"
+#include "tests/common/replaced.hpp"
 
 namespace spar::planner {
 namespace {
@@ -41,11 +42,7 @@ objects:
     uncertainty: {dx: 0.11, dy: 0.11, dz: 0.11, dtheta: 5.5, distribution: gaussian, sigma: {dx: 0.05, dtheta: 1}, cost: {dz: 3}}
 )";
 
-std::string replaced(std::string text, const std::string& from, const std::string& to) {
-  const std::size_t at = text.find(from);
-  EXPECT_NE(at, std::string::npos) << from;
-  return at == std::string::npos ? text : text.replace(at, from.size(), to);
-}
+using test_support::replaced;
 
 std::string error_of(const std::string& yaml) {
   try {

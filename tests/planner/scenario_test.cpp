@@ -15,6 +15,8 @@
 #include "spar/kinematics/robot.hpp"
 #include "spar/planner/error.hpp"
 #include "spar/sensing/camera.hpp"
+#include "tests/common/replaced.hpp"
+#include "tests/planner/plan_options.hpp"
 
 namespace spar::planner {
 namespace {
@@ -22,7 +24,7 @@ namespace {
 constexpr double in = units::kInch;
 constexpr double deg = units::kDegree;
 
-const std::filesystem::path kExamples = std::filesystem::path(SPAR_SOURCE_DIR) / "examples";
+using testing::kExamples;
 
 // A folder of its own for the files a test writes (meshes), emptied first.
 std::filesystem::path scratch_folder(const std::string& name) {
@@ -74,12 +76,7 @@ goals:
   - assembled: {held: peg, fixed: block, fixed_faces: hole, relative: {xyz: [0, 0, 6]}}
 )";
 
-// `text` with the first `from` replaced by `to` (which must occur).
-std::string replaced(std::string text, const std::string& from, const std::string& to) {
-  const std::size_t at = text.find(from);
-  EXPECT_NE(at, std::string::npos) << from;
-  return at == std::string::npos ? text : text.replace(at, from.size(), to);
-}
+using test_support::replaced;
 
 std::string with(const std::string& from, const std::string& to) {
   return replaced(kValid, from, to);

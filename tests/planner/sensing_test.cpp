@@ -14,11 +14,12 @@
 #include "spar/planner/sense_planning.hpp"
 #include "spar/planner/vision.hpp"
 #include "spar/planner/world.hpp"
+#include "tests/planner/plan_options.hpp"
 
 namespace spar::planner {
 namespace {
 
-const std::filesystem::path kExamples = std::filesystem::path(SPAR_SOURCE_DIR) / "examples";
+using testing::kExamples;
 
 // A scenario with one object `part` whose entry is `object` (YAML flow map).
 Scenario with_part(const std::string& object, const std::string& extra = "") {
@@ -27,7 +28,7 @@ Scenario with_part(const std::string& object, const std::string& extra = "") {
       ".");
 }
 
-std::string error_of(const std::string& object, const std::string& extra = "") {
+std::string part_error(const std::string& object, const std::string& extra = "") {
   try {
     (void)with_part(object, extra);
   } catch (const ScenarioError& error) {
@@ -159,58 +160,59 @@ TEST(SensingScenario, AWristCameraIsForSensePlanningOnly) {
                  "test.yaml:6:7: camera 'hand' is on the wrist (mount: wrist); vision needs a "
                  "fixed camera, posed in the world");
   }
-  EXPECT_NE(error_of("{builtin: cube, pose: {stable: P1, at: [0, 0]}}",
-                     wrist + ", uncertainty: {dx: 1}}\n")
+  EXPECT_NE(part_error("{builtin: cube, pose: {stable: P1, at: [0, 0]}}",
+                       wrist + ", uncertainty: {dx: 1}}\n")
                 .find("test.yaml:6:146: sensors.cameras[0].uncertainty: a camera on the wrist is "
                       "where the robot puts it; 'uncertainty' is for a fixed camera"),
             std::string::npos)
-      << error_of("{builtin: cube, pose: {stable: P1, at: [0, 0]}}",
-                  wrist + ", uncertainty: {dx: 1}}\n");
-  EXPECT_NE(error_of("{builtin: cube, pose: {stable: P1, at: [0, 0]}}",
-                     "sensors:\n  cameras:\n    - {name: range_scan, pose: {xyz: [0, 0, 1]}, "
-                     "intrinsics: {fx: 1, fy: 1, cx: 0, cy: 0, width: 1, height: 1}}\n")
+      << part_error("{builtin: cube, pose: {stable: P1, at: [0, 0]}}",
+                    wrist + ", uncertainty: {dx: 1}}\n");
+  EXPECT_NE(part_error("{builtin: cube, pose: {stable: P1, at: [0, 0]}}",
+                       "sensors:\n  cameras:\n    - {name: range_scan, pose: {xyz: [0, 0, 1]}, "
+                       "intrinsics: {fx: 1, fy: 1, cx: 0, cy: 0, width: 1, height: 1}}\n")
                 .find("sensors.cameras[0].name: 'range_scan' is the range scanner's name; name "
                       "the camera otherwise"),
             std::string::npos);
 }
 
 TEST(SensingScenario, MistakesSayWhereAndWhat) {
-  EXPECT_NE(error_of("{builtin: block, identity: [block, cube], pose: {at: [0, 0]}}")
+  EXPECT_NE(part_error("{builtin: block, identity: [block, cube], pose: {at: [0, 0]}}")
                 .find("give either 'builtin' or 'identity', not both"),
             std::string::npos);
-  EXPECT_NE(error_of("{identity: [block], pose: {at: [0, 0]}}")
+  EXPECT_NE(part_error("{identity: [block], pose: {at: [0, 0]}}")
                 .find("expected a list of at least two candidate shapes"),
             std::string::npos);
-  EXPECT_NE(error_of("{identity: [block, block], pose: {at: [0, 0]}}").find("listed twice"),
+  EXPECT_NE(part_error("{identity: [block, block], pose: {at: [0, 0]}}").find("listed twice"),
             std::string::npos);
-  const std::string unknown = error_of("{builtin: block, pose: {stable: [P1, P9], at: [0, 0]}}");
+  const std::string unknown = part_error("{builtin: block, pose: {stable: [P1, P9], at: [0, 0]}}");
   EXPECT_EQ(unknown.rfind("test.yaml:3:46: objects.part.pose.stable: object 'part' has no stable "
                           "pose 'P9'",
                           0),
             0U)
       << unknown;
   const std::string cameras = "sensors:\n  cameras:\n    - ";
-  EXPECT_NE(error_of("{builtin: cube, pose: {stable: P1, at: [0, 0]}}",
-                     cameras + "{name: c, pose: {xyz: [0, 0, 1]}, intrinsics: {fx: 1, fy: 1, "
-                               "cx: 0, cy: 0, width: 0, height: 1}}\n")
+  EXPECT_NE(part_error("{builtin: cube, pose: {stable: P1, at: [0, 0]}}",
+                       cameras + "{name: c, pose: {xyz: [0, 0, 1]}, intrinsics: {fx: 1, fy: 1, "
+                                 "cx: 0, cy: 0, width: 0, height: 1}}\n")
                 .find("sensors.cameras[0].intrinsics.width: must be a whole number >= 1 and <= "
                       "16384 (an image side in pixels), got 0"),
             std::string::npos);
   EXPECT_NE(
-      error_of("{builtin: cube, pose: {stable: P1, at: [0, 0]}}",
-               cameras + "{name: c, pose: {xyz: [0, 0, 1]}, intrinsics: {fx: 1, fy: 1, "
-                         "cx: 0, cy: 0, width: 1, height: 1}, detection_probability: 1.5}\n")
+      part_error("{builtin: cube, pose: {stable: P1, at: [0, 0]}}",
+                 cameras + "{name: c, pose: {xyz: [0, 0, 1]}, intrinsics: {fx: 1, fy: 1, "
+                           "cx: 0, cy: 0, width: 1, height: 1}, detection_probability: 1.5}\n")
           .find("detection_probability: must be a number > 0 and <= 1 (a probability), got 1.5"),
       std::string::npos);
-  EXPECT_NE(error_of("{builtin: cube, pose: {stable: P1, at: [0, 0]}}",
-                     cameras + "{name: c, mount: belt, pose: {xyz: [0, 0, 1]}, intrinsics: {fx: 1, "
-                               "fy: 1, cx: 0, cy: 0, width: 1, height: 1}}\n")
-                .find("unknown mount 'belt'"),
-            std::string::npos);
   EXPECT_NE(
-      error_of("{builtin: cube, pose: {stable: P1, at: [0, 0]}}", "sensing: {max_operations: 0}\n")
-          .find("sensing.max_operations: must be a whole number >= 1 and <= 10"),
+      part_error("{builtin: cube, pose: {stable: P1, at: [0, 0]}}",
+                 cameras + "{name: c, mount: belt, pose: {xyz: [0, 0, 1]}, intrinsics: {fx: 1, "
+                           "fy: 1, cx: 0, cy: 0, width: 1, height: 1}}\n")
+          .find("unknown mount 'belt'"),
       std::string::npos);
+  EXPECT_NE(part_error("{builtin: cube, pose: {stable: P1, at: [0, 0]}}",
+                       "sensing: {max_operations: 0}\n")
+                .find("sensing.max_operations: must be a whole number >= 1 and <= 10"),
+            std::string::npos);
 }
 
 // The example: only a look from the side tells P1 from P2 (the face on top is a plain square

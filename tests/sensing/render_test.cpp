@@ -40,7 +40,7 @@ std::vector<int> visible_faces(const Rendering& seen, int object = 0) {
   return ids;
 }
 
-int face_with_normal(const ObjectModel& model, const Eigen::Vector3d& normal) {
+int face_along(const ObjectModel& model, const Eigen::Vector3d& normal) {
   for (const geometry::Face& face : model.faces())
     if (face.normal.isApprox(normal, 1e-12)) return face.id;
   return 0;
@@ -108,7 +108,7 @@ TEST(Render, CubeFromAboveShowsItsTopFace) {
   scene.add("cube", cube.model, cube.features, Eigen::Isometry3d::Identity());
   const Camera camera = Camera::orthographic_view({0, 0, 1}, {0.5, 0.5, 0.5}, 1.0, 200);
   const Rendering seen = render(scene, camera);
-  const int top = face_with_normal(cube.model, {0, 0, 1});
+  const int top = face_along(cube.model, {0, 0, 1});
   ASSERT_EQ(visible_faces(seen), std::vector<int>{top});
   EXPECT_NEAR(seen.faces[0].visible_area, 1.0, 0.02);
   EXPECT_NEAR(seen.faces[0].angle, 0.0, 1e-12);
@@ -168,7 +168,7 @@ TEST(Render, FrontBoxHidesExactlyItsShadowOfTheBackEdge) {
   EXPECT_NEAR(pieces[0].second, 1, 1e-9);
   EXPECT_NEAR(pieces[1].first, 2, 1e-9);
   EXPECT_NEAR(pieces[1].second, 4, 1e-9);
-  const int back_front_face = face_with_normal(back.model, {0, -1, 0});
+  const int back_front_face = face_along(back.model, {0, -1, 0});
   for (const FaceView& face : seen.faces)
     if (face.object == 0 && face.face == back_front_face) {
       EXPECT_NEAR(face.visible_area, 6.0, 0.1);

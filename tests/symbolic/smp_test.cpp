@@ -216,8 +216,8 @@ TEST_F(SmpTest, BudgetBoundsWorkOnADeepChainOfRewritableNodes) {
 
 // A random expression; a recipe whose construction itself fails (it divides by an exact zero,
 // as 0^-3) is discarded.
-testing::BuiltExpr build_random_expr(ExprPool& pool, const std::vector<int>& recipe,
-                                     const std::map<std::string, double>& point) {
+testing::BuiltExpr build_or_discard(ExprPool& pool, const std::vector<int>& recipe,
+                                    const std::map<std::string, double>& point) {
   try {
     return testing::build_random_expr(pool, recipe, point);
   } catch (const SymbolicError&) {
@@ -262,7 +262,7 @@ RC_GTEST_PROP(SmpProperty, SimplifyPreservesValuesOfRandomExpressions, ()) {
   const auto recipe = *random_recipe();
   const auto point = *random_point();
   ExprPool pool;
-  const testing::BuiltExpr built = build_random_expr(pool, recipe, point);
+  const testing::BuiltExpr built = build_or_discard(pool, recipe, point);
   const Expr g = simplify(built.expr);
   RC_ASSERT(same_where_defined(built.expr, g, point, built.magnitude));
   RC_ASSERT(occurrence_cost(g) <= occurrence_cost(built.expr));
@@ -275,8 +275,8 @@ RC_GTEST_PROP(SmpProperty, EveryRewritePreservesValuesOnTrigShapes, ()) {
   const int m = *rc::gen::inRange(-3, 4), n = *rc::gen::inRange(-3, 4);
   const auto point = *random_point();
   ExprPool pool;
-  const testing::BuiltExpr p = build_random_expr(pool, p_recipe, point);
-  const testing::BuiltExpr q = build_random_expr(pool, q_recipe, point);
+  const testing::BuiltExpr p = build_or_discard(pool, p_recipe, point);
+  const testing::BuiltExpr q = build_or_discard(pool, q_recipe, point);
   const Expr f = trig_shape(pool, shape, p.expr, q.expr, m, n);
   const double magnitude = std::max(p.magnitude, q.magnitude);
   const Expr vars[] = {pool.variable("x"), pool.variable("z")};
@@ -292,8 +292,8 @@ RC_GTEST_PROP(SmpProperty, SimplifyNeverRaisesTheOccurrenceCost, ()) {
   const int width = *rc::gen::inRange(0, 4);
   const auto point = *random_point();
   ExprPool pool;
-  const Expr f = trig_shape(pool, shape, build_random_expr(pool, p_recipe, point).expr,
-                            build_random_expr(pool, q_recipe, point).expr, 2, -1);
+  const Expr f = trig_shape(pool, shape, build_or_discard(pool, p_recipe, point).expr,
+                            build_or_discard(pool, q_recipe, point).expr, 2, -1);
   SimplifyOptions options;
   options.widths = {{"x", 0.5 * width}, {"y", 2.0}};
   RC_ASSERT(occurrence_cost(simplify(f, options), options.widths) <=

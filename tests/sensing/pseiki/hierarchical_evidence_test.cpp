@@ -17,7 +17,7 @@
 namespace spar::sensing::pseiki {
 namespace {
 
-constexpr double kTolerance = 1e-10;
+constexpr double kBeliefTolerance = 1e-10;
 
 // A random strict hierarchy with `leaves` leaves (the root has at least two children, so no node
 // is the whole frame) and up to `pieces` pieces of evidence on random non-root nodes: simple
@@ -59,13 +59,13 @@ RC_GTEST_PROP(HierarchicalEvidence, EveryNodesBeliefAndPlausibilityAreDempstersR
   const TreeBeliefs got = tree.combine();
   const std::vector<MassFunction> sources = tree.mass_functions();
   const Combination want = combine(sources, static_cast<int>(tree.leaves().size()));
-  RC_ASSERT(std::abs(got.conflict - want.conflict) <= kTolerance);
+  RC_ASSERT(std::abs(got.conflict - want.conflict) <= kBeliefTolerance);
   for (int node = 0; node < tree.size(); ++node) {
     const FocalSet set = tree.leaf_set(node);
     RC_ASSERT(std::abs(got.belief[static_cast<std::size_t>(node)] - want.mass.belief(set)) <=
-              kTolerance);
+              kBeliefTolerance);
     RC_ASSERT(std::abs(got.plausibility[static_cast<std::size_t>(node)] -
-                       want.mass.plausibility(set)) <= kTolerance);
+                       want.mass.plausibility(set)) <= kBeliefTolerance);
   }
 }
 
@@ -82,14 +82,14 @@ RC_GTEST_PROP(HierarchicalEvidence, SmallFramesMatchTheDenseBruteForce, ()) {
     joint = step.mass;
     kept *= 1 - step.conflict;
   }
-  RC_ASSERT(std::abs(got.conflict - (1 - kept)) <= kTolerance);
+  RC_ASSERT(std::abs(got.conflict - (1 - kept)) <= kBeliefTolerance);
   for (int node = 0; node < tree.size(); ++node) {
     unsigned mask = 0;
     for (const int x : tree.leaf_set(node).members()) mask |= 1U << x;
     RC_ASSERT(std::abs(got.belief[static_cast<std::size_t>(node)] - brute_belief(joint, mask)) <=
-              kTolerance);
+              kBeliefTolerance);
     RC_ASSERT(std::abs(got.plausibility[static_cast<std::size_t>(node)] -
-                       brute_plausibility(joint, mask)) <= kTolerance);
+                       brute_plausibility(joint, mask)) <= kBeliefTolerance);
   }
 }
 
