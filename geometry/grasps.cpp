@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <limits>
+#include <mutex>
 #include <numbers>
 #include <optional>
 #include <utility>
@@ -395,6 +397,50 @@ bool grasp_leaves_free(const Grasp& grasp, std::span<const int> faces) {
   return std::none_of(faces.begin(), faces.end(), [&](int face) {
     return std::binary_search(grasp.obscured_faces.begin(), grasp.obscured_faces.end(), face);
   });
+}
+
+std::shared_ptr<const std::vector<Grasp>> remembered_grasps(const ObjectModel& object,
+                                                            const GripperSpec& gripper,
+                                                            const GraspQuantization& quantization) {
+  struct Remembered {
+    std::uint64_t digest;  // content_digest(mesh): a cheap first comparison
+    std::vector<Eigen::Vector3d> vertices;
+    std::vector<std::array<int, 3>> triangles;
+    GripperSpec gripper;
+    GraspQuantization quantization;
+    std::shared_ptr<const std::vector<Grasp>> grasps;
+    std::uint64_t last_used;
+  };
+  static std::mutex mutex;
+  static std::vector<Remembered> remembered;  // at most kRememberedGraspLists
+  static std::uint64_t clock = 0;
+  const Mesh& mesh = object.mesh();
+  const std::uint64_t digest = content_digest(mesh);
+  const auto same = [&](const Remembered& entry) {
+    return entry.digest == digest && entry.gripper == gripper &&
+           entry.quantization == quantization && entry.triangles == mesh.triangles &&
+           entry.vertices == mesh.vertices;
+  };
+  {
+    const std::scoped_lock lock(mutex);
+    const auto found = std::ranges::find_if(remembered, same);
+    if (found != remembered.end()) {
+      found->last_used = ++clock;
+      return found->grasps;
+    }
+  }
+  // Computed outside the lock: two threads asking for the same new list both compute it (the
+  // second one's is dropped below), nobody waits for another's search.
+  auto grasps =
+      std::make_shared<const std::vector<Grasp>>(compute_grasps(object, gripper, quantization));
+  const std::scoped_lock lock(mutex);
+  if (const auto found = std::ranges::find_if(remembered, same); found != remembered.end())
+    return found->grasps;
+  if (remembered.size() == kRememberedGraspLists)
+    remembered.erase(std::ranges::min_element(remembered, {}, &Remembered::last_used));
+  remembered.push_back(
+      {digest, mesh.vertices, mesh.triangles, gripper, quantization, grasps, ++clock});
+  return grasps;
 }
 
 }  // namespace spar::geometry

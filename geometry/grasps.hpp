@@ -39,6 +39,8 @@
 #pragma once
 
 #include <Eigen/Geometry>
+#include <cstddef>
+#include <memory>
 #include <span>
 #include <string>
 #include <string_view>
@@ -62,12 +64,16 @@ struct GripperSpec {
   double palm_width{1.5 * units::kInch};           // along x
   double palm_height{1 * units::kInch};            // along z, behind the fingers
   double max_approach_tilt{90 * units::kDegree};   // between z and world -z
+
+  bool operator==(const GripperSpec&) const = default;
 };
 
 struct GraspQuantization {
   double approach_step{90 * units::kDegree};  // radians, in (0, 2π]
   int positions_per_axis{1};
   double obscure_facing_cosine{0.5};  // faces within 60° of facing the gripper count
+
+  bool operator==(const GraspQuantization&) const = default;
 };
 
 struct Grasp {
@@ -86,6 +92,15 @@ struct Grasp {
 [[nodiscard]] std::vector<Grasp> compute_grasps(const ObjectModel& object,
                                                 const GripperSpec& gripper,
                                                 const GraspQuantization& quantization);
+// compute_grasps, remembered process-wide: a later call with the same mesh (vertices and
+// triangles compared exactly, not by digest), gripper and quantization (compared exactly) gets
+// the list computed the first time, shared. The grasps depend on nothing else (faces, face pairs
+// and tolerance are derived from the mesh). For whoever plans the same parts again: a batch of
+// scenarios, a Python loop, the random-scene properties. Thread-safe; holds the
+// kRememberedGraspLists most recently used lists (a mesh copy each); errors are not remembered.
+inline constexpr std::size_t kRememberedGraspLists = 64;
+[[nodiscard]] std::shared_ptr<const std::vector<Grasp>> remembered_grasps(
+    const ObjectModel& object, const GripperSpec& gripper, const GraspQuantization& quantization);
 
 enum class GraspUsability {
   usable,

@@ -398,20 +398,12 @@ WorldModel::WorldModel(Scenario scenario) : scenario_(std::move(scenario)) {
   // The closed gripper at each grasp width, built once (grasps share widths; a body builds three
   // box hierarchies); copies share them.
   std::map<double, geometry::Body> closed_at_width;
-  std::map<std::uint64_t, std::vector<geometry::Grasp>> grasps_of_shape;
   for (const ObjectSpec& spec : scenario_.objects) {
     ObjectWorld object;
     if (!spec.fixed) {
-      // Grasps depend on the mesh alone (its faces and face pairs are derived from it): parts
-      // of one shape (a table of cubes) share one computation.
-      const std::uint64_t shape = geometry::content_digest(spec.model.mesh());
-      auto grasps = grasps_of_shape.find(shape);
-      if (grasps == grasps_of_shape.end())
-        grasps =
-            grasps_of_shape
-                .emplace(shape, geometry::compute_grasps(spec.model, gripper_, scenario_.grasping))
-                .first;
-      object.grasps = grasps->second;
+      // Parts of one shape (a table of cubes), and the same parts planned again, share one
+      // grasp search.
+      object.grasps = *geometry::remembered_grasps(spec.model, gripper_, scenario_.grasping);
       if (object.grasps.empty())
         throw PlanError(spec.location.str() + ": object '" + spec.name +
                         "' has no grasp the gripper can make (opening " +

@@ -182,5 +182,59 @@ TEST(Grasps, FacesInsideHolesAreNotContacts) {
     EXPECT_TRUE(grasp.face_plus_y != wall && grasp.face_minus_y != wall) << grasp.label;
 }
 
+// The labels and transforms of two grasp lists, for comparing them.
+std::vector<std::pair<std::string, Eigen::Matrix4d>> labelled_transforms(
+    const std::vector<Grasp>& grasps) {
+  std::vector<std::pair<std::string, Eigen::Matrix4d>> out;
+  for (const Grasp& grasp : grasps) out.emplace_back(grasp.label, grasp.gripper_in_object.matrix());
+  return out;
+}
+
+TEST(Grasps, RememberedListsAreTheComputedOnesForExactlyTheSameInputs) {
+  const ObjectModel bar("bar", make_box(Eigen::Vector3d(5, 1, 2) * in));
+  const auto first = remembered_grasps(bar, GripperSpec{}, GraspQuantization{});
+  EXPECT_EQ(labelled_transforms(*first),
+            labelled_transforms(compute_grasps(bar, GripperSpec{}, GraspQuantization{})));
+  // Another object with the same mesh shares the list.
+  const ObjectModel twin("twin", make_box(Eigen::Vector3d(5, 1, 2) * in));
+  EXPECT_EQ(remembered_grasps(twin, GripperSpec{}, GraspQuantization{}), first);
+  // Any difference in the gripper, the quantization or a vertex is another list.
+  GripperSpec wider;
+  wider.max_opening = 6 * in;
+  const auto wide = remembered_grasps(bar, wider, GraspQuantization{});
+  EXPECT_NE(wide, first);
+  EXPECT_EQ(wide->size(), compute_grasps(bar, wider, GraspQuantization{}).size());
+  EXPECT_NE(wide->size(), first->size());
+  GraspQuantization finer;
+  finer.approach_step = 45 * units::kDegree;
+  EXPECT_EQ(labelled_transforms(*remembered_grasps(bar, GripperSpec{}, finer)),
+            labelled_transforms(compute_grasps(bar, GripperSpec{}, finer)));
+  const ObjectModel longer("longer", make_box(Eigen::Vector3d(5 + 1e-9, 1, 2) * in));
+  const auto moved = remembered_grasps(longer, GripperSpec{}, GraspQuantization{});
+  EXPECT_NE(moved, first);
+  EXPECT_EQ(labelled_transforms(*moved),
+            labelled_transforms(compute_grasps(longer, GripperSpec{}, GraspQuantization{})));
+  // An invalid quantization is an error every time, never a remembered list.
+  GraspQuantization invalid;
+  invalid.positions_per_axis = 0;
+  EXPECT_THROW((void)remembered_grasps(bar, GripperSpec{}, invalid), GeometryError);
+  EXPECT_THROW((void)remembered_grasps(bar, GripperSpec{}, invalid), GeometryError);
+}
+
+TEST(Grasps, RememberedListsAreBoundedAndRecomputedAfterEviction) {
+  const ObjectModel cube = make_builtin_object("cube");
+  const auto kept = remembered_grasps(cube, GripperSpec{}, GraspQuantization{});
+  // More new inputs than the cache holds push the cube's list out; asking again recomputes it
+  // (a new list, equal to the old one).
+  for (std::size_t i = 0; i <= kRememberedGraspLists; ++i) {
+    GripperSpec gripper;
+    gripper.palm_width = (2 + 0.01 * static_cast<double>(i)) * in;  // never the default
+    (void)remembered_grasps(cube, gripper, GraspQuantization{});
+  }
+  const auto again = remembered_grasps(cube, GripperSpec{}, GraspQuantization{});
+  EXPECT_NE(again, kept);
+  EXPECT_EQ(labelled_transforms(*again), labelled_transforms(*kept));
+}
+
 }  // namespace
 }  // namespace spar::geometry
