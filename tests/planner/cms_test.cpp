@@ -822,6 +822,12 @@ RC_GTEST_PROP(ConstraintNetwork, LargerNetworksAgreeWithBruteForce, ()) {
   check_against_model(10, 4, 20, 30);
 }
 
+// Domains past one 64-bit word (3 variables of up to 70 labels), so that arc consistency
+// and the search's revisions read multi-word rows both ways (by rows of u, by the union of v's).
+RC_GTEST_PROP(ConstraintNetwork, MultiWordDomainsAgreeWithBruteForce, ()) {
+  check_against_model(3, 70, 4, 10);
+}
+
 // Tree-structured networks (each variable's arcs go to one earlier variable) are decided by arc
 // consistency: with no search budget at all, posts and restricts are never kBudgetExhausted, and
 // their verdicts agree with brute force.

@@ -80,6 +80,12 @@ class ForwardChecking {
   // Forward checks `variable`'s new label, then restores arc consistency among the unassigned
   // variables; false when some domain is wiped out.
   [[nodiscard]] bool propagate(std::span<const std::uint64_t> pool, int variable, int label);
+  // D(u) := its labels that some label of D(v) (`supports`) allows; true when it shrank. By rows:
+  // `back` is u's end of the arc (a row per label of u). By union: `forward` is v's end.
+  static bool revise_by_rows(std::span<const std::uint64_t> pool, const Neighbor& back,
+                             ConstBitsRef supports, BitsRef domain);
+  bool revise_by_union(std::span<const std::uint64_t> pool, const Neighbor& forward,
+                       ConstBitsRef supports, BitsRef domain);
 
   Order order_;
   std::vector<std::vector<Neighbor>> neighbors_;
@@ -87,7 +93,8 @@ class ForwardChecking {
   std::vector<std::vector<int>> reverse_;
   std::vector<int> queue_;  // variables whose domain shrank, to revise their neighbours
   std::vector<char> queued_;
-  BitsetArray domains_;  // current domains; an assigned variable's holds its one label
+  std::vector<std::uint64_t> union_;  // revise_by_union's scratch
+  BitsetArray domains_;               // current domains; an assigned variable's holds its one label
   std::vector<char> assigned_;
   std::vector<Frame> frames_;  // one per variable; the first depth_ are the active levels
   int depth_{0};
