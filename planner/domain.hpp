@@ -82,7 +82,11 @@ struct ActionTemplate {
   std::vector<Parameter> parameters;
   std::vector<Atom> operational;
   std::vector<GeometricPrecondition> geometric;
-  Effect effect{Effect::kNone};      // the domain's `effect:` (required)
+  Effect effect{Effect::kNone};  // the domain's `effect:` (required)
+  // Effect sense only, the domain's `sensor:`: a fixed camera's verification (`camera`: phase 2
+  // splices it in where a camera with a residual sees the object) or a range-scan (`range_scan`,
+  // the default).
+  bool camera{false};
   std::vector<Builder> uncertainty;  // the domain's `uncertainty:` builders, in its order
   std::vector<Atom> add;
   std::vector<Atom> del;

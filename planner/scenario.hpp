@@ -217,7 +217,13 @@ struct CameraSensor {
   double detection_probability{1.0};  // in (0, 1]
   kinematics::PoseUncertainty uncertainty{};
   UncertaintyModel uncertainty_model{};
-  SourceLocation location;  // of the camera's entry
+  // Phase 2's camera verification (fixed cameras only): the pose uncertainty an accepted PSEIKI
+  // verification leaves on an object the camera sees, as a range-scan's residual (its own pose
+  // error included: the user's figure, not derived). Without one the camera only names what
+  // PSEIKI must see in a failed step's verification.
+  std::optional<kinematics::PoseUncertainty> residual{};
+  UncertaintyModel residual_model{};  // how the residual is distributed (probability only)
+  SourceLocation location;            // of the camera's entry
 
   // The camera as sense planning's simulated sensor (sensing/sensors.hpp).
   [[nodiscard]] sensing::SensorModel sensor_model() const;

@@ -1,7 +1,9 @@
 #include "spar/planner/vision.hpp"
 
 #include <algorithm>
+#include <cmath>
 
+#include "spar/common/units.hpp"
 #include "spar/geometry/collision.hpp"
 #include "spar/geometry/mesh.hpp"
 #include "spar/planner/error.hpp"
@@ -140,6 +142,54 @@ VisionSetup::ChangedScene VisionSetup::changed_scene(const std::vector<std::stri
   return out;
 }
 
+namespace {
+
+// The check of `object` by `sensor` (a fixed camera): the object's visible edges and the drawing.
+VisionCheck check_with(const Scenario& scenario, const StepScene& step, const CameraSensor& sensor,
+                       int object) {
+  const sensing::pseiki::ModelPanel panel(step.scene(), camera_of(sensor),
+                                          step.uncertainty(sensor));
+  VisionCheck check{.camera = sensor.name,
+                    .object = scenario.objects.at(static_cast<std::size_t>(object)).name,
+                    .edges = {},
+                    .acceptance = sensing::pseiki::MatchOptions{}.acceptance,
+                    .width = sensor.intrinsics.width,
+                    .height = sensor.intrinsics.height,
+                    .drawing = {}};
+  for (const sensing::pseiki::PanelEdge& edge : panel.edges()) {
+    if (edge.pieces.empty()) continue;
+    const std::string& body = step.scene().objects()[static_cast<std::size_t>(edge.object)].name;
+    if (edge.object == 0) check.edges.push_back(edge.id);
+    check.drawing.push_back({edge.id, body, edge.pieces});
+  }
+  return check;
+}
+
+// Whether the object's visible edges fix its pose in the image: at least three, two of them at
+// least 20 degrees apart (their longest pieces' directions, as lines: 0 and 180 degrees agree).
+bool fixes_pose(const VisionCheck& check) {
+  constexpr double kMinAngle = 20.0 * units::kPi / 180.0;
+  std::vector<double> angles;  // in [0, pi)
+  for (const VisionEdge& edge : check.drawing) {
+    if (edge.object != check.object || edge.pieces.empty()) continue;
+    const auto longest =
+        std::max_element(edge.pieces.begin(), edge.pieces.end(),
+                         [](const auto& a, const auto& b) { return a.length() < b.length(); });
+    const Eigen::Vector2d d = longest->p1 - longest->p0;
+    if (d.squaredNorm() == 0) continue;
+    angles.push_back(std::fmod(std::atan2(d.y(), d.x()) + units::kPi, units::kPi));
+  }
+  if (angles.size() < 3) return false;
+  for (std::size_t i = 0; i < angles.size(); ++i)
+    for (std::size_t j = i + 1; j < angles.size(); ++j) {
+      const double apart = std::abs(angles[i] - angles[j]);
+      if (std::min(apart, units::kPi - apart) >= kMinAngle) return true;
+    }
+  return false;
+}
+
+}  // namespace
+
 std::optional<VisionCheck> vision_check(const Scenario& scenario, int object,
                                         const kinematics::Transform& pose,
                                         const VisionOccluders& occluders) {
@@ -147,25 +197,26 @@ std::optional<VisionCheck> vision_check(const Scenario& scenario, int object,
   std::optional<VisionCheck> best;
   for (const CameraSensor& sensor : scenario.cameras) {
     if (sensor.mount == sensing::Mount::kWrist) continue;  // PSEIKI needs a world pose (above)
-    const sensing::pseiki::ModelPanel panel(step.scene(), camera_of(sensor),
-                                            step.uncertainty(sensor));
-    VisionCheck check{.camera = sensor.name,
-                      .object = scenario.objects.at(static_cast<std::size_t>(object)).name,
-                      .edges = {},
-                      .acceptance = sensing::pseiki::MatchOptions{}.acceptance,
-                      .width = sensor.intrinsics.width,
-                      .height = sensor.intrinsics.height,
-                      .drawing = {}};
-    for (const sensing::pseiki::PanelEdge& edge : panel.edges()) {
-      if (edge.pieces.empty()) continue;
-      const std::string& body = step.scene().objects()[static_cast<std::size_t>(edge.object)].name;
-      if (edge.object == 0) check.edges.push_back(edge.id);
-      check.drawing.push_back({edge.id, body, edge.pieces});
-    }
+    VisionCheck check = check_with(scenario, step, sensor, object);
     if (!check.edges.empty() && (!best || check.edges.size() > best->edges.size()))
       best = std::move(check);
   }
   return best;
+}
+
+std::vector<CameraVerification> verifying_cameras(const Scenario& scenario, int object,
+                                                  const kinematics::Transform& pose,
+                                                  const VisionOccluders& occluders, int camera) {
+  const StepScene step(scenario, object, pose, occluders);
+  std::vector<CameraVerification> out;
+  for (int c = 0; c < static_cast<int>(scenario.cameras.size()); ++c) {
+    const CameraSensor& sensor = scenario.cameras[static_cast<std::size_t>(c)];
+    if ((camera >= 0 && c != camera) || sensor.mount == sensing::Mount::kWrist || !sensor.residual)
+      continue;
+    VisionCheck check = check_with(scenario, step, sensor, object);
+    if (fixes_pose(check)) out.push_back({c, std::move(check)});
+  }
+  return out;
 }
 
 }  // namespace spar::planner

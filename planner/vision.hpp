@@ -112,4 +112,21 @@ struct VisionOccluders {
                                                       const kinematics::Transform& pose,
                                                       const VisionOccluders& occluders = {});
 
+// Phase 2's camera verification (a sense step with `sensor: camera`, planner/uncertainty/
+// repair.hpp): the fixed cameras with a `residual` (CameraSensor::residual; only `camera` when
+// >= 0) that see `object` at `pose` well enough to correct its pose, with the `occluders` drawn:
+// at least three of its model edges visible, two of them at least 20 degrees apart in the image
+// (their longest visible pieces' directions). In file order; empty when no camera qualifies. Two
+// cameras that both qualify may both verify (phase 2 fuses their residuals: an overhead view
+// measures x and y, a side view the height).
+struct CameraVerification {
+  int camera{-1};  // index into Scenario::cameras
+  VisionCheck check;
+};
+[[nodiscard]] std::vector<CameraVerification> verifying_cameras(const Scenario& scenario,
+                                                                int object,
+                                                                const kinematics::Transform& pose,
+                                                                const VisionOccluders& occluders,
+                                                                int camera = -1);
+
 }  // namespace spar::planner

@@ -295,6 +295,7 @@ std::vector<Step> analysed_steps(const planner::PlanResult& result,
       out.preconditions->push_back(build_precondition(scenario, precondition, analysis.variables,
                                                       result.analysis.max_scale));
     out.failed = analysed.failed;
+    if (analysed.camera_verification) out.vision = vision_of(*analysed.camera_verification);
     if (analysed.sensor_scale_needed && scenario.range_scan) {
       // The range-scan residual (scenario units) that would make this failed step hold.
       const planner::Units& units = scenario.units;

@@ -67,11 +67,9 @@ std::string verdict_span(const std::string& verdict) {
 }
 
 const char* action_colour(const std::string& action) {
-  static const std::map<std::string, const char*> colours = {{"pickup", "#cfe0fb"},
-                                                             {"putdown", "#cdeee6"},
-                                                             {"assemble", "#e4d7f6"},
-                                                             {"range-scan", "#ffe1bf"},
-                                                             {"squeeze", "#fff2a8"}};
+  static const std::map<std::string, const char*> colours = {
+      {"pickup", "#cfe0fb"},     {"putdown", "#cdeee6"},       {"assemble", "#e4d7f6"},
+      {"range-scan", "#ffe1bf"}, {"camera-verify", "#ffe1bf"}, {"squeeze", "#fff2a8"}};
   const auto found = colours.find(action);
   return found == colours.end() ? "#e6e8ec" : found->second;
 }
@@ -378,6 +376,16 @@ void preconditions_section(const Report& report, std::ostringstream& out) {
   out << "</table></div></section>\n";
 }
 
+// What PSEIKI must see, and the expected scene as the camera renders it (reports of this version).
+void vision_item(const VisionCheck& vision, std::ostringstream& out) {
+  out << "<li>" << html_escape(internal::vision_text(vision));
+  if (vision.view)
+    out << "<figure class=\"vision\" style=\"margin:6px 0\">" << expected_scene_svg(vision)
+        << "<figcaption class=\"note\">" << html_escape(internal::vision_view_text(vision))
+        << "</figcaption></figure>";
+  out << "</li>";
+}
+
 void repairs_section(const Report& report, std::ostringstream& out) {
   out << "<section id=\"repairs\"><h2>Inserted sensing and squeeze</h2>\n";
   const Chosen& chosen = *report.chosen;
@@ -405,21 +413,18 @@ void repairs_section(const Report& report, std::ostringstream& out) {
           << verdict_span(repair.after[i].verdict) << "</td></tr>\n";
   }
   if (any_kept) out << "</table></div>\n";
+  // Kept camera verifications: what PSEIKI must see there, drawn as the camera renders it.
+  for (std::size_t r = 0; r < chosen.repairs->size(); ++r) {
+    if (!positions[r] || !chosen.steps[*positions[r]].vision) continue;
+    out << "<h3>" << html_escape(step_label(chosen, *positions[r])) << "</h3><ul>";
+    vision_item(*chosen.steps[*positions[r]].vision, out);
+    out << "</ul>\n";
+  }
   const std::string dropped = internal::dropped_repairs(chosen);
   if (!dropped.empty())
     out << "<p class=\"dropped\">Tried and dropped (they did not help): " << html_escape(dropped)
         << ".</p>\n";
   out << "</section>\n";
-}
-
-// What PSEIKI must see, and the expected scene as the camera renders it (reports of this version).
-void vision_item(const VisionCheck& vision, std::ostringstream& out) {
-  out << "<li>" << html_escape(internal::vision_text(vision));
-  if (vision.view)
-    out << "<figure class=\"vision\" style=\"margin:6px 0\">" << expected_scene_svg(vision)
-        << "<figcaption class=\"note\">" << html_escape(internal::vision_view_text(vision))
-        << "</figcaption></figure>";
-  out << "</li>";
 }
 
 void verification_section(const Report& report, std::ostringstream& out) {

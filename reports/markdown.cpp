@@ -112,6 +112,9 @@ void markdown_repairs(const Report& report, std::ostringstream& out) {
     const Repair& repair = (*chosen.repairs)[r];
     if (!repair.helped) continue;  // the dropped ones: one line below
     out << "- " << internal::repair_title(chosen, repair, positions[r]) << ": kept\n";
+    if (positions[r] && chosen.steps[*positions[r]].vision)
+      out << "  - " << internal::vision_text(*chosen.steps[*positions[r]].vision)
+          << "; the scene it expects is drawn in the HTML report\n";
     for (std::size_t i = 0; i < repair.before.size() && i < repair.after.size(); ++i) {
       const RepairBound &before = repair.before[i], &after = repair.after[i];
       if (before.verdict == "satisfied" && after.verdict == "satisfied")

@@ -478,6 +478,7 @@ struct Step {
   std::optional<SensorResidual> sensor_residual_needed;   // failed steps
   std::optional<std::vector<Verification>> verification;  // failed steps
   std::optional<std::vector<Recovery>> recovery;          // failed steps
+  std::optional<VisionCheck> vision;  // inserted camera verifications: what PSEIKI must see
   template <class Self, class Field>
   static void fields(Self& s, Field&& field) {
     field("id", s.id);
@@ -504,6 +505,7 @@ struct Step {
     field("sensor_residual_needed", s.sensor_residual_needed);
     field("verification", s.verification);
     field("recovery", s.recovery);
+    field("vision", s.vision);
   }
 };
 
@@ -698,7 +700,7 @@ struct Probability {
 struct RepairSearch {
   int for_step{0};  // id of the failing step
   int candidates{0}, sets_tried{0}, kept{0};
-  NamedValues<int> dropped;  // per kind: range-scan, squeeze
+  NamedValues<int> dropped;  // per kind: range-scan, camera-verify, squeeze
   bool holds{false};
   template <class Self, class Field>
   static void fields(Self& s, Field&& field) {

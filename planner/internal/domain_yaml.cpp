@@ -267,6 +267,15 @@ class DomainReader {
                   : action.effect == Effect::kReduce ? ActionKind::kReduction
                                                      : ActionKind::kManipulation;
     check_requirements(action, requirements_of(action.effect), "effect " + name, effect.Mark());
+    if (const YAML::Node sensor = node["sensor"]) {
+      if (action.effect != Effect::kSense)
+        fail(sensor.Mark(), "'sensor' is for actions with effect sense (action '" + action.name +
+                                "' has effect " + name + ")");
+      const std::string text = scalar(sensor, "sensor");
+      if (text != "range_scan" && text != "camera")
+        fail(sensor.Mark(), "unknown sensor '" + text + "' (known: range_scan, camera)");
+      action.camera = text == "camera";
+    }
     if (const YAML::Node kind = node["kind"]) {
       static const std::pair<std::string_view, ActionKind> kKinds[] = {
           {"manipulation", ActionKind::kManipulation},
@@ -305,8 +314,8 @@ class DomainReader {
 
   ActionTemplate parse_action(const YAML::Node& node) const {
     expect_map(node, "action",
-               {"name", "kind", "effect", "parameters", "operational", "geometric", "uncertainty",
-                "add", "delete", "verification"});
+               {"name", "kind", "effect", "sensor", "parameters", "operational", "geometric",
+                "uncertainty", "add", "delete", "verification"});
     if (!node["name"]) fail(node.Mark(), "an action needs a 'name'");
     ActionTemplate action;
     action.name = scalar(node["name"], "action name");

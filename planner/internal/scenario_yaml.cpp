@@ -1140,7 +1140,7 @@ void Reader::check_goals(const Scenario& scenario, const std::vector<YAML::Node>
 CameraSensor Reader::read_camera(const YAML::Node& node, const std::string& path) const {
   const Fields fields(*this, node, path,
                       {"name", "pose", "intrinsics", "mount", "noise_px", "detection_probability",
-                       "projection", "uncertainty"});
+                       "projection", "uncertainty", "residual"});
   CameraSensor camera;
   camera.name = identifier(fields.require("name"), fields.path("name"));
   camera.location = where(node);
@@ -1166,6 +1166,14 @@ CameraSensor Reader::read_camera(const YAML::Node& node, const std::string& path
                                           "'uncertainty' is for a fixed camera");
     camera.uncertainty = uncertainty(fields.get("uncertainty"), fields.path("uncertainty"),
                                      camera.uncertainty_model);
+  }
+  if (fields.has("residual")) {
+    if (camera.mount == sensing::Mount::kWrist)
+      fail(fields.get("residual"), fields.path("residual") +
+                                       ": phase 2 verifies with fixed cameras only (a wrist "
+                                       "camera's view depends on where the robot puts it)");
+    camera.residual =
+        uncertainty(fields.get("residual"), fields.path("residual"), camera.residual_model);
   }
   return camera;
 }

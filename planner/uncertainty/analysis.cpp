@@ -44,11 +44,26 @@ using bounds::Interval;
 using bounds::Verdict;
 using symbolic::Expr;
 
-// The first action with `effect` (the one phase 2 splices in for sensing or squeezing), or -1.
-int find_action(const Domain& domain, Effect effect) {
+// The first action with `effect` (and for sense, `camera` as given: the one phase 2 splices in
+// for sensing or squeezing), or -1.
+int find_action(const Domain& domain, Effect effect, bool camera = false) {
   for (std::size_t a = 0; a < domain.actions.size(); ++a)
-    if (domain.actions[a].effect == effect) return static_cast<int>(a);
+    if (domain.actions[a].effect == effect &&
+        (effect != Effect::kSense || domain.actions[a].camera == camera))
+      return static_cast<int>(a);
   return -1;
+}
+
+// What the repair may splice in with this scenario and domain (RepairKinds).
+RepairKinds repair_kinds(const Scenario& scenario, const Domain& domain, int squeeze_grasps) {
+  const bool verifying_camera =
+      std::any_of(scenario.cameras.begin(), scenario.cameras.end(), [](const CameraSensor& camera) {
+        return camera.residual.has_value() && camera.mount == sensing::Mount::kFixed;
+      });
+  return {.scan = scenario.range_scan ? find_action(domain, Effect::kSense) : -1,
+          .look = verifying_camera ? find_action(domain, Effect::kSense, /*camera=*/true) : -1,
+          .squeeze = find_action(domain, Effect::kReduce),
+          .squeeze_grasps = squeeze_grasps};
 }
 
 bool all_hold(const std::vector<PreconditionResult>& results) {
@@ -132,8 +147,7 @@ class InstanceAnalyser {
         domain_(domain),
         options_(options),
         pool_(pool),
-        scan_(find_action(domain, Effect::kSense)),
-        squeeze_(find_action(domain, Effect::kReduce)),
+        kinds_(repair_kinds(world.scenario(), domain, options.squeeze_grasps)),
         decisions_(options.quick, options.bound) {}
 
   void run(std::vector<Phase2Step> steps, InstanceAnalysis& out);
@@ -162,7 +176,7 @@ class InstanceAnalyser {
   const Domain& domain_;
   const AnalysisOptions& options_;
   symbolic::ExprPool& pool_;
-  const int scan_, squeeze_;  // the domain's first sense and reduce actions (-1: none)
+  const RepairKinds kinds_;  // the domain's actions the repair splices in, where usable
   // Every step decision of this instance: the repair search and the resumed
   // analysis after a repair decide many steps again over the same boxes.
   mutable DecisionCache decisions_;
@@ -196,9 +210,7 @@ int InstanceAnalyser::repair(std::vector<Phase2Step>& steps,
                              const std::vector<AnalysedStep>& analysed, int k,
                              const std::vector<PreconditionResult>& failing,
                              InstanceAnalysis& out) const {
-  const std::vector<RepairCandidate> candidates =
-      repair_candidates(world_, steps, k, options_.squeeze_grasps,
-                        scan_ >= 0 && world_.scenario().range_scan.has_value(), squeeze_ >= 0);
+  const std::vector<RepairCandidate> candidates = repair_candidates(world_, steps, k, kinds_);
   if (candidates.empty()) return -1;
   int from = k;
   for (const RepairCandidate& c : candidates) from = std::min(from, c.position);
@@ -211,7 +223,7 @@ int InstanceAnalyser::repair(std::vector<Phase2Step>& steps,
   const int first_record = static_cast<int>(out.repairs.size());
   std::map<unsigned, std::vector<PreconditionResult>> failing_with;  // per set tried
   const RepairChoice choice = choose_repair(candidates, baseline, [&](unsigned set) {
-    const SplicedPlan trial = splice(steps, k, candidates, set, scan_, squeeze_, first_record);
+    const SplicedPlan trial = splice(steps, k, candidates, set, kinds_, first_record);
     const auto decided = replay(snapshots[from], trial.steps, from, trial.failing);
     RepairScore score;
     for (const auto& [position, results] : decided) {
@@ -239,7 +251,11 @@ int InstanceAnalyser::repair(std::vector<Phase2Step>& steps,
   for (std::size_t i = 0; i < candidates.size(); ++i) {
     if (!(choice.set >> i & 1u)) continue;
     RepairAttempt record{
-        .action = domain_.actions[candidates[i].effect == Effect::kReduce ? squeeze_ : scan_].name,
+        .action = domain_
+                      .actions[candidates[i].effect == Effect::kReduce ? kinds_.squeeze
+                               : candidates[i].camera >= 0             ? kinds_.look
+                                                                       : kinds_.scan]
+                      .name,
         .object = candidates[i].object,
         .for_instance_step = steps[k].instance_step,
         .helped = true,
@@ -258,19 +274,19 @@ int InstanceAnalyser::repair(std::vector<Phase2Step>& steps,
     }
     out.repairs.push_back(std::move(record));
   }
-  steps = splice(steps, k, candidates, choice.set, scan_, squeeze_, first_record).steps;
+  steps = splice(steps, k, candidates, choice.set, kinds_, first_record).steps;
   return from;
 }
 
 std::optional<double> InstanceAnalyser::sensor_margin(const std::vector<Phase2Step>& steps,
                                                       const std::vector<Propagation>& snapshots,
                                                       int k) const {
-  if (scan_ < 0 || !world_.scenario().range_scan) return std::nullopt;
-  std::vector<RepairCandidate> scans =
-      repair_candidates(world_, steps, k, 0, /*sensing=*/true, /*squeezing=*/false);
+  const RepairKinds scanning{.scan = kinds_.scan};  // the range scanner's residual is scaled
+  if (scanning.scan < 0) return std::nullopt;
+  std::vector<RepairCandidate> scans = repair_candidates(world_, steps, k, scanning);
   if (scans.empty()) return std::nullopt;
   const unsigned all = (1u << scans.size()) - 1;
-  const SplicedPlan trial = splice(steps, k, scans, all, scan_, squeeze_, -1);
+  const SplicedPlan trial = splice(steps, k, scans, all, scanning, -1);
   int earliest = k;
   for (const RepairCandidate& c : scans) earliest = std::min(earliest, c.position);
   // Propagated and compiled once: a scale is new ranges of the residuals' scale variables.
@@ -295,7 +311,7 @@ void InstanceAnalyser::run(std::vector<Phase2Step> steps, InstanceAnalysis& out)
   int k = 0;
   while (k < static_cast<int>(steps.size())) {
     Propagation state = snapshots[k];
-    // An inserted range-scan looks at the object where it rests now.
+    // An inserted range-scan or camera verification looks at the object where it rests now.
     if (steps[k].effect == Effect::kSense && steps[k].object >= 0 &&
         state.on_table(steps[k].object))
       steps[k].object_pose = state.on_table(steps[k].object)->ideal;
@@ -306,7 +322,15 @@ void InstanceAnalyser::run(std::vector<Phase2Step> steps, InstanceAnalysis& out)
                       .preconditions = decisions_.decide(preconditions, state.space()),
                       .failed = false,
                       .verification = {},
-                      .sensor_scale_needed = std::nullopt};
+                      .sensor_scale_needed = std::nullopt,
+                      .camera_verification = std::nullopt};
+    if (steps[k].camera >= 0) {
+      // What the camera must see (the scene as repair_candidates found the camera with).
+      std::vector<CameraVerification> camera =
+          verifying_cameras(world_.scenario(), steps[k].object, steps[k].object_pose,
+                            resting_occluders(world_, steps, k, steps[k].object), steps[k].camera);
+      if (!camera.empty()) step.camera_verification = std::move(camera.front().check);
+    }
     if (!all_hold(step.preconditions) && options_.repair && !step.inserted &&
         !attempted.contains(steps[k].instance_step)) {
       attempted.insert(steps[k].instance_step);

@@ -81,6 +81,8 @@ struct AnalysedStep {
   // residual (s times the scenario's) for which scanning the objects the step concerns would PROVE
   // every precondition of the step; nullopt when even a perfect sensor would not (or none exists).
   std::optional<double> sensor_scale_needed;
+  // An inserted camera verification (Phase2Step::camera): what PSEIKI must see to accept.
+  std::optional<VisionCheck> camera_verification;
 };
 
 // A range-scan or squeeze phase 2 kept in the plan (planner/uncertainty/repair.hpp) to repair the

@@ -51,6 +51,7 @@ struct Phase2Step {
   int position{-1};              // position label of `object` where it is (grasp, squeeze) or goes
                                  // (release); -1 for insertions and inserted range-scans
   int fixed_object{-1};          // insertions
+  int camera{-1};  // a camera verification (sense, `sensor: camera`): index into Scenario::cameras
   // Ideal: where the object is (grasp, squeeze, scan) or goes (release; insert: T_f Ta).
   kinematics::Transform object_pose{kinematics::Transform::Identity()};
   kinematics::Transform fixed_pose{kinematics::Transform::Identity()};

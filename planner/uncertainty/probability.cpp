@@ -631,6 +631,7 @@ AllocationParameters allocation_parameters(const Scenario& scenario,
     out.reach[j] = std::max(std::abs(v.lower), std::abs(v.upper));
     const Provenance& from = v.provenance;
     const int object = from.source == UncertaintySource::kInitial ? from.object : -1;
+    if (from.camera >= 0) continue;  // a camera's residual is not allocated (docs/scenario.md)
     const auto block = block_of(scenario, from.source, object);
     const int c = index_of(v.component);
     if (!block || !(block->widths->*kComponentMember[c] > 0)) continue;

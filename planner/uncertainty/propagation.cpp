@@ -209,14 +209,25 @@ std::vector<Precondition> Propagation::build(const Phase2Step& step, int index,
   return preconditions;
 }
 
-void Propagation::sense(int object, int index) {
-  if (sensor_scale_) return sense_scaled(object, index);
-  const RangeScanSensor sensor = world_->scenario().range_scan.value_or(RangeScanSensor{});
-  Reading reading{sensor.residual, sigmas(sensor.residual_model)};
+void Propagation::sense(int object, int index, int camera) {
+  Reading reading;
+  if (camera >= 0) {
+    const CameraSensor& sensor = world_->scenario().cameras.at(static_cast<std::size_t>(camera));
+    if (!sensor.residual)
+      throw PlanError("step " + std::to_string(index) + ": camera '" + sensor.name +
+                      "' has no residual to verify with");
+    reading = {*sensor.residual, sigmas(sensor.residual_model)};
+  } else if (sensor_scale_) {
+    return sense_scaled(object, index);
+  } else {
+    const RangeScanSensor sensor = world_->scenario().range_scan.value_or(RangeScanSensor{});
+    reading = {sensor.residual, sigmas(sensor.residual_model)};
+  }
   if (const std::optional<Reading> earlier = unmoved_scan(object))
     reading = fused(*earlier, reading, object);
   table_[object]->error = space_.allocate_pose(
-      reading.half_widths, {.source = UncertaintySource::kSensor, .object = object, .step = index},
+      reading.half_widths,
+      {.source = UncertaintySource::kSensor, .object = object, .step = index, .camera = camera},
       world_->scenario().objects[object].name + "_s" + std::to_string(index), reading.sigmas);
 }
 
@@ -296,7 +307,7 @@ void Propagation::apply(const Phase2Step& step, int index, const std::optional<A
       break;
     case Effect::kSense:
       require_on_table(step.object, index);
-      sense(step.object, index);
+      sense(step.object, index, step.camera);
       break;
     case Effect::kNone:
       break;

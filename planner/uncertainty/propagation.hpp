@@ -16,14 +16,16 @@
 //         angle of its rotation error about the gripper's approach axis a = R_M z, counted about
 //         world z (sign of a_z): exact for a vertical approach; for a tilted one the object is
 //         taken to settle on the table turned by that angle (a modelling choice).
-//   sense   the object's d and θ are replaced by the sensor's residual (fresh variables).
+//   sense   the object's d and θ are replaced by the sensor's residual (fresh variables): the
+//           range scanner's, or for a camera verification (Phase2Step::camera) that camera's.
 //           Scanned again before it moved (its error is still the last scan's residual), the two
 //           readings are fused (planner/uncertainty/fusion.hpp): the worst-case box is their
 //           intersection, and a Gaussian residual gets the information-form sigma (CHOLMOD),
 //           e.g. sigma / sqrt(2) for two equal readings; a uniform one stays uniform over the
 //           intersection. The verdicts see only the box. For the reverse analysis of the sensor
-//           (set_sensor_scale) the residual is s·u per component (a scale variable times one over
-//           the scenario's residual), so that a new scale is new ranges, not new expressions.
+//           (set_sensor_scale) the range scanner's residual is s·u per component (a scale variable
+//           times one over the scenario's residual), so that a new scale is new ranges, not new
+//           expressions.
 //   reduce  a grasp and a release in place with the same arm error (squeeze: no motion between).
 //   insert  the held object joins the fixed one (it is no longer tracked).
 //   none    nothing changes.
@@ -118,7 +120,8 @@ class Propagation {
   [[nodiscard]] std::vector<Precondition> build(const Phase2Step& step, int index,
                                                 const std::optional<ArmError>& arm);
   void apply(const Phase2Step& step, int index, const std::optional<ArmError>& arm);
-  void sense(int object, int index);
+  // A range-scan (camera -1) or the verification of camera `camera` (its residual; not scaled).
+  void sense(int object, int index, int camera);
   // Throws PlanError naming the step unless `object` is on the table / held.
   void require_on_table(int object, int index) const;
   void require_held(int object, int index, const char* doing) const;

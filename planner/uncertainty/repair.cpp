@@ -59,7 +59,17 @@ std::vector<unsigned> sets_of_size(std::size_t n, int size) {
 }  // namespace
 
 const char* repair_kind(const RepairCandidate& candidate) {
-  return candidate.effect == Effect::kReduce ? "squeeze" : "range-scan";
+  if (candidate.effect == Effect::kReduce) return "squeeze";
+  return candidate.camera >= 0 ? "camera-verify" : "range-scan";
+}
+
+VisionOccluders resting_occluders(const WorldModel& world, const std::vector<Phase2Step>& steps,
+                                  int until, int object) {
+  const WorldState state = state_before(world, steps, until);
+  VisionOccluders occluders;
+  for (int o = 0; o < static_cast<int>(state.poses.size()); ++o)
+    if (o != object && state.carrier[o] < 0) occluders.objects.emplace_back(o, state.poses[o]);
+  return occluders;
 }
 
 int scan_position(const std::vector<Phase2Step>& steps, int until, int object) {
@@ -79,29 +89,39 @@ int grasp_position(const std::vector<Phase2Step>& steps, int until, int object) 
 
 std::vector<RepairCandidate> repair_candidates(const WorldModel& world,
                                                const std::vector<Phase2Step>& steps, int k,
-                                               int squeeze_grasps, bool sensing, bool squeezing) {
+                                               const RepairKinds& kinds) {
   const Phase2Step& failing = steps[k];
   const bool insertion = failing.effect == Effect::kInsert;
   const int pickup_at = insertion ? grasp_position(steps, k, failing.object)
                                   : (failing.effect == Effect::kGrasp ? k : -1);
   std::vector<RepairCandidate> out;
-  if (sensing) {
-    if (insertion) {
-      const int at = scan_position(steps, k, failing.fixed_object);
-      if (at >= 0) out.push_back({Effect::kSense, failing.fixed_object, -1, at});
-    }
-    const int at = pickup_at >= 0 ? scan_position(steps, pickup_at, failing.object) : -1;
-    if (at >= 0) out.push_back({Effect::kSense, failing.object, -1, at});
-  }
+  // A range-scan and a camera verification of `object` where it rests before steps[until].
+  const auto sense = [&](int object, int until) {
+    const int at = until >= 0 ? scan_position(steps, until, object) : -1;
+    if (at < 0) return;
+    if (kinds.scan >= 0) out.push_back({Effect::kSense, object, -1, at});
+    if (kinds.look < 0) return;
+    std::vector<CameraVerification> cameras =
+        verifying_cameras(world.scenario(), object, state_before(world, steps, at).poses[object],
+                          resting_occluders(world, steps, at, object));
+    std::stable_sort(cameras.begin(), cameras.end(), [](const auto& a, const auto& b) {
+      return a.check.edges.size() > b.check.edges.size();
+    });
+    if (cameras.size() > kCamerasPerObject) cameras.resize(kCamerasPerObject);
+    for (const CameraVerification& camera : cameras)
+      out.push_back({.object = object, .position = at, .camera = camera.camera});
+  };
+  if (insertion) sense(failing.fixed_object, k);
+  sense(failing.object, pickup_at);
   // A squeeze uses another grasp than the pickup's (with the same one its preconditions would be
   // the failing pickup's own), one the robot reaches where the object lies and whose grasp and
   // release there clear everything (the IK branch that check takes is the squeeze's arm).
-  if (squeezing && pickup_at >= 0 && steps[pickup_at].position >= 0) {
+  if (kinds.squeeze >= 0 && pickup_at >= 0 && steps[pickup_at].position >= 0) {
     const Phase2Step& pickup = steps[pickup_at];
     const ObjectWorld& object = world.object(pickup.object);
     std::optional<WorldState> before;  // computed for the first reachable grasp
     int added = 0;
-    for (int g = 0; g < static_cast<int>(object.grasps.size()) && added < squeeze_grasps &&
+    for (int g = 0; g < static_cast<int>(object.grasps.size()) && added < kinds.squeeze_grasps &&
                     static_cast<int>(out.size()) < kMaxCandidates;
          ++g) {
       if (g == pickup.grasp || !object.reachable[g][pickup.position]) continue;
@@ -117,8 +137,8 @@ std::vector<RepairCandidate> repair_candidates(const WorldModel& world,
 }
 
 SplicedPlan splice(const std::vector<Phase2Step>& steps, int k,
-                   const std::vector<RepairCandidate>& candidates, unsigned set, int scan,
-                   int squeeze, int repair_id) {
+                   const std::vector<RepairCandidate>& candidates, unsigned set,
+                   const RepairKinds& kinds, int repair_id) {
   SplicedPlan out{.steps = steps, .failing = k, .inserted = {}};
   // Later positions first, so earlier ones stay valid; at one position, in candidate order.
   std::vector<int> order;
@@ -141,12 +161,13 @@ SplicedPlan splice(const std::vector<Phase2Step>& steps, int k,
     Phase2Step step;
     if (c.effect == Effect::kReduce) {
       step = steps[c.position];  // the pickup it precedes: same object, position, pose
-      step.action = squeeze;
+      step.action = kinds.squeeze;
       step.grasp = c.grasp;
       step.arm = c.arm;
     } else {
-      step.action = scan;
+      step.action = c.camera >= 0 ? kinds.look : kinds.scan;
       step.object = c.object;
+      step.camera = c.camera;
     }
     step.effect = c.effect;
     step.instance_step = -1;

@@ -4,8 +4,12 @@
 //
 // Candidates for the failing step at k, in SPAR's order (repair_candidates):
 //   for an insertion, a range-scan of the fixed object at the latest point before the step where
-//   the gripper is empty and the object rests where the step finds it;
-//   a range-scan of the handled object likewise before its pickup;
+//   the gripper is empty and the object rests where the step finds it, then at the same point a
+//   camera verification of it (a sense step with `sensor: camera`) by each fixed camera with a
+//   residual that sees it well enough there (planner/vision.hpp's verifying_cameras, the other
+//   objects where they rest drawn in front): the kCamerasPerObject that see the most of its edges
+//   (ties: file order), most first;
+//   a range-scan and a camera verification of the handled object likewise before its pickup;
 //   a squeeze just before that pickup with each other grasp the robot reaches there (up to
 //   `squeeze_grasps`; kMaxCandidates in all): it re-centres the object across those fingers. A
 //   squeeze is a grasp and release in place, so it passes the pickup's collision check
@@ -28,13 +32,15 @@
 //     but not without e;
 //   - with smaller uncertainty every set's score is no worse (bounds are inclusion-monotone), so
 //     the kept set's score, hence the step's verdicts, can only improve.
-// Cost: at most 2 scans x (1 + squeezes) - 1 sets, each one replay and decide of steps
-// [earliest candidate, k]; stops at the first size that settles the step.
+// Cost: at most 2^(sensing candidates, 2 + 2 kCamerasPerObject) x (1 + squeezes) - 1 sets, each one
+// replay and decide of steps [earliest candidate, k]; stops at the first size that settles the
+// step. Finding a camera verification renders the scene once per camera with a residual.
 //
 // Example:
-//   const std::vector<RepairCandidate> candidates = repair_candidates(world, steps, k, 4, true);
+//   const RepairKinds kinds{.scan = scan, .look = -1, .squeeze = squeeze, .squeeze_grasps = 4};
+//   const std::vector<RepairCandidate> candidates = repair_candidates(world, steps, k, kinds);
 //   const RepairChoice choice = choose_repair(candidates, baseline, [&](unsigned set) {
-//     return score_of(splice(steps, k, candidates, set, scan, squeeze));    // replay + decide
+//     return score_of(splice(steps, k, candidates, set, kinds, 0));    // replay + decide
 //   });
 #pragma once
 
@@ -45,6 +51,7 @@
 #include <vector>
 
 #include "spar/planner/uncertainty/builders.hpp"
+#include "spar/planner/vision.hpp"
 #include "spar/planner/world.hpp"
 
 namespace spar::planner {
@@ -57,29 +64,50 @@ struct PreconditionRef {
   friend auto operator<=>(const PreconditionRef&, const PreconditionRef&) = default;
 };
 
-// A range-scan (effect sense) or squeeze (effect reduce) to splice in before steps[position].
+// A range-scan or camera verification (effect sense) or squeeze (effect reduce) to splice in
+// before steps[position].
 struct RepairCandidate {
   Effect effect{Effect::kSense};
   int object{-1};
   int grasp{-1};  // squeeze: the grasp it closes with
   int position{-1};
   std::optional<kinematics::JointSolution> arm{};  // squeeze: its collision-checked IK branch
+  int camera{-1};  // camera verification: index into Scenario::cameras; -1: not one
 };
-[[nodiscard]] const char* repair_kind(const RepairCandidate& candidate);  // range-scan, squeeze
+// "range-scan", "camera-verify", "squeeze" (the built-in domain's names of the three)
+[[nodiscard]] const char* repair_kind(const RepairCandidate& candidate);
 
-// The candidates for the failing steps[k] (see the header comment); `sensing`: a range-scan sensor
-// and a sense action exist; `squeezing`: a reduce action exists.
+// What the repair may splice in: the domain's actions (indices into Domain::actions, -1: none or
+// not usable) and how many other grasps a squeeze may try.
+struct RepairKinds {
+  int scan{-1};     // a sense action with the range scanner; the scenario has one
+  int look{-1};     // a sense action with `sensor: camera`; some fixed camera has a residual
+  int squeeze{-1};  // a reduce action
+  int squeeze_grasps{0};
+};
+
+// The candidates for the failing steps[k] (see the header comment).
 [[nodiscard]] std::vector<RepairCandidate> repair_candidates(const WorldModel& world,
                                                              const std::vector<Phase2Step>& steps,
-                                                             int k, int squeeze_grasps,
-                                                             bool sensing, bool squeezing);
+                                                             int k, const RepairKinds& kinds);
+
+// What may hide `object` from a camera just before steps[until], where the gripper is empty: the
+// other objects where they rest (not those assembled into another: the planner no longer tracks
+// them on their own, as vision_check's drawing).
+[[nodiscard]] VisionOccluders resting_occluders(const WorldModel& world,
+                                                const std::vector<Phase2Step>& steps, int until,
+                                                int object);
 
 // The most candidates one failing step can have (a set is a bit set of them).
 inline constexpr int kMaxCandidates = 32;
+// The most camera verifications of one object among them (two views fused measure what one
+// cannot: an overhead camera x and y, a side camera the height).
+inline constexpr std::size_t kCamerasPerObject = 2;
 
 // `steps` with the candidates in `set` (bit i: candidates[i]) spliced in; inserted steps get
-// action `scan` or `squeeze`, Phase2Step::repair = `repair_id` + their rank in the set and a label
-// of their own that depends only on the failing step and i (Phase2Step::label).
+// action kinds.scan, kinds.look or kinds.squeeze, Phase2Step::repair = `repair_id` + their rank in
+// the set and a label of their own that depends only on the failing step and i
+// (Phase2Step::label).
 struct SplicedPlan {
   std::vector<Phase2Step> steps;
   int failing{-1};            // where steps[k] is now
@@ -87,7 +115,7 @@ struct SplicedPlan {
 };
 [[nodiscard]] SplicedPlan splice(const std::vector<Phase2Step>& steps, int k,
                                  const std::vector<RepairCandidate>& candidates, unsigned set,
-                                 int scan, int squeeze, int repair_id);
+                                 const RepairKinds& kinds, int repair_id);
 
 // How a plan with a repair set fares over the steps the search decides.
 struct RepairScore {

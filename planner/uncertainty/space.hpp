@@ -71,6 +71,7 @@ struct Provenance {
   int object{-1};  // the object's index; -1 for the manipulator
   int step{-1};    // the step's number (Propagation::step's index): its position in execution
                    // order (1-based) in an analysis' result; -1 for initial
+  int camera{-1};  // kSensor: the camera whose verification left it; -1: the range scanner
 };
 
 struct SpaceVariable {

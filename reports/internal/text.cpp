@@ -201,6 +201,9 @@ std::string step_details(const Units& units, const Step& step) {
     add(step.sensing->sensor + " at " + step.sensing->viewpoint + " (aspect " +
         (step.sensing->aspect.empty() ? "-" : step.sensing->aspect) + "), at most " +
         rounded(step.sensing->predicted_max_ambiguity) + " bits left");
+  if (step.vision)
+    add("camera " + step.vision->camera + " sees " + std::to_string(step.vision->edges.size()) +
+        " of its edges");
   return out;
 }
 

@@ -262,6 +262,11 @@ const std::vector<Case> kCases = {
   {"PlanCameraExampleNamesWhatPseikiMustSee",
    {"plan", "@SRC@/examples/peg_block_on_back_camera.yaml", "--samples", "0"}, 3,
    "camera overhead must see peg/e[0-9]+(, peg/e[0-9]+)* \\(PSEIKI accepts", ""},
+  // A camera with a residual verifies where a range scanner would scan (docs/vision.md).
+  {"PlanCameraVerifyExampleProvesTheInsertion",
+   {"plan", "@SRC@/examples/peg_block_camera_verify.yaml", "--samples", "0", "--report",
+    "@DIR@/camera-verify", "--format", "html"},
+   0, "camera-verify block.*camera-verify peg", ""},
   // No plan is a result, not a success: the report says why, the exit status is 2.
   {"PlanUnreachablePlaceNoPlan", {"plan", "@DIR@/no_plan.yaml", "--json", "--samples", "0"}, 2,
    "\"status\": \"no_plan\",\\s*\"reason\": \"no_plan: .*goal at\\(cube, far\\)", ""},

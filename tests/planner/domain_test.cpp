@@ -141,6 +141,23 @@ TEST(DomainErrors, UnknownEffect) {
                        "reduce, none)");
 }
 
+TEST(DomainErrors, SensorOnAnActionThatDoesNotSense) {
+  EXPECT_THROW_MESSAGE(parse_domain(one_action("    effect: none\n"
+                                               "    sensor: camera\n"
+                                               "    parameters: {object: object}\n"),
+                                    "d.yaml"),
+                       "d.yaml:4:13: 'sensor' is for actions with effect sense (action 'poke' has "
+                       "effect none)");
+}
+
+TEST(DomainErrors, UnknownSensor) {
+  EXPECT_THROW_MESSAGE(parse_domain(one_action("    effect: sense\n"
+                                               "    sensor: sonar\n"
+                                               "    parameters: {object: object}\n"),
+                                    "d.yaml"),
+                       "d.yaml:4:13: unknown sensor 'sonar' (known: range_scan, camera)");
+}
+
 TEST(DomainErrors, UnknownBuilder) {
   EXPECT_THROW_MESSAGE(parse_domain(one_action("    effect: none\n"
                                                "    parameters: {object: object}\n"

@@ -306,39 +306,39 @@ class JointUncertaintySqueeze : public ::testing::Test {
 TEST_F(JointUncertaintySqueeze, BoundsTheSqueezeAtItsCollisionCheckedBranch) {
   ASSERT_GE(pickup_grasp_, 0);
   int squeezed = 0;
-  each_cube_on_first_branch(
-      [&](int g, const kinematics::JointSolution& first, const Transform& cube_pose) {
-        if (squeezed > 0) return;
-        // The squeeze's grasp check with the cube where the putdown leaves it takes another
-        // branch than the first (the first hits the cube).
-        WorldState state = world_.initial_state();
-        state.poses[cube_] = cube_pose;
-        const Transform& peg_pose = world_.scenario().objects[peg_].initial_pose;
-        const StepCheck check = world_.check_grasp(state, peg_, g, peg_pose, false);
-        if (!check.clear || check.arm->configuration == first.configuration) return;
-        ++squeezed;
-        const std::vector<Phase2Step> plan = steps(cube_pose);
-        const std::vector<RepairCandidate> candidates =
-            repair_candidates(world_, plan, 2, 100, /*sensing=*/false, /*squeezing=*/true);
-        const RepairCandidate* squeeze = squeeze_with(candidates, g);
-        ASSERT_NE(squeeze, nullptr);
-        const unsigned set = 1u << (squeeze - candidates.data());
-        const SplicedPlan spliced =
-            splice(plan, 2, candidates, set, -1, action_with(domain_, Effect::kReduce), 0);
-        const Phase2Step& step = spliced.steps.at(spliced.inserted.at(0));
-        ASSERT_TRUE(step.arm);
-        EXPECT_EQ(step.arm->configuration, check.arm->configuration);
-        // Its conditions, propagated from the initial world (the peg where the squeeze finds it).
-        symbolic::ExprPool pool;
-        Propagation propagation(world_, domain_, pool);
-        const std::vector<Precondition> conditions = propagation.step(step, 1);
-        ASSERT_EQ(conditions.size(), 4u);
-        const geometry::Grasp& grasp = world_.object(peg_).grasps[g];
-        const Transform ideal = step.object_pose * grasp.gripper_in_object;
-        EXPECT_GT(expect_fingers_at(world_, conditions, propagation.space(), grasp, ideal,
-                                    check.arm->q, first.q, 2324),
-                  1e-7);  // the branch matters
-      });
+  each_cube_on_first_branch([&](int g, const kinematics::JointSolution& first,
+                                const Transform& cube_pose) {
+    if (squeezed > 0) return;
+    // The squeeze's grasp check with the cube where the putdown leaves it takes another
+    // branch than the first (the first hits the cube).
+    WorldState state = world_.initial_state();
+    state.poses[cube_] = cube_pose;
+    const Transform& peg_pose = world_.scenario().objects[peg_].initial_pose;
+    const StepCheck check = world_.check_grasp(state, peg_, g, peg_pose, false);
+    if (!check.clear || check.arm->configuration == first.configuration) return;
+    ++squeezed;
+    const std::vector<Phase2Step> plan = steps(cube_pose);
+    const RepairKinds squeezing{.squeeze = action_with(domain_, Effect::kReduce),
+                                .squeeze_grasps = 100};
+    const std::vector<RepairCandidate> candidates = repair_candidates(world_, plan, 2, squeezing);
+    const RepairCandidate* squeeze = squeeze_with(candidates, g);
+    ASSERT_NE(squeeze, nullptr);
+    const unsigned set = 1u << (squeeze - candidates.data());
+    const SplicedPlan spliced = splice(plan, 2, candidates, set, squeezing, 0);
+    const Phase2Step& step = spliced.steps.at(spliced.inserted.at(0));
+    ASSERT_TRUE(step.arm);
+    EXPECT_EQ(step.arm->configuration, check.arm->configuration);
+    // Its conditions, propagated from the initial world (the peg where the squeeze finds it).
+    symbolic::ExprPool pool;
+    Propagation propagation(world_, domain_, pool);
+    const std::vector<Precondition> conditions = propagation.step(step, 1);
+    ASSERT_EQ(conditions.size(), 4u);
+    const geometry::Grasp& grasp = world_.object(peg_).grasps[g];
+    const Transform ideal = step.object_pose * grasp.gripper_in_object;
+    EXPECT_GT(expect_fingers_at(world_, conditions, propagation.space(), grasp, ideal, check.arm->q,
+                                first.q, 2324),
+              1e-7);  // the branch matters
+  });
   EXPECT_GT(squeezed, 0) << "no cube on a first branch leaves the squeeze another branch";
 }
 
@@ -353,8 +353,9 @@ TEST_F(JointUncertaintySqueeze, NoSqueezeWhereItsGraspCheckFails) {
     const Transform& peg_pose = world_.scenario().objects[peg_].initial_pose;
     if (world_.check_grasp(state, peg_, g, peg_pose, false).clear) return;
     ++refused;
-    EXPECT_EQ(squeeze_with(repair_candidates(world_, steps(pose), 2, 100, false, true), g),
-              nullptr);
+    const RepairKinds squeezing{.squeeze = action_with(domain_, Effect::kReduce),
+                                .squeeze_grasps = 100};
+    EXPECT_EQ(squeeze_with(repair_candidates(world_, steps(pose), 2, squeezing), g), nullptr);
   });
   EXPECT_GT(refused, 0);
 }

@@ -48,10 +48,11 @@ class OnBack : public ::testing::Test {
   // `steps` spliced with every candidate of the insertion (scans and squeezes).
   static SplicedPlan with_every_candidate(const std::vector<Phase2Step>& steps) {
     const int k = insertion(steps);
-    const std::vector<RepairCandidate> candidates =
-        repair_candidates(*world_, steps, k, 4, /*sensing=*/true, /*squeezing=*/true);
-    return splice(steps, k, candidates, (1u << candidates.size()) - 1, action_with(Effect::kSense),
-                  action_with(Effect::kReduce), 0);
+    const RepairKinds kinds{.scan = action_with(Effect::kSense),
+                            .squeeze = action_with(Effect::kReduce),
+                            .squeeze_grasps = 4};
+    const std::vector<RepairCandidate> candidates = repair_candidates(*world_, steps, k, kinds);
+    return splice(steps, k, candidates, (1u << candidates.size()) - 1, kinds, 0);
   }
 
   static WorldModel* world_;
@@ -64,12 +65,11 @@ TEST_F(OnBack, AReplayWithAScanSplicedInReusesTheDecisionsOfStepsItDoesNotChange
   const std::vector<Phase2Step> steps = phase2_steps(builtin_domain(), *instance_);
   const int k = insertion(steps);
   ASSERT_GE(k, 0);
-  const std::vector<RepairCandidate> scans =
-      repair_candidates(*world_, steps, k, 0, /*sensing=*/true, /*squeezing=*/false);
+  const RepairKinds scanning{.scan = action_with(Effect::kSense)};
+  const std::vector<RepairCandidate> scans = repair_candidates(*world_, steps, k, scanning);
   ASSERT_FALSE(scans.empty());
   ASSERT_EQ(scans.front().object, steps[k].fixed_object);  // the block, before the second pickup
-  const SplicedPlan spliced =
-      splice(steps, k, scans, 1u, action_with(Effect::kSense), action_with(Effect::kReduce), 0);
+  const SplicedPlan spliced = splice(steps, k, scans, 1u, scanning, 0);
   const int scan_at = spliced.inserted.front();
   ASSERT_LT(scan_at, spliced.failing - 1);  // an original step with preconditions lies between
 

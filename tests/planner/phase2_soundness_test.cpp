@@ -170,6 +170,15 @@ TEST(Phase2Soundness, SeedExperimentsHoldWhereverTheyAreReportedSatisfied) {
   }
 }
 
+// Camera verifications spliced in (issue 27): the verified object's error is the camera's
+// residual, fused over two cameras.
+TEST(Phase2Soundness, CameraVerifiedPlansHoldWhereverTheyAreReportedSatisfied) {
+  const PlanResult result =
+      plan(example("peg_block_camera_verify"), builtin_domain(), quick_options(2));
+  ASSERT_TRUE(result.planned()) << result.family.reason;
+  expect_sound(result, 300);
+}
+
 // Without sensing every instance keeps its failures: violated verdicts, witnesses and the
 // unrepaired state are simulated too.
 TEST(Phase2Soundness, UnrepairedInstancesAreSoundAndTheirWitnessesViolate) {

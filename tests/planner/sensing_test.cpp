@@ -167,6 +167,14 @@ TEST(SensingScenario, AWristCameraIsForSensePlanningOnly) {
             std::string::npos)
       << part_error("{builtin: cube, pose: {stable: P1, at: [0, 0]}}",
                     wrist + ", uncertainty: {dx: 1}}\n");
+  // Phase 2 verifies with fixed cameras only (issue 27).
+  const std::string residual_error = part_error("{builtin: cube, pose: {stable: P1, at: [0, 0]}}",
+                                                wrist + ", residual: {dx: 0.01}}\n");
+  EXPECT_NE(residual_error.find("test.yaml:6:143: sensors.cameras[0].residual: phase 2 verifies "
+                                "with fixed cameras only (a wrist camera's view depends on where "
+                                "the robot puts it)"),
+            std::string::npos)
+      << residual_error;
   EXPECT_NE(part_error("{builtin: cube, pose: {stable: P1, at: [0, 0]}}",
                        "sensors:\n  cameras:\n    - {name: range_scan, pose: {xyz: [0, 0, 1]}, "
                        "intrinsics: {fx: 1, fy: 1, cx: 0, cy: 0, width: 1, height: 1}}\n")

@@ -149,5 +149,48 @@ TEST(VisionCheck, TheGripperIsDrawnAndHidesWhatItCovers) {
   EXPECT_LT(visible_length(*held, "part"), visible_length(*alone, "part"));
 }
 
+// Phase 2's camera verification (issue 27): a camera verifies an object only with a residual,
+// only where it sees enough of it to correct its pose, and not through another object.
+Scenario cube_behind(double front_x, const std::string& side_residual) {
+  return parse_scenario(
+      "units: {length: in, angle: deg}\n"
+      "objects:\n"
+      "  part: {builtin: cube, pose: {stable: P1, at: [20, 0]}}\n"
+      "  front: {builtin: cube, pose: {stable: P1, at: [" +
+          std::to_string(front_x) +
+          ", -3]}}\n"
+          "sensors:\n  cameras:\n"
+          "    - {name: plain, pose: {xyz: [20, 0, 20], rpy: [180, 0, 0]},\n"
+          "       intrinsics: {fx: 800, fy: 800, cx: 320, cy: 240, width: 640, height: 480}}\n"
+          "    - {name: side, pose: {xyz: [20, -10, 0.5], rpy: [-90, 0, 0]},\n"
+          "       intrinsics: {fx: 800, fy: 800, cx: 320, cy: 240, width: 640, height: 480}" +
+          side_residual + "}\n",
+      "test.yaml", ".");
+}
+
+TEST(VerifyingCameras, OnlyACameraWithAResidualThatSeesThePartVerifiesIt) {
+  const std::string residual = ", residual: {dx: 0.02, dy: 0.1, dz: 0.02, dtheta: 1}";
+  // The front cube 4 in aside: the side camera sees the part whole.
+  const Scenario clear = cube_behind(24, residual);
+  const kinematics::Transform& pose = clear.object("part").initial_pose;
+  VisionOccluders front;
+  front.objects = {{1, clear.object("front").initial_pose}};
+  const std::vector<CameraVerification> seen = verifying_cameras(clear, 0, pose, front);
+  ASSERT_EQ(seen.size(), 1U);  // `plain` sees the part from above, but has no residual
+  EXPECT_EQ(seen[0].camera, 1);
+  EXPECT_EQ(seen[0].check.camera, "side");
+  EXPECT_GE(seen[0].check.edges.size(), 3U);
+  EXPECT_TRUE(verifying_cameras(clear, 0, pose, front, /*camera=*/0).empty());
+  EXPECT_EQ(verifying_cameras(clear, 0, pose, front, /*camera=*/1).size(), 1U);
+  // Without a residual no camera verifies, though both see the part.
+  EXPECT_TRUE(verifying_cameras(cube_behind(24, ""), 0, pose, front).empty());
+  // The front cube right between the side camera and the part hides it.
+  const Scenario hidden = cube_behind(20, residual);
+  front.objects = {{1, hidden.object("front").initial_pose}};
+  EXPECT_TRUE(verifying_cameras(hidden, 0, pose, front).empty());
+  // Alone, the part is seen again.
+  EXPECT_EQ(verifying_cameras(hidden, 0, pose, {}).size(), 1U);
+}
+
 }  // namespace
 }  // namespace spar::planner

@@ -76,6 +76,8 @@ std::vector<const nlohmann::ordered_json*> all_reports() {
   reports.push_back(&sensing_report());
   // A robot read from a URDF file (issue 23): robot.urdf, base_link, tip and joint_names.
   reports.push_back(&example_report("panda_peg_block"));
+  // Camera verification spliced in by phase 2 (issue 27): the step's vision.
+  reports.push_back(&example_report("peg_block_camera_verify"));
   reports.push_back(&no_inner_range_report());
   return reports;
 }
