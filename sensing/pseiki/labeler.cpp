@@ -76,6 +76,25 @@ Junctions junctions_of(const Blackboard& board, int element, int a) {
   return out;
 }
 
+// How much of `e` duplicates `other` (labeler.hpp): the share of e's length that runs along
+// other's extent, beyond the ends' noise, within kDuplicateOffset of its line (fading to nothing
+// at twice that).
+double duplicated_share(const Segment& e, const Segment& other, double noise) {
+  const Eigen::Vector2d d = other.direction();
+  const double length = e.length();
+  if (length <= 0 || other.length() <= 0) return 0;
+  const double s0 = (e.p0 - other.p0).dot(d), s1 = (e.p1 - other.p0).dot(d);
+  const double lo = std::max(std::min(s0, s1), 0.0),
+               hi = std::min(std::max(s0, s1), other.length());
+  const double slack = std::max(1.0, 3 * std::sqrt(2.0) * noise);  // two noisy ends
+  if (hi - lo <= slack || s1 == s0) return 0;
+  // e's points where the overlap starts and ends, and their distance from other's line.
+  const auto at = [&](double s) { return e.p0 + (s - s0) / (s1 - s0) * (e.p1 - e.p0); };
+  const double offset = std::max(other.line_distance(at(lo)), other.line_distance(at(hi)));
+  const double closeness = std::clamp(2 - offset / kDuplicateOffset, 0.0, 1.0);
+  return closeness * (hi - lo - slack) / length;
+}
+
 ElementEvidence evidence_of(const Blackboard& board, int element, const Doubts& doubts) {
   const ModelPanel& model = board.model();
   const ImageEdge& edge = board.edges[static_cast<std::size_t>(element)];
@@ -113,6 +132,9 @@ ElementEvidence evidence_of(const Blackboard& board, int element, const Doubts& 
         collinearity_terms(edge.segment, panel_a.pieces, panel_a.tolerance).overlap;
     // The relational pairs pooled: belief-weighted sums of (in)compatibility and of belief.
     double compatible = 0, incompatible = 0, weight = 0;
+    // How far a believed piece of A that e runs along explains A's place already: the support
+    // A's neighbours and junctions give for "A is here" is then that piece's, not e's.
+    double explained = 0;
     for (std::size_t other = 0; other < board.edges.size(); ++other) {
       const ImageEdge& neighbour = board.edges[other];
       if (static_cast<int>(other) == element || !neighbour.active || neighbour.label < 0 ||
@@ -120,11 +142,18 @@ ElementEvidence evidence_of(const Blackboard& board, int element, const Doubts& 
         continue;
       const int b = neighbour.label;
       if (b == a) {
+        // Another piece of A confirms e, unless e runs along it: pieces of one edge do not
+        // overlap (an edge detector reports one edge where two coincide), so the part of e that
+        // duplicates it speaks against e.
+        const double duplicate =
+            duplicated_share(edge.segment, neighbour.segment, model.uncertainty().noise_px);
         tree.add_evidence(leaf,
                           capped(edge_collinearity(edge.segment, neighbour.segment, same_label) *
-                                 neighbour.belief * overlap),
+                                 neighbour.belief * overlap * (1 - duplicate)),
                           capped(edge_noncollinearity(edge.segment, neighbour.segment, same_label) *
                                  neighbour.belief));
+        if (duplicate > 0) tree.add_against(leaf, capped(duplicate * neighbour.belief));
+        explained = std::max(explained, duplicate * neighbour.belief);
       } else if (std::binary_search(related.begin(), related.end(), b)) {
         const PanelEdge& panel_b = model.edges()[static_cast<std::size_t>(b)];
         const Tolerance& relational = model.relational(a, b);
@@ -137,12 +166,13 @@ ElementEvidence evidence_of(const Blackboard& board, int element, const Doubts& 
     }
     if (weight > 0) {
       const double scale = 1 / std::max(1.0, weight);
-      tree.add_evidence(leaf, capped(kRelationalWeight * compatible * scale),
+      tree.add_evidence(leaf, capped(kRelationalWeight * compatible * scale * (1 - explained)),
                         capped(incompatible * scale));
     }
     const Junctions junctions = junctions_of(board, element, a);
     if (junctions.weight > 0)
-      tree.add_evidence(leaf, capped(junctions.support), capped(junctions.against));
+      tree.add_evidence(leaf, capped(junctions.support * (1 - explained)),
+                        capped(junctions.against));
     for (const int face : panel_a.faces)
       if (doubts.face[static_cast<std::size_t>(face)] > 0)
         tree.add_against(leaf, capped(doubts.face[static_cast<std::size_t>(face)]));

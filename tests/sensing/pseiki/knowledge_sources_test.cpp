@@ -157,6 +157,26 @@ TEST(Labeler, AnEdgeOnTheLineButPastTheModelEdgeIsNotConfirmedByIt) {
       << board.edges.back().belief;
 }
 
+// An edge detector reports one edge where two coincide: clutter running along a believed edge,
+// 1.5-2.5 px off its line at a small angle (within the noise tolerance of the model edge, as
+// collinear with it as the edge itself), duplicates it and is not believed; the edge still is.
+TEST(Labeler, AnEdgeRunningAlongABelievedEdgeDuplicatesItAndIsNotBelieved) {
+  const Fixture f;
+  std::vector<ImageEdgeInput> image = image_of(f.panel);
+  const Segment edge = image[0].segment;
+  const Eigen::Vector2d d = edge.direction(), n(-d.y(), d.x());
+  const double along = std::min(20.0, 0.4 * edge.length());
+  ASSERT_GT(along, 10.0);
+  const Eigen::Vector2d start = edge.p0 + 0.3 * edge.length() * d;
+  image.push_back({"along", {start + 1.5 * n, start + along * d + 2.5 * n}});
+  Blackboard board(f.panel, image, 1.0);
+  settle(board);
+  EXPECT_EQ(board.edges[0].label, 0);
+  EXPECT_GE(board.edges[0].belief, 0.9);
+  EXPECT_TRUE(board.edges.back().label < 0 || board.edges.back().belief < kDetectionBelief)
+      << board.edges.back().belief;
+}
+
 // Downward flow: doubt about an object bears on the labels of all its candidates at once (an
 // internal node of the element's hypothesis tree).
 TEST(Labeler, DoubtAboutTheObjectLowersItsEdgesLabels) {
