@@ -19,6 +19,9 @@
 //
 //   labels       issue 27's label criteria (tests/sensing/pseiki/label_score.hpp) over seeds 1..40
 //                of its simulated image, on the tests' two boxes and on 4 and 8 boxes.
+//   rejections   the other half of its acceptance: images of a changed scene (an object missing,
+//                or another object in its place) matched against the expected one, seeds 1..40:
+//                how many interpretations are rejected (all should be).
 //
 //   pseiki_bench [--quick]
 // Prints `ratio pseiki_combination flat_dempster <flat / hierarchical>` per size, and tables.
@@ -189,10 +192,68 @@ void labels(bool quick) {
   label_row("sidewalk", setup.scene(), setup.camera(), setup.uncertainty(), setup.options(), seeds);
 }
 
+// Issue 27's rejections: images of `actual` (an object missing or swapped) matched against
+// `expected`, both seen by `camera`; every interpretation should be rejected.
+void rejection_row(const std::string& name, const spar::sensing::Scene& expected,
+                   const pseiki::ExpectationUncertainty& expected_uncertainty,
+                   const spar::sensing::Scene& actual,
+                   const pseiki::ExpectationUncertainty& actual_uncertainty,
+                   const spar::sensing::Camera& camera, const pseiki::MatchOptions& options,
+                   int seeds) {
+  int rejected = 0;
+  double highest = 0;
+  for (int seed = 1; seed <= seeds; ++seed) {
+    const pseiki::SimulatedImage image =
+        pseiki::simulate(actual, camera, actual_uncertainty, pseiki::testing::kIssuePerturbation,
+                         static_cast<std::uint64_t>(seed));
+    const pseiki::Verification result = pseiki::verify(
+        expected, camera, expected_uncertainty, pseiki::testing::inputs_of(image), options);
+    rejected += result.accepted ? 0 : 1;
+    highest = std::max(highest, result.board.scene.belief);
+  }
+  std::printf("%30s %6d/%d %12.3f\n", name.c_str(), rejected, seeds, highest);
+}
+
+void rejections(bool quick) {
+  const int seeds = quick ? 10 : 40;
+  std::printf("\n== rejections: seeds 1..%d of a changed scene's simulated image ==\n", seeds);
+  std::printf("%30s %8s %12s\n", "image of", "rejected", "max_belief");
+  const pseiki::testing::TestScene expected = pseiki::testing::two_boxes();
+  pseiki::MatchOptions options;
+  options.detection_probability = 0.8;
+  const auto& block = expected.uncertainty.objects[0];
+  const auto& tower = expected.uncertainty.objects[1];
+  pseiki::testing::TestScene missing(expected.camera);
+  missing.add("block", {0.20, 0.14, 0.08}, pseiki::testing::at(0, 0), block);
+  missing.uncertainty.noise_px = expected.uncertainty.noise_px;
+  rejection_row("two boxes, tower missing", expected.scene, expected.uncertainty, missing.scene,
+                missing.uncertainty, expected.camera, options, seeds);
+  pseiki::testing::TestScene swapped(expected.camera);
+  swapped.add("block", {0.20, 0.14, 0.08}, pseiki::testing::at(0, 0), block);
+  swapped.add("tower~block", {0.20, 0.14, 0.08}, pseiki::testing::at(0.2, 0.15, 0.3), tower);
+  swapped.uncertainty.noise_px = expected.uncertainty.noise_px;
+  rejection_row("two boxes, block for tower", expected.scene, expected.uncertainty,
+                swapped.scene, swapped.uncertainty, expected.camera, options, seeds);
+  const spar::planner::Scenario sidewalk = spar::planner::load_scenario(
+      std::string(SPAR_SOURCE_DIR) + "/examples/vision/pseiki_sidewalk.yaml");
+  const spar::planner::VisionSetup setup(sidewalk, "front");
+  for (const char* object : {"lamp", "bench"}) {
+    const spar::planner::VisionSetup::ChangedScene changed = setup.changed_scene({object}, {});
+    rejection_row(std::string("sidewalk, ") + object + " missing", setup.scene(),
+                  setup.uncertainty(), changed.scene, changed.uncertainty, setup.camera(),
+                  setup.options(), seeds);
+  }
+  const spar::planner::VisionSetup::ChangedScene swapped_lamp =
+      setup.changed_scene({}, {{"lamp", "bench"}});
+  rejection_row("sidewalk, bench for lamp", setup.scene(), setup.uncertainty(),
+                swapped_lamp.scene, swapped_lamp.uncertainty, setup.camera(), setup.options(),
+                seeds);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  // --quick: fewer runs and seeds; --labels: the labels table only.
+  // --quick: fewer runs and seeds; --labels: the labels and rejections tables only.
   const bool quick = argc > 1 && std::strcmp(argv[1], "--quick") == 0;
   const bool labels_only = argc > 1 && std::strcmp(argv[1], "--labels") == 0;
   std::printf("pseiki_bench%s; load average %s (a shared machine: compare ratios within a run)\n",
@@ -203,4 +264,5 @@ int main(int argc, char** argv) {
     matching(quick);
   }
   labels(quick);
+  rejections(quick);
 }
