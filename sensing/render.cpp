@@ -1,5 +1,6 @@
 #include "spar/sensing/render.hpp"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -190,21 +191,49 @@ Rendering render(const Scene& scene, const Camera& camera, const RenderOptions& 
   if (options.faces) {
     const Camera fine = supersampled(camera, options.supersampling);
     const Intrinsics& k = fine.intrinsics();
-    internal::ItemBuffer buffer(k.width, k.height);
+    // The triangles' image pieces (fans of their parts in front of the near plane), then a
+    // buffer over the window they cover: no sample outside it is drawn, so the window gives what
+    // the whole image would (internal/item_buffer.hpp), for a fraction of the memory.
+    struct Fan {
+      std::array<Eigen::Vector2d, 3> corners;
+      std::array<double, 3> depth;
+      int item;
+    };
+    std::vector<Fan> fans;
+    Eigen::AlignedBox2d covered;
     for (std::size_t i = 0; i < triangles.size(); ++i) {
       const std::vector<Eigen::Vector3d> polygon =
           clip_near(corners_of(triangles[i]), fine.near_depth());
       for (std::size_t j = 2; j < polygon.size(); ++j) {
         const std::array<Eigen::Vector3d, 3> fan = {polygon[0], polygon[j - 1], polygon[j]};
-        buffer.draw(
+        const Fan drawn{
             {fine.project_camera(fan[0]), fine.project_camera(fan[1]), fine.project_camera(fan[2])},
             {depth_key(fine, fan[0]), depth_key(fine, fan[1]), depth_key(fine, fan[2])},
-            static_cast<int>(i));
+            static_cast<int>(i)};
+        // A corner that does not project to a finite point draws nothing (ItemBuffer::draw).
+        if (!std::all_of(drawn.corners.begin(), drawn.corners.end(),
+                         [](const Eigen::Vector2d& c) { return c.allFinite(); }))
+          continue;
+        for (const Eigen::Vector2d& corner : drawn.corners) covered.extend(corner);
+        fans.push_back(drawn);
       }
     }
+    internal::PixelWindow window{0, 0, 0, 0};
+    if (!covered.isEmpty()) {
+      const auto clamped = [](double value, int high) {
+        return static_cast<int>(std::clamp(value, 0.0, static_cast<double>(high)));
+      };
+      window.x0 = clamped(std::floor(covered.min().x()), k.width);
+      window.y0 = clamped(std::floor(covered.min().y()), k.height);
+      window.width = clamped(std::ceil(covered.max().x()), k.width) - window.x0;
+      window.height = clamped(std::ceil(covered.max().y()), k.height) - window.y0;
+    }
+    internal::ItemBuffer buffer(window);
+    if (window.width > 0 && window.height > 0)
+      for (const Fan& fan : fans) buffer.draw(fan.corners, fan.depth, fan.item);
     std::map<std::pair<int, int>, FaceSums> sums;
-    for (int y = 0; y < k.height; ++y)
-      for (int x = 0; x < k.width; ++x) {
+    for (int y = window.y0; y < window.y0 + window.height; ++y)
+      for (int x = window.x0; x < window.x0 + window.width; ++x) {
         const int item = buffer.item(x, y);
         if (item < 0) continue;
         const TriangleRef& ref = triangles[static_cast<std::size_t>(item)];

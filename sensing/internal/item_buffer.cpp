@@ -6,10 +6,9 @@
 
 namespace spar::sensing::internal {
 
-ItemBuffer::ItemBuffer(int width, int height)
-    : width_(width),
-      height_(height),
-      items_(static_cast<std::size_t>(width) * static_cast<std::size_t>(height), -1),
+ItemBuffer::ItemBuffer(const PixelWindow& window)
+    : window_(window),
+      items_(static_cast<std::size_t>(window.width) * static_cast<std::size_t>(window.height), -1),
       depth_(items_.size(), std::numeric_limits<double>::infinity()) {}
 
 void ItemBuffer::clear() {
@@ -29,12 +28,13 @@ void ItemBuffer::draw(const std::array<Eigen::Vector2d, 3>& corners,
     area = -area;
   }
   // Samples at centres (x + 0.5, y + 0.5) inside the triangle's box, clamped to the image.
-  const int x0 = std::max(0, static_cast<int>(std::ceil(std::min({a.x(), b.x(), c.x()}) - 0.5)));
-  const int x1 =
-      std::min(width_ - 1, static_cast<int>(std::floor(std::max({a.x(), b.x(), c.x()}) - 0.5)));
-  const int y0 = std::max(0, static_cast<int>(std::ceil(std::min({a.y(), b.y(), c.y()}) - 0.5)));
-  const int y1 =
-      std::min(height_ - 1, static_cast<int>(std::floor(std::max({a.y(), b.y(), c.y()}) - 0.5)));
+  const PixelWindow& w = window_;
+  const int x0 = std::max(w.x0, static_cast<int>(std::ceil(std::min({a.x(), b.x(), c.x()}) - 0.5)));
+  const int x1 = std::min(w.x0 + w.width - 1,
+                          static_cast<int>(std::floor(std::max({a.x(), b.x(), c.x()}) - 0.5)));
+  const int y0 = std::max(w.y0, static_cast<int>(std::ceil(std::min({a.y(), b.y(), c.y()}) - 0.5)));
+  const int y1 = std::min(w.y0 + w.height - 1,
+                          static_cast<int>(std::floor(std::max({a.y(), b.y(), c.y()}) - 0.5)));
   if (x0 > x1 || y0 > y1) return;
   // Edge function of p against the directed side p -> q: > 0 on the triangle's side.
   const auto edge = [](const Eigen::Vector2d& p, const Eigen::Vector2d& q, double x, double y) {

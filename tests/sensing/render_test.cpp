@@ -12,11 +12,43 @@
 #include "spar/geometry/builtin_objects.hpp"
 #include "spar/geometry/mesh.hpp"
 #include "spar/sensing/camera.hpp"
+#include "spar/sensing/internal/item_buffer.hpp"
 #include "spar/sensing/model_features.hpp"
 #include "tests/common/expect_message.hpp"
 
 namespace spar::sensing {
 namespace {
+
+// A buffer over the window its triangles cover (render()'s use, internal/item_buffer.hpp) holds
+// exactly what the whole image's buffer holds there, in image coordinates, and nothing else; one
+// triangle reaches past the image's left border (clamped alike).
+TEST(ItemBuffer, TheWindowOfItsTrianglesHoldsWhatTheWholeImageHolds) {
+  const std::array<std::array<Eigen::Vector2d, 3>, 3> triangles = {
+      {{{{13.2, 4.1}, {40.7, 9.3}, {12.5, 37.9}}},
+       {{{20.1, 2.2}, {55.3, 30.4}, {18.8, 25.6}}},
+       {{{-5.0, 50.0}, {30.0, 61.0}, {45.0, 40.0}}}}};
+  const std::array<std::array<double, 3>, 3> depths = {
+      {{1.0, 2.0, 3.0}, {2.5, 0.5, 1.5}, {0.2, 0.4, 0.3}}};
+  // Their box, floor and ceil, clamped to the 64 x 64 image: x 0..56, y 2..61.
+  const internal::PixelWindow window{.x0 = 0, .y0 = 2, .width = 56, .height = 59};
+  internal::ItemBuffer whole(64, 64);
+  internal::ItemBuffer part(window);
+  for (int t = 0; t < 3; ++t) {
+    whole.draw(triangles[t], depths[t], t);
+    part.draw(triangles[t], depths[t], t);
+  }
+  int covered = 0, covered_whole = 0;
+  for (int y = window.y0; y < window.y0 + window.height; ++y)
+    for (int x = window.x0; x < window.x0 + window.width; ++x) {
+      EXPECT_EQ(part.item(x, y), whole.item(x, y)) << x << ", " << y;
+      EXPECT_EQ(part.depth(x, y), whole.depth(x, y)) << x << ", " << y;
+      covered += part.item(x, y) >= 0;
+    }
+  for (const int item : whole.items()) covered_whole += item >= 0;
+  EXPECT_GT(covered, 500);
+  EXPECT_EQ(covered, covered_whole);  // the window holds every drawn sample
+  EXPECT_EQ(part.items().size(), 56U * 59U);
+}
 
 using geometry::make_box;
 using geometry::ObjectModel;
