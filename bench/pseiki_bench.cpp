@@ -206,8 +206,8 @@ void rejection_row(const std::string& name, const spar::sensing::Scene& expected
     const pseiki::SimulatedImage image =
         pseiki::simulate(actual, camera, actual_uncertainty, pseiki::testing::kIssuePerturbation,
                          static_cast<std::uint64_t>(seed));
-    const pseiki::Verification result = pseiki::verify(
-        expected, camera, expected_uncertainty, pseiki::testing::inputs_of(image), options);
+    const pseiki::Verification result = pseiki::verify(expected, camera, expected_uncertainty,
+                                                       pseiki::testing::inputs_of(image), options);
     rejected += result.accepted ? 0 : 1;
     highest = std::max(highest, result.board.scene.belief);
   }
@@ -232,8 +232,8 @@ void rejections(bool quick) {
   swapped.add("block", {0.20, 0.14, 0.08}, pseiki::testing::at(0, 0), block);
   swapped.add("tower~block", {0.20, 0.14, 0.08}, pseiki::testing::at(0.2, 0.15, 0.3), tower);
   swapped.uncertainty.noise_px = expected.uncertainty.noise_px;
-  rejection_row("two boxes, block for tower", expected.scene, expected.uncertainty,
-                swapped.scene, swapped.uncertainty, expected.camera, options, seeds);
+  rejection_row("two boxes, block for tower", expected.scene, expected.uncertainty, swapped.scene,
+                swapped.uncertainty, expected.camera, options, seeds);
   const spar::planner::Scenario sidewalk = spar::planner::load_scenario(
       std::string(SPAR_SOURCE_DIR) + "/examples/vision/pseiki_sidewalk.yaml");
   const spar::planner::VisionSetup setup(sidewalk, "front");
@@ -245,9 +245,8 @@ void rejections(bool quick) {
   }
   const spar::planner::VisionSetup::ChangedScene swapped_lamp =
       setup.changed_scene({}, {{"lamp", "bench"}});
-  rejection_row("sidewalk, bench for lamp", setup.scene(), setup.uncertainty(),
-                swapped_lamp.scene, swapped_lamp.uncertainty, setup.camera(), setup.options(),
-                seeds);
+  rejection_row("sidewalk, bench for lamp", setup.scene(), setup.uncertainty(), swapped_lamp.scene,
+                swapped_lamp.uncertainty, setup.camera(), setup.options(), seeds);
 }
 
 }  // namespace

@@ -30,6 +30,14 @@ WorldState state_before(const WorldModel& world, const std::vector<Phase2Step>& 
   return state;
 }
 
+// The objects of `state` other than `object` and not assembled into another (resting_occluders).
+VisionOccluders occluders_in(const WorldState& state, int object) {
+  VisionOccluders occluders;
+  for (int o = 0; o < static_cast<int>(state.poses.size()); ++o)
+    if (o != object && state.carrier[o] < 0) occluders.objects.emplace_back(o, state.poses[o]);
+  return occluders;
+}
+
 bool moves(const Phase2Step& step, int object) {
   return step.object == object && moves_object(step.effect);
 }
@@ -65,11 +73,7 @@ const char* repair_kind(const RepairCandidate& candidate) {
 
 VisionOccluders resting_occluders(const WorldModel& world, const std::vector<Phase2Step>& steps,
                                   int until, int object) {
-  const WorldState state = state_before(world, steps, until);
-  VisionOccluders occluders;
-  for (int o = 0; o < static_cast<int>(state.poses.size()); ++o)
-    if (o != object && state.carrier[o] < 0) occluders.objects.emplace_back(o, state.poses[o]);
-  return occluders;
+  return occluders_in(state_before(world, steps, until), object);
 }
 
 int scan_position(const std::vector<Phase2Step>& steps, int until, int object) {
@@ -101,9 +105,9 @@ std::vector<RepairCandidate> repair_candidates(const WorldModel& world,
     if (at < 0) return;
     if (kinds.scan >= 0) out.push_back({Effect::kSense, object, -1, at});
     if (kinds.look < 0) return;
-    std::vector<CameraVerification> cameras =
-        verifying_cameras(world.scenario(), object, state_before(world, steps, at).poses[object],
-                          resting_occluders(world, steps, at, object));
+    const WorldState state = state_before(world, steps, at);
+    std::vector<CameraVerification> cameras = verifying_cameras(
+        world.scenario(), object, state.poses[object], occluders_in(state, object));
     std::stable_sort(cameras.begin(), cameras.end(), [](const auto& a, const auto& b) {
       return a.check.edges.size() > b.check.edges.size();
     });
