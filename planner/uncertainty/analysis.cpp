@@ -250,20 +250,15 @@ int InstanceAnalyser::repair(std::vector<Phase2Step>& steps,
   int rank = 0;
   for (std::size_t i = 0; i < candidates.size(); ++i) {
     if (!(choice.set >> i & 1u)) continue;
-    RepairAttempt record{
-        .action = domain_
-                      .actions[candidates[i].effect == Effect::kReduce ? kinds_.squeeze
-                               : candidates[i].camera >= 0             ? kinds_.look
-                                                                       : kinds_.scan]
-                      .name,
-        .object = candidates[i].object,
-        .for_instance_step = steps[k].instance_step,
-        .helped = true,
-        .before = {},
-        .after = {},
-        .verdicts_before = {},
-        .verdicts_after = {},
-        .turned = choice.turned[rank++]};
+    RepairAttempt record{.action = domain_.actions[action_of(candidates[i], kinds_)].name,
+                         .object = candidates[i].object,
+                         .for_instance_step = steps[k].instance_step,
+                         .helped = true,
+                         .before = {},
+                         .after = {},
+                         .verdicts_before = {},
+                         .verdicts_after = {},
+                         .turned = choice.turned[rank++]};
     for (const PreconditionResult& r : failing) {
       record.before.push_back(r.bound);
       record.verdicts_before.push_back(r.verdict);

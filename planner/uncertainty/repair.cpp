@@ -71,6 +71,11 @@ const char* repair_kind(const RepairCandidate& candidate) {
   return candidate.camera >= 0 ? "camera-verify" : "range-scan";
 }
 
+int action_of(const RepairCandidate& candidate, const RepairKinds& kinds) {
+  if (candidate.effect == Effect::kReduce) return kinds.squeeze;
+  return candidate.camera >= 0 ? kinds.look : kinds.scan;
+}
+
 VisionOccluders resting_occluders(const WorldModel& world, const std::vector<Phase2Step>& steps,
                                   int until, int object) {
   return occluders_in(state_before(world, steps, until), object);
@@ -165,14 +170,13 @@ SplicedPlan splice(const std::vector<Phase2Step>& steps, int k,
     Phase2Step step;
     if (c.effect == Effect::kReduce) {
       step = steps[c.position];  // the pickup it precedes: same object, position, pose
-      step.action = kinds.squeeze;
       step.grasp = c.grasp;
       step.arm = c.arm;
     } else {
-      step.action = c.camera >= 0 ? kinds.look : kinds.scan;
       step.object = c.object;
       step.camera = c.camera;
     }
+    step.action = action_of(c, kinds);
     step.effect = c.effect;
     step.instance_step = -1;
     step.repair = repair_id + rank[i];

@@ -86,6 +86,9 @@ struct RepairKinds {
   int squeeze_grasps{0};
 };
 
+// The domain action of `candidate` among `kinds` (scan, look or squeeze).
+[[nodiscard]] int action_of(const RepairCandidate& candidate, const RepairKinds& kinds);
+
 // The candidates for the failing steps[k] (see the header comment).
 [[nodiscard]] std::vector<RepairCandidate> repair_candidates(const WorldModel& world,
                                                              const std::vector<Phase2Step>& steps,
