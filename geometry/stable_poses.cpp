@@ -3,8 +3,10 @@
 #include <algorithm>
 #include <climits>
 #include <cmath>
+#include <limits>
 #include <tuple>
 
+#include "spar/geometry/internal/convex_hull.hpp"
 #include "spar/geometry/internal/polygon2d.hpp"
 
 namespace spar::geometry {
@@ -63,27 +65,86 @@ std::optional<int> classify_orientation(const std::vector<StablePose>& poses,
   return std::nullopt;
 }
 
-std::optional<double> resting_margin(std::span<const PosedPart> parts, double tolerance) {
-  std::vector<Eigen::Vector2d> footing;
+namespace {
+
+// The vertices the part's triangles use (an unreferenced vertex is not the body), where it is.
+std::vector<Eigen::Vector3d> posed_vertices(const PosedPart& part) {
+  const Mesh& mesh = part.model->mesh();
+  std::vector<char> used(mesh.vertices.size(), 0);
+  for (const auto& triangle : mesh.triangles)
+    for (const int v : triangle) used[v] = 1;
+  std::vector<Eigen::Vector3d> posed;
+  for (std::size_t v = 0; v < used.size(); ++v)
+    if (used[v]) posed.push_back(part.pose * mesh.vertices[v]);
+  return posed;
+}
+
+// The parts' centre of mass, one density for all; nullopt when they have no volume.
+std::optional<Eigen::Vector3d> joint_center_of_mass(std::span<const PosedPart> parts) {
   Eigen::Vector3d weighted = Eigen::Vector3d::Zero();
   double volume = 0;
   for (const PosedPart& part : parts) {
-    const Mesh& mesh = part.model->mesh();
-    std::vector<char> used(mesh.vertices.size(), 0);  // unreferenced vertices are not the body
-    for (const auto& triangle : mesh.triangles)
-      for (const int v : triangle) used[v] = 1;
-    for (std::size_t v = 0; v < used.size(); ++v) {
-      if (!used[v]) continue;
-      const Eigen::Vector3d world = part.pose * mesh.vertices[v];
-      if (world.z() < -tolerance) return std::nullopt;
-      if (world.z() <= tolerance) footing.push_back(world.head<2>());
-    }
     weighted += part.model->volume() * (part.pose * part.model->center_of_mass());
     volume += part.model->volume();
   }
+  if (volume <= 0) return std::nullopt;
+  return weighted / volume;
+}
+
+}  // namespace
+
+std::optional<double> resting_margin(std::span<const PosedPart> parts, double tolerance) {
+  std::vector<Eigen::Vector2d> footing;
+  for (const PosedPart& part : parts)
+    for (const Eigen::Vector3d& world : posed_vertices(part)) {
+      if (world.z() < -tolerance) return std::nullopt;
+      if (world.z() <= tolerance) footing.push_back(world.head<2>());
+    }
+  const std::optional<Eigen::Vector3d> center = joint_center_of_mass(parts);
   const internal::Polygon2 hull = internal::convex_hull_2d(std::move(footing));
-  if (hull.size() < 3 || volume <= 0) return std::nullopt;
-  return internal::inset_distance(hull, (weighted / volume).head<2>());
+  if (hull.size() < 3 || !center) return std::nullopt;
+  return internal::inset_distance(hull, center->head<2>());
+}
+
+std::vector<JointStablePose> joint_stable_poses(std::span<const PosedPart> parts,
+                                                double tolerance) {
+  std::vector<Eigen::Vector3d> points;
+  for (const PosedPart& part : parts)
+    for (const Eigen::Vector3d& vertex : posed_vertices(part)) points.push_back(vertex);
+  const std::optional<Eigen::Vector3d> center = joint_center_of_mass(parts);
+  if (!center) return {};
+  std::vector<Eigen::Vector3d> downs;
+  for (const auto& t : internal::convex_hull_triangles(points)) {
+    const Eigen::Vector3d normal = (points[t[1]] - points[t[0]]).cross(points[t[2]] - points[t[0]]);
+    if (normal.norm() > 0) downs.push_back(normal.normalized());
+  }
+  const auto before = [](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+    return std::lexicographical_compare(a.data(), a.data() + 3, b.data(), b.data() + 3);
+  };
+  std::sort(downs.begin(), downs.end(), before);
+  std::vector<JointStablePose> poses;
+  std::vector<PosedPart> placed(parts.begin(), parts.end());
+  std::vector<Eigen::Vector3d> tried;
+  for (const Eigen::Vector3d& down : downs) {
+    // Coplanar hull triangles give one direction; they need not sort next to each other when a
+    // component differs by rounding only, so compare with every direction tried.
+    if (std::any_of(tried.begin(), tried.end(),
+                    [&](const Eigen::Vector3d& seen) { return (seen - down).norm() < 1e-9; }))
+      continue;
+    tried.push_back(down);
+    Eigen::Isometry3d frame_to_world = Eigen::Isometry3d::Identity();
+    frame_to_world.linear() =
+        Eigen::Quaterniond::FromTwoVectors(down, -Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    double lowest = std::numeric_limits<double>::infinity();
+    for (const Eigen::Vector3d& point : points)
+      lowest = std::min(lowest, (frame_to_world.linear() * point).z());
+    const Eigen::Vector3d turned = frame_to_world.linear() * *center;
+    frame_to_world.translation() = Eigen::Vector3d(-turned.x(), -turned.y(), -lowest);
+    for (std::size_t k = 0; k < parts.size(); ++k) placed[k].pose = frame_to_world * parts[k].pose;
+    const std::optional<double> margin = resting_margin(placed, tolerance);
+    if (margin && *margin > tolerance) poses.push_back({down, frame_to_world, *margin});
+  }
+  return poses;
 }
 
 }  // namespace spar::geometry

@@ -26,6 +26,8 @@
 //   classify_orientation(poses, Eigen::Matrix3d::Identity());  // the pose resting on "-z"
 //   const PosedPart on_table[] = {{&cube, poses[0].object_to_world}};
 //   resting_margin(on_table, 1e-7);                            // 0.5: centre 0.5 inside
+//   const PosedPart joined[] = {{&cube, Eigen::Isometry3d::Identity()}};
+//   joint_stable_poses(joined, 1e-7).size();                   // 6, as stable_poses(cube)
 #pragma once
 
 #include <Eigen/Geometry>
@@ -73,5 +75,18 @@ struct PosedPart {
 // the table along an edge, at a point or not at all).
 [[nodiscard]] std::optional<double> resting_margin(std::span<const PosedPart> parts,
                                                    double tolerance);
+
+// One way a joined body rests (see the header comment).
+struct JointStablePose {
+  Eigen::Vector3d down;              // the direction resting on the table, in the parts' frame
+  Eigen::Isometry3d frame_to_world;  // world = frame_to_world * parts' frame
+  double margin{0};                  // resting_margin there
+};
+
+// The resting orientations of `parts` joined as posed in a common frame (the header comment),
+// ordered by `down` (x, then y, then z, ascending; hull facets whose normals differ by less than
+// 1e-9 are one direction).
+[[nodiscard]] std::vector<JointStablePose> joint_stable_poses(std::span<const PosedPart> parts,
+                                                              double tolerance);
 
 }  // namespace spar::geometry

@@ -92,8 +92,10 @@ class Planner {
   [[nodiscard]] bool separate_places(PartialPlan& node, int step, int variable) const;
   // Once assemble(h, f) has run, f carries h and they move as one: every step ordered after it
   // that takes f must use a grasp that clears h (GoalWorld::grasp_clears_assembled) and a
-  // position where f with h rests on the table (GoalWorld::rests_assembled). False when that
-  // empties a domain.
+  // position where f with h rests on the table (GoalWorld::rests_assembled); every step ordered
+  // before it, a position where f rests by itself (not one where only the pair rests:
+  // PositionLabel::joined_goal; a step not yet ordered either way is left to the plan instance's
+  // WorldModel::check_rest). False when that empties a domain.
   [[nodiscard]] bool subassemblies_move_as_one(PartialPlan& node) const;
   // Whether a step handling `object` (and `partner`, the fixed object of an insertion, or -1)
   // must keep clear of `other` where it starts: not a fixed object (the world's tables already
@@ -366,12 +368,20 @@ bool Planner::subassemblies_move_as_one(PartialPlan& node) const {
     };
     const std::vector<int> clear = allowed(goal->grasp_clears_assembled);
     const std::vector<int> resting = allowed(goal->rests_assembled);
+    // Before the join f rests by itself: not where only the pair does.
+    const int goal_index = static_cast<int>(goal - world_.goals().data());
+    std::vector<char> rests_alone;
+    for (const PositionLabel& position : world_.object(fixed).positions)
+      rests_alone.push_back(position.joined_goal != goal_index);
+    const std::vector<int> alone = allowed(rests_alone);
     const std::string& fixed_name = world_.scenario().objects[fixed].name;
     const std::string& held_name = world_.scenario().objects[held].name;
     for (const FamilyStep& later : node.plan.steps) {
-      if (later.action < 0 ||
-          (assembly != nullptr && !node.plan.ordering.precedes(assembly->id, later.id)))
-        continue;
+      if (later.action < 0) continue;
+      const bool after = assembly == nullptr || node.plan.ordering.precedes(assembly->id, later.id);
+      const bool before =
+          assembly != nullptr && node.plan.ordering.precedes(later.id, assembly->id);
+      if (!after && !before) continue;
       const ActionTemplate& taking = domain_.actions[later.action];
       for (std::size_t p = 0; p < taking.parameters.size(); ++p) {
         const Parameter& parameter = taking.parameters[p];
@@ -379,7 +389,8 @@ bool Planner::subassemblies_move_as_one(PartialPlan& node) const {
             later.args[taking.parameter_index(parameter.of)].index != fixed)
           continue;
         const bool grasp = parameter.type == ParameterType::kGrasp;
-        const std::vector<int>& kept = grasp ? clear : resting;
+        if (grasp && !after) continue;
+        const std::vector<int>& kept = grasp ? clear : after ? resting : alone;
         const int variable = later.args[p].index;
         cms::ConstraintNetwork& network = node.plan.network;
         bool narrower = false;
@@ -388,12 +399,15 @@ bool Planner::subassemblies_move_as_one(PartialPlan& node) const {
         if (narrower && (kept.empty() || !accepted(network.restrict(variable, kept, budget())))) {
           last_refusal_ =
               node.plan.describe(later, world_, domain_) +
-              (assembly != nullptr ? " after " + node.plan.describe(*assembly, world_, domain_)
+              (assembly != nullptr ? (after ? " after " : " before ") +
+                                         node.plan.describe(*assembly, world_, domain_)
                                    : std::string()) +
               ": " +
-              (grasp ? "no grasp of " + fixed_name + " clears " + held_name + " assembled into it"
-                     : "no position left for " + fixed_name + " where it rests on the table with " +
-                           held_name + " assembled into it");
+              (grasp   ? "no grasp of " + fixed_name + " clears " + held_name + " assembled into it"
+               : after ? "no position left for " + fixed_name +
+                             " where it rests on the table with " + held_name + " assembled into it"
+                       : "no position left for " + fixed_name +
+                             " where it rests on the table by itself");
           return false;
         }
       }

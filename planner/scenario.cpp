@@ -100,16 +100,17 @@ int Scenario::place_index(std::string_view name) const {
 }
 
 kinematics::Transform place_pose(const Place& place, double yaw,
-                                 const geometry::StablePose& stable) {
+                                 const kinematics::Transform& resting) {
   return Eigen::Translation3d(place.x, place.y, 0.0) *
-         Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) * stable.object_to_world;
+         Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) * resting;
 }
 
 std::optional<std::size_t> resting_yaw(const ObjectSpec& object, const Place& place) {
   if (!object.initial_stable_pose) return std::nullopt;
   const geometry::StablePose& stable = object.stable_poses[*object.initial_stable_pose];
   for (std::size_t k = 0; k < place.yaws.size(); ++k)
-    if ((place_pose(place, place.yaws[k], stable).matrix() - object.initial_pose.matrix())
+    if ((place_pose(place, place.yaws[k], stable.object_to_world).matrix() -
+         object.initial_pose.matrix())
             .cwiseAbs()
             .maxCoeff() <= 1e-7)
       return k;

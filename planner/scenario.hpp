@@ -171,10 +171,11 @@ struct Place {
   SourceLocation location;
 };
 
-// Where an object rests when put down at `place`, in stable pose `stable`, turned by `yaw`:
-// trans(x, y, 0) rotz(yaw) T_stable (the resting pose form of docs/scenario.md).
+// Where an object rests when put down at `place` in the resting orientation `resting` (a stable
+// pose's object_to_world), turned by `yaw`: trans(x, y, 0) rotz(yaw) T_stable (the resting pose
+// form of docs/scenario.md).
 [[nodiscard]] kinematics::Transform place_pose(const Place& place, double yaw,
-                                               const geometry::StablePose& stable);
+                                               const kinematics::Transform& resting);
 
 // The collision checks of the plan (geometry/collision.hpp): bodies closer than `margin`
 // (metres) count as colliding.

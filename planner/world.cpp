@@ -32,6 +32,33 @@ std::string yaw_suffix(const Place& place, std::size_t k, const Units& units) {
   return text;
 }
 
+// Whether a goal moves `object`: an at goal's object, or the held object of an assembled goal.
+bool moved_by_a_goal(const Scenario& scenario, const std::string& object) {
+  return std::any_of(scenario.goals.begin(), scenario.goals.end(), [&](const Goal& goal) {
+    if (const auto* at = std::get_if<AtGoal>(&goal)) return at->object == object;
+    return std::get<AssembledGoal>(goal).held == object;
+  });
+}
+
+// The orientations in which `object` with the held object of `goal` assembled into it rests and
+// `object` alone does not (PositionLabel::joined_goal), as transforms of its frame.
+std::vector<kinematics::Transform> joined_only_poses(const Scenario& scenario,
+                                                     const ObjectSpec& object,
+                                                     const AssembledGoal& goal) {
+  const ObjectSpec& held = scenario.object(goal.held);
+  const geometry::PosedPart pair[] = {{&object.model, kinematics::Transform::Identity()},
+                                      {&held.model, goal.relative}};
+  std::vector<kinematics::Transform> poses;
+  for (const geometry::JointStablePose& joint :
+       geometry::joint_stable_poses(pair, geometry::kTableTolerance))
+    if (std::none_of(object.stable_poses.begin(), object.stable_poses.end(),
+                     [&](const geometry::StablePose& own) {
+                       return (own.facet_normal - joint.down).norm() < 1e-9;
+                     }))
+      poses.push_back(joint.frame_to_world);
+  return poses;
+}
+
 std::vector<PositionLabel> position_labels(const Scenario& scenario, const ObjectSpec& object) {
   std::vector<PositionLabel> labels;
   labels.push_back({.name = "initial",
@@ -41,16 +68,32 @@ std::vector<PositionLabel> position_labels(const Scenario& scenario, const Objec
   for (std::size_t p = 0; p < scenario.places.size(); ++p)
     if (resting_yaw(object, scenario.places[p])) labels[0].place = static_cast<int>(p);
   if (object.fixed) return labels;
-  for (std::size_t s = 0; s < object.stable_poses.size(); ++s)
+  // Every resting orientation at every place and yaw; `name` names the orientation.
+  const auto at_every_place = [&](const std::string& name, const kinematics::Transform& resting,
+                                  int stable_pose, int joined_goal) {
     for (std::size_t p = 0; p < scenario.places.size(); ++p) {
       const Place& place = scenario.places[p];
       for (std::size_t k = 0; k < place.yaws.size(); ++k)
-        labels.push_back({.name = object.stable_poses[s].label + "@" + place.name +
-                                  yaw_suffix(place, k, scenario.units),
-                          .stable_pose = static_cast<int>(s),
+        labels.push_back({.name = name + "@" + place.name + yaw_suffix(place, k, scenario.units),
+                          .stable_pose = stable_pose,
                           .place = static_cast<int>(p),
-                          .pose = place_pose(place, place.yaws[k], object.stable_poses[s])});
+                          .pose = place_pose(place, place.yaws[k], resting),
+                          .joined_goal = joined_goal});
     }
+  };
+  for (std::size_t s = 0; s < object.stable_poses.size(); ++s)
+    at_every_place(object.stable_poses[s].label, object.stable_poses[s].object_to_world,
+                   static_cast<int>(s), -1);
+  if (!moved_by_a_goal(scenario, object.name)) return labels;
+  for (std::size_t g = 0; g < scenario.goals.size(); ++g) {
+    const auto* assembled = std::get_if<AssembledGoal>(&scenario.goals[g]);
+    if (assembled == nullptr || assembled->fixed != object.name) continue;
+    const std::vector<kinematics::Transform> joined =
+        joined_only_poses(scenario, object, *assembled);
+    for (std::size_t j = 0; j < joined.size(); ++j)
+      at_every_place("J" + std::to_string(j + 1) + "+" + assembled->held, joined[j], -1,
+                     static_cast<int>(g));
+  }
   return labels;
 }
 
@@ -483,18 +526,22 @@ WorldModel::WorldModel(Scenario scenario) : scenario_(std::move(scenario)) {
           geometry::grasp_leaves_free(grasp, assembled.held_faces));
     const ObjectSpec& held_spec = scenario_.objects[tables.held];
     for (const PositionLabel& position : fixed.positions) {
+      // An initial pose that is no stable pose: the sensing system tells how it is supported.
+      const bool sensed = position.stable_pose < 0 && position.joined_goal < 0;
       const bool faces_free =
-          position.stable_pose < 0 ||
-          geometry::pose_leaves_free(fixed_spec.stable_poses[position.stable_pose],
-                                     assembled.fixed_faces);
+          sensed || (position.stable_pose >= 0 &&
+                     geometry::pose_leaves_free(fixed_spec.stable_poses[position.stable_pose],
+                                                assembled.fixed_faces));
       const Eigen::Vector3d mating = position.pose.linear() * assembled.mating_vector;
       const geometry::PosedPart pair[] = {{&fixed_spec.model, position.pose},
                                           {&held_spec.model, position.pose * assembled.relative}};
       const std::optional<double> margin =
-          fixed_spec.fixed || position.stable_pose < 0
+          fixed_spec.fixed || sensed
               ? std::optional<double>(std::numeric_limits<double>::infinity())
               : geometry::resting_margin(pair, geometry::kTableTolerance);
       tables.rests_assembled.push_back(margin && *margin > geometry::kTableTolerance);
+      // A position where only a pair rests is none for an insertion: the object stands alone
+      // until the held one is in (faces_free is false there).
       tables.mating_pose.push_back(faces_free && -mating.z() >= std::cos(kFrictionCone) &&
                                    tables.rests_assembled.back());
     }
@@ -730,14 +777,19 @@ std::optional<std::string> WorldModel::check_rest(const WorldState& state, int o
   const ObjectSpec& base = scenario_.objects[root];
   const bool unmoved_unstable =
       !base.initial_stable_pose && state.poses[root].isApprox(base.initial_pose, 1e-9);
-  if (group.size() < 2 || base.fixed || unmoved_unstable) return std::nullopt;
+  // An object alone in one of its stable poses rests (a joined position, "J1+peg@left", is no
+  // stable pose of the object alone: a plan putting it there alone is refused here).
+  const bool alone_in_stable_pose =
+      group.size() == 1 &&
+      geometry::classify_orientation(base.stable_poses, state.poses[root].linear(), 1e-6);
+  if (base.fixed || unmoved_unstable || alone_in_stable_pose) return std::nullopt;
   std::vector<geometry::PosedPart> parts;
-  std::string named = base.name + " with ";
+  std::string named = base.name + (group.size() > 1 ? " with " : "");
   for (std::size_t k = 0; k < group.size(); ++k) {
     parts.push_back({&scenario_.objects[group[k]].model, state.poses[group[k]]});
     if (k > 0) named += (k > 1 ? ", " : "") + scenario_.objects[group[k]].name;
   }
-  named += " assembled into it does not ";
+  named += group.size() > 1 ? " assembled into it does not " : " does not ";
   const std::optional<double> margin = geometry::resting_margin(parts, geometry::kTableTolerance);
   if (!margin)
     return named + "stand flat on the table there (it touches it along an edge or at a corner " +

@@ -7,7 +7,12 @@
 //   position labels  [0] "initial": the object's initial pose; then, for every stable pose s,
 //                    every free place p of the scenario and every yaw of p, "P<s>@<place>" (a
 //                    place with several yaws: "P<s>@<place>/<yaw in the file's angle unit>"):
-//                    resting in s above p, turned by the yaw. Every position is an absolute world
+//                    resting in s above p, turned by the yaw; then, for an object a goal moves
+//                    (an at goal's, or the held one of an assembled goal) that is the fixed
+//                    object of an assembled goal, "J<k>+<held>@<place>" for every orientation in
+//                    which the two joined rest and the object alone does not
+//                    (geometry::joint_stable_poses; their joint centre of mass above p; the
+//                    label's PositionLabel::joined_goal). Every position is an absolute world
 //                    pose. A fixed object (`fixed: true`) has no grasps and only "initial".
 // Predicates (tables indexed [grasp][position]):
 //   reachable(g, p)       the grasp is usable in p's stable pose (no contact face on the table, the
@@ -24,9 +29,10 @@
 //   rests_assembled(p)    the fixed object at position p, with the held object assembled into it,
 //                         stands on the table as one body (geometry::resting_margin above
 //                         geometry::kTableTolerance). Once joined, they move as one: only these
-//                         positions are the fixed object's destinations. A `fixed: true` object
-//                         (held by its fixture) and an initial pose that is no stable pose (the
-//                         sensing system tells how it is supported) count as resting.
+//                         positions are the fixed object's destinations; before, only positions
+//                         where it rests alone (no joined one; not a mating pose either). A `fixed:
+//                         true` object (held by its fixture) and an initial pose that is no stable
+//                         pose (the sensing system tells how it is supported) count as resting.
 // An initial pose that is not a stable pose has no table lookup: its contact faces count as free
 // (SPAR: the sensing system tells), and it is a mating pose only by the mating-vector test.
 // Goals: world.goals()[i] belongs to scenario().goals[i]; an at goal's table is the object's
@@ -116,6 +122,10 @@ struct PositionLabel {
   // Index into Scenario::places; for the initial pose the place it starts at, else -1.
   int place{-1};
   kinematics::Transform pose{kinematics::Transform::Identity()};  // object frame in the world
+  // Index into Scenario::goals of the assembled goal whose held object, assembled into this
+  // object, makes it rest here ("J1+peg@left": the pair rests so, the object alone does not;
+  // stable_pose is then -1); -1 when the object rests here by itself or starts here.
+  int joined_goal{-1};
 };
 
 struct ObjectWorld {
@@ -247,9 +257,10 @@ class WorldModel {
   [[nodiscard]] const Table& initial_conflicts(int object, int other) const;
   // Whether the subassembly `object` belongs to rests on the table as `state` has it (call it
   // after a release): nullopt when it does, or when there is nothing to check (an object alone
-  // rests in its stable pose; a fixed root, or a root unmoved in an initial pose that is no stable
-  // pose, is supported otherwise); else why not: "base with part assembled into it does not rest
-  // on the table there: its centre of mass lies 0.2121 in outside its footing".
+  // in the orientation of one of its stable poses rests; a fixed root, or a root unmoved in an
+  // initial pose that is no stable pose, is supported otherwise); else why not: "base with part
+  // assembled into it does not rest on the table there: its centre of mass lies 0.2121 in outside
+  // its footing", or for an object alone in a joined position "base does not rest ...".
   [[nodiscard]] std::optional<std::string> check_rest(const WorldState& state, int object) const;
   // [held grasp][fixed position] of assembled goal `goal`: its insertion hits `other` where it
   // starts.

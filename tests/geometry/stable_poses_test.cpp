@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include "spar/geometry/builtin_objects.hpp"
@@ -197,6 +198,14 @@ Eigen::Isometry3d shifted_by(double x, double y, double z) {
   return Eigen::Isometry3d(Eigen::Translation3d(x, y, z));
 }
 
+// The lowest point of `object`'s mesh placed at `pose`.
+double lowest_vertex_z(const ObjectModel& object, const Eigen::Isometry3d& pose) {
+  double lowest = std::numeric_limits<double>::infinity();
+  for (const Eigen::Vector3d& vertex : object.mesh().vertices)
+    lowest = std::min(lowest, (pose * vertex).z());
+  return lowest;
+}
+
 TEST(RestingMargin, ACubeAloneRestsByItsStablePoseMargin) {
   const ObjectModel cube("cube", make_box({1, 1, 1}));
   const PosedPart alone[] = {{&cube, stable_poses(cube)[0].object_to_world}};
@@ -247,6 +256,52 @@ TEST(RestingMargin, EdgesCornersAirAndBelowTheTableDoNotStand) {
   EXPECT_FALSE(resting_margin(in_air, 1e-7).has_value());
   const PosedPart sunk[] = {{&cube, shifted_by(0, 0, -0.1)}};
   EXPECT_FALSE(resting_margin(sunk, 1e-7).has_value());
+}
+
+TEST(JointStablePoses, OnePartRestsAsItsStablePoses) {
+  for (const ObjectModel& object :
+       {ObjectModel("box", make_box({1, 2, 6})), make_builtin_object("l-shape")}) {
+    const std::vector<StablePose> own = stable_poses(object);
+    const PosedPart alone[] = {{&object, Eigen::Isometry3d::Identity()}};
+    const std::vector<JointStablePose> joint = joint_stable_poses(alone, object.tolerance());
+    ASSERT_EQ(joint.size(), own.size()) << object.name();
+    for (const JointStablePose& pose : joint) {
+      const auto same = std::find_if(own.begin(), own.end(), [&](const StablePose& stable) {
+        return stable.facet_normal.isApprox(pose.down, 1e-9);
+      });
+      ASSERT_NE(same, own.end()) << object.name() << " down " << pose.down.transpose();
+      EXPECT_TRUE(pose.frame_to_world.isApprox(same->object_to_world, 1e-9)) << same->label;
+      EXPECT_NEAR(pose.margin, same->margin, 1e-9) << same->label;
+    }
+  }
+}
+
+TEST(JointStablePoses, TwoPartsRestWhereNeitherDoesAlone) {
+  // The plate with the long post beyond its edge (RestingMargin.TheJointCentreOfMassDecides):
+  // flat on the plate the centre lies outside the footing, but the pair rests tilted on the
+  // plate's upper far edge (x = 4, z = 0.5) and the post's top edge (x = -1, z = 20.5): the hull
+  // facet through both has the normal (20, 0, 5) / |.|, and neither part rests so alone.
+  const ObjectModel plate("plate", make_box({4, 4, 0.5}));
+  const ObjectModel long_post("post", make_box({1, 1, 20}));
+  const PosedPart joined[] = {{&plate, Eigen::Isometry3d::Identity()},
+                              {&long_post, shifted_by(-2, 0, 0.5)}};
+  const std::vector<JointStablePose> poses = joint_stable_poses(joined, 1e-7);
+  ASSERT_FALSE(poses.empty());
+  const Eigen::Vector3d tilted = Eigen::Vector3d(4, 0, 1).normalized();
+  bool found = false;
+  for (const JointStablePose& pose : poses) {
+    EXPECT_FALSE(pose.down.isApprox(-Eigen::Vector3d::UnitZ(), 1e-9));
+    const PosedPart placed[] = {{&plate, pose.frame_to_world},
+                                {&long_post, pose.frame_to_world * joined[1].pose}};
+    EXPECT_NEAR(resting_margin(placed, 1e-7).value(), pose.margin, 1e-12);
+    EXPECT_GT(pose.margin, 1e-7);
+    if (!pose.down.isApprox(tilted, 1e-9)) continue;
+    found = true;
+    // Both parts touch the table, each along one edge.
+    EXPECT_NEAR(lowest_vertex_z(plate, pose.frame_to_world), 0, 1e-12);
+    EXPECT_NEAR(lowest_vertex_z(long_post, pose.frame_to_world * joined[1].pose), 0, 1e-12);
+  }
+  EXPECT_TRUE(found);
 }
 
 }  // namespace

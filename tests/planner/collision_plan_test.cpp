@@ -265,8 +265,10 @@ TEST(Subassemblies, ThePairGoesOnlyWhereItRestsByItself) {
   ASSERT_NE(goal, nullptr);
   // The bar's six stable poses at the spare place: P5 (flat, post up) and P2 (on the post's end)
   // hold the pair; on its sides (P3, P4) and its other end (P1) the pair's centre of mass lies
-  // outside the footing; upside down (P6) the post goes below the table.
-  const std::vector<std::string> rests = {"initial", "P2@spare", "P5@spare"};
+  // outside the footing; upside down (P6) the post goes below the table. The pair also rests
+  // where the bar alone does not: tilted on the post's top and an edge of the bar (J1-J3).
+  const std::vector<std::string> rests = {"initial",       "P2@spare",      "P5@spare",
+                                          "J1+post@spare", "J2+post@spare", "J3+post@spare"};
   EXPECT_EQ(positions_where(result.world, bar, goal->rests_assembled), rests);
   int putdowns = 0;
   for (const PlanInstance& instance : result.instances.instances)
@@ -310,17 +312,65 @@ std::vector<std::pair<PlanInstance, std::string>> toppling_variants(const PlanRe
   return variants;
 }
 
-TEST(Subassemblies, NoRestingPositionLeftIsTheReason) {
-  // The post held out 20 in beyond the bar's middle: the pair's centre of mass lies beyond every
-  // footing of the bar's (its initial pose counts as sensed, so it may start there). The bar alone
-  // could go to the spare place, the pair cannot.
-  Scenario scenario = subassembly_moved();
-  ASSERT_EQ(scenario.objects[0].name, "bar");
+// subassembly_moved.yaml with the post held out 20 in beyond the bar's middle (beside it, not on
+// it: a rigid pair whatever joins them), and `extra_objects` (YAML) added: the pair's centre of
+// mass lies beyond every footing of the bar's own stable poses (the bar's initial pose counts as
+// sensed, so the pair may start there), but the pair rests tilted on an edge of the bar and an
+// edge of the post (geometry::joint_stable_poses): the joined positions "J<k>+post@spare".
+Scenario post_held_out(const std::string& extra_objects = "") {
+  std::string text = read_text(data_file("subassembly_moved.yaml"));
+  text.insert(text.find("\nplaces:"), extra_objects);
+  Scenario scenario = parse_scenario(text, "subassembly_moved.yaml", data_file(""));
+  EXPECT_EQ(scenario.objects[0].name, "bar");
   auto& joined = std::get<AssembledGoal>(scenario.goals[1]);
   joined.relative = Eigen::Translation3d(20 * 0.0254, 0, 0.0254) * Eigen::Isometry3d::Identity();
   scenario.objects[0].initial_stable_pose.reset();
   scenario.objects[1].initial_pose = scenario.objects[0].initial_pose * joined.relative;
-  const PlanResult result = plan_checked(scenario);
+  return scenario;
+}
+
+TEST(Subassemblies, ThePairRestsWhereTheBarAloneDoesNot) {
+  const PlanResult result = plan_checked(post_held_out());  // the independent checker agrees
+  ASSERT_TRUE(result.planned()) << result.family.reason;
+  const int bar = result.world.object_index("bar");
+  const GoalWorld* goal = result.world.goal(result.world.object_index("post"), bar);
+  const std::vector<PositionLabel>& positions = result.world.object(bar).positions;
+  int joined = 0;
+  for (std::size_t p = 1; p < positions.size(); ++p) {
+    EXPECT_EQ(goal->rests_assembled[p] != 0, positions[p].joined_goal == 1) << positions[p].name;
+    if (positions[p].joined_goal < 0) continue;
+    ++joined;
+    EXPECT_TRUE(positions[p].name.starts_with("J" + std::to_string(joined) + "+post@spare"))
+        << positions[p].name;
+    EXPECT_EQ(positions[p].stable_pose, -1);
+    EXPECT_FALSE(goal->mating_pose[p]);  // the bar alone does not stand there
+  }
+  ASSERT_GT(joined, 0);
+  // The bar alone at a joined position does not rest: a plan instance putting it there before the
+  // join is refused (WorldModel::check_rest).
+  WorldState alone = result.world.initial_state();
+  alone.carrier[result.world.object_index("post")] = -1;
+  ASSERT_EQ(positions.back().joined_goal, 1);
+  alone.move(bar, positions.back().pose);
+  const std::optional<std::string> why = result.world.check_rest(alone, bar);
+  ASSERT_TRUE(why.has_value());
+  EXPECT_TRUE(why->starts_with("bar does not ")) << *why;
+  int putdowns = 0;
+  for (const InstanceStep& step : result.chosen().steps)
+    if (step.action_name == "putdown" && step.object == bar) {
+      ++putdowns;
+      EXPECT_EQ(positions[step.position].joined_goal, 1) << positions[step.position].name;
+    }
+  EXPECT_EQ(putdowns, 1);
+}
+
+TEST(Subassemblies, NoRestingPositionLeftIsTheReason) {
+  // As above, with a fixed pillar where the bar would lie in the joined positions the robot
+  // reaches (the pair's centre of mass is above the place, so the bar lies 5.5 in towards -x):
+  // the bar alone could go to the spare place, the pair cannot.
+  const PlanResult result =
+      plan_checked(post_held_out("  pillar:\n    mesh: pillar.off\n    fixed: true\n"
+                                 "    pose: {xyz: [7.5, -11, 0]}\n"));
   EXPECT_FALSE(result.planned());
   EXPECT_NE(result.family.reason.find(
                 "no position left for bar where it rests on the table with post assembled into it"),

@@ -7,13 +7,18 @@
 // T_O T_G (an insertion: T_f Ta T_G); base * FK(joints) * tool equals the gripper pose; the joints
 // are within their limits; the gripper's approach axis points down within the robot's tilt cone;
 // no contact face of the grasp lies on the table in the object's current pose (and at its
-// destination); a put-down object rests on the table (lowest vertex at z = 0); at an insertion the
-// fixed object's mating faces are off the table and the mating vector points down. Objects
-// assembled into one move with it. At the end, every goal holds: an assembled pair at its
-// relative pose, an object at its place (resting, its centre of mass above the place, turned by
-// one of the place's yaws). Collisions: collision_checker.hpp.
+// destination); a put-down object, with what is assembled into it, rests on the table (its
+// lowest vertex at z = 0, the joint centre of mass strictly inside the footing its vertices on
+// the table make); at an insertion the fixed object's mating faces are off the table and the
+// mating vector points down. Objects assembled into one move with it. At the end, every goal
+// holds: an assembled pair at its relative pose, an object at its place (resting, turned by one
+// of the place's yaws, either in one of its stable poses with its centre of mass above the place,
+// or, with parts assembled into it, in any orientation where they rest that the smallest turn of
+// its down direction to world -z gives, their joint centre of mass above the place).
+// Collisions: collision_checker.hpp.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -47,6 +52,51 @@ inline double lowest_z(const geometry::ObjectModel& model, const kinematics::Tra
   return lowest;
 }
 
+// Whether the objects `group` at `poses` rest on the table as one body: no vertex below it, and
+// their joint centre of mass (volume-weighted) strictly inside the convex hull, seen from above,
+// of their vertices on it.
+inline bool stands(const Scenario& scenario, const std::vector<int>& group,
+                   const std::vector<kinematics::Transform>& poses) {
+  std::vector<Eigen::Vector2d> footing;
+  Eigen::Vector2d center = Eigen::Vector2d::Zero();
+  double volume = 0;
+  for (const int o : group) {
+    const geometry::ObjectModel& model = scenario.objects[o].model;
+    for (const Eigen::Vector3d& vertex : model.mesh().vertices) {
+      const Eigen::Vector3d at = poses[o] * vertex;
+      if (at.z() < -1e-6) return false;
+      if (at.z() < 1e-6) footing.push_back(at.head<2>());
+    }
+    center += model.volume() * (poses[o] * model.center_of_mass()).head<2>();
+    volume += model.volume();
+  }
+  center /= volume;
+  // Andrew's monotone chain, counter-clockwise.
+  std::sort(footing.begin(), footing.end(), [](const auto& a, const auto& b) {
+    return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y());
+  });
+  const auto cross = [](const Eigen::Vector2d& o, const Eigen::Vector2d& a,
+                        const Eigen::Vector2d& b) {
+    return (a - o).x() * (b - o).y() - (a - o).y() * (b - o).x();
+  };
+  std::vector<Eigen::Vector2d> hull(2 * footing.size() + 1);
+  std::size_t k = 0;
+  for (std::size_t i = 0; i < footing.size(); ++i) {
+    while (k >= 2 && cross(hull[k - 2], hull[k - 1], footing[i]) <= 0) --k;
+    hull[k++] = footing[i];
+  }
+  for (std::size_t i = footing.size(), lower = k + 1; i-- > 1;) {
+    while (k >= lower && cross(hull[k - 2], hull[k - 1], footing[i - 1]) <= 0) --k;
+    hull[k++] = footing[i - 1];
+  }
+  if (k < 4) return false;  // fewer than three corners: an edge or a point
+  for (std::size_t i = 0; i + 1 < k; ++i) {
+    const Eigen::Vector2d edge = hull[i + 1] - hull[i];
+    if (cross(hull[i], hull[i + 1], center) <= 1e-9 * edge.norm()) return false;
+  }
+  return true;
+}
+
 inline bool intersects(const std::vector<int>& a, const std::vector<int>& b) {
   for (const int x : a)
     for (const int y : b)
@@ -78,12 +128,23 @@ inline std::vector<std::string> check_instance(
         assembled_into[h] = true;
       }
     }
-  // Moves `object` to `pose` and what is assembled into it along.
-  const auto move = [&](int object, const kinematics::Transform& pose) {
+  // `object` and what is assembled into it.
+  const auto group_of = [&](int object) {
     std::vector<int> group = {object};
     for (std::size_t i = 0; i < group.size(); ++i)
       for (std::size_t k = 0; k < carrier.size(); ++k)
         if (carrier[k] == group[i]) group.push_back(static_cast<int>(k));
+    return group;
+  };
+  const auto lowest_of = [&](const std::vector<int>& group) {
+    double lowest = INFINITY;
+    for (const int k : group)
+      lowest = std::min(lowest, lowest_z(scenario.objects[k].model, poses[k]));
+    return lowest;
+  };
+  // Moves `object` to `pose` and what is assembled into it along.
+  const auto move = [&](int object, const kinematics::Transform& pose) {
+    const std::vector<int> group = group_of(object);
     const kinematics::Transform change = pose * poses[object].inverse(Eigen::Isometry);
     for (const int k : group) poses[k] = change * poses[k];
   };
@@ -119,10 +180,12 @@ inline std::vector<std::string> check_instance(
       held = step.object;
     } else if (step.action_name == "putdown") {
       if (held != step.object) fail("not holding the object");
-      if (std::abs(lowest_z(model, step.object_pose)) > 1e-6) fail("destination not on the table");
       if (intersects(faces_on_table(model, step.object_pose), contacts))
         fail("a contact face would lie on the table");
       move(step.object, step.object_pose);
+      const std::vector<int> body = group_of(step.object);
+      if (std::abs(lowest_of(body)) > 1e-6) fail("destination not on the table");
+      if (!stands(scenario, body, poses)) fail("what is put down does not rest on the table");
       held = -1;
     } else if (step.action_name == "assemble") {
       if (held != step.object) fail("not holding the held object");
@@ -165,15 +228,36 @@ inline std::vector<std::string> check_instance(
     const int o = find(at.object);
     const ObjectSpec& object = scenario.objects[o];
     const Place& place = scenario.places[scenario.place_index(at.place)];
-    const Eigen::Vector3d com = poses[o] * object.model.center_of_mass();
-    bool there = std::abs(lowest_z(object.model, poses[o])) < 1e-6 &&
-                 std::hypot(com.x() - place.x, com.y() - place.y) < 1e-6;
+    // Above the place: the object's own centre of mass when it rests in one of its stable poses,
+    // the joint one of it and its parts when they rest in another orientation.
+    const std::vector<int> body = group_of(o);
+    const auto above_place = [&](const std::vector<int>& parts) {
+      Eigen::Vector3d com = Eigen::Vector3d::Zero();
+      double volume = 0;
+      for (const int k : parts) {
+        const geometry::ObjectModel& model = scenario.objects[k].model;
+        com += model.volume() * (poses[k] * model.center_of_mass());
+        volume += model.volume();
+      }
+      com /= volume;
+      return std::hypot(com.x() - place.x, com.y() - place.y) < 1e-6;
+    };
+    const bool there = std::abs(lowest_of(body)) < 1e-6;
     bool turned = false;
-    for (const geometry::StablePose& stable : object.stable_poses)
-      for (const double yaw : place.yaws)
-        turned |= same_pose(poses[o], Eigen::Translation3d(place.x, place.y, 0) *
-                                          Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) *
-                                          stable.object_to_world);
+    for (const double yaw : place.yaws) {
+      const Eigen::Matrix3d unturned =
+          Eigen::AngleAxisd(-yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix() * poses[o].linear();
+      for (const geometry::StablePose& stable : object.stable_poses)
+        turned |= (unturned - stable.object_to_world.linear()).cwiseAbs().maxCoeff() <= 1e-6 &&
+                  above_place({o});
+      if (body.size() > 1) {
+        const Eigen::Vector3d down = unturned.transpose() * -Eigen::Vector3d::UnitZ();
+        const Eigen::Matrix3d smallest =
+            Eigen::Quaterniond::FromTwoVectors(down, -Eigen::Vector3d::UnitZ()).toRotationMatrix();
+        turned |= (unturned - smallest).cwiseAbs().maxCoeff() <= 1e-6 && above_place(body) &&
+                  stands(scenario, body, poses);
+      }
+    }
     if (!there || !turned)
       problems.push_back("goal at(" + at.object + ", " + at.place + ") not reached");
   }
