@@ -378,6 +378,48 @@ TEST(Subassemblies, NoRestingPositionLeftIsTheReason) {
       << result.family.reason;
 }
 
+TEST(Subassemblies, BeforeTheJoinTheBaseGoesOnlyWhereItRestsAlone) {
+  // Seed figure 13 (the block face down: it is turned over before the peg goes in), with the peg
+  // moved 3 in along the block's x, beside it (the pair still stands upright, 0.47 in inside the
+  // footing, and also rests tilted where the block alone does not: three joined positions per
+  // place), and the block must end at the back place: no step before the insertion may put the
+  // block alone at a joined position (J<k>+peg). (The planner inserts the peg at the back place.)
+  std::string text = read_text(std::string(SPAR_SOURCE_DIR) + "/examples/peg_block_face_down.yaml");
+  text += "  - at: {object: block, place: back}\n";
+  Scenario scenario =
+      parse_scenario(text, "peg_block_face_down.yaml", std::string(SPAR_SOURCE_DIR) + "/examples");
+  auto& joined = std::get<AssembledGoal>(scenario.goals[0]);
+  joined.relative = Eigen::Translation3d(3 * 0.0254, 0, 0) * joined.relative;
+  const PlanResult result = plan_checked(scenario);
+  ASSERT_TRUE(result.planned()) << result.family.reason;
+  const int block = result.world.object_index("block");
+  const std::vector<PositionLabel>& positions = result.world.object(block).positions;
+  ASSERT_TRUE(std::any_of(positions.begin(), positions.end(),
+                          [](const PositionLabel& p) { return p.joined_goal == 0; }));
+  const PlanFamily& family = result.family;
+  const auto insertion = std::find_if(family.steps.begin(), family.steps.end(), [&](const auto& s) {
+    return s.action >= 0 && result.domain.actions[s.action].name == "assemble";
+  });
+  ASSERT_NE(insertion, family.steps.end());
+  int before = 0;
+  for (const FamilyStep& step : family.steps) {
+    if (step.action < 0 || step.id == insertion->id) continue;
+    if (!family.ordering.precedes(step.id, insertion->id)) continue;
+    for (const Term& term : step.args) {
+      if (term.kind != Term::Kind::kVariable) continue;
+      const PlanVariable& variable = family.variables[term.index];
+      if (variable.object != block || variable.type == ParameterType::kGrasp ||
+          variable.type == ParameterType::kObject)
+        continue;
+      ++before;
+      for (const int label : family.network.labels(term.index))
+        EXPECT_LT(positions[label].joined_goal, 0)
+            << family.describe(step, result.world, result.domain) << ": " << positions[label].name;
+    }
+  }
+  EXPECT_GT(before, 0);  // the block is turned over first
+}
+
 TEST(Subassemblies, AnInstanceLeavingThePairToToppleIsRefused) {
   const PlanResult result = plan_checked(subassembly_moved());
   ASSERT_TRUE(result.planned()) << result.family.reason;
