@@ -1,8 +1,15 @@
 // Properties over random boxes and random convex polyhedra (RapidCheck): every stable pose rests
 // its facet on the table with the whole object above it and the centre of mass over the facet;
-// every grasp squeezes two parallel opposite faces exactly its width apart.
+// every grasp squeezes two parallel opposite faces exactly its width apart. Two random boxes
+// joined rigidly rest somewhere (every rigid body does: on the hull facet nearest its centre of
+// mass), and every resting pose joint_stable_poses gives has both boxes above the table and
+// stands there; one box joined with nothing rests exactly as its stable poses.
 #include <gtest/gtest.h>
 #include <rapidcheck/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <optional>
 
 #include "spar/geometry/grasps.hpp"
 #include "spar/geometry/stable_poses.hpp"
@@ -87,6 +94,40 @@ RC_GTEST_PROP(GeometryProperties, RandomConvexPolyhedraRestOnTheirFacets, ()) {
   const ObjectModel object("hull", mesh);
   check_stable_poses(object);
   check_grasps(object);
+}
+
+RC_GTEST_PROP(GeometryProperties, RandomJoinedBoxesRestSomewhereAndOnlyWhereTheyStand, ()) {
+  const ObjectModel base(
+      "base", make_box({random_length(0.1, 5), random_length(0.1, 5), random_length(0.1, 5)}));
+  const ObjectModel part(
+      "part", make_box({random_length(0.1, 5), random_length(0.1, 5), random_length(0.1, 5)}));
+  const Eigen::Isometry3d relative =
+      Eigen::Translation3d(random_length(-8, 8), random_length(-8, 8), random_length(-8, 8)) *
+      Eigen::AngleAxisd(random_length(0, 3.14), Eigen::Vector3d::UnitZ()) *
+      Eigen::AngleAxisd(random_length(0, 3.14), Eigen::Vector3d::UnitX());
+  const PosedPart joined[] = {{&base, Eigen::Isometry3d::Identity()}, {&part, relative}};
+  const double tolerance = 1e-7;
+  const std::vector<JointStablePose> poses = joint_stable_poses(joined, tolerance);
+  RC_ASSERT(!poses.empty());
+  for (const JointStablePose& pose : poses) {
+    RC_ASSERT(std::abs(pose.down.norm() - 1) < 1e-12);
+    // Eigen's smallest rotation loses digits when `down` is nearly +z (1 + cos is tiny): 2e-9 seen.
+    RC_ASSERT(((pose.frame_to_world.linear() * pose.down) + Eigen::Vector3d::UnitZ()).norm() <
+              1e-8);
+    double lowest = std::numeric_limits<double>::infinity();
+    for (const PosedPart& piece : joined)
+      for (const Eigen::Vector3d& vertex : piece.model->mesh().vertices)
+        lowest = std::min(lowest, (pose.frame_to_world * piece.pose * vertex).z());
+    RC_ASSERT(std::abs(lowest) < 1e-9);
+    const PosedPart placed[] = {{&base, pose.frame_to_world},
+                                {&part, pose.frame_to_world * relative}};
+    const std::optional<double> margin = resting_margin(placed, tolerance);
+    RC_ASSERT(margin.has_value());
+    RC_ASSERT(*margin > tolerance);
+    RC_ASSERT(std::abs(*margin - pose.margin) < 1e-9);
+  }
+  const PosedPart alone[] = {{&base, Eigen::Isometry3d::Identity()}};
+  RC_ASSERT(joint_stable_poses(alone, base.tolerance()).size() == stable_poses(base).size());
 }
 
 }  // namespace
