@@ -424,10 +424,13 @@ namespace {
 // PreconditionResult::blame: per variable, the share of the sound bound's width that goes when it
 // is pinned to its nominal value 0 (the quick bound of the pinned box), largest first. Only the
 // pinned bound's outer width is used, so it skips NLopt's inner search (midpoints and corners
-// still give it inner values to converge against).
+// still give it inner values to converge against). The bounds share `max_work`.
 void add_blame(PreconditionResult& result, bounds::BoundProblem& problem,
-               bounds::BoundOptions quick) {
+               bounds::BoundOptions quick, std::size_t max_work) {
   quick.inner = false;
+  if (!result.box.empty())
+    quick.max_work =
+        std::min(quick.max_work, std::max<std::size_t>(1, max_work / result.box.size()));
   const double width = result.bound.hi - result.bound.lo;
   result.blame.clear();
   for (std::size_t v = 0; v < result.box.size(); ++v) {
@@ -483,10 +486,18 @@ std::optional<double> proved_scale(const PreconditionResult& result, bounds::Bou
 
 }  // namespace
 
-void add_margins(InstanceAnalysis& analysis, const AnalysisOptions& options) {
+void add_margins(InstanceAnalysis& analysis, const AnalysisOptions& options,
+                 const std::function<void(std::string_view)>& progress) {
   std::mt19937_64 random(20261201);
+  std::size_t total = 0, done = 0;
+  for (const AnalysedStep& step : analysis.steps) total += step.preconditions.size();
   for (AnalysedStep& step : analysis.steps) {
     for (PreconditionResult& result : step.preconditions) {
+      if (progress)
+        progress(
+            "phase 2: margins of the chosen instance (blame, reverse analysis, Monte Carlo): "
+            "precondition " +
+            std::to_string(++done) + " of " + std::to_string(total));
       // One compiled problem per precondition for every pass below.
       std::vector<Expr> inputs;
       for (const VariableId id : result.variables) inputs.push_back(analysis.symbols[id.index]);
@@ -495,7 +506,7 @@ void add_margins(InstanceAnalysis& analysis, const AnalysisOptions& options) {
       // has none): [lo, hi] only shrinks, so the verdict stands.
       result.bound = problem.bound(result.box, options.report);
       result.witness = bounds::witness(result.inequality, result.bound);
-      if (options.blame) add_blame(result, problem, options.quick);
+      if (options.blame) add_blame(result, problem, options.quick, options.blame_max_work);
       if (options.samples > 0) add_monte_carlo(result, inputs, options.samples, random);
       if (options.reverse)
         result.holds_up_to_scale = proved_scale(result, problem, analysis.variables, options);
@@ -525,8 +536,7 @@ std::vector<InstanceAnalysis> analyse_instances(
     if (examined.back().errors == 0) break;
   }
   if (examined.empty()) return examined;
-  stage("phase 2: margins of the chosen instance (blame, reverse analysis, Monte Carlo)");
-  add_margins(examined[choose_instance(examined)], options);
+  add_margins(examined[choose_instance(examined)], options, progress);
   return examined;
 }
 

@@ -139,6 +139,11 @@ struct AnalysisOptions {
   int reverse_iterations{12};     // bisection steps (resolution max_scale / 4096)
   bool scale_manipulator{false};  // also scale the arm's variables
   bool blame{true};
+  // The blame's quick bounds of one precondition (one per variable) share this many work units
+  // (bounds::BoundOptions::max_work), split evenly: a precondition of a few hundred tape
+  // instructions never reaches it, a huge one (joint uncertainty: 10^5 and more, tens of
+  // variables) gets coarser, still sound, bounds for its blame instead of one full budget each.
+  std::size_t blame_max_work{500'000'000};
   std::size_t samples{2000};  // Monte Carlo samples per precondition (0: off)
 };
 
@@ -163,7 +168,9 @@ struct AnalysisOptions {
     const std::function<void(std::string_view stage)>& progress = {});
 
 // Adds the chosen-instance extras to an analysis: a tight bound with inner values for every
-// precondition, blame, reverse analysis and Monte Carlo (as `options` enable them).
-void add_margins(InstanceAnalysis& analysis, const AnalysisOptions& options);
+// precondition, blame, reverse analysis and Monte Carlo (as `options` enable them). `progress`,
+// when set, is told each precondition as it starts ("precondition 12 of 40").
+void add_margins(InstanceAnalysis& analysis, const AnalysisOptions& options,
+                 const std::function<void(std::string_view stage)>& progress = {});
 
 }  // namespace spar::planner
