@@ -494,10 +494,8 @@ void add_margins(InstanceAnalysis& analysis, const AnalysisOptions& options,
   for (AnalysedStep& step : analysis.steps) {
     for (PreconditionResult& result : step.preconditions) {
       if (progress)
-        progress(
-            "phase 2: margins of the chosen instance (blame, reverse analysis, Monte Carlo): "
-            "precondition " +
-            std::to_string(++done) + " of " + std::to_string(total));
+        progress("phase 2: margins of precondition " + std::to_string(++done) + " of " +
+                 std::to_string(total));
       // One compiled problem per precondition for every pass below.
       std::vector<Expr> inputs;
       for (const VariableId id : result.variables) inputs.push_back(analysis.symbols[id.index]);

@@ -169,7 +169,7 @@ struct AnalysisOptions {
 
 // Adds the chosen-instance extras to an analysis: a tight bound with inner values for every
 // precondition, blame, reverse analysis and Monte Carlo (as `options` enable them). `progress`,
-// when set, is told each precondition as it starts ("precondition 12 of 40").
+// when set, is told each precondition as it starts ("phase 2: margins of precondition 12 of 40").
 void add_margins(InstanceAnalysis& analysis, const AnalysisOptions& options,
                  const std::function<void(std::string_view stage)>& progress = {});
 
