@@ -1,8 +1,11 @@
 #include "spar/reports/internal/cell.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <map>
 #include <optional>
+#include <utility>
 
 #include "spar/bounds/bound.hpp"
 #include "spar/geometry/collision.hpp"
@@ -202,6 +205,20 @@ Cell build_cell(const planner::PlanResult& result, const Chosen& chosen,
   int held = -1;
   std::optional<std::size_t> held_since;  // the pickup that grasped `held`
   std::vector<CellSensing> sensed;
+  // Each object's outline by its exact pose: most objects keep theirs from view to view, and
+  // uniting a mesh's projected triangles is the costly part of a view.
+  std::map<std::pair<std::size_t, std::array<double, 16>>, Silhouette> outlines;
+  const auto outline = [&](std::size_t o) -> const Silhouette& {
+    std::array<double, 16> key;
+    Eigen::Map<Eigen::Matrix4d>(key.data()) = pose[o].matrix();
+    auto found = outlines.find({o, key});
+    if (found == outlines.end())
+      found = outlines
+                  .emplace(std::pair{o, key},
+                           object_outline(scenario.objects[o].model.mesh(), pose[o], scale))
+                  .first;
+    return found->second;
+  };
   Cell cell;
   const auto view = [&](std::optional<std::size_t> after, std::optional<Transform> gripper,
                         double opening, int handled) {
@@ -209,8 +226,7 @@ Cell build_cell(const planner::PlanResult& result, const Chosen& chosen,
     if (after) v.after = int(*after) + 1;
     v.title = after ? "after " + step_label(chosen, *after) : "initial state";
     for (std::size_t o = 0; o < scenario.objects.size(); ++o)
-      v.objects.push_back({scenario.objects[o].name, int(o) == held,
-                           object_outline(scenario.objects[o].model.mesh(), pose[o], scale)});
+      v.objects.push_back({scenario.objects[o].name, int(o) == held, outline(o)});
     if (gripper) v.gripper = gripper_outline(scenario.robot.gripper, opening, *gripper, scale);
     if (replay && handled >= 0)
       if (auto region = replay->region(handled, handled == held ? held_since : std::nullopt, scale))
