@@ -38,6 +38,8 @@ using symbolic::Tape;
 constexpr unsigned kMaxGlobalVariables = 32;
 constexpr std::size_t kMaxSlsqpVariables = 64;
 constexpr std::size_t kPassesPerBox = 6;
+// Deciding: the share of the budget branch and bound may use before NLopt looks for a witness.
+constexpr double kProbeShare = 0.25;
 constexpr std::size_t kPassesPerFaceGradient = 3;  // value and gradient again on a narrower face
 constexpr std::size_t kMaxStoredIntervals = std::size_t{1} << 22;
 // Witness enclosures crossing by at most this (relative to max(1, |values|)) are rounding.
@@ -306,19 +308,20 @@ class Bounder {
     result_ = &result;
     std::vector<Interval> root = root_;
     if (!contract(root)) return infeasible(result);
-    inner_candidates(root);
     double lo = 0, hi = 0;
+    offer_centre(root);
     if (options_.decide) {
       // One side only (see BoundOptions::decide); the other is the root's enclosure.
       const int sign = upper_limit(options_.decide->relation) ? +1 : -1;
-      if (options_.inner && !decided(sign, kInf)) nlopt_search(root, sign);
-      const double side = search(root, sign);
+      const double side = decide_side(root, sign);
       const int other = sign > 0 ? 1 : 0;
       const double enclosure =
           std::max(tree_[0].bound[other], sign > 0 ? -result.inner_lo : result.inner_hi);
       hi = sign > 0 ? side : enclosure;
       lo = sign > 0 ? -enclosure : -side;
     } else {
+      // Both sides: NLopt's witnesses first, so each side's search converges against them.
+      offer_corners(root);
       if (options_.inner) {
         nlopt_search(root, +1);
         nlopt_search(root, -1);
@@ -420,11 +423,14 @@ class Bounder {
     internal::offer_witness(*result_, x, v);
   }
 
-  // Centre and (for up to 10 variables) corners of the box.
-  void inner_candidates(std::span<const Interval> box) {
-    const std::size_t n = box.size();
-    for (std::size_t i = 0; i < n; ++i) point_[i] = box[i].mid();
+  void offer_centre(std::span<const Interval> box) {
+    for (std::size_t i = 0; i < box.size(); ++i) point_[i] = box[i].mid();
     offer(point_);
+  }
+
+  // The corners of the box (up to 10 variables).
+  void offer_corners(std::span<const Interval> box) {
+    const std::size_t n = box.size();
     if (n > 10) return;
     for (std::size_t mask = 0; mask < (std::size_t{1} << n); ++mask) {
       for (std::size_t i = 0; i < n; ++i) point_[i] = (mask >> i) & 1 ? box[i].hi : box[i].lo;
@@ -695,12 +701,16 @@ class Bounder {
   }
 
   // Whether the effort of this direction is spent: the first direction may use half of each
-  // budget, the second the rest.
+  // budget, the second the rest (times effort_scale_ while deciding's probe runs).
   bool out_of_effort(int direction) {
     const std::size_t share = static_cast<std::size_t>(direction) + 1;
-    if (evaluations_ >= options_.max_box_evaluations / 2 * share) return true;
-    if (work_ >= options_.max_work / 2 * share) return true;
-    if (options_.max_seconds > 0 && elapsed() > options_.max_seconds * share / 2) {
+    const auto limit = [&](std::size_t budget) {
+      return static_cast<double>(budget / 2 * share) * effort_scale_;
+    };
+    if (static_cast<double>(evaluations_) >= limit(options_.max_box_evaluations)) return true;
+    if (static_cast<double>(work_) >= limit(options_.max_work)) return true;
+    if (options_.max_seconds > 0 &&
+        elapsed() > options_.max_seconds * static_cast<double>(share) / 2 * effort_scale_) {
       time_limited_ = true;
       return true;
     }
@@ -727,6 +737,22 @@ class Bounder {
     const bool proved = is_strict ? top < t : top <= t;
     const bool broken = is_strict ? attained >= t : attained > t;
     return proved || broken;
+  }
+
+  // Deciding's search of sign·f's maximum: branch and bound first, on a quarter of the budget,
+  // with the box midpoints as witnesses: most inequalities hold, and a proof needs no witness.
+  // Only if that leaves the verdict open do the corners and NLopt look for a violating point
+  // before branch and bound goes on with the rest, from the same tree (no box is evaluated
+  // twice).
+  double decide_side(const std::vector<Interval>& root, int sign) {
+    effort_scale_ = kProbeShare;
+    const double probed = search(root, sign);
+    effort_scale_ = 1.0;
+    if (decided(sign, probed)) return probed;
+    time_limited_ = false;  // the probe's share of max_seconds, not the limit, ran out
+    offer_corners(root);
+    if (options_.inner && !decided(sign, kInf)) nlopt_search(root, sign);
+    return search(root, sign);
   }
 
   // Sound upper bound of sign·f over the feasible box; best-first bisection over tree_, which the
@@ -833,7 +859,8 @@ class Bounder {
     if (!(middle > range.lo && middle < range.hi)) return false;
     // The box is released below, and its bounds cap its children's: refine it now for the search
     // to come if that may pop it.
-    if (direction_ == 0 && tree_[index].bound[1] > -result_->inner_lo) refine(index, 1);
+    if (direction_ == 0 && searches_minimum() && tree_[index].bound[1] > -result_->inner_lo)
+      refine(index, 1);
     // f affine in the variable (and no constraints): its extremes over the box lie on the
     // variable's end points, so the children are those two faces, one variable fewer each.
     const bool faces = constraints_.empty() && f_.affine_in(tree_[index].split);
@@ -857,7 +884,13 @@ class Bounder {
   // improve, so a node that fails this never passes it later). Max (0) runs before min (1).
   bool may_be_expanded(const TreeNode& node) const {
     return (direction_ == 0 && node.bound[0] > result_->inner_hi) ||
-           node.bound[1] > -result_->inner_lo;
+           (searches_minimum() && node.bound[1] > -result_->inner_lo);
+  }
+
+  // Whether a search of f's minimum (direction 1) runs: always, except when deciding an upper
+  // limit (`<`, `<=`), which searches the maximum only.
+  bool searches_minimum() const {
+    return !options_.decide || !upper_limit(options_.decide->relation);
   }
 
   void release(std::size_t index) {
@@ -884,6 +917,7 @@ class Bounder {
   std::size_t evaluations_{0};
   std::size_t work_{0};             // tape instructions evaluated (approximately: see BoundOptions)
   std::size_t evaluation_cost_{1};  // one pass over f's and the constraints' tapes
+  double effort_scale_{1.0};        // of out_of_effort()'s share: kProbeShare during a probe
   bool time_limited_{false};
   bool undefined_{false};
   bool converged_[2]{false, false};
@@ -1189,6 +1223,48 @@ BoundResult BoundProblem::bound(std::span<const Interval> ranges, const BoundOpt
   result.check_invariants();
 #endif
   return result;
+}
+
+std::vector<double> BoundProblem::width_shares(std::span<const Interval> ranges,
+                                               std::span<const double> pins) {
+  internal::check_ranges(impl_->variables, ranges);
+  const std::size_t n = ranges.size();
+  if (pins.size() != n) throw BoundsError("width_shares: one pin per variable");
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!ranges[i].contains(pins[i]))
+      throw BoundsError("width_shares: the pin of " + impl_->variables[i].name() +
+                        " lies outside its range");
+  }
+  internal::GradientEvaluator<Interval>& f = impl_->compiled->interval;
+  std::vector<double> shares(n, 0.0);
+  const auto share = [](double removed, double whole) {
+    return whole > 0 && std::isfinite(whole) ? std::clamp(removed / whole, 0.0, 1.0) : 0.0;
+  };
+  std::vector<Interval> gradient(n);
+  const Interval value = f.value_and_gradient(ranges, gradient);
+  const bool differentiable =
+      !value.possibly_undefined && std::ranges::all_of(gradient, [](const Interval& g) {
+        return g.is_bounded() && !g.possibly_undefined && !g.is_empty();
+      });
+  std::vector<Interval> point(pins.begin(), pins.end());
+  if (differentiable) {
+    std::vector<double> term(n);
+    double whole = f.value(point).width();
+    for (std::size_t i = 0; i < n; ++i) {
+      term[i] = (gradient[i] * (ranges[i] - Interval{pins[i]})).width();
+      whole += term[i];
+    }
+    for (std::size_t i = 0; i < n; ++i) shares[i] = share(term[i], whole);
+    return shares;
+  }
+  const double whole = f.value(ranges).width();
+  std::vector<Interval> pinned(ranges.begin(), ranges.end());
+  for (std::size_t i = 0; i < n; ++i) {
+    pinned[i] = Interval{pins[i]};
+    shares[i] = share(whole - f.value(pinned).width(), whole);
+    pinned[i] = ranges[i];
+  }
+  return shares;
 }
 
 BoundResult BoundProblem::Impl::staged(std::span<const Interval> ranges,

@@ -92,11 +92,14 @@ struct BoundOptions {
   // exact up to rounding, so it usually settles f alone (at most 1.375 budgets in all).
   bool simplify{true};
   // Deciding, not bounding: with a target, only the side of f the relation limits is searched
-  // (hi for `<`, `<=`; lo for `>`, `>=`), its NLopt stage included, and the search stops as soon as
-  // decide() (bounds/inequality.hpp) would answer: that side's sound bound proves the inequality,
-  // or an attained witness value breaks it. The other side is the root box's enclosure (sound,
-  // loose). The verdict is the one the full bound would give whenever both decide; the bound is
-  // only as tight as deciding needed, and its status is kEffortLimit unless that side converged.
+  // (hi for `<`, `<=`; lo for `>`, `>=`), and the search stops as soon as decide()
+  // (bounds/inequality.hpp) would answer: that side's sound bound proves the inequality, or an
+  // attained witness value breaks it. Branch and bound runs first on a quarter of the budget with
+  // the box centre and the boxes' midpoints as witnesses (a proof needs no witness); only if that
+  // leaves the verdict open do the corners and NLopt look for a violating point before branch and
+  // bound goes on with the rest. The other side is the root box's enclosure (sound, loose). The
+  // verdict is the one the full bound would give whenever both decide; the bound is only as
+  // tight as deciding needed, and its status is kEffortLimit unless that side converged.
   std::optional<DecisionTarget> decide{};
 };
 
@@ -179,6 +182,21 @@ class BoundProblem {
   // infinite or empty range, or a negative tolerance.
   [[nodiscard]] BoundResult bound(std::span<const Interval> ranges,
                                   const BoundOptions& options = {});
+
+  // Per variable i, the share of the width of f's mean-value enclosure over the box that pinning
+  // variable i to pins[i] removes (which variables take up the bound: phase 2's blame). With G
+  // enclosing f's gradient over the box (one reverse-mode interval pass),
+  //   f(X) ⊆ f(p) + Σ_j G_j·(X_j - p_j),
+  // and pinning x_i to p_i removes exactly the term T_i = G_i·(X_i - p_i), so
+  //   share_i = width(T_i) / width(enclosure),
+  // each in [0, 1], summing to at most 1 (f(p)'s rounding takes the rest). Where G has no finite
+  // enclosure (f not differentiable somewhere in the box), the natural interval extension F
+  // stands in: share_i = (width F(X) - width F(X, x_i = p_i)) / width F(X), clamped to [0, 1].
+  // All are 0 when the enclosure has zero or unbounded width. Constraints are not used.
+  // Cost: one value-and-gradient pass over f's tape (or n + 1 interval passes).
+  // Throws BoundsError for wrong counts, a bad range, or a pin outside its range.
+  [[nodiscard]] std::vector<double> width_shares(std::span<const Interval> ranges,
+                                                 std::span<const double> pins);
 
  private:
   struct Impl;

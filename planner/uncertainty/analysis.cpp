@@ -421,25 +421,16 @@ InstanceAnalysis analyse_instance(const WorldModel& world, const Domain& domain,
 
 namespace {
 
-// PreconditionResult::blame: per variable, the share of the sound bound's width that goes when it
-// is pinned to its nominal value 0 (the quick bound of the pinned box), largest first. Only the
-// pinned bound's outer width is used, so it skips NLopt's inner search (midpoints and corners
-// still give it inner values to converge against). The bounds share `max_work`.
-void add_blame(PreconditionResult& result, bounds::BoundProblem& problem,
-               bounds::BoundOptions quick, std::size_t max_work) {
-  quick.inner = false;
-  if (!result.box.empty())
-    quick.max_work =
-        std::min(quick.max_work, std::max<std::size_t>(1, max_work / result.box.size()));
-  const double width = result.bound.hi - result.bound.lo;
+// PreconditionResult::blame: per variable, the share of the mean-value enclosure's width that goes
+// when it is pinned to its nominal value 0 (BoundProblem::width_shares), largest first.
+void add_blame(PreconditionResult& result, bounds::BoundProblem& problem) {
+  std::vector<double> nominal(result.box.size());
+  for (std::size_t v = 0; v < nominal.size(); ++v)
+    nominal[v] = std::clamp(0.0, result.box[v].lo, result.box[v].hi);
+  const std::vector<double> shares = problem.width_shares(result.box, nominal);
   result.blame.clear();
-  for (std::size_t v = 0; v < result.box.size(); ++v) {
-    std::vector<Interval> pinned = result.box;
-    pinned[v] = Interval(0.0);
-    const bounds::BoundResult without = problem.bound(pinned, quick);
-    const double share = width > 0 ? (width - (without.hi - without.lo)) / width : 0.0;
-    result.blame.push_back({result.variables[v], std::clamp(share, 0.0, 1.0)});
-  }
+  for (std::size_t v = 0; v < shares.size(); ++v)
+    result.blame.push_back({result.variables[v], shares[v]});
   std::stable_sort(result.blame.begin(), result.blame.end(),
                    [](const auto& a, const auto& b) { return a.share > b.share; });
 }
@@ -504,7 +495,7 @@ void add_margins(InstanceAnalysis& analysis, const AnalysisOptions& options,
       // has none): [lo, hi] only shrinks, so the verdict stands.
       result.bound = problem.bound(result.box, options.report);
       result.witness = bounds::witness(result.inequality, result.bound);
-      if (options.blame) add_blame(result, problem, options.quick, options.blame_max_work);
+      if (options.blame) add_blame(result, problem);
       if (options.samples > 0) add_monte_carlo(result, inputs, options.samples, random);
       if (options.reverse)
         result.holds_up_to_scale = proved_scale(result, problem, analysis.variables, options);

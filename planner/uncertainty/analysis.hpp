@@ -23,8 +23,10 @@
 //                     uncertainty of the objects it depends on (their initial / sensed variables,
 //                     the arm's too when `scale_manipulator`) for which it is PROVED to hold: a
 //                     bisection in which every accepted scale is a satisfied verdict;
-//   blame             per precondition and variable, the share of the sound bound's width that
-//                     goes when that variable is pinned to its nominal value 0 (the quick bound);
+//   blame             per precondition and variable, the share of the width of the mean-value
+//                     enclosure over the box that goes when that variable is pinned to its
+//                     nominal value 0 (bounds::BoundProblem::width_shares: one interval
+//                     gradient, first order: which variables take up the bound, not a bound);
 //   sensor margin     for a failed step (any instance), the largest residual scale of the
 //                     range-scan that would make it hold (AnalysedStep::sensor_scale_needed);
 //   Monte Carlo       the fraction of `samples` uniform points of the box where the inequality
@@ -128,8 +130,8 @@ struct AnalysisOptions {
   // Deciding: a quick bound first, the full one only where that leaves a precondition undecided.
   bounds::BoundOptions quick{.tolerance = 1e-2, .max_box_evaluations = 300};
   bounds::BoundOptions bound{.tolerance = 1e-3, .max_box_evaluations = 20'000};
-  // The chosen instance's reported bounds (with inner values), blame and reverse analysis use
-  // `report`, `quick` and `quick`.
+  // The chosen instance's reported bounds (with inner values) use `report`, its reverse analysis
+  // `quick` (deciding each scale).
   bounds::BoundOptions report{.tolerance = 1e-3, .max_box_evaluations = 5'000};
   bool repair{true};      // try range-scans and squeezes
   int squeeze_grasps{4};  // squeezes tried per failing step (other grasps than the pickup's)
@@ -139,11 +141,6 @@ struct AnalysisOptions {
   int reverse_iterations{12};     // bisection steps (resolution max_scale / 4096)
   bool scale_manipulator{false};  // also scale the arm's variables
   bool blame{true};
-  // The blame's quick bounds of one precondition (one per variable) share this many work units
-  // (bounds::BoundOptions::max_work), split evenly: a precondition of a few hundred tape
-  // instructions never reaches it, a huge one (joint uncertainty: 10^5 and more, tens of
-  // variables) gets coarser, still sound, bounds for its blame instead of one full budget each.
-  std::size_t blame_max_work{500'000'000};
   std::size_t samples{2000};  // Monte Carlo samples per precondition (0: off)
 };
 

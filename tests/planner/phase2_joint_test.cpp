@@ -361,7 +361,7 @@ TEST_F(JointUncertaintySqueeze, NoSqueezeWhereItsGraspCheckFails) {
 }
 
 // Planning options for the end-to-end tests: one instance, no probability or reverse analysis,
-// `report` bounds as quick as deciding's (the chosen instance's tight bounds and blame cost minutes
+// `report` bounds as quick as deciding's (the chosen instance's tight bounds cost tens of seconds
 // on the peg-in-block plan's joint expressions: docs/scenario.md).
 PlanOptions quick_options(bool blame, std::size_t samples) {
   PlanOptions options;

@@ -1,0 +1,131 @@
+// BoundOptions::decide (branch and bound first, NLopt only where that leaves the verdict open)
+// against the full bound, and BoundProblem::width_shares (phase 2's blame).
+#include <gtest/gtest.h>
+#include <rapidcheck/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "random_expression.hpp"
+#include "spar/bounds/bound.hpp"
+#include "spar/bounds/inequality.hpp"
+#include "spar/symbolic/parse.hpp"
+#include "spar/symbolic/tape.hpp"
+
+namespace spar::bounds {
+namespace {
+
+using symbolic::Expr;
+using symbolic::ExprPool;
+
+// Property: deciding `f rel t` never contradicts the full bound (where both decide, they agree),
+// a satisfied verdict holds at random points of the box, and a violated one has a witness in
+// the box where the inequality is false.
+RC_GTEST_PROP(Deciding, AgreesWithTheFullBoundAndHoldsAtRandomPoints, ()) {
+  ExprPool pool;
+  const Expr f = testing::random_expression(pool);
+  Box box;
+  for (const char* name : {"x", "y"}) {
+    const double lo = *rc::gen::inRange(-3000, 3000) / 1000.0;
+    const double width = std::pow(10.0, *rc::gen::inRange(-600, 200) / 100.0);
+    box.add(pool.variable(name), lo, lo + width);
+  }
+  const BoundResult full = bound(f, box, {.max_box_evaluations = 2000});
+  RC_PRE(full.status != BoundStatus::kInfeasible && full.status != BoundStatus::kUnbounded);
+  // Thresholds across the attained range and just outside the bound.
+  const double at = *rc::gen::inRange(-2, 13) / 10.0;
+  const double threshold = full.lo + at * (full.hi - full.lo);
+  const Relation relation = *rc::gen::element(Relation::kLess, Relation::kLessEqual,
+                                              Relation::kGreater, Relation::kGreaterEqual);
+  const Inequality inequality{"q", f, relation, threshold};
+  BoundOptions options{.max_box_evaluations = *rc::gen::element(8, 60, 2000)};
+  options.decide = DecisionTarget{relation, threshold};
+  const BoundResult decided = bound(f, box, options);
+  const Verdict quick = decide(inequality, decided), reference = decide(inequality, full);
+  RC_TAG(to_string(quick));
+  if (quick != Verdict::kUndecided && reference != Verdict::kUndecided)
+    RC_ASSERT(quick == reference);
+  const symbolic::Tape tape = symbolic::Tape::compile(std::array{f}, box.variables);
+  symbolic::TapeEvaluator<Interval> evaluator(tape);
+  if (quick == Verdict::kSatisfied) {
+    for (int k = 0; k < 16; ++k) {
+      Interval p[2], out[1];
+      for (int i = 0; i < 2; ++i) {
+        const Interval range = box.ranges[i];
+        p[i] = Interval{
+            std::min(range.hi, range.lo + range.width() * (*rc::gen::inRange(0, 1001) / 1000.0))};
+      }
+      evaluator.evaluate(p, out);
+      if (out[0].is_empty() || out[0].possibly_undefined) continue;
+      // The enclosure of f at the point must allow the inequality to hold.
+      const bool may_hold = upper_limit(relation) ? out[0].lo <= threshold : out[0].hi >= threshold;
+      RC_ASSERT(may_hold);
+    }
+  }
+  if (quick == Verdict::kViolated) {
+    const std::vector<double> point = witness(inequality, decided);
+    RC_ASSERT(point.size() == 2u);
+    Interval p[2] = {Interval{point[0]}, Interval{point[1]}}, out[1];
+    for (int i = 0; i < 2; ++i) RC_ASSERT(box.ranges[i].contains(point[i]));
+    evaluator.evaluate(p, out);
+    // f's value there (within out) breaks the inequality: out cannot lie wholly on its right side.
+    const bool may_break = upper_limit(relation) ? out[0].hi >= threshold : out[0].lo <= threshold;
+    RC_ASSERT(may_break);
+  }
+}
+
+TEST(WidthShares, AnAffineFunctionSharesItsWidthByCoefficientTimesWidth) {
+  ExprPool pool;
+  const Expr x = pool.variable("x"), y = pool.variable("y");
+  BoundProblem problem(symbolic::parse(pool, "3*x + y + 1"), std::vector{x, y});
+  const std::vector<Interval> box{{-1, 1}, {-2, 2}};
+  const std::vector<double> shares = problem.width_shares(box, std::vector{0.0, 0.0});
+  ASSERT_EQ(shares.size(), 2u);
+  EXPECT_NEAR(shares[0], 0.6, 1e-12);  // 3 x width 2 of 10
+  EXPECT_NEAR(shares[1], 0.4, 1e-12);
+}
+
+// Pinning either factor of x·y at 0 removes its whole width: first order over the box, each term
+// G_i·(X_i - 0) is as wide as the other, so each gets half.
+TEST(WidthShares, AProductAtZeroSharesEvenly) {
+  ExprPool pool;
+  const Expr x = pool.variable("x"), y = pool.variable("y");
+  BoundProblem problem(x * y, std::vector{x, y});
+  const std::vector<double> shares =
+      problem.width_shares(std::vector<Interval>{{-1, 1}, {-2, 2}}, std::vector{0.0, 0.0});
+  EXPECT_NEAR(shares[0], 0.5, 1e-12);
+  EXPECT_NEAR(shares[1], 0.5, 1e-12);
+}
+
+// sqrt's gradient has no finite enclosure at 0: the natural extension stands in (pinning x at 0
+// leaves only y's width).
+TEST(WidthShares, WithoutAFiniteGradientTheNaturalExtensionStandsIn) {
+  ExprPool pool;
+  const Expr x = pool.variable("x"), y = pool.variable("y");
+  BoundProblem problem(symbolic::parse(pool, "sqrt(x) + y"), std::vector{x, y});
+  const std::vector<double> shares =
+      problem.width_shares(std::vector<Interval>{{0, 4}, {-1, 1}}, std::vector{0.0, 0.0});
+  EXPECT_NEAR(shares[0], 0.5, 1e-12);  // width 4 -> 2
+  EXPECT_NEAR(shares[1], 0.5, 1e-12);  // width 4 -> 2
+}
+
+TEST(WidthShares, AConstantOrAZeroWidthBoxGivesNoShares) {
+  ExprPool pool;
+  const Expr x = pool.variable("x");
+  BoundProblem problem(x * x, std::vector{x});
+  EXPECT_EQ(problem.width_shares(std::vector<Interval>{{0, 0}}, std::vector{0.0}),
+            std::vector<double>{0.0});
+}
+
+TEST(WidthShares, RefusesAPinOutsideItsRangeOrAWrongCount) {
+  ExprPool pool;
+  const Expr x = pool.variable("x");
+  BoundProblem problem(x * x, std::vector{x});
+  EXPECT_THROW((void)problem.width_shares(std::vector<Interval>{{1, 2}}, std::vector{0.0}),
+               BoundsError);
+  EXPECT_THROW((void)problem.width_shares(std::vector<Interval>{{-1, 2}}, std::vector<double>{}),
+               BoundsError);
+}
+
+}  // namespace
+}  // namespace spar::bounds
