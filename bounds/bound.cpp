@@ -1290,6 +1290,14 @@ BoundResult BoundProblem::Impl::staged(std::span<const Interval> ranges,
   // f would only meet the tolerance. Its witnesses count only where f itself is defined there
   // (refine_with evaluates f), and whether f may be undefined is asked of f's own natural
   // extension too (SMP keeps domains, but the flag must not rest on that alone).
+  // Deciding tries f's first stage before any rewrite: most inequalities are decided there, and
+  // building a rewrite (SMP) costs more than that stage.
+  std::optional<BoundResult> first_result;
+  if (options.decide) {
+    first_result = run(f, ranges, first);
+    if (first_result->status != BoundStatus::kEffortLimit || known(*first_result))
+      return *first_result;
+  }
   std::optional<BoundResult> single_use_result;
   if (CompiledFunction* single = single_use_rewrite()) {
     BoundResult settled;
@@ -1305,7 +1313,7 @@ BoundResult BoundProblem::Impl::staged(std::span<const Interval> ranges,
     if (settled.status == BoundStatus::kConverged || known(settled)) return settled;
     single_use_result = settled;
   }
-  BoundResult result = run(f, ranges, first);
+  BoundResult result = first_result ? *first_result : run(f, ranges, first);
   if (single_use_result) {
     // Its outer bounds hold for f: intersect them, and count its boxes.
     result.evaluations += single_use_result->evaluations;

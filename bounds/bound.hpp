@@ -89,7 +89,8 @@ struct BoundOptions {
   // only if that does not settle it does f get the whole budget (at most 1.25 budgets in all).
   // Before all that, a small f (at most 256 tape instructions) that SMP rewrites to use every
   // variable once (t/(t + 1) -> 1 - 1/(t + 1)) has that rewrite bounded with 1/8 first: it is
-  // exact up to rounding, so it usually settles f alone (at most 1.375 budgets in all).
+  // exact up to rounding, so it usually settles f alone (at most 1.375 budgets in all). Deciding
+  // (below) runs f's first stage before any rewrite: it settles most inequalities without SMP.
   bool simplify{true};
   // Deciding, not bounding: with a target, only the side of f the relation limits is searched
   // (hi for `<`, `<=`; lo for `>`, `>=`), and the search stops as soon as decide()
