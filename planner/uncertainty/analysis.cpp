@@ -462,6 +462,7 @@ std::optional<double> proved_scale(const PreconditionResult& result, bounds::Bou
                                    const AnalysisOptions& options) {
   bounds::BoundOptions deciding = options.quick;
   deciding.decide = bounds::DecisionTarget{result.inequality.relation, result.inequality.threshold};
+  deciding.inner = false;  // only a proof counts here: NLopt's violating witness would not
   const auto proved_at = [&](double scale) {
     std::vector<Interval> box = result.box;
     for (std::size_t v = 0; v < box.size(); ++v) {
