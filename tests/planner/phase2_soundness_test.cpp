@@ -246,7 +246,7 @@ TEST(Phase2Soundness, MonteCarloSamplesViolationsOfAFailingPickup) {
 
 // Reverse analysis claims each precondition PROVED with the objects' (initial and sensed) ranges
 // scaled by holds_up_to_scale, the arm's unchanged: the simulation must agree everywhere in that
-// larger box. Blame shares are fractions, largest first, one per variable.
+// larger box. Blame shares are fractions, largest first, one per variable, summing to at most 1.
 TEST(Phase2Soundness, ReverseMarginsHoldInTheScaledBox) {
   Scenario scenario =
       load_scenario(std::string(SPAR_SOURCE_DIR) + "/tests/planner/data/phase2_peg_pickup.yaml");
@@ -263,6 +263,9 @@ TEST(Phase2Soundness, ReverseMarginsHoldInTheScaledBox) {
       const PreconditionResult& p = chosen.steps[i].preconditions[j];
       SCOPED_TRACE(p.inequality.name);
       ASSERT_EQ(p.blame.size(), p.variables.size());
+      double blamed = 0;  // shares of one enclosure's width: together at most all of it
+      for (const auto& entry : p.blame) blamed += entry.share;
+      EXPECT_LE(blamed, 1.0 + 1e-9);
       for (std::size_t b = 0; b < p.blame.size(); ++b) {
         EXPECT_GE(p.blame[b].share, 0.0);
         EXPECT_LE(p.blame[b].share, 1.0);
