@@ -291,9 +291,13 @@ std::optional<double> InstanceAnalyser::sensor_margin(const std::vector<Phase2St
   for (int i = earliest; i <= trial.failing; ++i)
     failing = state.step(trial.steps[i], trial.steps[i].label);
   CompiledStep compiled(failing, state.space());
+  // Only proofs count here (a scale holds when every precondition is proved): no NLopt search
+  // for violating witnesses.
+  bounds::BoundOptions quick = options_.quick, full = options_.bound;
+  quick.inner = full.inner = false;
   const auto holds_at = [&](double scale) {
     state.set_sensor_scale(scale);
-    return all_hold(compiled.decide(state.space(), options_.quick, options_.bound));
+    return all_hold(compiled.decide(state.space(), quick, full));
   };
   if (!holds_at(0.0)) return std::nullopt;
   return internal::largest_holding(0.0, options_.max_scale, options_.reverse_iterations, holds_at);
