@@ -744,9 +744,10 @@ struct Comparison {
 // ---------------------------------------------------------------------------------------------
 // Phase 2 on the seed experiments.
 
-// Phase 2's decision of one step's preconditions, as planner/uncertainty/analysis.cpp makes it: one
+// Phase 2's decision of one step's preconditions, as planner/uncertainty/deciding.cpp makes it: one
 // condition set over the variables in space order, the natural pass and a quick bound, the full
-// bound where still undecided. Returns the bounds that decided; counts the escalations.
+// bound where still undecided, both bounds deciding (BoundOptions::decide: the side the relation
+// limits, early exit). Returns the bounds that decided; counts the escalations.
 struct Decided {
   std::vector<Verdict> verdicts;
   std::vector<spar::bounds::BoundResult> bounds;
@@ -761,15 +762,18 @@ Decided decide_like_phase2(const std::vector<spar::bounds::Inequality>& inequali
   Decided out;
   spar::bounds::ConditionSet set(inequalities, variables);
   const std::vector<spar::bounds::ConditionCheck> checks =
-      set.check(box, options.quick, spar::bounds::Escalation::kUndecided);
+      set.check(box, options.quick, spar::bounds::Escalation::kDecide);
   for (std::size_t i = 0; i < checks.size(); ++i) {
     out.verdicts.push_back(checks[i].verdict);
     out.bounds.push_back(checks[i].bound);
     if (!checks[i].escalated) ++out.natural;
     if (checks[i].verdict == Verdict::kUndecided) {
       ++out.full;
-      out.bounds.back() = spar::bounds::BoundProblem(inequalities[i].expression, variables)
-                              .bound(box, options.bound);
+      spar::bounds::BoundOptions deciding = options.bound;
+      deciding.decide =
+          spar::bounds::DecisionTarget{inequalities[i].relation, inequalities[i].threshold};
+      out.bounds.back() =
+          spar::bounds::BoundProblem(inequalities[i].expression, variables).bound(box, deciding);
       out.verdicts.back() = spar::bounds::decide(inequalities[i], out.bounds.back());
     }
   }
