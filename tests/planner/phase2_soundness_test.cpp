@@ -319,7 +319,7 @@ RC_GTEST_PROP(Phase2SoundnessProperty, RandomInstancesHoldWhereverReportedSatisf
   for (ObjectSpec& object : scenario.objects) scaled(object.uncertainty, scale);
   PlanOptions options = quick_options(2);
   options.posting.max_nodes = 20'000;
-  const PlanResult result = plan(scenario, builtin_domain(), options);
+  const PlanResult result = testing::plan_placed(scenario, builtin_domain(), options);
   RC_CLASSIFY(result.planned(), "planned");
   if (!result.planned()) return;
   const InstanceAnalysis& chosen = *result.chosen_analysis();

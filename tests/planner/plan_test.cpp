@@ -150,7 +150,7 @@ RC_GTEST_PROP(PlanProperty, RandomInitialPosesGiveValidPlans, ()) {
   PlanOptions options = phase1_only();
   options.max_instances = 4;
   options.posting.max_nodes = 20'000;
-  const PlanResult result = plan(scenario, builtin_domain(), options);
+  const PlanResult result = testing::plan_placed(scenario, builtin_domain(), options);
   RC_CLASSIFY(result.planned(), "planned");
   if (!result.planned()) return;
   const testing::IndependentCollisionChecker collisions(scenario, grasps);
