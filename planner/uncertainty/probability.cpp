@@ -761,8 +761,8 @@ std::vector<ToleranceAllocation::Miss> verify_allocation(
       const int q = parameters.of_variable[result.variables[v].index];
       if (q >= 0) box[v] = bounds::Interval(box[v].lo * p[q] / p0[q], box[v].hi * p[q] / p0[q]);
     }
-    // Deciding first (one side, early exit): most rows hold; only a miss needs the tight bound
-    // that says how far past the threshold it lies.
+    // Deciding first (one side, early exit): most rows hold; only a row it does not prove gets
+    // the tight bound, which may still prove it, or says how far past the threshold it lies.
     bounds::BoundOptions deciding = options;
     deciding.decide =
         bounds::DecisionTarget{result.inequality.relation, result.inequality.threshold};
@@ -770,6 +770,7 @@ std::vector<ToleranceAllocation::Miss> verify_allocation(
         bounds::Verdict::kSatisfied)
       continue;
     const bounds::BoundResult bound = problems[k].bound(box, options);
+    if (bounds::decide(result.inequality, bound) == bounds::Verdict::kSatisfied) continue;
     const double t = result.inequality.threshold;
     const double by = upper_limit(result.inequality.relation) ? bound.hi - t : t - bound.lo;
     misses.push_back({jacobian.row_step[k], jacobian.row_precondition[k], std::max(0.0, by)});
