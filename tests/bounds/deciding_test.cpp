@@ -38,7 +38,7 @@ RC_GTEST_PROP(Deciding, AgreesWithTheFullBoundAndHoldsAtRandomPoints, ()) {
   const Relation relation = *rc::gen::element(Relation::kLess, Relation::kLessEqual,
                                               Relation::kGreater, Relation::kGreaterEqual);
   const Inequality inequality{"q", f, relation, threshold};
-  BoundOptions options{.max_box_evaluations = *rc::gen::element(8, 60, 2000)};
+  BoundOptions options{.max_box_evaluations = *rc::gen::element<std::size_t>(8, 60, 2000)};
   options.decide = DecisionTarget{relation, threshold};
   const BoundResult decided = bound(f, box, options);
   const Verdict quick = decide(inequality, decided), reference = decide(inequality, full);
