@@ -1285,11 +1285,6 @@ BoundResult BoundProblem::Impl::staged(std::span<const Interval> ranges,
   first.max_box_evaluations = std::max<std::size_t>(1, options.max_box_evaluations / 8);
   first.max_seconds = options.max_seconds / 8;
   first.max_work = std::max<std::size_t>(1, options.max_work / 8);
-  // A rewrite that uses every variable once (t/(t + 1) -> 1 - 1/(t + 1)) encloses f's range up
-  // to rounding: bounded first with the same share, it usually settles f alone, and exactly where
-  // f would only meet the tolerance. Its witnesses count only where f itself is defined there
-  // (refine_with evaluates f), and whether f may be undefined is asked of f's own natural
-  // extension too (SMP keeps domains, but the flag must not rest on that alone).
   // Deciding tries f's first stage before any rewrite: most inequalities are decided there, and
   // building a rewrite (SMP) costs more than that stage.
   std::optional<BoundResult> first_result;
@@ -1298,6 +1293,11 @@ BoundResult BoundProblem::Impl::staged(std::span<const Interval> ranges,
     if (first_result->status != BoundStatus::kEffortLimit || known(*first_result))
       return *first_result;
   }
+  // A rewrite that uses every variable once (t/(t + 1) -> 1 - 1/(t + 1)) encloses f's range up
+  // to rounding: bounded first with the same share, it usually settles f alone, and exactly where
+  // f would only meet the tolerance. Its witnesses count only where f itself is defined there
+  // (refine_with evaluates f), and whether f may be undefined is asked of f's own natural
+  // extension too (SMP keeps domains, but the flag must not rest on that alone).
   std::optional<BoundResult> single_use_result;
   if (CompiledFunction* single = single_use_rewrite()) {
     BoundResult settled;
