@@ -183,7 +183,8 @@ struct CollisionSettings {
   double margin{0.001};
 };
 
-// range-scan: sensing an object replaces its pose uncertainty by this residual (fresh variables).
+// range-scan: sensing an object replaces its pose uncertainty by this residual (fresh variables)
+// in each component whose error is not already inside it (planner/uncertainty/propagation.hpp).
 // `model` is the scanner as sense planning sees it: on the wrist unless a pose is given.
 struct RangeScanSensor {
   kinematics::PoseUncertainty residual{};

@@ -287,6 +287,11 @@ std::vector<Step> analysed_steps(const planner::PlanResult& result,
     out.inserted = analysed.inserted;
     if (analysed.inserted && analysed.step.repair >= 0)
       out.turned = turned_refs(analysis, analysis.repairs.at(analysed.step.repair).turned);
+    if (analysed.step.effect == planner::Effect::kSense) {
+      out.corrects.emplace();
+      for (const PoseComponent component : analysed.corrects)
+        out.corrects->emplace_back(to_string(component));
+    }
     if (analysed.step.grasp >= 0 && (analysed.step.effect == planner::Effect::kGrasp ||
                                      analysed.step.effect == planner::Effect::kReduce))
       out.finger_opening = result.world.gripper().max_opening * length_scale(result);

@@ -472,6 +472,8 @@ struct Step {
   std::optional<bool> inserted;
   // Inserted steps: the preconditions it turned to satisfied (never empty).
   std::optional<std::vector<PreconditionRef>> turned;
+  // Phase-2 sensing steps: the pose components the reading corrects (dx dy dz dtheta).
+  std::optional<std::vector<std::string>> corrects;
   std::optional<double> finger_opening;  // pickups and squeezes
   std::optional<std::vector<Precondition>> preconditions;
   std::optional<bool> failed;
@@ -499,6 +501,7 @@ struct Step {
     field("carried", s.carried);
     field("inserted", s.inserted);
     field("turned", s.turned);
+    field("corrects", s.corrects);
     field("finger_opening", s.finger_opening);
     field("preconditions", s.preconditions);
     field("failed", s.failed);

@@ -66,6 +66,17 @@ RepairKinds repair_kinds(const Scenario& scenario, const Domain& domain, int squ
           .squeeze_grasps = squeeze_grasps};
 }
 
+// The components sensing step `label` corrected on `object`: those it allocated a residual for.
+std::vector<PoseComponent> corrected_components(const UncertaintySpace& space, int object,
+                                                int label) {
+  std::vector<PoseComponent> out;
+  for (const SpaceVariable& v : space.variables())
+    if (v.provenance.source == UncertaintySource::kSensor && v.provenance.object == object &&
+        v.provenance.step == label)
+      out.push_back(v.component);
+  return out;
+}
+
 bool all_hold(const std::vector<PreconditionResult>& results) {
   return std::all_of(results.begin(), results.end(),
                      [](const PreconditionResult& r) { return r.verdict == Verdict::kSatisfied; });
@@ -322,7 +333,10 @@ void InstanceAnalyser::run(std::vector<Phase2Step> steps, InstanceAnalysis& out)
                       .failed = false,
                       .verification = {},
                       .sensor_scale_needed = std::nullopt,
-                      .camera_verification = std::nullopt};
+                      .camera_verification = std::nullopt,
+                      .corrects = {}};
+    if (steps[k].effect == Effect::kSense)
+      step.corrects = corrected_components(state.space(), steps[k].object, steps[k].label);
     if (steps[k].camera >= 0) {
       // What the camera must see (the scene as repair_candidates found the camera with).
       std::vector<CameraVerification> camera =

@@ -85,6 +85,9 @@ struct AnalysedStep {
   std::optional<double> sensor_scale_needed;
   // An inserted camera verification (Phase2Step::camera): what PSEIKI must see to accept.
   std::optional<VisionCheck> camera_verification;
+  // A sensing step: the pose components its reading corrects (the executor keeps its belief in
+  // the others, already known better than the residual; planner/uncertainty/propagation.hpp).
+  std::vector<PoseComponent> corrects;
 };
 
 // A range-scan or squeeze phase 2 kept in the plan (planner/uncertainty/repair.hpp) to repair the

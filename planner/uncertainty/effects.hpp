@@ -8,7 +8,8 @@
 //   grasp    the handled object leaves the table and is held (pickup);
 //   release  the held object is put on the table at the step's position (putdown);
 //   insert   the held object joins the fixed one and is no longer tracked (assemble);
-//   sense    the object's pose error is replaced by the sensor's residual (range-scan);
+//   sense    the object's pose error is replaced by the sensor's residual where it is not already
+//            inside it (range-scan);
 //   reduce   a grasp and a release in place with the same arm error (squeeze);
 //   none     no change (an action phase 2 has nothing to say about).
 // Builders (planner/uncertainty/builders.hpp), called in the order the domain lists them, before

@@ -26,6 +26,11 @@ kinematics::PoseUncertainty sigmas(const UncertaintyModel& model) {
 
 using Reading = ScanReading;
 
+std::array<Expr, 4> components(const PoseError& e) { return {e.dx, e.dy, e.dz, e.dtheta}; }
+std::array<double, 4> components(const kinematics::PoseUncertainty& u) {
+  return {u.dx, u.dy, u.dz, u.dtheta};
+}
+
 // Two readings of one object fused (see the header comment).
 Reading fused(const Reading& earlier, const Reading& latest, int object) {
   // Worst case: both boxes are centred on the nominal, so their intersection is the smaller
@@ -154,15 +159,14 @@ TableState Propagation::released(const Phase2Step& step, const ArmError& arm,
 }
 
 std::optional<Reading> Propagation::unmoved_scan(int object) const {
-  const PoseError& error = table_.at(object)->error;
+  const std::array<Expr, 4> error = components(table_.at(object)->error);
   Reading reading;
-  const Expr components[4] = {error.dx, error.dy, error.dz, error.dtheta};
   double* half_widths[4] = {&reading.half_widths.dx, &reading.half_widths.dy,
                             &reading.half_widths.dz, &reading.half_widths.dtheta};
   double* sigmas[4] = {&reading.sigmas.dx, &reading.sigmas.dy, &reading.sigmas.dz,
                        &reading.sigmas.dtheta};
   for (int i = 0; i < 4; ++i) {
-    const std::optional<VariableId> id = space_.id_of(components[i]);
+    const std::optional<VariableId> id = space_.id_of(error[i]);
     if (!id) return std::nullopt;
     const SpaceVariable& variable = space_.variable(*id);
     if (variable.provenance.source != UncertaintySource::kSensor ||
@@ -172,6 +176,19 @@ std::optional<Reading> Propagation::unmoved_scan(int object) const {
     *sigmas[i] = variable.sigma;
   }
   return reading;
+}
+
+std::array<bool, 4> Propagation::corrected_by(int object,
+                                              const kinematics::PoseUncertainty& reading) const {
+  const std::array<Expr, 4> error = components(table_.at(object)->error);
+  const std::array<double, 4> half_widths = components(reading);
+  std::array<bool, 4> corrected;
+  for (int i = 0; i < 4; ++i) {
+    const bounds::Interval known = space_.enclosure(error[i]);
+    corrected[i] =
+        known.possibly_undefined || !(known.lo >= -half_widths[i]) || !(known.hi <= half_widths[i]);
+  }
+  return corrected;
 }
 
 void Propagation::require_on_table(int object, int index) const {
@@ -223,12 +240,28 @@ void Propagation::sense(int object, int index, int camera) {
     const RangeScanSensor sensor = world_->scenario().range_scan.value_or(RangeScanSensor{});
     reading = {sensor.residual, sigmas(sensor.residual_model)};
   }
-  if (const std::optional<Reading> earlier = unmoved_scan(object))
+  const Provenance provenance{
+      .source = UncertaintySource::kSensor, .object = object, .step = index, .camera = camera};
+  const std::string tag = world_->scenario().objects[object].name + "_s" + std::to_string(index);
+  PoseError& error = table_[object]->error;
+  if (const std::optional<Reading> earlier = unmoved_scan(object)) {
     reading = fused(*earlier, reading, object);
-  table_[object]->error = space_.allocate_pose(
-      reading.half_widths,
-      {.source = UncertaintySource::kSensor, .object = object, .step = index, .camera = camera},
-      world_->scenario().objects[object].name + "_s" + std::to_string(index), reading.sigmas);
+    error = space_.allocate_pose(reading.half_widths, provenance, tag, reading.sigmas);
+    return;
+  }
+  const std::array<bool, 4> corrected = corrected_by(object, reading.half_widths);
+  const std::array<double, 4> half_widths = components(reading.half_widths),
+                              sigma = components(reading.sigmas);
+  Expr* slots[4] = {&error.dx, &error.dy, &error.dz, &error.dtheta};
+  for (const PoseComponent component : kPoseComponents) {
+    const int i = index_of(component);
+    if (!corrected[i]) continue;
+    *slots[i] = space_.symbol(space_.allocate({.component = component,
+                                               .half_width = half_widths[i],
+                                               .sigma = sigma[i],
+                                               .provenance = provenance,
+                                               .tag = tag}));
+  }
 }
 
 void Propagation::set_sensor_scale(double scale) {
@@ -241,29 +274,25 @@ void Propagation::set_sensor_scale(double scale) {
 
 void Propagation::sense_scaled(int object, int index) {
   const RangeScanSensor sensor = world_->scenario().range_scan.value_or(RangeScanSensor{});
-  const kinematics::PoseUncertainty& r = sensor.residual;
-  const double residual[4] = {r.dx, r.dy, r.dz, r.dtheta};
+  const std::array<double, 4> residual = components(sensor.residual);
   // Fusion with an unmoved earlier reading keeps the smaller half-width per component: the scale
   // is capped at the earlier one's share of the residual (the worst case only; uniform).
   std::array<double, 4> caps;
   caps.fill(std::numeric_limits<double>::infinity());
-  const PoseError& now = table_.at(object)->error;
+  PoseError& now = table_.at(object)->error;
   if (const std::optional<Reading> earlier = unmoved_scan(object)) {
-    const double widths[4] = {earlier->half_widths.dx, earlier->half_widths.dy,
-                              earlier->half_widths.dz, earlier->half_widths.dtheta};
+    const std::array<double, 4> widths = components(earlier->half_widths);
     for (int i = 0; i < 4; ++i)
       if (residual[i] > 0) caps[i] = widths[i] / residual[i];
   } else if (const auto last = scaled_scans_.find(object);
-             last != scaled_scans_.end() && last->second.error.dx == now.dx &&
-             last->second.error.dy == now.dy && last->second.error.dz == now.dz &&
-             last->second.error.dtheta == now.dtheta) {
+             last != scaled_scans_.end() && components(last->second.error) == components(now)) {
     caps = last->second.caps;
   }
   const Provenance provenance{
       .source = UncertaintySource::kSensor, .object = object, .step = index};
   const std::string tag = world_->scenario().objects[object].name + "_s" + std::to_string(index);
   const std::string unit_tag = tag + "_unit", scale_tag = tag + "_scale";
-  Expr error[4];
+  Expr* slots[4] = {&now.dx, &now.dy, &now.dz, &now.dtheta};
   for (const PoseComponent component : kPoseComponents) {
     const int i = index_of(component);
     const double value = std::min(caps[i], *sensor_scale_);
@@ -275,10 +304,9 @@ void Propagation::sense_scaled(int object, int index) {
                                              .half_width = residual[i],
                                              .provenance = provenance,
                                              .tag = unit_tag});
-    error[i] = space_.symbol(scale) * space_.symbol(unit);
+    *slots[i] = space_.symbol(scale) * space_.symbol(unit);
   }
-  table_[object]->error = {error[0], error[1], error[2], error[3]};
-  scaled_scans_[object] = {table_[object]->error, caps};
+  scaled_scans_[object] = {now, caps};
 }
 
 void Propagation::apply(const Phase2Step& step, int index, const std::optional<ArmError>& arm) {

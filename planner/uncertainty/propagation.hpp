@@ -16,16 +16,25 @@
 //         angle of its rotation error about the gripper's approach axis a = R_M z, counted about
 //         world z (sign of a_z): exact for a vertical approach; for a tilted one the object is
 //         taken to settle on the table turned by that angle (a modelling choice).
-//   sense   the object's d and θ are replaced by the sensor's residual (fresh variables): the
-//           range scanner's, or for a camera verification (Phase2Step::camera) that camera's.
-//           Scanned again before it moved (its error is still the last scan's residual), the two
-//           readings are fused (planner/uncertainty/fusion.hpp): the worst-case box is their
-//           intersection, and a Gaussian residual gets the information-form sigma (CHOLMOD),
-//           e.g. sigma / sqrt(2) for two equal readings; a uniform one stays uniform over the
-//           intersection. The verdicts see only the box. For the reverse analysis of the sensor
-//           (set_sensor_scale) the range scanner's residual is s·u per component (a scale variable
-//           times one over the scenario's residual), so that a new scale is new ranges, not new
-//           expressions.
+//   sense   the object's d and θ are corrected by the sensor's reading: the range scanner's, or
+//           for a camera verification (Phase2Step::camera) that camera's. Per component (dx, dy,
+//           dz, dθ), the executor uses the measurement only where it knows more than it did: a
+//           component whose error is already enclosed in the residual's box [-r, r] (natural
+//           interval enclosure over the current ranges) keeps its error expression, and the
+//           executor its belief there; every other component is replaced by the residual (a fresh
+//           variable). SPAR replaced all four, which let a scan loosen a component (the residual's
+//           1.1° is worse than a putdown's 0.063°) and made the repair search non-monotone in the
+//           parts' uncertainty. A kept component's values lie inside [-r, r], so keeping it never
+//           widens what any precondition can take. Scanned again before it moved (all four
+//           components still the last scan's residual), the two readings are fused
+//           (planner/uncertainty/fusion.hpp): the worst-case box is their intersection, and a
+//           Gaussian residual gets the information-form sigma (CHOLMOD), e.g. sigma / sqrt(2)
+//           for two equal readings; a uniform one stays uniform over the intersection. The
+//           verdicts see only the box. For the reverse analysis of the sensor (set_sensor_scale)
+//           the range scanner's residual is s·u in every component (a scale variable times one
+//           over the scenario's residual), so that a new scale is new ranges, not new
+//           expressions: SPAR's replace-all, whose answer is conservative for the rule above (a
+//           sensor of scale s corrects at least as well when it keeps what it does not beat).
 //   reduce  a grasp and a release in place with the same arm error (squeeze: no motion between).
 //   insert  the held object joins the fixed one (it is no longer tracked).
 //   none    nothing changes.
@@ -113,6 +122,10 @@ class Propagation {
   [[nodiscard]] kinematics::SymbolicTransform joint_error(const Phase2Step& step, int index);
   // The residual of the last scan of `object` if it has not moved since, else nullopt.
   [[nodiscard]] std::optional<ScanReading> unmoved_scan(int object) const;
+  // Per component of `object`'s error, whether a reading with these half-widths corrects it:
+  // false where the error is already enclosed in [-half_width, half_width].
+  [[nodiscard]] std::array<bool, 4> corrected_by(int object,
+                                                 const kinematics::PoseUncertainty& reading) const;
   [[nodiscard]] kinematics::SymbolicTransform grip_after_grasp(const Phase2Step& step,
                                                                const ArmError& arm);
   [[nodiscard]] TableState released(const Phase2Step& step, const ArmError& arm,

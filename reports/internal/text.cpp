@@ -147,7 +147,17 @@ std::string repair_target(const Chosen& chosen, const Repair& repair) {
 
 std::string repair_title(const Chosen& chosen, const Repair& repair,
                          std::optional<std::size_t> position) {
-  if (position) return step_label(chosen, *position) + ", " + repair_target(chosen, repair);
+  if (position) {
+    std::string title = step_label(chosen, *position) + ", " + repair_target(chosen, repair);
+    // A reading that corrects only some components says which (the others are known better).
+    const std::optional<std::vector<std::string>>& corrects = chosen.steps[*position].corrects;
+    if (corrects && corrects->size() < 4) {
+      std::string list;
+      for (const std::string& component : *corrects) list += (list.empty() ? "" : ", ") + component;
+      title += list.empty() ? " (corrects nothing)" : " (corrects " + list + " only)";
+    }
+    return title;
+  }
   return repair.action + " " + repair.object + " " + repair_target(chosen, repair);
 }
 

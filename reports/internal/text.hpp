@@ -45,7 +45,8 @@ namespace spar::reports::internal {
 // Per repair of chosen.repairs: the position of the inserted step it became (kept repairs: the
 // inserted steps with its action and object, in order), nullopt for a dropped one.
 [[nodiscard]] std::vector<std::optional<std::size_t>> repair_positions(const Chosen& chosen);
-// "#5 range-scan block, for #8 assemble peg" (kept) / "range-scan block for #8 assemble peg".
+// "#5 range-scan block, for #8 assemble peg" (kept; "... (corrects dy, dz only)" when its
+// reading corrects some components only) / "range-scan block for #8 assemble peg".
 [[nodiscard]] std::string repair_title(const Chosen& chosen, const Repair& repair,
                                        std::optional<std::size_t> position);
 // The repair candidates phase 2 searched and dropped (chosen.repair_searches), in one line:

@@ -286,6 +286,55 @@ TEST(Propagation, StepsThatDoNotFitTheStateAreRefused) {
   }
 }
 
+// A scan corrects a component only where the object's error is not already inside the residual's
+// box (Propagation::sense): after a putdown the peg's rotation error is the arm's 0.0573 deg, far
+// inside the scanner's 1 deg, so the scan keeps it (the same expression), and replaces the others
+// by fresh sensor variables over the residual.
+TEST(Propagation, AScanCorrectsOnlyTheComponentsItKnowsBetter) {
+  const WorldModel world(
+      load_scenario(std::string(SPAR_SOURCE_DIR) + "/tests/planner/data/phase2_peg_pickup.yaml"));
+  const Domain& domain = builtin_domain();
+  const int peg = world.object_index("peg");
+  const kinematics::Transform a = world.scenario().objects[peg].initial_pose;
+  const kinematics::Transform b = Eigen::Translation3d(0.1, -0.25, 0) * a;
+  const auto make = [&](Effect effect, const kinematics::Transform& pose) {
+    return Phase2Step{.action = action_with(domain, effect),
+                      .effect = effect,
+                      .object = peg,
+                      .grasp = 0,
+                      .object_pose = pose};
+  };
+  symbolic::ExprPool pool;
+  Propagation propagation(world, domain, pool);
+  (void)propagation.step(make(Effect::kGrasp, a), 1);
+  (void)propagation.step(make(Effect::kRelease, b), 2);
+  const kinematics::PoseError before = propagation.on_table(peg)->error;
+  (void)propagation.step(make(Effect::kSense, b), 3);
+  const kinematics::PoseError after = propagation.on_table(peg)->error;
+  const kinematics::PoseUncertainty& r = world.scenario().range_scan->residual;
+  const symbolic::Expr was[4] = {before.dx, before.dy, before.dz, before.dtheta};
+  const symbolic::Expr now[4] = {after.dx, after.dy, after.dz, after.dtheta};
+  const double residual[4] = {r.dx, r.dy, r.dz, r.dtheta};
+  int kept = 0;
+  for (int i = 0; i < 4; ++i) {
+    SCOPED_TRACE(to_string(kPoseComponents[i]));
+    const bounds::Interval known = propagation.space().enclosure(was[i]);
+    if (known.lo >= -residual[i] && known.hi <= residual[i]) {
+      EXPECT_EQ(now[i], was[i]);
+      ++kept;
+      continue;
+    }
+    const std::optional<VariableId> id = propagation.space().id_of(now[i]);
+    ASSERT_TRUE(id.has_value());
+    const SpaceVariable& v = propagation.space().variable(*id);
+    EXPECT_EQ(v.provenance.source, UncertaintySource::kSensor);
+    EXPECT_EQ(v.provenance.step, 3);
+    EXPECT_EQ(v.half_width(), residual[i]);
+  }
+  EXPECT_EQ(now[3], was[3]) << "the putdown's rotation error was replaced by the wider residual";
+  EXPECT_LT(kept, 4);
+}
+
 // Reverse analysis of the sensor (set_sensor_scale): a scan's residual is a scale variable times a
 // variable over the scenario's residual, so a new scale is new ranges of the same expressions. At
 // every scale it encloses exactly the scaled residual, and a scan of an unmoved object fused with

@@ -81,6 +81,20 @@ TEST(Phase2Repair, HalvingEveryHalfWidthOfOnSidesIsNoWorseThanTable2) {
   EXPECT_LE(objects_halved.violated, at_table2.violated);
 }
 
+// The property's counterexample at seed 99 (2026-12-05): with every half-width x1.1 the block's
+// pickup is repaired by an early scan and the plan holds; with the objects x0.4 more that pickup
+// holds, the block is scanned only where it was put down, and replacing its 0.063 deg putdown
+// rotation by the scanner's 1.1 deg residual left the u2 offsets violated (1 error). A scan now
+// corrects only the components it knows better (Propagation::sense).
+TEST(Phase2Repair, ScanningThePutDownBlockNeverLoosensWhatThePutdownKnew) {
+  const Scenario wider = shrunk(example("peg_block_on_sides"), Block::kAll, 1.1);
+  const Outcome before = outcome_of(wider);
+  const Outcome after = outcome_of(shrunk(wider, Block::kObjects, 0.4));
+  EXPECT_EQ(before.errors, 0);
+  EXPECT_LE(after.errors, before.errors);
+  EXPECT_LE(after.violated, before.violated);
+}
+
 TEST(Phase2Repair, EveryInsertedStepTurnedAVerdictAndDroppedOnesAreCounted) {
   for (const char* name : kExampleNames) {
     SCOPED_TRACE(name);

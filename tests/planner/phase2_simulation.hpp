@@ -101,10 +101,17 @@ class NumericPlan {
         held_[step.object].reset();
         break;
       }
-      case Effect::kSense:
-        table_.at(step.object).value().error =
-            error(UncertaintySource::kSensor, step.object, index);
+      case Effect::kSense: {
+        // The reading corrects the components phase 2 gave a residual; the others keep their
+        // actual error (the executor keeps its belief there).
+        Error& now = table_.at(step.object).value().error;
+        double* slots[4] = {&now.d.x(), &now.d.y(), &now.d.z(), &now.theta};
+        for (const PoseComponent component : kPoseComponents)
+          if (const std::optional<double> value =
+                  find_value(UncertaintySource::kSensor, step.object, index, component))
+            *slots[index_of(component)] = *value;
         break;
+      }
       case Effect::kNone:
         break;
     }
@@ -134,12 +141,18 @@ class NumericPlan {
     EXPECT_LT((planned.matrix() - tracked.matrix()).norm(), 1e-9)
         << what << " pose of step " << index << " is not where the object was left";
   }
-  [[nodiscard]] double value_of(UncertaintySource source, int object, int step,
-                                PoseComponent component) const {
+  [[nodiscard]] std::optional<double> find_value(UncertaintySource source, int object, int step,
+                                                 PoseComponent component) const {
     for (const SpaceVariable& v : variables_)
       if (v.provenance.source == source && v.provenance.object == object &&
           v.provenance.step == step && v.component == component)
         return values_->at(v.name);
+    return std::nullopt;
+  }
+  [[nodiscard]] double value_of(UncertaintySource source, int object, int step,
+                                PoseComponent component) const {
+    if (const std::optional<double> value = find_value(source, object, step, component))
+      return *value;
     ADD_FAILURE() << "no " << to_string(source) << " variable '" << to_string(component)
                   << "' for object " << object << " at step " << step;
     return 0.0;
