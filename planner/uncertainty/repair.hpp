@@ -30,8 +30,9 @@
 //   - every proper subset of the kept set scores strictly worse (else it would have been kept), so
 //     every inserted step turns some verdict: turned(e) = the preconditions satisfied with the set
 //     but not without e;
-//   - with smaller uncertainty every set's score is no worse (bounds are inclusion-monotone), so
-//     the kept set's score, hence the step's verdicts, can only improve.
+//   - with smaller uncertainty every set's score is no worse (bounds are inclusion-monotone, and a
+//     scan never loosens a component: it keeps what it does not know better, Propagation::sense),
+//     so the kept set's score, hence the step's verdicts, can only improve.
 // Cost: at most 2^(sensing candidates, 2 + 2 kCamerasPerObject) x (1 + squeezes) - 1 sets, each one
 // replay and decide of steps [earliest candidate, k]; stops at the first size that settles the
 // step. Finding a camera verification renders the scene once per camera with a residual.
