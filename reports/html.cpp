@@ -246,9 +246,8 @@ void probability_section(const Report& report, std::ostringstream& out) {
       << " points (95% Wilson interval). The plot: that Gaussian over the worst-case interval "
          "(the bar), the threshold dashed, the failing side tinted. A proved precondition fails "
          "with probability 0.</p>\n<p>P(some precondition fails) = "
-      << html_escape(
-             internal::monte_carlo_text(probability.plan.p_monte_carlo, probability.plan.ci, false))
-      << " (Monte Carlo).</p>\n<div class=\"scroll\"><table "
+      << html_escape(internal::plan_probability_text(probability))
+      << ".</p>\n<div class=\"scroll\"><table "
          "id=\"probability-table\"><tr><th>step</th>"
          "<th>precondition</th><th>σ</th><th>P first order</th><th>P Monte Carlo</th>"
          "<th>distribution vs worst case</th><th>note</th></tr>\n";

@@ -174,9 +174,7 @@ void markdown_probability(const Report& report, std::ostringstream& out) {
          "linearised precondition's Gaussian truncated to the sound bound; Monte Carlo draws "
       << probability.samples
       << " points (95% Wilson interval). A proved precondition fails with probability 0.\n\n"
-      << "P(some precondition fails) = "
-      << internal::monte_carlo_text(probability.plan.p_monte_carlo, probability.plan.ci, false)
-      << " (Monte Carlo).\n\n"
+      << "P(some precondition fails) = " << internal::plan_probability_text(probability) << ".\n\n"
       << "| step | precondition | σ | P first order | P Monte Carlo | note |\n"
       << "|---|---|---|---|---|---|\n";
   for (const PreconditionProbability& entry : probability.preconditions) {

@@ -340,6 +340,17 @@ std::string monte_carlo_text(double p, const std::array<double, 2>& ci, bool pro
          probability_text(ci[1], false) + "]";
 }
 
+std::string plan_probability_text(const Probability& probability) {
+  const auto& rows = probability.preconditions;
+  const bool all_proved = !rows.empty() && std::all_of(rows.begin(), rows.end(),
+                                                       [](const auto& row) { return row.proved; });
+  if (all_proved && probability.plan.p_monte_carlo == 0)
+    return "0 (every precondition proved; none of the " + std::to_string(probability.samples) +
+           " Monte Carlo points violates one)";
+  return monte_carlo_text(probability.plan.p_monte_carlo, probability.plan.ci, false) +
+         " (Monte Carlo)";
+}
+
 std::string allocation_text(const Tolerances& tolerances) {
   const std::string& status = tolerances.status;
   if (status == "not_needed")

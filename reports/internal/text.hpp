@@ -89,6 +89,10 @@ namespace spar::reports::internal {
 [[nodiscard]] std::string probability_text(double probability, bool proved);
 // "0.12% [0.1%, 0.14%]" from a Monte Carlo estimate and its interval.
 [[nodiscard]] std::string monte_carlo_text(double p, const std::array<double, 2>& ci, bool proved);
+// The plan's P(some precondition fails): "0 (every precondition proved; none of the 20000 Monte
+// Carlo points violates one)" when the sound bounds proved them all, else the sampled share with
+// its Wilson interval and " (Monte Carlo)".
+[[nodiscard]] std::string plan_probability_text(const Probability& probability);
 // "not needed: ..." / "proved in 2 rounds (cost 0.38)" for chosen.probability.tolerances.
 [[nodiscard]] std::string allocation_text(const Tolerances& tolerances);
 
