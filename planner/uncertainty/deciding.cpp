@@ -6,6 +6,7 @@
 #include "spar/bounds/condition_set.hpp"
 #include "spar/planner/error.hpp"
 #include "spar/symbolic/operations.hpp"
+#include "spar/symbolic/tape.hpp"
 
 namespace spar::planner {
 
@@ -19,6 +20,18 @@ std::vector<VariableId> variables_of(std::span<const symbolic::Expr> expressions
   }
   std::sort(ids.begin(), ids.end());
   return ids;
+}
+
+bounds::Interval natural_enclosure(symbolic::Expr e, const UncertaintySpace& space) {
+  const std::vector<VariableId> ids = variables_of({&e, 1}, space);
+  std::vector<symbolic::Expr> inputs;
+  for (const VariableId id : ids) inputs.push_back(space.symbol(id));
+  const symbolic::Tape tape = symbolic::Tape::compile({&e, 1}, inputs);
+  symbolic::TapeEvaluator<bounds::Interval> evaluator(tape);
+  const std::vector<bounds::Interval> box = space.ranges(ids);
+  bounds::Interval out;
+  evaluator.evaluate(box, {&out, 1});
+  return out;
 }
 
 CompiledStep::CompiledStep(const std::vector<Precondition>& preconditions,

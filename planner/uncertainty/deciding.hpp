@@ -65,6 +65,11 @@ struct PreconditionResult {
 [[nodiscard]] std::vector<VariableId> variables_of(std::span<const symbolic::Expr> expressions,
                                                    const UncertaintySpace& space);
 
+// A sound enclosure of `e` over the current ranges of its variables in `space`: the natural
+// interval extension, one interval pass over its tape (cost O(nodes of e)). Throws PlanError for
+// a variable that is not the space's.
+[[nodiscard]] bounds::Interval natural_enclosure(symbolic::Expr e, const UncertaintySpace& space);
+
 // A step's preconditions compiled once (one ConditionSet tape; a BoundProblem per precondition
 // the natural pass leaves undecided, built on first need and kept, with its SMP rewrites per box
 // widths) and decided over the current ranges of any space holding the same variables (the same

@@ -6,6 +6,7 @@
 
 #include "spar/kinematics/joint_error.hpp"
 #include "spar/planner/error.hpp"
+#include "spar/planner/uncertainty/deciding.hpp"
 #include "spar/planner/uncertainty/probability.hpp"
 
 namespace spar::planner {
@@ -184,7 +185,7 @@ std::array<bool, 4> Propagation::corrected_by(int object,
   const std::array<double, 4> half_widths = components(reading);
   std::array<bool, 4> corrected;
   for (int i = 0; i < 4; ++i) {
-    const bounds::Interval known = space_.enclosure(error[i]);
+    const bounds::Interval known = natural_enclosure(error[i], space_);
     corrected[i] =
         known.possibly_undefined || !(known.lo >= -half_widths[i]) || !(known.hi <= half_widths[i]);
   }

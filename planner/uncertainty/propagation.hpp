@@ -19,16 +19,16 @@
 //   sense   the object's d and θ are corrected by the sensor's reading: the range scanner's, or
 //           for a camera verification (Phase2Step::camera) that camera's. Per component (dx, dy,
 //           dz, dθ), the executor uses the measurement only where it knows more than it did: a
-//           component whose error is already enclosed in the residual's box [-r, r] (natural
-//           interval enclosure over the current ranges) keeps its error expression, and the
-//           executor its belief there; every other component is replaced by the residual (a fresh
-//           variable). SPAR replaced all four, which let a scan loosen a component (the residual's
-//           1.1° is worse than a putdown's 0.063°) and made the repair search non-monotone in the
-//           parts' uncertainty. A kept component's values lie inside [-r, r], so keeping it never
-//           widens what any precondition can take. Scanned again before it moved (all four
-//           components still the last scan's residual), the two readings are fused
-//           (planner/uncertainty/fusion.hpp): the worst-case box is their intersection, and a
-//           Gaussian residual gets the information-form sigma (CHOLMOD), e.g. sigma / sqrt(2)
+//           component whose error is already enclosed in the residual's box [-r, r]
+//           (natural_enclosure of deciding.hpp, over the current ranges) keeps its error
+//           expression, and the executor its belief there; every other component is replaced by
+//           the residual (a fresh variable). SPAR replaced all four, which let a scan loosen a
+//           component (the residual's 1.1° is worse than a putdown's 0.063°) and made the repair
+//           search non-monotone in the parts' uncertainty. A kept component's values lie inside
+//           [-r, r], so keeping it never widens what any precondition can take. Scanned again
+//           before it moved (all four components still the last scan's residual), the two readings
+//           are fused (planner/uncertainty/fusion.hpp): the worst-case box is their intersection,
+//           and a Gaussian residual gets the information-form sigma (CHOLMOD), e.g. sigma / sqrt(2)
 //           for two equal readings; a uniform one stays uniform over the intersection. The
 //           verdicts see only the box. For the reverse analysis of the sensor (set_sensor_scale)
 //           the range scanner's residual is s·u in every component (a scale variable times one

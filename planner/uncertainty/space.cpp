@@ -3,8 +3,6 @@
 #include <cmath>
 
 #include "spar/planner/error.hpp"
-#include "spar/symbolic/operations.hpp"
-#include "spar/symbolic/tape.hpp"
 
 namespace spar::planner {
 
@@ -103,22 +101,6 @@ std::vector<bounds::Interval> UncertaintySpace::ranges(std::span<const VariableI
   box.reserve(ids.size());
   for (const VariableId id : ids) box.push_back(range(id));
   return box;
-}
-
-bounds::Interval UncertaintySpace::enclosure(symbolic::Expr e) const {
-  const std::vector<symbolic::Expr> inputs = symbolic::free_variables(e);
-  std::vector<bounds::Interval> box;
-  box.reserve(inputs.size());
-  for (const symbolic::Expr& input : inputs) {
-    const std::optional<VariableId> id = id_of(input);
-    if (!id) throw PlanError("'" + input.name() + "' is not an uncertainty variable of this plan");
-    box.push_back(range(*id));
-  }
-  const symbolic::Tape tape = symbolic::Tape::compile({&e, 1}, inputs);
-  symbolic::TapeEvaluator<bounds::Interval> evaluator(tape);
-  bounds::Interval out;
-  evaluator.evaluate(box, {&out, 1});
-  return out;
 }
 
 }  // namespace spar::planner

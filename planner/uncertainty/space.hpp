@@ -24,7 +24,7 @@
 // is finite with lower <= upper; by_symbol_ maps each symbol's expression id to its VariableId.
 // A copy is a snapshot: later allocations in either copy do not show in the other, and ids
 // allocated before the copy mean the same variable in both.
-// Cost: allocate is O(1) amortised (hash lookups), id_of O(1), ranges O(ids), enclosure O(nodes).
+// Cost: allocate is O(1) amortised (hash lookups), id_of O(1), ranges O(ids).
 //
 // Example:
 //   symbolic::ExprPool pool;
@@ -128,10 +128,6 @@ class UncertaintySpace {
   [[nodiscard]] bounds::Interval range(VariableId id) const;
   // The ranges of `ids`, in that order.
   [[nodiscard]] std::vector<bounds::Interval> ranges(std::span<const VariableId> ids) const;
-  // A sound enclosure of `e` over the current ranges of its variables: the natural interval
-  // extension, one interval pass over its tape (cost O(nodes of e)). Throws PlanError if `e` uses
-  // a variable that is not one of this space's.
-  [[nodiscard]] bounds::Interval enclosure(symbolic::Expr e) const;
 
  private:
   symbolic::ExprPool* pool_;

@@ -15,6 +15,7 @@
 #include "spar/common/units.hpp"
 #include "spar/planner/error.hpp"
 #include "spar/planner/plan.hpp"
+#include "spar/planner/uncertainty/deciding.hpp"
 #include "spar/planner/uncertainty/propagation.hpp"
 #include "spar/symbolic/operations.hpp"
 #include "tests/planner/phase2_simulation.hpp"
@@ -318,7 +319,7 @@ TEST(Propagation, AScanCorrectsOnlyTheComponentsItKnowsBetter) {
   int kept = 0;
   for (int i = 0; i < 4; ++i) {
     SCOPED_TRACE(to_string(kPoseComponents[i]));
-    const bounds::Interval known = propagation.space().enclosure(was[i]);
+    const bounds::Interval known = natural_enclosure(was[i], propagation.space());
     if (known.lo >= -residual[i] && known.hi <= residual[i]) {
       EXPECT_EQ(now[i], was[i]);
       ++kept;
