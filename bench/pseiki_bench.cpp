@@ -17,16 +17,17 @@
 //                split, 0.5 px noise) with c clutter edges added (c = 0..400): time against the
 //                number of image edges and of expected (model) edges.
 //
-//   labels       issue 27's label criteria (tests/sensing/pseiki/label_score.hpp) over seeds 1..40
+//   labels       issue 27's label criteria (tests/sensing/pseiki/label_score.hpp) over seeds 1..N
 //                of its simulated image, on the tests' two boxes and on 4 and 8 boxes.
 //   rejections   the other half of its acceptance: images of a changed scene (an object missing,
-//                or another object in its place) matched against the expected one, seeds 1..40:
+//                or another object in its place) matched against the expected one, seeds 1..N:
 //                how many interpretations are rejected (all should be).
 //
-//   pseiki_bench [--quick]
+//   pseiki_bench [--quick] [--labels] [--seeds N]      (N = 40 by default, 10 with --quick)
 // Prints `ratio pseiki_combination flat_dempster <flat / hierarchical>` per size, and tables.
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <string>
 #include <vector>
@@ -172,8 +173,7 @@ void label_row(const std::string& name, const spar::sensing::Scene& scene,
               worst, below, believed, clutter, seeds_believed, accepted, seeds);
 }
 
-void labels(bool quick) {
-  const int seeds = quick ? 10 : 40;
+void labels(int seeds) {
   std::printf("\n== labels: seeds 1..%d of the issue's simulated image ==\n", seeds);
   std::printf("%12s %9s %9s %10s %28s %9s\n", "scene", "mean_acc", "min_acc", "seeds<90%",
               "clutter_believed", "accepted");
@@ -214,8 +214,7 @@ void rejection_row(const std::string& name, const spar::sensing::Scene& expected
   std::printf("%30s %6d/%d %12.3f\n", name.c_str(), rejected, seeds, highest);
 }
 
-void rejections(bool quick) {
-  const int seeds = quick ? 10 : 40;
+void rejections(int seeds) {
   std::printf("\n== rejections: seeds 1..%d of a changed scene's simulated image ==\n", seeds);
   std::printf("%30s %8s %12s\n", "image of", "rejected", "max_belief");
   const pseiki::testing::TestScene expected = pseiki::testing::two_boxes();
@@ -252,16 +251,32 @@ void rejections(bool quick) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  // --quick: fewer runs and seeds; --labels: the labels and rejections tables only.
-  const bool quick = argc > 1 && std::strcmp(argv[1], "--quick") == 0;
-  const bool labels_only = argc > 1 && std::strcmp(argv[1], "--labels") == 0;
+  // --quick: fewer runs and seeds; --labels: the labels and rejections tables only; --seeds N:
+  // those tables over seeds 1..N (default 40).
+  bool quick = false, labels_only = false;
+  int seeds = 0;  // 0: the default
+  std::string arguments;
+  for (int i = 1; i < argc; ++i) {
+    arguments += std::string(" ") + argv[i];
+    if (std::strcmp(argv[i], "--quick") == 0) {
+      quick = true;
+    } else if (std::strcmp(argv[i], "--labels") == 0) {
+      labels_only = true;
+    } else if (std::strcmp(argv[i], "--seeds") == 0 && i + 1 < argc && std::atoi(argv[i + 1]) > 0) {
+      seeds = std::atoi(argv[++i]);
+      arguments += std::string(" ") + argv[i];
+    } else {
+      std::fprintf(stderr, "usage: pseiki_bench [--quick] [--labels] [--seeds N]\n");
+      return 2;
+    }
+  }
+  if (seeds == 0) seeds = quick ? 10 : 40;
   std::printf("pseiki_bench%s; load average %s (a shared machine: compare ratios within a run)\n",
-              argc > 1 ? (std::string(" ") + argv[1]).c_str() : "",
-              spar::bench::load_average().c_str());
+              arguments.c_str(), spar::bench::load_average().c_str());
   if (!labels_only) {
     combination(quick);
     matching(quick);
   }
-  labels(quick);
-  rejections(quick);
+  labels(seeds);
+  rejections(seeds);
 }

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <utility>
+#include <vector>
 
 #include "spar/sensing/pseiki/hierarchical_evidence.hpp"
 
@@ -61,6 +62,41 @@ std::pair<double, double> dichotomy(const std::vector<std::pair<double, double>>
 }
 
 }  // namespace
+
+double coverage_floor(const std::vector<double>& lengths, double detection_probability) {
+  constexpr double kBins = 1024;
+  const double p = detection_probability;
+  double total = 0;
+  for (const double length : lengths) total += length;
+  if (!(total > 0)) return 0;
+  // mass[k]: the probability that the edges found so far cover k bins; `full` bins is all of them
+  // (the rounded shares need not add up to kBins exactly).
+  std::vector<std::size_t> shifts;
+  std::size_t full = 0;
+  for (const double length : lengths) {
+    shifts.push_back(static_cast<std::size_t>(std::lround(length / total * kBins)));
+    full += shifts.back();
+  }
+  if (full == 0) return 0;
+  std::vector<double> mass(full + 1, 0.0), next(full + 1);
+  mass[0] = 1;
+  std::size_t reach = 0;  // highest bin with mass
+  for (const std::size_t shift : shifts) {
+    std::fill(next.begin(), next.end(), 0.0);
+    for (std::size_t bin = 0; bin <= reach; ++bin) {
+      next[bin] += (1 - p) * mass[bin];
+      next[bin + shift] += p * mass[bin];
+    }
+    reach += shift;
+    mass.swap(next);
+  }
+  double below = 0;
+  for (std::size_t bin = 0; bin <= full; ++bin) {
+    below += mass[bin];
+    if (below >= kCoverageQuantile) return double(bin) / double(full);
+  }
+  return 1;
+}
 
 void Grouper::group(Blackboard& board) const {
   group_faces(board);
@@ -150,16 +186,15 @@ void Grouper::group_objects(Blackboard& board) const {
     }
     std::sort(members.begin(), members.end());
     members.erase(std::unique(members.begin(), members.end()), members.end());
-    double seen = 0, squares = 0;
+    double seen = 0;
+    std::vector<double> lengths;
     for (const int m : panel.edges) {
       const double length = model.edges()[static_cast<std::size_t>(m)].visible_length;
       seen += length * cover_of(board, m, members, kDetectionBelief).fraction;
-      squares += length * length;
+      lengths.push_back(length);
     }
     object.coverage = seen / panel.visible_length;
-    const double p = board.detection_probability();
-    const double edges = panel.visible_length * panel.visible_length / squares;
-    const double floor = p - 2 * std::sqrt(p * (1 - p) / edges);
+    const double floor = coverage_floor(lengths, board.detection_probability());
     const double deficit = floor > 0 ? (floor - object.coverage) / floor : 0.0;
     const auto [belief, disbelief] =
         dichotomy({{area > 0 ? supported / area : 0.0, 0.0}, {0.0, deficit}});

@@ -23,13 +23,16 @@
 //   O's faces; it exists even with none, so that a missing object counts against the scene):
 //     for O        sum over O's faces F of a_F Bel(F'), a_F F's share of O's visible area;
 //     against O    the deficit of seen edges: coverage(O') = the fraction of O's visible edge
-//                  length covered by its edges' members of belief >= kDetectionBelief. The camera
-//                  finds a share p of the n edges it should see, give or take the binomial
-//                  sigma = sqrt(p (1 - p) / n) (n the effective number of edges, (sum l)^2 /
-//                  sum l^2 for lengths l, as coverage weighs them by length); coverage below
-//                  floor = p - 2 sigma says the object is not where it was believed to be
-//                  (missing, moved, another object): deficit = (floor - coverage) / floor,
-//                  clamped to [0, kMaxSupport].
+//                  length covered by its edges' members of belief >= kDetectionBelief. A camera
+//                  that finds each edge with probability p, independently, gives an object that
+//                  is where it was believed a coverage sum_m l_m X_m / sum_m l_m (X_m Bernoulli
+//                  p, l_m the visible lengths); coverage below floor = that distribution's
+//                  kCoverageQuantile quantile (coverage_floor, exact) says the object is not
+//                  where it was believed to be (missing, moved, another object): deficit =
+//                  (floor - coverage) / floor, clamped to [0, kMaxSupport]. Exact, not the
+//                  normal approximation p - 2 sigma: an object whose length is in a few long
+//                  edges (the sidewalk's two borders hold 58% of it) loses both together with
+//                  probability (1 - p)^2 = 4%, far more often than a normal tail says.
 // Scene. Evidence for "the image is the expected scene": for it, sum over objects of
 //   l_O Bel(O') (l_O O's share of the visible edge length); against it, each object's Bel(not
 //   O') as a piece of its own (one missing object contradicts the scene).
@@ -40,9 +43,22 @@
 //   board.faces[0].members;         // image edges of the first face found
 #pragma once
 
+#include <vector>
+
 #include "spar/sensing/pseiki/blackboard.hpp"
 
 namespace spar::sensing::pseiki {
+
+// The tail of an object's coverage distribution below its floor: that of 2 standard deviations
+// of a normal (the level of the approximation the exact floor replaced).
+inline constexpr double kCoverageQuantile = 0.0228;
+
+// The kCoverageQuantile quantile of the coverage of an object with edges of these visible
+// lengths, each found with probability `detection_probability`, independently; built exactly on
+// a grid of about 1/1024 (each edge's share rounded to it), O(edges x 1024). 0 when there is no
+// length; 1 when p = 1.
+[[nodiscard]] double coverage_floor(const std::vector<double>& lengths,
+                                    double detection_probability);
 
 class Grouper {
  public:

@@ -4,6 +4,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numeric>
+#include <utility>
+#include <vector>
 
 #include "spar/sensing/pseiki/grouper.hpp"
 #include "spar/sensing/pseiki/labeler.hpp"
@@ -358,6 +361,59 @@ TEST(Grouper, OverlappingFacesAreIncompatible) {
   Grouper().group(stray);
   EXPECT_LT(belief_of(stray, second), belief_of(clean, second));
   EXPECT_LT(belief_of(stray, 0), belief_of(clean, 0));
+}
+
+// The floor is the exact quantile of the coverage of independently found edges: against every
+// subset of the edges enumerated, within the grid's rounding (each outcome moves by at most
+// edges / 1024, so the quantile does too).
+TEST(Grouper, TheCoverageFloorIsTheExactQuantileOfIndependentDetections) {
+  const std::vector<std::vector<double>> objects{
+      {455, 97, 25, 113, 76, 163, 400, 157}, {10, 10, 10, 10}, {3, 40, 41, 7, 90, 2, 60, 33, 12}};
+  for (const std::vector<double>& lengths : objects) {
+    for (const double p : {0.5, 0.8, 0.95}) {
+      const double total = std::accumulate(lengths.begin(), lengths.end(), 0.0);
+      std::vector<std::pair<double, double>> outcomes;  // (coverage, probability)
+      for (unsigned subset = 0; subset < (1U << lengths.size()); ++subset) {
+        double covered = 0, probability = 1;
+        for (std::size_t m = 0; m < lengths.size(); ++m) {
+          const bool found = (subset >> m & 1U) != 0;
+          covered += found ? lengths[m] : 0;
+          probability *= found ? p : 1 - p;
+        }
+        outcomes.emplace_back(covered / total, probability);
+      }
+      std::sort(outcomes.begin(), outcomes.end());
+      double below = 0, quantile = 1;
+      for (const auto& [coverage, probability] : outcomes) {
+        below += probability;
+        if (below >= kCoverageQuantile) {
+          quantile = coverage;
+          break;
+        }
+      }
+      EXPECT_NEAR(coverage_floor(lengths, p), quantile, double(lengths.size()) / 1024)
+          << lengths.size() << " edges, p = " << p;
+    }
+  }
+  EXPECT_EQ(coverage_floor({}, 0.8), 0);
+  EXPECT_EQ(coverage_floor({5, 7}, 1), 1);
+}
+
+// Many edges of one length: the binomial's quantile, close to the normal p - 2 sigma. Two long
+// edges holding most of the length (the sidewalk's borders): missing both happens (1 - p)^2 = 4%
+// of the time, and the rest's coverage stays above the floor, though below p - 2 sigma.
+TEST(Grouper, TheCoverageFloorFollowsHowTheLengthIsShared) {
+  const double p = 0.8;
+  const std::vector<double> even(100, 20.0);
+  EXPECT_NEAR(coverage_floor(even, p), p - 2 * std::sqrt(p * (1 - p) / 100), 0.01);
+  const std::vector<double> walk{455, 97, 25, 113, 76, 163, 400, 157};
+  const double total = std::accumulate(walk.begin(), walk.end(), 0.0);
+  double squares = 0;
+  for (const double l : walk) squares += l * l;
+  const double normal_floor = p - 2 * std::sqrt(p * (1 - p) / (total * total / squares));
+  const double without_borders = (total - 455 - 400) / total;  // 0.42
+  EXPECT_GT(without_borders, coverage_floor(walk, p));
+  EXPECT_LT(without_borders, normal_floor);
 }
 
 }  // namespace
