@@ -202,6 +202,7 @@ Precondition build_precondition(const planner::Scenario& scenario,
         Margin{scenario.units.to_file_length(displacement), scenario.units.to_file_angle(rotation)};
   }
   out.monte_carlo_violation = result.monte_carlo_violation;
+  if (result.monte_carlo_violation) out.monte_carlo_samples = result.monte_carlo_samples;
   return out;
 }
 
@@ -435,6 +436,7 @@ Probability build_probability(const planner::PlanResult& result,
     row.p_monte_carlo = q.p_monte_carlo;
     row.ci = {q.ci_lo, q.ci_hi};
     row.violations = q.violations;
+    row.samples = q.samples;
     row.proved = q.proved;
     row.agrees = q.agrees;
     row.note = q.note;

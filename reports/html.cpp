@@ -241,9 +241,9 @@ void probability_section(const Report& report, std::ostringstream& out) {
          "Beyond the worst case: each uncertainty variable is distributed in its box as the "
          "scenario says (uniform unless <code>distribution: gaussian</code>). σ is first order "
          "(J Σ Jᵀ); P first order is the linearised precondition's Gaussian truncated to the sound "
-         "bound; Monte Carlo draws "
-      << probability.samples
-      << " points (95% Wilson interval). The plot: that Gaussian over the worst-case interval "
+         "bound; "
+      << html_escape(internal::monte_carlo_points_text(probability))
+      << " The plot: that Gaussian over the worst-case interval "
          "(the bar), the threshold dashed, the failing side tinted. A proved precondition fails "
          "with probability 0.</p>\n<p>P(some precondition fails) = "
       << html_escape(internal::plan_probability_text(probability))

@@ -171,9 +171,9 @@ void markdown_probability(const Report& report, std::ostringstream& out) {
          "scenario says (uniform unless `distribution: gaussian`). σ is first order (J Σ Jᵀ; J is "
       << jacobian.rows << " × " << jacobian.cols << ", " << jacobian.nonzeros
       << " nonzeros); P first order is the "
-         "linearised precondition's Gaussian truncated to the sound bound; Monte Carlo draws "
-      << probability.samples
-      << " points (95% Wilson interval). A proved precondition fails with probability 0.\n\n"
+         "linearised precondition's Gaussian truncated to the sound bound; "
+      << internal::monte_carlo_points_text(probability)
+      << " A proved precondition fails with probability 0.\n\n"
       << "P(some precondition fails) = " << internal::plan_probability_text(probability) << ".\n\n"
       << "| step | precondition | σ | P first order | P Monte Carlo | note |\n"
       << "|---|---|---|---|---|---|\n";

@@ -287,11 +287,12 @@ struct Precondition {
   NamedValues<std::array<double, 2>> box;  // the ranges the bound holds over
   DisplayBounds display;
   // The chosen instance's extras (absent elsewhere):
-  std::optional<std::vector<Blame>> blame;      // largest share first
-  std::optional<double> holds_up_to_scale;      // reverse analysis: proved up to this scale
-  std::optional<bool> holds_up_to_capped;       // the scale is the search's cap: it holds beyond
-  std::optional<Margin> margin;                 // with holds_up_to_scale
-  std::optional<double> monte_carlo_violation;  // share of uniform samples violating it
+  std::optional<std::vector<Blame>> blame;         // largest share first
+  std::optional<double> holds_up_to_scale;         // reverse analysis: proved up to this scale
+  std::optional<bool> holds_up_to_capped;          // the scale is the search's cap: it holds beyond
+  std::optional<Margin> margin;                    // with holds_up_to_scale
+  std::optional<double> monte_carlo_violation;     // share of uniform samples violating it
+  std::optional<std::size_t> monte_carlo_samples;  // behind it (fewer when proved)
   template <class Self, class Field>
   static void fields(Self& s, Field&& field) {
     field("name", s.name);
@@ -315,6 +316,7 @@ struct Precondition {
     field("holds_up_to_capped", s.holds_up_to_capped);
     field("margin", s.margin);
     field("monte_carlo_violation", s.monte_carlo_violation);
+    field("monte_carlo_samples", s.monte_carlo_samples);
   }
 };
 
@@ -614,6 +616,7 @@ struct PreconditionProbability {
   double p_first_order{0.0}, p_second_order{0.0}, p_monte_carlo{0.0};
   std::array<double, 2> ci{};
   std::size_t violations{0};
+  std::optional<std::size_t> samples;  // the points it was evaluated on (fewer when proved)
   bool proved{false};
   bool agrees{false};
   std::string note;
@@ -632,6 +635,7 @@ struct PreconditionProbability {
     field("p_monte_carlo", s.p_monte_carlo);
     field("ci", s.ci);
     field("violations", s.violations);
+    field("samples", s.samples);
     field("proved", s.proved);
     field("agrees", s.agrees);
     field("note", s.note);

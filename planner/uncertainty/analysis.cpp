@@ -469,6 +469,7 @@ void add_monte_carlo(PreconditionResult& result, std::span<const Expr> inputs, s
     if (!holds(result.inequality, value[0])) ++violations;
   }
   result.monte_carlo_violation = static_cast<double>(violations) / samples;
+  result.monte_carlo_samples = samples;
 }
 
 // PreconditionResult::holds_up_to_scale: the largest s in [0, max_scale] for which the inequality
@@ -515,7 +516,15 @@ void add_margins(InstanceAnalysis& analysis, const AnalysisOptions& options,
       result.bound = problem.bound(result.box, options.report);
       result.witness = bounds::witness(result.inequality, result.bound);
       if (options.blame) add_blame(result, problem);
-      if (options.samples > 0) add_monte_carlo(result, inputs, options.samples, random);
+      if (options.samples > 0) {
+        const bool proved = result.verdict == bounds::Verdict::kSatisfied;
+        add_monte_carlo(
+            result, inputs,
+            proved ? std::max<std::size_t>(
+                         1, options.samples / std::max<std::size_t>(1, options.proved_share))
+                   : options.samples,
+            random);
+      }
       if (options.reverse)
         result.holds_up_to_scale = proved_scale(result, problem, analysis.variables, options);
     }

@@ -31,7 +31,10 @@
 //                     range-scan that would make it hold (AnalysedStep::sensor_scale_needed);
 //   Monte Carlo       the fraction of `samples` uniform points of the box where the inequality
 //                     is false (on the same tape); a violation sampled for a precondition
-//                     reported satisfied would be a soundness bug.
+//                     reported satisfied would be a soundness bug. A precondition proved
+//                     satisfied has share 0 by soundness, so its sampling is only that self-check
+//                     and uses samples / proved_share points (PreconditionResult::
+//                     monte_carlo_samples says how many).
 //
 // Example:
 //   const std::vector<InstanceAnalysis> examined = analyse_instances(world, domain, instances);
@@ -145,6 +148,9 @@ struct AnalysisOptions {
   bool scale_manipulator{false};  // also scale the arm's variables
   bool blame{true};
   std::size_t samples{2000};  // Monte Carlo samples per precondition (0: off)
+  // A proved precondition's Monte Carlo is a self-check (its share is 0 by soundness): it draws
+  // samples / proved_share points (at least one; 1: as many as any other).
+  std::size_t proved_share{10};
 };
 
 // The instance's steps as phase 2 sees them, each labelled instance_step + 1 (Phase2Step::label).

@@ -58,6 +58,7 @@ struct PreconditionResult {
   std::vector<Blame> blame;                     // largest share first
   std::optional<double> holds_up_to_scale;      // reverse analysis: proved for scales <= this
   std::optional<double> monte_carlo_violation;  // fraction of samples violating
+  std::size_t monte_carlo_samples{0};           // behind it (fewer when proved: proved_share)
 };
 
 // The variables of `expressions` as ids of `space`, ascending. Throws PlanError for a variable

@@ -234,40 +234,68 @@ std::string format(const char* pattern, double a, double b = 0, double c = 0, do
   return buffer;
 }
 
-// Monte Carlo: `options.samples` points drawn from the variables' distributions (fixed seed),
-// every precondition evaluated on one tape over every variable, in blocks of points.
+// Monte Carlo: points drawn from the variables' distributions (fixed seed, point-major: the same
+// points whatever is evaluated on them), in blocks. Unproved preconditions are evaluated on all
+// `options.samples` points, on one tape; proved ones, a self-check, on the first `proved_samples`
+// only (a second tape with every precondition). Only those points are drawn when all are proved.
 struct SampledViolations {
+  std::size_t points{0};  // drawn
   std::vector<std::size_t> per_precondition;
-  std::size_t plan{0};  // points violating at least one precondition
+  std::vector<std::size_t> samples;  // per precondition: the points it was evaluated on
+  std::size_t plan{0};               // points violating at least one precondition
 };
 
 SampledViolations sample_violations(const InstanceAnalysis& analysis,
                                     const std::vector<const PreconditionResult*>& results,
                                     const ProbabilityOptions& options) {
-  std::vector<Expr> outputs;
   const std::vector<Expr>& inputs = analysis.symbols;
-  for (const PreconditionResult* result : results) outputs.push_back(result->inequality.expression);
-  const symbolic::Tape tape = symbolic::Tape::compile(outputs, inputs);
+  std::vector<Expr> every, unproved_outputs;
+  std::vector<std::size_t> unproved;  // indices into results
+  for (std::size_t k = 0; k < results.size(); ++k) {
+    every.push_back(results[k]->inequality.expression);
+    if (results[k]->verdict != bounds::Verdict::kSatisfied) {
+      unproved.push_back(k);
+      unproved_outputs.push_back(results[k]->inequality.expression);
+    }
+  }
+  const std::size_t proved_samples =
+      std::max<std::size_t>(1, options.samples / std::max<std::size_t>(1, options.proved_share));
+  SampledViolations sampled{
+      .points = unproved.empty() ? std::min(options.samples, proved_samples) : options.samples,
+      .per_precondition = std::vector<std::size_t>(results.size(), 0),
+      .samples = std::vector<std::size_t>(results.size(), 0)};
+  const symbolic::Tape all = symbolic::Tape::compile(every, inputs);
+  const std::optional<symbolic::Tape> some =
+      unproved.empty() ? std::nullopt
+                       : std::optional(symbolic::Tape::compile(unproved_outputs, inputs));
   std::vector<Sampler> samplers;
   for (const SpaceVariable& v : analysis.variables) samplers.emplace_back(v);
   std::mt19937_64 random(options.seed);
   constexpr std::size_t kBlock = 256;
-  std::vector<double> points(inputs.size() * kBlock), values(outputs.size() * kBlock);
-  SampledViolations sampled{.per_precondition = std::vector<std::size_t>(outputs.size(), 0)};
-  for (std::size_t done = 0; done < options.samples; done += kBlock) {
+  std::vector<double> points(inputs.size() * kBlock), values(every.size() * kBlock);
+  for (std::size_t done = 0; done < sampled.points; done += kBlock) {
     check_deadline();  // a batch's --time-limit (common/deadline.hpp); cheap without one
-    const std::size_t n = std::min(kBlock, options.samples - done);
+    const std::size_t n = std::min(kBlock, sampled.points - done);
     for (std::size_t p = 0; p < n; ++p)  // point-major draws: independent of the block size
       for (std::size_t j = 0; j < inputs.size(); ++j) points[j * n + p] = samplers[j](random);
-    symbolic::evaluate_batch(tape, {points.data(), inputs.size() * n},
-                             {values.data(), outputs.size() * n}, n);
+    // Every precondition while the proved ones are checked, then the unproved ones alone.
+    const bool checking = done < proved_samples;
+    const symbolic::Tape& tape = checking ? all : *some;
+    const std::size_t outputs = checking ? every.size() : unproved.size();
+    symbolic::evaluate_batch(tape, {points.data(), inputs.size() * n}, {values.data(), outputs * n},
+                             n);
     for (std::size_t p = 0; p < n; ++p) {
       bool any = false;
-      for (std::size_t k = 0; k < outputs.size(); ++k)
-        if (violated(results[k]->inequality, values[k * n + p])) {
+      for (std::size_t row = 0; row < outputs; ++row) {
+        const std::size_t k = checking ? row : unproved[row];
+        const bool proved = results[k]->verdict == bounds::Verdict::kSatisfied;
+        if (proved && done + p >= proved_samples) continue;
+        ++sampled.samples[k];
+        if (violated(results[k]->inequality, values[row * n + p])) {
           ++sampled.per_precondition[k];
           any = true;
         }
+      }
       sampled.plan += any;
     }
   }
@@ -445,12 +473,12 @@ ProbabilityAnalysis analyse_probability(const InstanceAnalysis& analysis,
   if (options.samples == 0 || jacobian.rows == 0) return out;
 
   const SampledViolations sampled = sample_violations(analysis, results, options);
-  out.samples = options.samples;
+  out.samples = sampled.points;
   out.plan_violations = sampled.plan;
-  out.p_plan = static_cast<double>(sampled.plan) / options.samples;
-  std::tie(out.p_plan_ci_lo, out.p_plan_ci_hi) = wilson(sampled.plan, options.samples);
+  out.p_plan = static_cast<double>(sampled.plan) / sampled.points;
+  std::tie(out.p_plan_ci_lo, out.p_plan_ci_hi) = wilson(sampled.plan, sampled.points);
   for (std::size_t k = 0; k < results.size(); ++k)
-    compare_with_samples(out.preconditions[k], options.samples, sampled.per_precondition[k]);
+    compare_with_samples(out.preconditions[k], sampled.samples[k], sampled.per_precondition[k]);
   return out;
 }
 

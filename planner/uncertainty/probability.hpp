@@ -25,11 +25,14 @@
 //                        satisfied (hi <= t, resp. lo >= t) gets exactly 0, from first and second
 //                        order alike. s = 0 gives 0 or 1.
 //   Monte Carlo          `samples` independent points of the box drawn from the variables'
-//                        distributions (fixed seed), every precondition evaluated on one tape;
+//                        distributions (fixed seed), the preconditions evaluated on one tape;
 //                        the violation fraction with its Wilson interval. A proved precondition
 //                        has no sampled violation (the samples lie in the box, where the sound
 //                        bound holds): its estimate is 0 and its interval [0, 0]; a violation
-//                        sampled there would be a soundness bug and is reported in `note`.
+//                        sampled there would be a soundness bug and is reported in `note`. That
+//                        self-check uses the first samples / proved_share points only, and only
+//                        those are drawn when every precondition is proved (the plan's P is then
+//                        0 exactly); each row says its count.
 //   agreement            where first order lies outside the Wilson interval, `note` says so and
 //                        gives the second-order estimate (and whether that one agrees).
 //
@@ -134,7 +137,8 @@ struct PreconditionProbability {
 };
 
 struct ProbabilityOptions {
-  std::size_t samples{20'000};  // Monte Carlo points (0: off)
+  std::size_t samples{20'000};   // Monte Carlo points (0: off)
+  std::size_t proved_share{10};  // proved preconditions: the first samples / this (1: all)
   std::uint64_t seed{20261201};
   LinearAlgebra algebra{LinearAlgebra::kSparse};
 };
@@ -145,7 +149,8 @@ struct ProbabilityAnalysis {
   std::size_t covariance_nonzeros{0};
   std::size_t non_differentiable{0};
   std::vector<PreconditionProbability> preconditions;  // rows of J, in order
-  // The plan: P(some precondition violated) sampled (same points), with its Wilson interval.
+  // The plan: P(some precondition violated) sampled (same points), with its Wilson interval;
+  // `samples` points were drawn (fewer than asked when every precondition is proved).
   std::size_t samples{0}, plan_violations{0};
   double p_plan{0.0}, p_plan_ci_lo{0.0}, p_plan_ci_hi{0.0};
 };

@@ -351,6 +351,16 @@ std::string plan_probability_text(const Probability& probability) {
          " (Monte Carlo)";
 }
 
+std::string monte_carlo_points_text(const Probability& probability) {
+  const std::string out =
+      "Monte Carlo draws " + std::to_string(probability.samples) + " points (95% Wilson interval";
+  for (const auto& row : probability.preconditions)
+    if (row.proved && row.samples && *row.samples < probability.samples)
+      return out + "; a proved precondition is checked on the first " +
+             std::to_string(*row.samples) + " of them).";
+  return out + ").";
+}
+
 std::string allocation_text(const Tolerances& tolerances) {
   const std::string& status = tolerances.status;
   if (status == "not_needed")

@@ -93,6 +93,9 @@ namespace spar::reports::internal {
 // Carlo points violates one)" when the sound bounds proved them all, else the sampled share with
 // its Wilson interval and " (Monte Carlo)".
 [[nodiscard]] std::string plan_probability_text(const Probability& probability);
+// "Monte Carlo draws 20000 points (95% Wilson interval; a proved precondition is checked on the
+// first 2000 of them)." (the second part when some are proved and some are not).
+[[nodiscard]] std::string monte_carlo_points_text(const Probability& probability);
 // "not needed: ..." / "proved in 2 rounds (cost 0.38)" for chosen.probability.tolerances.
 [[nodiscard]] std::string allocation_text(const Tolerances& tolerances);
 

@@ -289,8 +289,12 @@ const std::vector<Case> kCases = {
   {"PlanSamplesNegative", {"plan", "@SRC@/examples/peg_block_face_up.yaml", "--samples", "-1"},
    kError, "", "--samples: must be a whole number from 0 to 100000000, got '-1'"},
   {"PlanSamplesReachTheReport",
-   {"plan", "@SRC@/examples/peg_block_face_up.yaml", "--json", "--samples", "1000"}, 0,
+   {"plan", "@SRC@/examples/peg_block_on_back.yaml", "--json", "--samples", "1000"}, 3,
    "\"probability\": \\{[^}]*\\}[^}]*\"samples\": 1000", ""},
+  // Every precondition proved: the plan's P is 0 exactly and a tenth of the points check that.
+  {"PlanSamplesATenthWhenEveryPreconditionIsProved",
+   {"plan", "@SRC@/examples/peg_block_face_up.yaml", "--json", "--samples", "1000"}, 0,
+   "\"probability\": \\{[^}]*\\}[^}]*\"samples\": 100,", ""},
   {"QrBudgetZero", {"qr", "match-strike", "--budget", "0"}, kError, "",
    "^spar: error: --budget: must be a whole number from 1 to 10000, got '0'\n$"},
   {"QrSeedNegative", {"qr", "match-strike", "--seed", "-1"}, kError, "",

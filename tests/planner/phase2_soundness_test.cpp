@@ -204,6 +204,7 @@ TEST(Phase2Soundness, MonteCarloFindsNoViolationOfASatisfiedPrecondition) {
     SCOPED_TRACE(name);
     PlanOptions options = quick_options(2);
     options.analysis.samples = 4000;
+    options.analysis.proved_share = 1;  // a hunt: every precondition on every sample
     const PlanResult result = plan(example(name), builtin_domain(), options);
     ASSERT_TRUE(result.planned()) << result.family.reason;
     const InstanceAnalysis* chosen = result.chosen_analysis();
@@ -212,6 +213,7 @@ TEST(Phase2Soundness, MonteCarloFindsNoViolationOfASatisfiedPrecondition) {
     for (const AnalysedStep& step : chosen->steps)
       for (const PreconditionResult& p : step.preconditions) {
         ASSERT_TRUE(p.monte_carlo_violation.has_value()) << p.inequality.name;
+        EXPECT_EQ(p.monte_carlo_samples, 4000u);
         EXPECT_GE(*p.monte_carlo_violation, 0.0);
         EXPECT_LE(*p.monte_carlo_violation, 1.0);
         if (p.verdict != Verdict::kSatisfied) continue;

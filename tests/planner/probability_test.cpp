@@ -320,6 +320,41 @@ TEST(ProbabilitySeedPickup, WidenedPickupMonteCarloAgreesWithFirstOrderOrSaysWhy
   }
 }
 
+// A proved precondition's sampling is a self-check (P = 0 by soundness): the first tenth of the
+// points. Unproved ones see every point, the same points as if all were sampled: their counts
+// equal those of a run where nothing is proved (the verdicts cleared).
+TEST(ProbabilitySeedPickup, ProvedPreconditionsAreCheckedOnATenthOfThePoints) {
+  const PlanResult proved = plan(peg_pickup(), builtin_domain(), plan_options());
+  const ProbabilityAnalysis all_proved =
+      analyse_probability(*proved.chosen_analysis(), {.samples = 20'000});
+  EXPECT_EQ(all_proved.samples, 2'000u);
+  for (const PreconditionProbability& q : all_proved.preconditions) EXPECT_EQ(q.samples, 2'000u);
+
+  PlanResult widened = plan(widened_without_sensor(), builtin_domain(), plan_options());
+  ASSERT_FALSE(widened.examined.empty());
+  InstanceAnalysis& chosen = widened.examined[choose_instance(widened.examined)];
+  const ProbabilityAnalysis mixed = analyse_probability(chosen, {.samples = 20'000});
+  EXPECT_EQ(mixed.samples, 20'000u);
+  std::size_t checked = 0;
+  for (const PreconditionProbability& q : mixed.preconditions) {
+    EXPECT_EQ(q.samples, q.proved ? 2'000u : 20'000u);
+    checked += q.proved ? 1 : 0;
+  }
+  EXPECT_GT(checked, 0u);
+  std::vector<std::size_t> unproved_violations;
+  for (const PreconditionProbability& q : mixed.preconditions)
+    if (!q.proved) unproved_violations.push_back(q.violations);
+  for (AnalysedStep& step : chosen.steps)
+    for (PreconditionResult& result : step.preconditions)
+      result.verdict = Verdict::kUndecided;  // everything sampled on every point
+  const ProbabilityAnalysis unchecked = analyse_probability(chosen, {.samples = 20'000});
+  std::vector<std::size_t> same;
+  for (std::size_t k = 0; k < unchecked.preconditions.size(); ++k)
+    if (!mixed.preconditions[k].proved) same.push_back(unchecked.preconditions[k].violations);
+  EXPECT_EQ(same, unproved_violations);
+  EXPECT_EQ(unchecked.plan_violations, mixed.plan_violations);
+}
+
 TEST(ProbabilitySeedPickup, GaussianFailsLessOftenThanUniformOnTheSameBox) {
   const auto plan_failure = [](Distribution distribution) {
     Scenario scenario = widened_without_sensor();
