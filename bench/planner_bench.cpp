@@ -744,61 +744,14 @@ struct Comparison {
 // ---------------------------------------------------------------------------------------------
 // Phase 2 on the seed experiments.
 
-// Phase 2's decision of one step's preconditions, as planner/uncertainty/deciding.cpp makes it: one
-// condition set over the variables in space order, the natural pass and a quick bound, the full
-// bound where still undecided, both bounds deciding (BoundOptions::decide: the side the relation
-// limits, early exit). Returns the bounds that decided; counts the escalations.
-struct Decided {
-  std::vector<Verdict> verdicts;
-  std::vector<spar::bounds::BoundResult> bounds;
-  int natural{0};  // decided by the natural interval pass alone
-  int full{0};     // needed the full bound
-};
-
-Decided decide_like_phase2(const std::vector<spar::bounds::Inequality>& inequalities,
-                           const std::vector<symbolic::Expr>& variables,
-                           const std::vector<Interval>& box,
-                           const planner::AnalysisOptions& options) {
-  Decided out;
-  spar::bounds::ConditionSet set(inequalities, variables);
-  const std::vector<spar::bounds::ConditionCheck> checks =
-      set.check(box, options.quick, spar::bounds::Escalation::kDecide);
-  for (std::size_t i = 0; i < checks.size(); ++i) {
-    out.verdicts.push_back(checks[i].verdict);
-    out.bounds.push_back(checks[i].bound);
-    if (!checks[i].escalated) ++out.natural;
-    if (checks[i].verdict == Verdict::kUndecided) {
-      ++out.full;
-      spar::bounds::BoundOptions deciding = options.bound;
-      deciding.decide =
-          spar::bounds::DecisionTarget{inequalities[i].relation, inequalities[i].threshold};
-      out.bounds.back() =
-          spar::bounds::BoundProblem(inequalities[i].expression, variables).bound(box, deciding);
-      out.verdicts.back() = spar::bounds::decide(inequalities[i], out.bounds.back());
-    }
-  }
-  return out;
-}
-
-// The inequalities of `preconditions`, their variables in the space's order, and the box.
-struct ConditionInputs {
-  std::vector<spar::bounds::Inequality> inequalities;
-  std::vector<symbolic::Expr> variables;
-  std::vector<Interval> box;
-};
-
-ConditionInputs condition_inputs(const std::vector<planner::Precondition>& preconditions,
-                                 const planner::UncertaintySpace& space) {
-  ConditionInputs in;
-  std::vector<symbolic::Expr> roots;
-  for (const planner::Precondition& p : preconditions) {
-    in.inequalities.push_back(p.inequality);
-    roots.push_back(p.inequality.expression);
-  }
-  const std::vector<planner::VariableId> ids = planner::variables_of(roots, space);
-  for (const planner::VariableId id : ids) in.variables.push_back(space.symbol(id));
-  in.box = space.ranges(ids);
-  return in;
+// Phase 2's decision of one step's preconditions over the space's current ranges
+// (planner::decide: one condition set, the natural pass and a quick bound, the full bound where
+// still undecided).
+std::vector<planner::PreconditionResult> decide_step(
+    const std::vector<planner::Precondition>& preconditions,
+    const planner::UncertaintySpace& space) {
+  const planner::AnalysisOptions options;
+  return planner::decide(preconditions, space, options.quick, options.bound);
 }
 
 // Where phase 2's deciding time goes on one analysed instance: the final step list (inserted
@@ -813,20 +766,19 @@ void decide_breakdown(const planner::WorldModel& world, const planner::InstanceA
   std::map<std::string, Tally> by_kind;
   symbolic::ExprPool pool;
   planner::Propagation propagation(world, planner::builtin_domain(), pool);
-  const planner::AnalysisOptions options;
   for (std::size_t s = 0; s < analysis.steps.size(); ++s) {
     const std::vector<planner::Precondition> preconditions =
         propagation.step(analysis.steps[s].step, static_cast<int>(s) + 1);
     if (preconditions.empty()) continue;
-    const ConditionInputs in = condition_inputs(preconditions, propagation.space());
-    Decided decided;
-    const double seconds = time_median(repeats, [&] {
-      decided = decide_like_phase2(in.inequalities, in.variables, in.box, options);
-    });
+    std::vector<planner::PreconditionResult> results;
+    const double seconds =
+        time_median(repeats, [&] { results = decide_step(preconditions, propagation.space()); });
     Tally& tally = by_kind[std::string(planner::to_string(preconditions.front().kind))];
     tally.count += static_cast<int>(preconditions.size());
-    tally.natural += decided.natural;
-    tally.full += decided.full;
+    for (const planner::PreconditionResult& r : results) {
+      tally.natural += r.decided_by == planner::DecidedBy::kNaturalPass ? 1 : 0;
+      tally.full += r.decided_by == planner::DecidedBy::kFullBound ? 1 : 0;
+    }
     tally.seconds += seconds;
   }
   std::printf("  deciding, by kind:");
@@ -1031,31 +983,32 @@ ChainRun run_chain(const planner::WorldModel& world, const ChainSetup& setup, in
     run.max_nodes = std::max(run.max_nodes, symbolic::dag_size(p.inequality.expression));
   }
   run.nodes = symbolic::dag_size(roots);
-  const ConditionInputs in = condition_inputs(last, propagation->space());
-  run.variables = in.variables.size();
-  const planner::AnalysisOptions options;
-  Decided decided;
-  run.decide = time_median(repeats, [&] {
-    decided = decide_like_phase2(in.inequalities, in.variables, in.box, options);
-  });
-  run.verdicts = decided.verdicts;
+  std::vector<planner::PreconditionResult> results;
+  run.decide = time_median(repeats, [&] { results = decide_step(last, propagation->space()); });
+  for (const planner::PreconditionResult& r : results) run.verdicts.push_back(r.verdict);
+  // Every result of a step has the step's variables and box.
+  std::vector<symbolic::Expr> variables;
+  for (const planner::VariableId id : results.front().variables)
+    variables.push_back(propagation->space().symbol(id));
+  run.variables = variables.size();
   std::vector<Interval> peer_values;
   run.peer = time_median(repeats, [&] {
     NaivePeer peer(world);
     for (const planner::Phase2Step& step : steps) peer_values = peer.step(step);
   });
-  for (std::size_t i = 0; i < in.inequalities.size(); ++i)
-    run.decided.add(in.inequalities[i], decided.verdicts[i], decided.bounds[i], peer_values[i]);
+  for (std::size_t i = 0; i < results.size(); ++i)
+    run.decided.add(results[i].inequality, results[i].verdict, results[i].bound, peer_values[i]);
   if (tight) {
     // Tight bounds (the chosen-instance `report` budget), as reports show them.
-    std::vector<spar::bounds::BoundResult> bounds(in.inequalities.size());
+    const planner::AnalysisOptions options;
+    std::vector<spar::bounds::BoundResult> bounds(results.size());
     run.tight_seconds = time_median(1, [&] {
-      for (std::size_t i = 0; i < in.inequalities.size(); ++i)
-        bounds[i] = spar::bounds::BoundProblem(in.inequalities[i].expression, in.variables)
-                        .bound(in.box, options.report);
+      for (std::size_t i = 0; i < results.size(); ++i)
+        bounds[i] = spar::bounds::BoundProblem(results[i].inequality.expression, variables)
+                        .bound(results[i].box, options.report);
     });
-    for (std::size_t i = 0; i < in.inequalities.size(); ++i)
-      run.tight.add(in.inequalities[i], decided.verdicts[i], bounds[i], peer_values[i]);
+    for (std::size_t i = 0; i < results.size(); ++i)
+      run.tight.add(results[i].inequality, results[i].verdict, bounds[i], peer_values[i]);
   }
   return run;
 }
@@ -1093,14 +1046,19 @@ void chain_scales(const planner::WorldModel& world, const ChainSetup& setup,
     std::vector<planner::Precondition> last;
     for (std::size_t s = 0; s < steps.size(); ++s)
       last = propagation.step(steps[s], static_cast<int>(s) + 1);
-    const ConditionInputs in = condition_inputs(last, propagation.space());
+    // Compiled once and decided over the scaled space, as phase 2's sensor margin does.
+    planner::UncertaintySpace& space = propagation.space();
+    const std::vector<planner::SpaceVariable> table = space.variables();
     const auto start = std::chrono::steady_clock::now();
+    planner::CompiledStep compiled(last, space);
     const double spar_scale = largest_proved_scale([&](double scale) {
-      std::vector<Interval> box = in.box;
-      for (Interval& range : box) range = Interval(range.lo * scale, range.hi * scale);
-      const Decided decided = decide_like_phase2(in.inequalities, in.variables, box, options);
-      return std::all_of(decided.verdicts.begin(), decided.verdicts.end(),
-                         [](Verdict v) { return v == Verdict::kSatisfied; });
+      for (std::size_t v = 0; v < table.size(); ++v)
+        space.set_range(planner::VariableId{static_cast<std::uint32_t>(v)}, table[v].lower * scale,
+                        table[v].upper * scale);
+      const std::vector<planner::PreconditionResult> results =
+          compiled.decide(space, options.quick, options.bound);
+      return std::all_of(results.begin(), results.end(),
+                         [](const auto& r) { return r.verdict == Verdict::kSatisfied; });
     });
     const double spar_seconds = seconds_since(start);
     const double peer_scale = largest_proved_scale([&](double scale) {
@@ -1108,7 +1066,7 @@ void chain_scales(const planner::WorldModel& world, const ChainSetup& setup,
       std::vector<Interval> values;
       for (const planner::Phase2Step& step : steps) values = peer.step(step);
       for (std::size_t i = 0; i < values.size(); ++i)
-        if (peer_verdict(in.inequalities[i].relation, in.inequalities[i].threshold, values[i]) !=
+        if (peer_verdict(last[i].inequality.relation, last[i].inequality.threshold, values[i]) !=
             Verdict::kSatisfied)
           return false;
       return true;

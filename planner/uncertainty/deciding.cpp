@@ -65,7 +65,9 @@ std::vector<PreconditionResult> CompiledStep::decide(const UncertaintySpace& spa
     result.verdict = checks[i].verdict;
     result.bound = checks[i].bound;
     result.witness = checks[i].witness;
+    result.decided_by = checks[i].escalated ? DecidedBy::kQuickBound : DecidedBy::kNaturalPass;
     if (result.verdict == bounds::Verdict::kUndecided) {
+      result.decided_by = DecidedBy::kFullBound;
       bounds::BoundOptions deciding = full;
       deciding.decide =
           bounds::DecisionTarget{result.inequality.relation, result.inequality.threshold};

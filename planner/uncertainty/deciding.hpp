@@ -38,6 +38,9 @@
 
 namespace spar::planner {
 
+// Which stage of deciding settled a precondition (the header comment's order).
+enum class DecidedBy { kNaturalPass, kQuickBound, kFullBound };
+
 struct PreconditionResult {
   Builder kind{Builder::kPickup};  // the builder that made it
   bounds::Inequality inequality;
@@ -46,6 +49,7 @@ struct PreconditionResult {
                            // form exceeds 1e7 nodes (joint uncertainty: `nodes` is the DAG's)
   std::size_t nodes{0};    // DAG nodes of the expression
   bounds::Verdict verdict{bounds::Verdict::kUndecided};
+  DecidedBy decided_by{DecidedBy::kNaturalPass};  // the last stage tried (undecided: the full)
   bounds::BoundResult bound;
   std::vector<VariableId> variables;  // the step's variables (ascending ids), in box order
   std::vector<bounds::Interval> box;  // their ranges

@@ -48,9 +48,9 @@ struct LabelCandidate {
 
 struct ImageEdge {
   Segment segment;
-  std::vector<int> inputs;  // input edges it is made of (several once merged)
-  int split_from{-1};       // the element this is a piece of, -1 if none
-  bool active{true};        // false once merged into another element or split into pieces
+  std::vector<int> inputs{};  // input edges it is made of (several once merged)
+  int split_from{-1};         // the element this is a piece of, -1 if none
+  bool active{true};          // false once merged into another element or split into pieces
   std::vector<LabelCandidate> candidates{};  // most collinear first
   int label{-1};                             // panel edge, or -1 (none)
   double belief{0};                          // Bel(label); for no label, Bel(none)
