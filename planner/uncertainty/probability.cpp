@@ -290,7 +290,6 @@ SampledViolations sample_violations(const InstanceAnalysis& analysis,
         const std::size_t k = checking ? row : unproved[row];
         const bool proved = results[k]->verdict == bounds::Verdict::kSatisfied;
         if (proved && done + p >= proved_samples) continue;
-        ++sampled.samples[k];
         if (violated(results[k]->inequality, values[row * n + p])) {
           ++sampled.per_precondition[k];
           any = true;
@@ -299,6 +298,10 @@ SampledViolations sample_violations(const InstanceAnalysis& analysis,
       sampled.plan += any;
     }
   }
+  for (std::size_t k = 0; k < results.size(); ++k)
+    sampled.samples[k] = results[k]->verdict == bounds::Verdict::kSatisfied
+                             ? std::min(sampled.points, proved_samples)
+                             : sampled.points;
   return sampled;
 }
 
