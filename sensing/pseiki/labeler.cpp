@@ -77,8 +77,7 @@ Junctions junctions_of(const Blackboard& board, int element, int a) {
 }
 
 // How much of `e` duplicates `other` (labeler.hpp): the share of e's length that runs along
-// other's extent, beyond the ends' noise, within kDuplicateOffset of its line (fading to nothing
-// at twice that).
+// other's extent, beyond the ends' noise, at whatever offset from its line.
 double duplicated_share(const Segment& e, const Segment& other, double noise) {
   const Eigen::Vector2d d = other.direction();
   const double length = e.length();
@@ -87,12 +86,7 @@ double duplicated_share(const Segment& e, const Segment& other, double noise) {
   const double lo = std::max(std::min(s0, s1), 0.0),
                hi = std::min(std::max(s0, s1), other.length());
   const double slack = std::max(1.0, 3 * std::sqrt(2.0) * noise);  // two noisy ends
-  if (hi - lo <= slack || s1 == s0) return 0;
-  // e's points where the overlap starts and ends, and their distance from other's line.
-  const auto at = [&](double s) { return e.p0 + (s - s0) / (s1 - s0) * (e.p1 - e.p0); };
-  const double offset = std::max(other.line_distance(at(lo)), other.line_distance(at(hi)));
-  const double closeness = std::clamp(2 - offset / kDuplicateOffset, 0.0, 1.0);
-  return closeness * (hi - lo - slack) / length;
+  return hi - lo <= slack ? 0.0 : (hi - lo - slack) / length;
 }
 
 ElementEvidence evidence_of(const Blackboard& board, int element, const Doubts& doubts) {

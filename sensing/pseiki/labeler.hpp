@@ -17,10 +17,12 @@
 //                        not confirmed by it);
 //     against A          duplicate(e, e2) x Bel(e2) for the same e2, where duplicate is the share
 //                        of e's length that runs along e2's extent (beyond 3 sqrt(2) noise, at
-//                        least 1 px: two noisy ends) within kDuplicateOffset pixels of its line
-//                        (fading to 0 at twice that): an edge detector reports one edge where two
-//                        coincide, so pieces of one edge do not overlap and the overlapping part
-//                        is not A; the support above is taken times (1 - duplicate), and the
+//                        least 1 px: two noisy ends), at whatever offset from e2's line: A is
+//                        one line in the image and an edge detector reports one edge where two
+//                        coincide, so pieces of A do not run side by side, and the overlapping
+//                        part of e is not A (a shadow 4-10 px beside A's piece is exactly this;
+//                        with a fade by offset it escaped); the support above is taken times
+//                        (1 - duplicate), and the
 //                        relational and junction support below times (1 - the largest
 //                        duplicate x Bel(e2)): A's place is then explained by e2, not by e;
 //     for / against A    compatibility(e, e2) x Bel(e2), incompatibility(e, e2) x Bel(e2) for
@@ -74,8 +76,7 @@ namespace spar::sensing::pseiki {
 inline constexpr double kMinimumLabelBelief = 0.1;
 inline constexpr double kMinimumNeighbourBelief = 0.05;
 inline constexpr double kRelationalWeight = 0.5;
-inline constexpr double kJunctionGap = 12;     // pixels between the ends of a junction's two edges
-inline constexpr double kDuplicateOffset = 3;  // pixels: an edge this close along another is it
+inline constexpr double kJunctionGap = 12;  // pixels between the ends of a junction's two edges
 
 // One element's hypotheses and evidence: the tree, the leaf of each candidate (in the element's
 // candidate order) and the leaf "none".
