@@ -499,11 +499,12 @@ std::optional<double> proved_scale(const PreconditionResult& result, bounds::Bou
 
 void add_margins(InstanceAnalysis& analysis, const AnalysisOptions& options,
                  const std::function<void(std::string_view)>& progress) {
-  std::mt19937_64 random(20261201);
   std::size_t total = 0, done = 0;
   for (const AnalysedStep& step : analysis.steps) total += step.preconditions.size();
-  for (AnalysedStep& step : analysis.steps) {
-    for (PreconditionResult& result : step.preconditions) {
+  for (std::size_t k = 0; k < analysis.steps.size(); ++k) {
+    AnalysedStep& step = analysis.steps[k];
+    for (std::size_t i = 0; i < step.preconditions.size(); ++i) {
+      PreconditionResult& result = step.preconditions[i];
       if (progress)
         progress("phase 2: margins of precondition " + std::to_string(++done) + " of " +
                  std::to_string(total));
@@ -517,6 +518,10 @@ void add_margins(InstanceAnalysis& analysis, const AnalysisOptions& options,
       result.witness = bounds::witness(result.inequality, result.bound);
       if (options.blame) add_blame(result, problem);
       if (options.samples > 0) {
+        // Each precondition its own stream: its estimate does not depend on how many points the
+        // others drew (fewer for the proved ones).
+        std::seed_seq seeds{std::size_t{20261201}, k, i};
+        std::mt19937_64 random(seeds);
         const bool proved = result.verdict == bounds::Verdict::kSatisfied;
         add_monte_carlo(
             result, inputs,

@@ -34,7 +34,9 @@
 //                     reported satisfied would be a soundness bug. A precondition proved
 //                     satisfied has share 0 by soundness, so its sampling is only that self-check
 //                     and uses samples / proved_share points (PreconditionResult::
-//                     monte_carlo_samples says how many).
+//                     monte_carlo_samples says how many). Each precondition draws from its own
+//                     stream (seeded by its step and place), so its estimate does not change
+//                     with the others' verdicts.
 //
 // Example:
 //   const std::vector<InstanceAnalysis> examined = analyse_instances(world, domain, instances);
