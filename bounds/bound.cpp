@@ -1158,11 +1158,9 @@ struct BoundProblem::Impl {
     return single_use->get();
   }
 
-  // The compiled rewrite for these ranges' widths (null if SMP does not change f), from the cache
-  // or built now. Equal widths give the same rewrite, so caching never changes a result.
-  CompiledFunction* rewrite(std::span<const Interval> ranges) {
-    std::vector<double> widths(ranges.size());
-    for (std::size_t i = 0; i < ranges.size(); ++i) widths[i] = ranges[i].width();
+  // The compiled rewrite for these widths (null if SMP does not change f), from the cache or
+  // built now. Equal widths give the same rewrite, so caching never changes a result.
+  CompiledFunction* rewrite(std::vector<double> widths) {
     const auto cached = std::find_if(rewrites.begin(), rewrites.end(),
                                      [&](const Rewrite& r) { return r.widths == widths; });
     if (cached != rewrites.end()) {
@@ -1218,6 +1216,17 @@ const std::vector<Expr>& BoundProblem::variables() const { return impl_->variabl
 BoundResult BoundProblem::bound(std::span<const Interval> ranges, const BoundOptions& options) {
   internal::check_ranges(impl_->variables, ranges);
   if (!(options.tolerance >= 0)) throw BoundsError("tolerance must be >= 0");
+  if (!options.rewrite_widths.empty()) {
+    if (options.rewrite_widths.size() != ranges.size())
+      throw BoundsError("rewrite_widths: expected " + std::to_string(ranges.size()) +
+                        " widths (one per variable), got " +
+                        std::to_string(options.rewrite_widths.size()));
+    for (std::size_t i = 0; i < ranges.size(); ++i)
+      if (!(options.rewrite_widths[i] >= 0 && std::isfinite(options.rewrite_widths[i])))
+        throw BoundsError("rewrite_widths: the width of '" + impl_->variables[i].name() +
+                          "' must be finite and >= 0, got " +
+                          format_number(options.rewrite_widths[i]));
+  }
   const BoundResult result = impl_->staged(ranges, options);
 #ifndef NDEBUG
   result.check_invariants();
@@ -1320,7 +1329,10 @@ BoundResult BoundProblem::Impl::staged(std::span<const Interval> ranges,
     refine_with(result, *single_use_result, f.interval, options.tolerance);
   }
   if (result.status != BoundStatus::kEffortLimit || known(result)) return result;
-  if (CompiledFunction* rewritten = rewrite(ranges)) {
+  std::vector<double> widths = options.rewrite_widths;
+  if (widths.empty())
+    for (const Interval& range : ranges) widths.push_back(range.width());
+  if (CompiledFunction* rewritten = rewrite(std::move(widths))) {
     const BoundResult other = run(*rewritten, ranges, first);
     result.evaluations += other.evaluations;
     refine_with(result, other, f.interval, options.tolerance);

@@ -92,6 +92,13 @@ struct BoundOptions {
   // exact up to rounding, so it usually settles f alone (at most 1.375 budgets in all). Deciding
   // (below) runs f's first stage before any rewrite: it settles most inequalities without SMP.
   bool simplify{true};
+  // The box widths (one per variable, >= 0) that choose SMP's rewrite above; empty: the bounded
+  // box's own. SMP weighs a repeated variable by its width, so the rewrite depends on them, and a
+  // BoundProblem keeps the last few rewrites by widths. Boxes that differ only in scale (reverse
+  // analysis: one precondition at many scales) can share one rewrite by passing the same widths.
+  // Any widths give a rewrite equal to f wherever f is defined: bounds stay sound, only which
+  // rewrite (and so how tight) may differ.
+  std::vector<double> rewrite_widths{};
   // Deciding, not bounding: with a target, only the side of f the relation limits is searched
   // (hi for `<`, `<=`; lo for `>`, `>=`), and the search stops as soon as decide()
   // (bounds/inequality.hpp) would answer: that side's sound bound proves the inequality, or an

@@ -16,6 +16,7 @@
 #include "spar/symbolic/operations.hpp"
 #include "spar/symbolic/parse.hpp"
 #include "spar/symbolic/tape.hpp"
+#include "tests/common/expect_message.hpp"
 
 namespace spar::bounds {
 namespace {
@@ -561,6 +562,72 @@ RC_GTEST_PROP(Bound, EveryMethodContainsValuesAtRandomPoints, ()) {
       RC_ASSERT(out[0].lo <= r.hi);
     }
   }
+}
+
+// Property: SMP's rewrite chosen for other widths than the box's (BoundOptions::rewrite_widths,
+// as reverse analysis shares one across scales) still gives a bound that contains f's values at
+// random points; a small budget, so the staged effort reaches the rewrite.
+RC_GTEST_PROP(Bound, RewriteForOtherWidthsContainsValuesAtRandomPoints, ()) {
+  ExprPool pool;
+  const Expr f = random_expression(pool);
+  Box box;
+  BoundOptions options{.max_box_evaluations = 40};
+  for (const char* name : {"x", "y"}) {
+    const double lo = *rc::gen::inRange(-3000, 3000) / 1000.0;
+    box.add(pool.variable(name), lo, lo + *rc::gen::inRange(1, 3000) / 1000.0);
+    options.rewrite_widths.push_back(*rc::gen::inRange(0, 3000) / 1000.0);
+  }
+  const BoundResult r = bound(f, box, options);
+  r.check_invariants();
+  if (r.status == BoundStatus::kInfeasible) return;
+  const symbolic::Tape tape = symbolic::Tape::compile(std::array{f}, box.variables);
+  symbolic::TapeEvaluator<Interval> evaluator(tape);
+  for (int k = 0; k < 8; ++k) {
+    Interval p[2], out[1];
+    for (int i = 0; i < 2; ++i) {
+      const Interval range = box.ranges[i];
+      p[i] = Interval{
+          std::min(range.hi, range.lo + range.width() * (*rc::gen::inRange(0, 1001) / 1000.0))};
+    }
+    evaluator.evaluate(p, out);
+    if (out[0].is_empty() || out[0].possibly_undefined) continue;
+    RC_ASSERT(out[0].hi >= r.lo);
+    RC_ASSERT(out[0].lo <= r.hi);
+  }
+}
+
+// rewrite_widths equal to the box's own choose the rewrite the box would (the same result), other
+// ones another rewrite; wrong ones are refused with what is wrong.
+TEST(Bound, RewriteWidthsOfTheBoxItselfChangeNothingAndBadOnesAreRefused) {
+  ExprPool pool;
+  const Expr x = pool.variable("x"), y = pool.variable("y"), z = pool.variable("z");
+  // SMP factors out the repeated variable whose repeats cost most: which one, the widths say.
+  const Expr f = parse(pool, "sin(x)*y + sin(x)*z + cos(y)*z");
+  Box box;
+  box.add(x, -1, 2);
+  box.add(y, -1, 1);
+  box.add(z, -0.5, 3);
+  BoundOptions options{.max_box_evaluations = 40};
+  const BoundResult plain = bound(f, box, options);
+  options.rewrite_widths = {3, 2, 3.5};
+  const BoundResult same = bound(f, box, options);
+  EXPECT_EQ(same.lo, plain.lo);
+  EXPECT_EQ(same.hi, plain.hi);
+  EXPECT_EQ(same.inner_lo, plain.inner_lo);
+  EXPECT_EQ(same.inner_hi, plain.inner_hi);
+  EXPECT_EQ(same.evaluations, plain.evaluations);
+  // Other widths reach SMP: another rewrite, searched with another number of boxes.
+  options.rewrite_widths = {0, 100, 0};
+  EXPECT_NE(bound(f, box, options).evaluations, plain.evaluations);
+  options.rewrite_widths = {1.0};
+  EXPECT_THROW_MESSAGE(bound(f, box, options),
+                       "rewrite_widths: expected 3 widths (one per variable), got 1");
+  options.rewrite_widths = {1.0, -1.0, 1.0};
+  EXPECT_THROW_MESSAGE(bound(f, box, options),
+                       "rewrite_widths: the width of 'y' must be finite and >= 0, got -1");
+  options.rewrite_widths = {std::nan(""), 1.0, 1.0};
+  EXPECT_THROW_MESSAGE(bound(f, box, options),
+                       "rewrite_widths: the width of 'x' must be finite and >= 0, got nan");
 }
 
 // Property: with a random constraint (linear in x, y, or with an x·y term) every feasible point
