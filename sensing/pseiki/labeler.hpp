@@ -22,9 +22,9 @@
 //                        coincide, so pieces of A do not run side by side, and the overlapping
 //                        part of e is not A (a shadow 4-10 px beside A's piece is exactly this;
 //                        with a fade by offset it escaped); the support above is taken times
-//                        (1 - duplicate), and the
-//                        relational and junction support below times (1 - the largest
-//                        duplicate x Bel(e2)): A's place is then explained by e2, not by e;
+//                        (1 - duplicate), and the relational and junction support below times
+//                        (1 - the largest duplicate x Bel(e2)): A's place is then explained by
+//                        e2, not by e;
 //     for / against A    compatibility(e, e2) x Bel(e2), incompatibility(e, e2) x Bel(e2) for
 //                        the elements e2 labelled with an edge B sharing a visible face with A
 //                        (collinearity.hpp: after the rigid motion T_{A->B}), pooled into one
