@@ -422,8 +422,8 @@ void repairs_section(const Report& report, std::ostringstream& out) {
   }
   const std::string dropped = internal::dropped_repairs(chosen);
   if (!dropped.empty())
-    out << "<p class=\"dropped\">Tried and dropped (they did not help): " << html_escape(dropped)
-        << ".</p>\n";
+    out << "<p class=\"dropped\">Not kept (the search keeps the smallest set that does best): "
+        << html_escape(dropped) << ".</p>\n";
   out << "</section>\n";
 }
 

@@ -126,7 +126,8 @@ void markdown_repairs(const Report& report, std::ostringstream& out) {
     }
   }
   const std::string dropped = internal::dropped_repairs(chosen);
-  if (!dropped.empty()) out << "- Tried and dropped (they did not help): " << dropped << ".\n";
+  if (!dropped.empty())
+    out << "- Not kept (the search keeps the smallest set that does best): " << dropped << ".\n";
 }
 
 void markdown_verification(const Report& report, std::ostringstream& out) {

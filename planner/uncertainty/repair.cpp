@@ -206,7 +206,10 @@ RepairChoice choose_repair(const std::vector<RepairCandidate>& candidates,
   RepairChoice choice{.set = 0, .score = baseline, .turned = {}, .sets_tried = 0};
   std::map<unsigned, RepairScore> scores = {{0u, baseline}};
   const int n = static_cast<int>(candidates.size());
-  for (int size = 1; size <= n && choice.score.unsatisfied > 0; ++size) {
+  // A set that leaves nothing unsatisfied has the least score there is: no later set can be
+  // strictly better, so the search ends there (every subset of it, smaller, is already scored).
+  const auto settled = [&] { return choice.score.unsatisfied == 0; };
+  for (int size = 1; size <= n && !settled(); ++size) {
     for (const unsigned set : sets_of_size(candidates.size(), size)) {
       if (!valid_set(candidates, set)) continue;
       const RepairScore& score = scores[set] = evaluate(set);
@@ -214,6 +217,7 @@ RepairChoice choose_repair(const std::vector<RepairCandidate>& candidates,
       if (score.admissible && score.better_than(choice.score)) {
         choice.set = set;
         choice.score = score;
+        if (settled()) break;
       }
     }
   }

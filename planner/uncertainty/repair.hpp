@@ -23,7 +23,8 @@
 // It evaluates admissible sets by size (at most one squeeze each: a second one re-centres again),
 // in SPAR's order within a size, and keeps the set with the best score, the smallest among equals,
 // the earliest in that order among those; the empty set (no repair) wins unless a set is strictly
-// better. It stops growing sets once a set leaves nothing unsatisfied.
+// better. It stops at the first admissible set that leaves nothing unsatisfied (no set scores
+// better, and among equals the earliest is kept).
 // Invariants (what makes the choice monotone and minimal):
 //   - a kept set is strictly better than no repair: it turns some verdict (violated or undecided ->
 //     satisfied) and fails no more steps; a bound that merely tightens is no reason to keep it;
@@ -34,7 +35,7 @@
 //     scan never loosens a component: it keeps what it does not know better, Propagation::sense),
 //     so the kept set's score, hence the step's verdicts, can only improve.
 // Cost: at most 2^(sensing candidates, 2 + 2 kCamerasPerObject) x (1 + squeezes) - 1 sets, each one
-// replay and decide of steps [earliest candidate, k]; stops at the first size that settles the
+// replay and decide of steps [earliest candidate, k]; stops at the first set that settles the
 // step. Finding a camera verification renders the scene once per camera with a residual.
 //
 // Example:

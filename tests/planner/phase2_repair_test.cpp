@@ -7,9 +7,14 @@
 #include <rapidcheck/gtest.h>
 
 #include <algorithm>
+#include <bit>
+#include <map>
 #include <string>
+#include <tuple>
+#include <vector>
 
 #include "spar/planner/plan.hpp"
+#include "spar/planner/uncertainty/repair.hpp"
 #include "tests/planner/plan_options.hpp"
 
 namespace spar::planner {
@@ -136,6 +141,63 @@ TEST(Phase2Repair, EveryInsertedStepTurnedAVerdictAndDroppedOnesAreCounted) {
 
 // Property: shrinking the half-widths of one block (objects, robot, sensor or all) by a factor
 // in (0, 1) at a base scale in [0.1, 2] never raises the errors or the violated count.
+// The sorted candidate indices of a set (SPAR's order compares these lexicographically).
+std::vector<int> members(unsigned set) {
+  std::vector<int> out;
+  for (int i = 0; set >> i; ++i)
+    if (set >> i & 1u) out.push_back(i);
+  return out;
+}
+
+// choose_repair against an exhaustive reference over random scores: the kept set is the admissible
+// one with the best score strictly better than no repair, the smallest of those, the earliest in
+// SPAR's order among equals; the search may stop early but never tries more than every set, and
+// never keeps a set with two squeezes.
+RC_GTEST_PROP(Phase2RepairSearch, ChoosesWhatTheExhaustiveSearchChooses, ()) {
+  const int n = *rc::gen::inRange(1, 7);
+  std::vector<RepairCandidate> candidates(n);
+  for (RepairCandidate& c : candidates)
+    c.effect = *rc::gen::element(Effect::kSense, Effect::kSense, Effect::kReduce);
+  RepairScore baseline;
+  baseline.failed = 1;
+  baseline.unsatisfied = *rc::gen::inRange(1, 4);
+  std::map<unsigned, RepairScore> scores;  // every set, drawn up front
+  for (unsigned set = 1; set < (1u << n); ++set) {
+    RepairScore& score = scores[set];
+    score.admissible = *rc::gen::inRange(0, 5) > 0;
+    score.unsatisfied = *rc::gen::inRange(0, 4);
+    score.failed = score.unsatisfied > 0 ? 1 : 0;
+  }
+  const auto squeezes = [&](unsigned set) {
+    int count = 0;
+    for (const int i : members(set)) count += candidates[i].effect == Effect::kReduce;
+    return count;
+  };
+  unsigned expected = 0;
+  const auto key = [&](unsigned set) {
+    const RepairScore& score = set == 0 ? baseline : scores.at(set);
+    return std::tuple(score.failed, score.unsatisfied, std::popcount(set), members(set));
+  };
+  int valid_sets = 0;
+  for (unsigned set = 1; set < (1u << n); ++set) {
+    if (squeezes(set) > 1) continue;
+    ++valid_sets;
+    const RepairScore& score = scores.at(set);
+    if (!score.admissible || !score.better_than(baseline)) continue;
+    if (expected == 0 || key(set) < key(expected)) expected = set;
+  }
+  int evaluated = 0;
+  const RepairChoice choice = choose_repair(candidates, baseline, [&](unsigned set) {
+    RC_ASSERT(squeezes(set) <= 1);
+    ++evaluated;
+    return scores.at(set);
+  });
+  RC_ASSERT(choice.set == expected);
+  RC_ASSERT(choice.sets_tried == evaluated);
+  RC_ASSERT(choice.sets_tried <= valid_sets);
+  RC_ASSERT(choice.turned.size() == static_cast<std::size_t>(std::popcount(expected)));
+}
+
 RC_GTEST_PROP(Phase2RepairProperty, ShrinkingUncertaintyNeverMakesThePlanWorse, ()) {
   const std::string name = *rc::gen::elementOf(std::vector<std::string>(
       std::begin(kExampleNames), std::end(kExampleNames) - 1));  // on_back's phase 1 is the slowest

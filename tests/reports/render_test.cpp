@@ -262,7 +262,8 @@ TEST(Wording, DroppedRepairsAreOneLine) {
   const std::string section = on_back.substr(
       on_back.find("## Inserted"), on_back.find("## Verification") - on_back.find("## Inserted"));
   EXPECT_EQ(count(section, "\n- "), 2u) << section;  // the kept range-scan, the dropped ones
-  EXPECT_NE(section.find("- Tried and dropped (they did not help): 1 range-scan and 4 squeeze "
+  EXPECT_NE(section.find("- Not kept (the search keeps the smallest set that does best): 1 "
+                         "range-scan and 4 squeeze "
                          "for #5 assemble peg (19 sets of 6 candidates tried).\n"),
             std::string::npos)
       << section;
