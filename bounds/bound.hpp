@@ -16,8 +16,9 @@
 // If that stops at the effort limit, SMP's rewrite of f (symbolic/smp.hpp, an identity wherever
 // f is defined) is bounded the same way and the outer bounds are intersected.
 // inner_lo / inner_hi are values f attains at the witness points argmin / argmax (each
-// checked feasible with interval arithmetic), found from box midpoints, corners and NLopt
-// (a global search, then a local one with tape gradients). NLopt never decides [lo, hi].
+// checked feasible with interval arithmetic), found from box midpoints, corners, the corner the
+// centre's gradient points to (deciding) and NLopt (a global search, then a local one with tape
+// gradients). NLopt never decides [lo, hi].
 //
 // Example:
 //   symbolic::ExprPool pool;
@@ -102,10 +103,13 @@ struct BoundOptions {
   // Deciding, not bounding: with a target, only the side of f the relation limits is searched
   // (hi for `<`, `<=`; lo for `>`, `>=`), and the search stops as soon as decide()
   // (bounds/inequality.hpp) would answer: that side's sound bound proves the inequality, or an
-  // attained witness value breaks it. Branch and bound runs first on a quarter of the budget with
-  // the box centre and the boxes' midpoints as witnesses (a proof needs no witness); only if that
-  // leaves the verdict open do the corners and NLopt look for a violating point before branch and
-  // bound goes on with the rest. The other side is the root box's enclosure (sound, loose). The
+  // attained witness value breaks it. With `inner`, the corner the gradient at the box centre
+  // points to is tried first (one point; for a nearly linear f it is the extremum, so a violation
+  // is usually found there). Branch and bound then runs on a quarter of the budget with the box
+  // centre and the boxes' midpoints as witnesses (a proof needs no witness); if that leaves the
+  // verdict open, the corners are tried and branch and bound goes on with the rest; only if the
+  // verdict is still open does NLopt (with `inner`) look for a violating point. The other side is
+  // the root box's enclosure (sound, loose). The
   // verdict is the one the full bound would give whenever both decide; the bound is only as
   // tight as deciding needed, and its status is kEffortLimit unless that side converged.
   std::optional<DecisionTarget> decide{};

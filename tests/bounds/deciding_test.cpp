@@ -1,9 +1,11 @@
-// BoundOptions::decide (branch and bound first, NLopt only where that leaves the verdict open)
-// against the full bound, and BoundProblem::width_shares (phase 2's blame).
+// BoundOptions::decide (the gradient's corner, branch and bound, NLopt only where those leave the
+// verdict open) against the full bound, and BoundProblem::width_shares (phase 2's blame).
 #include <gtest/gtest.h>
 #include <rapidcheck/gtest.h>
 
+#include <array>
 #include <cmath>
+#include <string>
 #include <vector>
 
 #include "random_expression.hpp"
@@ -72,6 +74,32 @@ RC_GTEST_PROP(Deciding, AgreesWithTheFullBoundAndHoldsAtRandomPoints, ()) {
     const bool may_break = upper_limit(relation) ? out[0].hi >= threshold : out[0].lo <= threshold;
     RC_ASSERT(may_break);
   }
+}
+
+// f = sum x_i + 0.8 sum x_i x_(i+1) over [-1, 1]^12 (not monotone in any x_i there, so no face
+// reduction) exceeds 20.5 only near the all-ones corner, where it takes its maximum 20.8: no
+// midpoint reaches it and 2^12 corners are not tried at all; before the gradient's corner, branch
+// and bound spent a quarter of its budget and NLopt's global search ran before the violation was
+// found. The corner the centre's gradient points to is that corner: violated after the root box.
+TEST(Deciding, TheGradientsCornerFindsAViolationNearACornerAtOnce) {
+  ExprPool pool;
+  Box box;
+  std::vector<Expr> x, terms;
+  for (int i = 0; i < 12; ++i) {
+    x.push_back(pool.variable("x" + std::to_string(i)));
+    box.add(x.back(), -1.0, 1.0);
+    terms.push_back(x.back());
+  }
+  for (int i = 0; i + 1 < 12; ++i)
+    terms.push_back(pool.product(std::array{pool.constant(0.8), x[i], x[i + 1]}));
+  const Expr f = pool.sum(terms);
+  const Inequality inequality{"q", f, Relation::kLessEqual, 20.5};
+  BoundOptions options{.max_box_evaluations = 2000};
+  options.decide = DecisionTarget{inequality.relation, inequality.threshold};
+  const BoundResult decided = bound(f, box, options);
+  EXPECT_EQ(decide(inequality, decided), Verdict::kViolated);
+  EXPECT_LE(decided.evaluations, 1u);
+  EXPECT_EQ(witness(inequality, decided), std::vector<double>(12, 1.0));
 }
 
 TEST(WidthShares, AnAffineFunctionSharesItsWidthByCoefficientTimesWidth) {
