@@ -759,7 +759,7 @@ class Bounder {
   // from the same tree (no box is evaluated twice). NLopt's search for a violating point, the
   // dearest witness, runs only if all of that leaves the verdict open.
   double decide_side(const std::vector<Interval>& root, int sign) {
-    if (options_.inner) offer_gradient_corner(root, sign);
+    offer_gradient_corner(root, sign);
     effort_scale_ = kProbeShare;
     const double probed = search(root, sign);
     effort_scale_ = 1.0;

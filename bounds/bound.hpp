@@ -81,7 +81,7 @@ struct BoundOptions {
   // Optional wall-clock limit in seconds; 0 (the default) is none. When it fires the result says
   // so (time_limited) and, unlike the work limits, depends on the machine.
   double max_seconds{0.0};
-  bool inner{true};  // NLopt inner search (midpoints/corners always)
+  bool inner{true};  // NLopt inner search (midpoints, corners, deciding's gradient corner always)
   bool monotonicity{true};
   bool centred_form{true};
   bool branch_and_bound{true};
@@ -103,15 +103,15 @@ struct BoundOptions {
   // Deciding, not bounding: with a target, only the side of f the relation limits is searched
   // (hi for `<`, `<=`; lo for `>`, `>=`), and the search stops as soon as decide()
   // (bounds/inequality.hpp) would answer: that side's sound bound proves the inequality, or an
-  // attained witness value breaks it. With `inner`, the corner the gradient at the box centre
-  // points to is tried first (one point; for a nearly linear f it is the extremum, so a violation
-  // is usually found there). Branch and bound then runs on a quarter of the budget with the box
-  // centre and the boxes' midpoints as witnesses (a proof needs no witness); if that leaves the
-  // verdict open, the corners are tried and branch and bound goes on with the rest; only if the
-  // verdict is still open does NLopt (with `inner`) look for a violating point. The other side is
-  // the root box's enclosure (sound, loose). The
-  // verdict is the one the full bound would give whenever both decide; the bound is only as
-  // tight as deciding needed, and its status is kEffortLimit unless that side converged.
+  // attained witness value breaks it. The corner the gradient at the box centre points to is
+  // tried first (one point; for a nearly linear f it is the extremum, so a violation is usually
+  // found there). Branch and bound then runs on a quarter of the budget with the box centre and
+  // the boxes' midpoints as witnesses (a proof needs no witness); if that leaves the verdict
+  // open, the corners are tried and branch and bound goes on with the rest; only if the verdict
+  // is still open does NLopt (with `inner`) look for a violating point. The other side is the
+  // root box's enclosure (sound, loose). The verdict is the one the full bound would give
+  // whenever both decide; the bound is only as tight as deciding needed, and its status is
+  // kEffortLimit unless that side converged.
   std::optional<DecisionTarget> decide{};
 };
 

@@ -303,7 +303,7 @@ std::optional<double> InstanceAnalyser::sensor_margin(const std::vector<Phase2St
     failing = state.step(trial.steps[i], trial.steps[i].label);
   CompiledStep compiled(failing, state.space());
   // Only proofs count here (a scale holds when every precondition is proved): no NLopt search
-  // for violating witnesses.
+  // for violating witnesses (deciding's gradient corner still ends most refuted scales at once).
   bounds::BoundOptions quick = options_.quick, full = options_.bound;
   quick.inner = full.inner = false;
   const auto holds_at = [&](double scale) {
