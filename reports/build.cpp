@@ -153,7 +153,7 @@ Precondition build_precondition(const planner::Scenario& scenario,
   out.relation = bounds::to_string(result.inequality.relation);
   out.threshold = result.inequality.threshold;
   out.unit = precondition_unit(result);
-  out.expression = result.expression;
+  out.expression = planner::printed_expression(result);
   out.nodes = result.nodes;
   out.lo = result.bound.lo;
   out.hi = result.bound.hi;

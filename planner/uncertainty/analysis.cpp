@@ -12,7 +12,6 @@
 #include "spar/planner/error.hpp"
 #include "spar/planner/uncertainty/internal/bisection.hpp"
 #include "spar/symbolic/operations.hpp"
-#include "spar/symbolic/parse.hpp"
 #include "spar/symbolic/tape.hpp"
 
 namespace spar::planner {
@@ -416,9 +415,6 @@ bool holds(const bounds::Inequality& inequality, double value) {
 
 }  // namespace
 
-// The largest tree (nodes) a precondition's expression is printed as.
-constexpr double kMaxPrintedTree = 1e7;
-
 InstanceAnalysis analyse_instance(const WorldModel& world, const Domain& domain,
                                   const PlanInstance& instance, const AnalysisOptions& options) {
   InstanceAnalysis analysis;
@@ -427,13 +423,8 @@ InstanceAnalysis analyse_instance(const WorldModel& world, const Domain& domain,
   InstanceAnalyser(world, domain, options, *analysis.pool)
       .run(phase2_steps(domain, instance), analysis);
   for (AnalysedStep& step : analysis.steps)
-    for (PreconditionResult& result : step.preconditions) {
+    for (PreconditionResult& result : step.preconditions)
       result.nodes = symbolic::dag_size(result.inequality.expression);
-      // The tree form of a DAG can be exponentially larger (joint uncertainty composes the
-      // chain's rotations): past the printer's limit the text is left empty.
-      if (symbolic::tree_size(result.inequality.expression) <= kMaxPrintedTree)
-        result.expression = symbolic::to_string(result.inequality.expression, kMaxPrintedTree);
-    }
   return analysis;
 }
 

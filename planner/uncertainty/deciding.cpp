@@ -6,6 +6,7 @@
 #include "spar/bounds/condition_set.hpp"
 #include "spar/planner/error.hpp"
 #include "spar/symbolic/operations.hpp"
+#include "spar/symbolic/parse.hpp"
 #include "spar/symbolic/tape.hpp"
 
 namespace spar::planner {
@@ -20,6 +21,12 @@ std::vector<VariableId> variables_of(std::span<const symbolic::Expr> expressions
   }
   std::sort(ids.begin(), ids.end());
   return ids;
+}
+
+std::string printed_expression(const PreconditionResult& result) {
+  constexpr double kMaxPrintedTree = 1e7;
+  if (symbolic::tree_size(result.inequality.expression) > kMaxPrintedTree) return "";
+  return symbolic::to_string(result.inequality.expression, kMaxPrintedTree);
 }
 
 bounds::Interval natural_enclosure(symbolic::Expr e, const UncertaintySpace& space) {

@@ -423,7 +423,7 @@ TEST(JointUncertaintyPlan, SatisfiedPreconditionsHoldAtRandomJointErrors) {
     for (const PreconditionResult& p : step.preconditions) {
       if (p.verdict != bounds::Verdict::kSatisfied) continue;
       ++satisfied;
-      unprinted += p.expression.empty();
+      unprinted += printed_expression(p).empty();
       EXPECT_EQ(p.monte_carlo_violation, 0.0) << step.action;
     }
   EXPECT_GT(satisfied, 0);
