@@ -139,8 +139,6 @@ TEST(Phase2Repair, EveryInsertedStepTurnedAVerdictAndDroppedOnesAreCounted) {
   }
 }
 
-// Property: shrinking the half-widths of one block (objects, robot, sensor or all) by a factor
-// in (0, 1) at a base scale in [0.1, 2] never raises the errors or the violated count.
 // The sorted candidate indices of a set (SPAR's order compares these lexicographically).
 std::vector<int> members(unsigned set) {
   std::vector<int> out;
@@ -198,6 +196,8 @@ RC_GTEST_PROP(Phase2RepairSearch, ChoosesWhatTheExhaustiveSearchChooses, ()) {
   RC_ASSERT(choice.turned.size() == static_cast<std::size_t>(std::popcount(expected)));
 }
 
+// Property: shrinking the half-widths of one block (objects, robot, sensor or all) by a factor
+// in (0, 1) at a base scale in [0.1, 2] never raises the errors or the violated count.
 RC_GTEST_PROP(Phase2RepairProperty, ShrinkingUncertaintyNeverMakesThePlanWorse, ()) {
   const std::string name = *rc::gen::elementOf(std::vector<std::string>(
       std::begin(kExampleNames), std::end(kExampleNames) - 1));  // on_back's phase 1 is the slowest
