@@ -13,6 +13,7 @@
 #include <optional>
 #include <queue>
 #include <set>
+#include <tuple>
 #include <unordered_map>
 #include <utility>
 
@@ -38,8 +39,11 @@ using symbolic::Tape;
 constexpr unsigned kMaxGlobalVariables = 32;
 constexpr std::size_t kMaxSlsqpVariables = 64;
 constexpr std::size_t kPassesPerBox = 6;
-// Deciding: the share of the budget branch and bound may use before NLopt looks for a witness.
+// The share of the budget branch and bound may use before NLopt looks for a witness (deciding)
+// or for a better one (a full bound's side that has not converged).
 constexpr double kProbeShare = 0.25;
+// Rounds of a full bound's vertex ascent (Bounder::vertex_ascent).
+constexpr int kAscentRounds = 4;
 constexpr std::size_t kPassesPerFaceGradient = 3;  // value and gradient again on a narrower face
 constexpr std::size_t kMaxStoredIntervals = std::size_t{1} << 22;
 // Witness enclosures crossing by at most this (relative to max(1, |values|)) are rounding.
@@ -320,14 +324,7 @@ class Bounder {
       hi = sign > 0 ? side : enclosure;
       lo = sign > 0 ? -enclosure : -side;
     } else {
-      // Both sides: NLopt's witnesses first, so each side's search converges against them.
-      offer_corners(root);
-      if (options_.inner) {
-        nlopt_search(root, +1);
-        nlopt_search(root, -1);
-      }
-      hi = search(root, +1);
-      lo = -search(root, -1);
+      std::tie(lo, hi) = full_bound(root);
     }
     result.lo = lo;
     result.hi = hi;
@@ -451,6 +448,60 @@ class Bounder {
     offer(point_);
   }
 
+  // An ascent of sign·f over the box's vertices (and centres) for a full bound's witnesses, from
+  // the side's best witness: jump to the corner the gradient points to (a variable with a zero
+  // partial stays), then move each variable in turn to another of lo, mid, hi, alone or with the
+  // others following the gradient there (flipping a rotation turns the best side of the offsets
+  // it carries), keeping a move that improves; repeat while a round improves. Where f is nearly
+  // multilinear (offsets through small rotations) this reaches the vertex f peaks at, which the
+  // one corner cannot (a partial zero at the centre, as in cos(t) - 1, or changing sign with
+  // another variable). A round costs at most 6n + 2 evaluations (kAscentRounds rounds, within a
+  // 1/16 share of the work budget, like an NLopt stage), against DIRECT-L's 60(n + 1) and its
+  // bookkeeping. Offers the point it ends at. Without constraints only (it does not check them).
+  void vertex_ascent(std::span<const Interval> box, int sign) {
+    const std::vector<double>& best = sign > 0 ? result_->argmax : result_->argmin;
+    if (!constraints_.empty() || best.empty() || box.size() > kMaxGlobalVariables) return;
+    const std::size_t work_limit = work_ + options_.max_work / 16;
+    std::vector<double> x = best, gradient(x.size());
+    const auto value = [&](std::span<const double> at) {
+      work_ += evaluation_cost_;
+      const double v = sign * f_double_.value(at);
+      return std::isfinite(v) ? v : -kInf;
+    };
+    double current = value(x);
+    const auto take_if_better = [&](const std::vector<double>& y) {
+      const double v = value(y);
+      if (!(v > current)) return false;
+      current = v;
+      x = y;
+      return true;
+    };
+    // The corner the gradient at `from` points to, every variable but `held` moved.
+    const auto corner_from = [&](std::vector<double> from, std::size_t held) {
+      work_ += evaluation_cost_;
+      (void)f_double_.value_and_gradient(from, gradient);
+      for (std::size_t i = 0; i < from.size(); ++i) {
+        if (i != held && std::isfinite(gradient[i]) && gradient[i] != 0)
+          from[i] = sign * gradient[i] > 0 ? box[i].hi : box[i].lo;
+      }
+      return from;
+    };
+    for (int round = 0; round < kAscentRounds && work_ < work_limit; ++round) {
+      const double start = current;
+      take_if_better(corner_from(x, x.size()));
+      for (std::size_t i = 0; i < x.size() && work_ < work_limit; ++i) {
+        for (const double candidate : {box[i].lo, box[i].mid(), box[i].hi}) {
+          if (candidate == x[i]) continue;
+          std::vector<double> y = x;
+          y[i] = candidate;
+          if (take_if_better(y) || take_if_better(corner_from(y, i))) break;
+        }
+      }
+      if (!(current > start)) break;
+    }
+    offer(x);
+  }
+
   struct Objective {
     Bounder* self;
     int sign;
@@ -459,7 +510,8 @@ class Bounder {
 
   // Minimises -sign·f: a global stage (DIRECT-L, or with constraints the original DIRECT-L, which
   // takes inequality constraints; both deterministic, no random numbers), then a local one from
-  // the best point. Witnesses are re-checked by offer().
+  // where it ended (without the global stage, from the best witness). Witnesses are re-checked
+  // by offer().
   void nlopt_search(std::span<const Interval> box, int sign) {
     const unsigned n = static_cast<unsigned>(box.size());
     if (n == 0) return;
@@ -478,11 +530,13 @@ class Bounder {
         global.optimize(x, value);
         offer(x);
       } catch (const std::exception&) {
-        // NLopt only tightens inner bounds; a failed stage leaves them as they are.
+        // NLopt only tightens inner bounds; a failed stage leaves them as they are (x is where
+        // it stopped, or the start).
       }
+      // The local stage starts where the global one ended, even if a witness found before is
+      // better: that one is a local optimum already (the vertex ascent's, a local search's), and
+      // the global search's point may lie in the basin of a better one.
     }
-    const std::vector<double>& best = sign > 0 ? result_->argmax : result_->argmin;
-    if (!best.empty()) x = best;
     local_search(box, x, sign);
   }
 
@@ -770,6 +824,34 @@ class Bounder {
     if (!options_.inner || decided(sign, searched)) return searched;
     nlopt_search(root, sign);
     return std::max(searched, sign > 0 ? result_->inner_hi : -result_->inner_lo);
+  }
+
+  // A full bound, both sides (each converges against its witnesses): the corners and each
+  // side's gradient corner, vertex ascent and local search (for a nearly multilinear f those
+  // find the extrema), then per side (the maximum first, as the effort shares expect) branch and
+  // bound on a quarter of the side's budget, and only if that does not converge NLopt's global
+  // search (DIRECT-L, the dearest witness) and the rest of the budget. Returns {lo, hi}.
+  std::pair<double, double> full_bound(const std::vector<Interval>& root) {
+    offer_corners(root);
+    if (options_.inner) {
+      for (const int sign : {+1, -1}) {
+        offer_gradient_corner(root, sign);
+        vertex_ascent(root, sign);
+        const std::vector<double>& best = sign > 0 ? result_->argmax : result_->argmin;
+        if (!best.empty()) local_search(root, best, sign);
+      }
+    }
+    const auto side = [&](int sign) {
+      effort_scale_ = kProbeShare;
+      const double probed = search(root, sign);
+      effort_scale_ = 1.0;
+      if (converged_[sign > 0 ? 0 : 1]) return probed;
+      time_limited_ = false;  // the probe's share of max_seconds, not the limit, ran out
+      if (options_.inner) nlopt_search(root, sign);
+      return search(root, sign);
+    };
+    const double hi = side(+1);
+    return {-side(-1), hi};
   }
 
   // Sound upper bound of sign·f over the feasible box; best-first bisection over tree_, which the

@@ -419,6 +419,27 @@ TEST(Bound, AffineVariablesSplitIntoEndFaces) {
   EXPECT_EQ(parabola.status, BoundStatus::kConverged);
 }
 
+// A sum of 12 products x*y over [-1, 1]^24: every partial vanishes at the centre, so the
+// gradient's corner is the centre (value 0), and the extremes +-12 lie at vertices. The full
+// bound's vertex ascent (a corner from a moved variable's gradient) reaches them, so the root
+// box's enclosure [-12, 12] converges at once, without NLopt's global search.
+TEST(Bound, VertexAscentFindsTheVertexAMultilinearFunctionPeaksAt) {
+  ExprPool pool;
+  Box box;
+  std::string text = "0";
+  for (int i = 0; i < 12; ++i) {
+    const std::string x = "x" + std::to_string(i), y = "y" + std::to_string(i);
+    box.add(pool.variable(x), -1, 1);
+    box.add(pool.variable(y), -1, 1);
+    text += " + " + x + "*" + y;
+  }
+  const BoundResult r = bound(symbolic::parse(pool, text), box);
+  EXPECT_EQ(r.status, BoundStatus::kConverged);
+  EXPECT_EQ(r.inner_hi, 12.0);
+  EXPECT_EQ(r.inner_lo, -12.0);
+  EXPECT_EQ(r.evaluations, 1u);
+}
+
 // Both directions search one tree, so the root box is evaluated once: a function monotone in every
 // variable is settled both ways by that one box (the two searches used to evaluate it once each).
 TEST(Bound, OneRootBoxSettlesBothDirections) {
