@@ -17,8 +17,10 @@
 // f is defined) is bounded the same way and the outer bounds are intersected.
 // inner_lo / inner_hi are values f attains at the witness points argmin / argmax (each
 // checked feasible with interval arithmetic), found from box midpoints, corners, the corner the
-// centre's gradient points to (deciding) and NLopt (a global search, then a local one with tape
-// gradients). NLopt never decides [lo, hi].
+// centre's gradient points to, a vertex ascent (a full bound without constraints, up to 32
+// variables: corners the gradient points to and one-variable moves) and NLopt (a local search
+// with tape gradients; a global one, DIRECT-L, only where branch and bound on a quarter of the
+// budget has not converged against the others). NLopt never decides [lo, hi].
 //
 // Example:
 //   symbolic::ExprPool pool;
@@ -81,7 +83,7 @@ struct BoundOptions {
   // Optional wall-clock limit in seconds; 0 (the default) is none. When it fires the result says
   // so (time_limited) and, unlike the work limits, depends on the machine.
   double max_seconds{0.0};
-  bool inner{true};  // NLopt inner search (midpoints, corners, deciding's gradient corner always)
+  bool inner{true};  // ascent and NLopt (midpoints, corners, deciding's gradient corner always)
   bool monotonicity{true};
   bool centred_form{true};
   bool branch_and_bound{true};
