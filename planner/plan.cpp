@@ -138,8 +138,9 @@ PlanResult plan(Scenario scenario, const Domain& domain, const PlanOptions& opti
     }
     if (options.probability) {
       stage("probability: moments, Monte Carlo, tolerance allocation");
-      result.probability = analyse_probability(chosen, *options.probability);
-      result.tolerances = allocate_tolerances(result.world.scenario(), chosen,
+      const Sensitivities jacobian = sensitivities(chosen);
+      result.probability = analyse_probability(chosen, jacobian, *options.probability);
+      result.tolerances = allocate_tolerances(result.world.scenario(), chosen, jacobian,
                                               {.algebra = options.probability->algebra});
     }
   }

@@ -436,7 +436,12 @@ PreconditionCovariance precondition_covariance(const Sensitivities& jacobian,
 
 ProbabilityAnalysis analyse_probability(const InstanceAnalysis& analysis,
                                         const ProbabilityOptions& options) {
-  const Sensitivities jacobian = sensitivities(analysis);
+  return analyse_probability(analysis, sensitivities(analysis), options);
+}
+
+ProbabilityAnalysis analyse_probability(const InstanceAnalysis& analysis,
+                                        const Sensitivities& jacobian,
+                                        const ProbabilityOptions& options) {
   const PreconditionCovariance covariance =
       precondition_covariance(jacobian, analysis.variables, options.algebra);
   ProbabilityAnalysis out{.rows = jacobian.rows,

@@ -157,6 +157,11 @@ struct ProbabilityAnalysis {
 // The analysis must have its expressions' pool (analysis.pool); derivatives are added to it.
 [[nodiscard]] ProbabilityAnalysis analyse_probability(const InstanceAnalysis& analysis,
                                                       const ProbabilityOptions& options = {});
+// The same with the instance's J already computed (sensitivities(analysis)): plan() computes it
+// once for this and allocate_tolerances.
+[[nodiscard]] ProbabilityAnalysis analyse_probability(const InstanceAnalysis& analysis,
+                                                      const Sensitivities& jacobian,
+                                                      const ProbabilityOptions& options = {});
 
 // ---- Sensor fusion ----
 struct PoseReading {
