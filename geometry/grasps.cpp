@@ -40,20 +40,66 @@ bool segment_hits_triangle(const Eigen::Vector3d& p, const Eigen::Vector3d& q,
   return t > slack && t < 1 - slack;
 }
 
-// A finger can touch `point` on a face only from outside: the ray along the face's outward normal
-// must leave the object without crossing it (rules out faces inside holes).
-bool exposed(const ObjectModel& object, const TriangleTree& tree, const Eigen::Vector3d& point,
-             const Eigen::Vector3d& normal) {
-  const double diagonal = object.tolerance() / 1e-9;
-  const Eigen::Vector3d far = point + 1e3 * diagonal * normal;  // well past the object
-  const auto& mesh = object.mesh();
-  // Hits within 1e-6 diagonals of the start are the face itself or its neighbours' edges.
-  return !tree.any_on_segment(point, far, [&](int t) {
-    const auto& tri = mesh.triangles[t];
-    return segment_hits_triangle(point, far, mesh.vertices[tri[0]], mesh.vertices[tri[1]],
-                                 mesh.vertices[tri[2]], 1e-9);
-  });
-}
+// A finger can touch a point of a face only from outside: the ray along the face's outward
+// normal must leave the object without crossing it (rules out faces inside holes). One Exposure
+// answers for the points of one region of a face plane (the quadrilateral `corners`) along one
+// normal. The triangles that could block any of those rays are gathered once (their boxes meet
+// the box that holds every ray), and each point then tests only them: a triangle counts only if
+// the ray meets its box and then crosses it, exactly as the tree's walk per ray decides
+// (TriangleTree::segment_meets_box_of), so the answers are the same, for a pass over a few
+// triangles instead of a walk of the tree per point. A point outside the region, or a region
+// whose rays pass many triangles, walks the tree as before.
+class Exposure {
+ public:
+  Exposure(const ObjectModel& object, const TriangleTree& tree,
+           const std::array<Eigen::Vector3d, 4>& corners, const Eigen::Vector3d& normal)
+      : mesh_(&object.mesh()),
+        tree_(&tree),
+        normal_(normal),
+        reach_(1e3 * object.tolerance() / 1e-9) {  // 1e3 diagonals: well past the object
+    low_ = high_ = corners[0];
+    for (const Eigen::Vector3d& c : corners) {
+      low_ = low_.cwiseMin(c);
+      high_ = high_.cwiseMax(c);
+    }
+    // Padded by far more than the rounding of a ray's end: every gathered ray lies inside.
+    const Eigen::Vector3d pad = Eigen::Vector3d::Constant(1e-9 * reach_);
+    low_ -= pad;
+    high_ += pad;
+    const Eigen::Vector3d far_low = (low_ + reach_ * normal_).cwiseMin(high_ + reach_ * normal_);
+    const Eigen::Vector3d far_high = (low_ + reach_ * normal_).cwiseMax(high_ + reach_ * normal_);
+    gathered_ = !tree.for_each_in_box(low_.cwiseMin(far_low), high_.cwiseMax(far_high), [&](int t) {
+      blockers_.push_back(t);
+      return blockers_.size() > kMaxBlockers;  // stop: the tree per point is cheaper
+    });
+  }
+
+  bool operator()(const Eigen::Vector3d& point) const {
+    const Eigen::Vector3d far = point + reach_ * normal_;
+    const auto blocks = [&](int t) {
+      const auto& tri = mesh_->triangles[t];
+      // Hits within 1e-6 diagonals of the start are the face itself or its neighbours' edges.
+      return segment_hits_triangle(point, far, mesh_->vertices[tri[0]], mesh_->vertices[tri[1]],
+                                   mesh_->vertices[tri[2]], 1e-9);
+    };
+    const bool in_region =
+        (point.array() >= low_.array()).all() && (point.array() <= high_.array()).all();
+    if (!gathered_ || !in_region) return !tree_->any_on_segment(point, far, blocks);
+    return std::none_of(blockers_.begin(), blockers_.end(), [&](int t) {
+      return tree_->segment_meets_box_of(point, far, t) && blocks(t);
+    });
+  }
+
+ private:
+  static constexpr std::size_t kMaxBlockers = 64;
+  const Mesh* mesh_;
+  const TriangleTree* tree_;
+  Eigen::Vector3d normal_;
+  double reach_;
+  Eigen::Vector3d low_, high_;  // the region's box, padded
+  std::vector<int> blockers_;   // the triangles a ray from the region may cross
+  bool gathered_{false};        // blockers_ holds them all
+};
 
 // The axis-aligned box (object frame) around the gripper-frame box [low, high].
 std::pair<Eigen::Vector3d, Eigen::Vector3d> object_frame_bounds(
@@ -169,6 +215,16 @@ std::vector<Eigen::Vector3d> contact_positions(const ObjectModel& object, const 
   centroid /= pair.overlap_area;
   const double tolerance = object.tolerance();
   const Face& face_a = object.face(pair.face_a);
+  // The contact points of mid-plane points q in [low, high]: on face a, and on face b.
+  const auto region = [&](double along_normal) {
+    std::array<Eigen::Vector3d, 4> corners;
+    for (int c = 0; c < 4; ++c)
+      corners[c] = basis.u * (c & 1 ? high.x() : low.x()) + basis.v * (c & 2 ? high.y() : low.y()) +
+                   normal * along_normal;
+    return corners;
+  };
+  const Exposure exposed_a(object, tree, region(face_a.offset), normal);
+  const Exposure exposed_b(object, tree, region(face_a.offset - pair.width), -normal);
   // In the closed overlap (a point on an edge shared by two pieces is inside), and both contact
   // points reachable from outside.
   const auto inside = [&](const Eigen::Vector2d& q) {
@@ -177,26 +233,34 @@ std::vector<Eigen::Vector3d> contact_positions(const ObjectModel& object, const 
         }))
       return false;
     const Eigen::Vector3d mid = basis.u * q.x() + basis.v * q.y() + normal * mid_offset;
-    return exposed(object, tree, mid + (face_a.offset - mid_offset) * normal, normal) &&
-           exposed(object, tree, mid - (pair.width - (face_a.offset - mid_offset)) * normal,
-                   -normal);
+    return exposed_a(mid + (face_a.offset - mid_offset) * normal) &&
+           exposed_b(mid - (pair.width - (face_a.offset - mid_offset)) * normal);
   };
-  // Candidate points: a 41 x 41 grid over the bounding box, keeping those inside the overlap.
-  // Built only when a target is not inside: each inside() casts rays against the whole mesh, so
-  // building it for every pair made `spar object` quadratic in the mesh size.
+  // Candidate points: a 41 x 41 grid over the bounding box; a target not inside moves to the
+  // nearest grid point inside (the first in grid order among equally near ones). Each inside()
+  // casts rays against the mesh, so grid points are tested nearest first and only until one is
+  // inside, each at most once for all targets (testing the whole grid made `spar object`
+  // quadratic in the mesh size, and was a tenth of a small scenario's instructions).
   constexpr int kGrid = 41;
-  std::optional<std::vector<Eigen::Vector2d>> candidates;
-  const auto candidate_grid = [&]() -> const std::vector<Eigen::Vector2d>& {
-    if (!candidates) {
-      candidates.emplace();
+  std::vector<Eigen::Vector2d> grid;
+  std::vector<signed char> grid_inside;  // -1 untested, else inside(grid[i])
+  const auto nearest_inside = [&](const Eigen::Vector2d& target) -> std::optional<Eigen::Vector2d> {
+    if (grid.empty()) {
       for (int i = 0; i < kGrid; ++i)
-        for (int j = 0; j < kGrid; ++j) {
-          const Eigen::Vector2d q(low.x() + (high.x() - low.x()) * (i + 0.5) / kGrid,
-                                  low.y() + (high.y() - low.y()) * (j + 0.5) / kGrid);
-          if (inside(q)) candidates->push_back(q);
-        }
+        for (int j = 0; j < kGrid; ++j)
+          grid.emplace_back(low.x() + (high.x() - low.x()) * (i + 0.5) / kGrid,
+                            low.y() + (high.y() - low.y()) * (j + 0.5) / kGrid);
+      grid_inside.assign(grid.size(), -1);
     }
-    return *candidates;
+    std::vector<std::pair<double, std::size_t>> order;
+    for (std::size_t i = 0; i < grid.size(); ++i)
+      order.emplace_back((grid[i] - target).squaredNorm(), i);
+    std::sort(order.begin(), order.end());
+    for (const auto& [distance, i] : order) {
+      if (grid_inside[i] < 0) grid_inside[i] = inside(grid[i]) ? 1 : 0;
+      if (grid_inside[i] == 1) return grid[i];
+    }
+    return std::nullopt;
   };
   std::vector<Eigen::Vector2d> targets;
   if (per_axis == 1) {
@@ -211,11 +275,9 @@ std::vector<Eigen::Vector3d> contact_positions(const ObjectModel& object, const 
   for (const auto& target : targets) {
     Eigen::Vector2d best = target;
     if (!inside(target)) {
-      const std::vector<Eigen::Vector2d>& grid = candidate_grid();
-      if (grid.empty()) continue;
-      best = *std::min_element(grid.begin(), grid.end(), [&](const auto& a, const auto& b) {
-        return (a - target).squaredNorm() < (b - target).squaredNorm();
-      });
+      const std::optional<Eigen::Vector2d> moved = nearest_inside(target);
+      if (!moved) continue;
+      best = *moved;
     }
     const bool repeated = std::any_of(chosen.begin(), chosen.end(), [&](const auto& c) {
       return (c - best).norm() <= tolerance;

@@ -131,28 +131,42 @@ bool TriangleTree::for_each_in_oriented_box(const Eigen::Isometry3d& box_to_tree
       visit);
 }
 
+namespace {
+
+// Slab test on the closed box: whether the segment p + s·direction, s in [0, 1], meets it.
+bool segment_meets_box(const Eigen::Vector3d& p, const Eigen::Vector3d& direction,
+                       const Eigen::Vector3d& low, const Eigen::Vector3d& high) {
+  double enter = 0, leave = 1;
+  for (int axis = 0; axis < 3; ++axis) {
+    if (direction[axis] == 0) {
+      if (p[axis] < low[axis] || p[axis] > high[axis]) return false;
+      continue;
+    }
+    double t0 = (low[axis] - p[axis]) / direction[axis];
+    double t1 = (high[axis] - p[axis]) / direction[axis];
+    if (t0 > t1) std::swap(t0, t1);
+    enter = std::max(enter, t0);
+    leave = std::min(leave, t1);
+    if (enter > leave) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
 bool TriangleTree::any_on_segment(const Eigen::Vector3d& p, const Eigen::Vector3d& q,
                                   const std::function<bool(int)>& visit) const {
   const Eigen::Vector3d direction = q - p;
-  // Slab test on the closed box: the parameter range [0, 1] of the segment inside every slab.
   return search(
       [&](const Eigen::Vector3d& low, const Eigen::Vector3d& high) {
-        double enter = 0, leave = 1;
-        for (int axis = 0; axis < 3; ++axis) {
-          if (direction[axis] == 0) {
-            if (p[axis] < low[axis] || p[axis] > high[axis]) return false;
-            continue;
-          }
-          double t0 = (low[axis] - p[axis]) / direction[axis];
-          double t1 = (high[axis] - p[axis]) / direction[axis];
-          if (t0 > t1) std::swap(t0, t1);
-          enter = std::max(enter, t0);
-          leave = std::min(leave, t1);
-          if (enter > leave) return false;
-        }
-        return true;
+        return segment_meets_box(p, direction, low, high);
       },
       visit);
+}
+
+bool TriangleTree::segment_meets_box_of(const Eigen::Vector3d& p, const Eigen::Vector3d& q,
+                                        int t) const {
+  return segment_meets_box(p, q - p, low_[t], high_[t]);
 }
 
 }  // namespace spar::geometry::internal

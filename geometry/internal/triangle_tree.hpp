@@ -41,6 +41,11 @@ class TriangleTree {
   // The same for the triangles whose box meets the segment p-q.
   bool any_on_segment(const Eigen::Vector3d& p, const Eigen::Vector3d& q,
                       const std::function<bool(int)>& visit) const;
+  // Whether the segment p-q meets triangle t's box: the test any_on_segment() reports t by (a
+  // node's test passes whenever a box inside it passes: the slab arithmetic is monotone), so a
+  // caller that gathered t with for_each_in_box() around many segments can test each segment
+  // against its own gathered triangles and get what any_on_segment() would.
+  bool segment_meets_box_of(const Eigen::Vector3d& p, const Eigen::Vector3d& q, int t) const;
 
  private:
   static constexpr int kLeafSize = 4;
