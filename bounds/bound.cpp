@@ -448,6 +448,12 @@ class Bounder {
     offer(point_);
   }
 
+  // Whether vertex_ascent() runs on this box (it does not check constraints, and each round
+  // costs O(n) evaluations).
+  bool ascends(std::span<const Interval> box) const {
+    return constraints_.empty() && box.size() <= kMaxGlobalVariables;
+  }
+
   // An ascent of sign·f over the box's vertices (and centres) for a full bound's witnesses, from
   // the side's best witness: jump to the corner the gradient points to (a variable with a zero
   // partial stays), then move each variable in turn to another of lo, mid, hi, alone or with the
@@ -460,7 +466,7 @@ class Bounder {
   // bookkeeping. Offers the point it ends at. Without constraints only (it does not check them).
   void vertex_ascent(std::span<const Interval> box, int sign) {
     const std::vector<double>& best = sign > 0 ? result_->argmax : result_->argmin;
-    if (!constraints_.empty() || best.empty() || box.size() > kMaxGlobalVariables) return;
+    if (!ascends(box) || best.empty()) return;
     const std::size_t work_limit = work_ + options_.max_work / 16;
     std::vector<double> x = best, gradient(x.size());
     const auto value = [&](std::span<const double> at) {
@@ -826,19 +832,23 @@ class Bounder {
     return std::max(searched, sign > 0 ? result_->inner_hi : -result_->inner_lo);
   }
 
-  // A full bound, both sides (each converges against its witnesses): the corners and each
-  // side's gradient corner, vertex ascent and local search (for a nearly multilinear f those
-  // find the extrema), then per side (the maximum first, as the effort shares expect) branch and
-  // bound on a quarter of the side's budget, and only if that does not converge NLopt's global
-  // search (DIRECT-L, the dearest witness) and the rest of the budget. Returns {lo, hi}.
+  // A full bound, both sides (each converges against its witnesses): each side's gradient corner
+  // and vertex ascent (for a nearly multilinear f those find the extrema; where the ascent does
+  // not run, the corners and a local search instead), then per side (the maximum first, as the
+  // effort shares expect) branch and bound on a quarter of the side's budget (it polishes its
+  // best box with the local search now and then), and only if that does not converge NLopt's
+  // global search (DIRECT-L, the dearest witness) and the rest of the budget. Returns {lo, hi}.
   std::pair<double, double> full_bound(const std::vector<Interval>& root) {
-    offer_corners(root);
+    const bool ascent = options_.inner && ascends(root);
+    if (!ascent) offer_corners(root);
     if (options_.inner) {
       for (const int sign : {+1, -1}) {
         offer_gradient_corner(root, sign);
-        vertex_ascent(root, sign);
-        const std::vector<double>& best = sign > 0 ? result_->argmax : result_->argmin;
-        if (!best.empty()) local_search(root, best, sign);
+        if (ascent) {
+          vertex_ascent(root, sign);
+        } else if (const auto& best = sign > 0 ? result_->argmax : result_->argmin; !best.empty()) {
+          local_search(root, best, sign);
+        }
       }
     }
     const auto side = [&](int sign) {
