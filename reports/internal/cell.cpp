@@ -159,8 +159,10 @@ class Replay {
     }
     // With witnesses (the vertex ascent finds these nearly linear errors' extremes at once) the
     // search converges in a box or a few; without, it bisected up to 125 boxes for the same
-    // outer bounds.
-    return bounds::bound(f, box, {.tolerance = 1e-2, .max_box_evaluations = 300});
+    // outer bounds. Without SMP: f alone converges, and looking for its rewrites cost more than
+    // the bound (the same boxes on every example).
+    return bounds::bound(f, box,
+                         {.tolerance = 1e-2, .max_box_evaluations = 300, .simplify = false});
   }
 
   const planner::WorldModel* world_;
