@@ -16,11 +16,12 @@
 // If that stops at the effort limit, SMP's rewrite of f (symbolic/smp.hpp, an identity wherever
 // f is defined) is bounded the same way and the outer bounds are intersected.
 // inner_lo / inner_hi are values f attains at the witness points argmin / argmax (each
-// checked feasible with interval arithmetic), found from box midpoints, corners, the corner the
-// centre's gradient points to, a vertex ascent (a full bound without constraints, up to 32
-// variables: corners the gradient points to and one-variable moves) and NLopt (a local search
-// with tape gradients; a global one, DIRECT-L, only where branch and bound on a quarter of the
-// budget has not converged against the others). NLopt never decides [lo, hi].
+// checked feasible with interval arithmetic), found from box midpoints, the corner the centre's
+// gradient points to, a vertex ascent (a full bound without constraints, up to 32 variables:
+// corners the gradient points to and one-variable moves; elsewhere the box's corners, up to 10
+// variables) and NLopt (a local search with tape gradients; a global one, DIRECT-L, only where
+// branch and bound on a quarter of the budget has not converged against the others). NLopt never
+// decides [lo, hi].
 //
 // Example:
 //   symbolic::ExprPool pool;
