@@ -56,7 +56,7 @@ class Exposure {
       : mesh_(&object.mesh()),
         tree_(&tree),
         normal_(normal),
-        reach_(1e3 * object.tolerance() / 1e-9) {  // 1e3 diagonals: well past the object
+        reach_(1e3 * (object.tolerance() / 1e-9)) {  // 1e3 diagonals: well past the object
     low_ = high_ = corners[0];
     for (const Eigen::Vector3d& c : corners) {
       low_ = low_.cwiseMin(c);
