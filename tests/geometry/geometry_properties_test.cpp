@@ -3,15 +3,19 @@
 // every grasp squeezes two parallel opposite faces exactly its width apart. Two random boxes
 // joined rigidly rest somewhere (every rigid body does: on the hull facet nearest its centre of
 // mass), and every resting pose joint_stable_poses gives has both boxes above the table and
-// stands there; one box joined with nothing rests exactly as its stable poses.
+// stands there; one box joined with nothing rests exactly as its stable poses. The triangle tree
+// reports to a segment exactly the triangles whose boxes the segment meets.
 #include <gtest/gtest.h>
 #include <rapidcheck/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <limits>
 #include <optional>
+#include <vector>
 
 #include "spar/geometry/grasps.hpp"
+#include "spar/geometry/internal/triangle_tree.hpp"
 #include "spar/geometry/stable_poses.hpp"
 
 namespace spar::geometry {
@@ -66,6 +70,30 @@ void check_grasps(const ObjectModel& object) {
     RC_ASSERT(std::abs(a.normal.dot(plus) - a.offset) <= 1e3 * object.tolerance());
     RC_ASSERT(std::abs(b.normal.dot(minus) - b.offset) <= 1e3 * object.tolerance());
   }
+}
+
+// The triangle tree reports to a segment query exactly the triangles whose boxes the segment
+// meets (TriangleTree::segment_meets_box_of): the grasp search's exposure test gathers triangles
+// once per face region and relies on this to answer as a walk of the tree per ray would. Points on
+// a coarse grid, so segments run along box faces and axes (zero direction components) often.
+RC_GTEST_PROP(GeometryProperties, TheTreeReportsToASegmentTheTrianglesWhoseBoxesItMeets, ()) {
+  const auto coordinate = [] { return *rc::gen::inRange(-8, 9) / 4.0; };
+  const auto point = [&] { return Eigen::Vector3d(coordinate(), coordinate(), coordinate()); };
+  const int count = *rc::gen::inRange(1, 40);
+  std::vector<Eigen::Vector3d> vertices;
+  std::vector<std::array<int, 3>> triangles;
+  for (int t = 0; t < count; ++t) {
+    for (int k = 0; k < 3; ++k) vertices.push_back(point());
+    triangles.push_back({3 * t, 3 * t + 1, 3 * t + 2});
+  }
+  const internal::TriangleTree tree(vertices, triangles);
+  const Eigen::Vector3d p = point(), q = point();
+  std::vector<bool> reported(count, false);
+  (void)tree.any_on_segment(p, q, [&](int t) {
+    reported[t] = true;
+    return false;  // every triangle the walk reaches
+  });
+  for (int t = 0; t < count; ++t) RC_ASSERT(reported[t] == tree.segment_meets_box_of(p, q, t));
 }
 
 RC_GTEST_PROP(GeometryProperties, RandomBoxesRestOnTheirFacetsAndGraspAcrossWidths, ()) {
