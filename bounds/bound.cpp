@@ -235,10 +235,12 @@ std::vector<bool> affine_variables(Expr f, std::span<const Expr> variables) {
 // One expression compiled over the problem's variables: its tape and the evaluators on it. Pinned
 // (the evaluators point into the tape), so it lives behind a unique_ptr.
 struct CompiledFunction {
-  CompiledFunction(Expr f, std::span<const Expr> variables)
+  // `what` names f in the error for a variable not listed ("the expression", "the constraint").
+  CompiledFunction(Expr f, std::span<const Expr> variables, const char* what = "the expression")
       : expression(f),
         variables(variables.begin(), variables.end()),
-        tape(Tape::compile(std::array{f}, variables)),
+        tape(internal::compile_checked(std::array{f}, variables,
+                                       [what](std::size_t) { return std::string(what); })),
         interval(tape),
         real(tape) {}
   CompiledFunction(const CompiledFunction&) = delete;
@@ -269,7 +271,7 @@ struct CompiledFunction {
 // A constraint `g relation 0` compiled over the problem's variables.
 struct CompiledConstraint {
   CompiledConstraint(const Constraint& c, std::span<const Expr> variables)
-      : relation(c.relation), function(c.g, variables) {}
+      : relation(c.relation), function(c.g, variables, "the constraint") {}
   Relation relation;
   CompiledFunction function;
 };
@@ -1130,11 +1132,17 @@ void offer_witness(BoundResult& result, std::span<const double> point, const Int
   }
 }
 
-void check_uses_only(Expr expression, std::span<const Expr> variables, const std::string& what) {
-  for (Expr v : symbolic::free_variables(expression)) {
-    if (std::find(variables.begin(), variables.end(), v) == variables.end()) {
-      throw BoundsError("unknown variable '" + v.name() + "' in " + what + ": give it a range");
-    }
+Tape compile_checked(std::span<const Expr> outputs, std::span<const Expr> variables,
+                     const std::function<std::string(std::size_t)>& what) {
+  try {
+    return Tape::compile(outputs, variables);
+  } catch (const symbolic::SymbolicError&) {
+    for (std::size_t i = 0; i < outputs.size(); ++i)
+      for (Expr v : symbolic::free_variables(outputs[i]))
+        if (std::find(variables.begin(), variables.end(), v) == variables.end())
+          throw BoundsError("unknown variable '" + v.name() + "' in " + what(i) +
+                            ": give it a range");
+    throw;
   }
 }
 
@@ -1295,10 +1303,8 @@ BoundProblem::BoundProblem(Expr f, std::span<const Expr> variables,
   for (std::size_t i = 0; i < variables.size(); ++i) {
     internal::check_variable(variables[i], variables.first(i));
   }
-  internal::check_uses_only(f, variables, "the expression");
   for (const Constraint& c : constraints) {
     if (c.g.is_null()) throw BoundsError("a constraint has no expression");
-    internal::check_uses_only(c.g, variables, "the constraint");
   }
   impl_->f = f;
   impl_->variables.assign(variables.begin(), variables.end());

@@ -17,7 +17,8 @@ std::vector<symbolic::Expr> expressions_of(const std::vector<Inequality>& inequa
   return expressions;
 }
 
-// Throws BoundsError for the first malformed inequality or variable list; returns them unchanged.
+// Throws BoundsError for the first malformed inequality or variable list (a variable not listed
+// is found by the compile: compiled()); returns them unchanged.
 const std::vector<Inequality>& validated(const std::vector<Inequality>& inequalities,
                                          std::span<const symbolic::Expr> variables) {
   for (std::size_t i = 0; i < variables.size(); ++i) {
@@ -29,9 +30,16 @@ const std::vector<Inequality>& validated(const std::vector<Inequality>& inequali
     if (!std::isfinite(inequality.threshold)) {
       throw BoundsError(what + ": the threshold must be a finite number");
     }
-    internal::check_uses_only(inequality.expression, variables, what);
   }
   return inequalities;
+}
+
+// One tape of the inequalities' expressions (output i: inequalities[i]).
+symbolic::Tape compiled(const std::vector<Inequality>& inequalities,
+                        std::span<const symbolic::Expr> variables) {
+  return internal::compile_checked(expressions_of(inequalities), variables, [&](std::size_t i) {
+    return "inequality '" + inequalities[i].name + "'";
+  });
 }
 
 }  // namespace
@@ -40,7 +48,7 @@ struct ConditionSet::Impl {
   Impl(std::vector<Inequality> inequalities_in, std::vector<symbolic::Expr> variables_in)
       : inequalities(validated(inequalities_in, variables_in)),
         variables(std::move(variables_in)),
-        tape(symbolic::Tape::compile(expressions_of(inequalities), variables)),
+        tape(compiled(inequalities, variables)),
         evaluator(tape),
         problems(inequalities.size()) {}
 

@@ -13,13 +13,17 @@ namespace {
 // constants. A second pass maps the remaining virtual registers to reusable slots by liveness.
 class Compiler {
  public:
-  Compiler(std::span<const Expr> inputs) : input_count_(inputs.size()) {
-    for (std::size_t i = 0; i < inputs.size(); ++i) {
-      if (!inputs[i].is_variable()) throw SymbolicError("tape input is not a variable");
-      if (!register_of_.emplace(inputs[i].id(), static_cast<std::uint32_t>(i)).second) {
-        throw SymbolicError("tape input '" + inputs[i].name() + "' listed twice");
-      }
-    }
+  // `order`: every node the outputs use, operands first (topological_order).
+  Compiler(std::span<const Expr> inputs, std::span<const Expr> order)
+      : input_count_(inputs.size()) {
+    check_inputs(inputs);
+    std::size_t capacity = 16;
+    while (capacity < 2 * order.size()) capacity *= 2;
+    table_.assign(capacity, {kNoNode, kNoRegister});
+    for (Expr e : order) insert(e.id());
+    for (std::size_t i = 0; i < inputs.size(); ++i)
+      if (std::uint32_t* slot = register_slot(inputs[i].id()))
+        *slot = static_cast<std::uint32_t>(i);
   }
 
   void compile_node(Expr e) {
@@ -44,11 +48,11 @@ class Compiler {
                      ? emit(binary_op(e.op()), of(e.operand(0)), of(e.operand(1)))
                      : emit(unary_op(e.op()), of(e.operand(0)));
     }
-    register_of_.emplace(e.id(), result);
+    *register_slot(e.id()) = result;
   }
 
-  bool compiled(Expr e) const { return register_of_.contains(e.id()); }
-  std::uint32_t of(Expr e) const { return register_of_.at(e.id()); }
+  bool compiled(Expr e) { return *register_slot(e.id()) != kNoRegister; }
+  std::uint32_t of(Expr e) { return *register_slot(e.id()); }
 
   static TapeOp unary_op(Op op) {
     switch (op) {
@@ -168,9 +172,46 @@ class Compiler {
     return result;
   }
 
+  // The first input that is not a variable, or repeats an earlier one, throws.
+  static void check_inputs(std::span<const Expr> inputs) {
+    std::size_t first_not_variable = inputs.size();
+    for (std::size_t i = 0; i < inputs.size() && first_not_variable == inputs.size(); ++i)
+      if (!inputs[i].is_variable()) first_not_variable = i;
+    // (node id, position) of the variables before it: the earliest second occurrence repeats.
+    std::vector<std::pair<std::uint32_t, std::size_t>> by_id;
+    for (std::size_t i = 0; i < first_not_variable; ++i) by_id.emplace_back(inputs[i].id(), i);
+    std::sort(by_id.begin(), by_id.end());
+    std::size_t first_repeat = inputs.size();
+    for (std::size_t k = 1; k < by_id.size(); ++k)
+      if (by_id[k].first == by_id[k - 1].first)
+        first_repeat = std::min(first_repeat, by_id[k].second);
+    if (first_repeat < first_not_variable)
+      throw SymbolicError("tape input '" + inputs[first_repeat].name() + "' listed twice");
+    if (first_not_variable < inputs.size()) throw SymbolicError("tape input is not a variable");
+  }
+
+  // Where node `id` is or belongs in table_: linear probing from a multiplicative hash.
+  std::size_t probe(std::uint32_t id) const {
+    const std::size_t mask = table_.size() - 1;
+    std::size_t i = (id * std::uint64_t{0x9E3779B97F4A7C15u} >> 32) & mask;
+    while (table_[i].first != id && table_[i].first != kNoNode) i = (i + 1) & mask;
+    return i;
+  }
+  void insert(std::uint32_t id) { table_[probe(id)].first = id; }
+  // The register of node `id` (kNoRegister until compiled), or nullptr for a node not in the
+  // order.
+  std::uint32_t* register_slot(std::uint32_t id) {
+    auto& entry = table_[probe(id)];
+    return entry.first == id ? &entry.second : nullptr;
+  }
+
+  static constexpr std::uint32_t kNoRegister = 0xFFFFFFFFu;
+  static constexpr std::uint32_t kNoNode = 0xFFFFFFFFu;  // an empty entry (ids are below 2^32 - 1)
   std::size_t input_count_;
   std::uint32_t next_virtual_ = 0x80000000u;  // virtual registers of instructions start here
-  std::unordered_map<std::uint32_t, std::uint32_t> register_of_;  // node id -> register
+  // (node id, register) of every node of the order, open addressing at most half full: a tape's
+  // DAG may hold 10^5 nodes, and a node-based map allocated once per node.
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> table_;
   std::vector<Instruction> code_;
   std::vector<Number> constants_;
   struct NumberHash {
@@ -198,8 +239,9 @@ bool is_binary(TapeOp op) {
 }  // namespace
 
 Tape Tape::compile(std::span<const Expr> outputs, std::span<const Expr> inputs) {
-  Compiler compiler(inputs);
-  for (Expr e : topological_order(outputs)) {
+  const std::vector<Expr> order = topological_order(outputs);
+  Compiler compiler(inputs, order);
+  for (Expr e : order) {
     if (!compiler.compiled(e)) compiler.compile_node(e);
   }
 

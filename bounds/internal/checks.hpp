@@ -3,12 +3,15 @@
 // throw BoundsError naming the variable.
 #pragma once
 
+#include <cstddef>
+#include <functional>
 #include <span>
 #include <string>
 
 #include "spar/bounds/bound.hpp"
 #include "spar/bounds/interval.hpp"
 #include "spar/symbolic/expr.hpp"
+#include "spar/symbolic/tape.hpp"
 
 namespace spar::bounds::internal {
 
@@ -18,10 +21,13 @@ void check_range(const std::string& name, double lo, double hi);
 void check_variable(symbolic::Expr variable, std::span<const symbolic::Expr> earlier);
 // ranges.size() != variables.size(), or any range check_range refuses.
 void check_ranges(std::span<const symbolic::Expr> variables, std::span<const Interval> ranges);
-// A free variable of `expression` that is not among `variables`; `what` names the expression in
-// the message ("the expression", "the constraint", "inequality 'clear'").
-void check_uses_only(symbolic::Expr expression, std::span<const symbolic::Expr> variables,
-                     const std::string& what);
+// Tape::compile(outputs, variables) for non-null outputs and variables check_variable accepted,
+// where an output using a variable that is not listed throws BoundsError naming the first such
+// output (`what(i)`: "the expression", "the constraint", "inequality 'clear'") and the variable.
+// The compile walks the DAG anyway; the walk that finds the names runs only when it fails.
+[[nodiscard]] symbolic::Tape compile_checked(std::span<const symbolic::Expr> outputs,
+                                             std::span<const symbolic::Expr> variables,
+                                             const std::function<std::string(std::size_t)>& what);
 
 // Offers `point`, where f's enclosure is `value` (defined, not empty), as a witness: it becomes
 // argmin if value.hi < inner_lo and argmax if value.lo > inner_hi (inner_lo / inner_hi are then

@@ -29,29 +29,37 @@ std::string printed_expression(const PreconditionResult& result) {
   return symbolic::to_string(result.inequality.expression, kMaxPrintedTree);
 }
 
-bounds::Interval natural_enclosure(symbolic::Expr e, const UncertaintySpace& space) {
-  const std::vector<VariableId> ids = variables_of({&e, 1}, space);
+std::vector<bounds::Interval> natural_enclosures(std::span<const symbolic::Expr> expressions,
+                                                 const UncertaintySpace& space) {
+  const std::vector<VariableId> ids = variables_of(expressions, space);
   std::vector<symbolic::Expr> inputs;
   for (const VariableId id : ids) inputs.push_back(space.symbol(id));
-  const symbolic::Tape tape = symbolic::Tape::compile({&e, 1}, inputs);
+  const symbolic::Tape tape = symbolic::Tape::compile(expressions, inputs);
   symbolic::TapeEvaluator<bounds::Interval> evaluator(tape);
   const std::vector<bounds::Interval> box = space.ranges(ids);
-  bounds::Interval out;
-  evaluator.evaluate(box, {&out, 1});
+  std::vector<bounds::Interval> out(expressions.size());
+  evaluator.evaluate(box, out);
   return out;
 }
 
+namespace {
+std::vector<symbolic::Expr> expressions_of(const std::vector<Precondition>& preconditions) {
+  std::vector<symbolic::Expr> expressions;
+  for (const Precondition& p : preconditions) expressions.push_back(p.inequality.expression);
+  return expressions;
+}
+}  // namespace
+
 CompiledStep::CompiledStep(const std::vector<Precondition>& preconditions,
                            const UncertaintySpace& space)
-    : preconditions_(preconditions) {
+    : CompiledStep(preconditions, space, variables_of(expressions_of(preconditions), space)) {}
+
+CompiledStep::CompiledStep(const std::vector<Precondition>& preconditions,
+                           const UncertaintySpace& space, std::vector<VariableId> ids)
+    : preconditions_(preconditions), ids_(std::move(ids)) {
   if (preconditions_.empty()) return;
-  std::vector<symbolic::Expr> expressions;
   std::vector<bounds::Inequality> inequalities;
-  for (const Precondition& p : preconditions_) {
-    expressions.push_back(p.inequality.expression);
-    inequalities.push_back(p.inequality);
-  }
-  ids_ = variables_of(expressions, space);
+  for (const Precondition& p : preconditions_) inequalities.push_back(p.inequality);
   for (const VariableId id : ids_) variables_.push_back(space.symbol(id));
   set_.emplace(std::move(inequalities), variables_);
 }
@@ -112,15 +120,13 @@ namespace {
 std::vector<std::uint64_t> step_key(const std::vector<Precondition>& preconditions,
                                     const UncertaintySpace& space, std::vector<VariableId>& ids) {
   std::vector<std::uint64_t> key;
-  std::vector<symbolic::Expr> expressions;
   for (const Precondition& p : preconditions) {
-    expressions.push_back(p.inequality.expression);
     key.push_back(p.inequality.expression.id());
     key.push_back(static_cast<std::uint64_t>(p.inequality.relation));
     key.push_back(std::bit_cast<std::uint64_t>(p.inequality.threshold));
     key.push_back(static_cast<std::uint64_t>(p.kind) << 1 | (p.length ? 1u : 0u));
   }
-  ids = variables_of(expressions, space);
+  ids = variables_of(expressions_of(preconditions), space);
   for (const VariableId id : ids) {
     const bounds::Interval range = space.range(id);
     key.push_back(space.symbol(id).id());
@@ -143,7 +149,8 @@ std::vector<PreconditionResult> DecisionCache::decide(
     for (PreconditionResult& result : results) result.variables = ids;
     return results;
   }
-  std::vector<PreconditionResult> results = planner::decide(preconditions, space, quick_, full_);
+  std::vector<PreconditionResult> results =
+      CompiledStep(preconditions, space, std::move(ids)).decide(space, quick_, full_);
   entries_.emplace(std::move(key), results);
   return results;
 }

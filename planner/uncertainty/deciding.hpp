@@ -74,10 +74,12 @@ struct PreconditionResult {
 // preconditions took 8% of analysing one.
 [[nodiscard]] std::string printed_expression(const PreconditionResult& result);
 
-// A sound enclosure of `e` over the current ranges of its variables in `space`: the natural
-// interval extension, one interval pass over its tape (cost O(nodes of e)). Throws PlanError for
-// a variable that is not the space's.
-[[nodiscard]] bounds::Interval natural_enclosure(symbolic::Expr e, const UncertaintySpace& space);
+// Sound enclosures of `expressions` over the current ranges of their variables in `space`: the
+// natural interval extension, one interval pass over one tape of them all (cost O(DAG nodes of
+// them together); each enclosure is the one a tape of that expression alone gives). Throws
+// PlanError for a variable that is not the space's.
+[[nodiscard]] std::vector<bounds::Interval> natural_enclosures(
+    std::span<const symbolic::Expr> expressions, const UncertaintySpace& space);
 
 // A step's preconditions compiled once (one ConditionSet tape; a BoundProblem per precondition
 // the natural pass leaves undecided, built on first need and kept, with its SMP rewrites per box
@@ -88,6 +90,9 @@ struct PreconditionResult {
 class CompiledStep {
  public:
   CompiledStep(const std::vector<Precondition>& preconditions, const UncertaintySpace& space);
+  // With `ids` = variables_of(the preconditions' expressions, space), known already.
+  CompiledStep(const std::vector<Precondition>& preconditions, const UncertaintySpace& space,
+               std::vector<VariableId> ids);
   [[nodiscard]] std::vector<PreconditionResult> decide(const UncertaintySpace& space,
                                                        const bounds::BoundOptions& quick,
                                                        const bounds::BoundOptions& full);

@@ -183,9 +183,10 @@ std::array<bool, 4> Propagation::corrected_by(int object,
                                               const kinematics::PoseUncertainty& reading) const {
   const std::array<Expr, 4> error = components(table_.at(object)->error);
   const std::array<double, 4> half_widths = components(reading);
+  const std::vector<bounds::Interval> enclosures = natural_enclosures(error, space_);
   std::array<bool, 4> corrected;
   for (int i = 0; i < 4; ++i) {
-    const bounds::Interval known = natural_enclosure(error[i], space_);
+    const bounds::Interval& known = enclosures[i];
     corrected[i] =
         known.possibly_undefined || !(known.lo >= -half_widths[i]) || !(known.hi <= half_widths[i]);
   }

@@ -20,7 +20,7 @@
 //           for a camera verification (Phase2Step::camera) that camera's. Per component (dx, dy,
 //           dz, dθ), the executor uses the measurement only where it knows more than it did: a
 //           component whose error is already enclosed in the residual's box [-r, r]
-//           (natural_enclosure of deciding.hpp, over the current ranges) keeps its error
+//           (natural_enclosures of deciding.hpp, over the current ranges) keeps its error
 //           expression, and the executor its belief there; every other component is replaced by
 //           the residual (a fresh variable). SPAR replaced all four, which let a scan loosen a
 //           component (the residual's 1.1° is worse than a putdown's 0.063°) and made the repair

@@ -319,7 +319,7 @@ TEST(Propagation, AScanCorrectsOnlyTheComponentsItKnowsBetter) {
   int kept = 0;
   for (int i = 0; i < 4; ++i) {
     SCOPED_TRACE(to_string(kPoseComponents[i]));
-    const bounds::Interval known = natural_enclosure(was[i], propagation.space());
+    const bounds::Interval known = natural_enclosures({&was[i], 1}, propagation.space()).front();
     if (known.lo >= -residual[i] && known.hi <= residual[i]) {
       EXPECT_EQ(now[i], was[i]);
       ++kept;
