@@ -3,6 +3,7 @@
 #include <cmath>
 #include <limits>
 #include <string>
+#include <unordered_map>
 
 #include "spar/bounds/internal/checks.hpp"
 #include "spar/symbolic/tape.hpp"
@@ -34,6 +35,15 @@ const std::vector<Inequality>& validated(const std::vector<Inequality>& inequali
   return inequalities;
 }
 
+// Per inequality, the index of the first inequality with the same expression.
+std::vector<std::size_t> first_with_expression(const std::vector<Inequality>& inequalities) {
+  std::unordered_map<std::uint32_t, std::size_t> first_by_node;  // one pool: ids are unique
+  std::vector<std::size_t> first;
+  for (std::size_t i = 0; i < inequalities.size(); ++i)
+    first.push_back(first_by_node.try_emplace(inequalities[i].expression.id(), i).first->second);
+  return first;
+}
+
 // One tape of the inequalities' expressions (output i: inequalities[i]).
 symbolic::Tape compiled(const std::vector<Inequality>& inequalities,
                         std::span<const symbolic::Expr> variables) {
@@ -50,14 +60,18 @@ struct ConditionSet::Impl {
         variables(std::move(variables_in)),
         tape(compiled(inequalities, variables)),
         evaluator(tape),
-        problems(inequalities.size()) {}
+        problems(inequalities.size()),
+        first_with(first_with_expression(inequalities)) {}
 
   std::vector<Inequality> inequalities;
   std::vector<symbolic::Expr> variables;
-  symbolic::Tape tape;                                  // output i is inequalities[i].expression
-  symbolic::TapeEvaluator<Interval> evaluator;          // on tape
-  std::vector<std::unique_ptr<BoundProblem>> problems;  // problems[i] built on first escalation
-  std::vector<Interval> natural, at_centre, centre;     // scratch
+  symbolic::Tape tape;                          // output i is inequalities[i].expression
+  symbolic::TapeEvaluator<Interval> evaluator;  // on tape
+  // problems[first_with[i]] bounds inequality i's expression, built on first escalation (two
+  // sides of one clearance escalate one problem: its results do not depend on earlier calls).
+  std::vector<std::unique_ptr<BoundProblem>> problems;
+  std::vector<std::size_t> first_with;               // the first inequality with i's expression
+  std::vector<Interval> natural, at_centre, centre;  // scratch
 };
 
 ConditionSet::ConditionSet(std::vector<Inequality> inequalities,
@@ -111,7 +125,7 @@ std::vector<ConditionCheck> ConditionSet::check(std::span<const Interval> ranges
         check.verdict == Verdict::kUndecided ||
         (check.verdict == Verdict::kViolated && escalation == Escalation::kNotSatisfied);
     if (escalate) {
-      std::unique_ptr<BoundProblem>& problem = set.problems[k];
+      std::unique_ptr<BoundProblem>& problem = set.problems[set.first_with[k]];
       if (!problem) problem = std::make_unique<BoundProblem>(inequality.expression, set.variables);
       BoundOptions options = full;
       if (escalation == Escalation::kDecide)

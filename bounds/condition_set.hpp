@@ -7,7 +7,8 @@
 //      natural enclosure, or violated at the centre) costs nothing more;
 //   2. only the undecided ones (and, with Escalation::kNotSatisfied, the violated ones too, to get
 //      a tight bound and the worst witness) go to a BoundProblem (bound.hpp) with `full` options,
-//      built on first need per inequality and kept for later boxes.
+//      built on first need per expression (inequalities sharing one share it) and kept for later
+//      boxes.
 // Results are those of bound(): a BoundProblem's result does not depend on earlier calls, so
 // check() over a box gives the same answer however many boxes were checked before.
 // The expressions' pool must outlive the set. Not thread-safe.

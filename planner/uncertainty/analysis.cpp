@@ -497,20 +497,33 @@ void add_margins(InstanceAnalysis& analysis, const AnalysisOptions& options,
   for (const AnalysedStep& step : analysis.steps) total += step.preconditions.size();
   for (std::size_t k = 0; k < analysis.steps.size(); ++k) {
     AnalysedStep& step = analysis.steps[k];
+    // One compiled problem per expression of the step for every pass below. A step's
+    // preconditions share its variables and box, so two with one expression (the two sides of a
+    // clearance) have one tight bound and one blame: computed for the first.
+    std::map<std::uint32_t, std::pair<bounds::BoundProblem, std::size_t>> by_expression;
     for (std::size_t i = 0; i < step.preconditions.size(); ++i) {
       PreconditionResult& result = step.preconditions[i];
       if (progress)
         progress("phase 2: margins of precondition " + std::to_string(++done) + " of " +
                  std::to_string(total));
-      // One compiled problem per precondition for every pass below.
       std::vector<Expr> inputs;
       for (const VariableId id : result.variables) inputs.push_back(analysis.symbols[id.index]);
-      bounds::BoundProblem problem(result.inequality.expression, inputs);
-      // A tight bound with inner values (the natural pass that decided a satisfied precondition
-      // has none): [lo, hi] only shrinks, so the verdict stands.
-      result.bound = problem.bound(result.box, options.report);
+      const Expr f = result.inequality.expression;
+      auto [shared, first] =
+          by_expression.try_emplace(f.id(), std::piecewise_construct,
+                                    std::forward_as_tuple(f, inputs), std::forward_as_tuple(i));
+      bounds::BoundProblem& problem = shared->second.first;
+      if (first) {
+        // A tight bound with inner values (the natural pass that decided a satisfied
+        // precondition has none): [lo, hi] only shrinks, so the verdict stands.
+        result.bound = problem.bound(result.box, options.report);
+        if (options.blame) add_blame(result, problem);
+      } else {
+        const PreconditionResult& earlier = step.preconditions[shared->second.second];
+        result.bound = earlier.bound;
+        result.blame = earlier.blame;
+      }
       result.witness = bounds::witness(result.inequality, result.bound);
-      if (options.blame) add_blame(result, problem);
       if (options.samples > 0) {
         // Each precondition its own stream: its estimate does not depend on how many points the
         // others drew (fewer for the proved ones).

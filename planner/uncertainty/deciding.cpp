@@ -86,11 +86,10 @@ std::vector<PreconditionResult> CompiledStep::decide(const UncertaintySpace& spa
       bounds::BoundOptions deciding = full;
       deciding.decide =
           bounds::DecisionTarget{result.inequality.relation, result.inequality.threshold};
-      auto problem = problems_.find(i);
+      const symbolic::Expr f = result.inequality.expression;
+      auto problem = problems_.find(f.id());
       if (problem == problems_.end())
-        problem =
-            problems_.emplace(i, bounds::BoundProblem(result.inequality.expression, variables_))
-                .first;
+        problem = problems_.emplace(f.id(), bounds::BoundProblem(f, variables_)).first;
       result.bound = problem->second.bound(box, deciding);
       result.verdict = bounds::decide(result.inequality, result.bound);
       result.witness = bounds::witness(result.inequality, result.bound);

@@ -81,7 +81,7 @@ struct PreconditionResult {
 [[nodiscard]] std::vector<bounds::Interval> natural_enclosures(
     std::span<const symbolic::Expr> expressions, const UncertaintySpace& space);
 
-// A step's preconditions compiled once (one ConditionSet tape; a BoundProblem per precondition
+// A step's preconditions compiled once (one ConditionSet tape; a BoundProblem per expression
 // the natural pass leaves undecided, built on first need and kept, with its SMP rewrites per box
 // widths) and decided over the current ranges of any space holding the same variables (the same
 // ids): what decide() answers, without compiling again. Phase 2's sensor margin decides one step
@@ -102,7 +102,8 @@ class CompiledStep {
   std::vector<VariableId> ids_;
   std::vector<symbolic::Expr> variables_;  // their symbols, in box order
   std::optional<bounds::ConditionSet> set_;
-  std::map<std::size_t, bounds::BoundProblem> problems_;  // by precondition index
+  // By expression (node id): the two sides of a clearance share one.
+  std::map<std::uint32_t, bounds::BoundProblem> problems_;
 };
 
 // Decides `preconditions` over the space's current ranges (see the header comment).
