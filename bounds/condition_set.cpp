@@ -72,6 +72,56 @@ struct ConditionSet::Impl {
   std::vector<std::unique_ptr<BoundProblem>> problems;
   std::vector<std::size_t> first_with;               // the first inequality with i's expression
   std::vector<Interval> natural, at_centre, centre;  // scratch
+
+  // The natural pass over `ranges`: every inequality's natural enclosure and its value at the box
+  // centre (natural, at_centre); returns the centre.
+  std::vector<double> natural_pass(std::span<const Interval> ranges) {
+    internal::check_ranges(variables, ranges);
+    std::vector<double> centre_point(ranges.size());
+    centre.resize(ranges.size());
+    for (std::size_t i = 0; i < ranges.size(); ++i) {
+      centre_point[i] = ranges[i].mid();
+      centre[i] = Interval{centre_point[i]};
+    }
+    natural.resize(inequalities.size());
+    at_centre.resize(inequalities.size());
+    evaluator.evaluate(ranges, natural);
+    evaluator.evaluate(centre, at_centre);
+    return centre_point;
+  }
+
+  // Inequality k's result from the natural pass (ConditionCheck::bound's comment), without witness.
+  ConditionCheck natural_check(std::size_t k, std::span<const double> centre_point) const {
+    const Inequality& inequality = inequalities[k];
+    ConditionCheck check;
+    BoundResult& bound = check.bound;
+    const Interval& enclosure = natural[k];
+    const Interval& value_at_centre = at_centre[k];
+    bound.lo = enclosure.lo;
+    bound.hi = enclosure.hi;
+    bound.possibly_undefined = enclosure.possibly_undefined;
+    bound.status = BoundStatus::kEffortLimit;
+    bound.evaluations = 1;
+    bound.inner_lo = std::numeric_limits<double>::infinity();
+    bound.inner_hi = -bound.inner_lo;
+    // f(centre) lies in value_at_centre: an attained value, so the centre is both witnesses.
+    if (!value_at_centre.is_empty() && !value_at_centre.possibly_undefined) {
+      internal::offer_witness(bound, centre_point, value_at_centre);
+    }
+    order_inner_bounds(bound);
+    check.verdict = enclosure.is_empty() ? Verdict::kUndecided : decide(inequality, bound);
+    return check;
+  }
+
+  // Inequality k bounded over `ranges` with `options`, deciding it if `deciding`.
+  BoundResult escalated(std::size_t k, std::span<const Interval> ranges, BoundOptions options,
+                        bool deciding) {
+    const Inequality& inequality = inequalities[k];
+    std::unique_ptr<BoundProblem>& problem = problems[first_with[k]];
+    if (!problem) problem = std::make_unique<BoundProblem>(inequality.expression, variables);
+    if (deciding) options.decide = DecisionTarget{inequality.relation, inequality.threshold};
+    return problem->bound(ranges, options);
+  }
 };
 
 ConditionSet::ConditionSet(std::vector<Inequality> inequalities,
@@ -88,55 +138,41 @@ const std::vector<symbolic::Expr>& ConditionSet::variables() const { return impl
 std::vector<ConditionCheck> ConditionSet::check(std::span<const Interval> ranges,
                                                 const BoundOptions& full, Escalation escalation) {
   Impl& set = *impl_;
-  internal::check_ranges(set.variables, ranges);
-  const std::size_t count = set.inequalities.size();
-  std::vector<double> centre_point(ranges.size());
-  set.centre.resize(ranges.size());
-  for (std::size_t i = 0; i < ranges.size(); ++i) {
-    centre_point[i] = ranges[i].mid();
-    set.centre[i] = Interval{centre_point[i]};
-  }
-  set.natural.resize(count);
-  set.at_centre.resize(count);
-  set.evaluator.evaluate(ranges, set.natural);
-  set.evaluator.evaluate(set.centre, set.at_centre);
-
-  std::vector<ConditionCheck> checks(count);
-  for (std::size_t k = 0; k < count; ++k) {
+  const std::vector<double> centre_point = set.natural_pass(ranges);
+  std::vector<ConditionCheck> checks;
+  for (std::size_t k = 0; k < set.inequalities.size(); ++k) {
     const Inequality& inequality = set.inequalities[k];
-    ConditionCheck& check = checks[k];
-    BoundResult& bound = check.bound;
-    const Interval& natural = set.natural[k];
-    const Interval& centre = set.at_centre[k];
-    bound.lo = natural.lo;
-    bound.hi = natural.hi;
-    bound.possibly_undefined = natural.possibly_undefined;
-    bound.status = BoundStatus::kEffortLimit;
-    bound.evaluations = 1;
-    bound.inner_lo = std::numeric_limits<double>::infinity();
-    bound.inner_hi = -bound.inner_lo;
-    // f(centre) lies in `centre`: an attained value, so the centre is both witnesses.
-    if (!centre.is_empty() && !centre.possibly_undefined) {
-      internal::offer_witness(bound, centre_point, centre);
-    }
-    order_inner_bounds(bound);
-    check.verdict = natural.is_empty() ? Verdict::kUndecided : decide(inequality, bound);
+    ConditionCheck& check = checks.emplace_back(set.natural_check(k, centre_point));
     const bool escalate =
         check.verdict == Verdict::kUndecided ||
         (check.verdict == Verdict::kViolated && escalation == Escalation::kNotSatisfied);
     if (escalate) {
-      std::unique_ptr<BoundProblem>& problem = set.problems[set.first_with[k]];
-      if (!problem) problem = std::make_unique<BoundProblem>(inequality.expression, set.variables);
-      BoundOptions options = full;
-      if (escalation == Escalation::kDecide)
-        options.decide = DecisionTarget{inequality.relation, inequality.threshold};
-      bound = problem->bound(ranges, options);
-      check.verdict = decide(inequality, bound);
+      check.bound = set.escalated(k, ranges, full, escalation == Escalation::kDecide);
+      check.verdict = decide(inequality, check.bound);
       check.escalated = true;
     }
-    check.witness = witness(inequality, bound);
+    check.witness = witness(inequality, check.bound);
   }
   return checks;
+}
+
+bool ConditionSet::all_satisfied(std::span<const Interval> ranges, const BoundOptions& quick,
+                                 const BoundOptions& full) {
+  Impl& set = *impl_;
+  const std::vector<double> centre_point = set.natural_pass(ranges);
+  std::vector<std::size_t> undecided;
+  for (std::size_t k = 0; k < set.inequalities.size(); ++k) {
+    const Verdict verdict = set.natural_check(k, centre_point).verdict;
+    if (verdict == Verdict::kViolated) return false;
+    if (verdict == Verdict::kUndecided) undecided.push_back(k);
+  }
+  for (const std::size_t k : undecided) {
+    Verdict verdict = decide(set.inequalities[k], set.escalated(k, ranges, quick, true));
+    if (verdict == Verdict::kUndecided)
+      verdict = decide(set.inequalities[k], set.escalated(k, ranges, full, true));
+    if (verdict != Verdict::kSatisfied) return false;
+  }
+  return true;
 }
 
 }  // namespace spar::bounds

@@ -68,6 +68,13 @@ class ConditionSet {
                                                   const BoundOptions& full = {},
                                                   Escalation escalation = Escalation::kUndecided);
 
+  // Whether every inequality is satisfied over `ranges`, as deciding them would tell (check()
+  // with Escalation::kDecide and `quick`, then each one still undecided decided with `full`),
+  // but it stops at the first that is not: the natural pass's violations first, then the
+  // undecided ones in order. For predicates over many boxes (a sensor scale's bisection).
+  [[nodiscard]] bool all_satisfied(std::span<const Interval> ranges, const BoundOptions& quick,
+                                   const BoundOptions& full);
+
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;

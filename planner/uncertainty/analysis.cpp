@@ -307,7 +307,7 @@ std::optional<double> InstanceAnalyser::sensor_margin(const std::vector<Phase2St
   quick.inner = full.inner = false;
   const auto holds_at = [&](double scale) {
     state.set_sensor_scale(scale);
-    return all_hold(compiled.decide(state.space(), quick, full));
+    return compiled.all_hold(state.space(), quick, full);
   };
   if (!holds_at(0.0)) return std::nullopt;
   return internal::largest_holding(0.0, options_.max_scale, options_.reverse_iterations, holds_at);

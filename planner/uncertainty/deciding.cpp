@@ -101,6 +101,11 @@ std::vector<PreconditionResult> CompiledStep::decide(const UncertaintySpace& spa
   return results;
 }
 
+bool CompiledStep::all_hold(const UncertaintySpace& space, const bounds::BoundOptions& quick,
+                            const bounds::BoundOptions& full) {
+  return preconditions_.empty() || set_->all_satisfied(space.ranges(ids_), quick, full);
+}
+
 std::vector<PreconditionResult> decide(const std::vector<Precondition>& preconditions,
                                        const UncertaintySpace& space,
                                        const bounds::BoundOptions& quick,

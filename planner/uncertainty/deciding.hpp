@@ -96,6 +96,10 @@ class CompiledStep {
   [[nodiscard]] std::vector<PreconditionResult> decide(const UncertaintySpace& space,
                                                        const bounds::BoundOptions& quick,
                                                        const bounds::BoundOptions& full);
+  // Whether decide() would find every precondition satisfied, stopping at the first that is not
+  // (bounds::ConditionSet::all_satisfied).
+  [[nodiscard]] bool all_hold(const UncertaintySpace& space, const bounds::BoundOptions& quick,
+                              const bounds::BoundOptions& full);
 
  private:
   std::vector<Precondition> preconditions_;

@@ -185,6 +185,52 @@ RC_GTEST_PROP(ConditionSet, VerdictsEqualIndividualBoundVerdicts, ()) {
   RC_TAG(to_string(checks[0].verdict), checks[0].escalated ? "escalated" : "natural");
 }
 
+// Property: all_satisfied() answers what deciding every inequality would (a fresh set's check()
+// with Escalation::kDecide and a quick budget, then each one still undecided decided alone with the
+// full budget), on sets where inequalities share expressions (the two sides of a bound) and
+// whatever the set was asked before. The thresholds lie just outside each expression's tight range
+// over the box, so many proofs need the full budget and some fail.
+RC_GTEST_PROP(ConditionSet, AllSatisfiedEqualsEveryVerdictSatisfied, ()) {
+  ExprPool pool;
+  const std::vector<Expr> variables{pool.variable("x"), pool.variable("y")};
+  const std::vector<Interval> ranges = random_ranges(variables.size());
+  const Box box = box_of(variables, ranges);
+  std::vector<Inequality> inequalities;
+  const int count = *rc::gen::inRange(1, 4);
+  for (int k = 0; k < count; ++k) {
+    // Dependent occurrences of x and y: the natural enclosure is loose, branch and bound needed.
+    const double a = *rc::gen::inRange(-20, 20) / 10.0, b = *rc::gen::inRange(-20, 20) / 10.0;
+    const Expr f = parse(pool, std::to_string(a) + "*x*(1 - y) + x*y + sin(x + " +
+                                   std::to_string(b) + "*y) - x^2*y");
+    const BoundResult tight = bound(f, box, {.tolerance = 1e-9, .max_box_evaluations = 2000});
+    const double margin = (tight.hi - tight.lo) * *rc::gen::element(-1e-3, 1e-6, 1e-5, 1e-4);
+    if (!std::isfinite(margin)) continue;
+    inequalities.push_back({"above", f, Relation::kLessEqual, tight.hi + margin});
+    inequalities.push_back({"below", f, Relation::kGreaterEqual, tight.lo - margin});
+  }
+  RC_PRE(!inequalities.empty());
+  const BoundOptions quick{.tolerance = 1e-2, .max_box_evaluations = 4};
+  const BoundOptions full{.tolerance = 1e-3, .max_box_evaluations = 400};
+  ConditionSet fresh(inequalities, variables);
+  const std::vector<ConditionCheck> checks = fresh.check(ranges, quick, Escalation::kDecide);
+  bool every = true, full_proved = false;
+  for (std::size_t k = 0; k < inequalities.size(); ++k) {
+    Verdict verdict = checks[k].verdict;
+    if (verdict == Verdict::kUndecided) {
+      BoundOptions deciding = full;
+      deciding.decide = DecisionTarget{inequalities[k].relation, inequalities[k].threshold};
+      verdict = decide(inequalities[k],
+                       BoundProblem(inequalities[k].expression, variables).bound(ranges, deciding));
+      full_proved |= verdict == Verdict::kSatisfied;
+    }
+    every = every && verdict == Verdict::kSatisfied;
+  }
+  ConditionSet reused(inequalities, variables);
+  (void)reused.check(random_ranges(variables.size()), full, Escalation::kNotSatisfied);
+  RC_ASSERT(reused.all_satisfied(ranges, quick, full) == every);
+  RC_TAG(every ? "all satisfied" : "not all", full_proved ? "the full budget proved one" : "");
+}
+
 // Property: one BoundProblem over a sequence of boxes (with repeats, so cached rewrites are hit)
 // gives exactly the fresh bound() of each box, and so does a ConditionSet reused over them.
 RC_GTEST_PROP(BoundProblem, ReuseOverManyBoxesEqualsFreshProblems, ()) {
