@@ -1055,10 +1055,7 @@ void chain_scales(const planner::WorldModel& world, const ChainSetup& setup,
       for (std::size_t v = 0; v < table.size(); ++v)
         space.set_range(planner::VariableId{static_cast<std::uint32_t>(v)}, table[v].lower * scale,
                         table[v].upper * scale);
-      const std::vector<planner::PreconditionResult> results =
-          compiled.decide(space, options.quick, options.bound);
-      return std::all_of(results.begin(), results.end(),
-                         [](const auto& r) { return r.verdict == Verdict::kSatisfied; });
+      return compiled.all_hold(space, options.quick, options.bound);
     });
     const double spar_seconds = seconds_since(start);
     const double peer_scale = largest_proved_scale([&](double scale) {

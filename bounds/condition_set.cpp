@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <string>
 #include <unordered_map>
 
@@ -156,23 +157,33 @@ std::vector<ConditionCheck> ConditionSet::check(std::span<const Interval> ranges
   return checks;
 }
 
-bool ConditionSet::all_satisfied(std::span<const Interval> ranges, const BoundOptions& quick,
-                                 const BoundOptions& full) {
+std::optional<std::vector<ConditionCheck>> ConditionSet::decide_all(
+    std::span<const Interval> ranges, const BoundOptions& quick, const BoundOptions& full,
+    std::size_t give_up_after) {
   Impl& set = *impl_;
   const std::vector<double> centre_point = set.natural_pass(ranges);
-  std::vector<std::size_t> undecided;
+  std::vector<ConditionCheck> checks;
+  std::size_t not_satisfied = 0;
   for (std::size_t k = 0; k < set.inequalities.size(); ++k) {
-    const Verdict verdict = set.natural_check(k, centre_point).verdict;
-    if (verdict == Verdict::kViolated) return false;
-    if (verdict == Verdict::kUndecided) undecided.push_back(k);
+    not_satisfied +=
+        checks.emplace_back(set.natural_check(k, centre_point)).verdict == Verdict::kViolated;
+    if (not_satisfied >= give_up_after) return std::nullopt;
   }
-  for (const std::size_t k : undecided) {
-    Verdict verdict = decide(set.inequalities[k], set.escalated(k, ranges, quick, true));
-    if (verdict == Verdict::kUndecided)
-      verdict = decide(set.inequalities[k], set.escalated(k, ranges, full, true));
-    if (verdict != Verdict::kSatisfied) return false;
+  for (std::size_t k = 0; k < checks.size(); ++k) {
+    const Inequality& inequality = set.inequalities[k];
+    ConditionCheck& check = checks[k];
+    for (const BoundOptions* options : {&quick, &full}) {
+      if (check.verdict != Verdict::kUndecided) break;
+      check.bound = set.escalated(k, ranges, *options, true);
+      check.verdict = decide(inequality, check.bound);
+      check.full = check.escalated;
+      check.escalated = true;
+    }
+    check.witness = witness(inequality, check.bound);
+    if (check.escalated && check.verdict != Verdict::kSatisfied && ++not_satisfied >= give_up_after)
+      return std::nullopt;
   }
-  return true;
+  return checks;
 }
 
 }  // namespace spar::bounds

@@ -21,7 +21,10 @@
 //       std::cout << to_string(c.verdict) << ' ' << c.bound.lo << ' ' << c.bound.hi << '\n';
 #pragma once
 
+#include <cstddef>
+#include <limits>
 #include <memory>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -40,6 +43,7 @@ struct ConditionCheck {
   BoundResult bound;
   std::vector<double> witness;  // witness(inequality, bound): the deciding (worst) point
   bool escalated{false};        // bound is the BoundProblem's
+  bool full{false};             // decide(): escalated with the `full` budget after `quick`
 };
 
 // Which verdicts of the natural pass go on to a full bound.
@@ -68,12 +72,15 @@ class ConditionSet {
                                                   const BoundOptions& full = {},
                                                   Escalation escalation = Escalation::kUndecided);
 
-  // Whether every inequality is satisfied over `ranges`, as deciding them would tell (check()
-  // with Escalation::kDecide and `quick`, then each one still undecided decided with `full`),
-  // but it stops at the first that is not: the natural pass's violations first, then the
-  // undecided ones in order. For predicates over many boxes (a sensor scale's bisection).
-  [[nodiscard]] bool all_satisfied(std::span<const Interval> ranges, const BoundOptions& quick,
-                                   const BoundOptions& full);
+  // Deciding in two budgets: check(ranges, quick, Escalation::kDecide), then each inequality
+  // still undecided decided again with `full` (ConditionCheck::full). It gives up, returning
+  // nullopt, as soon as `give_up_after` inequalities are known not to be satisfied: the natural
+  // pass's violations first, then the undecided ones in order (give_up_after = 1 asks whether
+  // all are satisfied: a sensor scale's bisection). Without giving up, the checks equal deciding
+  // each alone.
+  [[nodiscard]] std::optional<std::vector<ConditionCheck>> decide_all(
+      std::span<const Interval> ranges, const BoundOptions& quick, const BoundOptions& full,
+      std::size_t give_up_after = std::numeric_limits<std::size_t>::max());
 
  private:
   struct Impl;

@@ -60,40 +60,32 @@ CompiledStep::CompiledStep(const std::vector<Precondition>& preconditions,
   if (preconditions_.empty()) return;
   std::vector<bounds::Inequality> inequalities;
   for (const Precondition& p : preconditions_) inequalities.push_back(p.inequality);
-  for (const VariableId id : ids_) variables_.push_back(space.symbol(id));
-  set_.emplace(std::move(inequalities), variables_);
+  std::vector<symbolic::Expr> symbols;  // in box order
+  for (const VariableId id : ids_) symbols.push_back(space.symbol(id));
+  set_.emplace(std::move(inequalities), std::move(symbols));
 }
 
-std::vector<PreconditionResult> CompiledStep::decide(const UncertaintySpace& space,
-                                                     const bounds::BoundOptions& quick,
-                                                     const bounds::BoundOptions& full) {
+std::optional<std::vector<PreconditionResult>> CompiledStep::decide(
+    const UncertaintySpace& space, const bounds::BoundOptions& quick,
+    const bounds::BoundOptions& full, std::size_t give_up_after) {
   std::vector<PreconditionResult> results;
   if (preconditions_.empty()) return results;
   const std::vector<bounds::Interval> box = space.ranges(ids_);
-  const std::vector<bounds::ConditionCheck> checks =
-      set_->check(box, quick, bounds::Escalation::kDecide);
+  std::optional<std::vector<bounds::ConditionCheck>> checks =
+      set_->decide_all(box, quick, full, give_up_after);
+  if (!checks) return std::nullopt;
   for (std::size_t i = 0; i < preconditions_.size(); ++i) {
+    bounds::ConditionCheck& check = (*checks)[i];
     PreconditionResult result;
     result.kind = preconditions_[i].kind;
     result.inequality = preconditions_[i].inequality;
     result.length = preconditions_[i].length;
-    result.verdict = checks[i].verdict;
-    result.bound = checks[i].bound;
-    result.witness = checks[i].witness;
-    result.decided_by = checks[i].escalated ? DecidedBy::kQuickBound : DecidedBy::kNaturalPass;
-    if (result.verdict == bounds::Verdict::kUndecided) {
-      result.decided_by = DecidedBy::kFullBound;
-      bounds::BoundOptions deciding = full;
-      deciding.decide =
-          bounds::DecisionTarget{result.inequality.relation, result.inequality.threshold};
-      const symbolic::Expr f = result.inequality.expression;
-      auto problem = problems_.find(f.id());
-      if (problem == problems_.end())
-        problem = problems_.emplace(f.id(), bounds::BoundProblem(f, variables_)).first;
-      result.bound = problem->second.bound(box, deciding);
-      result.verdict = bounds::decide(result.inequality, result.bound);
-      result.witness = bounds::witness(result.inequality, result.bound);
-    }
+    result.verdict = check.verdict;
+    result.bound = std::move(check.bound);
+    result.witness = std::move(check.witness);
+    result.decided_by = check.full        ? DecidedBy::kFullBound
+                        : check.escalated ? DecidedBy::kQuickBound
+                                          : DecidedBy::kNaturalPass;
     result.box = box;
     result.variables = ids_;
     results.push_back(std::move(result));
@@ -103,14 +95,14 @@ std::vector<PreconditionResult> CompiledStep::decide(const UncertaintySpace& spa
 
 bool CompiledStep::all_hold(const UncertaintySpace& space, const bounds::BoundOptions& quick,
                             const bounds::BoundOptions& full) {
-  return preconditions_.empty() || set_->all_satisfied(space.ranges(ids_), quick, full);
+  return decide(space, quick, full, 1).has_value();
 }
 
 std::vector<PreconditionResult> decide(const std::vector<Precondition>& preconditions,
                                        const UncertaintySpace& space,
                                        const bounds::BoundOptions& quick,
                                        const bounds::BoundOptions& full) {
-  return CompiledStep(preconditions, space).decide(space, quick, full);
+  return *CompiledStep(preconditions, space).decide(space, quick, full);
 }
 
 namespace {
@@ -154,7 +146,7 @@ std::vector<PreconditionResult> DecisionCache::decide(
     return results;
   }
   std::vector<PreconditionResult> results =
-      CompiledStep(preconditions, space, std::move(ids)).decide(space, quick_, full_);
+      *CompiledStep(preconditions, space, std::move(ids)).decide(space, quick_, full_);
   entries_.emplace(std::move(key), results);
   return results;
 }

@@ -24,6 +24,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <map>
 #include <optional>
 #include <span>
@@ -93,21 +94,20 @@ class CompiledStep {
   // With `ids` = variables_of(the preconditions' expressions, space), known already.
   CompiledStep(const std::vector<Precondition>& preconditions, const UncertaintySpace& space,
                std::vector<VariableId> ids);
-  [[nodiscard]] std::vector<PreconditionResult> decide(const UncertaintySpace& space,
-                                                       const bounds::BoundOptions& quick,
-                                                       const bounds::BoundOptions& full);
-  // Whether decide() would find every precondition satisfied, stopping at the first that is not
-  // (bounds::ConditionSet::all_satisfied).
+  // Gives up (nullopt) once `give_up_after` preconditions are known not to be satisfied
+  // (bounds::ConditionSet::decide_all); never without it.
+  [[nodiscard]] std::optional<std::vector<PreconditionResult>> decide(
+      const UncertaintySpace& space, const bounds::BoundOptions& quick,
+      const bounds::BoundOptions& full,
+      std::size_t give_up_after = std::numeric_limits<std::size_t>::max());
+  // Whether decide() would find every precondition satisfied, stopping at the first that is not.
   [[nodiscard]] bool all_hold(const UncertaintySpace& space, const bounds::BoundOptions& quick,
                               const bounds::BoundOptions& full);
 
  private:
   std::vector<Precondition> preconditions_;
   std::vector<VariableId> ids_;
-  std::vector<symbolic::Expr> variables_;  // their symbols, in box order
   std::optional<bounds::ConditionSet> set_;
-  // By expression (node id): the two sides of a clearance share one.
-  std::map<std::uint32_t, bounds::BoundProblem> problems_;
 };
 
 // Decides `preconditions` over the space's current ranges (see the header comment).
