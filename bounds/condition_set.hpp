@@ -9,6 +9,9 @@
 //      a tight bound and the worst witness) go to a BoundProblem (bound.hpp) with `full` options,
 //      built on first need per expression (inequalities sharing one share it) and kept for later
 //      boxes.
+// decide_all(ranges, quick, full) is check() with Escalation::kDecide and `quick`, then the
+// undecided ones again with `full` (phase 2's deciding), able to give up once enough are known
+// not to be satisfied.
 // Results are those of bound(): a BoundProblem's result does not depend on earlier calls, so
 // check() over a box gives the same answer however many boxes were checked before.
 // The expressions' pool must outlive the set. Not thread-safe.
