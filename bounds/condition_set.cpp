@@ -172,12 +172,15 @@ std::optional<std::vector<ConditionCheck>> ConditionSet::decide_all(
   for (std::size_t k = 0; k < checks.size(); ++k) {
     const Inequality& inequality = set.inequalities[k];
     ConditionCheck& check = checks[k];
-    for (const BoundOptions* options : {&quick, &full}) {
-      if (check.verdict != Verdict::kUndecided) break;
-      check.bound = set.escalated(k, ranges, *options, true);
+    if (check.verdict == Verdict::kUndecided) {
+      check.bound = set.escalated(k, ranges, quick, true);
       check.verdict = decide(inequality, check.bound);
-      check.full = check.escalated;
       check.escalated = true;
+    }
+    if (check.verdict == Verdict::kUndecided) {
+      check.bound = set.escalated(k, ranges, full, true);
+      check.verdict = decide(inequality, check.bound);
+      check.full = true;
     }
     check.witness = witness(inequality, check.bound);
     if (check.escalated && check.verdict != Verdict::kSatisfied && ++not_satisfied >= give_up_after)
