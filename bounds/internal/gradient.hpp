@@ -84,6 +84,16 @@ class GradientEvaluator {
       const symbolic::Instruction& in = instructions[k];
       const T adjoint = adjoints_[in.dst];
       adjoints_[in.dst] = T{0.0};
+      // Partials of exactly 1 or -1: the share is the adjoint itself, no product needed.
+      if (in.op == symbolic::TapeOp::kAdd || in.op == symbolic::TapeOp::kSub) {
+        adjoints_[in.a] = adjoints_[in.a] + adjoint;
+        adjoints_[in.b] = adjoints_[in.b] + (in.op == symbolic::TapeOp::kAdd ? adjoint : -adjoint);
+        continue;
+      }
+      if (in.op == symbolic::TapeOp::kNeg) {
+        adjoints_[in.a] = adjoints_[in.a] - adjoint;
+        continue;
+      }
       T partial_a{0.0}, partial_b{0.0};
       partials(in, first_[k], second_[k], partial_a, partial_b);
       adjoints_[in.a] = adjoints_[in.a] + adjoint * partial_a;

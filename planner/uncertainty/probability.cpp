@@ -781,17 +781,40 @@ Eigen::VectorXd first_order_allocation(const AllocationRows& rows, const Eigen::
   return p;
 }
 
-// Checks the allocation `p` with the sound bounds over the scaled box (problems[k]: row k's
-// compiled precondition): the rows not proved, and their ε raised by how far their bound lies
-// past the threshold (for the next round).
+// The rows' compiled problems, one per expression and variable list: the two sides of a
+// clearance are two rows with one expression and one step's variables, so they share the problem
+// and, within a round, the tight bound (a bound depends on the expression and the box only).
+struct VerifyProblems {
+  std::vector<bounds::BoundProblem> problems;  // per distinct (expression, variables)
+  std::vector<std::size_t> of_row;             // row k's index into problems
+  std::vector<std::size_t> first_row;          // the first row with row k's problem
+
+  VerifyProblems(const InstanceAnalysis& analysis, const AllocationRows& rows) {
+    std::map<std::pair<std::uint32_t, std::vector<VariableId>>, std::size_t> first_with;
+    for (std::size_t k = 0; k < rows.results.size(); ++k) {
+      const PreconditionResult& result = *rows.results[k];
+      const auto [it, fresh] =
+          first_with.try_emplace({result.inequality.expression.id(), result.variables}, k);
+      first_row.push_back(it->second);
+      if (fresh) problems.emplace_back(result.inequality.expression, inputs_of(analysis, result));
+      of_row.push_back(fresh ? problems.size() - 1 : of_row[it->second]);
+    }
+  }
+};
+
+// Checks the allocation `p` with the sound bounds over the scaled box: the rows not proved, and
+// their ε raised by how far their bound lies past the threshold (for the next round).
 std::vector<ToleranceAllocation::Miss> verify_allocation(
     const Sensitivities& jacobian, const AllocationParameters& parameters,
-    const Eigen::VectorXd& p0, const Eigen::VectorXd& p,
-    std::vector<bounds::BoundProblem>& problems, const bounds::BoundOptions& options,
-    AllocationRows& rows) {
+    const Eigen::VectorXd& p0, const Eigen::VectorXd& p, VerifyProblems& verifying,
+    const bounds::BoundOptions& options, AllocationRows& rows) {
   std::vector<ToleranceAllocation::Miss> misses;
+  // This round's tight bounds, by the first row of their expression, with the box they cover.
+  std::vector<std::optional<std::pair<std::vector<bounds::Interval>, bounds::BoundResult>>> tight(
+      rows.results.size());
   for (std::size_t k = 0; k < rows.results.size(); ++k) {
     const PreconditionResult& result = *rows.results[k];
+    bounds::BoundProblem& problem = verifying.problems[verifying.of_row[k]];
     std::vector<bounds::Interval> box = result.box;
     for (std::size_t v = 0; v < box.size(); ++v) {
       const int q = parameters.of_variable[result.variables[v].index];
@@ -802,10 +825,16 @@ std::vector<ToleranceAllocation::Miss> verify_allocation(
     bounds::BoundOptions deciding = options;
     deciding.decide =
         bounds::DecisionTarget{result.inequality.relation, result.inequality.threshold};
-    if (bounds::decide(result.inequality, problems[k].bound(box, deciding)) ==
+    if (bounds::decide(result.inequality, problem.bound(box, deciding)) ==
         bounds::Verdict::kSatisfied)
       continue;
-    const bounds::BoundResult bound = problems[k].bound(box, options);
+    auto& shared = tight[verifying.first_row[k]];
+    const auto same = [](const bounds::Interval& a, const bounds::Interval& b) {
+      return a.lo == b.lo && a.hi == b.hi;
+    };
+    if (!shared || !std::ranges::equal(shared->first, box, same))
+      shared.emplace(box, problem.bound(box, options));
+    const bounds::BoundResult& bound = shared->second;
     if (bounds::decide(result.inequality, bound) == bounds::Verdict::kSatisfied) continue;
     const double t = result.inequality.threshold;
     const double by = upper_limit(result.inequality.relation) ? bound.hi - t : t - bound.lo;
@@ -837,7 +866,7 @@ ToleranceAllocation allocate_tolerances(const Scenario& scenario, const Instance
       }))
     return out;  // kNotNeeded, rounds 0: every parameter keeps its half-width
   Eigen::VectorXd p = p0;
-  std::vector<bounds::BoundProblem> problems;  // per row
+  std::optional<VerifyProblems> verifying;  // compiled once, for every round
   for (out.rounds = 1; out.rounds <= options.max_rounds; ++out.rounds) {
     for (std::size_t k = 0; k < rows.room.size(); ++k)
       if (rows.room[k] - rows.epsilon[k] < 0) {  // even with every tolerance 0
@@ -848,11 +877,9 @@ ToleranceAllocation allocate_tolerances(const Scenario& scenario, const Instance
     if (out.status == AllocationStatus::kInfeasible) return out;
     p = first_order_allocation(rows, p0, cost, options.algebra);
     if (!options.verify) break;
-    if (problems.empty())  // compiled once, for every round
-      for (const PreconditionResult* result : rows.results)
-        problems.emplace_back(result->inequality.expression, inputs_of(analysis, *result));
+    if (!verifying) verifying.emplace(analysis, rows);
     out.misses =
-        verify_allocation(jacobian, parameters, p0, p, problems, options.verify_bounds, rows);
+        verify_allocation(jacobian, parameters, p0, p, *verifying, options.verify_bounds, rows);
     if (out.misses.empty()) break;
   }
   out.rounds = std::min(out.rounds, options.max_rounds);
