@@ -350,6 +350,9 @@ Sensitivities sensitivities(const InstanceAnalysis& analysis) {
   Sensitivities out;
   out.cols = analysis.variables.size();
   std::vector<Triplet> triplets;
+  // [f, ∂f/∂x_1 .. ∂f/∂x_n, ∂²f/∂x_1² .. ∂²f/∂x_n²] at 0 by expression and variables: the two
+  // sides of a clearance are two rows with one expression.
+  std::map<std::pair<std::uint32_t, std::vector<VariableId>>, std::vector<double>> at_zero;
   for (std::size_t s = 0; s < analysis.steps.size(); ++s)
     for (std::size_t p = 0; p < analysis.steps[s].preconditions.size(); ++p) {
       const PreconditionResult& result = analysis.steps[s].preconditions[p];
@@ -358,17 +361,20 @@ Sensitivities sensitivities(const InstanceAnalysis& analysis) {
       out.row_precondition.push_back(p);
       const std::vector<Expr> inputs = inputs_of(analysis, result);
       const Expr f = result.inequality.expression;
-      // [f, ∂f/∂x_1 .. ∂f/∂x_n, ∂²f/∂x_1² .. ∂²f/∂x_n²] on one tape, evaluated at 0.
-      std::vector<Expr> outputs{f};
-      const std::vector<std::vector<Expr>> gradient = symbolic::jacobian({&f, 1}, inputs);
-      for (const Expr& g : gradient[0]) outputs.push_back(g);
-      for (std::size_t j = 0; j < inputs.size(); ++j)
-        outputs.push_back(symbolic::differentiate(gradient[0][j], inputs[j]));
-      const symbolic::Tape tape = symbolic::Tape::compile(outputs, inputs);
-      symbolic::TapeEvaluator<double> evaluator(tape);
-      const std::vector<double> zero(inputs.size(), 0.0);
-      std::vector<double> values(outputs.size());
-      evaluator.evaluate(zero, values);
+      auto [known, fresh] = at_zero.try_emplace({f.id(), result.variables});
+      std::vector<double>& values = known->second;
+      if (fresh) {  // one tape, evaluated at 0
+        std::vector<Expr> outputs{f};
+        const std::vector<std::vector<Expr>> gradient = symbolic::jacobian({&f, 1}, inputs);
+        for (const Expr& g : gradient[0]) outputs.push_back(g);
+        for (std::size_t j = 0; j < inputs.size(); ++j)
+          outputs.push_back(symbolic::differentiate(gradient[0][j], inputs[j]));
+        const symbolic::Tape tape = symbolic::Tape::compile(outputs, inputs);
+        symbolic::TapeEvaluator<double> evaluator(tape);
+        const std::vector<double> zero(inputs.size(), 0.0);
+        values.resize(outputs.size());
+        evaluator.evaluate(zero, values);
+      }
       out.nominal.push_back(values[0]);
       double trace = 0;
       for (std::size_t j = 0; j < inputs.size(); ++j) {
