@@ -3,6 +3,8 @@
 // so a function added to the table is checked everywhere it is generated.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -52,6 +54,38 @@ TEST(FunctionTable, EveryFunctionAgreesAcrossParserTapesAndDerivatives) {
     ++checked;
   }
   EXPECT_EQ(checked, 13);  // sin cos tan sqrt exp log abs atan asin acos atan2 min max
+}
+
+// The reverse pass passes a sum's, a difference's and a negation's adjoint on without a product
+// (their partials are exactly +-1): in doubles equal to the symbolic derivative, in intervals
+// enclosing it over a box.
+TEST(FunctionTable, ReversePassOfSumsDifferencesAndNegations) {
+  symbolic::ExprPool pool;
+  const std::vector<Expr> inputs{pool.variable("x"), pool.variable("y")};
+  const Expr f = symbolic::parse(pool, "-x + sin(x) * y - cos(y) - x * x * y + exp(x) - y * y");
+  const symbolic::Tape tape = symbolic::Tape::compile(std::span<const Expr>(&f, 1), inputs);
+  const auto count = [&](symbolic::TapeOp op) {
+    return std::ranges::count_if(tape.instructions(),
+                                 [&](const symbolic::Instruction& in) { return in.op == op; });
+  };
+  ASSERT_GT(count(symbolic::TapeOp::kAdd), 0);
+  ASSERT_GT(count(symbolic::TapeOp::kSub), 0);
+  ASSERT_GT(count(symbolic::TapeOp::kNeg), 0);
+  internal::GradientEvaluator<double> real(tape);
+  internal::GradientEvaluator<Interval> interval(tape);
+  const Interval box[] = {Interval{-0.5, 0.8}, Interval{0.1, 0.9}};
+  Interval enclosure[2];
+  (void)interval.value_and_gradient(box, enclosure);
+  for (const auto& point : {std::array{0.3, 0.7}, std::array{-0.5, 0.1}, std::array{0.8, 0.9}}) {
+    double gradient[2];
+    (void)real.value_and_gradient(point, gradient);
+    for (int i = 0; i < 2; ++i) {
+      const double symbolic_partial = symbolic::evaluate(symbolic::differentiate(f, inputs[i]),
+                                                         {{"x", point[0]}, {"y", point[1]}});
+      EXPECT_NEAR(gradient[i], symbolic_partial, 1e-12) << "d/d" << inputs[i].name();
+      EXPECT_TRUE(enclosure[i].contains(gradient[i])) << "d/d" << inputs[i].name();
+    }
+  }
 }
 
 }  // namespace
