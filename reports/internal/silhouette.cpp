@@ -27,6 +27,18 @@ BoostShape cascaded_union(const std::vector<BoostShape>& shapes, std::size_t fir
   return out;
 }
 
+// Whether `united` holds a point of every piece (its centroid, within `tolerance`): a union that
+// lost a piece (Boost's, on near-degenerate input) does not.
+bool covers_every_piece(const BoostShape& united, const std::vector<BoostShape>& pieces,
+                        double tolerance) {
+  if (united.empty()) return false;
+  return std::all_of(pieces.begin(), pieces.end(), [&](const BoostShape& piece) {
+    BoostPoint centroid;
+    bg::centroid(piece, centroid);
+    return bg::distance(centroid, united) <= tolerance;
+  });
+}
+
 // A Boost ring (closed; outer rings clockwise, holes counter-clockwise) as a Ring turning the
 // way the header says (the reverse), without the repeated last point.
 Ring ring_of(const bg::model::ring<BoostPoint>& boost_ring) {
@@ -46,12 +58,19 @@ std::vector<Ring> silhouette(const std::vector<Polygon2>& pieces) {
     for (const Eigen::Vector2d& p : piece) low = low.cwiseMin(p), high = high.cwiseMax(p);
   if (pieces.empty() || !(low.array() <= high.array()).all()) return {};
   const double size = std::max((high - low).norm(), 1e-12);
+  // Corners on a grid of 1e-9 drawing sizes: Boost's union of a mesh's projected triangles lost
+  // part of the outline (area more than 3% short of the projection's) at 75 of 624 turns of the
+  // built-in objects (7-degree steps about three axes), at 2 with the grid (2026-12-06).
+  const double grid = 1e-9 * size;
+  const auto snapped = [&](const Eigen::Vector2d& p) {
+    return BoostPoint(std::round(p.x() / grid) * grid, std::round(p.y() / grid) * grid);
+  };
   std::vector<BoostShape> shapes;
   for (const Polygon2& piece : pieces) {
     if (piece.size() < 3) continue;
     BoostPolygon polygon;
-    for (const Eigen::Vector2d& p : piece) bg::append(polygon.outer(), BoostPoint(p.x(), p.y()));
-    bg::append(polygon.outer(), BoostPoint(piece[0].x(), piece[0].y()));
+    for (const Eigen::Vector2d& p : piece) bg::append(polygon.outer(), snapped(p));
+    bg::append(polygon.outer(), snapped(piece[0]));
     if (std::fabs(bg::area(polygon)) <= 1e-9 * size * size) continue;  // seen edge-on
     bg::correct(polygon);
     shapes.push_back(BoostShape{polygon});
@@ -63,7 +82,7 @@ std::vector<Ring> silhouette(const std::vector<Polygon2>& pieces) {
   } catch (const bg::exception&) {
     united.clear();
   }
-  if (united.empty()) {  // the fallback: the convex hull contains the silhouette
+  if (!covers_every_piece(united, shapes, 1e-7 * size)) {  // the convex hull contains it
     BoostShape all;
     for (const BoostShape& shape : shapes) all.push_back(shape.front());
     BoostPolygon hull;

@@ -5,8 +5,10 @@
 //
 // Invariants: every ring is closed implicitly (the last point is not repeated), outer rings run
 // counter-clockwise and holes clockwise (x right, y up), and no ring has fewer than 3 points.
-// A union Boost.Geometry cannot form (degenerate input it refuses) falls back to the convex hull
-// of every point, which contains the silhouette.
+// Corners are snapped to a grid of 1e-9 drawing sizes first (Boost's union is far more reliable
+// on it). A union Boost.Geometry cannot form (degenerate input it refuses), or one that misses a
+// piece (no point of the union near the piece's centroid), falls back to the convex hull of every
+// point, which contains the silhouette.
 //
 // Example:
 //   std::vector<Polygon2> faces = {{{0, 0}, {1, 0}, {0, 1}}, {{1, 0}, {1, 1}, {0, 1}}};
