@@ -59,7 +59,7 @@ std::vector<Ring> silhouette(const std::vector<Polygon2>& pieces) {
   if (pieces.empty() || !(low.array() <= high.array()).all()) return {};
   const double size = std::max((high - low).norm(), 1e-12);
   // Corners on a grid of 1e-9 drawing sizes: Boost's union of a mesh's projected triangles lost
-  // part of the outline (area more than 3% short of the projection's) at 75 of 624 turns of the
+  // part of the outline (area more than 3% off the projection's) at 69 of 624 turns of the
   // built-in objects (7-degree steps about three axes), at 2 with the grid (2026-12-06).
   const double grid = 1e-9 * size;
   const auto snapped = [&](const Eigen::Vector2d& p) {
