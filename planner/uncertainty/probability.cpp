@@ -222,6 +222,13 @@ Eigen::VectorXd min_norm_solve(Csc& m, const Eigen::VectorXd& r, LinearAlgebra a
 }
 
 // The expressions of a precondition's variables (the pool's variables of those names).
+// Preconditions with one expression over one variable list (the two sides of a clearance) have
+// one compiled problem, one row of J, one bound over a box: this key names them.
+using ProblemKey = std::pair<std::uint32_t, std::vector<VariableId>>;
+ProblemKey problem_key(const PreconditionResult& result) {
+  return {result.inequality.expression.id(), result.variables};
+}
+
 std::vector<Expr> inputs_of(const InstanceAnalysis& analysis, const PreconditionResult& result) {
   std::vector<Expr> inputs;
   for (const VariableId id : result.variables) inputs.push_back(analysis.symbols.at(id.index));
@@ -350,9 +357,8 @@ Sensitivities sensitivities(const InstanceAnalysis& analysis) {
   Sensitivities out;
   out.cols = analysis.variables.size();
   std::vector<Triplet> triplets;
-  // [f, ∂f/∂x_1 .. ∂f/∂x_n, ∂²f/∂x_1² .. ∂²f/∂x_n²] at 0 by expression and variables: the two
-  // sides of a clearance are two rows with one expression.
-  std::map<std::pair<std::uint32_t, std::vector<VariableId>>, std::vector<double>> at_zero;
+  // [f, ∂f/∂x_1 .. ∂f/∂x_n, ∂²f/∂x_1² .. ∂²f/∂x_n²] at 0, once per problem_key.
+  std::map<ProblemKey, std::vector<double>> at_zero;
   for (std::size_t s = 0; s < analysis.steps.size(); ++s)
     for (std::size_t p = 0; p < analysis.steps[s].preconditions.size(); ++p) {
       const PreconditionResult& result = analysis.steps[s].preconditions[p];
@@ -361,7 +367,7 @@ Sensitivities sensitivities(const InstanceAnalysis& analysis) {
       out.row_precondition.push_back(p);
       const std::vector<Expr> inputs = inputs_of(analysis, result);
       const Expr f = result.inequality.expression;
-      auto [known, fresh] = at_zero.try_emplace({f.id(), result.variables});
+      auto [known, fresh] = at_zero.try_emplace(problem_key(result));
       std::vector<double>& values = known->second;
       if (fresh) {  // one tape, evaluated at 0
         std::vector<Expr> outputs{f};
@@ -787,20 +793,18 @@ Eigen::VectorXd first_order_allocation(const AllocationRows& rows, const Eigen::
   return p;
 }
 
-// The rows' compiled problems, one per expression and variable list: the two sides of a
-// clearance are two rows with one expression and one step's variables, so they share the problem
-// and, within a round, the tight bound (a bound depends on the expression and the box only).
+// The rows' compiled problems, one per problem_key, and within a round one tight bound per
+// problem and box (a bound depends on the expression and the box only).
 struct VerifyProblems {
-  std::vector<bounds::BoundProblem> problems;  // per distinct (expression, variables)
+  std::vector<bounds::BoundProblem> problems;  // per distinct problem_key
   std::vector<std::size_t> of_row;             // row k's index into problems
   std::vector<std::size_t> first_row;          // the first row with row k's problem
 
   VerifyProblems(const InstanceAnalysis& analysis, const AllocationRows& rows) {
-    std::map<std::pair<std::uint32_t, std::vector<VariableId>>, std::size_t> first_with;
+    std::map<ProblemKey, std::size_t> first_with;
     for (std::size_t k = 0; k < rows.results.size(); ++k) {
       const PreconditionResult& result = *rows.results[k];
-      const auto [it, fresh] =
-          first_with.try_emplace({result.inequality.expression.id(), result.variables}, k);
+      const auto [it, fresh] = first_with.try_emplace(problem_key(result), k);
       first_row.push_back(it->second);
       if (fresh) problems.emplace_back(result.inequality.expression, inputs_of(analysis, result));
       of_row.push_back(fresh ? problems.size() - 1 : of_row[it->second]);
