@@ -794,12 +794,13 @@ void seed_phase2(int repeats, Comparison& all, double& our_seconds, double& peer
       "Default AnalysisOptions (quick/bound/report budgets). `build` = Propagation::step "
       "over the instance (expressions only); `analyse` = analyse_instance (build, decide, "
       "repair, verification); `extras` = add_margins (tight bound, blame, reverse, %zu "
-      "Monte Carlo samples per precondition).\n\n",
+      "Monte Carlo samples per precondition) on one thread, `extras, 2 threads` the same on "
+      "two (AnalysisOptions::threads, as `spar plan` runs one scenario on this machine).\n\n",
       repeats, planner::AnalysisOptions{}.samples);
   std::printf(
       "| experiment | steps (analysed) | preconditions | errors | build | analyse, repair "
-      "and reverse off | analyse | extras | analyse+extras | per precondition (analyse) "
-      "|\n|---|---|---|---|---|---|---|---|---|---|\n");
+      "and reverse off | analyse | extras | extras, 2 threads | analyse+extras | per "
+      "precondition (analyse) |\n|---|---|---|---|---|---|---|---|---|---|---|\n");
   const planner::Domain& domain = planner::builtin_domain();
   for (const char* name : kExamples) {
     const planner::WorldModel world(planner::load_scenario(example_path(name)));
@@ -848,13 +849,16 @@ void seed_phase2(int repeats, Comparison& all, double& our_seconds, double& peer
     const double tight = time_extras(tight_only), blamed = time_extras(with_blame),
                  sampled = time_extras(with_monte_carlo);
     const double extras = time_extras(options);
+    planner::AnalysisOptions two_threads = options;
+    two_threads.threads = 2;
+    const double extras_on_two = time_extras(two_threads);
     std::size_t preconditions = 0;
     for (const planner::AnalysedStep& step : analysis.steps)
       preconditions += step.preconditions.size();
-    std::printf("| %s | %zu (%zu) | %zu | %d | %.3f | %.3f | %.3f | %.1f | %.1f | %.3f |\n", name,
-                steps.size(), analysis.steps.size(), preconditions, analysis.errors, 1e3 * build,
-                1e3 * bare, 1e3 * analyse, 1e3 * extras, 1e3 * (analyse + extras),
-                preconditions ? 1e3 * analyse / preconditions : 0.0);
+    std::printf("| %s | %zu (%zu) | %zu | %d | %.3f | %.3f | %.3f | %.1f | %.1f | %.1f | %.3f |\n",
+                name, steps.size(), analysis.steps.size(), preconditions, analysis.errors,
+                1e3 * build, 1e3 * bare, 1e3 * analyse, 1e3 * extras, 1e3 * extras_on_two,
+                1e3 * (analyse + extras), preconditions ? 1e3 * analyse / preconditions : 0.0);
     std::printf(
         "  extras, by part (each added to the ones before): tight bound %.1f, blame %.1f, Monte "
         "Carlo %.1f, reverse %.1f ms\n",

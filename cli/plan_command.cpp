@@ -7,6 +7,8 @@
 //   spar plan SCENARIO --report DIR         writes DIR/report.{json,md,html} atomically (nothing
 //             [--format json,md,html]       when planning fails) and prints a summary and where
 //   spar plan SCENARIO --json               the JSON report on standard output
+//   spar plan SCENARIO --jobs N             N threads for the chosen instance's margins (0, the
+//                                           default: one per core; the report is the same)
 //   spar plan --batch FILE_OR_DIR [--jobs N] [--report DIR]
 //             many scenarios (a folder's *.yaml, or a file listing one path per line, relative to
 //             the file) on a thread pool: one JSON line per scenario, in input order, either
@@ -44,6 +46,7 @@
 #include "cli/demo_scenario.hpp"
 #include "cli/options.hpp"
 #include "spar/common/deadline.hpp"
+#include "spar/common/parallel.hpp"
 #include "spar/common/text.hpp"
 #include "spar/planner/plan.hpp"
 #include "spar/reports/build.hpp"
@@ -182,9 +185,8 @@ int run_batch(const PlanArguments& arguments, const planner::Domain& domain,
                          single_quoted(fs::path(item.path).stem().string()) +
                          " (each report goes to DIR/<stem>/)");
   }
-  const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
   const std::size_t jobs =
-      std::min<std::size_t>(items.size(), arguments.jobs > 0 ? arguments.jobs : cores);
+      std::min<std::size_t>(items.size(), arguments.jobs > 0 ? arguments.jobs : default_threads());
   std::mutex mutex;
   int status = kPlanProved;  // the highest of the scenarios' (a failed one: kPlanBadInput)
   const PlanOne plan_one = [&](const planner::Scenario& scenario, nlohmann::ordered_json& record) {
@@ -265,6 +267,9 @@ int run_plan(const PlanArguments& arguments) {
     options.probability.reset();
   else
     options.probability->samples = arguments.samples;
+  // One scenario uses every core for its margins; a batch uses them for its scenarios.
+  if (arguments.batch.empty())
+    options.analysis.threads = arguments.jobs > 0 ? arguments.jobs : default_threads();
   return arguments.batch.empty() ? run_single(arguments, domain, options)
                                  : run_batch(arguments, domain, options);
 }
@@ -320,7 +325,9 @@ void add_plan_command(CLI::App& app, int& exit_status) {
   command->add_option("--batch", arguments->batch,
                       "plan many scenarios: a folder of *.yaml or a file listing paths");
   add_count_option(*command, "--jobs", arguments->jobs,
-                   "batch threads, 0 for the number of cores (default 0)", 0, 256);
+                   "threads: a batch's scenarios at once, or one scenario's margins; 0 for "
+                   "the number of cores (default 0)",
+                   0, 256);
   set_callback(*command, arguments, add_report_options(*command, *arguments), exit_status);
 }
 

@@ -18,13 +18,22 @@ constexpr unsigned kClockEvery = 64;
 
 }  // namespace
 
-ScopedDeadline::ScopedDeadline(std::chrono::duration<double> limit) {
+std::optional<Deadline> current_deadline() {
+  if (!current.active) return std::nullopt;
+  return Deadline{current.at, current.seconds};
+}
+
+ScopedDeadline::ScopedDeadline(std::chrono::duration<double> limit)
+    : ScopedDeadline(
+          Deadline{std::chrono::steady_clock::now() +
+                       std::chrono::duration_cast<std::chrono::steady_clock::duration>(limit),
+                   limit.count()}) {}
+
+ScopedDeadline::ScopedDeadline(const Deadline& deadline) {
   if (current.active) previous_ = Deadline{current.at, current.seconds};
-  const auto at = std::chrono::steady_clock::now() +
-                  std::chrono::duration_cast<std::chrono::steady_clock::duration>(limit);
-  if (!current.active || at < current.at) {
-    current.at = at;
-    current.seconds = limit.count();
+  if (!current.active || deadline.at < current.at) {
+    current.at = deadline.at;
+    current.seconds = deadline.seconds;
   }
   current.active = true;
   current.calls = 0;

@@ -31,20 +31,28 @@ class TimeLimitError : public Error {
   using Error::Error;
 };
 
-// Puts the calling thread under `limit` from now (or keeps an earlier deadline already set) until
-// destroyed, when the previous deadline comes back. Not movable: it belongs to a scope.
+// A point in time a thread must finish by, and the limit it came from (for the message).
+struct Deadline {
+  std::chrono::steady_clock::time_point at;
+  double seconds;
+};
+
+// The calling thread's deadline, if it runs under one: threads that work for it take it along
+// (ScopedDeadline(Deadline), as common/parallel.hpp's workers do).
+[[nodiscard]] std::optional<Deadline> current_deadline();
+
+// Puts the calling thread under `limit` from now, or under `deadline` (another thread's), or
+// keeps an earlier deadline already set, until destroyed, when the previous deadline comes back.
+// Not movable: it belongs to a scope.
 class ScopedDeadline {
  public:
   explicit ScopedDeadline(std::chrono::duration<double> limit);
+  explicit ScopedDeadline(const Deadline& deadline);
   ~ScopedDeadline();
   ScopedDeadline(const ScopedDeadline&) = delete;
   ScopedDeadline& operator=(const ScopedDeadline&) = delete;
 
  private:
-  struct Deadline {
-    std::chrono::steady_clock::time_point at;
-    double seconds;  // the limit, for the message
-  };
   std::optional<Deadline> previous_;
 };
 

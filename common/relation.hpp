@@ -38,5 +38,19 @@ inline constexpr std::array<std::string_view, 4> kRelationNames = {"<", "<=", ">
 [[nodiscard]] constexpr bool strict(Relation relation) {
   return relation == Relation::kLess || relation == Relation::kGreater;
 }
+// Whether `value relation threshold` is true; false for a NaN value (undefined there).
+[[nodiscard]] constexpr bool holds(double value, Relation relation, double threshold) {
+  switch (relation) {
+    case Relation::kLess:
+      return value < threshold;
+    case Relation::kLessEqual:
+      return value <= threshold;
+    case Relation::kGreater:
+      return value > threshold;
+    case Relation::kGreaterEqual:
+      return value >= threshold;
+  }
+  return false;
+}
 
 }  // namespace spar

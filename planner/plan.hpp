@@ -31,6 +31,7 @@
 #include "spar/planner/scenario.hpp"
 #include "spar/planner/sense_planning.hpp"
 #include "spar/planner/uncertainty/analysis.hpp"
+#include "spar/planner/uncertainty/margins.hpp"
 #include "spar/planner/uncertainty/probability.hpp"
 #include "spar/planner/world.hpp"
 

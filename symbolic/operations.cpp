@@ -121,12 +121,15 @@ std::vector<std::vector<Expr>> jacobian(std::span<const Expr> outputs,
   return j;
 }
 
-Expr rebuild(Expr e, std::span<const Expr> operands) {
-  ExprPool& pool = e.pool();
+namespace {
+
+// rebuild() in `pool` (the operands' pool): constants and variables are made there too.
+Expr rebuild_in(ExprPool& pool, Expr e, std::span<const Expr> operands) {
   switch (e.op()) {
     case Op::kConstant:
+      return &pool == &e.pool() ? e : pool.constant(e.constant());
     case Op::kVariable:
-      return e;
+      return &pool == &e.pool() ? e : pool.variable(e.name());
     case Op::kAdd:
     case Op::kMul: {
       std::vector<Term> terms;
@@ -139,6 +142,30 @@ Expr rebuild(Expr e, std::span<const Expr> operands) {
       return operands.size() == 2 ? pool.function(e.op(), operands[0], operands[1])
                                   : pool.function(e.op(), operands[0]);
   }
+}
+
+}  // namespace
+
+Expr rebuild(Expr e, std::span<const Expr> operands) { return rebuild_in(e.pool(), e, operands); }
+
+std::vector<Expr> copy_into(ExprPool& to, std::span<const Expr> roots) {
+  if (!roots.empty() && &to == &roots.front().pool())
+    return std::vector<Expr>(roots.begin(), roots.end());
+  if (to.size() != 0) throw SymbolicError("copy_into: the pool to copy into must be empty");
+  std::vector<Expr> nodes = topological_order(roots);
+  std::sort(nodes.begin(), nodes.end(), [](Expr a, Expr b) { return a.id() < b.id(); });
+  std::unordered_map<std::uint32_t, Expr> image;
+  image.reserve(nodes.size());
+  std::vector<Expr> operands;
+  for (const Expr e : nodes) {
+    operands.clear();
+    for (std::size_t i = 0; i < e.operand_count(); ++i)
+      operands.push_back(image.at(e.operand(i).id()));
+    image.emplace(e.id(), rebuild_in(to, e, operands));
+  }
+  std::vector<Expr> copies;
+  for (const Expr root : roots) copies.push_back(image.at(root.id()));
+  return copies;
 }
 
 Expr substitute(Expr f, const std::vector<std::pair<Expr, Expr>>& replacements) {

@@ -1,4 +1,5 @@
-// Operations on expressions: differentiation, substitution, free variables, evaluation, sizes.
+// Operations on expressions: differentiation, substitution, copying between pools, free
+// variables, evaluation, sizes.
 //
 // Every operation walks the DAG in topological order with an explicit stack, so each shared
 // subexpression is visited once and no expression is too deep to process. Differentiation is
@@ -36,6 +37,17 @@ namespace spar::symbolic {
 // Rebuilds a node of e's kind (same op, constant and factors) over new operands; used by
 // rewriting passes. `operands.size()` must equal e.operand_count().
 [[nodiscard]] Expr rebuild(Expr e, std::span<const Expr> operands);
+
+// The roots built again in `to`, a pool with nothing in it yet (typically one per thread: pools
+// are not thread-safe), node by node in the order of their ids. Ids are topological and the
+// rebuilt nodes get ids in the same relative order, so every Add and Mul sorts its operands as
+// the original did and each node is its own canonical form again: the copies print the same,
+// compile to the same tapes and so bound the same as the roots. (Into a pool that already holds
+// nodes, a rebuilt node may meet an older one out of that order; hence the empty pool.) `to` may
+// also be the roots' own pool, which returns the roots. Returns the copies in the roots' order;
+// the roots' pool is only read. Throws SymbolicError for another pool that is not empty.
+// Cost: O(DAG) constructions in `to`.
+[[nodiscard]] std::vector<Expr> copy_into(ExprPool& to, std::span<const Expr> roots);
 
 // Variables occurring in f, sorted by name.
 [[nodiscard]] std::vector<Expr> free_variables(Expr f);

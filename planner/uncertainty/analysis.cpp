@@ -2,17 +2,14 @@
 
 #include <algorithm>
 #include <bit>
-#include <cmath>
 #include <cstdio>
-#include <random>
 #include <set>
-#include <span>
 
 #include "spar/bounds/interval.hpp"
 #include "spar/planner/error.hpp"
 #include "spar/planner/uncertainty/internal/bisection.hpp"
+#include "spar/planner/uncertainty/margins.hpp"
 #include "spar/symbolic/operations.hpp"
-#include "spar/symbolic/tape.hpp"
 
 namespace spar::planner {
 
@@ -39,7 +36,6 @@ std::vector<Phase2Step> phase2_steps(const Domain& domain, const PlanInstance& i
 
 namespace {
 
-using bounds::Interval;
 using bounds::Verdict;
 using symbolic::Expr;
 
@@ -399,20 +395,6 @@ void InstanceAnalyser::number_by_position(InstanceAnalysis& out,
   out.symbols = state.space().symbols();
 }
 
-bool holds(const bounds::Inequality& inequality, double value) {
-  switch (inequality.relation) {
-    case bounds::Relation::kLess:
-      return value < inequality.threshold;
-    case bounds::Relation::kLessEqual:
-      return value <= inequality.threshold;
-    case bounds::Relation::kGreater:
-      return value > inequality.threshold;
-    case bounds::Relation::kGreaterEqual:
-      return value >= inequality.threshold;
-  }
-  return false;
-}
-
 }  // namespace
 
 InstanceAnalysis analyse_instance(const WorldModel& world, const Domain& domain,
@@ -426,121 +408,6 @@ InstanceAnalysis analyse_instance(const WorldModel& world, const Domain& domain,
     for (PreconditionResult& result : step.preconditions)
       result.nodes = symbolic::dag_size(result.inequality.expression);
   return analysis;
-}
-
-namespace {
-
-// PreconditionResult::blame: per variable, the share of the mean-value enclosure's width that goes
-// when it is pinned to its nominal value 0 (BoundProblem::width_shares), largest first.
-void add_blame(PreconditionResult& result, bounds::BoundProblem& problem) {
-  std::vector<double> nominal(result.box.size());
-  for (std::size_t v = 0; v < nominal.size(); ++v)
-    nominal[v] = std::clamp(0.0, result.box[v].lo, result.box[v].hi);
-  const std::vector<double> shares = problem.width_shares(result.box, nominal);
-  result.blame.clear();
-  for (std::size_t v = 0; v < shares.size(); ++v)
-    result.blame.push_back({result.variables[v], shares[v]});
-  std::stable_sort(result.blame.begin(), result.blame.end(),
-                   [](const auto& a, const auto& b) { return a.share > b.share; });
-}
-
-// PreconditionResult::monte_carlo_violation: the fraction of `samples` uniform points of the box
-// where the inequality is false.
-void add_monte_carlo(PreconditionResult& result, std::span<const Expr> inputs, std::size_t samples,
-                     std::mt19937_64& random) {
-  const symbolic::Tape tape = symbolic::Tape::compile({&result.inequality.expression, 1}, inputs);
-  symbolic::TapeEvaluator<double> evaluator(tape);
-  std::size_t violations = 0;
-  std::vector<double> point(inputs.size());
-  double value[1];
-  for (std::size_t s = 0; s < samples; ++s) {
-    for (std::size_t v = 0; v < inputs.size(); ++v)
-      point[v] = std::uniform_real_distribution<double>(result.box[v].lo, result.box[v].hi)(random);
-    evaluator.evaluate(point, value);
-    if (!holds(result.inequality, value[0])) ++violations;
-  }
-  result.monte_carlo_violation = static_cast<double>(violations) / samples;
-  result.monte_carlo_samples = samples;
-}
-
-// PreconditionResult::holds_up_to_scale: the largest s in [0, max_scale] for which the inequality
-// is PROVED over the box whose objects' ranges (and the arm's, if asked) are s times the space's.
-// Each scale is decided, not bounded tightly (BoundOptions::decide: one side, early exit); a scale
-// counts only when the sound bound proves it.
-std::optional<double> proved_scale(const PreconditionResult& result, bounds::BoundProblem& problem,
-                                   const std::vector<SpaceVariable>& variables,
-                                   const AnalysisOptions& options) {
-  bounds::BoundOptions deciding = options.quick;
-  deciding.decide = bounds::DecisionTarget{result.inequality.relation, result.inequality.threshold};
-  deciding.inner = false;  // only a proof counts here: NLopt's violating witness would not
-  // Every scale shares the SMP rewrite of the reported box (built by the tight bound above), not
-  // one rewrite per scale: half the time of this analysis went into building them.
-  for (const Interval& range : result.box) deciding.rewrite_widths.push_back(range.width());
-  const auto proved_at = [&](double scale) {
-    std::vector<Interval> box = result.box;
-    for (std::size_t v = 0; v < box.size(); ++v) {
-      const SpaceVariable& meta = variables[result.variables[v].index];
-      if (of_the_arm(meta.provenance.source) && !options.scale_manipulator) continue;
-      box[v] = Interval(meta.lower * scale, meta.upper * scale);
-    }
-    return bounds::decide(result.inequality, problem.bound(box, deciding)) == Verdict::kSatisfied;
-  };
-  if (!proved_at(0.0)) return std::nullopt;
-  return internal::largest_holding(0.0, options.max_scale, options.reverse_iterations, proved_at);
-}
-
-}  // namespace
-
-void add_margins(InstanceAnalysis& analysis, const AnalysisOptions& options,
-                 const std::function<void(std::string_view)>& progress) {
-  std::size_t total = 0, done = 0;
-  for (const AnalysedStep& step : analysis.steps) total += step.preconditions.size();
-  for (std::size_t k = 0; k < analysis.steps.size(); ++k) {
-    AnalysedStep& step = analysis.steps[k];
-    // One compiled problem per expression of the step for every pass below. A step's
-    // preconditions share its variables and box, so two with one expression (the two sides of a
-    // clearance) have one tight bound and one blame: computed for the first.
-    std::map<std::uint32_t, std::pair<bounds::BoundProblem, std::size_t>> by_expression;
-    for (std::size_t i = 0; i < step.preconditions.size(); ++i) {
-      PreconditionResult& result = step.preconditions[i];
-      if (progress)
-        progress("phase 2: margins of precondition " + std::to_string(++done) + " of " +
-                 std::to_string(total));
-      std::vector<Expr> inputs;
-      for (const VariableId id : result.variables) inputs.push_back(analysis.symbols[id.index]);
-      const Expr f = result.inequality.expression;
-      auto [shared, first] =
-          by_expression.try_emplace(f.id(), std::piecewise_construct,
-                                    std::forward_as_tuple(f, inputs), std::forward_as_tuple(i));
-      bounds::BoundProblem& problem = shared->second.first;
-      if (first) {
-        // A tight bound with inner values (the natural pass that decided a satisfied
-        // precondition has none): [lo, hi] only shrinks, so the verdict stands.
-        result.bound = problem.bound(result.box, options.report);
-        if (options.blame) add_blame(result, problem);
-      } else {
-        const PreconditionResult& earlier = step.preconditions[shared->second.second];
-        result.bound = earlier.bound;
-        result.blame = earlier.blame;
-      }
-      result.witness = bounds::witness(result.inequality, result.bound);
-      if (options.samples > 0) {
-        // Each precondition its own stream: its estimate does not depend on how many points the
-        // others drew (fewer for the proved ones).
-        std::seed_seq seeds{std::size_t{20261201}, k, i};
-        std::mt19937_64 random(seeds);
-        const bool proved = result.verdict == bounds::Verdict::kSatisfied;
-        add_monte_carlo(
-            result, inputs,
-            proved ? std::max<std::size_t>(
-                         1, options.samples / std::max<std::size_t>(1, options.proved_share))
-                   : options.samples,
-            random);
-      }
-      if (options.reverse)
-        result.holds_up_to_scale = proved_scale(result, problem, analysis.variables, options);
-    }
-  }
 }
 
 std::size_t choose_instance(const std::vector<InstanceAnalysis>& examined) {

@@ -18,25 +18,10 @@
 // While it searches, a step's variables are named after its Phase2Step::label, which a splice does
 // not move (replays rebuild the same expressions, and DecisionCache answers them); the result is
 // numbered by execution position (dx_g<position>, ...), as the reports show the steps.
-// Then, on the chosen instance only (options permitting):
-//   reverse analysis  per precondition, the largest uniform scale s in [0, max_scale] of the
-//                     uncertainty of the objects it depends on (their initial / sensed variables,
-//                     the arm's too when `scale_manipulator`) for which it is PROVED to hold: a
-//                     bisection in which every accepted scale is a satisfied verdict;
-//   blame             per precondition and variable, the share of the width of the mean-value
-//                     enclosure over the box that goes when that variable is pinned to its
-//                     nominal value 0 (bounds::BoundProblem::width_shares: one interval
-//                     gradient, first order: which variables take up the bound, not a bound);
-//   sensor margin     for a failed step (any instance), the largest residual scale of the
-//                     range-scan that would make it hold (AnalysedStep::sensor_scale_needed);
-//   Monte Carlo       the fraction of `samples` uniform points of the box where the inequality
-//                     is false (on the same tape); a violation sampled for a precondition
-//                     reported satisfied would be a soundness bug. A precondition proved
-//                     satisfied has share 0 by soundness, so its sampling is only that self-check
-//                     and uses samples / proved_share points (PreconditionResult::
-//                     monte_carlo_samples says how many). Each precondition draws from its own
-//                     stream (seeded by its step and place), so its estimate does not change
-//                     with the others' verdicts.
+// A failed step (any instance) also gets its sensor margin, the largest residual scale of the
+// range-scan that would make it hold (AnalysedStep::sensor_scale_needed). Then, on the chosen
+// instance only, the margins (planner/uncertainty/margins.hpp): tight bounds, blame, Monte Carlo
+// and the reverse analysis of every precondition.
 //
 // Example:
 //   const std::vector<InstanceAnalysis> examined = analyse_instances(world, domain, instances);
@@ -153,6 +138,9 @@ struct AnalysisOptions {
   // A proved precondition's Monte Carlo is a self-check (its share is 0 by soundness): it draws
   // samples / proved_share points (at least one; 1: as many as any other).
   std::size_t proved_share{10};
+  // Threads for the margins (common/parallel.hpp; 1: the calling thread only). The results do
+  // not depend on it. The command line uses one per core for one scenario, 1 in a batch.
+  unsigned threads{1};
 };
 
 // The instance's steps as phase 2 sees them, each labelled instance_step + 1 (Phase2Step::label).
@@ -174,11 +162,5 @@ struct AnalysisOptions {
     const WorldModel& world, const Domain& domain, const std::vector<PlanInstance>& instances,
     const AnalysisOptions& options = {},
     const std::function<void(std::string_view stage)>& progress = {});
-
-// Adds the chosen-instance extras to an analysis: a tight bound with inner values for every
-// precondition, blame, reverse analysis and Monte Carlo (as `options` enable them). `progress`,
-// when set, is told each precondition as it starts ("phase 2: margins of precondition 12 of 40").
-void add_margins(InstanceAnalysis& analysis, const AnalysisOptions& options,
-                 const std::function<void(std::string_view stage)>& progress = {});
 
 }  // namespace spar::planner

@@ -60,18 +60,7 @@ std::pair<double, double> wilson(std::size_t k, std::size_t n) {
 
 // Whether the precondition is violated where its expression has `value` (NaN: undefined there).
 bool violated(const bounds::Inequality& inequality, double value) {
-  const double t = inequality.threshold;
-  switch (inequality.relation) {
-    case bounds::Relation::kLess:
-      return !(value < t);
-    case bounds::Relation::kLessEqual:
-      return !(value <= t);
-    case bounds::Relation::kGreater:
-      return !(value > t);
-    case bounds::Relation::kGreaterEqual:
-      return !(value >= t);
-  }
-  return true;
+  return !holds(value, inequality.relation, inequality.threshold);
 }
 
 // P(violation) of N(mean, sigma^2) truncated to the support [lo, hi] of f (the sound bound).

@@ -9,6 +9,7 @@
 #include <unordered_map>
 
 #include "random_expr.hpp"
+#include "spar/symbolic/error.hpp"
 #include "spar/symbolic/operations.hpp"
 #include "spar/symbolic/parse.hpp"
 #include "spar/symbolic/tape.hpp"
@@ -190,6 +191,40 @@ RC_GTEST_PROP(SymbolicProperty, HashConsingGivesEqualIds, ()) {
   }
   const auto third = build_random_expr(reversed, recipe, point);
   RC_ASSERT(dag_size(third.expr) == dag_size(first.expr));
+}
+
+// A copy into another pool is the same expression: it prints the same, has the same DAG and
+// compiles to the same tape, instruction by instruction and constant by constant (so anything
+// computed from the tape, a bound or a sample, is the same); the new pool's canonical forms hold.
+// Copying into the roots' own pool returns the roots themselves; into a pool already in use is
+// refused (its older nodes could sort differently).
+RC_GTEST_PROP(SymbolicProperty, CopyIntoAnotherPoolIsTheSameExpression, ()) {
+  const std::map<std::string, double> point{{"x", 0.5}, {"y", 0.25}, {"z", 2.0}};
+  ExprPool pool;
+  const auto a = build_random_expr(pool, *random_recipe(), point);
+  const auto b = build_random_expr(pool, *random_recipe(), point);
+  const Expr roots[] = {a.expr, b.expr, a.expr * b.expr};
+  ExprPool other;
+  const std::vector<Expr> copies = copy_into(other, roots);
+  other.check_invariants();
+  RC_ASSERT(copies.size() == std::size(roots));
+  for (std::size_t i = 0; i < copies.size(); ++i) {
+    RC_ASSERT(to_string(copies[i]) == to_string(roots[i]));
+    RC_ASSERT(dag_size(copies[i]) == dag_size(roots[i]));
+  }
+  const std::vector<Expr> inputs{pool.variable("x"), pool.variable("y"), pool.variable("z")};
+  const std::vector<Expr> copied_inputs{other.variable("x"), other.variable("y"),
+                                        other.variable("z")};
+  const Tape original = Tape::compile(roots, inputs), copy = Tape::compile(copies, copied_inputs);
+  RC_ASSERT(copy.instructions().size() == original.instructions().size());
+  for (std::size_t i = 0; i < copy.instructions().size(); ++i) {
+    const Instruction& p = original.instructions()[i];
+    const Instruction& q = copy.instructions()[i];
+    RC_ASSERT(p.op == q.op && p.power == q.power && p.dst == q.dst && p.a == q.a && p.b == q.b);
+  }
+  RC_ASSERT(std::ranges::equal(copy.constants(), original.constants()));
+  RC_ASSERT(copy_into(pool, roots) == std::vector<Expr>(std::begin(roots), std::end(roots)));
+  RC_ASSERT_THROWS_AS((void)copy_into(other, roots), SymbolicError);
 }
 
 // A 17-digit literal is enclosed by exactly the two neighbours of its double, at every magnitude

@@ -1,0 +1,54 @@
+#include "spar/common/parallel.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <exception>
+#include <mutex>
+#include <optional>
+#include <thread>
+#include <vector>
+
+#include "spar/common/deadline.hpp"
+
+namespace spar {
+
+void run_tasks(std::size_t count, unsigned threads, const std::function<void(std::size_t)>& task,
+               const std::function<void(std::size_t finished)>& on_caller_done) {
+  std::atomic<std::size_t> next{0}, finished{0};
+  std::atomic<bool> failed{false};
+  std::exception_ptr first_error;
+  std::mutex error_mutex;
+  // Takes tasks until none is left or one has thrown.
+  const auto work = [&](bool on_caller) {
+    for (std::size_t i = next++; i < count && !failed; i = next++) {
+      try {
+        task(i);
+      } catch (...) {
+        const std::lock_guard lock(error_mutex);
+        if (!first_error) first_error = std::current_exception();
+        failed = true;
+        return;
+      }
+      const std::size_t done = ++finished;
+      if (on_caller && on_caller_done) on_caller_done(done);
+    }
+  };
+  const std::size_t workers =
+      std::min<std::size_t>(threads > 1 ? threads - 1 : 0, count > 1 ? count - 1 : 0);
+  {
+    const std::optional<Deadline> deadline = current_deadline();
+    std::vector<std::jthread> pool;
+    for (std::size_t w = 0; w < workers; ++w)
+      pool.emplace_back([&] {
+        std::optional<ScopedDeadline> inherited;
+        if (deadline) inherited.emplace(*deadline);
+        work(false);
+      });
+    work(true);
+  }  // joins the workers
+  if (first_error) std::rethrow_exception(first_error);
+}
+
+unsigned default_threads() { return std::max(1u, std::thread::hardware_concurrency()); }
+
+}  // namespace spar

@@ -1,0 +1,180 @@
+#include "spar/planner/uncertainty/margins.hpp"
+
+#include <algorithm>
+#include <map>
+#include <memory>
+#include <optional>
+#include <random>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "spar/bounds/bound.hpp"
+#include "spar/bounds/inequality.hpp"
+#include "spar/common/parallel.hpp"
+#include "spar/planner/uncertainty/internal/bisection.hpp"
+#include "spar/symbolic/operations.hpp"
+#include "spar/symbolic/tape.hpp"
+
+namespace spar::planner {
+namespace {
+
+using bounds::Interval;
+using bounds::Verdict;
+using symbolic::Expr;
+
+// PreconditionResult::blame: per variable, the share of the mean-value enclosure's width that goes
+// when it is pinned to its nominal value 0 (BoundProblem::width_shares), largest first.
+void add_blame(PreconditionResult& result, bounds::BoundProblem& problem) {
+  std::vector<double> nominal(result.box.size());
+  for (std::size_t v = 0; v < nominal.size(); ++v)
+    nominal[v] = std::clamp(0.0, result.box[v].lo, result.box[v].hi);
+  const std::vector<double> shares = problem.width_shares(result.box, nominal);
+  result.blame.clear();
+  for (std::size_t v = 0; v < shares.size(); ++v)
+    result.blame.push_back({result.variables[v], shares[v]});
+  std::stable_sort(result.blame.begin(), result.blame.end(),
+                   [](const auto& a, const auto& b) { return a.share > b.share; });
+}
+
+// PreconditionResult::monte_carlo_violation: the fraction of `samples` uniform points of the box
+// where the inequality, with expression f over `inputs`, is false.
+void add_monte_carlo(PreconditionResult& result, Expr f, std::span<const Expr> inputs,
+                     std::size_t samples, std::mt19937_64& random) {
+  const symbolic::Tape tape = symbolic::Tape::compile({&f, 1}, inputs);
+  symbolic::TapeEvaluator<double> evaluator(tape);
+  std::size_t violations = 0;
+  std::vector<double> point(inputs.size());
+  double value[1];
+  for (std::size_t s = 0; s < samples; ++s) {
+    for (std::size_t v = 0; v < inputs.size(); ++v)
+      point[v] = std::uniform_real_distribution<double>(result.box[v].lo, result.box[v].hi)(random);
+    evaluator.evaluate(point, value);
+    if (!holds(value[0], result.inequality.relation, result.inequality.threshold)) ++violations;
+  }
+  result.monte_carlo_violation = static_cast<double>(violations) / samples;
+  result.monte_carlo_samples = samples;
+}
+
+// PreconditionResult::holds_up_to_scale: the largest s in [0, max_scale] for which the inequality
+// is PROVED over the box whose objects' ranges (and the arm's, if asked) are s times the space's.
+// Each scale is decided, not bounded tightly (BoundOptions::decide: one side, early exit); a scale
+// counts only when the sound bound proves it.
+std::optional<double> proved_scale(const PreconditionResult& result, bounds::BoundProblem& problem,
+                                   const std::vector<SpaceVariable>& variables,
+                                   const AnalysisOptions& options) {
+  bounds::BoundOptions deciding = options.quick;
+  deciding.decide = bounds::DecisionTarget{result.inequality.relation, result.inequality.threshold};
+  deciding.inner = false;  // only a proof counts here: NLopt's violating witness would not
+  // Every scale shares the SMP rewrite of the reported box, not one rewrite per scale: half the
+  // time of this analysis went into building them.
+  for (const Interval& range : result.box) deciding.rewrite_widths.push_back(range.width());
+  const auto proved_at = [&](double scale) {
+    std::vector<Interval> box = result.box;
+    for (std::size_t v = 0; v < box.size(); ++v) {
+      const SpaceVariable& meta = variables[result.variables[v].index];
+      if (of_the_arm(meta.provenance.source) && !options.scale_manipulator) continue;
+      box[v] = Interval(meta.lower * scale, meta.upper * scale);
+    }
+    return bounds::decide(result.inequality, problem.bound(box, deciding)) == Verdict::kSatisfied;
+  };
+  if (!proved_at(0.0)) return std::nullopt;
+  return internal::largest_holding(0.0, options.max_scale, options.reverse_iterations, proved_at);
+}
+
+// One part of the margins on analysis.steps[step].preconditions[index], over its own copy of the
+// precondition's expression and variables (in `pool`, the task's alone), so that it may run on
+// any thread: it writes only its own fields of that precondition.
+struct MarginTask {
+  enum class Kind {
+    kTightBound,        // bound, blame (the first precondition of its expression in the step)
+    kSampleAndReverse,  // monte_carlo_*, holds_up_to_scale
+  };
+  Kind kind;
+  std::size_t step, index;
+  std::unique_ptr<symbolic::ExprPool> pool;
+  Expr f;
+  std::vector<Expr> inputs;
+};
+
+MarginTask copied_task(MarginTask::Kind kind, const InstanceAnalysis& analysis, std::size_t step,
+                       std::size_t index) {
+  const PreconditionResult& result = analysis.steps[step].preconditions[index];
+  MarginTask task{kind, step, index, std::make_unique<symbolic::ExprPool>(), {}, {}};
+  std::vector<Expr> roots{result.inequality.expression};
+  for (const VariableId id : result.variables) roots.push_back(analysis.symbols[id.index]);
+  const std::vector<Expr> copies = symbolic::copy_into(*task.pool, roots);
+  task.f = copies.front();
+  task.inputs.assign(copies.begin() + 1, copies.end());
+  return task;
+}
+
+void run_task(MarginTask& task, InstanceAnalysis& analysis, const AnalysisOptions& options) {
+  PreconditionResult& result = analysis.steps[task.step].preconditions[task.index];
+  if (task.kind == MarginTask::Kind::kTightBound) {
+    bounds::BoundProblem problem(task.f, task.inputs);
+    // A tight bound with inner values: [lo, hi] only shrinks, so the verdict stands.
+    result.bound = problem.bound(result.box, options.report);
+    if (options.blame) add_blame(result, problem);
+    return;
+  }
+  if (options.samples > 0) {
+    // Each precondition its own stream: its estimate does not depend on how many points the
+    // others drew (fewer for the proved ones).
+    std::seed_seq seeds{std::size_t{20261201}, task.step, task.index};
+    std::mt19937_64 random(seeds);
+    const bool proved = result.verdict == Verdict::kSatisfied;
+    add_monte_carlo(result, task.f, task.inputs,
+                    proved
+                        ? std::max<std::size_t>(
+                              1, options.samples / std::max<std::size_t>(1, options.proved_share))
+                        : options.samples,
+                    random);
+  }
+  if (options.reverse) {
+    bounds::BoundProblem problem(task.f, task.inputs);
+    result.holds_up_to_scale = proved_scale(result, problem, analysis.variables, options);
+  }
+}
+
+}  // namespace
+
+void add_margins(InstanceAnalysis& analysis, const AnalysisOptions& options,
+                 const std::function<void(std::string_view)>& progress) {
+  // The tasks, each with its copy (made here: copying reads the analysis' pool, which is not
+  // thread-safe). Tight bounds first: the first precondition of each expression in a step.
+  std::vector<MarginTask> tasks;
+  std::vector<std::vector<std::size_t>> first_of(analysis.steps.size());  // per precondition
+  for (std::size_t k = 0; k < analysis.steps.size(); ++k) {
+    std::map<std::uint32_t, std::size_t> by_expression;
+    for (std::size_t i = 0; i < analysis.steps[k].preconditions.size(); ++i) {
+      const Expr f = analysis.steps[k].preconditions[i].inequality.expression;
+      const auto [first, fresh] = by_expression.try_emplace(f.id(), i);
+      first_of[k].push_back(first->second);
+      if (fresh) tasks.push_back(copied_task(MarginTask::Kind::kTightBound, analysis, k, i));
+    }
+  }
+  if (options.samples > 0 || options.reverse)
+    for (std::size_t k = 0; k < analysis.steps.size(); ++k)
+      for (std::size_t i = 0; i < analysis.steps[k].preconditions.size(); ++i)
+        tasks.push_back(copied_task(MarginTask::Kind::kSampleAndReverse, analysis, k, i));
+  const std::string of_total = " of " + std::to_string(tasks.size()) + " done";
+  run_tasks(
+      tasks.size(), options.threads, [&](std::size_t t) { run_task(tasks[t], analysis, options); },
+      [&](std::size_t finished) {
+        if (progress) progress("phase 2: margins: " + std::to_string(finished) + of_total);
+      });
+  // The second side of a clearance shares its expression's tight bound and blame.
+  for (std::size_t k = 0; k < analysis.steps.size(); ++k) {
+    std::vector<PreconditionResult>& results = analysis.steps[k].preconditions;
+    for (std::size_t i = 0; i < results.size(); ++i) {
+      if (first_of[k][i] != i) {
+        results[i].bound = results[first_of[k][i]].bound;
+        results[i].blame = results[first_of[k][i]].blame;
+      }
+      results[i].witness = bounds::witness(results[i].inequality, results[i].bound);
+    }
+  }
+}
+
+}  // namespace spar::planner
