@@ -7,8 +7,9 @@
 //   spar plan SCENARIO --report DIR         writes DIR/report.{json,md,html} atomically (nothing
 //             [--format json,md,html]       when planning fails) and prints a summary and where
 //   spar plan SCENARIO --json               the JSON report on standard output
-//   spar plan SCENARIO --jobs N             N threads for the chosen instance's margins (0, the
-//                                           default: one per core; the report is the same)
+//   spar plan SCENARIO --jobs N             N threads for its grasp searches and the chosen
+//                                           instance's margins (0, the default: one per core;
+//                                           the report is the same)
 //   spar plan --batch FILE_OR_DIR [--jobs N] [--report DIR]
 //             many scenarios (a folder's *.yaml, or a file listing one path per line, relative to
 //             the file) on a thread pool: one JSON line per scenario, in input order, either
@@ -267,9 +268,9 @@ int run_plan(const PlanArguments& arguments) {
     options.probability.reset();
   else
     options.probability->samples = arguments.samples;
-  // One scenario uses every core for its margins; a batch uses them for its scenarios.
+  // One scenario uses every core for its parts; a batch uses them for its scenarios.
   if (arguments.batch.empty())
-    options.analysis.threads = arguments.jobs > 0 ? arguments.jobs : default_threads();
+    options.threads = arguments.jobs > 0 ? arguments.jobs : default_threads();
   return arguments.batch.empty() ? run_single(arguments, domain, options)
                                  : run_batch(arguments, domain, options);
 }
@@ -325,7 +326,7 @@ void add_plan_command(CLI::App& app, int& exit_status) {
   command->add_option("--batch", arguments->batch,
                       "plan many scenarios: a folder of *.yaml or a file listing paths");
   add_count_option(*command, "--jobs", arguments->jobs,
-                   "threads: a batch's scenarios at once, or one scenario's margins; 0 for "
+                   "threads: a batch's scenarios at once, or one scenario's parts; 0 for "
                    "the number of cores (default 0)",
                    0, 256);
   set_callback(*command, arguments, add_report_options(*command, *arguments), exit_status);

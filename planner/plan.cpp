@@ -31,7 +31,9 @@ namespace {
 
 // The world model of `scenario`, nothing planned yet.
 PlanResult started(Scenario scenario, const Domain& domain, const PlanOptions& options) {
-  return {.world = WorldModel(std::move(scenario)),
+  AnalysisOptions analysis = options.analysis;
+  analysis.threads = options.threads;
+  return {.world = WorldModel(std::move(scenario), options.threads),
           .domain = domain,
           .family = {},
           .instances = {},
@@ -40,7 +42,7 @@ PlanResult started(Scenario scenario, const Domain& domain, const PlanOptions& o
           .probability = {},
           .tolerances = {},
           .chosen_checks = {},
-          .analysis = options.analysis};
+          .analysis = analysis};
 }
 
 // Sense first, then plan each hypothesis of object `index` as the truth.
@@ -114,7 +116,7 @@ PlanResult plan(Scenario scenario, const Domain& domain, const PlanOptions& opti
       enumerate_instances(result.family, result.world, result.domain, options.max_instances);
   if (options.uncertainty && !result.instances.instances.empty()) {
     result.examined = analyse_instances(result.world, result.domain, result.instances.instances,
-                                        options.analysis, stage);
+                                        result.analysis, stage);
     const InstanceAnalysis& chosen = result.examined[choose_instance(result.examined)];
     result.chosen_index = chosen.instance;
     // The chosen plan's collision checks in phase 2's order: a squeeze phase 2 inserted happens

@@ -45,6 +45,10 @@ struct PlanOptions {
   // The chosen instance's probabilistic analysis and tolerance allocation
   // (planner/uncertainty/probability.hpp); nullopt: off.
   std::optional<ProbabilityOptions> probability{ProbabilityOptions{}};
+  // Threads for the parts of one plan that split into independent tasks (common/parallel.hpp):
+  // the world model's grasp searches and the chosen instance's margins (plan() sets
+  // analysis.threads from it). The result does not depend on it.
+  unsigned threads{1};
   // Called as each stage starts, with a short text for a progress display ("phase 1: constraint
   // posting", "phase 2: plan instance 2 of 16", ...); from the calling thread. Empty: none.
   std::function<void(std::string_view stage)> progress{};

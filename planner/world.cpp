@@ -10,6 +10,7 @@
 #include <optional>
 #include <span>
 
+#include "spar/common/parallel.hpp"
 #include "spar/geometry/stable_poses.hpp"
 #include "spar/planner/error.hpp"
 
@@ -419,7 +420,7 @@ void WorldState::move(int object, const kinematics::Transform& pose) {
   for (const int o : moving_with(object)) poses[o] = change * poses[o];
 }
 
-WorldModel::WorldModel(Scenario scenario) : scenario_(std::move(scenario)) {
+WorldModel::WorldModel(Scenario scenario, unsigned threads) : scenario_(std::move(scenario)) {
   gripper_ = scenario_.robot.gripper;
   gripper_.max_approach_tilt = scenario_.robot.max_tool_tilt;
   caches_ = std::make_shared<Caches>();
@@ -438,15 +439,23 @@ WorldModel::WorldModel(Scenario scenario) : scenario_(std::move(scenario)) {
   // gripper, its pads allowed to rest on the contact faces (shrunk by a micrometre), must keep
   // clear of the object along the whole approach.
   const geometry::Body open_shrunk = geometry::gripper_body(gripper_, gripper_.max_opening, 1e-6);
+  // The grasp searches, one per movable object and independent of each other (parts of one
+  // shape, a table of cubes, and the same parts planned again share one: remembered_grasps,
+  // which any thread may ask).
+  std::vector<std::shared_ptr<const std::vector<geometry::Grasp>>> grasp_lists(
+      scenario_.objects.size());
+  run_tasks(scenario_.objects.size(), threads, [&](std::size_t o) {
+    const ObjectSpec& spec = scenario_.objects[o];
+    if (!spec.fixed)
+      grasp_lists[o] = geometry::remembered_grasps(spec.model, gripper_, scenario_.grasping);
+  });
   // The closed gripper at each grasp width, built once (grasps share widths; a body builds three
   // box hierarchies); copies share them.
   std::map<double, geometry::Body> closed_at_width;
   for (const ObjectSpec& spec : scenario_.objects) {
     ObjectWorld object;
     if (!spec.fixed) {
-      // Parts of one shape (a table of cubes), and the same parts planned again, share one
-      // grasp search.
-      object.grasps = *geometry::remembered_grasps(spec.model, gripper_, scenario_.grasping);
+      object.grasps = *grasp_lists[objects_.size()];
       if (object.grasps.empty())
         throw PlanError(spec.location.str() + ": object '" + spec.name +
                         "' has no grasp the gripper can make (opening " +

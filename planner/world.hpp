@@ -201,10 +201,11 @@ struct Reach {
 
 class WorldModel {
  public:
-  // Computes every label and table. Throws PlanError if a movable object has no grasp, or if in
-  // the initial world two objects meet or one is below the table or floats (naming the objects
-  // and their poses' file:line:col).
-  explicit WorldModel(Scenario scenario);
+  // Computes every label and table; the movable objects' grasp searches run on up to `threads`
+  // threads (common/parallel.hpp; the model does not depend on it). Throws PlanError if a
+  // movable object has no grasp, or if in the initial world two objects meet or one is below the
+  // table or floats (naming the objects and their poses' file:line:col).
+  explicit WorldModel(Scenario scenario, unsigned threads = 1);
 
   [[nodiscard]] const Scenario& scenario() const { return scenario_; }
   [[nodiscard]] std::size_t object_count() const { return objects_.size(); }

@@ -3,9 +3,12 @@
 #include <algorithm>
 #include <bit>
 #include <cstdio>
+#include <exception>
+#include <optional>
 #include <set>
 
 #include "spar/bounds/interval.hpp"
+#include "spar/common/parallel.hpp"
 #include "spar/planner/error.hpp"
 #include "spar/planner/uncertainty/internal/bisection.hpp"
 #include "spar/planner/uncertainty/margins.hpp"
@@ -425,11 +428,32 @@ std::vector<InstanceAnalysis> analyse_instances(
     if (progress) progress(text);
   };
   std::vector<InstanceAnalysis> examined;
-  for (const PlanInstance& instance : instances) {
-    stage("phase 2: plan instance " + std::to_string(examined.size() + 1) + " of " +
-          std::to_string(instances.size()));
-    examined.push_back(analyse_instance(world, domain, instance, options));
-    if (examined.back().errors == 0) break;
+  // The first instance alone (most plans have no error there), then, while every one examined has
+  // an error, the next `threads` at once: each analysis is independent (its own pool; the world
+  // model is only read, its memo tables under a lock), so the ones kept are what one at a time
+  // gives, and those past the first without an error are dropped.
+  for (std::size_t next = 0;
+       next < instances.size() && (examined.empty() || examined.back().errors > 0);) {
+    const std::size_t count =
+        examined.empty() ? 1 : std::clamp<std::size_t>(options.threads, 1, instances.size() - next);
+    for (std::size_t i = 0; i < count; ++i)
+      stage("phase 2: plan instance " + std::to_string(next + i + 1) + " of " +
+            std::to_string(instances.size()));
+    std::vector<std::optional<InstanceAnalysis>> analysed(count);
+    std::vector<std::exception_ptr> failed(analysed.size());
+    run_tasks(analysed.size(), options.threads, [&](std::size_t i) {
+      try {
+        analysed[i] = analyse_instance(world, domain, instances[next + i], options);
+      } catch (...) {
+        failed[i] = std::current_exception();  // thrown below only if its turn comes
+      }
+    });
+    for (std::size_t i = 0; i < analysed.size(); ++i) {
+      if (failed[i]) std::rethrow_exception(failed[i]);
+      examined.push_back(std::move(*analysed[i]));
+      if (examined.back().errors == 0) break;
+    }
+    next += analysed.size();
   }
   if (examined.empty()) return examined;
   add_margins(examined[choose_instance(examined)], options, progress);

@@ -138,8 +138,9 @@ struct AnalysisOptions {
   // A proved precondition's Monte Carlo is a self-check (its share is 0 by soundness): it draws
   // samples / proved_share points (at least one; 1: as many as any other).
   std::size_t proved_share{10};
-  // Threads for the margins (common/parallel.hpp; 1: the calling thread only). The results do
-  // not depend on it. The command line uses one per core for one scenario, 1 in a batch.
+  // Threads (common/parallel.hpp; 1: the calling thread only) for analyse_instances (after a
+  // first instance with errors, the next ones that many at a time) and the margins. The results
+  // do not depend on it. plan() sets it from PlanOptions::threads.
   unsigned threads{1};
 };
 
@@ -155,8 +156,10 @@ struct AnalysisOptions {
 // The instance SPAR would choose: the first with no error, else the fewest (earliest on ties).
 [[nodiscard]] std::size_t choose_instance(const std::vector<InstanceAnalysis>& examined);
 
-// Examines `instances` in order until one has no error; returns every examined analysis. The
-// extras (reverse, blame, Monte Carlo) run on the chosen one only. `progress`, when set, is told
+// Examines `instances` in order until one has no error; returns every examined analysis (with
+// options.threads > 1, the ones after a first with errors are analysed that many at once, the
+// same analyses one at a time gives). The extras (reverse, blame, Monte Carlo) run on the chosen
+// one only. `progress`, when set, is told
 // each stage as it starts ("phase 2: plan instance 2 of 16", then the chosen instance's margins).
 [[nodiscard]] std::vector<InstanceAnalysis> analyse_instances(
     const WorldModel& world, const Domain& domain, const std::vector<PlanInstance>& instances,

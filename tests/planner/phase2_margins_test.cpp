@@ -1,6 +1,7 @@
-// The chosen instance's margins (planner/uncertainty/margins.hpp): computed on copies of the
-// expressions in pools of their own, they equal what the analysis' own pool gives, and they are
-// the same on one thread and on several (every field, bit for bit).
+// Phase 2 on several threads: the chosen instance's margins (planner/uncertainty/margins.hpp),
+// computed on copies of the expressions in pools of their own, equal what the analysis' own pool
+// gives, and they, like the instances analyse_instances examines, are the same on one thread and
+// on several (every field, bit for bit).
 #include <gtest/gtest.h>
 
 #include <string>
@@ -41,6 +42,33 @@ void expect_same_bound(const bounds::BoundResult& a, const bounds::BoundResult& 
   EXPECT_EQ(a.evaluations, b.evaluations) << where;
 }
 
+// Every result field of two analyses of one instance, bit for bit.
+void expect_same_analysis(const InstanceAnalysis& one, const InstanceAnalysis& two,
+                          const std::string& name) {
+  EXPECT_EQ(one.errors, two.errors) << name;
+  ASSERT_EQ(one.steps.size(), two.steps.size()) << name;
+  for (std::size_t k = 0; k < one.steps.size(); ++k) {
+    ASSERT_EQ(one.steps[k].preconditions.size(), two.steps[k].preconditions.size()) << name;
+    for (std::size_t i = 0; i < one.steps[k].preconditions.size(); ++i) {
+      const PreconditionResult& a = one.steps[k].preconditions[i];
+      const PreconditionResult& b = two.steps[k].preconditions[i];
+      const std::string where =
+          name + " step " + std::to_string(k + 1) + " precondition " + std::to_string(i + 1);
+      EXPECT_EQ(a.verdict, b.verdict) << where;
+      expect_same_bound(a.bound, b.bound, where);
+      EXPECT_EQ(a.witness, b.witness) << where;
+      ASSERT_EQ(a.blame.size(), b.blame.size()) << where;
+      for (std::size_t v = 0; v < a.blame.size(); ++v) {
+        EXPECT_EQ(a.blame[v].variable, b.blame[v].variable) << where;
+        EXPECT_EQ(a.blame[v].share, b.blame[v].share) << where;
+      }
+      EXPECT_EQ(a.holds_up_to_scale, b.holds_up_to_scale) << where;
+      EXPECT_EQ(a.monte_carlo_violation, b.monte_carlo_violation) << where;
+      EXPECT_EQ(a.monte_carlo_samples, b.monte_carlo_samples) << where;
+    }
+  }
+}
+
 TEST(Margins, TheSameOnTwoThreadsAsOnOne) {
   for (const char* example : {"peg_block_on_back", "peg_block_on_sides"}) {
     const Analysed analysed(example);
@@ -50,26 +78,32 @@ TEST(Margins, TheSameOnTwoThreadsAsOnOne) {
     add_margins(one, options);
     options.threads = 2;
     add_margins(two, options);
-    ASSERT_EQ(one.steps.size(), two.steps.size());
-    for (std::size_t k = 0; k < one.steps.size(); ++k) {
-      ASSERT_EQ(one.steps[k].preconditions.size(), two.steps[k].preconditions.size());
-      for (std::size_t i = 0; i < one.steps[k].preconditions.size(); ++i) {
-        const PreconditionResult& a = one.steps[k].preconditions[i];
-        const PreconditionResult& b = two.steps[k].preconditions[i];
-        const std::string where = std::string(example) + " step " + std::to_string(k + 1) +
-                                  " precondition " + std::to_string(i + 1);
-        expect_same_bound(a.bound, b.bound, where);
-        EXPECT_EQ(a.witness, b.witness) << where;
-        ASSERT_EQ(a.blame.size(), b.blame.size()) << where;
-        for (std::size_t v = 0; v < a.blame.size(); ++v) {
-          EXPECT_EQ(a.blame[v].variable, b.blame[v].variable) << where;
-          EXPECT_EQ(a.blame[v].share, b.blame[v].share) << where;
-        }
-        EXPECT_EQ(a.holds_up_to_scale, b.holds_up_to_scale) << where;
-        EXPECT_EQ(a.monte_carlo_violation, b.monte_carlo_violation) << where;
-        EXPECT_EQ(a.monte_carlo_samples, b.monte_carlo_samples) << where;
-      }
-    }
+    expect_same_analysis(one, two, example);
+  }
+}
+
+// on_back's three instances all have an error: after the first, two threads analyse the other two
+// at once, and the examined list is the one a single thread gives.
+TEST(AnalyseInstances, TheSameOnTwoThreadsAsOnOne) {
+  const WorldModel world(
+      load_scenario(std::string(SPAR_SOURCE_DIR) + "/examples/peg_block_on_back.yaml"));
+  const PlanFamily family = post_plan(world, builtin_domain());
+  ASSERT_EQ(family.status, PostingStatus::kPlanned);
+  const std::vector<PlanInstance> instances =
+      enumerate_instances(family, world, builtin_domain(), 16).instances;
+  AnalysisOptions options;
+  options.samples = 300;
+  options.threads = 1;
+  const std::vector<InstanceAnalysis> one =
+      analyse_instances(world, builtin_domain(), instances, options);
+  options.threads = 2;
+  const std::vector<InstanceAnalysis> two =
+      analyse_instances(world, builtin_domain(), instances, options);
+  ASSERT_GE(one.size(), 3u);  // the case under test: more than the first examined
+  ASSERT_EQ(one.size(), two.size());
+  for (std::size_t n = 0; n < one.size(); ++n) {
+    EXPECT_EQ(one[n].instance, two[n].instance);
+    expect_same_analysis(one[n], two[n], "instance " + std::to_string(one[n].instance));
   }
 }
 
