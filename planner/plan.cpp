@@ -142,8 +142,9 @@ PlanResult plan(Scenario scenario, const Domain& domain, const PlanOptions& opti
       stage("probability: moments, Monte Carlo, tolerance allocation");
       const Sensitivities jacobian = sensitivities(chosen);
       result.probability = analyse_probability(chosen, jacobian, *options.probability);
-      result.tolerances = allocate_tolerances(result.world.scenario(), chosen, jacobian,
-                                              {.algebra = options.probability->algebra});
+      result.tolerances = allocate_tolerances(
+          result.world.scenario(), chosen, jacobian,
+          {.algebra = options.probability->algebra, .threads = options.threads});
     }
   }
   return result;

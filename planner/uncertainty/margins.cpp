@@ -13,7 +13,7 @@
 #include "spar/bounds/inequality.hpp"
 #include "spar/common/parallel.hpp"
 #include "spar/planner/uncertainty/internal/bisection.hpp"
-#include "spar/symbolic/operations.hpp"
+#include "spar/planner/uncertainty/internal/own_copy.hpp"
 #include "spar/symbolic/tape.hpp"
 
 namespace spar::planner {
@@ -83,8 +83,8 @@ std::optional<double> proved_scale(const PreconditionResult& result, bounds::Bou
 }
 
 // One part of the margins on analysis.steps[step].preconditions[index], over its own copy of the
-// precondition's expression and variables (in `pool`, the task's alone), so that it may run on
-// any thread: it writes only its own fields of that precondition.
+// precondition (internal/own_copy.hpp), so that it may run on any thread: it writes only its own
+// fields of that precondition.
 struct MarginTask {
   enum class Kind {
     kTightBound,        // bound, blame (the first precondition of its expression in the step)
@@ -92,27 +92,13 @@ struct MarginTask {
   };
   Kind kind;
   std::size_t step, index;
-  std::unique_ptr<symbolic::ExprPool> pool;
-  Expr f;
-  std::vector<Expr> inputs;
+  internal::OwnCopy copy;
 };
-
-MarginTask copied_task(MarginTask::Kind kind, const InstanceAnalysis& analysis, std::size_t step,
-                       std::size_t index) {
-  const PreconditionResult& result = analysis.steps[step].preconditions[index];
-  MarginTask task{kind, step, index, std::make_unique<symbolic::ExprPool>(), {}, {}};
-  std::vector<Expr> roots{result.inequality.expression};
-  for (const VariableId id : result.variables) roots.push_back(analysis.symbols[id.index]);
-  const std::vector<Expr> copies = symbolic::copy_into(*task.pool, roots);
-  task.f = copies.front();
-  task.inputs.assign(copies.begin() + 1, copies.end());
-  return task;
-}
 
 void run_task(MarginTask& task, InstanceAnalysis& analysis, const AnalysisOptions& options) {
   PreconditionResult& result = analysis.steps[task.step].preconditions[task.index];
   if (task.kind == MarginTask::Kind::kTightBound) {
-    bounds::BoundProblem problem(task.f, task.inputs);
+    bounds::BoundProblem problem(task.copy.f, task.copy.inputs);
     // A tight bound with inner values: [lo, hi] only shrinks, so the verdict stands.
     result.bound = problem.bound(result.box, options.report);
     if (options.blame) add_blame(result, problem);
@@ -124,7 +110,7 @@ void run_task(MarginTask& task, InstanceAnalysis& analysis, const AnalysisOption
     std::seed_seq seeds{std::size_t{20261201}, task.step, task.index};
     std::mt19937_64 random(seeds);
     const bool proved = result.verdict == Verdict::kSatisfied;
-    add_monte_carlo(result, task.f, task.inputs,
+    add_monte_carlo(result, task.copy.f, task.copy.inputs,
                     proved
                         ? std::max<std::size_t>(
                               1, options.samples / std::max<std::size_t>(1, options.proved_share))
@@ -132,7 +118,7 @@ void run_task(MarginTask& task, InstanceAnalysis& analysis, const AnalysisOption
                     random);
   }
   if (options.reverse) {
-    bounds::BoundProblem problem(task.f, task.inputs);
+    bounds::BoundProblem problem(task.copy.f, task.copy.inputs);
     result.holds_up_to_scale = proved_scale(result, problem, analysis.variables, options);
   }
 }
@@ -151,13 +137,16 @@ void add_margins(InstanceAnalysis& analysis, const AnalysisOptions& options,
       const Expr f = analysis.steps[k].preconditions[i].inequality.expression;
       const auto [first, fresh] = by_expression.try_emplace(f.id(), i);
       first_of[k].push_back(first->second);
-      if (fresh) tasks.push_back(copied_task(MarginTask::Kind::kTightBound, analysis, k, i));
+      if (fresh)
+        tasks.push_back({MarginTask::Kind::kTightBound, k, i,
+                         internal::own_copy(analysis, analysis.steps[k].preconditions[i])});
     }
   }
   if (options.samples > 0 || options.reverse)
     for (std::size_t k = 0; k < analysis.steps.size(); ++k)
       for (std::size_t i = 0; i < analysis.steps[k].preconditions.size(); ++i)
-        tasks.push_back(copied_task(MarginTask::Kind::kSampleAndReverse, analysis, k, i));
+        tasks.push_back({MarginTask::Kind::kSampleAndReverse, k, i,
+                         internal::own_copy(analysis, analysis.steps[k].preconditions[i])});
   const std::string of_total = " of " + std::to_string(tasks.size()) + " done";
   run_tasks(
       tasks.size(), options.threads, [&](std::size_t t) { run_task(tasks[t], analysis, options); },

@@ -21,9 +21,11 @@
 
 #include "spar/bounds/inequality.hpp"
 #include "spar/common/deadline.hpp"
+#include "spar/common/parallel.hpp"
 #include "spar/planner/error.hpp"
 #include "spar/planner/uncertainty/analysis.hpp"
 #include "spar/planner/uncertainty/internal/bisection.hpp"
+#include "spar/planner/uncertainty/internal/own_copy.hpp"
 #include "spar/symbolic/operations.hpp"
 #include "spar/symbolic/tape.hpp"
 
@@ -782,58 +784,81 @@ Eigen::VectorXd first_order_allocation(const AllocationRows& rows, const Eigen::
   return p;
 }
 
-// The rows' compiled problems, one per problem_key, and within a round one tight bound per
-// problem and box (a bound depends on the expression and the box only).
+// The rows' compiled problems, compiled once for every round: one per row, over its own copy of
+// the expression (internal/own_copy.hpp), so that rows are verified on several threads.
 struct VerifyProblems {
-  std::vector<bounds::BoundProblem> problems;  // per distinct problem_key
-  std::vector<std::size_t> of_row;             // row k's index into problems
-  std::vector<std::size_t> first_row;          // the first row with row k's problem
+  std::vector<internal::OwnCopy> copies;       // per row
+  std::vector<bounds::BoundProblem> problems;  // per row, over copies[k]
+  std::vector<std::size_t> first_row;          // the first row with row k's problem_key
 
   VerifyProblems(const InstanceAnalysis& analysis, const AllocationRows& rows) {
     std::map<ProblemKey, std::size_t> first_with;
     for (std::size_t k = 0; k < rows.results.size(); ++k) {
       const PreconditionResult& result = *rows.results[k];
-      const auto [it, fresh] = first_with.try_emplace(problem_key(result), k);
-      first_row.push_back(it->second);
-      if (fresh) problems.emplace_back(result.inequality.expression, inputs_of(analysis, result));
-      of_row.push_back(fresh ? problems.size() - 1 : of_row[it->second]);
+      first_row.push_back(first_with.try_emplace(problem_key(result), k).first->second);
+      copies.push_back(internal::own_copy(analysis, result));
+      problems.emplace_back(copies.back().f, copies.back().inputs);
     }
   }
 };
 
 // Checks the allocation `p` with the sound bounds over the scaled box: the rows not proved, and
-// their ε raised by how far their bound lies past the threshold (for the next round).
+// their epsilon raised by how far their bound lies past the threshold (for the next round).
+// Every row is decided first (one side, early exit; most rows hold); a row that is not proved
+// gets the tight bound, which may still prove it or says how far past the threshold it lies, one
+// per problem and box (a bound depends on the expression and the box only). Both passes run their
+// rows on `threads` threads.
 std::vector<ToleranceAllocation::Miss> verify_allocation(
     const Sensitivities& jacobian, const AllocationParameters& parameters,
     const Eigen::VectorXd& p0, const Eigen::VectorXd& p, VerifyProblems& verifying,
-    const bounds::BoundOptions& options, AllocationRows& rows) {
-  std::vector<ToleranceAllocation::Miss> misses;
-  // This round's tight bounds, by the first row of their expression, with the box they cover.
-  std::vector<std::optional<std::pair<std::vector<bounds::Interval>, bounds::BoundResult>>> tight(
-      rows.results.size());
-  for (std::size_t k = 0; k < rows.results.size(); ++k) {
+    const bounds::BoundOptions& options, unsigned threads, AllocationRows& rows) {
+  const std::size_t n = rows.results.size();
+  std::vector<std::vector<bounds::Interval>> boxes(n);
+  for (std::size_t k = 0; k < n; ++k) {
     const PreconditionResult& result = *rows.results[k];
-    bounds::BoundProblem& problem = verifying.problems[verifying.of_row[k]];
-    std::vector<bounds::Interval> box = result.box;
-    for (std::size_t v = 0; v < box.size(); ++v) {
+    boxes[k] = result.box;
+    for (std::size_t v = 0; v < boxes[k].size(); ++v) {
       const int q = parameters.of_variable[result.variables[v].index];
-      if (q >= 0) box[v] = bounds::Interval(box[v].lo * p[q] / p0[q], box[v].hi * p[q] / p0[q]);
+      if (q >= 0)
+        boxes[k][v] =
+            bounds::Interval(boxes[k][v].lo * p[q] / p0[q], boxes[k][v].hi * p[q] / p0[q]);
     }
-    // Deciding first (one side, early exit): most rows hold; only a row it does not prove gets
-    // the tight bound, which may still prove it, or says how far past the threshold it lies.
+  }
+  std::vector<char> proved(n, 0);
+  run_tasks(n, threads, [&](std::size_t k) {
+    const bounds::Inequality& inequality = rows.results[k]->inequality;
     bounds::BoundOptions deciding = options;
-    deciding.decide =
-        bounds::DecisionTarget{result.inequality.relation, result.inequality.threshold};
-    if (bounds::decide(result.inequality, problem.bound(box, deciding)) ==
-        bounds::Verdict::kSatisfied)
-      continue;
-    auto& shared = tight[verifying.first_row[k]];
-    const auto same = [](const bounds::Interval& a, const bounds::Interval& b) {
-      return a.lo == b.lo && a.hi == b.hi;
-    };
-    if (!shared || !std::ranges::equal(shared->first, box, same))
-      shared.emplace(box, problem.bound(box, options));
-    const bounds::BoundResult& bound = shared->second;
+    deciding.decide = bounds::DecisionTarget{inequality.relation, inequality.threshold};
+    proved[k] = bounds::decide(inequality, verifying.problems[k].bound(boxes[k], deciding)) ==
+                bounds::Verdict::kSatisfied;
+  });
+  // The rows not proved, each with the row whose tight bound it takes (the first with its
+  // problem and box).
+  const auto same = [](const bounds::Interval& a, const bounds::Interval& b) {
+    return a.lo == b.lo && a.hi == b.hi;
+  };
+  std::vector<std::size_t> tight_of(n, n), computing;
+  for (std::size_t k = 0; k < n; ++k) {
+    if (proved[k]) continue;
+    for (const std::size_t j : computing)
+      if (verifying.first_row[j] == verifying.first_row[k] &&
+          std::ranges::equal(boxes[j], boxes[k], same))
+        tight_of[k] = j;
+    if (tight_of[k] == n) {
+      tight_of[k] = k;
+      computing.push_back(k);
+    }
+  }
+  std::vector<bounds::BoundResult> tight(n);
+  run_tasks(computing.size(), threads, [&](std::size_t i) {
+    const std::size_t k = computing[i];
+    tight[k] = verifying.problems[k].bound(boxes[k], options);
+  });
+  std::vector<ToleranceAllocation::Miss> misses;
+  for (std::size_t k = 0; k < n; ++k) {
+    if (proved[k]) continue;
+    const PreconditionResult& result = *rows.results[k];
+    const bounds::BoundResult& bound = tight[tight_of[k]];
     if (bounds::decide(result.inequality, bound) == bounds::Verdict::kSatisfied) continue;
     const double t = result.inequality.threshold;
     const double by = upper_limit(result.inequality.relation) ? bound.hi - t : t - bound.lo;
@@ -877,8 +902,8 @@ ToleranceAllocation allocate_tolerances(const Scenario& scenario, const Instance
     p = first_order_allocation(rows, p0, cost, options.algebra);
     if (!options.verify) break;
     if (!verifying) verifying.emplace(analysis, rows);
-    out.misses =
-        verify_allocation(jacobian, parameters, p0, p, *verifying, options.verify_bounds, rows);
+    out.misses = verify_allocation(jacobian, parameters, p0, p, *verifying, options.verify_bounds,
+                                   options.threads, rows);
     if (out.misses.empty()) break;
   }
   out.rounds = std::min(out.rounds, options.max_rounds);

@@ -221,6 +221,8 @@ struct AllocationOptions {
   // false: one first-order allocation, not verified (status kNotProved, no misses): benchmarks
   // time the linear algebra alone with it.
   bool verify{true};
+  // Threads verifying the rows (common/parallel.hpp); the allocation does not depend on it.
+  unsigned threads{1};
 };
 // `analysis` is an instance of `scenario` (its variables' provenance names the parameters).
 [[nodiscard]] ToleranceAllocation allocate_tolerances(const Scenario& scenario,

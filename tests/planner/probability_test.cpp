@@ -551,5 +551,29 @@ TEST(ProbabilityTolerance, AllocatedToleranceMakesTheSeedPickupProvablyHold) {
                 1e-6 * t.parameters[i].half_width);
 }
 
+// The rows are verified on several threads with the same result, round by round: on_back's
+// insertion (two rounds, the second deciding both sides of a clearance at once).
+TEST(ProbabilityTolerance, TheSameAllocationOnTwoThreadsAsOnOne) {
+  const Scenario scenario =
+      load_scenario(std::string(SPAR_SOURCE_DIR) + "/examples/peg_block_on_back.yaml");
+  PlanOptions options = plan_options();
+  options.max_instances = 1;
+  const PlanResult result = plan(scenario, builtin_domain(), options);
+  ASSERT_TRUE(result.planned());
+  const ToleranceAllocation one =
+      allocate_tolerances(scenario, *result.chosen_analysis(), {.threads = 1});
+  const ToleranceAllocation two =
+      allocate_tolerances(scenario, *result.chosen_analysis(), {.threads = 2});
+  EXPECT_GE(one.rounds, 2);
+  EXPECT_EQ(one.status, two.status);
+  EXPECT_EQ(one.rounds, two.rounds);
+  EXPECT_EQ(one.cost, two.cost);
+  ASSERT_EQ(one.parameters.size(), two.parameters.size());
+  for (std::size_t i = 0; i < one.parameters.size(); ++i)
+    EXPECT_EQ(one.parameters[i].allocated, two.parameters[i].allocated) << one.parameters[i].name;
+  ASSERT_EQ(one.misses.size(), two.misses.size());
+  for (std::size_t i = 0; i < one.misses.size(); ++i) EXPECT_EQ(one.misses[i].by, two.misses[i].by);
+}
+
 }  // namespace
 }  // namespace spar::planner
