@@ -18,19 +18,20 @@ void run_tasks(std::size_t count, unsigned threads, const std::function<void(std
   std::atomic<bool> failed{false};
   std::exception_ptr first_error;
   std::mutex error_mutex;
-  // Takes tasks until none is left or one has thrown.
+  // Takes tasks until none is left or a task (or the caller's progress report: a time limit
+  // checked there) has thrown.
   const auto work = [&](bool on_caller) {
     for (std::size_t i = next++; i < count && !failed; i = next++) {
       try {
         task(i);
+        const std::size_t done = ++finished;
+        if (on_caller && on_caller_done) on_caller_done(done);
       } catch (...) {
         const std::lock_guard lock(error_mutex);
         if (!first_error) first_error = std::current_exception();
         failed = true;
         return;
       }
-      const std::size_t done = ++finished;
-      if (on_caller && on_caller_done) on_caller_done(done);
     }
   };
   const std::size_t workers =

@@ -9,8 +9,8 @@
 //   - Tasks are taken in index order (put the long ones first for a short makespan).
 //   - Workers run under the caller's deadline (common/deadline.hpp): check_deadline() in a task
 //     throws there as it would on the caller.
-//   - The first exception a task throws is rethrown on the caller once every thread has stopped;
-//     no task starts after it is thrown (the ones running finish).
+//   - The first exception a task (or on_caller_done) throws is rethrown on the caller once every
+//     thread has stopped; no task starts after it is thrown (the ones running finish).
 //   - `on_caller_done(finished)`, if set, is called on the calling thread only, after each task
 //     it ran, with the number of tasks finished so far on every thread: progress reports stay on
 //     the thread that asked for the work.

@@ -81,6 +81,21 @@ TEST(RunTasks, TheFirstErrorReachesTheCallerAndNoTaskStartsAfterIt) {
   EXPECT_LT(started, 1000);
 }
 
+// A progress report that throws (plan()'s checks the time limit) stops the work like a task's
+// error: the workers take no new task.
+TEST(RunTasks, AProgressReportThatThrowsStopsTheWork) {
+  std::atomic<int> started{0};
+  EXPECT_THROW_MESSAGE(run_tasks(
+                           1000, 2,
+                           [&](std::size_t) {
+                             ++started;
+                             std::this_thread::sleep_for(200us);
+                           },
+                           [](std::size_t) { throw Error("time limit of 1 s reached"); }),
+                       "time limit of 1 s reached");
+  EXPECT_LT(started, 100);
+}
+
 TEST(RunTasks, WorkersRunUnderTheCallersDeadline) {
   const std::thread::id caller = std::this_thread::get_id();
   const ScopedDeadline limit(1ms);
