@@ -9,6 +9,7 @@
 #include "spar/bounds/error.hpp"
 #include "spar/bounds/inequality.hpp"
 #include "spar/common/input_file.hpp"
+#include "spar/common/parallel.hpp"
 #include "spar/common/text.hpp"
 #include "spar/geometry/builtin_objects.hpp"
 #include "spar/geometry/error.hpp"
@@ -322,6 +323,7 @@ planner::PlanOptions plan_options(const PlanSettings& settings) {
   options.max_instances = settings.instances;
   options.posting.max_nodes = settings.max_nodes;
   options.posting.max_steps = settings.max_steps;
+  options.threads = settings.threads == 0 ? default_threads() : settings.threads;
   if (!settings.probability) options.probability.reset();
   if (!settings.chosen_extras) {
     options.analysis.reverse = false;
@@ -352,7 +354,9 @@ ordered_json analyse_instance_json(const PlanRun& run, std::size_t index, bool e
     throw std::out_of_range("plan instance " + std::to_string(index) +
                             " does not exist: the run has " + std::to_string(instance_count(run)) +
                             " instance(s)");
-  planner::AnalysisOptions options = plan_options(run.settings).analysis;
+  const planner::PlanOptions planned_with = plan_options(run.settings);
+  planner::AnalysisOptions options = planned_with.analysis;
+  options.threads = planned_with.threads;  // as plan() passes it on
   planner::InstanceAnalysis analysis = planner::analyse_instance(
       run.result.world, run.result.domain, run.result.instances.instances[index], options);
   if (extras) planner::add_margins(analysis, options);

@@ -178,6 +178,8 @@ struct PlanSettings {
   // analysis, blame or Monte Carlo on the chosen instance. Phase 2's verdicts do not change.
   bool probability{true};
   bool chosen_extras{true};
+  // PlanOptions::threads: threads for one plan's parts (0: one per core); the report is the same.
+  unsigned threads{1};
 };
 
 // A finished planning run: the planner's result, kept for per-instance analysis, and its report.

@@ -396,7 +396,8 @@ void bind_planner(py::module_& m) {
       .def_readwrite("domain_text", &PlanSettings::domain_text)
       .def_readwrite("domain_source", &PlanSettings::domain_source)
       .def_readwrite("probability", &PlanSettings::probability)
-      .def_readwrite("chosen_extras", &PlanSettings::chosen_extras);
+      .def_readwrite("chosen_extras", &PlanSettings::chosen_extras)
+      .def_readwrite("threads", &PlanSettings::threads);
   m.def("_plan_run", &plan_scenario, "scenario"_a, "settings"_a, Release());
   m.def(
       "_plan",

@@ -153,7 +153,8 @@ def scenario(source, *, base_dir=None, name=None):
                                        os.fspath(base_dir) if base_dir is not None else "."))
 
 
-def _settings(instances, max_nodes, max_steps, domain, domain_text, probability, chosen_extras):
+def _settings(instances, max_nodes, max_steps, domain, domain_text, probability, chosen_extras,
+              threads):
     settings = _spar._PlanSettings()
     settings.instances = int(instances)
     settings.max_nodes = int(max_nodes)
@@ -164,6 +165,9 @@ def _settings(instances, max_nodes, max_steps, domain, domain_text, probability,
         settings.domain_text, settings.domain_source = domain_text
     settings.probability = bool(probability)
     settings.chosen_extras = bool(chosen_extras)
+    if int(threads) < 0:
+        raise ValueError(f"threads must be 0 (one per core) or more, not {threads}")
+    settings.threads = int(threads)
     return settings
 
 
@@ -173,13 +177,16 @@ _PLAN_OPTIONS_DOC = """
     domain (a domain file; default the built-in planner/domain.yaml), domain_text ((text, name):
     a domain given as text), probability (False: skip the chosen instance's probabilistic
     analysis and tolerance allocation), chosen_extras (False: skip its reverse analysis, blame
-    and Monte Carlo; the verdicts do not change). base_dir and name as in spar.scenario().
+    and Monte Carlo; the verdicts do not change), threads (threads for this plan's parts: grasp
+    searches, later instances, margins, tolerance verification; 1, 0 for one per core; the report
+    is the same on any number). base_dir and name as in spar.scenario().
     The GIL is released while planning.
 """
 
 
 def plan(source, *, instances=16, max_nodes=200_000, max_steps=64, domain=None,
-         domain_text=None, probability=True, chosen_extras=True, base_dir=None, name=None):
+         domain_text=None, probability=True, chosen_extras=True, threads=1, base_dir=None,
+         name=None):
     """Plans a scenario (path, dict, YAML text or Scenario) and returns its report.
 
     The report is the JSON of `spar plan --json` (schema spar-report/1, docs/report-schema.md)
@@ -187,17 +194,18 @@ def plan(source, *, instances=16, max_nodes=200_000, max_steps=64, domain=None,
     """
     return _spar._plan(scenario(source, base_dir=base_dir, name=name),
                        _settings(instances, max_nodes, max_steps, domain, domain_text,
-                                 probability, chosen_extras))
+                                 probability, chosen_extras, threads))
 
 
 def plan_run(source, *, instances=16, max_nodes=200_000, max_steps=64, domain=None,
-             domain_text=None, probability=True, chosen_extras=True, base_dir=None, name=None):
+             domain_text=None, probability=True, chosen_extras=True, threads=1, base_dir=None,
+             name=None):
     """Plans a scenario and keeps the run: PlanRun.report is plan()'s result, and
     PlanRun.analyse(i) runs phase 2 on plan instance i (0 <= i < PlanRun.instance_count).
     """
     return _spar._plan_run(scenario(source, base_dir=base_dir, name=name),
                            _settings(instances, max_nodes, max_steps, domain, domain_text,
-                                     probability, chosen_extras))
+                                     probability, chosen_extras, threads))
 
 
 plan.__doc__ += _PLAN_OPTIONS_DOC

@@ -290,12 +290,14 @@ def scenario(source: ScenarioSource, *, base_dir: str | os.PathLike[str] | None 
 def plan(source: ScenarioSource, *, instances: int = 16, max_nodes: int = 200_000,
          max_steps: int = 64, domain: str | os.PathLike[str] | None = None,
          domain_text: tuple[str, str] | None = None, probability: bool = True,
-         chosen_extras: bool = True, base_dir: str | os.PathLike[str] | None = None,
+         chosen_extras: bool = True, threads: int = 1,
+         base_dir: str | os.PathLike[str] | None = None,
          name: str | None = None) -> dict[str, Any]: ...
 def plan_run(source: ScenarioSource, *, instances: int = 16, max_nodes: int = 200_000,
              max_steps: int = 64, domain: str | os.PathLike[str] | None = None,
              domain_text: tuple[str, str] | None = None, probability: bool = True,
-             chosen_extras: bool = True, base_dir: str | os.PathLike[str] | None = None,
+             chosen_extras: bool = True, threads: int = 1,
+             base_dir: str | os.PathLike[str] | None = None,
              name: str | None = None) -> PlanRun: ...
 
 

@@ -232,6 +232,15 @@ def test_plan_from_text_and_dict_equals_from_file():
     assert without_wall_clock(spar.plan(yaml.safe_load(text), **options)) == from_file
 
 
+def test_plan_on_two_threads_gives_the_same_report():
+    on_back = FACE_DOWN.parent / "peg_block_on_back.yaml"
+    one = without_wall_clock(spar.plan(on_back, threads=1))
+    assert without_wall_clock(spar.plan(on_back, threads=2)) == one
+    assert without_wall_clock(spar.plan(on_back, threads=0)) == one
+    with pytest.raises(ValueError, match="threads must be 0"):
+        spar.plan(on_back, threads=-1)
+
+
 def test_plan_options_skip_the_chosen_extras():
     report = spar.plan(FACE_DOWN, probability=False, chosen_extras=False)
     assert "probability" not in report["chosen"]
