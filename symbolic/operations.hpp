@@ -45,7 +45,8 @@ namespace spar::symbolic {
 // compile to the same tapes and so bound the same as the roots. (Into a pool that already holds
 // nodes, a rebuilt node may meet an older one out of that order; hence the empty pool.) `to` may
 // also be the roots' own pool, which returns the roots. Returns the copies in the roots' order;
-// the roots' pool is only read. Throws SymbolicError for another pool that is not empty.
+// the roots' pool gets no node (it is walked with its traversal marks: not while another thread
+// uses it). Throws SymbolicError for another pool that is not empty.
 // Cost: O(DAG) constructions in `to`.
 [[nodiscard]] std::vector<Expr> copy_into(ExprPool& to, std::span<const Expr> roots);
 

@@ -82,27 +82,25 @@ std::optional<double> proved_scale(const PreconditionResult& result, bounds::Bou
   return internal::largest_holding(0.0, options.max_scale, options.reverse_iterations, proved_at);
 }
 
-// One part of the margins on analysis.steps[step].preconditions[index], over its own copy of the
+// The margins of analysis.steps[step].preconditions[index], over its own copy of the
 // precondition (internal/own_copy.hpp), so that it may run on any thread: it writes only its own
 // fields of that precondition.
 struct MarginTask {
-  enum class Kind {
-    kTightBound,        // bound, blame (the first precondition of its expression in the step)
-    kSampleAndReverse,  // monte_carlo_*, holds_up_to_scale
-  };
-  Kind kind;
+  bool tight_bound;  // bound and blame too: the first precondition of its expression in the step
   std::size_t step, index;
   internal::OwnCopy copy;
 };
 
 void run_task(MarginTask& task, InstanceAnalysis& analysis, const AnalysisOptions& options) {
   PreconditionResult& result = analysis.steps[task.step].preconditions[task.index];
-  if (task.kind == MarginTask::Kind::kTightBound) {
-    bounds::BoundProblem problem(task.copy.f, task.copy.inputs);
+  // One problem for the task's bounds: the reverse analysis reuses the SMP rewrite the tight
+  // bound built for this box.
+  std::optional<bounds::BoundProblem> problem;
+  if (task.tight_bound || options.reverse) problem.emplace(task.copy.f, task.copy.inputs);
+  if (task.tight_bound) {
     // A tight bound with inner values: [lo, hi] only shrinks, so the verdict stands.
-    result.bound = problem.bound(result.box, options.report);
-    if (options.blame) add_blame(result, problem);
-    return;
+    result.bound = problem->bound(result.box, options.report);
+    if (options.blame) add_blame(result, *problem);
   }
   if (options.samples > 0) {
     // Each precondition its own stream: its estimate does not depend on how many points the
@@ -117,10 +115,8 @@ void run_task(MarginTask& task, InstanceAnalysis& analysis, const AnalysisOption
                         : options.samples,
                     random);
   }
-  if (options.reverse) {
-    bounds::BoundProblem problem(task.copy.f, task.copy.inputs);
-    result.holds_up_to_scale = proved_scale(result, problem, analysis.variables, options);
-  }
+  if (options.reverse)
+    result.holds_up_to_scale = proved_scale(result, *problem, analysis.variables, options);
 }
 
 }  // namespace
@@ -128,25 +124,20 @@ void run_task(MarginTask& task, InstanceAnalysis& analysis, const AnalysisOption
 void add_margins(InstanceAnalysis& analysis, const AnalysisOptions& options,
                  const std::function<void(std::string_view)>& progress) {
   // The tasks, each with its copy (made here: copying reads the analysis' pool, which is not
-  // thread-safe). Tight bounds first: the first precondition of each expression in a step.
+  // thread-safe): one per precondition, the first of each expression in a step with the tight
+  // bound its second side (a clearance) shares.
   std::vector<MarginTask> tasks;
   std::vector<std::vector<std::size_t>> first_of(analysis.steps.size());  // per precondition
   for (std::size_t k = 0; k < analysis.steps.size(); ++k) {
     std::map<std::uint32_t, std::size_t> by_expression;
     for (std::size_t i = 0; i < analysis.steps[k].preconditions.size(); ++i) {
-      const Expr f = analysis.steps[k].preconditions[i].inequality.expression;
-      const auto [first, fresh] = by_expression.try_emplace(f.id(), i);
+      const PreconditionResult& result = analysis.steps[k].preconditions[i];
+      const auto [first, fresh] = by_expression.try_emplace(result.inequality.expression.id(), i);
       first_of[k].push_back(first->second);
-      if (fresh)
-        tasks.push_back({MarginTask::Kind::kTightBound, k, i,
-                         internal::own_copy(analysis, analysis.steps[k].preconditions[i])});
+      if (fresh || options.samples > 0 || options.reverse)
+        tasks.push_back({fresh, k, i, internal::own_copy(analysis, result)});
     }
   }
-  if (options.samples > 0 || options.reverse)
-    for (std::size_t k = 0; k < analysis.steps.size(); ++k)
-      for (std::size_t i = 0; i < analysis.steps[k].preconditions.size(); ++i)
-        tasks.push_back({MarginTask::Kind::kSampleAndReverse, k, i,
-                         internal::own_copy(analysis, analysis.steps[k].preconditions[i])});
   const std::string of_total = " of " + std::to_string(tasks.size()) + " done";
   run_tasks(
       tasks.size(), options.threads, [&](std::size_t t) { run_task(tasks[t], analysis, options); },

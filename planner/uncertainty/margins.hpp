@@ -27,8 +27,10 @@
 // alone, so the margins do not depend on how the work is split or scheduled.
 // Threads: the work splits into tasks that share nothing mutable, each on its own copy of one
 // expression in a pool of its own (symbolic::copy_into: the same tape, so the same bounds as on
-// the original), run on options.threads threads (common/parallel.hpp): one tight bound and blame
-// per distinct expression of a step, then one Monte Carlo and reverse analysis per precondition.
+// the original), run on options.threads threads (common/parallel.hpp): one task per
+// precondition (Monte Carlo, reverse analysis), the first of each expression in a step also with
+// the tight bound and blame, on one compiled problem (the reverse analysis reuses the tight
+// bound's SMP rewrite).
 // Cost: a tight bound is up to report.max_box_evaluations boxes; a reverse analysis 2 +
 // reverse_iterations decisions of up to quick.max_box_evaluations boxes each (most settle in one
 // box; those near the answer take ~100); Monte Carlo `samples` tape evaluations.

@@ -212,18 +212,11 @@ Eigen::VectorXd min_norm_solve(Csc& m, const Eigen::VectorXd& r, LinearAlgebra a
   return Eigen::Map<const Eigen::VectorXd>(x, static_cast<Eigen::Index>(m.cols));
 }
 
-// The expressions of a precondition's variables (the pool's variables of those names).
 // Preconditions with one expression over one variable list (the two sides of a clearance) have
 // one compiled problem, one row of J, one bound over a box: this key names them.
 using ProblemKey = std::pair<std::uint32_t, std::vector<VariableId>>;
 ProblemKey problem_key(const PreconditionResult& result) {
   return {result.inequality.expression.id(), result.variables};
-}
-
-std::vector<Expr> inputs_of(const InstanceAnalysis& analysis, const PreconditionResult& result) {
-  std::vector<Expr> inputs;
-  for (const VariableId id : result.variables) inputs.push_back(analysis.symbols.at(id.index));
-  return inputs;
 }
 
 std::string format(const char* pattern, double a, double b = 0, double c = 0, double d = 0) {
@@ -356,7 +349,7 @@ Sensitivities sensitivities(const InstanceAnalysis& analysis) {
       const std::size_t row = out.rows++;
       out.row_step.push_back(s);
       out.row_precondition.push_back(p);
-      const std::vector<Expr> inputs = inputs_of(analysis, result);
+      const std::vector<Expr> inputs = internal::variable_symbols(analysis, result);
       const Expr f = result.inequality.expression;
       auto [known, fresh] = at_zero.try_emplace(problem_key(result));
       std::vector<double>& values = known->second;
@@ -842,8 +835,10 @@ std::vector<ToleranceAllocation::Miss> verify_allocation(
     if (proved[k]) continue;
     for (const std::size_t j : computing)
       if (verifying.first_row[j] == verifying.first_row[k] &&
-          std::ranges::equal(boxes[j], boxes[k], same))
+          std::ranges::equal(boxes[j], boxes[k], same)) {
         tight_of[k] = j;
+        break;
+      }
     if (tight_of[k] == n) {
       tight_of[k] = k;
       computing.push_back(k);
