@@ -165,8 +165,9 @@ def _settings(instances, max_nodes, max_steps, domain, domain_text, probability,
         settings.domain_text, settings.domain_source = domain_text
     settings.probability = bool(probability)
     settings.chosen_extras = bool(chosen_extras)
-    if int(threads) < 0:
-        raise ValueError(f"threads must be 0 (one per core) or more, not {threads}")
+    if not 0 <= int(threads) <= 256:
+        raise ValueError(f"threads must be 0 (one per core) to 256 (as spar plan --jobs), "
+                         f"not {threads}")
     settings.threads = int(threads)
     return settings
 
@@ -179,7 +180,7 @@ _PLAN_OPTIONS_DOC = """
     analysis and tolerance allocation), chosen_extras (False: skip its reverse analysis, blame
     and Monte Carlo; the verdicts do not change), threads (threads for this plan's parts: grasp
     searches, later instances, margins, tolerance verification; 1, 0 for one per core; the report
-    is the same on any number). base_dir and name as in spar.scenario().
+    is the same on any number; at most 256). base_dir and name as in spar.scenario().
     The GIL is released while planning.
 """
 

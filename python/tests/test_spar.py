@@ -237,8 +237,9 @@ def test_plan_on_two_threads_gives_the_same_report():
     one = without_wall_clock(spar.plan(on_back, threads=1))
     assert without_wall_clock(spar.plan(on_back, threads=2)) == one
     assert without_wall_clock(spar.plan(on_back, threads=0)) == one
-    with pytest.raises(ValueError, match="threads must be 0"):
-        spar.plan(on_back, threads=-1)
+    for wrong in (-1, 257, 10**12):
+        with pytest.raises(ValueError, match="threads must be 0"):
+            spar.plan(on_back, threads=wrong)
 
 
 def test_plan_options_skip_the_chosen_extras():
