@@ -1,9 +1,13 @@
 #include "spar/planner/plan.hpp"
 
 #include <algorithm>
+#include <optional>
+#include <string>
 
 #include "spar/common/deadline.hpp"
+#include "spar/common/parallel.hpp"
 #include "spar/planner/error.hpp"
+#include "spar/planner/uncertainty/margins.hpp"
 
 namespace spar::planner {
 
@@ -43,6 +47,43 @@ PlanResult started(Scenario scenario, const Domain& domain, const PlanOptions& o
           .tolerances = {},
           .chosen_checks = {},
           .analysis = analysis};
+}
+
+// The chosen instance's margins (margins.hpp) and, when asked, its probability and tolerance
+// allocation (probability.hpp), as one list of tasks on the plan's threads, so that the cores
+// share all of it: the allocation and the Monte Carlo first (each one task, the longest), then
+// the margins. Each part reads the analysis' pool in its constructor, here, on this thread.
+void add_extras(PlanResult& result, InstanceAnalysis& chosen, const PlanOptions& options,
+                const std::function<void(std::string_view)>& stage) {
+  stage(options.probability ? "phase 2: margins, probability, tolerance allocation"
+                            : "phase 2: margins");
+  MarginWork margins(chosen, result.analysis);
+  std::optional<ProbabilityWork> probability;
+  if (options.probability)
+    probability.emplace(
+        result.world.scenario(), chosen, *options.probability,
+        AllocationOptions{.algebra = options.probability->algebra, .threads = options.threads});
+  const std::size_t first_margin = probability ? 2 : 0;
+  const std::size_t tasks = first_margin + margins.tasks();
+  const std::string of_total = " of " + std::to_string(tasks) + " done";
+  run_tasks(
+      tasks, options.threads,
+      [&](std::size_t t) {
+        if (t >= first_margin)
+          margins.run(t - first_margin);
+        else if (t == 0)
+          probability->allocate();
+        else
+          probability->sample();
+      },
+      [&](std::size_t finished) {
+        stage("phase 2: extras: " + std::to_string(finished) + of_total);
+      });
+  margins.finish();
+  if (probability) {
+    result.probability = probability->probability();
+    result.tolerances = probability->tolerances();
+  }
 }
 
 // Sense first, then plan each hypothesis of object `index` as the truth.
@@ -117,7 +158,7 @@ PlanResult plan(Scenario scenario, const Domain& domain, const PlanOptions& opti
   if (options.uncertainty && !result.instances.instances.empty()) {
     result.examined = analyse_instances(result.world, result.domain, result.instances.instances,
                                         result.analysis, stage);
-    const InstanceAnalysis& chosen = result.examined[choose_instance(result.examined)];
+    InstanceAnalysis& chosen = result.examined[choose_instance(result.examined)];
     result.chosen_index = chosen.instance;
     // The chosen plan's collision checks in phase 2's order: a squeeze phase 2 inserted happens
     // in the world as it is before the step that follows it.
@@ -138,14 +179,7 @@ PlanResult plan(Scenario scenario, const Domain& domain, const PlanOptions& opti
         result.chosen_checks.emplace_back();
       }
     }
-    if (options.probability) {
-      stage("probability: moments, Monte Carlo, tolerance allocation");
-      const Sensitivities jacobian = sensitivities(chosen);
-      result.probability = analyse_probability(chosen, jacobian, *options.probability);
-      result.tolerances = allocate_tolerances(
-          result.world.scenario(), chosen, jacobian,
-          {.algebra = options.probability->algebra, .threads = options.threads});
-    }
+    add_extras(result, chosen, options, stage);
   }
   return result;
 }

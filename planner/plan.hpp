@@ -1,9 +1,10 @@
 // plan(): the planner's one entry point. From a scenario and a domain to a plan family (phase 1:
 // constraint posting, planner/posting.hpp) and its plan instances (planner/instances.hpp); phase 2
 // (planner/uncertainty/analysis.hpp) examines the instances in order and chooses the first without
-// errors, else the one with the fewest. The chosen instance then gets the probabilistic analysis
-// (planner/uncertainty/probability.hpp: σ, P(violation) first-order and Monte Carlo per
-// precondition) and the tolerance allocation, unless PlanOptions::probability is nullopt.
+// errors, else the one with the fewest. The chosen instance then gets its margins
+// (planner/uncertainty/margins.hpp) and, unless PlanOptions::probability is nullopt, the
+// probabilistic analysis (planner/uncertainty/probability.hpp: σ, P(violation) first-order and
+// Monte Carlo per precondition) and the tolerance allocation, all three as one set of tasks.
 //
 // A scenario with an uncertain object (docs/scenario.md: `identity: [...]`, `pose: {stable:
 // [...]}`) is not planned as such: sense planning (planner/sense_planning.hpp) chooses the
@@ -46,8 +47,9 @@ struct PlanOptions {
   // (planner/uncertainty/probability.hpp); nullopt: off.
   std::optional<ProbabilityOptions> probability{ProbabilityOptions{}};
   // Threads for the parts of one plan that split into independent tasks (common/parallel.hpp):
-  // the world model's grasp searches and the chosen instance's margins (plan() sets
-  // analysis.threads from it). The result does not depend on it.
+  // the world model's grasp searches, the instances after a first with errors, and the chosen
+  // instance's margins, Monte Carlo and tolerance allocation (plan() sets analysis.threads from
+  // it). The result does not depend on it.
   unsigned threads{1};
   // Called as each stage starts, with a short text for a progress display ("phase 1: constraint
   // posting", "phase 2: plan instance 2 of 16", ...); from the calling thread. Empty: none.

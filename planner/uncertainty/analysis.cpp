@@ -11,7 +11,6 @@
 #include "spar/common/parallel.hpp"
 #include "spar/planner/error.hpp"
 #include "spar/planner/uncertainty/internal/bisection.hpp"
-#include "spar/planner/uncertainty/margins.hpp"
 #include "spar/symbolic/operations.hpp"
 
 namespace spar::planner {
@@ -455,8 +454,6 @@ std::vector<InstanceAnalysis> analyse_instances(
     }
     next += analysed.size();
   }
-  if (examined.empty()) return examined;
-  add_margins(examined[choose_instance(examined)], options, progress);
   return examined;
 }
 

@@ -19,9 +19,9 @@
 // not move (replays rebuild the same expressions, and DecisionCache answers them); the result is
 // numbered by execution position (dx_g<position>, ...), as the reports show the steps.
 // A failed step (any instance) also gets its sensor margin, the largest residual scale of the
-// range-scan that would make it hold (AnalysedStep::sensor_scale_needed). Then, on the chosen
-// instance only, the margins (planner/uncertainty/margins.hpp): tight bounds, blame, Monte Carlo
-// and the reverse analysis of every precondition.
+// range-scan that would make it hold (AnalysedStep::sensor_scale_needed). The chosen instance's
+// margins (planner/uncertainty/margins.hpp: tight bounds, blame, Monte Carlo and the reverse
+// analysis of every precondition) are added to it after the choice.
 //
 // Example:
 //   const std::vector<InstanceAnalysis> examined = analyse_instances(world, domain, instances);
@@ -158,9 +158,10 @@ struct AnalysisOptions {
 
 // Examines `instances` in order until one has no error; returns every examined analysis (with
 // options.threads > 1, the ones after a first with errors are analysed that many at once, the
-// same analyses one at a time gives). The extras (reverse, blame, Monte Carlo) run on the chosen
-// one only. `progress`, when set, is told
-// each stage as it starts ("phase 2: plan instance 2 of 16", then the chosen instance's margins).
+// same analyses one at a time gives). The chosen one's extras (tight bounds, blame, reverse
+// analysis, Monte Carlo) are a separate step: add_margins (margins.hpp; plan() runs them beside
+// the probability). `progress`, when set, is told each instance as it starts ("phase 2: plan
+// instance 2 of 16").
 [[nodiscard]] std::vector<InstanceAnalysis> analyse_instances(
     const WorldModel& world, const Domain& domain, const std::vector<PlanInstance>& instances,
     const AnalysisOptions& options = {},

@@ -82,27 +82,51 @@ std::optional<double> proved_scale(const PreconditionResult& result, bounds::Bou
   return internal::largest_holding(0.0, options.max_scale, options.reverse_iterations, proved_at);
 }
 
+}  // namespace
+
 // The margins of analysis.steps[step].preconditions[index], over its own copy of the
 // precondition (internal/own_copy.hpp), so that it may run on any thread: it writes only its own
 // fields of that precondition.
-struct MarginTask {
+struct MarginWork::Task {
   bool tight_bound;  // bound and blame too: the first precondition of its expression in the step
   std::size_t step, index;
   internal::OwnCopy copy;
 };
 
-void run_task(MarginTask& task, InstanceAnalysis& analysis, const AnalysisOptions& options) {
-  PreconditionResult& result = analysis.steps[task.step].preconditions[task.index];
+MarginWork::MarginWork(InstanceAnalysis& analysis, const AnalysisOptions& options)
+    : analysis_(&analysis), options_(options), first_of_(analysis.steps.size()) {
+  // One task per precondition, the first of each expression in a step with the tight bound its
+  // second side (a clearance) shares; the copies made here, where the pool may be read.
+  for (std::size_t k = 0; k < analysis.steps.size(); ++k) {
+    std::map<std::uint32_t, std::size_t> by_expression;
+    for (std::size_t i = 0; i < analysis.steps[k].preconditions.size(); ++i) {
+      const PreconditionResult& result = analysis.steps[k].preconditions[i];
+      const auto [first, fresh] = by_expression.try_emplace(result.inequality.expression.id(), i);
+      first_of_[k].push_back(first->second);
+      if (fresh || options.samples > 0 || options.reverse)
+        tasks_.push_back({fresh, k, i, internal::own_copy(analysis, result)});
+    }
+  }
+}
+
+MarginWork::MarginWork(MarginWork&&) noexcept = default;
+MarginWork::~MarginWork() = default;
+
+std::size_t MarginWork::tasks() const { return tasks_.size(); }
+
+void MarginWork::run(std::size_t t) {
+  const Task& task = tasks_[t];
+  PreconditionResult& result = analysis_->steps[task.step].preconditions[task.index];
   // One problem for the task's bounds: the reverse analysis reuses the SMP rewrite the tight
   // bound built for this box.
   std::optional<bounds::BoundProblem> problem;
-  if (task.tight_bound || options.reverse) problem.emplace(task.copy.f, task.copy.inputs);
+  if (task.tight_bound || options_.reverse) problem.emplace(task.copy.f, task.copy.inputs);
   if (task.tight_bound) {
     // A tight bound with inner values: [lo, hi] only shrinks, so the verdict stands.
-    result.bound = problem->bound(result.box, options.report);
-    if (options.blame) add_blame(result, *problem);
+    result.bound = problem->bound(result.box, options_.report);
+    if (options_.blame) add_blame(result, *problem);
   }
-  if (options.samples > 0) {
+  if (options_.samples > 0) {
     // Each precondition its own stream: its estimate does not depend on how many points the
     // others drew (fewer for the proved ones).
     std::seed_seq seeds{std::size_t{20261201}, task.step, task.index};
@@ -111,50 +135,38 @@ void run_task(MarginTask& task, InstanceAnalysis& analysis, const AnalysisOption
     add_monte_carlo(result, task.copy.f, task.copy.inputs,
                     proved
                         ? std::max<std::size_t>(
-                              1, options.samples / std::max<std::size_t>(1, options.proved_share))
-                        : options.samples,
+                              1, options_.samples / std::max<std::size_t>(1, options_.proved_share))
+                        : options_.samples,
                     random);
   }
-  if (options.reverse)
-    result.holds_up_to_scale = proved_scale(result, *problem, analysis.variables, options);
+  if (options_.reverse)
+    result.holds_up_to_scale = proved_scale(result, *problem, analysis_->variables, options_);
 }
 
-}  // namespace
-
-void add_margins(InstanceAnalysis& analysis, const AnalysisOptions& options,
-                 const std::function<void(std::string_view)>& progress) {
-  // The tasks, each with its copy (made here: copying reads the analysis' pool, which is not
-  // thread-safe): one per precondition, the first of each expression in a step with the tight
-  // bound its second side (a clearance) shares.
-  std::vector<MarginTask> tasks;
-  std::vector<std::vector<std::size_t>> first_of(analysis.steps.size());  // per precondition
-  for (std::size_t k = 0; k < analysis.steps.size(); ++k) {
-    std::map<std::uint32_t, std::size_t> by_expression;
-    for (std::size_t i = 0; i < analysis.steps[k].preconditions.size(); ++i) {
-      const PreconditionResult& result = analysis.steps[k].preconditions[i];
-      const auto [first, fresh] = by_expression.try_emplace(result.inequality.expression.id(), i);
-      first_of[k].push_back(first->second);
-      if (fresh || options.samples > 0 || options.reverse)
-        tasks.push_back({fresh, k, i, internal::own_copy(analysis, result)});
-    }
-  }
-  const std::string of_total = " of " + std::to_string(tasks.size()) + " done";
-  run_tasks(
-      tasks.size(), options.threads, [&](std::size_t t) { run_task(tasks[t], analysis, options); },
-      [&](std::size_t finished) {
-        if (progress) progress("phase 2: margins: " + std::to_string(finished) + of_total);
-      });
+void MarginWork::finish() {
   // The second side of a clearance shares its expression's tight bound and blame.
-  for (std::size_t k = 0; k < analysis.steps.size(); ++k) {
-    std::vector<PreconditionResult>& results = analysis.steps[k].preconditions;
+  for (std::size_t k = 0; k < analysis_->steps.size(); ++k) {
+    std::vector<PreconditionResult>& results = analysis_->steps[k].preconditions;
     for (std::size_t i = 0; i < results.size(); ++i) {
-      if (first_of[k][i] != i) {
-        results[i].bound = results[first_of[k][i]].bound;
-        results[i].blame = results[first_of[k][i]].blame;
+      if (first_of_[k][i] != i) {
+        results[i].bound = results[first_of_[k][i]].bound;
+        results[i].blame = results[first_of_[k][i]].blame;
       }
       results[i].witness = bounds::witness(results[i].inequality, results[i].bound);
     }
   }
+}
+
+void add_margins(InstanceAnalysis& analysis, const AnalysisOptions& options,
+                 const std::function<void(std::string_view)>& progress) {
+  MarginWork work(analysis, options);
+  const std::string of_total = " of " + std::to_string(work.tasks()) + " done";
+  run_tasks(
+      work.tasks(), options.threads, [&](std::size_t t) { work.run(t); },
+      [&](std::size_t finished) {
+        if (progress) progress("phase 2: margins: " + std::to_string(finished) + of_total);
+      });
+  work.finish();
 }
 
 }  // namespace spar::planner

@@ -39,12 +39,14 @@
 //   InstanceAnalysis analysis = analyse_instance(world, domain, instance, options);
 //   AnalysisOptions extras = options;
 //   extras.threads = spar::default_threads();
-//   add_margins(analysis, extras);
+//   add_margins(analysis, extras);    // or MarginWork's parts, beside other work
 //   std::cout << *analysis.steps[0].preconditions[0].holds_up_to_scale << '\n';
 #pragma once
 
+#include <cstddef>
 #include <functional>
 #include <string_view>
+#include <vector>
 
 #include "spar/planner/uncertainty/analysis.hpp"
 
@@ -54,5 +56,31 @@ namespace spar::planner {
 // set, is told on the calling thread how many tasks are done ("phase 2: margins: 12 of 40 done").
 void add_margins(InstanceAnalysis& analysis, const AnalysisOptions& options,
                  const std::function<void(std::string_view stage)>& progress = {});
+
+// add_margins in parts, for a caller that runs other work beside the margins on the same
+// threads (plan(): the probability's Monte Carlo and the tolerance allocation,
+// probability.hpp's ProbabilityWork). The constructor makes the tasks and their copies: it reads
+// the analysis' pool, so it runs on the thread that owns the pool. run(t) does task t, on any
+// thread, each task once, several at a time; the tasks write only their own preconditions'
+// margin fields (bound, blame, Monte Carlo, holds_up_to_scale), so other work may read the
+// analysis' other fields meanwhile. finish(), after every task, gives the second side of a
+// clearance its first side's bound and blame and sets every witness.
+class MarginWork {
+ public:
+  MarginWork(InstanceAnalysis& analysis, const AnalysisOptions& options);
+  MarginWork(MarginWork&&) noexcept;
+  ~MarginWork();
+  [[nodiscard]] std::size_t tasks() const;
+  void run(std::size_t task);
+  void finish();
+
+ private:
+  struct Task;  // one precondition's margins, on its own copy of the expression
+  InstanceAnalysis* analysis_;
+  AnalysisOptions options_;
+  std::vector<Task> tasks_;
+  std::vector<std::vector<std::size_t>> first_of_;  // per step and precondition: the first
+                                                    // of its expression in the step
+};
 
 }  // namespace spar::planner

@@ -236,65 +236,94 @@ struct SampledViolations {
   std::size_t plan{0};               // points violating at least one precondition
 };
 
-SampledViolations sample_violations(const InstanceAnalysis& analysis,
-                                    const std::vector<const PreconditionResult*>& results,
-                                    const ProbabilityOptions& options) {
-  const std::vector<Expr>& inputs = analysis.symbols;
-  std::vector<Expr> every, unproved_outputs;
-  std::vector<std::size_t> unproved;  // indices into results
-  for (std::size_t k = 0; k < results.size(); ++k) {
-    every.push_back(results[k]->inequality.expression);
-    if (results[k]->verdict != bounds::Verdict::kSatisfied) {
-      unproved.push_back(k);
-      unproved_outputs.push_back(results[k]->inequality.expression);
-    }
-  }
-  const std::size_t proved_samples =
-      std::max<std::size_t>(1, options.samples / std::max<std::size_t>(1, options.proved_share));
-  SampledViolations sampled{
-      .points = unproved.empty() ? std::min(options.samples, proved_samples) : options.samples,
-      .per_precondition = std::vector<std::size_t>(results.size(), 0),
-      .samples = std::vector<std::size_t>(results.size(), 0)};
-  const symbolic::Tape all = symbolic::Tape::compile(every, inputs);
-  const std::optional<symbolic::Tape> some =
-      unproved.empty() ? std::nullopt
-                       : std::optional(symbolic::Tape::compile(unproved_outputs, inputs));
-  std::vector<Sampler> samplers;
-  for (const SpaceVariable& v : analysis.variables) samplers.emplace_back(v);
-  std::mt19937_64 random(options.seed);
-  constexpr std::size_t kBlock = 256;
-  std::vector<double> points(inputs.size() * kBlock), values(every.size() * kBlock);
-  for (std::size_t done = 0; done < sampled.points; done += kBlock) {
-    check_deadline();  // a batch's --time-limit (common/deadline.hpp); cheap without one
-    const std::size_t n = std::min(kBlock, sampled.points - done);
-    for (std::size_t p = 0; p < n; ++p)  // point-major draws: independent of the block size
-      for (std::size_t j = 0; j < inputs.size(); ++j) points[j * n + p] = samplers[j](random);
-    // Every precondition while the proved ones are checked, then the unproved ones alone.
-    const bool checking = done < proved_samples;
-    const symbolic::Tape& tape = checking ? all : *some;
-    const std::size_t outputs = checking ? every.size() : unproved.size();
-    symbolic::evaluate_batch(tape, {points.data(), inputs.size() * n}, {values.data(), outputs * n},
-                             n);
-    for (std::size_t p = 0; p < n; ++p) {
-      bool any = false;
-      for (std::size_t row = 0; row < outputs; ++row) {
-        const std::size_t k = checking ? row : unproved[row];
-        const bool proved = results[k]->verdict == bounds::Verdict::kSatisfied;
-        if (proved && done + p >= proved_samples) continue;
-        if (violated(results[k]->inequality, values[row * n + p])) {
-          ++sampled.per_precondition[k];
-          any = true;
+// The sampling in two parts: the constructor compiles the tapes (it reads the analysis' pool),
+// run() draws and evaluates (it reads the tapes, the variables and the results' relations and
+// verdicts only, so it may run on another thread).
+class MonteCarlo {
+ public:
+  MonteCarlo(const InstanceAnalysis& analysis, std::vector<const PreconditionResult*> results,
+             const ProbabilityOptions& options)
+      : variables_(&analysis.variables),
+        results_(std::move(results)),
+        options_(options),
+        proved_samples_(std::max<std::size_t>(
+            1, options.samples / std::max<std::size_t>(1, options.proved_share))),
+        unproved_(unproved_rows(results_)),
+        all_(tape_of(analysis, results_, {})),
+        some_(unproved_.empty() ? std::nullopt
+                                : std::optional(tape_of(analysis, results_, unproved_))) {}
+
+  [[nodiscard]] SampledViolations run() const {
+    const std::size_t inputs = variables_->size(), every = results_.size();
+    SampledViolations sampled{.points = unproved_.empty()
+                                            ? std::min(options_.samples, proved_samples_)
+                                            : options_.samples,
+                              .per_precondition = std::vector<std::size_t>(every, 0),
+                              .samples = std::vector<std::size_t>(every, 0)};
+    std::vector<Sampler> samplers;
+    for (const SpaceVariable& v : *variables_) samplers.emplace_back(v);
+    std::mt19937_64 random(options_.seed);
+    constexpr std::size_t kBlock = 256;
+    std::vector<double> points(inputs * kBlock), values(every * kBlock);
+    for (std::size_t done = 0; done < sampled.points; done += kBlock) {
+      check_deadline();  // a batch's --time-limit (common/deadline.hpp); cheap without one
+      const std::size_t n = std::min(kBlock, sampled.points - done);
+      for (std::size_t p = 0; p < n; ++p)  // point-major draws: independent of the block size
+        for (std::size_t j = 0; j < inputs; ++j) points[j * n + p] = samplers[j](random);
+      // Every precondition while the proved ones are checked, then the unproved ones alone.
+      const bool checking = done < proved_samples_;
+      const symbolic::Tape& tape = checking ? all_ : *some_;
+      const std::size_t outputs = checking ? every : unproved_.size();
+      symbolic::evaluate_batch(tape, {points.data(), inputs * n}, {values.data(), outputs * n}, n);
+      for (std::size_t p = 0; p < n; ++p) {
+        bool any = false;
+        for (std::size_t row = 0; row < outputs; ++row) {
+          const std::size_t k = checking ? row : unproved_[row];
+          const bool proved = results_[k]->verdict == bounds::Verdict::kSatisfied;
+          if (proved && done + p >= proved_samples_) continue;
+          if (violated(results_[k]->inequality, values[row * n + p])) {
+            ++sampled.per_precondition[k];
+            any = true;
+          }
         }
+        sampled.plan += any;
       }
-      sampled.plan += any;
     }
+    for (std::size_t k = 0; k < every; ++k)
+      sampled.samples[k] = results_[k]->verdict == bounds::Verdict::kSatisfied
+                               ? std::min(sampled.points, proved_samples_)
+                               : sampled.points;
+    return sampled;
   }
-  for (std::size_t k = 0; k < results.size(); ++k)
-    sampled.samples[k] = results[k]->verdict == bounds::Verdict::kSatisfied
-                             ? std::min(sampled.points, proved_samples)
-                             : sampled.points;
-  return sampled;
-}
+
+ private:
+  static std::vector<std::size_t> unproved_rows(
+      const std::vector<const PreconditionResult*>& results) {
+    std::vector<std::size_t> rows;
+    for (std::size_t k = 0; k < results.size(); ++k)
+      if (results[k]->verdict != bounds::Verdict::kSatisfied) rows.push_back(k);
+    return rows;
+  }
+  // One tape of the rows' expressions (all of them when `rows` is empty).
+  static symbolic::Tape tape_of(const InstanceAnalysis& analysis,
+                                const std::vector<const PreconditionResult*>& results,
+                                std::span<const std::size_t> rows) {
+    std::vector<Expr> outputs;
+    if (rows.empty())
+      for (const PreconditionResult* result : results)
+        outputs.push_back(result->inequality.expression);
+    for (const std::size_t k : rows) outputs.push_back(results[k]->inequality.expression);
+    return symbolic::Tape::compile(outputs, analysis.symbols);
+  }
+
+  const std::vector<SpaceVariable>* variables_;  // the analysis': inputs in this order
+  std::vector<const PreconditionResult*> results_;
+  ProbabilityOptions options_;
+  std::size_t proved_samples_;          // points the proved preconditions are checked on
+  std::vector<std::size_t> unproved_;   // indices into results_
+  symbolic::Tape all_;                  // every precondition
+  std::optional<symbolic::Tape> some_;  // the unproved ones
+};
 
 // Sets p's Monte Carlo estimate and its Wilson interval, and notes where the first-order estimate
 // disagrees with it (or, for a proved precondition, any sampled violation: a soundness bug).
@@ -435,9 +464,22 @@ ProbabilityAnalysis analyse_probability(const InstanceAnalysis& analysis,
   return analyse_probability(analysis, sensitivities(analysis), options);
 }
 
-ProbabilityAnalysis analyse_probability(const InstanceAnalysis& analysis,
-                                        const Sensitivities& jacobian,
-                                        const ProbabilityOptions& options) {
+namespace {
+
+// Row k of J's precondition (Sensitivities: execution order).
+std::vector<const PreconditionResult*> rows_of(const InstanceAnalysis& analysis,
+                                               const Sensitivities& jacobian) {
+  std::vector<const PreconditionResult*> results;
+  for (std::size_t k = 0; k < jacobian.rows; ++k)
+    results.push_back(
+        &analysis.steps[jacobian.row_step[k]].preconditions[jacobian.row_precondition[k]]);
+  return results;
+}
+
+// The analysis up to its Monte Carlo: moments and the first-order probabilities (truncated to
+// PreconditionResult::bound).
+ProbabilityAnalysis first_order(const InstanceAnalysis& analysis, const Sensitivities& jacobian,
+                                const ProbabilityOptions& options) {
   const PreconditionCovariance covariance =
       precondition_covariance(jacobian, analysis.variables, options.algebra);
   ProbabilityAnalysis out{.rows = jacobian.rows,
@@ -455,11 +497,9 @@ ProbabilityAnalysis analyse_probability(const InstanceAnalysis& analysis,
       for (std::int64_t i = jacobian.column_start[j]; i < jacobian.column_start[j + 1]; ++i)
         mean[jacobian.row_index[i]] += jacobian.value[i] * mu;
   }
-  std::vector<const PreconditionResult*> results;
+  const std::vector<const PreconditionResult*> results = rows_of(analysis, jacobian);
   for (std::size_t k = 0; k < jacobian.rows; ++k) {
-    const PreconditionResult& result =
-        analysis.steps[jacobian.row_step[k]].preconditions[jacobian.row_precondition[k]];
-    results.push_back(&result);
+    const PreconditionResult& result = *results[k];
     PreconditionProbability p{.step = jacobian.row_step[k],
                               .precondition = jacobian.row_precondition[k],
                               .nominal = jacobian.nominal[k],
@@ -474,15 +514,30 @@ ProbabilityAnalysis analyse_probability(const InstanceAnalysis& analysis,
                                            result.bound.lo, result.bound.hi);
     out.preconditions.push_back(p);
   }
-  if (options.samples == 0 || jacobian.rows == 0) return out;
+  return out;
+}
 
-  const SampledViolations sampled = sample_violations(analysis, results, options);
+bool samples_wanted(const Sensitivities& jacobian, const ProbabilityOptions& options) {
+  return options.samples > 0 && jacobian.rows > 0;
+}
+
+void add_samples(ProbabilityAnalysis& out, const SampledViolations& sampled) {
   out.samples = sampled.points;
   out.plan_violations = sampled.plan;
   out.p_plan = static_cast<double>(sampled.plan) / sampled.points;
   std::tie(out.p_plan_ci_lo, out.p_plan_ci_hi) = wilson(sampled.plan, sampled.points);
-  for (std::size_t k = 0; k < results.size(); ++k)
+  for (std::size_t k = 0; k < out.preconditions.size(); ++k)
     compare_with_samples(out.preconditions[k], sampled.samples[k], sampled.per_precondition[k]);
+}
+
+}  // namespace
+
+ProbabilityAnalysis analyse_probability(const InstanceAnalysis& analysis,
+                                        const Sensitivities& jacobian,
+                                        const ProbabilityOptions& options) {
+  ProbabilityAnalysis out = first_order(analysis, jacobian, options);
+  if (samples_wanted(jacobian, options))
+    add_samples(out, MonteCarlo(analysis, rows_of(analysis, jacobian), options).run());
   return out;
 }
 
@@ -711,10 +766,8 @@ AllocationRows allocation_rows(const InstanceAnalysis& analysis, const Sensitivi
   const std::size_t rows = jacobian.rows;
   AllocationRows out;
   out.room.resize(rows);
-  out.results.resize(rows);
+  out.results = rows_of(analysis, jacobian);
   for (std::size_t k = 0; k < rows; ++k) {
-    out.results[k] =
-        &analysis.steps[jacobian.row_step[k]].preconditions[jacobian.row_precondition[k]];
     const bounds::Inequality& q = out.results[k]->inequality;
     out.room[k] = upper_limit(q.relation) ? q.threshold - jacobian.nominal[k]
                                           : jacobian.nominal[k] - q.threshold;
@@ -863,55 +916,154 @@ std::vector<ToleranceAllocation::Miss> verify_allocation(
   return misses;
 }
 
+// allocate_tolerances in two parts: the constructor does what reads the analysis' pool (the
+// verification's own copies of the rows, when a verified allocation is to be made), run() the
+// rounds, which read those copies and the analysis' results only, so it may run on any thread.
+class Allocator {
+ public:
+  Allocator(const Scenario& scenario, const InstanceAnalysis& analysis,
+            const Sensitivities& jacobian, const AllocationOptions& options)
+      : jacobian_(&jacobian),
+        options_(options),
+        parameters_(allocation_parameters(scenario, analysis)) {
+    const auto np = static_cast<Eigen::Index>(parameters_.list.size());
+    p0_.resize(np);
+    cost_.resize(np);
+    for (Eigen::Index q = 0; q < np; ++q) {
+      p0_[q] = parameters_.list[static_cast<std::size_t>(q)].half_width;
+      cost_[q] = parameters_.list[static_cast<std::size_t>(q)].cost;
+    }
+    rows_ = allocation_rows(analysis, jacobian, parameters_, p0_);
+    // Nothing to do when phase 2 proved every precondition over this very box already (even
+    // where the first-order margin, which ignores curvature, is not positive).
+    needed_ = !std::all_of(
+        rows_.results.begin(), rows_.results.end(),
+        [](const PreconditionResult* r) { return r->verdict == bounds::Verdict::kSatisfied; });
+    // Compiled once, for every round; not when the first round ends before verifying.
+    if (needed_ && options.verify && infeasible_rows().empty()) verifying_.emplace(analysis, rows_);
+  }
+
+  [[nodiscard]] ToleranceAllocation run() {
+    ToleranceAllocation out;
+    out.parameters = parameters_.list;
+    if (!needed_) return out;  // kNotNeeded, rounds 0: every parameter keeps its half-width
+    const Sensitivities& jacobian = *jacobian_;
+    Eigen::VectorXd p = p0_;
+    for (out.rounds = 1; out.rounds <= options_.max_rounds; ++out.rounds) {
+      const std::vector<std::size_t> infeasible = infeasible_rows();
+      for (const std::size_t k : infeasible)
+        out.misses.push_back(
+            {jacobian.row_step[k], jacobian.row_precondition[k], rows_.epsilon[k] - rows_.room[k]});
+      if (!infeasible.empty()) {
+        out.status = AllocationStatus::kInfeasible;
+        return out;
+      }
+      p = first_order_allocation(rows_, p0_, cost_, options_.algebra);
+      if (!options_.verify) break;
+      out.misses = verify_allocation(jacobian, parameters_, p0_, p, *verifying_,
+                                     options_.verify_bounds, options_.threads, rows_);
+      if (out.misses.empty()) break;
+    }
+    out.rounds = std::min(out.rounds, options_.max_rounds);
+    for (Eigen::Index q = 0; q < p0_.size(); ++q) {
+      out.parameters[static_cast<std::size_t>(q)].allocated = p[q];
+      const double change = (p0_[q] - p[q]) / p0_[q];
+      out.cost += cost_[q] * change * change;
+    }
+    if (!out.misses.empty() || !options_.verify)
+      out.status = AllocationStatus::kNotProved;
+    else
+      out.status = (p == p0_) ? AllocationStatus::kNotNeeded : AllocationStatus::kProved;
+    return out;
+  }
+
+ private:
+  // The rows that fail even with every tolerance 0.
+  [[nodiscard]] std::vector<std::size_t> infeasible_rows() const {
+    std::vector<std::size_t> rows;
+    for (std::size_t k = 0; k < rows_.room.size(); ++k)
+      if (rows_.room[k] - rows_.epsilon[k] < 0) rows.push_back(k);
+    return rows;
+  }
+
+  const Sensitivities* jacobian_;
+  AllocationOptions options_;
+  AllocationParameters parameters_;
+  Eigen::VectorXd p0_, cost_;
+  AllocationRows rows_;  // its epsilon grows by each round's misses
+  bool needed_{false};
+  std::optional<VerifyProblems> verifying_;
+};
+
 }  // namespace
 
 ToleranceAllocation allocate_tolerances(const Scenario& scenario, const InstanceAnalysis& analysis,
                                         const Sensitivities& jacobian,
                                         const AllocationOptions& options) {
-  ToleranceAllocation out;
-  AllocationParameters parameters = allocation_parameters(scenario, analysis);
-  const auto np = static_cast<Eigen::Index>(parameters.list.size());
-  Eigen::VectorXd p0(np), cost(np);
-  for (Eigen::Index q = 0; q < np; ++q) {
-    p0[q] = parameters.list[static_cast<std::size_t>(q)].half_width;
-    cost[q] = parameters.list[static_cast<std::size_t>(q)].cost;
-  }
-  AllocationRows rows = allocation_rows(analysis, jacobian, parameters, p0);
-  out.parameters = parameters.list;
-  // Nothing to do when phase 2 proved every precondition over this very box already (even where
-  // the first-order margin, which ignores curvature, is not positive).
-  if (std::all_of(rows.results.begin(), rows.results.end(), [](const PreconditionResult* r) {
-        return r->verdict == bounds::Verdict::kSatisfied;
-      }))
-    return out;  // kNotNeeded, rounds 0: every parameter keeps its half-width
-  Eigen::VectorXd p = p0;
-  std::optional<VerifyProblems> verifying;  // compiled once, for every round
-  for (out.rounds = 1; out.rounds <= options.max_rounds; ++out.rounds) {
-    for (std::size_t k = 0; k < rows.room.size(); ++k)
-      if (rows.room[k] - rows.epsilon[k] < 0) {  // even with every tolerance 0
-        out.status = AllocationStatus::kInfeasible;
-        out.misses.push_back(
-            {jacobian.row_step[k], jacobian.row_precondition[k], rows.epsilon[k] - rows.room[k]});
-      }
-    if (out.status == AllocationStatus::kInfeasible) return out;
-    p = first_order_allocation(rows, p0, cost, options.algebra);
-    if (!options.verify) break;
-    if (!verifying) verifying.emplace(analysis, rows);
-    out.misses = verify_allocation(jacobian, parameters, p0, p, *verifying, options.verify_bounds,
-                                   options.threads, rows);
-    if (out.misses.empty()) break;
-  }
-  out.rounds = std::min(out.rounds, options.max_rounds);
-  for (Eigen::Index q = 0; q < np; ++q) {
-    out.parameters[static_cast<std::size_t>(q)].allocated = p[q];
-    const double change = (p0[q] - p[q]) / p0[q];
-    out.cost += cost[q] * change * change;
-  }
-  if (!out.misses.empty() || !options.verify)
-    out.status = AllocationStatus::kNotProved;
-  else
-    out.status = (p == p0) ? AllocationStatus::kNotNeeded : AllocationStatus::kProved;
-  return out;
+  return Allocator(scenario, analysis, jacobian, options).run();
 }
+
+// The interface the header hides; Work, below, holds this file's own types.
+class ProbabilityWork::Impl {
+ public:
+  virtual ~Impl() = default;
+  virtual void sample() = 0;
+  virtual void allocate() = 0;
+  [[nodiscard]] virtual ProbabilityAnalysis probability() const = 0;
+  [[nodiscard]] virtual ToleranceAllocation tolerances() const = 0;
+};
+
+namespace {
+
+class Work final : public ProbabilityWork::Impl {
+ public:
+  Work(const Scenario& scenario, const InstanceAnalysis& analysis,
+       const ProbabilityOptions& probability, const AllocationOptions& allocation)
+      : analysis_(&analysis),
+        options_(probability),
+        jacobian_(sensitivities(analysis)),
+        allocator_(scenario, analysis, jacobian_, allocation) {
+    if (samples_wanted(jacobian_, probability))
+      monte_carlo_.emplace(analysis, rows_of(analysis, jacobian_), probability);
+  }
+  void sample() override {
+    if (monte_carlo_) sampled_ = monte_carlo_->run();
+  }
+  void allocate() override { tolerances_ = allocator_.run(); }
+  [[nodiscard]] ProbabilityAnalysis probability() const override {
+    if (monte_carlo_ && !sampled_)
+      throw PlanError("internal: ProbabilityWork::probability() before sample()");
+    ProbabilityAnalysis out = first_order(*analysis_, jacobian_, options_);
+    if (sampled_) add_samples(out, *sampled_);
+    return out;
+  }
+  [[nodiscard]] ToleranceAllocation tolerances() const override {
+    if (!tolerances_) throw PlanError("internal: ProbabilityWork::tolerances() before allocate()");
+    return *tolerances_;
+  }
+
+ private:
+  const InstanceAnalysis* analysis_;
+  ProbabilityOptions options_;
+  Sensitivities jacobian_;  // before allocator_, which keeps a pointer to it
+  Allocator allocator_;
+  std::optional<MonteCarlo> monte_carlo_;  // when samples are wanted
+  std::optional<SampledViolations> sampled_;
+  std::optional<ToleranceAllocation> tolerances_;
+};
+
+}  // namespace
+
+ProbabilityWork::ProbabilityWork(const Scenario& scenario, const InstanceAnalysis& analysis,
+                                 const ProbabilityOptions& probability,
+                                 const AllocationOptions& allocation)
+    : impl_(std::make_unique<Work>(scenario, analysis, probability, allocation)) {}
+ProbabilityWork::ProbabilityWork(ProbabilityWork&&) noexcept = default;
+ProbabilityWork::~ProbabilityWork() = default;
+
+void ProbabilityWork::sample() { impl_->sample(); }
+void ProbabilityWork::allocate() { impl_->allocate(); }
+ProbabilityAnalysis ProbabilityWork::probability() const { return impl_->probability(); }
+ToleranceAllocation ProbabilityWork::tolerances() const { return impl_->tolerances(); }
 
 }  // namespace spar::planner

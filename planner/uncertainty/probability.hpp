@@ -69,6 +69,7 @@
 #include <Eigen/Core>
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <string>
 #include <vector>
@@ -233,5 +234,31 @@ struct AllocationOptions {
                                                       const InstanceAnalysis& analysis,
                                                       const Sensitivities& jacobian,
                                                       const AllocationOptions& options = {});
+
+// analyse_probability and allocate_tolerances in parts, for plan() to run them beside the
+// margins (margins.hpp's MarginWork) on its threads; the results are the two functions'. The
+// constructor does all that reads or extends the analysis' pool (J, the Monte Carlo's tapes, the
+// allocation's own copies of its rows), on the thread that owns the pool. sample() (the Monte
+// Carlo) and allocate() (the tolerance allocation, itself on allocation.threads) read only what
+// the constructor made and the analysis' variables and results (boxes, relations, verdicts: not
+// the margins' fields), so they may run on any threads, at the same time as each other and as
+// the margins, each once. probability() needs sample() and the margins' tight bounds (the
+// first-order probabilities truncate to PreconditionResult::bound); tolerances() needs
+// allocate(); either before its part throws PlanError. `analysis` must outlive the work.
+class ProbabilityWork {
+ public:
+  ProbabilityWork(const Scenario& scenario, const InstanceAnalysis& analysis,
+                  const ProbabilityOptions& probability, const AllocationOptions& allocation);
+  ProbabilityWork(ProbabilityWork&&) noexcept;
+  ~ProbabilityWork();
+  void sample();
+  void allocate();
+  [[nodiscard]] ProbabilityAnalysis probability() const;
+  [[nodiscard]] ToleranceAllocation tolerances() const;
+  class Impl;  // probability.cpp's
+
+ private:
+  std::unique_ptr<Impl> impl_;
+};
 
 }  // namespace spar::planner

@@ -1,6 +1,7 @@
 // Phase 2 on several threads: the chosen instance's margins (planner/uncertainty/margins.hpp),
 // computed on copies of the expressions in pools of their own, equal what the analysis' own pool
-// gives, and they, like the instances analyse_instances examines, are the same on one thread and
+// gives, and they, like the instances analyse_instances examines and plan()'s probability and
+// tolerance allocation run beside the margins (ProbabilityWork), are the same on one thread and
 // on several (every field, bit for bit).
 #include <gtest/gtest.h>
 
@@ -8,6 +9,8 @@
 #include <vector>
 
 #include "spar/bounds/bound.hpp"
+#include "spar/common/parallel.hpp"
+#include "spar/planner/error.hpp"
 #include "spar/planner/plan.hpp"
 
 namespace spar::planner {
@@ -128,6 +131,84 @@ TEST(Margins, ACopiedExpressionBoundsAsTheOriginal) {
       ++compared;
     }
   EXPECT_GT(compared, 10);
+}
+
+void expect_same_probability(const ProbabilityAnalysis& a, const ProbabilityAnalysis& b) {
+  EXPECT_EQ(a.samples, b.samples);
+  EXPECT_EQ(a.plan_violations, b.plan_violations);
+  EXPECT_EQ(a.p_plan, b.p_plan);
+  ASSERT_EQ(a.preconditions.size(), b.preconditions.size());
+  for (std::size_t k = 0; k < a.preconditions.size(); ++k) {
+    const PreconditionProbability& p = a.preconditions[k];
+    const PreconditionProbability& q = b.preconditions[k];
+    const std::string where = "row " + std::to_string(k);
+    EXPECT_EQ(p.sigma, q.sigma) << where;
+    EXPECT_EQ(p.p_first_order, q.p_first_order) << where;
+    EXPECT_EQ(p.p_second_order, q.p_second_order) << where;
+    EXPECT_EQ(p.samples, q.samples) << where;
+    EXPECT_EQ(p.violations, q.violations) << where;
+    EXPECT_EQ(p.note, q.note) << where;
+  }
+}
+
+void expect_same_allocation(const ToleranceAllocation& a, const ToleranceAllocation& b) {
+  EXPECT_EQ(a.status, b.status);
+  EXPECT_EQ(a.rounds, b.rounds);
+  EXPECT_EQ(a.cost, b.cost);
+  ASSERT_EQ(a.parameters.size(), b.parameters.size());
+  for (std::size_t q = 0; q < a.parameters.size(); ++q)
+    EXPECT_EQ(a.parameters[q].allocated, b.parameters[q].allocated) << a.parameters[q].name;
+  ASSERT_EQ(a.misses.size(), b.misses.size());
+  for (std::size_t k = 0; k < a.misses.size(); ++k) EXPECT_EQ(a.misses[k].by, b.misses[k].by);
+}
+
+// ProbabilityWork's parts, run at once on two threads beside nothing else, give what
+// analyse_probability and allocate_tolerances give. On on_back's first instance (an error: some
+// preconditions unproved) the allocation verifies rounds and the Monte Carlo samples them all.
+TEST(ProbabilityWork, GivesWhatTheTwoFunctionsGive) {
+  const Analysed analysed("peg_block_on_back");
+  InstanceAnalysis analysis = analysed.analyse();
+  AnalysisOptions options = analysed.options;
+  add_margins(analysis, options);
+  const ProbabilityOptions probability{.samples = 3'000};
+  const Scenario& scenario = analysed.world.scenario();
+  const ProbabilityAnalysis expected = analyse_probability(analysis, probability);
+  const ToleranceAllocation allocated = allocate_tolerances(scenario, analysis);
+  ASSERT_GT(allocated.rounds, 0);
+  ASSERT_GT(expected.plan_violations, 0u);
+
+  ProbabilityWork work(scenario, analysis, probability, {});
+  run_tasks(2, 2, [&](std::size_t t) { t == 0 ? work.allocate() : work.sample(); });
+  expect_same_probability(work.probability(), expected);
+  expect_same_allocation(work.tolerances(), allocated);
+}
+
+TEST(ProbabilityWork, APartAskedBeforeItRanIsAnError) {
+  const Analysed analysed("peg_block_on_back");
+  InstanceAnalysis analysis = analysed.analyse();
+  const ProbabilityWork work(analysed.world.scenario(), analysis, {.samples = 100}, {});
+  EXPECT_THROW((void)work.probability(), PlanError);
+  EXPECT_THROW((void)work.tolerances(), PlanError);
+}
+
+// plan() runs the margins, the Monte Carlo and the allocation as one list of tasks: on two
+// threads its chosen analysis, probability and allocation are one thread's, bit for bit.
+TEST(Plan, TheSameExtrasOnTwoThreadsAsOnOne) {
+  const Scenario scenario =
+      load_scenario(std::string(SPAR_SOURCE_DIR) + "/examples/peg_block_on_back.yaml");
+  PlanOptions options;
+  options.analysis.samples = 300;
+  options.probability->samples = 3'000;
+  options.threads = 1;
+  const PlanResult one = plan(scenario, builtin_domain(), options);
+  options.threads = 2;
+  const PlanResult two = plan(scenario, builtin_domain(), options);
+  ASSERT_NE(one.chosen_analysis(), nullptr);
+  ASSERT_NE(two.chosen_analysis(), nullptr);
+  expect_same_analysis(*one.chosen_analysis(), *two.chosen_analysis(), "chosen");
+  ASSERT_TRUE(one.probability && two.probability && one.tolerances && two.tolerances);
+  expect_same_probability(*one.probability, *two.probability);
+  expect_same_allocation(*one.tolerances, *two.tolerances);
 }
 
 }  // namespace
