@@ -12,6 +12,7 @@
 #include "spar/common/parallel.hpp"
 #include "spar/planner/error.hpp"
 #include "spar/planner/plan.hpp"
+#include "tests/planner/same_results.hpp"
 
 namespace spar::planner {
 namespace {
@@ -151,17 +152,6 @@ void expect_same_probability(const ProbabilityAnalysis& a, const ProbabilityAnal
   }
 }
 
-void expect_same_allocation(const ToleranceAllocation& a, const ToleranceAllocation& b) {
-  EXPECT_EQ(a.status, b.status);
-  EXPECT_EQ(a.rounds, b.rounds);
-  EXPECT_EQ(a.cost, b.cost);
-  ASSERT_EQ(a.parameters.size(), b.parameters.size());
-  for (std::size_t q = 0; q < a.parameters.size(); ++q)
-    EXPECT_EQ(a.parameters[q].allocated, b.parameters[q].allocated) << a.parameters[q].name;
-  ASSERT_EQ(a.misses.size(), b.misses.size());
-  for (std::size_t k = 0; k < a.misses.size(); ++k) EXPECT_EQ(a.misses[k].by, b.misses[k].by);
-}
-
 // ProbabilityWork's parts, run at once on two threads beside nothing else, give what
 // analyse_probability and allocate_tolerances give. On on_back's first instance (an error: some
 // preconditions unproved) the allocation verifies rounds and the Monte Carlo samples them all.
@@ -180,7 +170,7 @@ TEST(ProbabilityWork, GivesWhatTheTwoFunctionsGive) {
   ProbabilityWork work(scenario, analysis, probability, {});
   run_tasks(2, 2, [&](std::size_t t) { t == 0 ? work.allocate() : work.sample(); });
   expect_same_probability(work.probability(), expected);
-  expect_same_allocation(work.tolerances(), allocated);
+  testing::expect_same_allocation(work.tolerances(), allocated);
 }
 
 TEST(ProbabilityWork, APartAskedBeforeItRanIsAnError) {
@@ -208,7 +198,7 @@ TEST(Plan, TheSameExtrasOnTwoThreadsAsOnOne) {
   expect_same_analysis(*one.chosen_analysis(), *two.chosen_analysis(), "chosen");
   ASSERT_TRUE(one.probability && two.probability && one.tolerances && two.tolerances);
   expect_same_probability(*one.probability, *two.probability);
-  expect_same_allocation(*one.tolerances, *two.tolerances);
+  testing::expect_same_allocation(*one.tolerances, *two.tolerances);
 }
 
 }  // namespace

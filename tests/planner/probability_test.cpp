@@ -19,6 +19,7 @@
 #include "spar/symbolic/operations.hpp"
 #include "spar/symbolic/parse.hpp"
 #include "tests/common/replaced.hpp"
+#include "tests/planner/same_results.hpp"
 
 namespace spar::planner {
 namespace {
@@ -565,14 +566,7 @@ TEST(ProbabilityTolerance, TheSameAllocationOnTwoThreadsAsOnOne) {
   const ToleranceAllocation two =
       allocate_tolerances(scenario, *result.chosen_analysis(), {.threads = 2});
   EXPECT_GE(one.rounds, 2);
-  EXPECT_EQ(one.status, two.status);
-  EXPECT_EQ(one.rounds, two.rounds);
-  EXPECT_EQ(one.cost, two.cost);
-  ASSERT_EQ(one.parameters.size(), two.parameters.size());
-  for (std::size_t i = 0; i < one.parameters.size(); ++i)
-    EXPECT_EQ(one.parameters[i].allocated, two.parameters[i].allocated) << one.parameters[i].name;
-  ASSERT_EQ(one.misses.size(), two.misses.size());
-  for (std::size_t i = 0; i < one.misses.size(); ++i) EXPECT_EQ(one.misses[i].by, two.misses[i].by);
+  testing::expect_same_allocation(one, two);
 }
 
 }  // namespace
