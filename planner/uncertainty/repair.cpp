@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <optional>
 
 namespace spar::planner {
 namespace {
@@ -206,18 +207,53 @@ RepairChoice choose_repair(const std::vector<RepairCandidate>& candidates,
   RepairChoice choice{.set = 0, .score = baseline, .turned = {}, .sets_tried = 0};
   std::map<unsigned, RepairScore> scores = {{0u, baseline}};
   const int n = static_cast<int>(candidates.size());
-  // A set that leaves nothing unsatisfied has the least score there is: no later set can be
-  // strictly better, so the search ends there (every subset of it, smaller, is already scored).
-  const auto settled = [&] { return choice.score.unsatisfied == 0; };
-  for (int size = 1; size <= n && !settled(); ++size) {
+  const auto score_of = [&](unsigned set) -> const RepairScore& {
+    auto found = scores.find(set);
+    if (found == scores.end()) {
+      found = scores.emplace(set, evaluate(set)).first;
+      ++choice.sets_tried;
+    }
+    return found->second;
+  };
+  // The best score any set can have: a set scores no better than the set with every sensing
+  // candidate added (monotonicity, header comment), so the best is among the maximal sets, every
+  // sensing candidate with no squeeze or with one. Evaluated once, only when the sets of size 1
+  // leave something unsatisfied; the evaluation stops at a maximal set that satisfies everything.
+  std::optional<RepairScore> best;
+  const auto best_possible = [&]() -> const RepairScore& {
+    if (best) return *best;
+    unsigned sensing = 0;
+    std::vector<int> squeezes;
+    for (int i = 0; i < n; ++i)
+      if (candidates[i].effect == Effect::kReduce)
+        squeezes.push_back(i);
+      else
+        sensing |= 1u << i;
+    best = choice.score;
+    std::vector<unsigned> maximal;
+    if (sensing != 0) maximal.push_back(sensing);
+    for (const int i : squeezes) maximal.push_back(sensing | 1u << i);
+    for (const unsigned set : maximal) {
+      const RepairScore& score = score_of(set);
+      if (score.admissible && score.better_than(*best)) best = score;
+      if (best->unsatisfied == 0) break;
+    }
+    return *best;
+  };
+  // The search ends once no set can score strictly better than the one kept (every subset of a
+  // kept set, smaller, is already scored): at once when it leaves nothing unsatisfied, and after
+  // the sets of size 1 as soon as it is as good as the best possible.
+  const auto settled = [&](bool bounded) {
+    return choice.score.unsatisfied == 0 || (bounded && !best_possible().better_than(choice.score));
+  };
+  for (int size = 1; size <= n && !settled(size > 1); ++size) {
     for (const unsigned set : sets_of_size(candidates.size(), size)) {
       if (!valid_set(candidates, set)) continue;
-      const RepairScore& score = scores[set] = evaluate(set);
-      ++choice.sets_tried;
+      const RepairScore& score = score_of(set);
       if (score.admissible && score.better_than(choice.score)) {
         choice.set = set;
         choice.score = score;
-        if (settled()) break;
+        if (settled(size > 1)) break;
       }
     }
   }

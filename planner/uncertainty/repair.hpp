@@ -23,8 +23,9 @@
 // It evaluates admissible sets by size (at most one squeeze each: a second one re-centres again),
 // in SPAR's order within a size, and keeps the set with the best score, the smallest among equals,
 // the earliest in that order among those; the empty set (no repair) wins unless a set is strictly
-// better. It stops at the first admissible set that leaves nothing unsatisfied (no set scores
-// better, and among equals the earliest is kept).
+// better. It stops once no set left can score strictly better than the one kept: at the first
+// admissible set that leaves nothing unsatisfied, and, after the sets of size 1, when the kept one
+// scores as well as the best a set can (below).
 // Invariants (what makes the choice monotone and minimal):
 //   - a kept set is strictly better than no repair: it turns some verdict (violated or undecided ->
 //     satisfied) and fails no more steps; a bound that merely tightens is no reason to keep it;
@@ -33,10 +34,16 @@
 //     but not without e;
 //   - with smaller uncertainty every set's score is no worse (bounds are inclusion-monotone, and a
 //     scan never loosens a component: it keeps what it does not know better, Propagation::sense),
-//     so the kept set's score, hence the step's verdicts, can only improve.
+//     so the kept set's score, hence the step's verdicts, can only improve;
+//   - for the same reason a set scores no better than the set with every sensing candidate
+//     (range-scan, camera verification) added, and is admissible only if that set is: the best
+//     score any set can have is the best of the maximal sets (every sensing candidate, with no
+//     squeeze or with one), which the search evaluates after the sets of size 1 when those leave
+//     something unsatisfied (stopping at one that satisfies everything), to know when to stop.
 // Cost: at most 2^(sensing candidates, 2 + 2 kCamerasPerObject) x (1 + squeezes) - 1 sets, each one
-// replay and decide of steps [earliest candidate, k]; stops at the first set that settles the
-// step. Finding a camera verification renders the scene once per camera with a residual.
+// replay and decide of steps [earliest candidate, k]; when no set settles the step and the best is
+// a single candidate, only the sets of size 1 and the maximal sets (on_back's insertion: 11 of its
+// 19). Finding a camera verification renders the scene once per camera with a residual.
 //
 // Example:
 //   const RepairKinds kinds{.scan = scan, .look = -1, .squeeze = squeeze, .squeeze_grasps = 4};
