@@ -50,7 +50,7 @@ namespace spar::reports::internal {
 [[nodiscard]] std::string repair_title(const Chosen& chosen, const Repair& repair,
                                        std::optional<std::size_t> position);
 // The repair candidates phase 2 searched and dropped (chosen.repair_searches), in one line:
-// "1 range-scan and 4 squeeze for #5 assemble peg (19 sets of 6 candidates tried)"; "" when none
+// "1 range-scan and 4 squeeze for #5 assemble peg (11 sets of 6 candidates tried)"; "" when none
 // was dropped.
 [[nodiscard]] std::string dropped_repairs(const Chosen& chosen);
 
