@@ -14,6 +14,7 @@
 #include <map>
 #include <memory>
 #include <numbers>
+#include <numeric>
 #include <optional>
 #include <random>
 #include <tuple>
@@ -249,7 +250,7 @@ class MonteCarlo {
         proved_samples_(std::max<std::size_t>(
             1, options.samples / std::max<std::size_t>(1, options.proved_share))),
         unproved_(unproved_rows(results_)),
-        all_(tape_of(analysis, results_, {})),
+        all_(tape_of(analysis, results_, every_row(results_.size()))),
         some_(unproved_.empty() ? std::nullopt
                                 : std::optional(tape_of(analysis, results_, unproved_))) {}
 
@@ -304,14 +305,16 @@ class MonteCarlo {
       if (results[k]->verdict != bounds::Verdict::kSatisfied) rows.push_back(k);
     return rows;
   }
-  // One tape of the rows' expressions (all of them when `rows` is empty).
+  static std::vector<std::size_t> every_row(std::size_t rows) {
+    std::vector<std::size_t> all(rows);
+    std::iota(all.begin(), all.end(), std::size_t{0});
+    return all;
+  }
+  // One tape of the rows' expressions, over every variable of the analysis.
   static symbolic::Tape tape_of(const InstanceAnalysis& analysis,
                                 const std::vector<const PreconditionResult*>& results,
                                 std::span<const std::size_t> rows) {
     std::vector<Expr> outputs;
-    if (rows.empty())
-      for (const PreconditionResult* result : results)
-        outputs.push_back(result->inequality.expression);
     for (const std::size_t k : rows) outputs.push_back(results[k]->inequality.expression);
     return symbolic::Tape::compile(outputs, analysis.symbols);
   }
