@@ -40,6 +40,9 @@
 //     score any set can have is the best of the maximal sets (every sensing candidate, with no
 //     squeeze or with one), which the search evaluates after the sets of size 1 when those leave
 //     something unsatisfied (stopping at one that satisfies everything), to know when to stop.
+//     Where a bound's effort limit made a real score non-monotone, the kept set would still be a
+//     repair whose verdicts are the sound ones, only perhaps not the best one (the property
+//     Phase2RepairProperty.ShrinkingUncertaintyNeverMakesThePlanWorse watches for it end to end).
 // Cost: at most 2^(sensing candidates, 2 + 2 kCamerasPerObject) x (1 + squeezes) - 1 sets, each one
 // replay and decide of steps [earliest candidate, k]; when no set settles the step and the best is
 // a single candidate, only the sets of size 1 and the maximal sets (on_back's insertion: 11 of its
