@@ -19,6 +19,8 @@
 
 namespace spar::reports {
 
+// On the threads the plan ran on (the work cell's outlines, internal/cell.hpp); the report does not
+// depend on them.
 [[nodiscard]] Report build_report(const planner::PlanResult& result);
 
 // The `chosen` record of plan instance `instance` (an index into result.instances) with its phase

@@ -5,9 +5,11 @@
 #include <cmath>
 #include <map>
 #include <optional>
+#include <tuple>
 #include <utility>
 
 #include "spar/bounds/bound.hpp"
+#include "spar/common/parallel.hpp"
 #include "spar/geometry/collision.hpp"
 #include "spar/reports/internal/silhouette.hpp"
 #include "spar/symbolic/operations.hpp"
@@ -210,29 +212,30 @@ Cell build_cell(const planner::PlanResult& result, const Chosen& chosen,
   int held = -1;
   std::optional<std::size_t> held_since;  // the pickup that grasped `held`
   std::vector<CellSensing> sensed;
-  // Each object's outline by its exact pose: most objects keep theirs from view to view, and
-  // uniting a mesh's projected triangles is the costly part of a view.
-  std::map<std::pair<std::size_t, std::array<double, 16>>, Silhouette> outlines;
-  const auto outline = [&](std::size_t o) -> const Silhouette& {
-    std::array<double, 16> key;
-    Eigen::Map<Eigen::Matrix4d>(key.data()) = pose[o].matrix();
-    auto found = outlines.find({o, key});
-    if (found == outlines.end())
-      found = outlines
-                  .emplace(std::pair{o, key},
-                           object_outline(scenario.objects[o].model.mesh(), pose[o], scale))
-                  .first;
-    return found->second;
-  };
+  // The outlines are made after the walk, as tasks on the plan's threads: uniting a mesh's
+  // projected triangles is the costly part of a view. Each object's outline once per exact pose
+  // (most objects keep theirs from view to view), the gripper's once per view that shows it.
+  using PoseKey = std::pair<std::size_t, std::array<double, 16>>;    // object, its pose's matrix
+  std::map<PoseKey, std::size_t> object_outline_of;                  // -> index into `poses`
+  std::vector<std::pair<std::size_t, Transform>> poses;              // object, pose
+  std::vector<std::vector<std::size_t>> view_outlines;               // per view and object
+  std::vector<std::tuple<std::size_t, double, Transform>> grippers;  // view, opening, pose
   Cell cell;
   const auto view = [&](std::optional<std::size_t> after, std::optional<Transform> gripper,
                         double opening, int handled) {
     CellView& v = cell.views.emplace_back();
     if (after) v.after = int(*after) + 1;
     v.title = after ? "after " + step_label(chosen, *after) : "initial state";
-    for (std::size_t o = 0; o < scenario.objects.size(); ++o)
-      v.objects.push_back({scenario.objects[o].name, int(o) == held, outline(o)});
-    if (gripper) v.gripper = gripper_outline(scenario.robot.gripper, opening, *gripper, scale);
+    std::vector<std::size_t>& outlines = view_outlines.emplace_back();
+    for (std::size_t o = 0; o < scenario.objects.size(); ++o) {
+      v.objects.push_back({scenario.objects[o].name, int(o) == held, {}});
+      PoseKey key{o, {}};
+      Eigen::Map<Eigen::Matrix4d>(key.second.data()) = pose[o].matrix();
+      const auto [found, fresh] = object_outline_of.try_emplace(key, poses.size());
+      if (fresh) poses.emplace_back(o, pose[o]);
+      outlines.push_back(found->second);
+    }
+    if (gripper) grippers.emplace_back(cell.views.size() - 1, opening, *gripper);
     if (replay && handled >= 0)
       if (auto region = replay->region(handled, handled == held ? held_since : std::nullopt, scale))
         v.region = *region;
@@ -280,6 +283,22 @@ Cell build_cell(const planner::PlanResult& result, const Chosen& chosen,
         break;
     }
   }
+
+  std::vector<Silhouette> made(poses.size() + grippers.size());
+  run_tasks(made.size(), result.analysis.threads, [&](std::size_t t) {
+    if (t < poses.size()) {
+      const auto& [o, at] = poses[t];
+      made[t] = object_outline(scenario.objects[o].model.mesh(), at, scale);
+    } else {
+      const auto& [v, opening, at] = grippers[t - poses.size()];
+      made[t] = gripper_outline(scenario.robot.gripper, opening, at, scale);
+    }
+  });
+  for (std::size_t v = 0; v < cell.views.size(); ++v)
+    for (std::size_t o = 0; o < cell.views[v].objects.size(); ++o)
+      cell.views[v].objects[o].outline = made[view_outlines[v][o]];
+  for (std::size_t g = 0; g < grippers.size(); ++g)
+    cell.views[std::get<0>(grippers[g])].gripper = std::move(made[poses.size() + g]);
 
   // The table: what the views and the places cover, and a margin.
   Eigen::AlignedBox2d covered;

@@ -8,7 +8,8 @@
 // the handled object may occupy. That box is sound: phase 2's propagation is replayed over the
 // same steps and the object's pose error (held: as if released where it is, with that motion's
 // arm error) is bounded over the instance's uncertainty variables. Views get no box when phase 2
-// did not run.
+// did not run. The outlines are made after the walk, as tasks on the threads the plan ran on
+// (PlanResult::analysis.threads, common/parallel.hpp); the cell does not depend on them.
 //
 // Example:
 //   const Cell cell = build_cell(result, chosen, result.chosen(), result.chosen_analysis());
