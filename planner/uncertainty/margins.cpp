@@ -109,7 +109,6 @@ MarginWork::MarginWork(InstanceAnalysis& analysis, const AnalysisOptions& option
   }
 }
 
-MarginWork::MarginWork(MarginWork&&) noexcept = default;
 MarginWork::~MarginWork() = default;
 
 std::size_t MarginWork::tasks() const { return tasks_.size(); }

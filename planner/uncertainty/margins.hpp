@@ -68,7 +68,6 @@ void add_margins(InstanceAnalysis& analysis, const AnalysisOptions& options,
 class MarginWork {
  public:
   MarginWork(InstanceAnalysis& analysis, const AnalysisOptions& options);
-  MarginWork(MarginWork&&) noexcept;
   ~MarginWork();
   [[nodiscard]] std::size_t tasks() const;
   void run(std::size_t task);

@@ -1061,7 +1061,6 @@ ProbabilityWork::ProbabilityWork(const Scenario& scenario, const InstanceAnalysi
                                  const ProbabilityOptions& probability,
                                  const AllocationOptions& allocation)
     : impl_(std::make_unique<Work>(scenario, analysis, probability, allocation)) {}
-ProbabilityWork::ProbabilityWork(ProbabilityWork&&) noexcept = default;
 ProbabilityWork::~ProbabilityWork() = default;
 
 void ProbabilityWork::sample() { impl_->sample(); }

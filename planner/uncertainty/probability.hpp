@@ -249,7 +249,6 @@ class ProbabilityWork {
  public:
   ProbabilityWork(const Scenario& scenario, const InstanceAnalysis& analysis,
                   const ProbabilityOptions& probability, const AllocationOptions& allocation);
-  ProbabilityWork(ProbabilityWork&&) noexcept;
   ~ProbabilityWork();
   void sample();
   void allocate();
