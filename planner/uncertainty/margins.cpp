@@ -1,6 +1,7 @@
 #include "spar/planner/uncertainty/margins.hpp"
 
 #include <algorithm>
+#include <limits>
 #include <map>
 #include <memory>
 #include <optional>
@@ -56,10 +57,52 @@ void add_monte_carlo(PreconditionResult& result, Expr f, std::span<const Expr> i
   result.monte_carlo_samples = samples;
 }
 
+// The reverse analysis' guess (internal/bisection.hpp) of where a precondition stops being
+// proved. Values are oriented so that larger is worse (f for `<`, `<=`; -f for `>`, `>=`); per
+// scale deciding gives the bound's side and the worst value it attained (early exit: a proof stops
+// once the side is within the limit, a refutation at the first witness past it). A scale that
+// failed WITHOUT such a witness was decided near the answer: its side is where branch and bound
+// got to with the whole budget, and side - attained is the room a proof needs. Only then is there
+// a guess: the side of the proved end is taken as its attained value plus that room (at most its
+// own side), and the answer where the line through the two ends meets the limit. Before, the
+// search bisects (far from the answer the decisions are cheap anyway).
+class ScaleGuess {
+ public:
+  explicit ScaleGuess(const bounds::Inequality& inequality)
+      : sign_(inequality.relation == bounds::Relation::kLess ||
+                      inequality.relation == bounds::Relation::kLessEqual
+                  ? 1.0
+                  : -1.0),
+        limit_(sign_ * inequality.threshold) {}
+
+  void record(double scale, const bounds::BoundResult& bound) {
+    if (bound.has_inner_range())
+      seen_[scale] = sign_ > 0 ? Seen{bound.inner_hi, bound.hi} : Seen{-bound.inner_lo, -bound.lo};
+  }
+
+  double operator()(double good, double bad) const {
+    const auto g = seen_.find(good), b = seen_.find(bad);
+    if (g == seen_.end() || b == seen_.end() || !(b->second.attained < limit_) ||
+        !(b->second.side > limit_))
+      return std::numeric_limits<double>::quiet_NaN();
+    const double room = b->second.side - b->second.attained;
+    const double good_side = std::min(g->second.side, g->second.attained + room);
+    return good + (bad - good) * (limit_ - good_side) / (b->second.side - good_side);
+  }
+
+ private:
+  struct Seen {
+    double attained, side;  // oriented: larger is worse
+  };
+  double sign_, limit_;
+  std::map<double, Seen> seen_;  // by scale
+};
+
 // PreconditionResult::holds_up_to_scale: the largest s in [0, max_scale] for which the inequality
 // is PROVED over the box whose objects' ranges (and the arm's, if asked) are s times the space's.
 // Each scale is decided, not bounded tightly (BoundOptions::decide: one side, early exit); a scale
-// counts only when the sound bound proves it.
+// counts only when the sound bound proves it. The scales probed are guided by ScaleGuess: the
+// answer is the bisection's (monotone verdicts), in fewer decisions near it.
 std::optional<double> proved_scale(const PreconditionResult& result, bounds::BoundProblem& problem,
                                    const std::vector<SpaceVariable>& variables,
                                    const AnalysisOptions& options) {
@@ -69,6 +112,7 @@ std::optional<double> proved_scale(const PreconditionResult& result, bounds::Bou
   // Every scale shares the SMP rewrite of the reported box, not one rewrite per scale: half the
   // time of this analysis went into building them.
   for (const Interval& range : result.box) deciding.rewrite_widths.push_back(range.width());
+  ScaleGuess guess(result.inequality);
   const auto proved_at = [&](double scale) {
     std::vector<Interval> box = result.box;
     for (std::size_t v = 0; v < box.size(); ++v) {
@@ -76,10 +120,13 @@ std::optional<double> proved_scale(const PreconditionResult& result, bounds::Bou
       if (of_the_arm(meta.provenance.source) && !options.scale_manipulator) continue;
       box[v] = Interval(meta.lower * scale, meta.upper * scale);
     }
-    return bounds::decide(result.inequality, problem.bound(box, deciding)) == Verdict::kSatisfied;
+    const bounds::BoundResult bound = problem.bound(box, deciding);
+    guess.record(scale, bound);
+    return bounds::decide(result.inequality, bound) == Verdict::kSatisfied;
   };
   if (!proved_at(0.0)) return std::nullopt;
-  return internal::largest_holding(0.0, options.max_scale, options.reverse_iterations, proved_at);
+  return internal::largest_holding(0.0, options.max_scale, options.reverse_iterations, proved_at,
+                                   guess);
 }
 
 }  // namespace

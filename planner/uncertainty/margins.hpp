@@ -19,7 +19,9 @@
 //                 it depends on (their initial / sensed variables, the arm's too when
 //                 `scale_manipulator`) for which it is PROVED to hold: a bisection
 //                 (internal/bisection.hpp) in which every accepted scale is a satisfied verdict
-//                 (each scale decided, one side, early exit, no NLopt witness search).
+//                 (each scale decided, one side, early exit, no NLopt witness search), guided
+//                 once a scale failed near the answer (the gap its bound kept says how far below
+//                 the answer lies): the bisection's answer, in fewer of the costly decisions.
 //
 // Invariants: a step's preconditions share its variables and box, so two with one expression (the
 // two sides of a clearance) have one tight bound and one blame, computed once; no verdict changes
@@ -31,9 +33,10 @@
 // precondition (Monte Carlo, reverse analysis), the first of each expression in a step also with
 // the tight bound and blame, on one compiled problem (the reverse analysis reuses the tight
 // bound's SMP rewrite).
-// Cost: a tight bound is up to report.max_box_evaluations boxes; a reverse analysis 2 +
-// reverse_iterations decisions of up to quick.max_box_evaluations boxes each (most settle in one
-// box; those near the answer take ~100); Monte Carlo `samples` tape evaluations.
+// Cost: a tight bound is up to report.max_box_evaluations boxes; a reverse analysis at most 2 +
+// 3 x reverse_iterations decisions (2 + reverse_iterations unguided) of up to
+// quick.max_box_evaluations boxes each (most settle in one box; those near the answer take ~100:
+// on on-back's insertion, 3 such instead of 7); Monte Carlo `samples` tape evaluations.
 //
 // Example:
 //   InstanceAnalysis analysis = analyse_instance(world, domain, instance, options);
