@@ -156,10 +156,13 @@ PlanResult plan(Scenario scenario, const Domain& domain, const PlanOptions& opti
   result.instances =
       enumerate_instances(result.family, result.world, result.domain, options.max_instances);
   if (options.uncertainty && !result.instances.instances.empty()) {
+    AnalysisOptions examining = result.analysis;
+    examining.defer_sensor_margins = true;  // the chosen instance's only, below
     result.examined = analyse_instances(result.world, result.domain, result.instances.instances,
-                                        result.analysis, stage);
+                                        examining, stage);
     InstanceAnalysis& chosen = result.examined[choose_instance(result.examined)];
     result.chosen_index = chosen.instance;
+    add_sensor_margins(result.world, result.domain, chosen, result.analysis);
     // The chosen plan's collision checks in phase 2's order: a squeeze phase 2 inserted happens
     // in the world as it is before the step that follows it.
     WorldState state = result.world.initial_state();

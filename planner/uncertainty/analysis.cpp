@@ -159,6 +159,9 @@ class InstanceAnalyser {
         decisions_(options.quick, options.bound) {}
 
   void run(std::vector<Phase2Step> steps, InstanceAnalysis& out);
+  // The sensor margins of an analysis run() made with options.defer_sensor_margins: its steps
+  // propagated again (with their labels, so the same expressions) for the states before them.
+  void add_sensor_margins(InstanceAnalysis& out) const;
 
  private:
   // Re-propagates from `snapshot` over steps[from..through] and decides the preconditions of
@@ -169,6 +172,11 @@ class InstanceAnalyser {
   [[nodiscard]] std::optional<double> sensor_margin(const std::vector<Phase2Step>& steps,
                                                     const std::vector<Propagation>& snapshots,
                                                     int k) const;
+  // sensor_margin() of every failed step of the final plan `steps` (analysed[k] is steps[k],
+  // snapshots[k] the state before it).
+  void add_sensor_margins(const std::vector<Phase2Step>& steps,
+                          const std::vector<Propagation>& snapshots,
+                          std::vector<AnalysedStep>& analysed) const;
   // Searches the repair sets for the failing step at `k` (planner/uncertainty/repair.hpp); if one
   // is kept, splices it into `steps`, records it in `out` and returns the position from which to
   // resume; -1 if nothing helped.
@@ -311,6 +319,30 @@ std::optional<double> InstanceAnalyser::sensor_margin(const std::vector<Phase2St
   return internal::largest_holding(0.0, options_.max_scale, options_.reverse_iterations, holds_at);
 }
 
+void InstanceAnalyser::add_sensor_margins(const std::vector<Phase2Step>& steps,
+                                          const std::vector<Propagation>& snapshots,
+                                          std::vector<AnalysedStep>& analysed) const {
+  for (std::size_t k = 0; k < analysed.size(); ++k)
+    if (analysed[k].failed)
+      analysed[k].sensor_scale_needed = sensor_margin(steps, snapshots, static_cast<int>(k));
+}
+
+void InstanceAnalyser::add_sensor_margins(InstanceAnalysis& out) const {
+  std::vector<Phase2Step> steps;
+  std::size_t through = 0;  // the states needed: up to the last failed step
+  for (std::size_t k = 0; k < out.steps.size(); ++k) {
+    steps.push_back(out.steps[k].step);
+    if (out.steps[k].failed) through = k;
+  }
+  std::vector<Propagation> snapshots = {Propagation(world_, domain_, pool_)};
+  for (std::size_t k = 0; k < through; ++k) {
+    Propagation state = snapshots.back();
+    (void)state.step(steps[k], steps[k].label);
+    snapshots.push_back(std::move(state));
+  }
+  add_sensor_margins(steps, snapshots, out.steps);
+}
+
 void InstanceAnalyser::run(std::vector<Phase2Step> steps, InstanceAnalysis& out) {
   std::vector<Propagation> snapshots = {Propagation(world_, domain_, pool_)};
   std::vector<AnalysedStep> analysed;
@@ -354,7 +386,6 @@ void InstanceAnalyser::run(std::vector<Phase2Step> steps, InstanceAnalysis& out)
     }
     if (!all_hold(step.preconditions)) {
       step.failed = true;
-      if (options_.reverse) step.sensor_scale_needed = sensor_margin(steps, snapshots, k);
       step.verification = verification_plans(world_, domain_, steps[k], snapshots[k]);
       ++out.errors;
     }
@@ -363,6 +394,8 @@ void InstanceAnalyser::run(std::vector<Phase2Step> steps, InstanceAnalysis& out)
     snapshots.push_back(std::move(state));
     ++k;
   }
+  if (options_.reverse && !options_.defer_sensor_margins)
+    add_sensor_margins(steps, snapshots, analysed);
   out.steps = std::move(analysed);
   out.steps_decided = decisions_.misses();
   out.steps_reused = decisions_.hits();
@@ -410,6 +443,12 @@ InstanceAnalysis analyse_instance(const WorldModel& world, const Domain& domain,
     for (PreconditionResult& result : step.preconditions)
       result.nodes = symbolic::dag_size(result.inequality.expression);
   return analysis;
+}
+
+void add_sensor_margins(const WorldModel& world, const Domain& domain, InstanceAnalysis& analysis,
+                        const AnalysisOptions& options) {
+  if (options.reverse)
+    InstanceAnalyser(world, domain, options, *analysis.pool).add_sensor_margins(analysis);
 }
 
 std::size_t choose_instance(const std::vector<InstanceAnalysis>& examined) {

@@ -19,9 +19,10 @@
 // not move (replays rebuild the same expressions, and DecisionCache answers them); the result is
 // numbered by execution position (dx_g<position>, ...), as the reports show the steps.
 // A failed step (any instance) also gets its sensor margin, the largest residual scale of the
-// range-scan that would make it hold (AnalysedStep::sensor_scale_needed). The chosen instance's
-// margins (planner/uncertainty/margins.hpp: tight bounds, blame, Monte Carlo and the reverse
-// analysis of every precondition) are added to it after the choice.
+// range-scan that would make it hold (AnalysedStep::sensor_scale_needed); with
+// options.defer_sensor_margins only once add_sensor_margins() runs (plan(): the chosen instance).
+// The chosen instance's margins (planner/uncertainty/margins.hpp: tight bounds, blame, Monte Carlo
+// and the reverse analysis of every precondition) are added to it after the choice.
 //
 // Example:
 //   const std::vector<InstanceAnalysis> examined = analyse_instances(world, domain, instances);
@@ -133,6 +134,10 @@ struct AnalysisOptions {
   double max_scale{8.0};          // reverse analysis searches scales in [0, max_scale]
   int reverse_iterations{12};     // bisection steps (resolution max_scale / 4096)
   bool scale_manipulator{false};  // also scale the arm's variables
+  // Leave AnalysedStep::sensor_scale_needed empty for add_sensor_margins() to fill in later:
+  // plan() examines its instances so and adds the chosen one's only (on on-back the three
+  // instances' sensor margins were a third of their analysis).
+  bool defer_sensor_margins{false};
   bool blame{true};
   std::size_t samples{2000};  // Monte Carlo samples per precondition (0: off)
   // A proved precondition's Monte Carlo is a self-check (its share is 0 by soundness): it draws
@@ -152,6 +157,13 @@ struct AnalysisOptions {
 [[nodiscard]] InstanceAnalysis analyse_instance(const WorldModel& world, const Domain& domain,
                                                 const PlanInstance& instance,
                                                 const AnalysisOptions& options = {});
+
+// The sensor margins (AnalysedStep::sensor_scale_needed, when options.reverse) of an analysis
+// made with options.defer_sensor_margins, as analyse_instance would have given them: the steps
+// are propagated again to the last failed one (same labels, so the same expressions in
+// analysis.pool). Extends the pool: not beside other work that reads it.
+void add_sensor_margins(const WorldModel& world, const Domain& domain, InstanceAnalysis& analysis,
+                        const AnalysisOptions& options);
 
 // The instance SPAR would choose: the first with no error, else the fewest (earliest on ties).
 [[nodiscard]] std::size_t choose_instance(const std::vector<InstanceAnalysis>& examined);
