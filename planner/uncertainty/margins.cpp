@@ -61,10 +61,12 @@ void add_monte_carlo(PreconditionResult& result, Expr f, std::span<const Expr> i
 // proved. Values are oriented so that larger is worse (f for `<`, `<=`; -f for `>`, `>=`); per
 // scale deciding gives the bound's side and the worst value it attained (early exit: a proof stops
 // once the side is within the limit, a refutation at the first witness past it). A scale that
-// failed WITHOUT such a witness was decided near the answer: its side is where branch and bound
-// got to with the whole budget, and side - attained is the room a proof needs. Only then is there
-// a guess: the side of the proved end is taken as its attained value plus that room (at most its
-// own side), and the answer where the line through the two ends meets the limit. Before, the
+// failed WITHOUT such a witness failed near the answer: its side is where branch and bound got to
+// with the whole budget, what a proof there would have had to bring within the limit. Only with
+// such a failure at the bracket's failing end is there a guess: where the line through it and the
+// next such failure above it meets the limit; with none above, the line through it and the proved
+// end, whose side is taken as its attained value plus the room the failure kept (side - attained),
+// at most its own side (a cheap proof attains little and stops with a loose side). Before, the
 // search bisects (far from the answer the decisions are cheap anyway).
 class ScaleGuess {
  public:
@@ -81,10 +83,18 @@ class ScaleGuess {
   }
 
   double operator()(double good, double bad) const {
-    const auto g = seen_.find(good), b = seen_.find(bad);
-    if (g == seen_.end() || b == seen_.end() || !(b->second.attained < limit_) ||
-        !(b->second.side > limit_))
-      return std::numeric_limits<double>::quiet_NaN();
+    const double none = std::numeric_limits<double>::quiet_NaN();
+    const auto failed_near = [&](const Seen& s) { return s.attained < limit_ && s.side > limit_; };
+    const auto b = seen_.find(bad);
+    if (b == seen_.end() || !failed_near(b->second)) return none;
+    const auto above = std::find_if(std::next(b), seen_.end(),
+                                    [&](const auto& s) { return failed_near(s.second); });
+    if (above != seen_.end()) {
+      const double slope = (above->second.side - b->second.side) / (above->first - bad);
+      return slope > 0 ? bad - (b->second.side - limit_) / slope : none;
+    }
+    const auto g = seen_.find(good);
+    if (g == seen_.end()) return none;
     const double room = b->second.side - b->second.attained;
     const double good_side = std::min(g->second.side, g->second.attained + room);
     return good + (bad - good) * (limit_ - good_side) / (b->second.side - good_side);
