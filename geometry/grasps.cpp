@@ -74,7 +74,8 @@ class Exposure {
     });
   }
 
-  bool operator()(const Eigen::Vector3d& point) const {
+  // Not const: the list of blockers is reordered (one Exposure per region, on one thread).
+  bool operator()(const Eigen::Vector3d& point) {
     const Eigen::Vector3d far = point + reach_ * normal_;
     const auto blocks = [&](int t) {
       const auto& tri = mesh_->triangles[t];
@@ -85,9 +86,14 @@ class Exposure {
     const bool in_region =
         (point.array() >= low_.array()).all() && (point.array() <= high_.array()).all();
     if (!gathered_ || !in_region) return !tree_->any_on_segment(point, far, blocks);
-    return std::none_of(blockers_.begin(), blockers_.end(), [&](int t) {
+    const auto blocker = std::find_if(blockers_.begin(), blockers_.end(), [&](int t) {
       return tree_->segment_meets_box_of(point, far, t) && blocks(t);
     });
+    if (blocker == blockers_.end()) return true;
+    // The next point of the region is most likely blocked by the same triangle: it goes first
+    // (the answer, whether any blocks, does not depend on the order).
+    std::iter_swap(blockers_.begin(), blocker);
+    return false;
   }
 
  private:
@@ -97,8 +103,9 @@ class Exposure {
   Eigen::Vector3d normal_;
   double reach_;
   Eigen::Vector3d low_, high_;  // the region's box, padded
-  std::vector<int> blockers_;   // the triangles a ray from the region may cross
-  bool gathered_{false};        // blockers_ holds them all
+  // The triangles a ray from the region may cross, the last one found blocking first.
+  std::vector<int> blockers_;
+  bool gathered_{false};  // blockers_ holds them all
 };
 
 // The axis-aligned box (object frame) around the gripper-frame box [low, high].
@@ -223,18 +230,25 @@ std::vector<Eigen::Vector3d> contact_positions(const ObjectModel& object, const 
                    normal * along_normal;
     return corners;
   };
-  const Exposure exposed_a(object, tree, region(face_a.offset), normal);
-  const Exposure exposed_b(object, tree, region(face_a.offset - pair.width), -normal);
+  Exposure exposed_a(object, tree, region(face_a.offset), normal);
+  Exposure exposed_b(object, tree, region(face_a.offset - pair.width), -normal);
   // In the closed overlap (a point on an edge shared by two pieces is inside), and both contact
-  // points reachable from outside.
+  // points reachable from outside. The side that failed last is asked first: a face the object
+  // hides fails at every point, at its first (remembered) blocker, while the other face's rays
+  // pass every blocker of theirs.
+  bool b_first = false;
   const auto inside = [&](const Eigen::Vector2d& q) {
     if (std::none_of(pieces.begin(), pieces.end(), [&](const Polygon2& piece) {
           return internal::inset_distance(piece, q) >= -tolerance;
         }))
       return false;
     const Eigen::Vector3d mid = basis.u * q.x() + basis.v * q.y() + normal * mid_offset;
-    return exposed_a(mid + (face_a.offset - mid_offset) * normal) &&
-           exposed_b(mid - (pair.width - (face_a.offset - mid_offset)) * normal);
+    const Eigen::Vector3d on_a = mid + (face_a.offset - mid_offset) * normal;
+    const Eigen::Vector3d on_b = mid - (pair.width - (face_a.offset - mid_offset)) * normal;
+    if (!(b_first ? exposed_b(on_b) : exposed_a(on_a))) return false;
+    if (b_first ? exposed_a(on_a) : exposed_b(on_b)) return true;
+    b_first = !b_first;
+    return false;
   };
   // Candidate points: a 41 x 41 grid over the bounding box; a target not inside moves to the
   // nearest grid point inside (the first in grid order among equally near ones). Each inside()
