@@ -74,7 +74,7 @@ class Exposure {
     });
   }
 
-  // Not const: the list of blockers is reordered (one Exposure per region, on one thread).
+  // Not const: it remembers the last blocker (one Exposure per region, on one thread).
   bool operator()(const Eigen::Vector3d& point) {
     const Eigen::Vector3d far = point + reach_ * normal_;
     const auto blocks = [&](int t) {
@@ -83,16 +83,23 @@ class Exposure {
       return segment_hits_triangle(point, far, mesh_->vertices[tri[0]], mesh_->vertices[tri[1]],
                                    mesh_->vertices[tri[2]], 1e-9);
     };
+    const auto counts = [&](int t) {
+      return tree_->segment_meets_box_of(point, far, t) && blocks(t);
+    };
+    // The next point is most likely blocked by the triangle that blocked the last one: it is
+    // tried first (the answer, whether any triangle blocks, does not depend on the order).
+    if (last_blocker_ >= 0 && counts(last_blocker_)) return false;
     const bool in_region =
         (point.array() >= low_.array()).all() && (point.array() <= high_.array()).all();
-    if (!gathered_ || !in_region) return !tree_->any_on_segment(point, far, blocks);
-    const auto blocker = std::find_if(blockers_.begin(), blockers_.end(), [&](int t) {
-      return tree_->segment_meets_box_of(point, far, t) && blocks(t);
-    });
+    if (!gathered_ || !in_region)
+      return !tree_->any_on_segment(point, far, [&](int t) {
+        if (!blocks(t)) return false;
+        last_blocker_ = t;
+        return true;
+      });
+    const auto blocker = std::find_if(blockers_.begin(), blockers_.end(), counts);
     if (blocker == blockers_.end()) return true;
-    // The next point of the region is most likely blocked by the same triangle: it goes first
-    // (the answer, whether any blocks, does not depend on the order).
-    std::iter_swap(blockers_.begin(), blocker);
+    last_blocker_ = *blocker;
     return false;
   }
 
@@ -103,9 +110,9 @@ class Exposure {
   Eigen::Vector3d normal_;
   double reach_;
   Eigen::Vector3d low_, high_;  // the region's box, padded
-  // The triangles a ray from the region may cross, the last one found blocking first.
-  std::vector<int> blockers_;
-  bool gathered_{false};  // blockers_ holds them all
+  std::vector<int> blockers_;   // the triangles a ray from the region may cross
+  bool gathered_{false};        // blockers_ holds them all
+  int last_blocker_{-1};        // the triangle that blocked the last blocked ray
 };
 
 // The axis-aligned box (object frame) around the gripper-frame box [low, high].
