@@ -246,7 +246,7 @@ std::vector<Eigen::Vector3d> contact_positions(const ObjectModel& object, const 
   bool b_first = false;
   const auto inside = [&](const Eigen::Vector2d& q) {
     if (std::none_of(pieces.begin(), pieces.end(), [&](const Polygon2& piece) {
-          return internal::inset_distance(piece, q) >= -tolerance;
+          return internal::inset_at_least(piece, q, -tolerance);
         }))
       return false;
     const Eigen::Vector3d mid = basis.u * q.x() + basis.v * q.y() + normal * mid_offset;

@@ -12,6 +12,13 @@ double cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
   return a.x() * b.y() - a.y() * b.x();
 }
 
+// The signed distance of `point` from the line of edge i (positive on the polygon's side).
+double edge_inset(const Polygon2& convex_polygon, std::size_t i, const Eigen::Vector2d& point) {
+  const Eigen::Vector2d a = convex_polygon[i];
+  const Eigen::Vector2d edge = convex_polygon[(i + 1) % convex_polygon.size()] - a;
+  return cross(edge, point - a) / edge.norm();
+}
+
 }  // namespace
 
 PlaneBasis plane_basis(const Eigen::Vector3d& unit_normal) {
@@ -91,12 +98,16 @@ Eigen::Vector2d area_centroid(const Polygon2& polygon) {
 
 double inset_distance(const Polygon2& convex_polygon, const Eigen::Vector2d& point) {
   double smallest = std::numeric_limits<double>::infinity();
-  for (std::size_t i = 0; i < convex_polygon.size(); ++i) {
-    const Eigen::Vector2d a = convex_polygon[i];
-    const Eigen::Vector2d edge = convex_polygon[(i + 1) % convex_polygon.size()] - a;
-    smallest = std::min(smallest, cross(edge, point - a) / edge.norm());
-  }
+  for (std::size_t i = 0; i < convex_polygon.size(); ++i)
+    smallest = std::min(smallest, edge_inset(convex_polygon, i, point));
   return smallest;
+}
+
+bool inset_at_least(const Polygon2& convex_polygon, const Eigen::Vector2d& point, double distance) {
+  for (std::size_t i = 0; i < convex_polygon.size(); ++i)
+    if (edge_inset(convex_polygon, i, point) < distance)
+      return false;  // NaN (a point edge): skipped, as by std::min
+  return true;
 }
 
 }  // namespace spar::geometry::internal

@@ -29,5 +29,9 @@ struct PlaneBasis {
 // Smallest signed distance from `point` to the lines of the convex polygon's edges: positive
 // inside, negative outside (then its magnitude is a lower bound of the true distance).
 [[nodiscard]] double inset_distance(const Polygon2& convex_polygon, const Eigen::Vector2d& point);
+// inset_distance(convex_polygon, point) >= distance, from the same per-edge values, stopping at
+// the first edge below it.
+[[nodiscard]] bool inset_at_least(const Polygon2& convex_polygon, const Eigen::Vector2d& point,
+                                  double distance);
 
 }  // namespace spar::geometry::internal

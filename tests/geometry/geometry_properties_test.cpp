@@ -4,7 +4,8 @@
 // joined rigidly rest somewhere (every rigid body does: on the hull facet nearest its centre of
 // mass), and every resting pose joint_stable_poses gives has both boxes above the table and
 // stands there; one box joined with nothing rests exactly as its stable poses. The triangle tree
-// reports to a segment exactly the triangles whose boxes the segment meets.
+// reports to a segment exactly the triangles whose boxes the segment meets. inset_at_least is
+// inset_distance compared, repeated vertices included.
 #include <gtest/gtest.h>
 #include <rapidcheck/gtest.h>
 
@@ -15,6 +16,7 @@
 #include <vector>
 
 #include "spar/geometry/grasps.hpp"
+#include "spar/geometry/internal/polygon2d.hpp"
 #include "spar/geometry/internal/triangle_tree.hpp"
 #include "spar/geometry/stable_poses.hpp"
 
@@ -156,6 +158,24 @@ RC_GTEST_PROP(GeometryProperties, RandomJoinedBoxesRestSomewhereAndOnlyWhereThey
   }
   const PosedPart alone[] = {{&base, Eigen::Isometry3d::Identity()}};
   RC_ASSERT(joint_stable_poses(alone, base.tolerance()).size() == stable_poses(base).size());
+}
+
+RC_GTEST_PROP(Polygon2d, InsetAtLeastIsInsetDistanceCompared, ()) {
+  // A random convex polygon (the hull of random points) with one vertex repeated: a point edge,
+  // whose distance is NaN and which inset_distance's minimum skips.
+  std::vector<Eigen::Vector2d> points;
+  for (int i = *rc::gen::inRange(3, 9); i > 0; --i)
+    points.emplace_back(random_length(-1, 1), random_length(-1, 1));
+  internal::Polygon2 polygon = internal::convex_hull_2d(points);
+  RC_PRE(polygon.size() >= 3u);
+  const std::size_t repeated = *rc::gen::inRange<std::size_t>(0, polygon.size());
+  polygon.insert(polygon.begin() + static_cast<std::ptrdiff_t>(repeated), polygon[repeated]);
+  for (int i = 0; i < 20; ++i) {
+    const Eigen::Vector2d point(random_length(-1.2, 1.2), random_length(-1.2, 1.2));
+    const double distance = random_length(-0.3, 0.3);
+    RC_ASSERT(internal::inset_at_least(polygon, point, distance) ==
+              (internal::inset_distance(polygon, point) >= distance));
+  }
 }
 
 }  // namespace
