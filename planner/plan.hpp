@@ -63,7 +63,9 @@ struct PlanResult {
   Domain domain;
   PlanFamily family;
   InstanceList instances;  // empty unless the family is planned
-  // Phase 2: the instances examined, in order (it stops at the first without errors).
+  // Phase 2: the instances examined, in order (it stops at the first without errors). Only the
+  // chosen one has its failed steps' sensor margins and its margins (AnalysedStep::
+  // sensor_scale_needed, PreconditionResult's tight bound, blame, reverse, Monte Carlo).
   std::vector<InstanceAnalysis> examined;
   std::size_t chosen_index{0};  // into instances.instances
   // PlanOptions::probability on the chosen instance, when phase 2 ran (else nullopt).

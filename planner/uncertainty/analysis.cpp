@@ -329,13 +329,14 @@ void InstanceAnalyser::add_sensor_margins(const std::vector<Phase2Step>& steps,
 
 void InstanceAnalyser::add_sensor_margins(InstanceAnalysis& out) const {
   std::vector<Phase2Step> steps;
-  std::size_t through = 0;  // the states needed: up to the last failed step
+  std::optional<std::size_t> through;  // the states needed: up to the last failed step
   for (std::size_t k = 0; k < out.steps.size(); ++k) {
     steps.push_back(out.steps[k].step);
     if (out.steps[k].failed) through = k;
   }
+  if (!through) return;
   std::vector<Propagation> snapshots = {Propagation(world_, domain_, pool_)};
-  for (std::size_t k = 0; k < through; ++k) {
+  for (std::size_t k = 0; k < *through; ++k) {
     Propagation state = snapshots.back();
     (void)state.step(steps[k], steps[k].label);
     snapshots.push_back(std::move(state));
@@ -447,6 +448,10 @@ InstanceAnalysis analyse_instance(const WorldModel& world, const Domain& domain,
 
 void add_sensor_margins(const WorldModel& world, const Domain& domain, InstanceAnalysis& analysis,
                         const AnalysisOptions& options) {
+  if (!analysis.pool)
+    throw PlanError(
+        "add_sensor_margins: the analysis has no expression pool (give it one that "
+        "analyse_instance made)");
   if (options.reverse)
     InstanceAnalyser(world, domain, options, *analysis.pool).add_sensor_margins(analysis);
 }

@@ -161,7 +161,8 @@ struct AnalysisOptions {
 // The sensor margins (AnalysedStep::sensor_scale_needed, when options.reverse) of an analysis
 // made with options.defer_sensor_margins, as analyse_instance would have given them: the steps
 // are propagated again to the last failed one (same labels, so the same expressions in
-// analysis.pool). Extends the pool: not beside other work that reads it.
+// analysis.pool). Extends the pool: not beside other work that reads it. Throws PlanError for an
+// analysis without a pool (not one analyse_instance made).
 void add_sensor_margins(const WorldModel& world, const Domain& domain, InstanceAnalysis& analysis,
                         const AnalysisOptions& options);
 

@@ -106,6 +106,14 @@ TEST(SensorMargins, AddedLaterTheyAreWhatTheAnalysisGives) {
   ASSERT_GE(margins, 1u);  // the case under test
   add_sensor_margins(analysed.world, builtin_domain(), later, deferring);
   expect_same_analysis(at_once, later, "peg_block_on_back");
+  // An analysis analyse_instance did not make has no pool to propagate in: an error, no crash.
+  InstanceAnalysis empty;
+  try {
+    add_sensor_margins(analysed.world, builtin_domain(), empty, deferring);
+    FAIL() << "no error for an analysis without a pool";
+  } catch (const PlanError& e) {
+    EXPECT_NE(std::string(e.what()).find("no expression pool"), std::string::npos) << e.what();
+  }
 }
 
 // on_back's three instances all have an error: after the first, two threads analyse the other two
