@@ -185,8 +185,9 @@ class InstanceAnalyser {
              const std::vector<PreconditionResult>& failing, InstanceAnalysis& out) const;
   // Sets out.variables, out.symbols and the preconditions' expressions to the chosen plan's
   // numbered by execution position (dx_g<position>, ...), as the reports show the steps;
-  // `searched` is the space the search built, numbered by Phase2Step::label.
-  void number_by_position(InstanceAnalysis& out, const UncertaintySpace& searched) const;
+  // `searched[k]` is the state the search reached before out.steps[k] (the last one after all),
+  // numbered by Phase2Step::label.
+  void number_by_position(InstanceAnalysis& out, const std::vector<Propagation>& searched) const;
 
   const WorldModel& world_;
   const Domain& domain_;
@@ -400,23 +401,27 @@ void InstanceAnalyser::run(std::vector<Phase2Step> steps, InstanceAnalysis& out)
   out.steps = std::move(analysed);
   out.steps_decided = decisions_.misses();
   out.steps_reused = decisions_.hits();
-  number_by_position(out, snapshots.back().space());
+  number_by_position(out, snapshots);
 }
 
 void InstanceAnalyser::number_by_position(InstanceAnalysis& out,
-                                          const UncertaintySpace& searched) const {
-  bool numbered = true;
-  for (std::size_t i = 0; i < out.steps.size(); ++i)
-    numbered = numbered && out.steps[i].step.label == static_cast<int>(i) + 1;
-  if (numbered) {
-    out.variables = searched.variables();
-    out.symbols = searched.symbols();
+                                          const std::vector<Propagation>& searched) const {
+  // The steps before the first one labelled otherwise than by position are numbered already, and
+  // so is the state the search reached before it.
+  std::size_t first = 0;
+  while (first < out.steps.size() && out.steps[first].step.label == static_cast<int>(first) + 1)
+    ++first;
+  const UncertaintySpace& space = searched.back().space();
+  if (first == out.steps.size()) {
+    out.variables = space.variables();
+    out.symbols = space.symbols();
     return;
   }
-  // The same steps propagated again, numbered by position: the same allocations in the same order
-  // (so every VariableId, box and witness stands) and the same expressions over renamed symbols.
-  Propagation state(world_, domain_, pool_);
-  for (std::size_t i = 0; i < out.steps.size(); ++i) {
+  // The steps from there propagated again, numbered by position: the same allocations in the same
+  // order (so every VariableId, box and witness stands) and the same expressions over renamed
+  // symbols.
+  Propagation state = searched.at(first);
+  for (std::size_t i = first; i < out.steps.size(); ++i) {
     const std::vector<Precondition> built = state.step(out.steps[i].step, static_cast<int>(i) + 1);
     std::vector<PreconditionResult>& results = out.steps[i].preconditions;
     if (built.size() != results.size())
@@ -425,7 +430,7 @@ void InstanceAnalyser::number_by_position(InstanceAnalysis& out,
     for (std::size_t j = 0; j < built.size(); ++j)
       results[j].inequality.expression = built[j].inequality.expression;
   }
-  if (state.space().size() != searched.size())
+  if (state.space().size() != space.size())
     throw PlanError("internal: the plan has other variables when numbered by position");
   out.variables = state.space().variables();
   out.symbols = state.space().symbols();
