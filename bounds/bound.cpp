@@ -319,12 +319,20 @@ class Bounder {
     if (options_.decide) {
       // One side only (see BoundOptions::decide); the other is the root's enclosure.
       const int sign = upper_limit(options_.decide->relation) ? +1 : -1;
-      const double side = decide_side(root, sign);
-      const int other = sign > 0 ? 1 : 0;
-      const double enclosure =
-          std::max(tree_[0].bound[other], sign > 0 ? -result.inner_lo : result.inner_hi);
-      hi = sign > 0 ? side : enclosure;
-      lo = sign > 0 ? -enclosure : -side;
+      // The corner the gradient at the centre points to: one point; for a nearly linear f it is
+      // the extremum, so a violation usually ends deciding there.
+      offer_gradient_corner(root, sign);
+      if (options_.stop_at_witness && decided(sign, kInf)) {
+        std::tie(lo, hi) = natural_bound(root);
+        result.stopped_at_witness = true;
+      } else {
+        const double side = decide_side(root, sign);
+        const int other = sign > 0 ? 1 : 0;
+        const double enclosure =
+            std::max(tree_[0].bound[other], sign > 0 ? -result.inner_lo : result.inner_hi);
+        hi = sign > 0 ? side : enclosure;
+        lo = sign > 0 ? -enclosure : -side;
+      }
     } else {
       std::tie(lo, hi) = full_bound(root);
     }
@@ -448,6 +456,15 @@ class Bounder {
       point_[i] = sign * gradient[i] > 0 ? box[i].hi : box[i].lo;
     }
     offer(point_);
+  }
+
+  // {lo, hi}: f's natural interval extension over the box (sound, loose), the whole line where
+  // f is defined nowhere in it by that extension.
+  std::pair<double, double> natural_bound(std::span<const Interval> box) {
+    const Interval value = f_interval_.value(box);
+    undefined_ = undefined_ || value.possibly_undefined;
+    if (value.is_empty()) return {-kInf, kInf};
+    return {value.lo, value.hi};
   }
 
   // Whether vertex_ascent() runs on this box (it does not check constraints, and each round
@@ -814,14 +831,12 @@ class Bounder {
     return proved || broken;
   }
 
-  // Deciding's search of sign·f's maximum: the gradient's corner first (one point; where f is
-  // nearly linear it is the maximum, so a violation usually ends the search there), then branch
-  // and bound on a quarter of the budget with the box midpoints as witnesses (most inequalities
+  // Deciding's search of sign·f's maximum, after the gradient's corner (run()): branch and bound
+  // on a quarter of the budget with the box midpoints as witnesses (most inequalities
   // hold, and a proof needs no witness), then the corners and branch and bound with the rest,
   // from the same tree (no box is evaluated twice). NLopt's search for a violating point, the
   // dearest witness, runs only if all of that leaves the verdict open.
   double decide_side(const std::vector<Interval>& root, int sign) {
-    offer_gradient_corner(root, sign);
     effort_scale_ = kProbeShare;
     const double probed = search(root, sign);
     effort_scale_ = 1.0;

@@ -116,6 +116,12 @@ struct BoundOptions {
   // whenever both decide; the bound is only as tight as deciding needed, and its status is
   // kEffortLimit unless that side converged.
   std::optional<DecisionTarget> decide{};
+  // With `decide`: a witness that breaks the target before any box is bounded (the box centre, or
+  // the gradient's corner tried first) ends the search there, and the bound's sides are the root
+  // box's natural enclosure (sound, looser than deciding's root box gives otherwise; the result
+  // says so: BoundResult::stopped_at_witness). The verdict is the same. For callers that need only
+  // verdicts (phase 2's repair search): bounding the root box costs several gradient passes.
+  bool stop_at_witness{false};
 };
 
 enum class BoundStatus {
@@ -148,6 +154,9 @@ struct BoundResult {
   bool possibly_undefined{false};  // f may be undefined somewhere in the box (domain error)
   bool time_limited{false};        // BoundOptions::max_seconds stopped it (machine-dependent)
   std::size_t evaluations{0};      // boxes evaluated (each once, for both directions)
+  // BoundOptions::stop_at_witness ended the search before any box: [lo, hi] is f's natural
+  // enclosure over the root box.
+  bool stopped_at_witness{false};
   // Whether [inner_lo, inner_hi] is a range of attained values (witnesses with values enclosed
   // within rounding); false for no witness, an infeasible box, or too loose witness values.
   [[nodiscard]] bool has_inner_range() const {

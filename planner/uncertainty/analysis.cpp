@@ -164,10 +164,17 @@ class InstanceAnalyser {
   void add_sensor_margins(InstanceAnalysis& out) const;
 
  private:
-  // Re-propagates from `snapshot` over steps[from..through] and decides the preconditions of
-  // every step in that range (index: position in `steps`).
-  [[nodiscard]] std::map<int, std::vector<PreconditionResult>> replay(
-      Propagation snapshot, const std::vector<Phase2Step>& steps, int from, int through) const;
+  // A replay's decisions (index: position in the steps replayed), and the last step's
+  // preconditions with the state after it (the space they were decided in).
+  struct Replayed {
+    std::map<int, std::vector<PreconditionResult>> decided;
+    std::vector<Precondition> last;
+    Propagation state;
+  };
+  // Re-propagates `state` (the one before steps[from]) over steps[from..through] and decides the
+  // preconditions of every step in that range as `need` asks.
+  [[nodiscard]] Replayed replay(Propagation state, const std::vector<Phase2Step>& steps, int from,
+                                int through, Need need) const;
   // AnalysedStep::sensor_scale_needed for the failing step at `k`.
   [[nodiscard]] std::optional<double> sensor_margin(const std::vector<Phase2Step>& steps,
                                                     const std::vector<Propagation>& snapshots,
@@ -199,14 +206,15 @@ class InstanceAnalyser {
   mutable DecisionCache decisions_;
 };
 
-std::map<int, std::vector<PreconditionResult>> InstanceAnalyser::replay(
-    Propagation state, const std::vector<Phase2Step>& steps, int from, int through) const {
-  std::map<int, std::vector<PreconditionResult>> decided;
+InstanceAnalyser::Replayed InstanceAnalyser::replay(Propagation state,
+                                                    const std::vector<Phase2Step>& steps, int from,
+                                                    int through, Need need) const {
+  Replayed out{.decided = {}, .last = {}, .state = std::move(state)};
   for (int i = from; i <= through; ++i) {
-    const std::vector<Precondition> preconditions = state.step(steps[i], steps[i].label);
-    decided[i] = decisions_.decide(preconditions, state.space());
+    out.last = out.state.step(steps[i], steps[i].label);
+    out.decided[i] = decisions_.decide(out.last, out.state.space(), need);
   }
-  return decided;
+  return out;
 }
 
 // Adds one original step's decided preconditions to a repair score.
@@ -238,19 +246,22 @@ int InstanceAnalyser::repair(std::vector<Phase2Step>& steps,
       add_to_score(baseline, steps[i].instance_step, analysed[i].preconditions);
   add_to_score(baseline, steps[k].instance_step, failing);
   const int first_record = static_cast<int>(out.repairs.size());
-  std::map<unsigned, std::vector<PreconditionResult>> failing_with;  // per set tried
+  // Per set tried, its failing step's preconditions and the state they were decided in.
+  std::map<unsigned, std::pair<std::vector<Precondition>, Propagation>> failing_with;
+  // A set's score needs verdicts only (RepairScore).
   const RepairChoice choice = choose_repair(candidates, baseline, [&](unsigned set) {
     const SplicedPlan trial = splice(steps, k, candidates, set, kinds_, first_record);
-    const auto decided = replay(snapshots[from], trial.steps, from, trial.failing);
+    Replayed replayed = replay(snapshots[from], trial.steps, from, trial.failing, Need::kVerdicts);
     RepairScore score;
-    for (const auto& [position, results] : decided) {
+    for (const auto& [position, results] : replayed.decided) {
       const Phase2Step& step = trial.steps[position];
       if (step.instance_step >= 0)
         add_to_score(score, step.instance_step, results);
       else if (step.effect == Effect::kReduce && step.repair >= first_record)
         score.admissible = score.admissible && all_hold(results);
     }
-    failing_with[set] = decided.at(trial.failing);
+    failing_with.insert_or_assign(set,
+                                  std::pair(std::move(replayed.last), std::move(replayed.state)));
     return score;
   });
   RepairSearch search{.for_instance_step = steps[k].instance_step,
@@ -263,7 +274,9 @@ int InstanceAnalyser::repair(std::vector<Phase2Step>& steps,
     if (!(choice.set >> i & 1u)) ++search.dropped[repair_kind(candidates[i])];
   out.repair_searches.push_back(std::move(search));
   if (choice.set == 0) return -1;
-  const std::vector<PreconditionResult>& after = failing_with.at(choice.set);
+  const auto& [failing_after, state_after] = failing_with.at(choice.set);
+  const std::vector<PreconditionResult> after =
+      decisions_.decide(failing_after, state_after.space());
   int rank = 0;
   for (std::size_t i = 0; i < candidates.size(); ++i) {
     if (!(choice.set >> i & 1u)) continue;
@@ -312,6 +325,7 @@ std::optional<double> InstanceAnalyser::sensor_margin(const std::vector<Phase2St
   // for violating witnesses (deciding's gradient corner still ends most refuted scales at once).
   bounds::BoundOptions quick = options_.quick, full = options_.bound;
   quick.inner = full.inner = false;
+  quick.stop_at_witness = full.stop_at_witness = true;  // only whether all hold
   const auto holds_at = [&](double scale) {
     state.set_sensor_scale(scale);
     return compiled.all_hold(state.space(), quick, full);

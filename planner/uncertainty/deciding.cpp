@@ -135,19 +135,25 @@ std::vector<std::uint64_t> step_key(const std::vector<Precondition>& preconditio
 }  // namespace
 
 std::vector<PreconditionResult> DecisionCache::decide(
-    const std::vector<Precondition>& preconditions, const UncertaintySpace& space) {
+    const std::vector<Precondition>& preconditions, const UncertaintySpace& space, Need need) {
   std::vector<VariableId> ids;
   std::vector<std::uint64_t> key = step_key(preconditions, space, ids);
-  if (const auto found = entries_.find(key); found != entries_.end()) {
+  if (const auto found = entries_.find(key);
+      found != entries_.end() && (found->second.exact || need == Need::kVerdicts)) {
     ++hits_;
     // The same symbols in the same order, so only their ids in this space differ.
-    std::vector<PreconditionResult> results = found->second;
+    std::vector<PreconditionResult> results = found->second.results;
     for (PreconditionResult& result : results) result.variables = ids;
     return results;
   }
-  std::vector<PreconditionResult> results =
-      *CompiledStep(preconditions, space, std::move(ids)).decide(space, quick_, full_);
-  entries_.emplace(std::move(key), results);
+  ++misses_;
+  bounds::BoundOptions quick = quick_, full = full_;
+  quick.stop_at_witness = full.stop_at_witness = need == Need::kVerdicts;
+  Entry entry{*CompiledStep(preconditions, space, std::move(ids)).decide(space, quick, full)};
+  for (const PreconditionResult& result : entry.results)
+    entry.exact = entry.exact && !result.bound.stopped_at_witness;
+  std::vector<PreconditionResult> results = entry.results;
+  entries_.insert_or_assign(std::move(key), std::move(entry));
   return results;
 }
 

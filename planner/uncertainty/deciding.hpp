@@ -116,27 +116,42 @@ class CompiledStep {
                                                      const bounds::BoundOptions& quick,
                                                      const bounds::BoundOptions& full);
 
+// What a caller needs of a step's decision.
+enum class Need {
+  kBounds,    // decide()'s results
+  kVerdicts,  // the same verdicts; a precondition a witness breaks before any box is bounded
+              // keeps the natural enclosure as its bound (bounds::BoundOptions::stop_at_witness)
+};
+
 // decide() with memory: a step whose preconditions (expressions, relations, thresholds, kinds) and
 // variables (symbols and ranges, in the order of their ids) equal those of a step decided before
 // gets the earlier results, with PreconditionResult::variables the ids of those symbols in the
 // space asked (a replay with a step spliced in earlier shifts the ids, not the symbols: see
 // Phase2Step::label). decide() is a deterministic function of exactly these (and of the options,
 // fixed per cache), so a hit returns what deciding again would return.
-// Invariant: every entry was computed with the options given at construction.
+// Invariants: every entry was computed with the options given at construction, with
+// stop_at_witness where `Need::kVerdicts` asked; an entry is `exact` (decide()'s results) unless
+// one of its bounds stopped at a witness. A kBounds request never gets an entry that is not
+// exact: it decides the step again and replaces the entry.
 // Cost: a key is O(preconditions + variables) to build; a hit costs a map lookup and a copy.
 class DecisionCache {
  public:
   DecisionCache(bounds::BoundOptions quick, bounds::BoundOptions full)
       : quick_(std::move(quick)), full_(std::move(full)) {}
   [[nodiscard]] std::vector<PreconditionResult> decide(
-      const std::vector<Precondition>& preconditions, const UncertaintySpace& space);
+      const std::vector<Precondition>& preconditions, const UncertaintySpace& space,
+      Need need = Need::kBounds);
   [[nodiscard]] std::size_t hits() const { return hits_; }
-  [[nodiscard]] std::size_t misses() const { return entries_.size(); }
+  [[nodiscard]] std::size_t misses() const { return misses_; }  // steps decided
 
  private:
+  struct Entry {
+    std::vector<PreconditionResult> results;
+    bool exact{true};
+  };
   bounds::BoundOptions quick_, full_;
-  std::map<std::vector<std::uint64_t>, std::vector<PreconditionResult>> entries_;
-  std::size_t hits_{0};
+  std::map<std::vector<std::uint64_t>, Entry> entries_;
+  std::size_t hits_{0}, misses_{0};
 };
 
 }  // namespace spar::planner

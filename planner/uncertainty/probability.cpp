@@ -878,6 +878,7 @@ std::vector<ToleranceAllocation::Miss> verify_allocation(
     const bounds::Inequality& inequality = rows.results[k]->inequality;
     bounds::BoundOptions deciding = options;
     deciding.decide = bounds::DecisionTarget{inequality.relation, inequality.threshold};
+    deciding.stop_at_witness = true;  // only the verdict: a row not proved gets the tight bound
     proved[k] = bounds::decide(inequality, verifying.problems[k].bound(boxes[k], deciding)) ==
                 bounds::Verdict::kSatisfied;
   });

@@ -76,6 +76,47 @@ RC_GTEST_PROP(Deciding, AgreesWithTheFullBoundAndHoldsAtRandomPoints, ()) {
   }
 }
 
+// Property: BoundOptions::stop_at_witness gives deciding's verdict; where it stopped (a witness
+// broke the target before any box) the verdict is violated, no box was evaluated, and the bound
+// still holds every value deciding attained; where it did not stop, the result is deciding's.
+RC_GTEST_PROP(Deciding, StoppingAtAWitnessKeepsTheVerdictAndASoundBound, ()) {
+  ExprPool pool;
+  const Expr f = testing::random_expression(pool);
+  Box box;
+  for (const char* name : {"x", "y"}) {
+    const double lo = *rc::gen::inRange(-3000, 3000) / 1000.0;
+    const double width = std::pow(10.0, *rc::gen::inRange(-600, 200) / 100.0);
+    box.add(pool.variable(name), lo, lo + width);
+  }
+  const BoundResult full = bound(f, box, {.max_box_evaluations = 2000});
+  RC_PRE(full.status != BoundStatus::kInfeasible && full.status != BoundStatus::kUnbounded);
+  const double threshold = full.lo + *rc::gen::inRange(-2, 13) / 10.0 * (full.hi - full.lo);
+  const Relation relation = *rc::gen::element(Relation::kLess, Relation::kLessEqual,
+                                              Relation::kGreater, Relation::kGreaterEqual);
+  const Inequality inequality{"q", f, relation, threshold};
+  BoundOptions options{.max_box_evaluations = *rc::gen::element<std::size_t>(8, 60, 2000)};
+  options.decide = DecisionTarget{relation, threshold};
+  const BoundResult deciding = bound(f, box, options);
+  options.stop_at_witness = true;
+  const BoundResult stopping = bound(f, box, options);
+  RC_TAG(stopping.stopped_at_witness ? "stopped" : "went on");
+  RC_ASSERT(decide(inequality, stopping) == decide(inequality, deciding));
+  RC_ASSERT(!deciding.stopped_at_witness);
+  if (stopping.stopped_at_witness) {
+    RC_ASSERT(decide(inequality, stopping) == Verdict::kViolated);
+    RC_ASSERT(stopping.evaluations == 0u);
+    if (deciding.has_inner_range()) {
+      RC_ASSERT(stopping.lo <= deciding.inner_lo);
+      RC_ASSERT(stopping.hi >= deciding.inner_hi);
+    }
+  } else {
+    RC_ASSERT(stopping.lo == deciding.lo);
+    RC_ASSERT(stopping.hi == deciding.hi);
+    RC_ASSERT(stopping.evaluations == deciding.evaluations);
+    RC_ASSERT(witness(inequality, stopping) == witness(inequality, deciding));
+  }
+}
+
 // f = sum x_i + 0.8 sum x_i x_(i+1) over [-1, 1]^12 (not monotone in any x_i there, so no face
 // reduction) exceeds 20.5 only near the all-ones corner, where it takes its maximum 20.8: no
 // midpoint reaches it and 2^12 corners are not tried at all; before the gradient's corner, branch
@@ -100,6 +141,15 @@ TEST(Deciding, TheGradientsCornerFindsAViolationNearACornerAtOnce) {
   EXPECT_EQ(decide(inequality, decided), Verdict::kViolated);
   EXPECT_LE(decided.evaluations, 1u);
   EXPECT_EQ(witness(inequality, decided), std::vector<double>(12, 1.0));
+  // Asked to stop there: no box at all, the same witness, the natural enclosure [-20.8, 20.8]
+  // (each product's enclosure [-0.8, 0.8] summed) as the bound.
+  options.stop_at_witness = true;
+  const BoundResult stopped = bound(f, box, options);
+  EXPECT_TRUE(stopped.stopped_at_witness);
+  EXPECT_EQ(stopped.evaluations, 0u);
+  EXPECT_EQ(witness(inequality, stopped), std::vector<double>(12, 1.0));
+  EXPECT_NEAR(stopped.hi, 20.8, 1e-12);
+  EXPECT_NEAR(stopped.lo, -20.8, 1e-12);
 }
 
 TEST(WidthShares, AnAffineFunctionSharesItsWidthByCoefficientTimesWidth) {

@@ -107,6 +107,56 @@ TEST_F(OnBack, AReplayWithAScanSplicedInReusesTheDecisionsOfStepsItDoesNotChange
   EXPECT_LT(cache.hits(), spliced.steps.size());
 }
 
+// The repair search asks for verdicts only (Need::kVerdicts): on-back's insertion is violated at a
+// witness before any box is bounded, and those preconditions keep the natural enclosure. Asked for
+// bounds afterwards, the cache decides the step again: what deciding gives, never the looser
+// entry; asked for verdicts again, it answers from the exact entry.
+TEST_F(OnBack, AVerdictsOnlyDecisionIsNeverGivenForBounds) {
+  const std::vector<Phase2Step> steps = phase2_steps(builtin_domain(), *instance_);
+  const int k = insertion(steps);
+  ASSERT_GE(k, 0);
+  symbolic::ExprPool pool;
+  const AnalysisOptions options;
+  DecisionCache cache(options.quick, options.bound);
+  Propagation state(*world_, builtin_domain(), pool);
+  std::vector<Precondition> built;
+  for (int i = 0; i <= k; ++i) built = state.step(steps[i], steps[i].label);
+  const std::vector<PreconditionResult> fresh =
+      decide(built, state.space(), options.quick, options.bound);
+  const std::vector<PreconditionResult> verdicts =
+      cache.decide(built, state.space(), Need::kVerdicts);
+  ASSERT_EQ(verdicts.size(), fresh.size());
+  int stopped = 0;
+  for (std::size_t j = 0; j < fresh.size(); ++j) {
+    EXPECT_EQ(verdicts[j].verdict, fresh[j].verdict);
+    EXPECT_FALSE(fresh[j].bound.stopped_at_witness);
+    if (!verdicts[j].bound.stopped_at_witness) continue;
+    ++stopped;
+    EXPECT_EQ(verdicts[j].verdict, bounds::Verdict::kViolated);
+    EXPECT_EQ(verdicts[j].bound.evaluations, 0u);
+    // Sound: the natural enclosure holds the values deciding attained.
+    EXPECT_LE(verdicts[j].bound.lo, fresh[j].bound.inner_lo);
+    EXPECT_GE(verdicts[j].bound.hi, fresh[j].bound.inner_hi);
+  }
+  EXPECT_GE(stopped, 1) << "no precondition stopped at a witness: the test checks nothing";
+  EXPECT_EQ(cache.misses(), 1u);
+  const std::vector<PreconditionResult> bounded = cache.decide(built, state.space());
+  EXPECT_EQ(cache.misses(), 2u);  // decided again
+  ASSERT_EQ(bounded.size(), fresh.size());
+  for (std::size_t j = 0; j < fresh.size(); ++j) {
+    EXPECT_EQ(bounded[j].verdict, fresh[j].verdict);
+    EXPECT_EQ(bounded[j].bound.lo, fresh[j].bound.lo);
+    EXPECT_EQ(bounded[j].bound.hi, fresh[j].bound.hi);
+    EXPECT_EQ(bounded[j].bound.inner_lo, fresh[j].bound.inner_lo);
+    EXPECT_EQ(bounded[j].bound.inner_hi, fresh[j].bound.inner_hi);
+    EXPECT_EQ(bounded[j].witness, fresh[j].witness);
+  }
+  const std::size_t hits = cache.hits();
+  const std::vector<PreconditionResult> again = cache.decide(built, state.space(), Need::kVerdicts);
+  EXPECT_EQ(cache.hits(), hits + 1);
+  for (std::size_t j = 0; j < fresh.size(); ++j) EXPECT_EQ(again[j].bound.hi, fresh[j].bound.hi);
+}
+
 TEST_F(OnBack, DistinctStepsHaveDistinctArmVariablesEvenWithACandidateSplicedInTwice) {
   const SplicedPlan once = with_every_candidate(phase2_steps(builtin_domain(), *instance_));
   // The sensor margin splices the insertion's scans again over a kept set: the same labels twice.
