@@ -164,16 +164,21 @@ class InstanceAnalyser {
   void add_sensor_margins(InstanceAnalysis& out) const;
 
  private:
-  // A replay's decisions (index: position in the steps replayed), and the last step's
-  // preconditions with the state after it (the space they were decided in).
+  // One step propagated: its preconditions and the state after it (the space they are decided
+  // in), by position in the steps.
+  struct Propagated {
+    std::vector<Precondition> built;
+    Propagation after;
+  };
+  using PropagatedSteps = std::map<int, Propagated>;
+  // A replay's steps and their decisions (by position).
   struct Replayed {
+    PropagatedSteps steps;
     std::map<int, std::vector<PreconditionResult>> decided;
-    std::vector<Precondition> last;
-    Propagation state;
   };
   // Re-propagates `state` (the one before steps[from]) over steps[from..through] and decides the
   // preconditions of every step in that range as `need` asks.
-  [[nodiscard]] Replayed replay(Propagation state, const std::vector<Phase2Step>& steps, int from,
+  [[nodiscard]] Replayed replay(Propagation state, std::vector<Phase2Step> steps, int from,
                                 int through, Need need) const;
   // AnalysedStep::sensor_scale_needed for the failing step at `k`.
   [[nodiscard]] std::optional<double> sensor_margin(const std::vector<Phase2Step>& steps,
@@ -185,11 +190,13 @@ class InstanceAnalyser {
                           const std::vector<Propagation>& snapshots,
                           std::vector<AnalysedStep>& analysed) const;
   // Searches the repair sets for the failing step at `k` (planner/uncertainty/repair.hpp); if one
-  // is kept, splices it into `steps`, records it in `out` and returns the position from which to
-  // resume; -1 if nothing helped.
+  // is kept, splices it into `steps`, records it in `out`, sets `kept` to the steps its trial
+  // propagated (from the returned position through the failing step) and returns the position
+  // from which to resume; -1 if nothing helped.
   int repair(std::vector<Phase2Step>& steps, const std::vector<Propagation>& snapshots,
              const std::vector<AnalysedStep>& analysed, int k,
-             const std::vector<PreconditionResult>& failing, InstanceAnalysis& out) const;
+             const std::vector<PreconditionResult>& failing, InstanceAnalysis& out,
+             PropagatedSteps& kept) const;
   // Sets out.variables, out.symbols and the preconditions' expressions to the chosen plan's
   // numbered by execution position (dx_g<position>, ...), as the reports show the steps;
   // `searched[k]` is the state the search reached before out.steps[k] (the last one after all),
@@ -206,13 +213,21 @@ class InstanceAnalyser {
   mutable DecisionCache decisions_;
 };
 
+// An inserted range-scan or camera verification looks at the object where it rests now.
+void look_where_it_rests(Phase2Step& step, const Propagation& state) {
+  if (step.effect == Effect::kSense && step.object >= 0 && state.on_table(step.object))
+    step.object_pose = state.on_table(step.object)->ideal;
+}
+
 InstanceAnalyser::Replayed InstanceAnalyser::replay(Propagation state,
-                                                    const std::vector<Phase2Step>& steps, int from,
+                                                    std::vector<Phase2Step> steps, int from,
                                                     int through, Need need) const {
-  Replayed out{.decided = {}, .last = {}, .state = std::move(state)};
+  Replayed out;
   for (int i = from; i <= through; ++i) {
-    out.last = out.state.step(steps[i], steps[i].label);
-    out.decided[i] = decisions_.decide(out.last, out.state.space(), need);
+    look_where_it_rests(steps[i], state);
+    std::vector<Precondition> built = state.step(steps[i], steps[i].label);
+    out.decided[i] = decisions_.decide(built, state.space(), need);
+    out.steps.insert_or_assign(i, Propagated{std::move(built), state});
   }
   return out;
 }
@@ -233,8 +248,8 @@ void add_to_score(RepairScore& score, int instance_step,
 int InstanceAnalyser::repair(std::vector<Phase2Step>& steps,
                              const std::vector<Propagation>& snapshots,
                              const std::vector<AnalysedStep>& analysed, int k,
-                             const std::vector<PreconditionResult>& failing,
-                             InstanceAnalysis& out) const {
+                             const std::vector<PreconditionResult>& failing, InstanceAnalysis& out,
+                             PropagatedSteps& kept) const {
   const std::vector<RepairCandidate> candidates = repair_candidates(world_, steps, k, kinds_);
   if (candidates.empty()) return -1;
   int from = k;
@@ -246,8 +261,7 @@ int InstanceAnalyser::repair(std::vector<Phase2Step>& steps,
       add_to_score(baseline, steps[i].instance_step, analysed[i].preconditions);
   add_to_score(baseline, steps[k].instance_step, failing);
   const int first_record = static_cast<int>(out.repairs.size());
-  // Per set tried, its failing step's preconditions and the state they were decided in.
-  std::map<unsigned, std::pair<std::vector<Precondition>, Propagation>> failing_with;
+  std::map<unsigned, PropagatedSteps> propagated;  // per set tried
   // A set's score needs verdicts only (RepairScore).
   const RepairChoice choice = choose_repair(candidates, baseline, [&](unsigned set) {
     const SplicedPlan trial = splice(steps, k, candidates, set, kinds_, first_record);
@@ -260,8 +274,7 @@ int InstanceAnalyser::repair(std::vector<Phase2Step>& steps,
       else if (step.effect == Effect::kReduce && step.repair >= first_record)
         score.admissible = score.admissible && all_hold(results);
     }
-    failing_with.insert_or_assign(set,
-                                  std::pair(std::move(replayed.last), std::move(replayed.state)));
+    propagated.insert_or_assign(set, std::move(replayed.steps));
     return score;
   });
   RepairSearch search{.for_instance_step = steps[k].instance_step,
@@ -274,9 +287,10 @@ int InstanceAnalyser::repair(std::vector<Phase2Step>& steps,
     if (!(choice.set >> i & 1u)) ++search.dropped[repair_kind(candidates[i])];
   out.repair_searches.push_back(std::move(search));
   if (choice.set == 0) return -1;
-  const auto& [failing_after, state_after] = failing_with.at(choice.set);
+  kept = std::move(propagated.at(choice.set));
+  const Propagated& failing_after = kept.rbegin()->second;  // the trial's failing step
   const std::vector<PreconditionResult> after =
-      decisions_.decide(failing_after, state_after.space());
+      decisions_.decide(failing_after.built, failing_after.after.space());
   int rank = 0;
   for (std::size_t i = 0; i < candidates.size(); ++i) {
     if (!(choice.set >> i & 1u)) continue;
@@ -363,14 +377,21 @@ void InstanceAnalyser::run(std::vector<Phase2Step> steps, InstanceAnalysis& out)
   std::vector<Propagation> snapshots = {Propagation(world_, domain_, pool_)};
   std::vector<AnalysedStep> analysed;
   std::set<int> attempted;  // instance steps whose repair was tried (once each)
+  // The steps the kept repair's trial propagated: the same steps from the same state (the trial's
+  // steps are `steps` since the splice, and its state before them snapshots[resume]).
+  PropagatedSteps kept;
   int k = 0;
   while (k < static_cast<int>(steps.size())) {
     Propagation state = snapshots[k];
-    // An inserted range-scan or camera verification looks at the object where it rests now.
-    if (steps[k].effect == Effect::kSense && steps[k].object >= 0 &&
-        state.on_table(steps[k].object))
-      steps[k].object_pose = state.on_table(steps[k].object)->ideal;
-    const std::vector<Precondition> preconditions = state.step(steps[k], steps[k].label);
+    look_where_it_rests(steps[k], state);
+    std::vector<Precondition> preconditions;
+    if (const auto trial = kept.find(k); trial != kept.end()) {
+      preconditions = std::move(trial->second.built);
+      state = std::move(trial->second.after);
+      kept.erase(trial);
+    } else {
+      preconditions = state.step(steps[k], steps[k].label);
+    }
     AnalysedStep step{.step = steps[k],
                       .action = domain_.actions[steps[k].action].name,
                       .inserted = steps[k].instance_step < 0,
@@ -392,8 +413,10 @@ void InstanceAnalyser::run(std::vector<Phase2Step> steps, InstanceAnalysis& out)
     if (!all_hold(step.preconditions) && options_.repair && !step.inserted &&
         !attempted.contains(steps[k].instance_step)) {
       attempted.insert(steps[k].instance_step);
-      const int resume = repair(steps, snapshots, analysed, k, step.preconditions, out);
+      PropagatedSteps trial;
+      const int resume = repair(steps, snapshots, analysed, k, step.preconditions, out, trial);
       if (resume >= 0) {
+        kept = std::move(trial);
         snapshots.erase(snapshots.begin() + resume + 1, snapshots.end());
         analysed.erase(analysed.begin() + resume, analysed.end());
         k = resume;
