@@ -1,5 +1,6 @@
 #include "spar/planner/uncertainty/space.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "spar/planner/error.hpp"
@@ -35,16 +36,25 @@ void check_spec(const VariableSpec& spec) {
     throw PlanError("sigma of " + name + " must be finite and >= 0");
 }
 
+// Where expression id `key` is or belongs in the sorted by_symbol_ list.
+template <typename Entries>
+auto slot_of(Entries& entries, std::uint32_t key) {
+  return std::lower_bound(entries.begin(), entries.end(), key,
+                          [](const auto& entry, std::uint32_t k) { return entry.first < k; });
+}
+
 }  // namespace
 
 VariableId UncertaintySpace::allocate(const VariableSpec& spec) {
   check_spec(spec);
   const std::string base = name_of(spec);
   std::string name = base;
-  for (int suffix = 2; names_.contains(name); ++suffix) name = base + "_" + std::to_string(suffix);
+  symbolic::Expr symbol = pool_->variable(name);
+  for (int suffix = 2; id_of(symbol); ++suffix) {  // taken: the next suffix
+    name = base + "_" + std::to_string(suffix);
+    symbol = pool_->variable(name);
+  }
   const VariableId id{static_cast<std::uint32_t>(variables_.size())};
-  const symbolic::Expr symbol = pool_->variable(name);
-  names_.insert(name);
   variables_.push_back({.name = std::move(name),
                         .component = spec.component,
                         .lower = -spec.half_width,
@@ -52,7 +62,7 @@ VariableId UncertaintySpace::allocate(const VariableSpec& spec) {
                         .sigma = spec.sigma,
                         .provenance = spec.provenance});
   symbols_.push_back(symbol);
-  by_symbol_.emplace(symbol.id(), id);
+  by_symbol_.insert(slot_of(by_symbol_, symbol.id()), {symbol.id(), id});
   return id;
 }
 
@@ -78,8 +88,8 @@ kinematics::PoseError UncertaintySpace::allocate_pose(
 
 std::optional<VariableId> UncertaintySpace::id_of(symbolic::Expr symbol) const {
   if (symbol.is_null() || &symbol.pool() != pool_) return std::nullopt;
-  const auto found = by_symbol_.find(symbol.id());
-  if (found == by_symbol_.end()) return std::nullopt;
+  const auto found = slot_of(by_symbol_, symbol.id());
+  if (found == by_symbol_.end() || found->first != symbol.id()) return std::nullopt;
   return found->second;
 }
 

@@ -20,11 +20,15 @@
 // (deciding, repair, margins, probability, reports) reads ranges and provenance from the space, so
 // it needs nothing else. Tolerance allocation groups variables by (source, object, component).
 //
-// Invariants: variables_[i] and symbols_[i] describe VariableId{i}; names are unique; every range
-// is finite with lower <= upper; by_symbol_ maps each symbol's expression id to its VariableId.
+// Invariants: variables_[i] and symbols_[i] describe VariableId{i}; names are unique (the pool
+// holds one variable per name, so a name is taken exactly when its pool variable is one of
+// symbols_); every range is finite with lower <= upper; by_symbol_ holds each symbol's expression
+// id with its VariableId, sorted by expression id.
 // A copy is a snapshot: later allocations in either copy do not show in the other, and ids
-// allocated before the copy mean the same variable in both.
-// Cost: allocate is O(1) amortised (hash lookups), id_of O(1), ranges O(ids).
+// allocated before the copy mean the same variable in both. Copies are cheap (three vectors, no
+// node containers): phase 2 copies the space with every propagation state it keeps.
+// Cost: allocate is O(log n), O(n) moves where a symbol older than the newest is allocated again
+// (a replay's), id_of O(log n), ranges O(ids).
 //
 // Example:
 //   symbolic::ExprPool pool;
@@ -41,8 +45,7 @@
 #include <span>
 #include <string>
 #include <string_view>
-#include <unordered_map>
-#include <unordered_set>
+#include <utility>
 #include <vector>
 
 #include "spar/bounds/interval.hpp"
@@ -134,8 +137,7 @@ class UncertaintySpace {
   std::vector<SpaceVariable> variables_;
   std::vector<symbolic::Expr>
       symbols_;  // symbols_[i] is the pool variable named variables_[i].name
-  std::unordered_map<std::uint32_t, VariableId> by_symbol_;  // expression id -> variable
-  std::unordered_set<std::string> names_;
+  std::vector<std::pair<std::uint32_t, VariableId>> by_symbol_;  // (expression id, variable)
 };
 
 }  // namespace spar::planner
