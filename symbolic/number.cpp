@@ -15,6 +15,11 @@ namespace spar::symbolic {
 namespace {
 
 constexpr double kTwoPow53 = 9007199254740992.0;
+// Whether an integer converts to double exactly by magnitude alone: |v| <= 2^53.
+bool exact_in_double(std::int64_t v) {
+  constexpr std::int64_t kLimit = std::int64_t{1} << 53;
+  return v >= -kLimit && v <= kLimit;
+}
 constexpr int kMaxExactDecimalDigits = 16;  // longer literals become one-ulp enclosures, so that
                                             // a 17-digit printout of such a real re-parses to it
 
@@ -133,8 +138,9 @@ void Number::set_rational_enclosure() {
   const double n = static_cast<double>(numerator_);
   const double d = static_cast<double>(denominator_);
   value_ = n / d;
-  if (std::fabs(n) <= kTwoPow53 && d <= kTwoPow53) {
+  if (exact_in_double(numerator_) && exact_in_double(denominator_)) {
     // n and d are exact; the quotient is correctly rounded, and fma tells whether it is exact.
+    // (Compared as integers: 2^53 + 1 converts to 2^53, which passed a test on the double.)
     const bool exact = std::fma(value_, d, -n) == 0.0;
     lower_ = exact ? value_ : next_down(value_);
     upper_ = exact ? value_ : next_up(value_);

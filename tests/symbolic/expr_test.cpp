@@ -4,12 +4,15 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <memory>
 #include <random>
 #include <string>
 #include <thread>
 #include <tuple>
+#include <utility>
+#include <vector>
 
 #include "spar/symbolic/operations.hpp"
 #include "spar/symbolic/parse.hpp"
@@ -25,6 +28,21 @@ TEST(Number, DecimalLiteralsAreExactRationals) {
   EXPECT_LT(tenth.lower(), tenth.upper());
   EXPECT_LE(tenth.lower(), 0.1);
   EXPECT_GE(tenth.upper(), 0.1);
+}
+
+// Regression: 2^53 + 1 converts to the double 2^53, and the enclosure of the integer 2^53 + 1 was
+// the point 2^53 (the exactness test looked at the converted double): a bound over it excluded its
+// value. Its enclosure now holds it (2^53 and 2^53 + 2 are the neighbouring doubles).
+TEST(Number, AnIntegerPastTwoToThe53IsEnclosed) {
+  constexpr std::int64_t kTwo53 = std::int64_t{1} << 53;
+  for (const Number& n : {Number::integer(kTwo53 + 1), Number::rational(kTwo53 + 1, 1),
+                          *Number::parse_decimal("9007199254740993")}) {
+    EXPECT_LE(n.lower(), 0x1p53);
+    EXPECT_GE(n.upper(), 0x1p53 + 2);
+  }
+  const Number half = Number::rational(kTwo53 + 1, 2);  // 2^52 + 1/2, between two doubles
+  EXPECT_LE(half.lower(), 0x1p52);
+  EXPECT_GE(half.upper(), 0x1p52 + 1);
 }
 
 TEST(Number, ExactDyadicRationalHasPointEnclosure) {
