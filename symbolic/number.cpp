@@ -67,8 +67,6 @@ void require_finite(double value, const char* what) {
 
 }  // namespace
 
-Number Number::integer(std::int64_t value) { return rational(value, 1); }
-
 Number Number::rational(std::int64_t numerator, std::int64_t denominator) {
   if (denominator == 0) throw SymbolicError("division by zero in rational constant");
   return from_rational128(numerator, denominator);
@@ -237,6 +235,16 @@ Number operator+(const Number& a, const Number& b) {
 }
 
 Number operator-(const Number& a) {
+  if (a.is_rational() && exact_in_double(a.numerator_) && exact_in_double(a.denominator_)) {
+    // Still reduced, and its enclosure is set_rational_enclosure's mirrored: -n/d rounds to
+    // -(n/d), exact exactly when n/d is, and next_down(-v) = -next_up(v).
+    Number negated = a;
+    negated.numerator_ = -a.numerator_;
+    negated.value_ = -a.value_;
+    negated.lower_ = -a.upper_;
+    negated.upper_ = -a.lower_;
+    return negated;
+  }
   if (a.is_rational())
     return Number::from_rational128(-static_cast<__int128>(a.numerator_), a.denominator_);
   return Number::from_enclosure(-a.value_, -a.upper_, -a.lower_);

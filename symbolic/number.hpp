@@ -119,6 +119,17 @@ class Number {
   double upper_{0.0};
 };
 
+// Exact without a reduction: a denominator of 1 needs no gcd, and every integer of magnitude up
+// to 2^53 is a double (its enclosure is that point), what from_rational128 gives.
+inline Number Number::integer(std::int64_t value) {
+  constexpr std::int64_t kExactInDouble = std::int64_t{1} << 53;
+  if (value < -kExactInDouble || value > kExactInDouble) return rational(value, 1);
+  Number n;
+  n.numerator_ = value;
+  n.value_ = n.lower_ = n.upper_ = static_cast<double>(value);
+  return n;
+}
+
 inline const Number& Number::one() {
   static const Number kOne = integer(1);
   return kOne;

@@ -30,6 +30,28 @@ TEST(Number, DecimalLiteralsAreExactRationals) {
   EXPECT_GE(tenth.upper(), 0.1);
 }
 
+// Number::integer's and negation's shortcuts give exactly what the general rational path gives,
+// on both sides of 2^53 (where a double stops holding every integer).
+TEST(Number, ShortcutsGiveTheGeneralPathsBits) {
+  const auto same = [](const Number& a, const Number& b) {
+    return a.is_rational() == b.is_rational() && a.numerator() == b.numerator() &&
+           a.denominator() == b.denominator() && a.value() == b.value() && a.lower() == b.lower() &&
+           a.upper() == b.upper();
+  };
+  constexpr std::int64_t kTwo53 = std::int64_t{1} << 53;
+  const std::int64_t max = std::numeric_limits<std::int64_t>::max();
+  for (const std::int64_t v :
+       {std::int64_t{0}, std::int64_t{1}, std::int64_t{-1}, std::int64_t{16}, std::int64_t{-17},
+        kTwo53 - 1, kTwo53, kTwo53 + 1, -kTwo53, -kTwo53 - 1, max, -max}) {
+    EXPECT_TRUE(same(Number::integer(v), Number::rational(v, 1))) << v;
+    EXPECT_TRUE(same(-Number::integer(v), Number::rational(-v, 1))) << v;
+  }
+  for (const auto& [n, d] : std::vector<std::pair<std::int64_t, std::int64_t>>{
+           {1, 3}, {-2, 7}, {5, 4}, {kTwo53 + 1, 3}, {3, kTwo53 + 1}, {-max, 2}, {1, max}}) {
+    EXPECT_TRUE(same(-Number::rational(n, d), Number::rational(-n, d))) << n << "/" << d;
+  }
+}
+
 // Regression: 2^53 + 1 converts to the double 2^53, and the enclosure of the integer 2^53 + 1 was
 // the point 2^53 (the exactness test looked at the converted double): a bound over it excluded its
 // value. Its enclosure now holds it (2^53 and 2^53 + 2 are the neighbouring doubles).
