@@ -5,7 +5,6 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <functional>
 #include <limits>
 #include <numeric>
 #include <stdexcept>
@@ -434,10 +433,15 @@ bool operator<(const Number& a, const Number& b) {
 }
 
 std::size_t Number::hash() const {
-  const std::hash<std::int64_t> hash_int;
-  const std::hash<double> hash_double;
-  std::size_t h = is_rational() ? hash_int(numerator_) * 31 + hash_int(denominator_)
-                                : hash_double(value_) * 31 + hash_double(lower_);
+  // The words == compares (a real's value and lower bound suffice), both zeros alike, mixed
+  // multiplicatively (std::hash<double> hashed the bytes: 1% of a phase 2 analysis).
+  const auto word = [](double x) { return std::bit_cast<std::uint64_t>(x == 0.0 ? 0.0 : x); };
+  const std::uint64_t a = is_rational() ? static_cast<std::uint64_t>(numerator_) : word(value_);
+  const std::uint64_t b = is_rational() ? static_cast<std::uint64_t>(denominator_) : word(lower_);
+  std::uint64_t h = (a * 0x9E3779B97F4A7C15ull) ^ (b * 0xBF58476D1CE4E5B9ull);
+  h ^= h >> 31;
+  h *= 0x94D049BB133111EBull;
+  h ^= h >> 29;
   return h * 2 + static_cast<std::size_t>(kind_);
 }
 
