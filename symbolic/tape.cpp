@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <stdexcept>
 #include <string>
-#include <unordered_map>
 
 namespace spar::symbolic {
 namespace {
@@ -73,12 +72,30 @@ class Compiler {
     }
   }
 
-  // Each distinct constant gets one slot (looked up by hash: a tape may hold 100 000 constants).
+  // Each distinct constant gets one slot, in the order first met (looked up by hash: a tape may
+  // hold 100 000 constants).
   std::uint32_t constant(const Number& n) {
-    const auto [it, inserted] =
-        constant_slot_.try_emplace(n, static_cast<std::uint32_t>(input_count_ + constants_.size()));
-    if (inserted) constants_.push_back(n);
-    return it->second;
+    if (2 * (constants_.size() + 1) > constant_table_.size()) grow_constant_table();
+    const std::size_t mask = constant_table_.size() - 1;
+    for (std::size_t i = n.hash() & mask;; i = (i + 1) & mask) {
+      std::uint32_t& entry = constant_table_[i];
+      if (entry == kNoConstant) {
+        entry = static_cast<std::uint32_t>(constants_.size());
+        constants_.push_back(n);
+        return static_cast<std::uint32_t>(input_count_) + entry;
+      }
+      if (constants_[entry] == n) return static_cast<std::uint32_t>(input_count_) + entry;
+    }
+  }
+  // Doubles the constant table (at least 16 entries) and enters the constants again.
+  void grow_constant_table() {
+    constant_table_.assign(std::max<std::size_t>(16, 2 * constant_table_.size()), kNoConstant);
+    const std::size_t mask = constant_table_.size() - 1;
+    for (std::uint32_t k = 0; k < constants_.size(); ++k) {
+      std::size_t i = constants_[k].hash() & mask;
+      while (constant_table_[i] != kNoConstant) i = (i + 1) & mask;
+      constant_table_[i] = k;
+    }
   }
 
   std::uint32_t emit(TapeOp op, std::uint32_t a, std::uint32_t b = 0, std::int32_t power = 0) {
@@ -214,10 +231,10 @@ class Compiler {
   std::vector<std::pair<std::uint32_t, std::uint32_t>> table_;
   std::vector<Instruction> code_;
   std::vector<Number> constants_;
-  struct NumberHash {
-    std::size_t operator()(const Number& n) const { return n.hash(); }
-  };
-  std::unordered_map<Number, std::uint32_t, NumberHash> constant_slot_;  // constants_ by value
+  // Indices into constants_ by Number::hash, open addressing at most half full (a node-based map
+  // allocated once per constant).
+  static constexpr std::uint32_t kNoConstant = 0xFFFFFFFFu;
+  std::vector<std::uint32_t> constant_table_;
 };
 
 bool is_binary(TapeOp op) {
