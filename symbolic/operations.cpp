@@ -190,11 +190,16 @@ Expr substitute(Expr f, const std::vector<std::pair<Expr, Expr>>& replacements) 
   return image.at(f.id());
 }
 
-std::vector<Expr> free_variables(std::span<const Expr> roots) {
+std::vector<Expr> variables_met(std::span<const Expr> roots) {
   std::vector<Expr> vars;
   for (Expr e : topological_order(roots)) {
     if (e.is_variable()) vars.push_back(e);
   }
+  return vars;
+}
+
+std::vector<Expr> free_variables(std::span<const Expr> roots) {
+  std::vector<Expr> vars = variables_met(roots);
   std::sort(vars.begin(), vars.end(), [](Expr a, Expr b) { return a.name() < b.name(); });
   return vars;
 }

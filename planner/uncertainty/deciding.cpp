@@ -14,7 +14,7 @@ namespace spar::planner {
 std::vector<VariableId> variables_of(std::span<const symbolic::Expr> expressions,
                                      const UncertaintySpace& space) {
   std::vector<VariableId> ids;
-  for (const symbolic::Expr v : symbolic::free_variables(expressions)) {
+  for (const symbolic::Expr v : symbolic::variables_met(expressions)) {
     const std::optional<VariableId> id = space.id_of(v);
     if (!id) throw PlanError("internal: variable " + v.name() + " is not in the uncertainty space");
     ids.push_back(*id);

@@ -52,6 +52,16 @@ TEST_F(OperationsTest, FreeVariablesAreSortedByName) {
   EXPECT_EQ(vars[2].name(), "x");
 }
 
+TEST_F(OperationsTest, VariablesMetAreTheFreeVariablesEachOnce) {
+  const Expr b = pool.variable("b"), a = pool.variable("a");
+  const std::vector<Expr> roots = {b * sin(a) + x, a * x, pool.integer(3)};
+  std::vector<Expr> met = variables_met(roots);
+  ASSERT_EQ(met.size(), 3u);
+  std::sort(met.begin(), met.end(), [](Expr p, Expr q) { return p.name() < q.name(); });
+  EXPECT_EQ(met, free_variables(roots));
+  EXPECT_TRUE(variables_met(std::vector{pool.integer(3)}).empty());
+}
+
 TEST_F(OperationsTest, EvaluateNeedsEveryVariable) {
   EXPECT_DOUBLE_EQ(evaluate(x * y + 1, {{"x", 2}, {"y", 3}}), 7.0);
   try {
