@@ -23,25 +23,42 @@ using symbolic::ExprPool;
 // Property: deciding `f rel t` never contradicts the full bound (where both decide, they agree),
 // a satisfied verdict holds at random points of the box, and a violated one has a witness in
 // the box where the inequality is false.
-RC_GTEST_PROP(Deciding, AgreesWithTheFullBoundAndHoldsAtRandomPoints, ()) {
-  ExprPool pool;
-  const Expr f = testing::random_expression(pool);
+// A random inequality over a random box of x and y with deciding's options (a few budgets), and
+// the full bound of its expression; a case the full bound finds infeasible or unbounded is
+// discarded (RC_PRE).
+struct DecidingCase {
+  Expr f;
   Box box;
+  BoundResult full;
+  Inequality inequality;
+  BoundOptions options;
+};
+DecidingCase random_deciding_case(ExprPool& pool) {
+  DecidingCase c;
+  c.f = testing::random_expression(pool);
   for (const char* name : {"x", "y"}) {
     const double lo = *rc::gen::inRange(-3000, 3000) / 1000.0;
     const double width = std::pow(10.0, *rc::gen::inRange(-600, 200) / 100.0);
-    box.add(pool.variable(name), lo, lo + width);
+    c.box.add(pool.variable(name), lo, lo + width);
   }
-  const BoundResult full = bound(f, box, {.max_box_evaluations = 2000});
-  RC_PRE(full.status != BoundStatus::kInfeasible && full.status != BoundStatus::kUnbounded);
+  c.full = bound(c.f, c.box, {.max_box_evaluations = 2000});
+  RC_PRE(c.full.status != BoundStatus::kInfeasible && c.full.status != BoundStatus::kUnbounded);
   // Thresholds across the attained range and just outside the bound.
   const double at = *rc::gen::inRange(-2, 13) / 10.0;
-  const double threshold = full.lo + at * (full.hi - full.lo);
+  const double threshold = c.full.lo + at * (c.full.hi - c.full.lo);
   const Relation relation = *rc::gen::element(Relation::kLess, Relation::kLessEqual,
                                               Relation::kGreater, Relation::kGreaterEqual);
-  const Inequality inequality{"q", f, relation, threshold};
-  BoundOptions options{.max_box_evaluations = *rc::gen::element<std::size_t>(8, 60, 2000)};
-  options.decide = DecisionTarget{relation, threshold};
+  c.inequality = {"q", c.f, relation, threshold};
+  c.options.max_box_evaluations = *rc::gen::element<std::size_t>(8, 60, 2000);
+  c.options.decide = DecisionTarget{relation, threshold};
+  return c;
+}
+
+RC_GTEST_PROP(Deciding, AgreesWithTheFullBoundAndHoldsAtRandomPoints, ()) {
+  ExprPool pool;
+  const auto [f, box, full, inequality, options] = random_deciding_case(pool);
+  const Relation relation = inequality.relation;
+  const double threshold = inequality.threshold;
   const BoundResult decided = bound(f, box, options);
   const Verdict quick = decide(inequality, decided), reference = decide(inequality, full);
   RC_TAG(to_string(quick));
@@ -81,21 +98,7 @@ RC_GTEST_PROP(Deciding, AgreesWithTheFullBoundAndHoldsAtRandomPoints, ()) {
 // still holds every value deciding attained; where it did not stop, the result is deciding's.
 RC_GTEST_PROP(Deciding, StoppingAtAWitnessKeepsTheVerdictAndASoundBound, ()) {
   ExprPool pool;
-  const Expr f = testing::random_expression(pool);
-  Box box;
-  for (const char* name : {"x", "y"}) {
-    const double lo = *rc::gen::inRange(-3000, 3000) / 1000.0;
-    const double width = std::pow(10.0, *rc::gen::inRange(-600, 200) / 100.0);
-    box.add(pool.variable(name), lo, lo + width);
-  }
-  const BoundResult full = bound(f, box, {.max_box_evaluations = 2000});
-  RC_PRE(full.status != BoundStatus::kInfeasible && full.status != BoundStatus::kUnbounded);
-  const double threshold = full.lo + *rc::gen::inRange(-2, 13) / 10.0 * (full.hi - full.lo);
-  const Relation relation = *rc::gen::element(Relation::kLess, Relation::kLessEqual,
-                                              Relation::kGreater, Relation::kGreaterEqual);
-  const Inequality inequality{"q", f, relation, threshold};
-  BoundOptions options{.max_box_evaluations = *rc::gen::element<std::size_t>(8, 60, 2000)};
-  options.decide = DecisionTarget{relation, threshold};
+  auto [f, box, full, inequality, options] = random_deciding_case(pool);
   const BoundResult deciding = bound(f, box, options);
   options.stop_at_witness = true;
   const BoundResult stopping = bound(f, box, options);
