@@ -17,7 +17,9 @@
 //      plan's values.
 // While it searches, a step's variables are named after its Phase2Step::label, which a splice does
 // not move (replays rebuild the same expressions, and DecisionCache answers them); the result is
-// numbered by execution position (dx_g<position>, ...), as the reports show the steps.
+// numbered by execution position (dx_g<position>, ...), as the reports show the steps. A set's
+// replay decides for verdicts only (Need::kVerdicts: a set is scored by verdicts); the kept set's
+// steps are then taken as its replay propagated them, and decided for the report's bounds.
 // A failed step (any instance) also gets its sensor margin, the largest residual scale of the
 // range-scan that would make it hold (AnalysedStep::sensor_scale_needed); with
 // options.defer_sensor_margins only once add_sensor_margins() runs (plan(): the chosen instance).
