@@ -14,11 +14,6 @@ namespace spar::symbolic {
 namespace {
 
 constexpr double kTwoPow53 = 9007199254740992.0;
-// Whether an integer converts to double exactly by magnitude alone: |v| <= 2^53.
-bool exact_in_double(std::int64_t v) {
-  constexpr std::int64_t kLimit = std::int64_t{1} << 53;
-  return v >= -kLimit && v <= kLimit;
-}
 constexpr int kMaxExactDecimalDigits = 16;  // longer literals become one-ulp enclosures, so that
                                             // a 17-digit printout of such a real re-parses to it
 
@@ -137,7 +132,6 @@ void Number::set_rational_enclosure() {
   value_ = n / d;
   if (exact_in_double(numerator_) && exact_in_double(denominator_)) {
     // n and d are exact; the quotient is correctly rounded, and fma tells whether it is exact.
-    // (Compared as integers: 2^53 + 1 converts to 2^53, which passed a test on the double.)
     const bool exact = std::fma(value_, d, -n) == 0.0;
     lower_ = exact ? value_ : next_down(value_);
     upper_ = exact ? value_ : next_up(value_);
@@ -234,7 +228,8 @@ Number operator+(const Number& a, const Number& b) {
 }
 
 Number operator-(const Number& a) {
-  if (a.is_rational() && exact_in_double(a.numerator_) && exact_in_double(a.denominator_)) {
+  if (a.is_rational() && Number::exact_in_double(a.numerator_) &&
+      Number::exact_in_double(a.denominator_)) {
     // Still reduced, and its enclosure is set_rational_enclosure's mirrored: -n/d rounds to
     // -(n/d), exact exactly when n/d is, and next_down(-v) = -next_up(v).
     Number negated = a;
@@ -442,7 +437,8 @@ std::size_t Number::hash() const {
   h ^= h >> 31;
   h *= 0x94D049BB133111EBull;
   h ^= h >> 29;
-  return h * 2 + static_cast<std::size_t>(kind_);
+  // The kind enters the mix, not a low bit: open-addressing tables take the low bits as the slot.
+  return h ^ (static_cast<std::uint64_t>(kind_) * 0xD6E8FEB86659FD93ull);
 }
 
 std::string Number::to_string() const {

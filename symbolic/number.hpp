@@ -107,6 +107,12 @@ class Number {
  private:
   enum class Kind : std::uint8_t { kRational, kReal };
   static Number from_rational128(__int128 numerator, __int128 denominator);
+  // Whether an integer converts to double exactly by its magnitude alone: |v| <= 2^53. (Compared
+  // as integers: 2^53 + 1 converts to 2^53, which a test on the converted double would pass.)
+  static constexpr bool exact_in_double(std::int64_t v) {
+    constexpr std::int64_t kLimit = std::int64_t{1} << 53;
+    return v >= -kLimit && v <= kLimit;
+  }
   static Number from_enclosure(double value, double lower, double upper);
   void set_rational_enclosure();
   [[nodiscard]] Number rational_power(std::int64_t exponent) const;
@@ -122,8 +128,7 @@ class Number {
 // Exact without a reduction: a denominator of 1 needs no gcd, and every integer of magnitude up
 // to 2^53 is a double (its enclosure is that point), what from_rational128 gives.
 inline Number Number::integer(std::int64_t value) {
-  constexpr std::int64_t kExactInDouble = std::int64_t{1} << 53;
-  if (value < -kExactInDouble || value > kExactInDouble) return rational(value, 1);
+  if (!exact_in_double(value)) return rational(value, 1);
   Number n;
   n.numerator_ = value;
   n.value_ = n.lower_ = n.upper_ = static_cast<double>(value);
