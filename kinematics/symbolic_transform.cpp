@@ -1,5 +1,7 @@
 #include "spar/kinematics/symbolic_transform.hpp"
 
+#include <array>
+#include <span>
 #include <utility>
 #include <vector>
 
@@ -19,15 +21,16 @@ bool is_constant_zero(Expr e) { return e.is_constant() && e.constant().is_zero()
 // addend + sum of a_k * b_k as one canonical sum. A product with a constant 0 factor is skipped, a
 // constant factor becomes the term's coefficient (no product node is built), and a product of two
 // constants folds into the constant term.
-Expr sum_of_products(ExprPool& pool, std::span<const std::pair<Expr, Expr>> products, Expr addend) {
+Expr sum_of_products(ExprPool& pool, const std::array<std::pair<Expr, Expr>, 3>& products,
+                     Expr addend) {
   Number constant;
-  std::vector<Term> terms;
-  terms.reserve(products.size() + 1);
+  std::array<Term, 4> terms;  // on the stack: every transform entry builds one
+  std::size_t count = 0;
   const auto add_term = [&](Expr e, const Number& coefficient) {
     if (e.is_constant()) {
       constant = constant + e.constant() * coefficient;
     } else {
-      terms.push_back({e, coefficient});
+      terms[count++] = {e, coefficient};
     }
   };
   for (const auto& [a, b] : products) {
@@ -37,12 +40,12 @@ Expr sum_of_products(ExprPool& pool, std::span<const std::pair<Expr, Expr>> prod
     } else if (b.is_constant()) {
       add_term(a, b.constant());
     } else {
-      terms.push_back({a * b, Number::integer(1)});
+      terms[count++] = {a * b, Number::integer(1)};
     }
   }
   if (!addend.is_null()) add_term(addend, Number::integer(1));
-  if (terms.empty()) return pool.constant(constant);
-  return pool.sum(constant, terms);
+  if (count == 0) return pool.constant(constant);
+  return pool.sum(constant, std::span<const Term>(terms.data(), count));
 }
 
 // Row-major rotation about one axis: the two coordinates other than `axis` rotate by theta.
@@ -100,8 +103,8 @@ Expr SymbolicTransform::entry(int row, int column) const {
 SymbolicPoint SymbolicTransform::apply(const SymbolicPoint& point) const {
   SymbolicPoint result;
   for (int row = 0; row < 3; ++row) {
-    const std::pair<Expr, Expr> products[] = {
-        {rotation(row, 0), point[0]}, {rotation(row, 1), point[1]}, {rotation(row, 2), point[2]}};
+    const std::array<std::pair<Expr, Expr>, 3> products = {
+        {{rotation(row, 0), point[0]}, {rotation(row, 1), point[1]}, {rotation(row, 2), point[2]}}};
     result[row] = sum_of_products(*pool_, products, translation_[row]);
   }
   return result;
@@ -114,7 +117,7 @@ SymbolicPoint SymbolicTransform::apply_inverse(const SymbolicPoint& point) const
 
 Expr SymbolicTransform::apply_inverse_coordinate(const SymbolicPoint& point, int row) const {
   // Entries of p - t are built only where column `row` of R is not a constant 0.
-  std::pair<Expr, Expr> products[3];
+  std::array<std::pair<Expr, Expr>, 3> products;
   for (int k = 0; k < 3; ++k) {
     const Expr r = rotation(k, row);
     products[k] = {r, is_constant_zero(r) ? r : point[k] - translation_[k]};
@@ -138,9 +141,10 @@ SymbolicTransform operator*(const SymbolicTransform& a, const SymbolicTransform&
   std::array<Expr, 9> rotation;
   for (int row = 0; row < 3; ++row) {
     for (int column = 0; column < 3; ++column) {
-      const std::pair<Expr, Expr> products[] = {{a.rotation(row, 0), b.rotation(0, column)},
-                                                {a.rotation(row, 1), b.rotation(1, column)},
-                                                {a.rotation(row, 2), b.rotation(2, column)}};
+      const std::array<std::pair<Expr, Expr>, 3> products = {
+          {{a.rotation(row, 0), b.rotation(0, column)},
+           {a.rotation(row, 1), b.rotation(1, column)},
+           {a.rotation(row, 2), b.rotation(2, column)}}};
       rotation[row * 3 + column] = sum_of_products(*a.pool_, products, Expr());
     }
   }

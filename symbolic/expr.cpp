@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <functional>
+#include <iterator>
 #include <limits>
 #include <new>
 #include <optional>
@@ -13,6 +14,7 @@
 #include <string>
 #include <type_traits>
 #include <utility>
+#include <vector>
 
 #ifdef __linux__
 #include <sys/mman.h>
@@ -334,6 +336,44 @@ class HashIndex {
   std::size_t count_{0};
 };
 
+// A vector lent for one call's scratch from the thread's spares (sum() and product() nest, so
+// several are out at once): once the spares are warm, building a node allocates nothing for its
+// entries. It comes back emptied and is kept while at most kMaxLentBytes.
+template <class T>
+class LentVector {
+ public:
+  LentVector() {
+    if (std::vector<std::vector<T>>* spares = thread_spares(); spares && !spares->empty()) {
+      vector_ = std::move(spares->back());
+      spares->pop_back();
+    }
+  }
+  ~LentVector() {
+    vector_.clear();
+    if (std::vector<std::vector<T>>* spares = thread_spares();
+        spares && vector_.capacity() * sizeof(T) <= kMaxLentBytes)
+      spares->push_back(std::move(vector_));
+  }
+  LentVector(const LentVector&) = delete;
+  LentVector& operator=(const LentVector&) = delete;
+  std::vector<T>& operator*() { return vector_; }
+
+ private:
+  static constexpr std::size_t kMaxLentBytes = std::size_t{64} << 10;
+  // The thread's spares, or nullptr once they are destroyed (a vector returned at thread exit
+  // is freed instead).
+  static std::vector<std::vector<T>>* thread_spares() {
+    thread_local bool gone = false;
+    struct Spares {
+      std::vector<std::vector<T>> vectors;
+      ~Spares() { gone = true; }
+    };
+    thread_local Spares spares;
+    return gone ? nullptr : &spares.vectors;
+  }
+  std::vector<T> vector_;
+};
+
 // The 32-bit key of a 64-bit hash (mix() leaves its best bits on top).
 inline std::uint32_t key_of(std::size_t hash) { return static_cast<std::uint32_t>(hash >> 32); }
 
@@ -388,6 +428,8 @@ struct ExprPool::Impl {
   // Traversal marks: node n is visited in the current traversal iff marks[n] == epoch.
   std::vector<std::uint32_t> marks;
   std::uint32_t epoch = 0;
+  // topological_order's stack of (node, next operand to visit), kept for its capacity.
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> traversal;
 
   // The index of `value` in numbers, adding it if new.
   std::uint32_t number_index(const Number& value) {
@@ -655,7 +697,10 @@ void sort_and_merge(std::vector<Entry>& entries, std::vector<Entry>& spilled, Ke
   const auto first_run = std::is_sorted_until(entries.begin(), entries.end(), by_id);
   if (first_run != entries.end()) {
     if (std::is_sorted(first_run, entries.end(), by_id)) {
-      std::inplace_merge(entries.begin(), first_run, entries.end(), by_id);
+      LentVector<Entry> merged;
+      std::merge(entries.begin(), first_run, first_run, entries.end(), std::back_inserter(*merged),
+                 by_id);
+      entries.swap(*merged);
     } else {
       std::sort(entries.begin(), entries.end(), by_id);
     }
@@ -734,7 +779,8 @@ Expr ExprPool::sum(const Number& constant, std::span<const Term> terms) {
       if (addend.is_rational()) c0 = Number();
     }
   };
-  std::vector<Entry> entries;
+  LentVector<Entry> lent_entries;
+  std::vector<Entry>& entries = *lent_entries;
   entries.reserve(impl_->flattened_size(terms, Op::kAdd, this));
   bool may_hold_undefined = false;  // U is a partial product, and a sum holding one is partial
   for (const Term& original : terms) {
@@ -853,13 +899,16 @@ Expr ExprPool::product(const Number& coefficient, std::span<const Term> factors)
       if (power.is_rational()) c = Number::integer(1);
     }
   };
-  std::vector<Entry> entries;
-  entries.reserve(impl_->flattened_size(factors, Op::kMul, this));
+  LentVector<Entry> lent_entries;
+  std::vector<Entry>& entries = *lent_entries;
+  const std::size_t flattened = impl_->flattened_size(factors, Op::kMul, this);
+  entries.reserve(flattened);
   // Domains: what the exponents of each base required (kNonZero / kNonNegative), and the
   // guards, partial factors that folding removes: they come back as 0·guard terms so the result
   // stays undefined where the input was (x/x is 1 + 0·x^-1, 0·log(x) is 0·log(x)).
-  std::vector<std::pair<std::uint32_t, int>> required;
-  required.reserve(entries.capacity());
+  LentVector<std::pair<std::uint32_t, int>> lent_required;
+  std::vector<std::pair<std::uint32_t, int>>& required = *lent_required;
+  required.reserve(flattened);
   std::vector<Expr> guards;
   // A guard sum 0·t1 + ... is zero wherever it is defined. To a positive integer power it makes
   // the product zero: the t_i join its factors as the domain guard, as the parser reads
@@ -1230,8 +1279,9 @@ std::vector<Expr> topological_order(std::span<const Expr> roots) {
     std::fill(m.marks.begin(), m.marks.end(), 0);
     m.epoch = 1;
   }
-  // Explicit stack of (node, next operand to visit): no recursion, any depth.
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> stack;
+  // Explicit stack (empty between calls): no recursion, any depth.
+  std::vector<std::pair<std::uint32_t, std::uint32_t>>& stack = m.traversal;
+  order.reserve(128);
   for (Expr root : roots) {
     if (&root.pool() != pool) throw SymbolicError("expressions from different pools mixed");
     if (m.marks[root.id()] == m.epoch) continue;
