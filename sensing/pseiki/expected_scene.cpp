@@ -2,9 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 #include <optional>
 
 #include "spar/sensing/error.hpp"
+#include "spar/sensing/pseiki/splitter.hpp"
 #include "spar/sensing/render.hpp"
 
 namespace spar::sensing::pseiki {
@@ -67,7 +69,42 @@ struct CornerView {
   Eigen::Isometry3d object_motion{Eigen::Isometry3d::Identity()};  // world -> world
 };
 
+// Whether `piece` lies on `on`: both its ends within kResolvePixels of that line and along it.
+bool lies_on(const Segment& piece, const Segment& on) {
+  const Eigen::Vector2d direction = on.direction();
+  if (direction.isZero()) return false;
+  for (const Eigen::Vector2d& end : {piece.p0, piece.p1}) {
+    const double along = (end - on.p0).dot(direction);
+    if (on.line_distance(end) > kResolvePixels || along < -kEndSlack ||
+        along > on.length() + kEndSlack)
+      return false;
+  }
+  return true;
+}
+
 }  // namespace
+
+std::vector<bool> distinct_edges(std::span<const std::vector<Segment>> edges) {
+  std::vector<double> length(edges.size(), 0);
+  for (std::size_t e = 0; e < edges.size(); ++e)
+    for (const Segment& piece : edges[e]) length[e] += piece.length();
+  std::vector<std::size_t> longest_first(edges.size());
+  std::iota(longest_first.begin(), longest_first.end(), std::size_t{0});
+  std::stable_sort(longest_first.begin(), longest_first.end(),
+                   [&](std::size_t a, std::size_t b) { return length[a] > length[b]; });
+  std::vector<bool> distinct(edges.size(), false);
+  std::vector<const Segment*> kept_pieces;
+  for (const std::size_t e : longest_first) {
+    const bool on_a_kept_edge = std::ranges::all_of(edges[e], [&](const Segment& piece) {
+      return std::ranges::any_of(kept_pieces,
+                                 [&](const Segment* on) { return lies_on(piece, *on); });
+    });
+    distinct[e] = !edges[e].empty() && !on_a_kept_edge;
+    if (distinct[e])
+      for (const Segment& piece : edges[e]) kept_pieces.push_back(&piece);
+  }
+  return distinct;
+}
 
 Eigen::Isometry3d offset_pose(const Eigen::Isometry3d& pose, const PoseOffset& offset) {
   Eigen::Isometry3d out = Eigen::Isometry3d::Identity();
@@ -94,6 +131,7 @@ ModelPanel::ModelPanel(const Scene& scene, const Camera& camera,
   // Edges: the renderer's pieces, grouped by (object, model edge); world end points of the span.
   std::vector<std::array<Eigen::Vector3d, 2>> span_world;
   for (const EdgeView& view : seen.edges) {
+    if ((view.u1 - view.u0).norm() < kMinimumPiece) continue;  // below the resolution
     if (edges_.empty() || edges_.back().object != view.object ||
         edges_.back().model_edge != view.edge) {
       const SceneObject& object = scene_objects[static_cast<std::size_t>(view.object)];
@@ -113,6 +151,21 @@ ModelPanel::ModelPanel(const Scene& scene, const Camera& camera,
     edge.silhouette = edge.silhouette || view.silhouette;
     span_world.back()[1] = view.p1;
   }
+  // Edges lying on longer ones are seen as those (the header's Resolution).
+  std::vector<std::vector<Segment>> pieces;
+  for (const PanelEdge& edge : edges_) pieces.push_back(edge.pieces);
+  const std::vector<bool> distinct = distinct_edges(pieces);
+  std::size_t kept = 0;
+  for (std::size_t e = 0; e < edges_.size(); ++e) {
+    if (!distinct[e]) continue;
+    if (kept != e) {  // a vector moved onto itself is emptied
+      edges_[kept] = std::move(edges_[e]);
+      span_world[kept] = span_world[e];
+    }
+    ++kept;
+  }
+  edges_.resize(kept);
+  span_world.resize(kept);
   for (PanelEdge& edge : edges_) edge.span = {edge.pieces.front().p0, edge.pieces.back().p1};
 
   // Faces: visible ones with a visible edge.

@@ -13,6 +13,13 @@
 //            visible pieces (several when something hides its middle), each between two vertices;
 //   vertices the pieces' end points, pixels (end points closer than 0.5 pixel are one vertex).
 //
+// Resolution: the panel holds what an edge detector can report. A visible piece shorter than
+// kMinimumPiece (3 pixels, splitter.hpp; an edge seen end-on is a point) is not in it, and an edge
+// whose every piece lies on a piece of a longer edge (both ends within kResolvePixels of its line,
+// and along it) is seen as that edge (distinct_edges): the top and bottom rims of a hole seen down
+// its axis, a post's foot on a border behind it. The simulator (simulate.hpp) applies the same
+// rules to the true scene, so an image's edges carry ids the panel has.
+//
 // Tolerances: how far each expected edge may be from where it is seen. The uncertainty of the
 // poses (each object's and the camera's half-widths {dx, dy, dz, dtheta}, applied as SPAR's eq. 2:
 // trans(dx, dy, dz) Tr rotz(dtheta) R) moves the expected edges in the image; the panel projects
@@ -39,6 +46,7 @@
 #include <Eigen/Geometry>
 #include <array>
 #include <map>
+#include <span>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -58,6 +66,15 @@ struct ExpectationUncertainty {
   kinematics::PoseUncertainty camera{};
   double noise_px{0};  // image noise, standard deviation of an edge end point
 };
+
+// Ends of a piece closer than this to another edge's line cannot be told from it (pixels): 1.5,
+// three times the half-pixel noise of an edge detector's end points.
+inline constexpr double kResolvePixels = 1.5;
+
+// Per edge (its visible pieces, pixels, each at least kMinimumPiece long), whether an edge
+// detector reports it as an edge of its own: false when it has no piece, or every piece lies on a
+// piece of an edge kept before it, longest first (ties: the earlier).
+[[nodiscard]] std::vector<bool> distinct_edges(std::span<const std::vector<Segment>> edges);
 
 // SPAR's eq. 2 offset of a pose: trans(dx, dy, dz) Tr rotz(dtheta) R.
 struct PoseOffset {

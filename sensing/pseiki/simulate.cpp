@@ -117,12 +117,24 @@ SimulatedImage simulate(const Scene& scene, const Camera& camera,
     std::shuffle(out.begin(), out.end(), random);
     return out;
   };
+  // The pieces an edge detector resolves (the model panel's Resolution): the renderer lists an
+  // edge's pieces together.
+  std::vector<Piece> resolved;
+  std::vector<std::vector<Segment>> edge_pieces;
+  for (const EdgeView& view : seen.edges) {
+    if ((view.u1 - view.u0).norm() < kMinimumPiece) continue;
+    std::string id = truth.objects()[static_cast<std::size_t>(view.object)].name + "/e" +
+                     std::to_string(view.edge);
+    if (resolved.empty() || resolved.back().truth != id) edge_pieces.emplace_back();
+    edge_pieces.back().push_back({view.u0, view.u1});
+    resolved.push_back({{view.u0, view.u1}, std::move(id)});
+  }
+  const std::vector<bool> distinct = distinct_edges(edge_pieces);
   std::vector<Piece> seen_pieces;
-  for (const EdgeView& view : seen.edges)
-    if ((view.u1 - view.u0).norm() >= kMinimumPiece)
-      seen_pieces.push_back({{view.u0, view.u1},
-                             truth.objects()[static_cast<std::size_t>(view.object)].name + "/e" +
-                                 std::to_string(view.edge)});
+  for (std::size_t i = 0, edge = 0; i < resolved.size(); ++i) {
+    if (i > 0 && resolved[i].truth != resolved[i - 1].truth) ++edge;
+    if (distinct[edge]) seen_pieces.push_back(resolved[i]);
+  }
   const std::vector<char> dropped = chosen(seen_pieces.size(), perturbation.drop);
   std::vector<Piece> kept;
   for (std::size_t i = 0; i < seen_pieces.size(); ++i)

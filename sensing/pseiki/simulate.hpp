@@ -3,10 +3,11 @@
 //
 // The true poses: each object's and the camera's believed pose offset by eq. 2 offsets (dx, dy,
 // dz, dtheta) drawn uniformly within `pose_scale` times the half-widths. The true scene is
-// rendered (render.hpp: exact hidden-line removal) and its visible edge pieces go through, in this
-// order:
+// rendered (render.hpp: exact hidden-line removal); the edge pieces an edge detector resolves
+// (expected_scene.hpp's Resolution: none under kMinimumPiece pixels, an edge lying on a longer one
+// is seen as that one) go through, in this order:
 //   drop     a share `drop` of the pieces, chosen at random, is lost (exactly round(drop n) of
-//            the n pieces; pieces under kMinimumPiece pixels always are);
+//            the n pieces);
 //   split    a share `split` of the others is cut in two at a uniform point of its middle 40%,
 //            with a gap of 1-4 pixels;
 //   join     two pieces of different model edges that continue each other (end points within 1.5

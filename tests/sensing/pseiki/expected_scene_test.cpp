@@ -5,10 +5,13 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <set>
 
 #include "spar/sensing/error.hpp"
+#include "spar/sensing/pseiki/splitter.hpp"
+#include "spar/sensing/render.hpp"
 #include "tests/common/expect_message.hpp"
 #include "tests/sensing/pseiki/scenes.hpp"
 
@@ -87,6 +90,71 @@ TEST(ExpectedScene, AnEdgeHiddenInItsMiddleHasTwoPieces) {
   for (const PanelEdge& edge : panel.edges())
     if (edge.pieces.size() == 2) ++split;
   EXPECT_GE(split, 1);
+}
+
+// distinct_edges: an edge lying on a longer one (within kResolvePixels of its line, along it) is
+// seen as that one; 2.5 px off, or with a piece past the other's end, it is an edge of its own; of
+// two equal ones the first stays.
+TEST(ExpectedScene, AnEdgeLyingOnALongerOneIsSeenAsIt) {
+  const std::vector<std::vector<Segment>> edges = {
+      {{{10, 1.0}, {40, 1.2}}},                          // 1.2 px from the next one's line
+      {{{0, 0}, {100, 0}}},                              //
+      {{{10, 2.5}, {40, 2.5}}},                          // 2.5 px off
+      {{{50, -0.5}, {90, -0.5}}, {{120, 0}, {140, 0}}},  // its second piece is past the end
+      {},                                                // no piece
+      {{{0, 50}, {30, 50}}},                             //
+      {{{0, 50.5}, {30, 50.5}}}};                        // as long as the one before
+  EXPECT_EQ(distinct_edges(edges),
+            (std::vector<bool>{false, true, true, true, false, true, false}));
+}
+
+// Two flat boxes side by side seen from above and to one side: where they touch, their top edges
+// are one line in the image, and the side nearest the camera shows edges about a pixel long. The
+// renderer has both; the panel holds one edge on that line and nothing under kMinimumPiece.
+TEST(ExpectedScene, WhatAnEdgeDetectorCannotResolveIsNotInThePanel) {
+  TestScene test(Camera(Projection::kPinhole,
+                        {.fx = 800, .fy = 800, .cx = 320, .cy = 240, .width = 640, .height = 480},
+                        look_at({0.3, 0, 1.5}, {0.05, 0, 0}, {0, 1, 0})));
+  test.add("left", {0.1, 0.1, 0.02}, at(0, 0), {});
+  test.add("right", {0.1, 0.1, 0.02}, at(0.1, 0), {});
+  // Whether every piece of one edge lies on a piece of the other (both ends within
+  // kResolvePixels of its line, along it).
+  const auto on = [](const std::vector<Segment>& pieces, const std::vector<Segment>& others) {
+    return std::all_of(pieces.begin(), pieces.end(), [&](const Segment& piece) {
+      return std::any_of(others.begin(), others.end(), [&](const Segment& other) {
+        const auto along = [&](const Eigen::Vector2d& p) {
+          return (p - other.p0).dot(other.direction()) / other.length();
+        };
+        return other.line_distance(piece.p0) <= kResolvePixels &&
+               other.line_distance(piece.p1) <= kResolvePixels && along(piece.p0) > -0.1 &&
+               along(piece.p0) < 1.1 && along(piece.p1) > -0.1 && along(piece.p1) < 1.1;
+      });
+    });
+  };
+  const Rendering seen = render(test.scene, test.camera, {.faces = false, .edges = true});
+  int short_pieces = 0;
+  std::set<std::string> touching;  // panel ids of the edges of two objects on one line
+  for (const EdgeView& a : seen.edges) {
+    if ((a.u1 - a.u0).norm() < kMinimumPiece) ++short_pieces;
+    for (const EdgeView& b : seen.edges)
+      if (a.object != b.object && (a.u1 - a.u0).norm() >= kMinimumPiece &&
+          on({{a.u0, a.u1}}, {{b.u0, b.u1}}))
+        touching.insert(test.scene.objects()[static_cast<std::size_t>(a.object)].name + "/e" +
+                        std::to_string(a.edge));
+  }
+  ASSERT_GT(short_pieces, 0);
+  ASSERT_EQ(touching.size(), 2U);
+
+  const ModelPanel panel(test.scene, test.camera, test.uncertainty);
+  int touching_kept = 0;
+  for (const PanelEdge& edge : panel.edges()) {
+    touching_kept += static_cast<int>(touching.count(edge.id));
+    for (const Segment& piece : edge.pieces) EXPECT_GE(piece.length(), kMinimumPiece) << edge.id;
+    for (const PanelEdge& other : panel.edges())
+      EXPECT_FALSE(&edge != &other && on(edge.pieces, other.pieces))
+          << edge.id << " on " << other.id;
+  }
+  EXPECT_EQ(touching_kept, 1);
 }
 
 TEST(ExpectedScene, MistakesAreNamed) {
