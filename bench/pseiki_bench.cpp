@@ -30,6 +30,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "bench/timing.hpp"
@@ -185,11 +186,17 @@ void labels(int seeds) {
     label_row(k == 0 ? "two_boxes" : "boxes" + std::to_string(k), test.scene, test.camera,
               test.uncertainty, options, seeds);
   }
-  // The survey's own application: examples/vision/pseiki_sidewalk.yaml (camera uncertain).
-  const spar::planner::Scenario sidewalk = spar::planner::load_scenario(
-      std::string(SPAR_SOURCE_DIR) + "/examples/vision/pseiki_sidewalk.yaml");
-  const spar::planner::VisionSetup setup(sidewalk, "front");
-  label_row("sidewalk", setup.scene(), setup.camera(), setup.uncertainty(), setup.options(), seeds);
+  // The survey's own application (camera uncertain), and the work cell's verification cameras
+  // looking down the block's hole.
+  for (const auto& [name, file, camera] :
+       {std::tuple{"sidewalk", "vision/pseiki_sidewalk.yaml", "front"},
+        std::tuple{"block_hole", "peg_block_camera_verify.yaml", "overhead"},
+        std::tuple{"on_back", "peg_block_on_back_camera.yaml", "overhead"}}) {
+    const spar::planner::Scenario scenario =
+        spar::planner::load_scenario(std::string(SPAR_SOURCE_DIR) + "/examples/" + file);
+    const spar::planner::VisionSetup setup(scenario, camera);
+    label_row(name, setup.scene(), setup.camera(), setup.uncertainty(), setup.options(), seeds);
+  }
 }
 
 // Issue 27's rejections: images of `actual` (an object missing or swapped) matched against

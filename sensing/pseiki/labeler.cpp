@@ -219,9 +219,10 @@ void Labeler::update(Blackboard& board) const {
     if (!edge.active || edge.candidates.empty()) continue;
     const ElementEvidence evidence = evidence_of(board, static_cast<int>(e), doubts);
     const TreeBeliefs combined = evidence.tree.combine();
+    const double reliability = std::min(1.0, edge.segment.length() / kReliableLength);
     for (const int leaf : evidence.candidate_leaves)
-      beliefs[e].push_back(combined.belief[static_cast<std::size_t>(leaf)]);
-    none[e] = combined.belief[static_cast<std::size_t>(evidence.none_leaf)];
+      beliefs[e].push_back(reliability * combined.belief[static_cast<std::size_t>(leaf)]);
+    none[e] = reliability * combined.belief[static_cast<std::size_t>(evidence.none_leaf)];
   }
   for (std::size_t e = 0; e < board.edges.size(); ++e) {
     ImageEdge& edge = board.edges[e];

@@ -111,6 +111,30 @@ TEST(Labeler, AShadowBesideAnEdgeLosesToTheEdge) {
   EXPECT_GT(board.edges[0].belief, board.edges.back().belief);
 }
 
+// Shafer's discounting by the element's reliability (labeler.hpp): alone, a 4 px piece of a
+// model edge keeps its label with at most 4 / kReliableLength of belief; a 20 px piece is not
+// discounted.
+TEST(Labeler, AShortEdgeIsALessReliableMeasurement) {
+  const Fixture f;
+  const Segment& piece = f.panel.edges()[0].pieces[0];
+  ASSERT_GT(piece.length(), 20);
+  for (const double length : {4.0, 20.0}) {
+    const Eigen::Vector2d middle = piece.midpoint(), direction = piece.direction();
+    Blackboard board(
+        f.panel, {{"a", {middle - 0.5 * length * direction, middle + 0.5 * length * direction}}},
+        1.0);
+    const Labeler labeler;
+    labeler.label(board);
+    labeler.update(board);
+    EXPECT_EQ(board.edges[0].label, 0) << length;
+    if (length < kReliableLength) {
+      EXPECT_LE(board.edges[0].belief, length / kReliableLength);
+    } else {
+      EXPECT_GT(board.edges[0].belief, 0.9);
+    }
+  }
+}
+
 // Runs the labeler's rounds as match() does without its other sources.
 void settle(Blackboard& board) {
   const Labeler labeler;
