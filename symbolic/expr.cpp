@@ -338,7 +338,8 @@ class HashIndex {
 
 // A vector lent for one call's scratch from the thread's spares (sum() and product() nest, so
 // several are out at once): once the spares are warm, building a node allocates nothing for its
-// entries. It comes back emptied and is kept while at most kMaxLentBytes.
+// entries. It comes back emptied and is kept while at most kMaxLentBytes and while the thread
+// keeps fewer than kMaxSpares (their list is reserved once, so giving back never allocates).
 template <class T>
 class LentVector {
  public:
@@ -351,7 +352,7 @@ class LentVector {
   ~LentVector() {
     vector_.clear();
     if (std::vector<std::vector<T>>* spares = thread_spares();
-        spares && vector_.capacity() * sizeof(T) <= kMaxLentBytes)
+        spares && spares->size() < kMaxSpares && vector_.capacity() * sizeof(T) <= kMaxLentBytes)
       spares->push_back(std::move(vector_));
   }
   LentVector(const LentVector&) = delete;
@@ -360,13 +361,15 @@ class LentVector {
 
  private:
   static constexpr std::size_t kMaxLentBytes = std::size_t{64} << 10;
+  static constexpr std::size_t kMaxSpares = 32;
   // The thread's spares, or nullptr once they are destroyed (a vector returned at thread exit
   // is freed instead).
   static std::vector<std::vector<T>>* thread_spares() {
     thread_local bool gone = false;
     struct Spares {
-      std::vector<std::vector<T>> vectors;
+      Spares() { vectors.reserve(kMaxSpares); }
       ~Spares() { gone = true; }
+      std::vector<std::vector<T>> vectors;
     };
     thread_local Spares spares;
     return gone ? nullptr : &spares.vectors;
