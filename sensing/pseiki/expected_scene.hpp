@@ -18,7 +18,8 @@
 // whose every piece lies on a piece of a longer edge (both ends within kResolvePixels of its line,
 // and along it) is seen as that edge (distinct_edges): the top and bottom rims of a hole seen down
 // its axis, a post's foot on a border behind it. The simulator (simulate.hpp) applies the same
-// rules to the true scene, so an image's edges carry ids the panel has.
+// rules to the true scene, so an image's edges carry ids the panel has (unless the perturbed pose
+// itself makes an edge resolvable that the believed one did not).
 //
 // Tolerances: how far each expected edge may be from where it is seen. The uncertainty of the
 // poses (each object's and the camera's half-widths {dx, dy, dz, dtheta}, applied as SPAR's eq. 2:
