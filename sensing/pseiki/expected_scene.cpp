@@ -271,14 +271,25 @@ ModelPanel::ModelPanel(const Scene& scene, const Camera& camera,
     if (!u0 || !u1) return std::nullopt;
     return Segment{*u0, *u1};
   };
+  // The whole edge's image length in a view (0 where an end is behind the camera).
+  const auto whole_length = [&](const CornerView& view, const PanelEdge& edge) {
+    const Eigen::Isometry3d& pose = scene_objects[static_cast<std::size_t>(edge.object)].pose;
+    const auto u0 = view.camera.project(view.object_motion * (pose * edge.p0));
+    const auto u1 = view.camera.project(view.object_motion * (pose * edge.p1));
+    return u0 && u1 ? (*u1 - *u0).norm() : 0.0;
+  };
+  const CornerView believed{.camera = camera};
   for (std::size_t e = 0; e < edges_.size(); ++e) {
     Misfit by_object, by_camera;
+    double longest = std::max(whole_length(believed, edges_[e]), edges_[e].span.length());
     for (const CornerView& view : views) {
       if (!moves(view, edges_[e])) continue;
       if (const auto moved = seen_at(view, e))
         (view.moved_object < 0 ? by_camera : by_object).widen(misfit(edges_[e].span, *moved));
+      longest = std::max(longest, whole_length(view, edges_[e]));
     }
     edges_[e].tolerance = tolerance_of(by_object, by_camera, uncertainty.noise_px);
+    edges_[e].longest_px = longest + 3 * std::sqrt(2.0) * uncertainty.noise_px;
   }
   for (std::size_t a = 0; a < edges_.size(); ++a)
     for (const int b : neighbours_[a]) {

@@ -29,7 +29,8 @@
 // of its distance from the line, and of its end points along it. An edge's tolerance is the sum of
 // what its object and the camera can do, plus the noise (3 sigma); `relational(a, b)` is the same
 // for the relation between two edges of one face (collinearity.hpp's T_{A->B}): the largest error
-// of predicting a from b across the corners. Corners, not the whole box: the displacement of a
+// of predicting a from b across the corners. `longest_px` is the largest length of the whole edge's
+// image across the same corners. Corners, not the whole box: the displacement of a
 // projected point is nearly linear in the small offsets of a pose box; this is the documented
 // approximation.
 //
@@ -99,6 +100,10 @@ struct PanelEdge {
   Segment span;                              // first piece's start to last piece's end
   Eigen::Vector3d p0{Eigen::Vector3d::Zero()}, p1{Eigen::Vector3d::Zero()};  // object frame
   double visible_length{0};                                                  // pixels
+  // The longest its image can be: the whole edge (whatever hides part of it now may move away)
+  // at the worst corner of the uncertainty, plus two noisy ends (3 sqrt(2) sigma). Pieces of it
+  // together are no longer (merger, labeler).
+  double longest_px{0};
   bool silhouette{false};
   Tolerance tolerance;  // where the pose uncertainty and the noise may put it
 };

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 
 #include "spar/sensing/error.hpp"
@@ -89,6 +90,20 @@ double duplicated_share(const Segment& e, const Segment& other, double noise) {
   return hi - lo <= slack ? 0.0 : (hi - lo - slack) / length;
 }
 
+// How much of `e` would make A too long (labeler.hpp): the share of e's length by which e and
+// `other` together, along A's line, exceed the longest A's image can be.
+double excess_share(const Segment& e, const Segment& other, const PanelEdge& a) {
+  const Eigen::Vector2d d = a.span.direction();
+  const double length = e.length();
+  if (length <= 0) return 0;
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (const Eigen::Vector2d& p : {e.p0, e.p1, other.p0, other.p1}) {
+    lo = std::min(lo, p.dot(d));
+    hi = std::max(hi, p.dot(d));
+  }
+  return std::min(1.0, std::max(0.0, hi - lo - a.longest_px) / length);
+}
+
 ElementEvidence evidence_of(const Blackboard& board, int element, const Doubts& doubts) {
   const ModelPanel& model = board.model();
   const ImageEdge& edge = board.edges[static_cast<std::size_t>(element)];
@@ -136,18 +151,21 @@ ElementEvidence evidence_of(const Blackboard& board, int element, const Doubts& 
         continue;
       const int b = neighbour.label;
       if (b == a) {
-        // Another piece of A confirms e, unless e runs along it: pieces of one edge do not
-        // overlap (an edge detector reports one edge where two coincide), so the part of e that
-        // duplicates it speaks against e.
+        // Another piece of A confirms e, unless e runs along it or past where A can end: pieces
+        // of one edge do not overlap (an edge detector reports one edge where two coincide) and
+        // are together no longer than A, so the part of e that duplicates it or makes A too
+        // long speaks against e.
         const double duplicate =
             duplicated_share(edge.segment, neighbour.segment, model.uncertainty().noise_px);
+        const double excess = excess_share(edge.segment, neighbour.segment, panel_a);
+        const double not_a = std::max(duplicate, excess);
         tree.add_evidence(leaf,
                           capped(edge_collinearity(edge.segment, neighbour.segment, same_label) *
-                                 neighbour.belief * overlap * (1 - duplicate)),
+                                 neighbour.belief * overlap * (1 - not_a)),
                           capped(edge_noncollinearity(edge.segment, neighbour.segment, same_label) *
                                  neighbour.belief));
-        if (duplicate > 0) tree.add_against(leaf, capped(duplicate * neighbour.belief));
-        explained = std::max(explained, duplicate * neighbour.belief);
+        if (not_a > 0) tree.add_against(leaf, capped(not_a * neighbour.belief));
+        explained = std::max(explained, not_a * neighbour.belief);
       } else if (std::binary_search(related.begin(), related.end(), b)) {
         const PanelEdge& panel_b = model.edges()[static_cast<std::size_t>(b)];
         const Tolerance& relational = model.relational(a, b);

@@ -21,10 +21,15 @@
 //                        one line in the image and an edge detector reports one edge where two
 //                        coincide, so pieces of A do not run side by side, and the overlapping
 //                        part of e is not A (a shadow 4-10 px beside A's piece is exactly this;
-//                        with a fade by offset it escaped); the support above is taken times
-//                        (1 - duplicate), and the relational and junction support below times
-//                        (1 - the largest duplicate x Bel(e2)): A's place is then explained by
-//                        e2, not by e;
+//                        with a fade by offset it escaped); likewise excess(e, e2), the share of
+//                        e's length by which e and e2 together, along A, exceed the longest A's
+//                        image can be (PanelEdge::longest_px): a fragment continuing A's line
+//                        past e2's end, within the pose's margin there (a shadow of the next
+//                        edge, clutter), is no piece of A when e2 already is most of it. With
+//                        not_A = max(duplicate, excess), the support above is taken times
+//                        (1 - not_A), not_A x Bel(e2) is a piece against A, and the relational
+//                        and junction support below is taken times (1 - the largest not_A x
+//                        Bel(e2)): A's place is then explained by e2, not by e;
 //     for / against A    compatibility(e, e2) x Bel(e2), incompatibility(e, e2) x Bel(e2) for
 //                        the elements e2 labelled with an edge B sharing a visible face with A
 //                        (collinearity.hpp: after the rigid motion T_{A->B}), pooled into one

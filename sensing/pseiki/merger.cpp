@@ -64,10 +64,11 @@ int Merger::merge(Blackboard& board) const {
         std::vector<int> joined = groups.back();
         joined.push_back(e);
         const Segment& last = board.edges[static_cast<std::size_t>(groups.back().back())].segment;
+        const Segment whole = spanning(board, joined);
         if (edge_collinearity(last, board.edges[static_cast<std::size_t>(e)].segment, noise) >=
                 kMergeCollinearity &&
-            collinearity_terms(spanning(board, joined), panel.pieces, panel.tolerance).overlap >=
-                kMergeOverlap) {
+            whole.length() <= panel.longest_px &&
+            collinearity_terms(whole, panel.pieces, panel.tolerance).overlap >= kMergeOverlap) {
           groups.back() = std::move(joined);
           continue;
         }

@@ -5,8 +5,10 @@
 // At the edge level: active elements with the same label A are taken in order along A's line;
 // consecutive ones merge when they are collinear with each other (edge_collinearity under the
 // image noise, at least kMergeCollinearity) and the merged edge still lies within A's extent (its
-// overlap with A, under A's tolerance, at least kMergeOverlap), so pieces of two collinear model
-// edges (two slabs of one sidewalk border) are not joined. A merged element lies on the
+// overlap with A, under A's tolerance, at least kMergeOverlap) and is no longer than A's image can
+// be (`PanelEdge::longest_px`), so pieces of two collinear model edges (two slabs of one sidewalk
+// border) are not joined, nor a short edge and a shadow or clutter fragment continuing its line
+// within the pose's tolerance of its end. A merged element lies on the
 // total-least-squares line through its parts' end points (weighted by the parts' lengths),
 // between their extreme projections; its parts become inactive and it has no candidates yet (the
 // labeler labels it again, now with the overlap of the whole).

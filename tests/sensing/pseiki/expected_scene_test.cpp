@@ -77,6 +77,31 @@ TEST(ExpectedScene, TolerancesAreWhatTheUncertaintyDoesInPixels) {
     EXPECT_NEAR(edge.tolerance.offset, 1.5 + kMinimumOffsetPx, 1e-9);
 }
 
+// The longest an edge's image can be: its length where the uncertainty brings it nearest the camera
+// (dz up, the top face's outline seen from straight above: f L / (z_camera - z_top - dz)), plus
+// two noisy ends (3 sqrt(2) sigma); exact poses keep the length itself.
+TEST(ExpectedScene, TheLongestAnEdgeCanBeIsItsLengthNearestTheCamera) {
+  const Camera down(Projection::kPinhole,
+                    {.fx = 800, .fy = 800, .cx = 320, .cy = 240, .width = 640, .height = 480},
+                    look_at({0, 0, 1.1}, {0, 0, 0}, {0, 1, 0}));
+  TestScene test(down);
+  test.add("slab", {0.3, 0.2, 0.1}, at(0, 0), {.dz = 0.01});
+  test.uncertainty.noise_px = 0.5;
+  const ModelPanel panel(test.scene, test.camera, test.uncertainty);
+  test.uncertainty.objects[0] = {};
+  const ModelPanel exact(test.scene, test.camera, test.uncertainty);
+  const double slack = 3 * std::sqrt(2.0) * 0.5;
+  ASSERT_EQ(panel.edges().size(), 4U);
+  for (std::size_t e = 0; e < panel.edges().size(); ++e) {
+    const double seen = exact.edges()[e].span.length();
+    EXPECT_NEAR(exact.edges()[e].longest_px, seen + slack, 1e-9);
+    const double metres = std::abs(panel.edges()[e].span.direction().x()) > 0.5 ? 0.3 : 0.2;
+    const double depth = 800 * metres / seen;  // from the camera to the top face
+    EXPECT_NEAR(panel.edges()[e].longest_px, 800 * metres / (depth - 0.01) + slack, 1e-6)
+        << panel.edges()[e].id;
+  }
+}
+
 // A tall box in front of a long low one hides the middle of its far top edge: one edge, two
 // pieces, its overlap measured on the pieces.
 TEST(ExpectedScene, AnEdgeHiddenInItsMiddleHasTwoPieces) {

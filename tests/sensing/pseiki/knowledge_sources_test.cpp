@@ -261,6 +261,36 @@ TEST(Merger, AParallelEdgeAsideIsNotMerged) {
   EXPECT_EQ(Merger().merge(board), 0);
 }
 
+// A fragment continuing an edge's line past its end, within the pose's margin there, would make
+// the edge longer than its image can be (PanelEdge::longest_px): a shadow or clutter, not a piece
+// of it. It is not merged with the edge, and it is not believed; the edge still is.
+TEST(Merger, AnEdgeAndAFragmentPastItsEndLongerThanItCanBeAreNotMerged) {
+  const Fixture f;
+  std::vector<ImageEdgeInput> image = image_of(f.panel);
+  // An edge whose margin leaves room for a fragment from 1 px past its end to 3 px past what
+  // its image can be (pixels past p1).
+  const auto room = [&](const PanelEdge& e) {
+    return e.tolerance.margin - (e.longest_px - e.span.length() + 3);
+  };
+  const auto model = std::ranges::max_element(f.panel.edges(), {}, room);
+  ASSERT_GT(room(*model), 0.5);
+  const int a = static_cast<int>(model - f.panel.edges().begin());
+  ASSERT_EQ(truth_of(f.panel, a), a);  // one piece per edge: input a is edge a
+  const Segment edge = image[static_cast<std::size_t>(a)].segment;
+  const Eigen::Vector2d d = edge.direction();
+  const double start = 1, end = model->longest_px - edge.length() + 3;
+  image.push_back({"past", {edge.p1 + start * d, edge.p1 + end * d}});
+  Blackboard board(f.panel, image, 1.0);
+  Labeler().label(board);
+  ASSERT_EQ(board.edges.back().label, a);
+  EXPECT_EQ(Merger().merge(board), 0);
+  settle(board);
+  EXPECT_EQ(board.edges[static_cast<std::size_t>(a)].label, a);
+  EXPECT_GE(board.edges[static_cast<std::size_t>(a)].belief, 0.9);
+  EXPECT_TRUE(board.edges.back().label < 0 || board.edges.back().belief < kDetectionBelief)
+      << board.edges.back().belief;
+}
+
 // One image edge along two collinear model edges (two slabs' borders in a row) is cut where
 // one ends and the other begins, and each piece gets its own label.
 TEST(Splitter, AnEdgeAlongTwoCollinearModelEdgesIsCutBetweenThem) {
