@@ -4,6 +4,7 @@
 #include <bit>
 #include <cstdio>
 #include <exception>
+#include <functional>
 #include <optional>
 #include <set>
 
@@ -175,11 +176,14 @@ class InstanceAnalyser {
   struct Replayed {
     PropagatedSteps steps;
     std::map<int, std::vector<PreconditionResult>> decided;
+    bool gave_up{false};  // stopped at a step of `must_hold` with a precondition not satisfied
   };
   // Re-propagates `state` (the one before steps[from]) over steps[from..through] and decides the
-  // preconditions of every step in that range as `need` asks.
-  [[nodiscard]] Replayed replay(Propagation state, std::vector<Phase2Step> steps, int from,
-                                int through, Need need) const;
+  // preconditions of every step in that range as `need` asks; where `must_hold` is given and
+  // true of a step, stops (gave_up) as soon as one of its preconditions is known not to hold.
+  [[nodiscard]] Replayed replay(
+      Propagation state, std::vector<Phase2Step> steps, int from, int through, Need need,
+      const std::function<bool(const Phase2Step&)>& must_hold = nullptr) const;
   // AnalysedStep::sensor_scale_needed for the failing step at `k`.
   [[nodiscard]] std::optional<double> sensor_margin(const std::vector<Phase2Step>& steps,
                                                     const std::vector<Propagation>& snapshots,
@@ -219,14 +223,24 @@ void look_where_it_rests(Phase2Step& step, const Propagation& state) {
     step.object_pose = state.on_table(step.object)->ideal;
 }
 
-InstanceAnalyser::Replayed InstanceAnalyser::replay(Propagation state,
-                                                    std::vector<Phase2Step> steps, int from,
-                                                    int through, Need need) const {
+InstanceAnalyser::Replayed InstanceAnalyser::replay(
+    Propagation state, std::vector<Phase2Step> steps, int from, int through, Need need,
+    const std::function<bool(const Phase2Step&)>& must_hold) const {
   Replayed out;
   for (int i = from; i <= through; ++i) {
     look_where_it_rests(steps[i], state);
     std::vector<Precondition> built = state.step(steps[i], steps[i].label);
-    out.decided[i] = decisions_.decide(built, state.space(), need);
+    if (must_hold && must_hold(steps[i])) {
+      std::optional<std::vector<PreconditionResult>> held =
+          decisions_.decide_if_all_hold(built, state.space());
+      if (!held) {
+        out.gave_up = true;
+        return out;
+      }
+      out.decided[i] = std::move(*held);
+    } else {
+      out.decided[i] = decisions_.decide(built, state.space(), need);
+    }
     out.steps.insert_or_assign(i, Propagated{std::move(built), state});
   }
   return out;
@@ -262,21 +276,30 @@ int InstanceAnalyser::repair(std::vector<Phase2Step>& steps,
   add_to_score(baseline, steps[k].instance_step, failing);
   const int first_record = static_cast<int>(out.repairs.size());
   std::map<unsigned, PropagatedSteps> propagated;  // per set tried
+  // The steps a set's score counts: the original ones and the squeezes it inserts.
+  const std::function<bool(const Phase2Step&)> scored = [&](const Phase2Step& step) {
+    return step.instance_step >= 0 ||
+           (step.effect == Effect::kReduce && step.repair >= first_record);
+  };
   // A set's score needs verdicts only (RepairScore).
-  const RepairChoice choice = choose_repair(candidates, baseline, [&](unsigned set) {
-    const SplicedPlan trial = splice(steps, k, candidates, set, kinds_, first_record);
-    Replayed replayed = replay(snapshots[from], trial.steps, from, trial.failing, Need::kVerdicts);
-    RepairScore score;
-    for (const auto& [position, results] : replayed.decided) {
-      const Phase2Step& step = trial.steps[position];
-      if (step.instance_step >= 0)
-        add_to_score(score, step.instance_step, results);
-      else if (step.effect == Effect::kReduce && step.repair >= first_record)
-        score.admissible = score.admissible && all_hold(results);
-    }
-    propagated.insert_or_assign(set, std::move(replayed.steps));
-    return score;
-  });
+  const RepairChoice choice =
+      choose_repair(candidates, baseline, [&](unsigned set, ScoreDepth depth) {
+        const SplicedPlan trial = splice(steps, k, candidates, set, kinds_, first_record);
+        Replayed replayed =
+            replay(snapshots[from], trial.steps, from, trial.failing, Need::kVerdicts,
+                   depth == ScoreDepth::kSettles ? scored : nullptr);
+        RepairScore score;
+        if (replayed.gave_up) return RepairScore::not_settling();
+        for (const auto& [position, results] : replayed.decided) {
+          const Phase2Step& step = trial.steps[position];
+          if (step.instance_step >= 0)
+            add_to_score(score, step.instance_step, results);
+          else if (scored(step))
+            score.admissible = score.admissible && all_hold(results);
+        }
+        propagated.insert_or_assign(set, std::move(replayed.steps));
+        return score;
+      });
   RepairSearch search{.for_instance_step = steps[k].instance_step,
                       .candidates = static_cast<int>(candidates.size()),
                       .sets_tried = choice.sets_tried,

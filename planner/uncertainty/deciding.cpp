@@ -136,11 +136,27 @@ std::vector<std::uint64_t> step_key(const std::vector<Precondition>& preconditio
 
 std::vector<PreconditionResult> DecisionCache::decide(
     const std::vector<Precondition>& preconditions, const UncertaintySpace& space, Need need) {
+  return *decide_giving_up(preconditions, space, need, std::numeric_limits<std::size_t>::max());
+}
+
+std::optional<std::vector<PreconditionResult>> DecisionCache::decide_if_all_hold(
+    const std::vector<Precondition>& preconditions, const UncertaintySpace& space) {
+  return decide_giving_up(preconditions, space, Need::kVerdicts, 1);
+}
+
+std::optional<std::vector<PreconditionResult>> DecisionCache::decide_giving_up(
+    const std::vector<Precondition>& preconditions, const UncertaintySpace& space, Need need,
+    std::size_t give_up_after) {
   std::vector<VariableId> ids;
   std::vector<std::uint64_t> key = step_key(preconditions, space, ids);
   if (const auto found = entries_.find(key);
       found != entries_.end() && (found->second.exact || need == Need::kVerdicts)) {
     ++hits_;
+    const std::size_t unsatisfied = static_cast<std::size_t>(
+        std::ranges::count_if(found->second.results, [](const PreconditionResult& result) {
+          return result.verdict != bounds::Verdict::kSatisfied;
+        }));
+    if (unsatisfied >= give_up_after) return std::nullopt;
     // The same symbols in the same order, so only their ids in this space differ.
     std::vector<PreconditionResult> results = found->second.results;
     for (PreconditionResult& result : results) result.variables = ids;
@@ -149,12 +165,14 @@ std::vector<PreconditionResult> DecisionCache::decide(
   ++misses_;
   bounds::BoundOptions quick = quick_, full = full_;
   quick.stop_at_witness = full.stop_at_witness = need == Need::kVerdicts;
-  Entry entry{*CompiledStep(preconditions, space, std::move(ids)).decide(space, quick, full)};
+  std::optional<std::vector<PreconditionResult>> decided =
+      CompiledStep(preconditions, space, std::move(ids)).decide(space, quick, full, give_up_after);
+  if (!decided) return std::nullopt;
+  Entry entry{*decided};
   for (const PreconditionResult& result : entry.results)
     entry.exact = entry.exact && !result.bound.stopped_at_witness;
-  std::vector<PreconditionResult> results = entry.results;
   entries_.insert_or_assign(std::move(key), std::move(entry));
-  return results;
+  return decided;
 }
 
 }  // namespace spar::planner

@@ -141,6 +141,10 @@ class DecisionCache {
   [[nodiscard]] std::vector<PreconditionResult> decide(
       const std::vector<Precondition>& preconditions, const UncertaintySpace& space,
       Need need = Need::kBounds);
+  // decide(..., Need::kVerdicts) where every precondition is satisfied; nullopt, and nothing
+  // kept, once one is known not to be (CompiledStep::decide giving up after one).
+  [[nodiscard]] std::optional<std::vector<PreconditionResult>> decide_if_all_hold(
+      const std::vector<Precondition>& preconditions, const UncertaintySpace& space);
   [[nodiscard]] std::size_t hits() const { return hits_; }
   [[nodiscard]] std::size_t misses() const { return misses_; }  // steps decided
 
@@ -149,6 +153,10 @@ class DecisionCache {
     std::vector<PreconditionResult> results;
     bool exact{true};
   };
+  // decide() giving up once `give_up_after` preconditions are known not to be satisfied.
+  [[nodiscard]] std::optional<std::vector<PreconditionResult>> decide_giving_up(
+      const std::vector<Precondition>& preconditions, const UncertaintySpace& space, Need need,
+      std::size_t give_up_after);
   bounds::BoundOptions quick_, full_;
   std::map<std::vector<std::uint64_t>, Entry> entries_;
   std::size_t hits_{0}, misses_{0};

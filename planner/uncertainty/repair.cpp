@@ -203,42 +203,55 @@ SplicedPlan splice(const std::vector<Phase2Step>& steps, int k,
 
 RepairChoice choose_repair(const std::vector<RepairCandidate>& candidates,
                            const RepairScore& baseline,
-                           const std::function<RepairScore(unsigned set)>& evaluate) {
+                           const std::function<RepairScore(unsigned, ScoreDepth)>& evaluate) {
   RepairChoice choice{.set = 0, .score = baseline, .turned = {}, .sets_tried = 0};
   std::map<unsigned, RepairScore> scores = {{0u, baseline}};
   const int n = static_cast<int>(candidates.size());
-  const auto score_of = [&](unsigned set) -> const RepairScore& {
+  // A set is tried once; a partial score is completed when a full one is needed.
+  const auto score_of = [&](unsigned set, ScoreDepth depth) -> const RepairScore& {
     auto found = scores.find(set);
     if (found == scores.end()) {
-      found = scores.emplace(set, evaluate(set)).first;
       ++choice.sets_tried;
+      found = scores.emplace(set, evaluate(set, depth)).first;
+    } else if (found->second.partial && depth == ScoreDepth::kFull) {
+      found->second = evaluate(set, depth);
     }
     return found->second;
   };
+  const auto settles = [](const RepairScore& score) {
+    return !score.partial && score.admissible && score.unsatisfied == 0;
+  };
+  unsigned sensing = 0;
+  std::vector<int> squeezes;
+  for (int i = 0; i < n; ++i)
+    if (candidates[i].effect == Effect::kReduce)
+      squeezes.push_back(i);
+    else
+      sensing |= 1u << i;
   // The best score any set can have: a set scores no better than the set with every sensing
   // candidate added (monotonicity, header comment), so the best is among the maximal sets, every
-  // sensing candidate with no squeeze or with one. Evaluated once, only when the sets of size 1
-  // leave something unsatisfied; the evaluation stops at a maximal set that satisfies everything.
+  // sensing candidate with no squeeze or with one. Evaluated once, when the sets of size 1 leave
+  // something unsatisfied or before the first set with a squeeze; the evaluation stops at a
+  // maximal set that satisfies everything.
   std::optional<RepairScore> best;
   const auto best_possible = [&]() -> const RepairScore& {
     if (best) return *best;
-    unsigned sensing = 0;
-    std::vector<int> squeezes;
-    for (int i = 0; i < n; ++i)
-      if (candidates[i].effect == Effect::kReduce)
-        squeezes.push_back(i);
-      else
-        sensing |= 1u << i;
     best = choice.score;
     std::vector<unsigned> maximal;
     if (sensing != 0) maximal.push_back(sensing);
     for (const int i : squeezes) maximal.push_back(sensing | 1u << i);
     for (const unsigned set : maximal) {
-      const RepairScore& score = score_of(set);
+      const RepairScore& score = score_of(set, ScoreDepth::kFull);
       if (score.admissible && score.better_than(*best)) best = score;
       if (best->unsatisfied == 0) break;
     }
     return *best;
+  };
+  // Where some set settles the step, only a set that settles can be kept: a set with a squeeze
+  // is then scored only as far as whether it does (ScoreDepth::kSettles).
+  const auto depth_of = [&](unsigned set) {
+    return (set & ~sensing) != 0 && settles(best_possible()) ? ScoreDepth::kSettles
+                                                             : ScoreDepth::kFull;
   };
   // The search ends once no set can score strictly better than the one kept (every subset of a
   // kept set, smaller, is already scored): at once when it leaves nothing unsatisfied, and after
@@ -249,8 +262,8 @@ RepairChoice choose_repair(const std::vector<RepairCandidate>& candidates,
   for (int size = 1; size <= n && !settled(size > 1); ++size) {
     for (const unsigned set : sets_of_size(candidates.size(), size)) {
       if (!valid_set(candidates, set)) continue;
-      const RepairScore& score = score_of(set);
-      if (score.admissible && score.better_than(choice.score)) {
+      const RepairScore& score = score_of(set, depth_of(set));
+      if (!score.partial && score.admissible && score.better_than(choice.score)) {
         choice.set = set;
         choice.score = score;
         if (settled(size > 1)) break;
@@ -259,13 +272,14 @@ RepairChoice choose_repair(const std::vector<RepairCandidate>& candidates,
   }
   for (int i = 0; i < n; ++i) {
     if (!(choice.set >> i & 1u)) continue;
-    const auto without = scores.find(choice.set & ~(1u << i));
+    // Scored before (a subset of the kept set), perhaps only partially.
+    const RepairScore& without = score_of(choice.set & ~(1u << i), ScoreDepth::kFull);
     std::vector<PreconditionRef> turned;
-    for (const auto& [ref, satisfied] : choice.score.satisfied)
-      if (satisfied && without != scores.end()) {
-        const auto before = without->second.satisfied.find(ref);
-        if (before == without->second.satisfied.end() || !before->second) turned.push_back(ref);
-      }
+    for (const auto& [ref, satisfied] : choice.score.satisfied) {
+      const auto before = without.satisfied.find(ref);
+      if (satisfied && (before == without.satisfied.end() || !before->second))
+        turned.push_back(ref);
+    }
     choice.turned.push_back(std::move(turned));
   }
   return choice;

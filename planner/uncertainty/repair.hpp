@@ -25,7 +25,13 @@
 // the earliest in that order among those; the empty set (no repair) wins unless a set is strictly
 // better. It stops once no set left can score strictly better than the one kept: at the first
 // admissible set that leaves nothing unsatisfied, and, after the sets of size 1, when the kept one
-// scores as well as the best a set can (below).
+// scores as well as the best a set can (below). The best a set can is known after the sets of
+// size 1 or before the first set with a squeeze, whichever comes first; where it settles the
+// step, only a set that settles it can be kept, so a set with a squeeze is scored only as far
+// as whether it does (ScoreDepth::kSettles: its replay stops at the first precondition not
+// satisfied; the three error-free seed instances each drop one to three squeezes this way). The
+// kept set's subsets are scored in full (for `turned`). Which set is kept does not depend on how
+// far the others were scored.
 // Invariants (what makes the choice monotone and minimal):
 //   - a kept set is strictly better than no repair: it turns some verdict (violated or undecided ->
 //     satisfied) and fails no more steps; a bound that merely tightens is no reason to keep it;
@@ -51,9 +57,10 @@
 // Example:
 //   const RepairKinds kinds{.scan = scan, .look = -1, .squeeze = squeeze, .squeeze_grasps = 4};
 //   const std::vector<RepairCandidate> candidates = repair_candidates(world, steps, k, kinds);
-//   const RepairChoice choice = choose_repair(candidates, baseline, [&](unsigned set) {
-//     return score_of(splice(steps, k, candidates, set, kinds, 0));    // replay + decide
-//   });
+//   const RepairChoice choice =
+//       choose_repair(candidates, baseline, [&](unsigned set, ScoreDepth depth) {
+//         return score_of(splice(steps, k, candidates, set, kinds, 0), depth);  // replay, decide
+//       });
 #pragma once
 
 #include <functional>
@@ -132,12 +139,22 @@ struct SplicedPlan {
                                  const std::vector<RepairCandidate>& candidates, unsigned set,
                                  const RepairKinds& kinds, int repair_id);
 
+// How far a set must be scored: in full, or only as far as whether it settles the step (every
+// original precondition it decides satisfied, every inserted squeeze admissible).
+enum class ScoreDepth { kFull, kSettles };
+
 // How a plan with a repair set fares over the steps the search decides.
 struct RepairScore {
   bool admissible{true};                      // every inserted squeeze's own preconditions hold
   int failed{0};                              // original steps with a precondition not satisfied
   int unsatisfied{0};                         // their preconditions not satisfied
   std::map<PreconditionRef, bool> satisfied;  // per original precondition decided
+  // Scored with ScoreDepth::kSettles and found not to settle, from the first precondition not
+  // satisfied on: failed = unsatisfied = 1, satisfied incomplete, admissible unknown (true).
+  bool partial{false};
+  [[nodiscard]] static RepairScore not_settling() {
+    return {.failed = 1, .unsatisfied = 1, .satisfied = {}, .partial = true};
+  }
   [[nodiscard]] bool better_than(const RepairScore& other) const {
     return std::pair(failed, unsatisfied) < std::pair(other.failed, other.unsatisfied);
   }
@@ -151,10 +168,11 @@ struct RepairChoice {
   int sets_tried{0};
 };
 
-// The search of the header comment; `evaluate(set)` scores a non-empty set.
-[[nodiscard]] RepairChoice choose_repair(const std::vector<RepairCandidate>& candidates,
-                                         const RepairScore& baseline,
-                                         const std::function<RepairScore(unsigned set)>& evaluate);
+// The search of the header comment; `evaluate(set, depth)` scores a non-empty set (with
+// ScoreDepth::kSettles it may return a partial score).
+[[nodiscard]] RepairChoice choose_repair(
+    const std::vector<RepairCandidate>& candidates, const RepairScore& baseline,
+    const std::function<RepairScore(unsigned set, ScoreDepth depth)>& evaluate);
 
 // The latest position <= until where a range-scan of `object` fits (the gripper is empty there
 // and the object is not moved between there and `until`), or -1.

@@ -9,8 +9,10 @@
 #include <algorithm>
 #include <bit>
 #include <map>
+#include <set>
 #include <string>
 #include <tuple>
+#include <utility>
 #include <vector>
 
 #include "spar/planner/plan.hpp"
@@ -199,14 +201,19 @@ void choose_as_the_exhaustive_search() {
     if (!score.admissible || !score.better_than(baseline)) continue;
     if (expected == 0 || key(set) < key(expected)) expected = set;
   }
-  int evaluated = 0;
-  const RepairChoice choice = choose_repair(candidates, baseline, [&](unsigned set) {
-    RC_ASSERT(squeezes(set) <= 1);
-    ++evaluated;
-    return scores.at(set);
-  });
+  std::set<unsigned> evaluated;
+  const RepairChoice choice =
+      choose_repair(candidates, baseline, [&](unsigned set, ScoreDepth depth) {
+        RC_ASSERT(squeezes(set) <= 1);
+        evaluated.insert(set);
+        const RepairScore& score = scores.at(set);
+        if (depth == ScoreDepth::kSettles && !(score.admissible && score.unsatisfied == 0))
+          return RepairScore::not_settling();
+        return score;
+      });
   RC_ASSERT(choice.set == expected);
-  RC_ASSERT(choice.sets_tried == evaluated);
+  RC_ASSERT(choice.sets_tried == static_cast<int>(evaluated.size()));
+  RC_ASSERT(!choice.score.partial);
   RC_ASSERT(choice.sets_tried <= valid_sets);
   RC_ASSERT(choice.turned.size() == static_cast<std::size_t>(std::popcount(expected)));
 }
@@ -219,9 +226,10 @@ RC_GTEST_PROP(Phase2RepairSearch, ChoosesWhatTheExhaustiveSearchChooses, ()) {
 }
 
 // on_back's insertion, in miniature: two range-scans and four squeezes, the first scan turning
-// one of two verdicts and no set doing better. After the six sets of size 1 the five maximal sets
-// (both scans, without a squeeze or with one) show that nothing can beat the first scan, so the
-// search stops there: 11 sets, not the 19 valid ones.
+// one of two verdicts and no set doing better. The two scans alone, then the five maximal sets
+// (both scans, without a squeeze or with one: scored before the first squeeze) show that nothing
+// can settle the step, so the squeezes are scored in full; nothing beats the first scan, so the
+// search stops after the sets of size 1: 11 sets, not the 19 valid ones.
 TEST(Phase2RepairSearch, StopsWhenNoSetCanBeatTheKeptOne) {
   std::vector<RepairCandidate> candidates(6, RepairCandidate{.effect = Effect::kReduce});
   candidates[0].effect = candidates[1].effect = Effect::kSense;
@@ -229,16 +237,56 @@ TEST(Phase2RepairSearch, StopsWhenNoSetCanBeatTheKeptOne) {
   baseline.failed = 1;
   baseline.unsatisfied = 2;
   std::vector<unsigned> tried;
-  const RepairChoice choice = choose_repair(candidates, baseline, [&](unsigned set) {
-    tried.push_back(set);
-    RepairScore score = baseline;
-    if (set & 1u) score.unsatisfied = 1;  // with the first scan, one verdict turned
-    return score;
-  });
+  const RepairChoice choice =
+      choose_repair(candidates, baseline, [&](unsigned set, ScoreDepth depth) {
+        EXPECT_EQ(depth, ScoreDepth::kFull) << set;
+        tried.push_back(set);
+        RepairScore score = baseline;
+        if (set & 1u) score.unsatisfied = 1;  // with the first scan, one verdict turned
+        return score;
+      });
   EXPECT_EQ(choice.set, 1u);
   EXPECT_EQ(choice.score.unsatisfied, 1);
   EXPECT_EQ(choice.sets_tried, 11);
-  EXPECT_EQ(tried, (std::vector<unsigned>{1u, 2u, 4u, 8u, 16u, 32u, 3u, 7u, 11u, 19u, 35u}));
+  EXPECT_EQ(tried, (std::vector<unsigned>{1u, 2u, 3u, 7u, 11u, 19u, 35u, 4u, 8u, 16u, 32u}));
+}
+
+// The seed instances' insertions, in miniature: two range-scans and three squeezes; neither scan
+// alone settles the step (each turns one of two verdicts), both do. Once the maximal set (both
+// scans) is known to settle it, only a set that settles can be kept, so each squeeze is scored
+// only as far as whether it settles (a partial score); the scans, subsets of the kept set, are
+// scored in full, and each kept scan turned what the other alone left unsatisfied.
+TEST(Phase2RepairSearch, WhereASetSettlesTheStepSqueezesAreScoredOnlyThatFar) {
+  std::vector<RepairCandidate> candidates(5, RepairCandidate{.effect = Effect::kReduce});
+  candidates[0].effect = candidates[1].effect = Effect::kSense;
+  const PreconditionRef first{.instance_step = 2, .index = 0},
+      second{.instance_step = 2, .index = 1};
+  RepairScore baseline{
+      .failed = 1, .unsatisfied = 2, .satisfied = {{first, false}, {second, false}}};
+  std::vector<std::pair<unsigned, ScoreDepth>> tried;
+  const RepairChoice choice =
+      choose_repair(candidates, baseline, [&](unsigned set, ScoreDepth depth) {
+        tried.emplace_back(set, depth);
+        RepairScore score = baseline;
+        score.satisfied[first] = (set & 1u) != 0;
+        score.satisfied[second] = (set & 2u) != 0;
+        score.unsatisfied = !score.satisfied[first] + !score.satisfied[second];
+        score.failed = score.unsatisfied > 0;
+        if (depth == ScoreDepth::kSettles && score.unsatisfied > 0)
+          return RepairScore::not_settling();
+        return score;
+      });
+  EXPECT_EQ(choice.set, 3u);
+  EXPECT_EQ(choice.score.unsatisfied, 0);
+  EXPECT_EQ(choice.sets_tried, 6);
+  using enum ScoreDepth;
+  EXPECT_EQ(
+      tried,
+      (std::vector<std::pair<unsigned, ScoreDepth>>{
+          {1u, kFull}, {2u, kFull}, {3u, kFull}, {4u, kSettles}, {8u, kSettles}, {16u, kSettles}}));
+  ASSERT_EQ(choice.turned.size(), 2U);
+  EXPECT_EQ(choice.turned[0], (std::vector<PreconditionRef>{first}));
+  EXPECT_EQ(choice.turned[1], (std::vector<PreconditionRef>{second}));
 }
 
 // Property: shrinking the half-widths of one block (objects, robot, sensor or all) by a factor
