@@ -1223,7 +1223,7 @@ int main(int argc, char** argv) {
             scale_generated, scale_seconds, largest_task);
     Comparison seeds;
     double our_phase2 = 0, peer_phase2 = 0;
-    seed_phase2(quick ? 1 : repeats, seeds, our_phase2, peer_phase2);
+    seed_phase2(repeats, seeds, our_phase2, peer_phase2);  // one run would time a cold start
     Comparison chain, chain_tight;
     double chain_ratio = 0;
     int max_k = 0;
