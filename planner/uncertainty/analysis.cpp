@@ -179,8 +179,9 @@ class InstanceAnalyser {
     bool gave_up{false};  // stopped at a step of `must_hold` with a precondition not satisfied
   };
   // Re-propagates `state` (the one before steps[from]) over steps[from..through] and decides the
-  // preconditions of every step in that range as `need` asks; where `must_hold` is given and
-  // true of a step, stops (gave_up) as soon as one of its preconditions is known not to hold.
+  // preconditions of every step in that range as `need` asks; where `must_hold` is given, the
+  // steps it is true of are decided first, the latest first, and the replay stops (gave_up) as
+  // soon as one of their preconditions is known not to hold.
   [[nodiscard]] Replayed replay(
       Propagation state, std::vector<Phase2Step> steps, int from, int through, Need need,
       const std::function<bool(const Phase2Step&)>& must_hold = nullptr) const;
@@ -230,19 +231,24 @@ InstanceAnalyser::Replayed InstanceAnalyser::replay(
   for (int i = from; i <= through; ++i) {
     look_where_it_rests(steps[i], state);
     std::vector<Precondition> built = state.step(steps[i], steps[i].label);
-    if (must_hold && must_hold(steps[i])) {
+    out.steps.insert_or_assign(i, Propagated{std::move(built), state});
+  }
+  // The steps that must hold first, the latest first (the failing step, the likeliest not to),
+  // so that giving up skips deciding the others.
+  if (must_hold)
+    for (auto step = out.steps.rbegin(); step != out.steps.rend(); ++step) {
+      if (!must_hold(steps[step->first])) continue;
       std::optional<std::vector<PreconditionResult>> held =
-          decisions_.decide_if_all_hold(built, state.space());
+          decisions_.decide_if_all_hold(step->second.built, step->second.after.space());
       if (!held) {
         out.gave_up = true;
         return out;
       }
-      out.decided[i] = std::move(*held);
-    } else {
-      out.decided[i] = decisions_.decide(built, state.space(), need);
+      out.decided[step->first] = std::move(*held);
     }
-    out.steps.insert_or_assign(i, Propagated{std::move(built), state});
-  }
+  for (const auto& [i, step] : out.steps)
+    if (!out.decided.contains(i))
+      out.decided[i] = decisions_.decide(step.built, step.after.space(), need);
   return out;
 }
 
