@@ -180,8 +180,8 @@ class InstanceAnalyser {
   };
   // Re-propagates `state` (the one before steps[from]) over steps[from..through] and decides the
   // preconditions of every step in that range as `need` asks; where `must_hold` is given, the
-  // steps it is true of are decided first, the latest first, and the replay stops (gave_up) as
-  // soon as one of their preconditions is known not to hold.
+  // steps it is true of are built and decided first, the latest first, and the replay stops
+  // (gave_up) as soon as one of their preconditions is known not to hold.
   [[nodiscard]] Replayed replay(
       Propagation state, std::vector<Phase2Step> steps, int from, int through, Need need,
       const std::function<bool(const Phase2Step&)>& must_hold = nullptr) const;
@@ -228,27 +228,40 @@ InstanceAnalyser::Replayed InstanceAnalyser::replay(
     Propagation state, std::vector<Phase2Step> steps, int from, int through, Need need,
     const std::function<bool(const Phase2Step&)>& must_hold) const {
   Replayed out;
+  if (!must_hold) {
+    for (int i = from; i <= through; ++i) {
+      look_where_it_rests(steps[i], state);
+      std::vector<Precondition> built = state.step(steps[i], steps[i].label);
+      out.decided[i] = decisions_.decide(built, state.space(), need);
+      out.steps.insert_or_assign(i, Propagated{std::move(built), state});
+    }
+    return out;
+  }
+  // Every step propagated, its preconditions built only when decided: the steps that must hold
+  // first, the latest first (the failing step, the likeliest not to), so that giving up skips
+  // building and deciding the others.
+  std::map<int, DeferredStep> deferred;
   for (int i = from; i <= through; ++i) {
     look_where_it_rests(steps[i], state);
-    std::vector<Precondition> built = state.step(steps[i], steps[i].label);
-    out.steps.insert_or_assign(i, Propagated{std::move(built), state});
+    deferred.emplace(i, state.step_deferred(steps[i], steps[i].label));
+    out.steps.insert_or_assign(i, Propagated{{}, state});
   }
-  // The steps that must hold first, the latest first (the failing step, the likeliest not to),
-  // so that giving up skips deciding the others.
-  if (must_hold)
-    for (auto step = out.steps.rbegin(); step != out.steps.rend(); ++step) {
-      if (!must_hold(steps[step->first])) continue;
-      std::optional<std::vector<PreconditionResult>> held =
-          decisions_.decide_if_all_hold(step->second.built, step->second.after.space());
-      if (!held) {
-        out.gave_up = true;
-        return out;
-      }
-      out.decided[step->first] = std::move(*held);
+  for (auto step = out.steps.rbegin(); step != out.steps.rend(); ++step) {
+    if (!must_hold(steps[step->first])) continue;
+    step->second.built = deferred.at(step->first).build();
+    std::optional<std::vector<PreconditionResult>> held =
+        decisions_.decide_if_all_hold(step->second.built, step->second.after.space());
+    if (!held) {
+      out.gave_up = true;
+      return out;
     }
-  for (const auto& [i, step] : out.steps)
-    if (!out.decided.contains(i))
+    out.decided[step->first] = std::move(*held);
+  }
+  for (auto& [i, step] : out.steps)
+    if (!out.decided.contains(i)) {
+      step.built = deferred.at(i).build();
       out.decided[i] = decisions_.decide(step.built, step.after.space(), need);
+    }
   return out;
 }
 

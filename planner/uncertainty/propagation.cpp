@@ -207,7 +207,7 @@ void Propagation::require_held(int object, int index, const char* doing) const {
 }
 
 std::vector<Precondition> Propagation::build(const Phase2Step& step, int index,
-                                             const std::optional<ArmError>& arm) {
+                                             const std::optional<ArmError>& arm) const {
   std::vector<Precondition> preconditions;
   for (const Builder builder : domain_->actions.at(step.action).uncertainty) {
     std::vector<Precondition> built;
@@ -344,13 +344,24 @@ void Propagation::apply(const Phase2Step& step, int index, const std::optional<A
   }
 }
 
-std::vector<Precondition> Propagation::step(const Phase2Step& step, int index) {
-  std::optional<ArmError> arm;
+std::optional<ArmError> Propagation::arm_for(const Phase2Step& step, int index) {
   if (moves_arm(step.effect) || !domain_->actions.at(step.action).uncertainty.empty())
-    arm = arm_error(step, index);
+    return arm_error(step, index);
+  return std::nullopt;
+}
+
+std::vector<Precondition> Propagation::step(const Phase2Step& step, int index) {
+  const std::optional<ArmError> arm = arm_for(step, index);
   std::vector<Precondition> preconditions = build(step, index, arm);
   apply(step, index, arm);
   return preconditions;
+}
+
+DeferredStep Propagation::step_deferred(const Phase2Step& step, int index) {
+  std::optional<ArmError> arm = arm_for(step, index);
+  DeferredStep deferred(*this, step, index, arm);
+  apply(step, index, arm);
+  return deferred;
 }
 
 }  // namespace spar::planner

@@ -68,6 +68,7 @@
 #include <array>
 #include <map>
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include "spar/planner/domain.hpp"
@@ -82,6 +83,8 @@ struct ScanReading {
   kinematics::PoseUncertainty half_widths, sigmas;
 };
 
+class DeferredStep;
+
 class Propagation {
  public:
   // Allocates every object's initial error (the scenario's half-widths) in a new space over
@@ -95,6 +98,11 @@ class Propagation {
   // in execution order, or while phase 2 searches its Phase2Step::label. Throws PlanError when the
   // step does not fit the state (e.g. grasping a held object).
   [[nodiscard]] std::vector<Precondition> step(const Phase2Step& step, int index);
+  // step() with the building of its preconditions left for later: the arm's error allocated and
+  // the effect applied as step() does; the result's build() gives step()'s preconditions (it
+  // keeps the state before the effect). Phase 2's repair search decides the failing step first
+  // and may not need the steps' before it.
+  [[nodiscard]] DeferredStep step_deferred(const Phase2Step& step, int index);
 
   // The table state of an object (nullopt while held or once inserted).
   [[nodiscard]] const std::optional<TableState>& on_table(int object) const {
@@ -130,8 +138,10 @@ class Propagation {
                                                                const ArmError& arm);
   [[nodiscard]] TableState released(const Phase2Step& step, const ArmError& arm,
                                     const kinematics::SymbolicTransform& grip) const;
+  // The arm's error of a step that needs one (it moves the arm or has builders).
+  [[nodiscard]] std::optional<ArmError> arm_for(const Phase2Step& step, int index);
   [[nodiscard]] std::vector<Precondition> build(const Phase2Step& step, int index,
-                                                const std::optional<ArmError>& arm);
+                                                const std::optional<ArmError>& arm) const;
   void apply(const Phase2Step& step, int index, const std::optional<ArmError>& arm);
   // A range-scan (camera -1) or the verification of camera `camera` (its residual; not scaled).
   void sense(int object, int index, int camera);
@@ -161,6 +171,24 @@ class Propagation {
     std::array<double, 4> caps;
   };
   std::map<int, ScaledScan> scaled_scans_;
+  friend class DeferredStep;
+};
+
+// A step whose preconditions Propagation::step_deferred left unbuilt.
+class DeferredStep {
+ public:
+  [[nodiscard]] std::vector<Precondition> build() const {
+    return before_.build(step_, index_, arm_);
+  }
+
+ private:
+  friend class Propagation;
+  DeferredStep(Propagation before, Phase2Step step, int index, std::optional<ArmError> arm)
+      : before_(std::move(before)), step_(std::move(step)), index_(index), arm_(std::move(arm)) {}
+  Propagation before_;  // the state the preconditions are built from
+  Phase2Step step_;
+  int index_;
+  std::optional<ArmError> arm_;
 };
 
 }  // namespace spar::planner
