@@ -45,14 +45,17 @@
 //     (range-scan, camera verification) added, and is admissible only if that set is: the best
 //     score any set can have is the best of the maximal sets (every sensing candidate, with no
 //     squeeze or with one), which the search evaluates after the sets of size 1 when those leave
-//     something unsatisfied (stopping at one that satisfies everything), to know when to stop.
+//     something unsatisfied, or before the first set with a squeeze (stopping at one that
+//     satisfies everything), to know when to stop.
 //     Where a bound's effort limit made a real score non-monotone, the kept set would still be a
 //     repair whose verdicts are the sound ones, only perhaps not the best one (the property
 //     Phase2RepairProperty.ShrinkingUncertaintyNeverMakesThePlanWorse watches for it end to end).
 // Cost: at most 2^(sensing candidates, 2 + 2 kCamerasPerObject) x (1 + squeezes) - 1 sets, each one
-// replay and decide of steps [earliest candidate, k]; when no set settles the step and the best is
-// a single candidate, only the sets of size 1 and the maximal sets (on_back's insertion: 11 of its
-// 19). Finding a camera verification renders the scene once per camera with a residual.
+// replay and decide of steps [earliest candidate, k] (a set scored only as far as whether it
+// settles: up to the first step found unsettled, the failing step decided first), and the kept
+// set's subsets completed; when no set settles the step and the best is a single candidate, only
+// the sets of size 1 and the maximal sets (on_back's insertion: 11 of its 19). Finding a camera
+// verification renders the scene once per camera with a residual.
 //
 // Example:
 //   const RepairKinds kinds{.scan = scan, .look = -1, .squeeze = squeeze, .squeeze_grasps = 4};
