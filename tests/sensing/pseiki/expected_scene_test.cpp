@@ -54,10 +54,7 @@ TEST(ExpectedScene, ABoxFromACornerHasThreeFacesNineEdgesSevenVertices) {
 // Straight down from 1 m with f = 800: a 5 mm error in x moves every edge 4 px; with no
 // uncertainty only the noise (3 sigma) and half a pixel remain.
 TEST(ExpectedScene, TolerancesAreWhatTheUncertaintyDoesInPixels) {
-  const Camera down(Projection::kPinhole,
-                    {.fx = 800, .fy = 800, .cx = 320, .cy = 240, .width = 640, .height = 480},
-                    look_at({0, 0, 1.1}, {0, 0, 0}, {0, 1, 0}));
-  TestScene test(down);
+  TestScene test(testing::straight_down_camera());
   test.add("slab", {0.3, 0.2, 0.1}, at(0, 0), {.dx = 0.005});
   test.uncertainty.noise_px = 0.5;
   const ModelPanel panel(test.scene, test.camera, test.uncertainty);
@@ -81,10 +78,7 @@ TEST(ExpectedScene, TolerancesAreWhatTheUncertaintyDoesInPixels) {
 // (dz up, the top face's outline seen from straight above: f L / (z_camera - z_top - dz)), plus
 // two noisy ends (3 sqrt(2) sigma); exact poses keep the length itself.
 TEST(ExpectedScene, TheLongestAnEdgeCanBeIsItsLengthNearestTheCamera) {
-  const Camera down(Projection::kPinhole,
-                    {.fx = 800, .fy = 800, .cx = 320, .cy = 240, .width = 640, .height = 480},
-                    look_at({0, 0, 1.1}, {0, 0, 0}, {0, 1, 0}));
-  TestScene test(down);
+  TestScene test(testing::straight_down_camera());
   test.add("slab", {0.3, 0.2, 0.1}, at(0, 0), {.dz = 0.01});
   test.uncertainty.noise_px = 0.5;
   const ModelPanel panel(test.scene, test.camera, test.uncertainty);

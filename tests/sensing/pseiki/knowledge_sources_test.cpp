@@ -294,10 +294,7 @@ TEST(Merger, AnEdgeAndAFragmentPastItsEndLongerThanItCanBeAreNotMerged) {
 // One image edge along two collinear model edges (two slabs' borders in a row) is cut where
 // one ends and the other begins, and each piece gets its own label.
 TEST(Splitter, AnEdgeAlongTwoCollinearModelEdgesIsCutBetweenThem) {
-  const Camera down(Projection::kPinhole,
-                    {.fx = 800, .fy = 800, .cx = 320, .cy = 240, .width = 640, .height = 480},
-                    look_at({0, 0, 1.1}, {0, 0, 0}, {0, 1, 0}));
-  testing::TestScene test(down);
+  testing::TestScene test(testing::straight_down_camera());
   test.add("left", {0.2, 0.2, 0.02}, testing::at(-0.105, 0), {});
   test.add("right", {0.2, 0.2, 0.02}, testing::at(0.105, 0), {});
   test.uncertainty.noise_px = 0.5;

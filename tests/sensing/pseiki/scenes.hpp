@@ -55,6 +55,13 @@ inline Camera oblique_camera() {
                 look_at({0.55, -0.65, 0.75}, {0.05, 0.02, 0.05}, {0, 0, 1}));
 }
 
+// Straight down on the table from 1.1 m, f = 800 px.
+inline Camera straight_down_camera() {
+  return Camera(Projection::kPinhole,
+                {.fx = 800, .fy = 800, .cx = 320, .cy = 240, .width = 640, .height = 480},
+                look_at({0, 0, 1.1}, {0, 0, 0}, {0, 1, 0}));
+}
+
 // Two boxes on a table, each uncertain by 5 mm and 1 degree; noise 0.5 px.
 inline TestScene two_boxes() {
   TestScene test(oblique_camera());
