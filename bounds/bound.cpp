@@ -243,6 +243,13 @@ struct CompiledFunction {
                                        [what](std::size_t) { return std::string(what); })),
         interval(tape),
         real(tape) {}
+  // On `tape_of_f`, f's tape over `variables` compiled already.
+  CompiledFunction(Expr f, std::span<const Expr> variables, Tape tape_of_f)
+      : expression(f),
+        variables(variables.begin(), variables.end()),
+        tape(std::move(tape_of_f)),
+        interval(tape),
+        real(tape) {}
   CompiledFunction(const CompiledFunction&) = delete;
   CompiledFunction& operator=(const CompiledFunction&) = delete;
 
@@ -1335,6 +1342,13 @@ BoundProblem::BoundProblem(Expr f, std::span<const Expr> variables,
       impl_->constraints.linear.push_back(std::move(*form));
     }
   }
+}
+
+BoundProblem::BoundProblem(Expr f, std::span<const Expr> variables, Tape tape_of_f)
+    : impl_(std::make_unique<Impl>()) {
+  impl_->f = f;
+  impl_->variables.assign(variables.begin(), variables.end());
+  impl_->compiled = std::make_unique<CompiledFunction>(f, variables, std::move(tape_of_f));
 }
 
 BoundProblem::BoundProblem(BoundProblem&&) noexcept = default;

@@ -43,6 +43,7 @@
 #include "spar/bounds/interval.hpp"
 #include "spar/common/relation.hpp"
 #include "spar/symbolic/expr.hpp"
+#include "spar/symbolic/tape.hpp"
 
 namespace spar::bounds {
 
@@ -223,6 +224,11 @@ class BoundProblem {
                                                  std::span<const double> pins);
 
  private:
+  friend class ConditionSet;  // builds its problems on slices of its own tape
+  // f without constraints, on `tape_of_f`: what Tape::compile({f}, variables) would give (a
+  // slice of a tape compiled with f among its outputs over these variables, already checked).
+  BoundProblem(symbolic::Expr f, std::span<const symbolic::Expr> variables,
+               symbolic::Tape tape_of_f);
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

@@ -119,7 +119,8 @@ struct ConditionSet::Impl {
                         bool deciding) {
     const Inequality& inequality = inequalities[k];
     std::unique_ptr<BoundProblem>& problem = problems[first_with[k]];
-    if (!problem) problem = std::make_unique<BoundProblem>(inequality.expression, variables);
+    if (!problem)  // on output k of the set's tape: compiled once
+      problem.reset(new BoundProblem(inequality.expression, variables, tape.slice(k)));
     if (deciding) options.decide = DecisionTarget{inequality.relation, inequality.threshold};
     return problem->bound(ranges, options);
   }

@@ -253,22 +253,15 @@ bool is_binary(TapeOp op) {
   }
 }
 
-}  // namespace
+// Virtual registers >= kFirstVirtual are instruction results (code[r - kFirstVirtual] writes r);
+// everything below is a fixed input or constant slot.
+constexpr std::uint32_t kFirstVirtual = 0x80000000u;
 
-Tape Tape::compile(std::span<const Expr> outputs, std::span<const Expr> inputs) {
-  const std::vector<Expr> order = topological_order(outputs);
-  Compiler compiler(inputs, order);
-  for (Expr e : order) {
-    if (!compiler.compiled(e)) compiler.compile_node(e);
-  }
-
-  // Register allocation. Virtual registers >= 0x80000000 are instruction results; everything
-  // below is a fixed input or constant slot. A result's slot is freed after its last read,
-  // unless it is an output (outputs must survive to the end).
-  constexpr std::uint32_t kFirstVirtual = 0x80000000u;
-  const std::uint32_t fixed =
-      static_cast<std::uint32_t>(inputs.size() + compiler.constants_.size());
-  std::vector<Instruction>& code = compiler.code_;
+// Register allocation: maps the virtual registers of `code` (in place) to slots >= `fixed` by
+// liveness. A result's slot is freed after its last read, unless it is an output (outputs must
+// survive to the end). Returns the slot count; `outputs` become their slots.
+std::uint32_t allocate_slots(std::vector<Instruction>& code, std::uint32_t fixed,
+                             std::vector<std::uint32_t>& outputs) {
   std::vector<std::size_t> last_read(code.size(), 0);
   auto index_of = [&](std::uint32_t reg) { return reg - kFirstVirtual; };
   for (std::size_t k = 0; k < code.size(); ++k) {
@@ -276,10 +269,8 @@ Tape Tape::compile(std::span<const Expr> outputs, std::span<const Expr> inputs) 
     if (is_binary(code[k].op) && code[k].b >= kFirstVirtual) last_read[index_of(code[k].b)] = k;
   }
   std::vector<bool> is_output(code.size(), false);
-  for (Expr e : outputs) {
-    const std::uint32_t reg = compiler.of(e);
+  for (std::uint32_t reg : outputs)
     if (reg >= kFirstVirtual) is_output[index_of(reg)] = true;
-  }
   std::vector<std::uint32_t> slot_of(code.size());
   std::vector<std::uint32_t> free_slots;
   std::uint32_t next_slot = fixed;
@@ -309,14 +300,84 @@ Tape Tape::compile(std::span<const Expr> outputs, std::span<const Expr> inputs) 
     in.dst = slot;
     // A result nobody reads (possible only for outputs) keeps its slot; others are freed above.
   }
+  for (std::uint32_t& reg : outputs) reg = physical(reg);
+  return next_slot;
+}
 
+}  // namespace
+
+Tape Tape::compile(std::span<const Expr> outputs, std::span<const Expr> inputs) {
+  // Node-id order (a node's operands exist before it, so have smaller ids): the order of the
+  // nodes one output needs is the same whichever outputs are compiled with it (see slice()).
+  std::vector<Expr> order = topological_order(outputs);
+  std::sort(order.begin(), order.end(), [](Expr a, Expr b) { return a.id() < b.id(); });
+  Compiler compiler(inputs, order);
+  for (Expr e : order) {
+    if (!compiler.compiled(e)) compiler.compile_node(e);
+  }
   Tape tape;
   tape.input_count_ = inputs.size();
-  tape.slot_count_ = next_slot;
   tape.constants_ = std::move(compiler.constants_);
-  tape.instructions_ = std::move(code);
-  for (Expr e : outputs) tape.output_slots_.push_back(physical(compiler.of(e)));
+  for (Expr e : outputs) tape.output_slots_.push_back(compiler.of(e));
+  tape.instructions_ = std::move(compiler.code_);
+  tape.slot_count_ = allocate_slots(
+      tape.instructions_, static_cast<std::uint32_t>(inputs.size() + tape.constants_.size()),
+      tape.output_slots_);
   return tape;
+}
+
+Tape Tape::slice(std::size_t output) const {
+  if (output >= output_slots_.size()) throw std::out_of_range("tape has no such output");
+  const std::size_t fixed = input_count_ + constants_.size();
+  // Backwards from the output: an instruction is kept if a kept one (or the output) reads the
+  // value it writes; `wanted` marks the slots whose next write is read.
+  std::vector<std::uint8_t> wanted(slot_count_, 0), kept(instructions_.size(), 0);
+  wanted[output_slots_[output]] = 1;
+  for (std::size_t k = instructions_.size(); k-- > 0;) {
+    const Instruction& in = instructions_[k];
+    if (!wanted[in.dst]) continue;
+    kept[k] = 1;
+    wanted[in.dst] = 0;
+    wanted[in.a] = 1;
+    if (is_binary(in.op)) wanted[in.b] = 1;
+  }
+  // The constants read (by a kept instruction or as the output), renumbered in the order first
+  // read; work slots keep their numbers, moved down by the constants left out (live ranges do not
+  // change: a slot a kept instruction reads was last written by a kept one).
+  Tape sliced;
+  sliced.input_count_ = input_count_;
+  constexpr std::uint32_t kNotRead = 0xFFFFFFFFu;
+  std::vector<std::uint32_t> constant_slot(constants_.size(), kNotRead);
+  const auto read = [&](std::uint32_t slot) {
+    if (slot < input_count_ || slot >= fixed) return;
+    std::uint32_t& renumbered = constant_slot[slot - input_count_];
+    if (renumbered != kNotRead) return;
+    renumbered = static_cast<std::uint32_t>(input_count_ + sliced.constants_.size());
+    sliced.constants_.push_back(constants_[slot - input_count_]);
+  };
+  for (std::size_t k = 0; k < instructions_.size(); ++k) {
+    if (!kept[k]) continue;
+    read(instructions_[k].a);
+    if (is_binary(instructions_[k].op)) read(instructions_[k].b);
+  }
+  read(output_slots_[output]);
+  const std::size_t shift = constants_.size() - sliced.constants_.size();
+  const auto renumbered = [&](std::uint32_t slot) {
+    if (slot < input_count_) return slot;
+    if (slot < fixed) return constant_slot[slot - input_count_];
+    return static_cast<std::uint32_t>(slot - shift);
+  };
+  for (std::size_t k = 0; k < instructions_.size(); ++k) {
+    if (!kept[k]) continue;
+    Instruction in = instructions_[k];
+    in.dst = renumbered(in.dst);
+    in.a = renumbered(in.a);
+    if (is_binary(in.op)) in.b = renumbered(in.b);
+    sliced.instructions_.push_back(in);
+  }
+  sliced.output_slots_ = {renumbered(output_slots_[output])};
+  sliced.slot_count_ = slot_count_ - shift;
+  return sliced;
 }
 
 void Tape::check_invariants() const {

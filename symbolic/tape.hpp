@@ -1,7 +1,8 @@
 // Tape: expressions compiled to a flat instruction array, evaluated in any number domain.
 //
 // `Tape::compile(outputs, inputs)` turns one or many expressions (sharing subexpressions) into a
-// topologically ordered list of three-address instructions over numbered slots:
+// list of three-address instructions over numbered slots, one node after another in node-id order
+// (a node's operands are older, so have smaller ids):
 //   slots [0, input_count)                       the inputs, in the order given to compile
 //   slots [input_count, input_count + |consts|)  the constants (constants()[i] lives in slot
 //                                                input_count + i); loaded once per evaluator
@@ -11,7 +12,9 @@
 // is computed (guaranteed by the allocator, which never frees output registers).
 // An n-ary sum or product becomes a chain of binary instructions; coefficients and exponents
 // become constant slots, integer powers PowInt (of any size: see integer_power in tape.cpp), x^2
-// Square, x^(1/2) Sqrt.
+// Square, x^(1/2) Sqrt. A node's instructions depend on the node alone and the order on the ids
+// alone, so the instructions one output needs come in the same order whatever is compiled with
+// it: `slice(i)` takes output i's tape out of a shared one without compiling it again.
 //
 // A number domain T plugs in through `TapeDomain<T>` (specialise it): T needs + - * / and unary
 // -, and TapeDomain<T> provides `constant(const Number&)` (for intervals: the enclosure
@@ -65,6 +68,13 @@ class Tape {
   // Throws SymbolicError if an output uses a variable that is not among `inputs`, or if an input
   // is not a Variable.
   [[nodiscard]] static Tape compile(std::span<const Expr> outputs, std::span<const Expr> inputs);
+  // The instructions output `output` needs, as a one-output tape over the same inputs with the
+  // constants it reads: instruction for instruction what compile({that output}, inputs) gives
+  // (the same operations in the same order on the same inputs and constants; slot numbers, and
+  // the number of work slots, may differ), so every evaluation of it equals that tape's bit for
+  // bit. Costs two passes over this tape, no compile.
+  // Throws std::out_of_range for an output the tape does not have.
+  [[nodiscard]] Tape slice(std::size_t output) const;
 
   [[nodiscard]] std::size_t input_count() const { return input_count_; }
   [[nodiscard]] std::size_t slot_count() const { return slot_count_; }
