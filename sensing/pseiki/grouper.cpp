@@ -206,16 +206,13 @@ void Grouper::group_objects(Blackboard& board) const {
 }
 
 void Grouper::group_scene(Blackboard& board) const {
-  const ModelPanel& model = board.model();
-  double length = 0, supported = 0;
+  double supported = 0;
   std::vector<std::pair<double, double>> pieces;
   for (const ImageObject& object : board.objects) {
-    const double visible = model.objects()[static_cast<std::size_t>(object.label)].visible_length;
-    length += visible;
-    supported += visible * object.belief;
+    supported += object.belief;
     pieces.emplace_back(0.0, object.disbelief);
   }
-  pieces.emplace_back(length > 0 ? supported / length : 0.0, 0.0);
+  pieces.emplace_back(board.objects.empty() ? 0.0 : supported / double(board.objects.size()), 0.0);
   const auto [belief, disbelief] = dichotomy(pieces);
   board.scene = {.belief = belief, .disbelief = disbelief};
 }

@@ -33,9 +33,11 @@
 //                  normal approximation p - 2 sigma: an object whose length is in a few long
 //                  edges (the sidewalk's two borders hold 58% of it) loses both together with
 //                  probability (1 - p)^2 = 4%, far more often than a normal tail says.
-// Scene. Evidence for "the image is the expected scene": for it, sum over objects of
-//   l_O Bel(O') (l_O O's share of the visible edge length); against it, each object's Bel(not
-//   O') as a piece of its own (one missing object contradicts the scene).
+// Scene. Evidence for "the image is the expected scene": for it, the mean over the visible
+//   objects of Bel(O'), each object one vote (verification asks whether every object is where it
+//   was believed: weighted by visible length, a sidewalk's borders outvoted a lamp replaced by a
+//   bench, 7 of 200 such images accepted); against it, each object's Bel(not O') as a piece of
+//   its own (one missing object contradicts the scene).
 //
 // Example:
 //   Grouper().group(board);
