@@ -7,8 +7,9 @@
 //      natural enclosure, or violated at the centre) costs nothing more;
 //   2. only the undecided ones (and, with Escalation::kNotSatisfied, the violated ones too, to get
 //      a tight bound and the worst witness) go to a BoundProblem (bound.hpp) with `full` options,
-//      built on first need per expression (inequalities sharing one share it) and kept for later
-//      boxes.
+//      built on first need per expression (inequalities sharing one share it) on a slice of the
+//      set's tape (Tape::slice: what compiling that expression alone gives, without compiling
+//      it again) and kept for later boxes.
 // decide_all(ranges, quick, full) is check() with Escalation::kDecide and `quick`, then the
 // undecided ones again with `full` (phase 2's deciding), able to give up once enough are known
 // not to be satisfied.
