@@ -60,11 +60,8 @@ std::optional<Segment> continued(const Segment& a, const Segment& b) {
   return std::nullopt;
 }
 
-}  // namespace
-
-SimulatedImage simulate(const Scene& scene, const Camera& camera,
-                        const ExpectationUncertainty& uncertainty,
-                        const ImagePerturbation& perturbation, std::uint64_t seed) {
+void check_perturbation(const Scene& scene, const ExpectationUncertainty& uncertainty,
+                        const ImagePerturbation& perturbation) {
   check_probability(perturbation.drop, "drop");
   check_probability(perturbation.split, "split");
   check_probability(perturbation.join, "join");
@@ -80,109 +77,193 @@ SimulatedImage simulate(const Scene& scene, const Camera& camera,
                        " edges, got " + std::to_string(perturbation.clutter));
   if (!uncertainty.objects.empty() && uncertainty.objects.size() != scene.objects().size())
     throw SensingError("simulated image: one uncertainty per object");
+}
 
-  std::mt19937_64 random(seed);
-  std::uniform_real_distribution<double> unit(0.0, 1.0);
-  const auto uniform = [&](double lo, double hi) { return lo + (hi - lo) * unit(random); };
-  const auto chance = [&](double probability) { return unit(random) < probability; };
-  const auto draw_offset = [&](const kinematics::PoseUncertainty& h) {
-    const double s = perturbation.pose_scale;
-    return PoseOffset{uniform(-s * h.dx, s * h.dx), uniform(-s * h.dy, s * h.dy),
-                      uniform(-s * h.dz, s * h.dz), uniform(-s * h.dtheta, s * h.dtheta)};
-  };
+struct Piece {
+  Segment segment;
+  std::string truth;  // "<object>/e<edge>", "a+b" for joined edges, "" for a shadow or clutter
+};
 
-  SimulatedImage out;
-  out.camera_offset = draw_offset(uncertainty.camera);
-  Scene truth;
-  for (std::size_t o = 0; o < scene.objects().size(); ++o) {
-    const SceneObject& object = scene.objects()[o];
-    out.object_offsets.push_back(uncertainty.objects.empty() ? PoseOffset{}
-                                                             : draw_offset(uncertainty.objects[o]));
-    truth.add(object.name, *object.model, *object.features,
-              offset_pose(object.pose, out.object_offsets.back()));
-  }
-  const Camera true_camera(camera.projection(), camera.intrinsics(),
-                           offset_pose(camera.pose(), out.camera_offset));
-  const Rendering seen = render(truth, true_camera, {.faces = false, .edges = true});
-
-  struct Piece {
-    Segment segment;
-    std::string truth;
-  };
-  // `fraction` of `count` items, chosen at random: exactly round(fraction count) of them.
-  const auto chosen = [&](std::size_t count, double fraction) {
-    std::vector<char> out(count, 0);
-    std::fill_n(out.begin(),
-                static_cast<std::size_t>(std::lround(fraction * static_cast<double>(count))), 1);
-    std::shuffle(out.begin(), out.end(), random);
-    return out;
-  };
-  // The pieces an edge detector resolves (the model panel's Resolution): the renderer lists an
-  // edge's pieces together.
+// The pieces of the rendered edges an edge detector resolves (the model panel's Resolution: no
+// piece under kMinimumPiece, no edge another one hides, distinct_edges), in the renderer's order
+// (an edge's pieces together).
+std::vector<Piece> resolved_pieces(const Rendering& seen, const Scene& scene) {
   std::vector<Piece> resolved;
   std::vector<std::vector<Segment>> edge_pieces;
   for (const EdgeView& view : seen.edges) {
     if ((view.u1 - view.u0).norm() < kMinimumPiece) continue;
-    std::string id = truth.objects()[static_cast<std::size_t>(view.object)].name + "/e" +
+    std::string id = scene.objects()[static_cast<std::size_t>(view.object)].name + "/e" +
                      std::to_string(view.edge);
     if (resolved.empty() || resolved.back().truth != id) edge_pieces.emplace_back();
     edge_pieces.back().push_back({view.u0, view.u1});
     resolved.push_back({{view.u0, view.u1}, std::move(id)});
   }
   const std::vector<bool> distinct = distinct_edges(edge_pieces);
-  std::vector<Piece> seen_pieces;
+  std::vector<Piece> out;
   for (std::size_t i = 0, edge = 0; i < resolved.size(); ++i) {
     if (i > 0 && resolved[i].truth != resolved[i - 1].truth) ++edge;
-    if (distinct[edge]) seen_pieces.push_back(resolved[i]);
+    if (distinct[edge]) out.push_back(resolved[i]);
   }
-  const std::vector<char> dropped = chosen(seen_pieces.size(), perturbation.drop);
-  std::vector<Piece> kept;
-  for (std::size_t i = 0; i < seen_pieces.size(); ++i)
-    if (!dropped[i]) kept.push_back(seen_pieces[i]);
-  const std::vector<char> cut = chosen(kept.size(), perturbation.split);
-  std::vector<Piece> pieces;
-  for (std::size_t i = 0; i < kept.size(); ++i) {
-    const Segment& segment = kept[i].segment;
-    if (cut[i]) {
+  return out;
+}
+
+// One image's random choices. Every step draws from one generator, and simulate() runs the steps
+// in one order, so one seed gives one image (the tests and benchmarks name seeds).
+class Simulation {
+ public:
+  Simulation(const ImagePerturbation& perturbation, std::uint64_t seed)
+      : perturbation_(perturbation), random_(seed) {}
+
+  // The camera's pose offset, then each object's (none without uncertainties), within the
+  // scaled half-widths; the scene rendered at those poses.
+  Rendering true_scene(const Scene& scene, const Camera& camera,
+                       const ExpectationUncertainty& uncertainty, SimulatedImage& out) {
+    out.camera_offset = draw_offset(uncertainty.camera);
+    Scene truth;
+    for (std::size_t o = 0; o < scene.objects().size(); ++o) {
+      const SceneObject& object = scene.objects()[o];
+      out.object_offsets.push_back(
+          uncertainty.objects.empty() ? PoseOffset{} : draw_offset(uncertainty.objects[o]));
+      truth.add(object.name, *object.model, *object.features,
+                offset_pose(object.pose, out.object_offsets.back()));
+    }
+    const Camera true_camera(camera.projection(), camera.intrinsics(),
+                             offset_pose(camera.pose(), out.camera_offset));
+    return render(truth, true_camera, {.faces = false, .edges = true});
+  }
+
+  // Exactly round(drop n) pieces dropped, then round(split n') of the rest cut in two at 30-70%
+  // of their length with a 1-4 px gap.
+  std::vector<Piece> dropped_and_split(const std::vector<Piece>& seen) {
+    const std::vector<char> dropped = chosen(seen.size(), perturbation_.drop);
+    std::vector<Piece> kept;
+    for (std::size_t i = 0; i < seen.size(); ++i)
+      if (!dropped[i]) kept.push_back(seen[i]);
+    const std::vector<char> cut = chosen(kept.size(), perturbation_.split);
+    std::vector<Piece> pieces;
+    for (std::size_t i = 0; i < kept.size(); ++i) {
+      const Segment& segment = kept[i].segment;
+      if (!cut[i]) {
+        pieces.push_back(kept[i]);
+        continue;
+      }
       const double at = uniform(0.3, 0.7) * segment.length();
       const double gap = uniform(1.0, 4.0);
       const Eigen::Vector2d d = segment.direction();
       pieces.push_back({{segment.p0, segment.p0 + (at - gap / 2) * d}, kept[i].truth});
       pieces.push_back({{segment.p0 + (at + gap / 2) * d, segment.p1}, kept[i].truth});
-    } else {
-      pieces.push_back(kept[i]);
     }
+    return pieces;
   }
-  if (perturbation.join > 0)
+
+  // Pieces of different edges that continue each other joined with probability `join` (the
+  // longer edge may continue into another).
+  void join(std::vector<Piece>& pieces) {
+    if (perturbation_.join <= 0) return;
     for (std::size_t i = 0; i < pieces.size(); ++i)
       for (std::size_t j = i + 1; j < pieces.size();) {
         const auto joined = pieces[i].truth != pieces[j].truth
                                 ? continued(pieces[i].segment, pieces[j].segment)
                                 : std::nullopt;
-        if (joined && chance(perturbation.join)) {
+        if (joined && chance(perturbation_.join)) {
           pieces[i] = {*joined, pieces[i].truth + "+" + pieces[j].truth};
           pieces.erase(pieces.begin() + static_cast<std::ptrdiff_t>(j));
-          j = i + 1;  // the longer edge may continue into another
+          j = i + 1;
         } else {
           ++j;
         }
       }
-  std::normal_distribution<double> noise(0.0, 1.0);
-  const auto noisy = [&](const Eigen::Vector2d& p) -> Eigen::Vector2d {
+  }
+
+  // A shadow beside round(shadow n) pieces: 4-10 px to either side, along 50-100% of the piece.
+  // Shadows and clutter are drawn again (up to kRedraws times) where they would lie on a true
+  // edge (`on_a_true_edge`): an edge detector reports one edge where two coincide.
+  template <class OnATrueEdge>
+  void add_shadows(std::vector<Piece>& pieces, const OnATrueEdge& on_a_true_edge) {
+    const std::vector<char> shaded = chosen(pieces.size(), perturbation_.shadow);
+    for (std::size_t i = 0; i < shaded.size(); ++i) {
+      if (!shaded[i]) continue;
+      const Segment s = pieces[i].segment;
+      const Eigen::Vector2d d = s.direction(), n(-d.y(), d.x());
+      for (int attempt = 0; attempt < kRedraws; ++attempt) {
+        const double side = chance(0.5) ? 1.0 : -1.0;
+        const Eigen::Vector2d shift = side * uniform(4.0, 10.0) * n;
+        const Segment shadow{s.p0 + shift, s.p0 + uniform(0.5, 1.0) * s.length() * d + shift};
+        if (on_a_true_edge(shadow)) continue;
+        pieces.push_back({shadow, ""});
+        break;
+      }
+    }
+  }
+
+  // Gaussian noise of noise_px on every end point.
+  void add_noise(std::vector<Piece>& pieces) {
+    for (Piece& piece : pieces) piece.segment = {noisy(piece.segment.p0), noisy(piece.segment.p1)};
+  }
+
+  // `clutter` segments of 10-60 px anywhere in the image, at any angle.
+  template <class OnATrueEdge>
+  void add_clutter(std::vector<Piece>& pieces, const Intrinsics& k,
+                   const OnATrueEdge& on_a_true_edge) {
+    for (int c = 0; c < perturbation_.clutter; ++c)
+      for (int attempt = 0; attempt < kRedraws; ++attempt) {
+        const double y = uniform(0, k.height);  // before x, as in noisy()
+        const Eigen::Vector2d middle(uniform(0, k.width), y);
+        const double angle = uniform(0, std::numbers::pi), half = uniform(5.0, 30.0);
+        const Eigen::Vector2d d(std::cos(angle), std::sin(angle));
+        const Segment clutter{middle - half * d, middle + half * d};
+        if (on_a_true_edge(clutter)) continue;
+        pieces.push_back({clutter, ""});
+        break;
+      }
+  }
+
+  void shuffle(std::vector<Piece>& pieces) { std::shuffle(pieces.begin(), pieces.end(), random_); }
+
+ private:
+  double uniform(double lo, double hi) { return lo + (hi - lo) * unit_(random_); }
+  bool chance(double probability) { return unit_(random_) < probability; }
+  PoseOffset draw_offset(const kinematics::PoseUncertainty& h) {
+    const double s = perturbation_.pose_scale;
+    return PoseOffset{uniform(-s * h.dx, s * h.dx), uniform(-s * h.dy, s * h.dy),
+                      uniform(-s * h.dz, s * h.dz), uniform(-s * h.dtheta, s * h.dtheta)};
+  }
+  // `fraction` of `count` items, chosen at random: exactly round(fraction count) of them.
+  std::vector<char> chosen(std::size_t count, double fraction) {
+    std::vector<char> out(count, 0);
+    std::fill_n(out.begin(),
+                static_cast<std::size_t>(std::lround(fraction * static_cast<double>(count))), 1);
+    std::shuffle(out.begin(), out.end(), random_);
+    return out;
+  }
+  Eigen::Vector2d noisy(const Eigen::Vector2d& p) {
     // Two statements, not two arguments: arguments are evaluated in an unspecified order (GCC
     // and clang differ), and one seed must give one image whatever the compiler. y is drawn
     // first, the order GCC has always used, so the images the tests were written on stay.
-    const double dy = noise(random);
-    const double dx = noise(random);
-    return p + perturbation.noise_px * Eigen::Vector2d(dx, dy);
-  };
-  // Shadows and clutter are drawn again (up to kRedraws times) where they would lie on a true
-  // edge: an edge detector reports one edge where two coincide.
-  const std::vector<Segment> true_edges = [&] {
-    std::vector<Segment> out;
-    for (const EdgeView& view : seen.edges) out.push_back({view.u0, view.u1});
-    return out;
-  }();
+    const double dy = noise_(random_);
+    const double dx = noise_(random_);
+    return p + perturbation_.noise_px * Eigen::Vector2d(dx, dy);
+  }
+
+  const ImagePerturbation& perturbation_;
+  std::mt19937_64 random_;
+  std::uniform_real_distribution<double> unit_{0.0, 1.0};
+  std::normal_distribution<double> noise_{0.0, 1.0};
+};
+
+}  // namespace
+
+SimulatedImage simulate(const Scene& scene, const Camera& camera,
+                        const ExpectationUncertainty& uncertainty,
+                        const ImagePerturbation& perturbation, std::uint64_t seed) {
+  check_perturbation(scene, uncertainty, perturbation);
+  Simulation simulation(perturbation, seed);
+  SimulatedImage out;
+  const Rendering seen = simulation.true_scene(scene, camera, uncertainty, out);
+  std::vector<Piece> pieces = simulation.dropped_and_split(resolved_pieces(seen, scene));
+  simulation.join(pieces);
+  std::vector<Segment> true_edges;
+  for (const EdgeView& view : seen.edges) true_edges.push_back({view.u0, view.u1});
   const auto on_a_true_edge = [&](const Segment& candidate) {
     return std::any_of(true_edges.begin(), true_edges.end(), [&](const Segment& edge) {
       const Eigen::Vector2d d = edge.direction();
@@ -192,34 +273,11 @@ SimulatedImage simulate(const Scene& scene, const Camera& camera,
              std::min(s0, s1) < edge.length();
     });
   };
-  const std::vector<char> shaded = chosen(pieces.size(), perturbation.shadow);
-  for (std::size_t i = 0; i < shaded.size(); ++i) {
-    if (!shaded[i]) continue;
-    const Segment s = pieces[i].segment;
-    const Eigen::Vector2d d = s.direction(), n(-d.y(), d.x());
-    for (int attempt = 0; attempt < kRedraws; ++attempt) {
-      const double side = chance(0.5) ? 1.0 : -1.0;
-      const Eigen::Vector2d shift = side * uniform(4.0, 10.0) * n;
-      const Segment shadow{s.p0 + shift, s.p0 + uniform(0.5, 1.0) * s.length() * d + shift};
-      if (on_a_true_edge(shadow)) continue;
-      pieces.push_back({shadow, ""});
-      break;
-    }
-  }
-  for (Piece& piece : pieces) piece.segment = {noisy(piece.segment.p0), noisy(piece.segment.p1)};
+  simulation.add_shadows(pieces, on_a_true_edge);
+  simulation.add_noise(pieces);
+  simulation.add_clutter(pieces, camera.intrinsics(), on_a_true_edge);
+  simulation.shuffle(pieces);
   const Intrinsics& k = camera.intrinsics();
-  for (int c = 0; c < perturbation.clutter; ++c)
-    for (int attempt = 0; attempt < kRedraws; ++attempt) {
-      const double y = uniform(0, k.height);  // before x, as above
-      const Eigen::Vector2d middle(uniform(0, k.width), y);
-      const double angle = uniform(0, std::numbers::pi), half = uniform(5.0, 30.0);
-      const Eigen::Vector2d d(std::cos(angle), std::sin(angle));
-      const Segment clutter{middle - half * d, middle + half * d};
-      if (on_a_true_edge(clutter)) continue;
-      pieces.push_back({clutter, ""});
-      break;
-    }
-  std::shuffle(pieces.begin(), pieces.end(), random);
   for (const Piece& piece : pieces) {
     const auto inside = clipped(piece.segment, k.width, k.height);
     if (!inside || inside->length() < 1.0) continue;
