@@ -96,6 +96,89 @@ double rms(const Eigen::VectorXd& r) {
   return r.size() ? std::sqrt(r.squaredNorm() / static_cast<double>(r.size())) : 0.0;
 }
 
+// The labelled edges a correction of `target` uses: active, believed at kCorrectionBelief or
+// more, of the target object (of any object for the camera).
+std::vector<Observation> observations_of(const Blackboard& board, int target) {
+  const ModelPanel& model = board.model();
+  std::vector<Observation> observations;
+  for (const ImageEdge& edge : board.edges) {
+    if (!edge.active || edge.label < 0 || edge.belief < kCorrectionBelief) continue;
+    const PanelEdge& panel = model.edges()[static_cast<std::size_t>(edge.label)];
+    if (target != kCameraTarget && panel.object != target) continue;
+    observations.push_back({.image = edge.segment,
+                            .p0 = panel.p0,
+                            .p1 = panel.p1,
+                            .object = panel.object,
+                            .weight = edge.belief});
+  }
+  return observations;
+}
+
+// The header's robust least squares over the free components: the offsets `x`, and the normal
+// matrix and robust weights of the last iteration (the covariance's).
+struct RobustFit {
+  Eigen::VectorXd x, robust_weights;
+  Eigen::MatrixXd normal;
+};
+
+RobustFit robust_fit(const Problem& problem, const Eigen::VectorXd& scales,
+                     const Eigen::VectorXd& prior_precision, double huber_k) {
+  const Eigen::VectorXd belief_weights = problem.weights();
+  const auto cost = [&](const Eigen::VectorXd& x) {
+    const Eigen::VectorXd r = problem.residuals(x);
+    double total = 0;
+    for (Eigen::Index i = 0; i < r.size(); ++i) {
+      const double a = std::abs(r[i]);
+      total += belief_weights[i] * (a <= huber_k ? 0.5 * a * a : huber_k * (a - 0.5 * huber_k));
+    }
+    return total + 0.5 * x.cwiseProduct(x).dot(prior_precision);
+  };
+  const Eigen::Index n = scales.size();
+  RobustFit fit{.x = Eigen::VectorXd::Zero(n), .robust_weights = {}, .normal = {}};
+  Eigen::VectorXd& x = fit.x;
+  for (int iteration = 0; iteration < kIterations; ++iteration) {
+    const Eigen::VectorXd r = problem.residuals(x);
+    const Eigen::MatrixXd j = problem.jacobian(x, scales);
+    fit.robust_weights = belief_weights;
+    for (Eigen::Index i = 0; i < r.size(); ++i)
+      fit.robust_weights[i] *= huber_weight(r[i], huber_k);
+    fit.normal = j.transpose() * fit.robust_weights.asDiagonal() * j;
+    fit.normal.diagonal() += prior_precision;
+    const Eigen::VectorXd gradient =
+        j.transpose() * fit.robust_weights.asDiagonal() * r + prior_precision.cwiseProduct(x);
+    // The step, kept inside the box.
+    Eigen::VectorXd step =
+        (x - fit.normal.ldlt().solve(gradient)).cwiseMax(-scales).cwiseMin(scales) - x;
+    const double before = cost(x);
+    while (cost(x + step) > before && step.cwiseQuotient(scales).cwiseAbs().maxCoeff() > 1e-9)
+      step *= 0.5;
+    x += step;
+    if (step.cwiseQuotient(scales).cwiseAbs().maxCoeff() < 1e-7) break;
+  }
+  return fit;
+}
+
+// The half-widths after the verification step: 3 sqrt(diagonal) of s^2 (J^T W J + prior)^-1,
+// s^2 = max(sigma_px^2, the robust weights' mean squared residual `after`), never above the
+// prior's `half_widths`.
+kinematics::PoseUncertainty remaining_uncertainty(const RobustFit& fit,
+                                                  const Eigen::VectorXd& after, double sigma_px,
+                                                  std::array<double, 4> half_widths,
+                                                  const std::vector<int>& free) {
+  double weighted = 0, total = 0;
+  for (Eigen::Index i = 0; i < after.size(); ++i) {
+    weighted += fit.robust_weights[i] * after[i] * after[i];
+    total += fit.robust_weights[i];
+  }
+  const double s2 = std::max(sigma_px * sigma_px, total > 0 ? weighted / total : 0.0);
+  const Eigen::MatrixXd covariance = s2 * fit.normal.inverse();
+  for (Eigen::Index k = 0; k < covariance.rows(); ++k) {
+    auto& value = half_widths[static_cast<std::size_t>(free[static_cast<std::size_t>(k)])];
+    value = std::min(value, 3 * std::sqrt(std::max(0.0, covariance(k, k))));
+  }
+  return {half_widths[0], half_widths[1], half_widths[2], half_widths[3]};
+}
+
 }  // namespace
 
 std::optional<PoseCorrection> correct_pose(const Blackboard& board, int target,
@@ -108,87 +191,32 @@ std::optional<PoseCorrection> correct_pose(const Blackboard& board, int target,
   for (int k = 0; k < 4; ++k)
     if (half_widths[static_cast<std::size_t>(k)] > 0) free.push_back(k);
   if (free.empty()) return std::nullopt;
-
-  std::vector<Observation> observations;
-  for (const ImageEdge& edge : board.edges) {
-    if (!edge.active || edge.label < 0 || edge.belief < kCorrectionBelief) continue;
-    const PanelEdge& panel = model.edges()[static_cast<std::size_t>(edge.label)];
-    if (target != kCameraTarget && panel.object != target) continue;
-    observations.push_back({.image = edge.segment,
-                            .p0 = panel.p0,
-                            .p1 = panel.p1,
-                            .object = panel.object,
-                            .weight = edge.belief});
-  }
+  std::vector<Observation> observations = observations_of(board, target);
   if (observations.size() < 2) return std::nullopt;
   const auto used = static_cast<int>(observations.size());
   const Problem problem(board, target, std::move(observations), free);
 
   const auto n = static_cast<Eigen::Index>(free.size());
   const double sigma_px = std::max(model.uncertainty().noise_px, 0.5);
-  const double huber_k = 3 * sigma_px;
   Eigen::VectorXd scales(n), prior_precision(n);
   for (Eigen::Index k = 0; k < n; ++k) {
     scales[k] = half_widths[static_cast<std::size_t>(free[static_cast<std::size_t>(k)])];
     prior_precision[k] = sigma_px * sigma_px / (scales[k] * scales[k]);
   }
-  const Eigen::VectorXd belief_weights = problem.weights();
-  const auto cost = [&](const Eigen::VectorXd& x) {
-    const Eigen::VectorXd r = problem.residuals(x);
-    double total = 0;
-    for (Eigen::Index i = 0; i < r.size(); ++i) {
-      const double a = std::abs(r[i]);
-      total += belief_weights[i] * (a <= huber_k ? 0.5 * a * a : huber_k * (a - 0.5 * huber_k));
-    }
-    return total + 0.5 * x.cwiseProduct(x).dot(prior_precision);
-  };
-
-  Eigen::VectorXd x = Eigen::VectorXd::Zero(n);
-  Eigen::MatrixXd normal(n, n);
-  Eigen::VectorXd robust_weights;
-  for (int iteration = 0; iteration < kIterations; ++iteration) {
-    const Eigen::VectorXd r = problem.residuals(x);
-    const Eigen::MatrixXd j = problem.jacobian(x, scales);
-    robust_weights = belief_weights;
-    for (Eigen::Index i = 0; i < r.size(); ++i) robust_weights[i] *= huber_weight(r[i], huber_k);
-    normal = j.transpose() * robust_weights.asDiagonal() * j;
-    normal.diagonal() += prior_precision;
-    const Eigen::VectorXd gradient =
-        j.transpose() * robust_weights.asDiagonal() * r + prior_precision.cwiseProduct(x);
-    // The step, kept inside the box.
-    Eigen::VectorXd step =
-        (x - normal.ldlt().solve(gradient)).cwiseMax(-scales).cwiseMin(scales) - x;
-    const double before = cost(x);
-    while (cost(x + step) > before && step.cwiseQuotient(scales).cwiseAbs().maxCoeff() > 1e-9)
-      step *= 0.5;
-    x += step;
-    if (step.cwiseQuotient(scales).cwiseAbs().maxCoeff() < 1e-7) break;
-  }
+  const RobustFit fit = robust_fit(problem, scales, prior_precision, 3 * sigma_px);
 
   PoseCorrection out;
   out.target = target;
-  out.offset = offset_of(x, free);
+  out.offset = offset_of(fit.x, free);
   out.pose =
       offset_pose(target == kCameraTarget ? model.camera().pose()
                                           : model.objects()[static_cast<std::size_t>(target)].pose,
                   out.offset);
-  const Eigen::VectorXd after = problem.residuals(x);
+  const Eigen::VectorXd after = problem.residuals(fit.x);
   out.residual_px = rms(after);
   out.residual_before_px = rms(problem.residuals(Eigen::VectorXd::Zero(n)));
   out.observations = used;
-  double weighted = 0, total = 0;
-  for (Eigen::Index i = 0; i < after.size(); ++i) {
-    weighted += robust_weights[i] * after[i] * after[i];
-    total += robust_weights[i];
-  }
-  const double s2 = std::max(sigma_px * sigma_px, total > 0 ? weighted / total : 0.0);
-  const Eigen::MatrixXd covariance = s2 * normal.inverse();
-  std::array<double, 4> remaining = half_widths;
-  for (Eigen::Index k = 0; k < n; ++k) {
-    auto& value = remaining[static_cast<std::size_t>(free[static_cast<std::size_t>(k)])];
-    value = std::min(value, 3 * std::sqrt(std::max(0.0, covariance(k, k))));
-  }
-  out.uncertainty = {remaining[0], remaining[1], remaining[2], remaining[3]};
+  out.uncertainty = remaining_uncertainty(fit, after, sigma_px, half_widths, free);
   return out;
 }
 
