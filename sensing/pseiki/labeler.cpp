@@ -104,13 +104,13 @@ double excess_share(const Segment& e, const Segment& other, const PanelEdge& a) 
   return std::min(1.0, std::max(0.0, hi - lo - a.longest_px) / length);
 }
 
-ElementEvidence evidence_of(const Blackboard& board, int element, const Doubts& doubts) {
-  const ModelPanel& model = board.model();
-  const ImageEdge& edge = board.edges[static_cast<std::size_t>(element)];
-  ElementEvidence out;
+// The hypotheses of one element's labels: one node per object with a candidate, in candidate
+// order, a leaf per candidate under it (ElementEvidence::candidate_leaves), a leaf for the
+// object's other edges where the candidates do not cover it, and "none". Returns each object's
+// node.
+std::map<int, int> add_label_hypotheses(const ModelPanel& model, const ImageEdge& edge,
+                                        ElementEvidence& out) {
   HypothesisTree& tree = out.tree;
-  // One node per object with a candidate, in candidate order; each gets a leaf for its other
-  // edges when the candidates do not cover it.
   std::map<int, int> object_node;
   std::map<int, int> candidates_of_object;
   for (const LabelCandidate& candidate : edge.candidates)
@@ -128,70 +128,84 @@ ElementEvidence evidence_of(const Blackboard& board, int element, const Doubts& 
         static_cast<int>(model.objects()[static_cast<std::size_t>(object)].edges.size()))
       tree.add_node(node, model.objects()[static_cast<std::size_t>(object)].name + "/other");
   out.none_leaf = tree.add_node(0, "none");
+  return object_node;
+}
 
+// The evidence on candidate c of `element` (labeler.hpp): its collinearity, the other pieces of
+// its label, its label's neighbours and junctions, and the doubt about the label's faces.
+void add_candidate_evidence(const Blackboard& board, int element, std::size_t c,
+                            const Doubts& doubts, ElementEvidence& out) {
+  const ModelPanel& model = board.model();
+  const ImageEdge& edge = board.edges[static_cast<std::size_t>(element)];
+  HypothesisTree& tree = out.tree;
   const Tolerance same_label = Tolerance::noise_only(model.uncertainty().noise_px);
-  for (std::size_t c = 0; c < edge.candidates.size(); ++c) {
-    const int a = edge.candidates[c].edge;
-    const int leaf = out.candidate_leaves[c];
-    const PanelEdge& panel_a = model.edges()[static_cast<std::size_t>(a)];
-    tree.add_for(leaf, capped(edge.candidates[c].collinearity));
-    const std::vector<int>& related = model.neighbours(a);
-    // A believed piece of A on e's line confirms e's line, not that e lies within A's extent.
-    const double overlap =
-        collinearity_terms(edge.segment, panel_a.pieces, panel_a.tolerance).overlap;
-    // The relational pairs pooled: belief-weighted sums of (in)compatibility and of belief.
-    double compatible = 0, incompatible = 0, weight = 0;
-    // How far a believed piece of A that e runs along explains A's place already: the support
-    // A's neighbours and junctions give for "A is here" is then that piece's, not e's.
-    double explained = 0;
-    for (std::size_t other = 0; other < board.edges.size(); ++other) {
-      const ImageEdge& neighbour = board.edges[other];
-      if (static_cast<int>(other) == element || !neighbour.active || neighbour.label < 0 ||
-          neighbour.belief < kMinimumNeighbourBelief)
-        continue;
-      const int b = neighbour.label;
-      if (b == a) {
-        // Another piece of A confirms e, unless e runs along it or past where A can end: pieces
-        // of one edge do not overlap (an edge detector reports one edge where two coincide) and
-        // are together no longer than A, so the part of e that duplicates it or makes A too
-        // long speaks against e.
-        const double duplicate =
-            duplicated_share(edge.segment, neighbour.segment, model.uncertainty().noise_px);
-        const double excess = excess_share(edge.segment, neighbour.segment, panel_a);
-        const double not_a = std::max(duplicate, excess);
-        tree.add_evidence(leaf,
-                          capped(edge_collinearity(edge.segment, neighbour.segment, same_label) *
-                                 neighbour.belief * overlap * (1 - not_a)),
-                          capped(edge_noncollinearity(edge.segment, neighbour.segment, same_label) *
-                                 neighbour.belief));
-        if (not_a > 0) tree.add_against(leaf, capped(not_a * neighbour.belief));
-        explained = std::max(explained, not_a * neighbour.belief);
-      } else if (std::binary_search(related.begin(), related.end(), b)) {
-        const PanelEdge& panel_b = model.edges()[static_cast<std::size_t>(b)];
-        const Tolerance& relational = model.relational(a, b);
-        compatible += neighbour.belief * compatibility(edge.segment, neighbour.segment,
-                                                       panel_a.span, panel_b.span, relational);
-        incompatible += neighbour.belief * incompatibility(edge.segment, neighbour.segment,
-                                                           panel_a.span, panel_b.span, relational);
-        weight += neighbour.belief;
-      }
+  const int a = edge.candidates[c].edge;
+  const int leaf = out.candidate_leaves[c];
+  const PanelEdge& panel_a = model.edges()[static_cast<std::size_t>(a)];
+  tree.add_for(leaf, capped(edge.candidates[c].collinearity));
+  const std::vector<int>& related = model.neighbours(a);
+  // A believed piece of A on e's line confirms e's line, not that e lies within A's extent.
+  const double overlap =
+      collinearity_terms(edge.segment, panel_a.pieces, panel_a.tolerance).overlap;
+  // The relational pairs pooled: belief-weighted sums of (in)compatibility and of belief.
+  double compatible = 0, incompatible = 0, weight = 0;
+  // How far a believed piece of A that e runs along explains A's place already: the support
+  // A's neighbours and junctions give for "A is here" is then that piece's, not e's.
+  double explained = 0;
+  for (std::size_t other = 0; other < board.edges.size(); ++other) {
+    const ImageEdge& neighbour = board.edges[other];
+    if (static_cast<int>(other) == element || !neighbour.active || neighbour.label < 0 ||
+        neighbour.belief < kMinimumNeighbourBelief)
+      continue;
+    const int b = neighbour.label;
+    if (b == a) {
+      // Another piece of A confirms e, unless e runs along it or past where A can end: pieces
+      // of one edge do not overlap (an edge detector reports one edge where two coincide) and
+      // are together no longer than A, so the part of e that duplicates it or makes A too
+      // long speaks against e.
+      const double duplicate =
+          duplicated_share(edge.segment, neighbour.segment, model.uncertainty().noise_px);
+      const double excess = excess_share(edge.segment, neighbour.segment, panel_a);
+      const double not_a = std::max(duplicate, excess);
+      tree.add_evidence(leaf,
+                        capped(edge_collinearity(edge.segment, neighbour.segment, same_label) *
+                               neighbour.belief * overlap * (1 - not_a)),
+                        capped(edge_noncollinearity(edge.segment, neighbour.segment, same_label) *
+                               neighbour.belief));
+      if (not_a > 0) tree.add_against(leaf, capped(not_a * neighbour.belief));
+      explained = std::max(explained, not_a * neighbour.belief);
+    } else if (std::binary_search(related.begin(), related.end(), b)) {
+      const PanelEdge& panel_b = model.edges()[static_cast<std::size_t>(b)];
+      const Tolerance& relational = model.relational(a, b);
+      compatible += neighbour.belief * compatibility(edge.segment, neighbour.segment, panel_a.span,
+                                                     panel_b.span, relational);
+      incompatible += neighbour.belief * incompatibility(edge.segment, neighbour.segment,
+                                                         panel_a.span, panel_b.span, relational);
+      weight += neighbour.belief;
     }
-    if (weight > 0) {
-      const double scale = 1 / std::max(1.0, weight);
-      tree.add_evidence(leaf, capped(kRelationalWeight * compatible * scale * (1 - explained)),
-                        capped(incompatible * scale));
-    }
-    const Junctions junctions = junctions_of(board, element, a);
-    if (junctions.weight > 0)
-      tree.add_evidence(leaf, capped(junctions.support * (1 - explained)),
-                        capped(junctions.against));
-    for (const int face : panel_a.faces)
-      if (doubts.face[static_cast<std::size_t>(face)] > 0)
-        tree.add_against(leaf, capped(doubts.face[static_cast<std::size_t>(face)]));
   }
+  if (weight > 0) {
+    const double scale = 1 / std::max(1.0, weight);
+    tree.add_evidence(leaf, capped(kRelationalWeight * compatible * scale * (1 - explained)),
+                      capped(incompatible * scale));
+  }
+  const Junctions junctions = junctions_of(board, element, a);
+  if (junctions.weight > 0)
+    tree.add_evidence(leaf, capped(junctions.support * (1 - explained)), capped(junctions.against));
+  for (const int face : panel_a.faces)
+    if (doubts.face[static_cast<std::size_t>(face)] > 0)
+      tree.add_against(leaf, capped(doubts.face[static_cast<std::size_t>(face)]));
+}
+
+ElementEvidence evidence_of(const Blackboard& board, int element, const Doubts& doubts) {
+  const ImageEdge& edge = board.edges[static_cast<std::size_t>(element)];
+  ElementEvidence out;
+  const std::map<int, int> object_node = add_label_hypotheses(board.model(), edge, out);
+  for (std::size_t c = 0; c < edge.candidates.size(); ++c)
+    add_candidate_evidence(board, element, c, doubts, out);
   for (const auto& [object, node] : object_node)
     if (doubts.object[static_cast<std::size_t>(object)] > 0)
-      tree.add_against(node, capped(doubts.object[static_cast<std::size_t>(object)]));
+      out.tree.add_against(node, capped(doubts.object[static_cast<std::size_t>(object)]));
   return out;
 }
 
