@@ -78,16 +78,17 @@ Junctions junctions_of(const Blackboard& board, int element, int a) {
 }
 
 // How much of `e` duplicates `other` (labeler.hpp): the share of e's length that runs along
-// other's extent, beyond the ends' noise, at whatever offset from its line.
+// other's extent less the noise at other's ends, at whatever offset from its line.
 double duplicated_share(const Segment& e, const Segment& other, double noise) {
   const Eigen::Vector2d d = other.direction();
   const double length = e.length();
   if (length <= 0 || other.length() <= 0) return 0;
   const double s0 = (e.p0 - other.p0).dot(d), s1 = (e.p1 - other.p0).dot(d);
-  const double lo = std::max(std::min(s0, s1), 0.0),
-               hi = std::min(std::max(s0, s1), other.length());
   const double slack = std::max(1.0, 3 * std::sqrt(2.0) * noise);  // two noisy ends
-  return hi - lo <= slack ? 0.0 : (hi - lo - slack) / length;
+  // Two pieces of one edge may overlap by the noise where they meet, at other's ends only.
+  const double lo = std::max(std::min(s0, s1), slack),
+               hi = std::min(std::max(s0, s1), other.length() - slack);
+  return hi <= lo ? 0.0 : (hi - lo) / length;
 }
 
 // How much of `e` would make A too long (labeler.hpp): the share of e's length by which e and

@@ -16,16 +16,18 @@
 //                        not that e lies where A is: clutter along a border, past A's end, is
 //                        not confirmed by it);
 //     against A          duplicate(e, e2) x Bel(e2) for the same e2, where duplicate is the share
-//                        of e's length that runs along e2's extent (beyond 3 sqrt(2) noise, at
-//                        least 1 px: two noisy ends), at whatever offset from e2's line: A is
-//                        one line in the image and an edge detector reports one edge where two
-//                        coincide, so pieces of A do not run side by side, and the overlapping
-//                        part of e is not A (a shadow 4-10 px beside A's piece is exactly this;
-//                        with a fade by offset it escaped); likewise excess(e, e2), the share of
-//                        e's length by which e and e2 together, along A, exceed the longest A's
-//                        image can be (PanelEdge::longest_px): a fragment continuing A's line
-//                        past e2's end, within the pose's margin there (a shadow of the next
-//                        edge, clutter), is no piece of A when e2 already is most of it. With
+//                        of e's length that runs along e2's extent less its ends' noise
+//                        (3 sqrt(2) sigma, at least 1 px, at each end of e2: two pieces of A may
+//                        overlap that much where they meet, and nowhere else), at whatever
+//                        offset from e2's line: A is one line in the image and an edge detector
+//                        reports one edge where two coincide, so pieces of A do not run side by
+//                        side, and the overlapping part of e is not A (a shadow 4-10 px beside
+//                        A's piece is exactly this; with a fade by offset it escaped);
+//                        likewise excess(e, e2), the share of e's length by which e and e2
+//                        together, along A, exceed the longest A's image can be
+//                        (PanelEdge::longest_px): a fragment continuing A's line past e2's end,
+//                        within the pose's margin there (a shadow of the next edge, clutter),
+//                        is no piece of A when e2 already is most of it. With
 //                        not_A = max(duplicate, excess), the support above is taken times
 //                        (1 - not_A), not_A x Bel(e2) is a piece against A, and the relational
 //                        and junction support below is taken times (1 - the largest not_A x
