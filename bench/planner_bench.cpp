@@ -53,6 +53,7 @@ constexpr double kInch = 0.0254;
 
 using spar::bench::load_average;
 using spar::bench::median;
+using spar::bench::run_times;
 using spar::bench::seconds_since;
 using spar::bench::time_median;
 
@@ -801,12 +802,7 @@ struct WarmTiming {
 };
 WarmTiming warm_timing(const std::function<void()>& work) {
   work();
-  std::vector<double> times;
-  for (int r = 0; r < kPhase2Runs; ++r) {
-    const auto start = std::chrono::steady_clock::now();
-    work();
-    times.push_back(seconds_since(start));
-  }
+  const std::vector<double> times = run_times(kPhase2Runs, work);
   return {median(times), *std::min_element(times.begin(), times.end())};
 }
 

@@ -23,15 +23,20 @@ inline double median(std::vector<double> values) {
   return values.empty() ? NAN : values[values.size() / 2];
 }
 
-// Median wall time of `repeats` calls of `work`, in seconds.
-inline double time_median(int repeats, const std::function<void()>& work) {
+// Wall time of each of `repeats` calls of `work`, in seconds.
+inline std::vector<double> run_times(int repeats, const std::function<void()>& work) {
   std::vector<double> times;
   for (int r = 0; r < repeats; ++r) {
     const auto start = std::chrono::steady_clock::now();
     work();
     times.push_back(seconds_since(start));
   }
-  return median(times);
+  return times;
+}
+
+// Median wall time of `repeats` calls of `work`, in seconds.
+inline double time_median(int repeats, const std::function<void()>& work) {
+  return median(run_times(repeats, work));
 }
 
 // "1 5 15"-minute load averages from /proc/loadavg.

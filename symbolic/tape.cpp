@@ -253,15 +253,25 @@ bool is_binary(TapeOp op) {
   }
 }
 
-// Virtual registers >= kFirstVirtual are instruction results (code[r - kFirstVirtual] writes r);
-// everything below is a fixed input or constant slot.
-constexpr std::uint32_t kFirstVirtual = 0x80000000u;
+}  // namespace
 
-// Register allocation: maps the virtual registers of `code` (in place) to slots >= `fixed` by
-// liveness. A result's slot is freed after its last read, unless it is an output (outputs must
-// survive to the end). Returns the slot count; `outputs` become their slots.
-std::uint32_t allocate_slots(std::vector<Instruction>& code, std::uint32_t fixed,
-                             std::vector<std::uint32_t>& outputs) {
+Tape Tape::compile(std::span<const Expr> outputs, std::span<const Expr> inputs) {
+  // Node-id order (a node's operands exist before it, so have smaller ids): the order of the
+  // nodes one output needs is the same whichever outputs are compiled with it (see slice()).
+  std::vector<Expr> order = topological_order(outputs);
+  std::sort(order.begin(), order.end(), [](Expr a, Expr b) { return a.id() < b.id(); });
+  Compiler compiler(inputs, order);
+  for (Expr e : order) {
+    if (!compiler.compiled(e)) compiler.compile_node(e);
+  }
+
+  // Register allocation. Virtual registers >= 0x80000000 are instruction results; everything
+  // below is a fixed input or constant slot. A result's slot is freed after its last read,
+  // unless it is an output (outputs must survive to the end).
+  constexpr std::uint32_t kFirstVirtual = 0x80000000u;
+  const std::uint32_t fixed =
+      static_cast<std::uint32_t>(inputs.size() + compiler.constants_.size());
+  std::vector<Instruction>& code = compiler.code_;
   std::vector<std::size_t> last_read(code.size(), 0);
   auto index_of = [&](std::uint32_t reg) { return reg - kFirstVirtual; };
   for (std::size_t k = 0; k < code.size(); ++k) {
@@ -269,8 +279,10 @@ std::uint32_t allocate_slots(std::vector<Instruction>& code, std::uint32_t fixed
     if (is_binary(code[k].op) && code[k].b >= kFirstVirtual) last_read[index_of(code[k].b)] = k;
   }
   std::vector<bool> is_output(code.size(), false);
-  for (std::uint32_t reg : outputs)
+  for (Expr e : outputs) {
+    const std::uint32_t reg = compiler.of(e);
     if (reg >= kFirstVirtual) is_output[index_of(reg)] = true;
+  }
   std::vector<std::uint32_t> slot_of(code.size());
   std::vector<std::uint32_t> free_slots;
   std::uint32_t next_slot = fixed;
@@ -300,34 +312,20 @@ std::uint32_t allocate_slots(std::vector<Instruction>& code, std::uint32_t fixed
     in.dst = slot;
     // A result nobody reads (possible only for outputs) keeps its slot; others are freed above.
   }
-  for (std::uint32_t& reg : outputs) reg = physical(reg);
-  return next_slot;
-}
 
-}  // namespace
-
-Tape Tape::compile(std::span<const Expr> outputs, std::span<const Expr> inputs) {
-  // Node-id order (a node's operands exist before it, so have smaller ids): the order of the
-  // nodes one output needs is the same whichever outputs are compiled with it (see slice()).
-  std::vector<Expr> order = topological_order(outputs);
-  std::sort(order.begin(), order.end(), [](Expr a, Expr b) { return a.id() < b.id(); });
-  Compiler compiler(inputs, order);
-  for (Expr e : order) {
-    if (!compiler.compiled(e)) compiler.compile_node(e);
-  }
   Tape tape;
   tape.input_count_ = inputs.size();
+  tape.slot_count_ = next_slot;
   tape.constants_ = std::move(compiler.constants_);
-  for (Expr e : outputs) tape.output_slots_.push_back(compiler.of(e));
-  tape.instructions_ = std::move(compiler.code_);
-  tape.slot_count_ = allocate_slots(
-      tape.instructions_, static_cast<std::uint32_t>(inputs.size() + tape.constants_.size()),
-      tape.output_slots_);
+  tape.instructions_ = std::move(code);
+  for (Expr e : outputs) tape.output_slots_.push_back(physical(compiler.of(e)));
   return tape;
 }
 
 Tape Tape::slice(std::size_t output) const {
-  if (output >= output_slots_.size()) throw std::out_of_range("tape has no such output");
+  if (output >= output_slots_.size())
+    throw SymbolicError("tape has no output " + std::to_string(output) + " (it has " +
+                        std::to_string(output_slots_.size()) + ")");
   const std::size_t fixed = input_count_ + constants_.size();
   // Backwards from the output: an instruction is kept if a kept one (or the output) reads the
   // value it writes; `wanted` marks the slots whose next write is read.

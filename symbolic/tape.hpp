@@ -72,8 +72,8 @@ class Tape {
   // constants it reads: instruction for instruction what compile({that output}, inputs) gives
   // (the same operations in the same order on the same inputs and constants; slot numbers, and
   // the number of work slots, may differ), so every evaluation of it equals that tape's bit for
-  // bit. Costs two passes over this tape, no compile.
-  // Throws std::out_of_range for an output the tape does not have.
+  // bit. Costs three passes over this tape, no compile.
+  // Throws SymbolicError for an output the tape does not have.
   [[nodiscard]] Tape slice(std::size_t output) const;
 
   [[nodiscard]] std::size_t input_count() const { return input_count_; }

@@ -107,6 +107,19 @@ std::vector<Piece> resolved_pieces(const Rendering& seen, const Scene& scene) {
   return out;
 }
 
+// Whether `candidate` would lie on one of the rendered `true_edges` (both ends within
+// kCoincidentOffset of its line, overlapping it along the line): an edge detector would report
+// the two as one edge.
+bool on_a_true_edge(const Segment& candidate, const std::vector<Segment>& true_edges) {
+  return std::any_of(true_edges.begin(), true_edges.end(), [&](const Segment& edge) {
+    const Eigen::Vector2d d = edge.direction();
+    const double s0 = (candidate.p0 - edge.p0).dot(d), s1 = (candidate.p1 - edge.p0).dot(d);
+    return edge.line_distance(candidate.p0) < kCoincidentOffset &&
+           edge.line_distance(candidate.p1) < kCoincidentOffset && std::max(s0, s1) > 0 &&
+           std::min(s0, s1) < edge.length();
+  });
+}
+
 // One image's random choices. Every step draws from one generator, and simulate() runs the steps
 // in one order, so one seed gives one image (the tests and benchmarks name seeds).
 class Simulation {
@@ -176,10 +189,9 @@ class Simulation {
   }
 
   // A shadow beside round(shadow n) pieces: 4-10 px to either side, along 50-100% of the piece.
-  // Shadows and clutter are drawn again (up to kRedraws times) where they would lie on a true
-  // edge (`on_a_true_edge`): an edge detector reports one edge where two coincide.
-  template <class OnATrueEdge>
-  void add_shadows(std::vector<Piece>& pieces, const OnATrueEdge& on_a_true_edge) {
+  // Shadows and clutter are drawn again (up to kRedraws times) where they would lie on one of
+  // the `true_edges` (on_a_true_edge).
+  void add_shadows(std::vector<Piece>& pieces, const std::vector<Segment>& true_edges) {
     const std::vector<char> shaded = chosen(pieces.size(), perturbation_.shadow);
     for (std::size_t i = 0; i < shaded.size(); ++i) {
       if (!shaded[i]) continue;
@@ -189,7 +201,7 @@ class Simulation {
         const double side = chance(0.5) ? 1.0 : -1.0;
         const Eigen::Vector2d shift = side * uniform(4.0, 10.0) * n;
         const Segment shadow{s.p0 + shift, s.p0 + uniform(0.5, 1.0) * s.length() * d + shift};
-        if (on_a_true_edge(shadow)) continue;
+        if (on_a_true_edge(shadow, true_edges)) continue;
         pieces.push_back({shadow, ""});
         break;
       }
@@ -202,9 +214,8 @@ class Simulation {
   }
 
   // `clutter` segments of 10-60 px anywhere in the image, at any angle.
-  template <class OnATrueEdge>
   void add_clutter(std::vector<Piece>& pieces, const Intrinsics& k,
-                   const OnATrueEdge& on_a_true_edge) {
+                   const std::vector<Segment>& true_edges) {
     for (int c = 0; c < perturbation_.clutter; ++c)
       for (int attempt = 0; attempt < kRedraws; ++attempt) {
         const double y = uniform(0, k.height);  // before x, as in noisy()
@@ -212,7 +223,7 @@ class Simulation {
         const double angle = uniform(0, std::numbers::pi), half = uniform(5.0, 30.0);
         const Eigen::Vector2d d(std::cos(angle), std::sin(angle));
         const Segment clutter{middle - half * d, middle + half * d};
-        if (on_a_true_edge(clutter)) continue;
+        if (on_a_true_edge(clutter, true_edges)) continue;
         pieces.push_back({clutter, ""});
         break;
       }
@@ -264,18 +275,9 @@ SimulatedImage simulate(const Scene& scene, const Camera& camera,
   simulation.join(pieces);
   std::vector<Segment> true_edges;
   for (const EdgeView& view : seen.edges) true_edges.push_back({view.u0, view.u1});
-  const auto on_a_true_edge = [&](const Segment& candidate) {
-    return std::any_of(true_edges.begin(), true_edges.end(), [&](const Segment& edge) {
-      const Eigen::Vector2d d = edge.direction();
-      const double s0 = (candidate.p0 - edge.p0).dot(d), s1 = (candidate.p1 - edge.p0).dot(d);
-      return edge.line_distance(candidate.p0) < kCoincidentOffset &&
-             edge.line_distance(candidate.p1) < kCoincidentOffset && std::max(s0, s1) > 0 &&
-             std::min(s0, s1) < edge.length();
-    });
-  };
-  simulation.add_shadows(pieces, on_a_true_edge);
+  simulation.add_shadows(pieces, true_edges);
   simulation.add_noise(pieces);
-  simulation.add_clutter(pieces, camera.intrinsics(), on_a_true_edge);
+  simulation.add_clutter(pieces, camera.intrinsics(), true_edges);
   simulation.shuffle(pieces);
   const Intrinsics& k = camera.intrinsics();
   for (const Piece& piece : pieces) {

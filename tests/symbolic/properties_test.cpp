@@ -194,6 +194,7 @@ RC_GTEST_PROP(SymbolicProperty, SliceIsTheTapeOfThatOutputAlone, ()) {
     TapeEvaluator<double>(alone).evaluate(in, std::span<double>(&from_alone, 1));
     RC_ASSERT(std::bit_cast<std::uint64_t>(from_slice) == std::bit_cast<std::uint64_t>(from_alone));
   }
+  RC_ASSERT_THROWS_AS((void)shared.slice(3), SymbolicError);
 }
 
 // print then parse gives back the same node when every constant is exact. A caller's double
