@@ -148,6 +148,13 @@ struct MarginWork::Task {
   bool tight_bound;  // bound and blame too: the first precondition of its expression in the step
   std::size_t step, index;
   internal::OwnCopy copy;
+  // What the task is expected to cost, in no unit; only the order matters. A tight bound, a
+  // reverse analysis and the sampling each evaluate the expression's DAG per box or point, and
+  // branch and bound splits along the box's variables, so nodes x variables, the tight bound's
+  // task counted twice (on on-back's insertion these tasks take 10-14 ms, a pickup's 0.2-1).
+  [[nodiscard]] std::size_t expected_cost(const PreconditionResult& result) const {
+    return result.nodes * std::max<std::size_t>(1, result.box.size()) * (tight_bound ? 2 : 1);
+  }
 };
 
 MarginWork::MarginWork(InstanceAnalysis& analysis, const AnalysisOptions& options)
@@ -164,6 +171,15 @@ MarginWork::MarginWork(InstanceAnalysis& analysis, const AnalysisOptions& option
         tasks_.push_back({fresh, k, i, internal::own_copy(analysis, result)});
     }
   }
+  // The costliest first (longest processing time first): run_tasks hands the tasks out in order,
+  // so the last ones to start are short and the threads finish together. With the insertion's
+  // tasks last, on-back's margins beside the tolerance allocation took 54 ms on two threads
+  // where 41 suffice. The order changes no result: each task writes its own precondition's fields.
+  const auto cost = [&](const Task& task) {
+    return task.expected_cost(analysis.steps[task.step].preconditions[task.index]);
+  };
+  std::stable_sort(tasks_.begin(), tasks_.end(),
+                   [&](const Task& a, const Task& b) { return cost(a) > cost(b); });
 }
 
 MarginWork::~MarginWork() = default;
