@@ -6,54 +6,26 @@
 #include <cmath>
 #include <numbers>
 
-#include "spar/bounds/internal/ulp.hpp"
+#include "spar/bounds/internal/rounded.hpp"
 
 namespace spar::bounds {
 namespace {
 
 using internal::kInf;
-// Below this magnitude an fma residual may itself round (underflow): widen unconditionally.
-constexpr double kTiny = 0x1p-960;
-
 using internal::next_down;
 using internal::next_up;
 // libm results are within one ulp on glibc; two ulps is the documented margin.
 double libm_down(double x) { return next_down(next_down(x)); }
 double libm_up(double x) { return next_up(next_up(x)); }
 
-// r = a op b in double; `error` = (exact - r) sign; overflow to inf from finite operands is
-// inexact.
-double round_down(double r, double error) { return error < 0 ? next_down(r) : r; }
-double round_up(double r, double error) { return error > 0 ? next_up(r) : r; }
+using internal::add_down;
+using internal::add_up;
+using internal::kTiny;
+using internal::mul_down;
+using internal::mul_up;
+using internal::round_down;
+using internal::round_up;
 
-double add_error(double a, double b, double r) {
-  if (!std::isfinite(r)) return (std::isfinite(a) && std::isfinite(b)) ? (r > 0 ? -1 : 1) : 0;
-  const double bb = r - a;
-  return (a - (r - bb)) + (b - bb);
-}
-double add_down(double a, double b) {
-  const double r = a + b;
-  return round_down(r, add_error(a, b, r));
-}
-double add_up(double a, double b) {
-  const double r = a + b;
-  return round_up(r, add_error(a, b, r));
-}
-// 0 * inf is 0 here: an exact zero bound times an infinite bound of another factor.
-double mul_down(double a, double b) {
-  if (a == 0 || b == 0) return 0.0;
-  const double r = a * b;
-  if (!std::isfinite(r)) return (std::isfinite(a) && std::isfinite(b) && r > 0) ? next_down(r) : r;
-  if (std::fabs(r) < kTiny) return next_down(r);
-  return round_down(r, std::fma(a, b, -r));
-}
-double mul_up(double a, double b) {
-  if (a == 0 || b == 0) return 0.0;
-  const double r = a * b;
-  if (!std::isfinite(r)) return (std::isfinite(a) && std::isfinite(b) && r < 0) ? next_up(r) : r;
-  if (std::fabs(r) < kTiny) return next_up(r);
-  return round_up(r, std::fma(a, b, -r));
-}
 // Sign of (a/b - q) = sign(a - q*b) * sign(b).
 double div_error(double a, double b, double q) {
   const double residual = std::fma(-q, b, a);
@@ -168,51 +140,6 @@ Interval intersect(const Interval& a, const Interval& b) {
   const bool undefined = a.possibly_undefined || b.possibly_undefined;
   const double lo = std::max(a.lo, b.lo), hi = std::min(a.hi, b.hi);
   return lo <= hi ? make(lo, hi, undefined) : Interval::empty(undefined);
-}
-
-Interval operator+(const Interval& a, const Interval& b) {
-  const bool undefined = a.possibly_undefined || b.possibly_undefined;
-  if (a.is_empty() || b.is_empty()) return Interval::empty(undefined);
-  // Adding an exact zero is exact (gradient accumulation starts from zero adjoints); + 0.0 keeps
-  // what the rounded sum gives a -0 bound (+0).
-  if (b.lo == 0 && b.hi == 0) return make(a.lo + 0.0, a.hi + 0.0, undefined);
-  if (a.lo == 0 && a.hi == 0) return make(b.lo + 0.0, b.hi + 0.0, undefined);
-  return make(add_down(a.lo, b.lo), add_up(a.hi, b.hi), undefined);
-}
-
-Interval operator-(const Interval& a) { return make(-a.hi, -a.lo, a.possibly_undefined); }
-
-Interval operator-(const Interval& a, const Interval& b) { return a + (-b); }
-
-Interval operator*(const Interval& a, const Interval& b) {
-  const bool undefined = a.possibly_undefined || b.possibly_undefined;
-  if (a.is_empty() || b.is_empty()) return Interval::empty(undefined);
-  if (a.is_bounded() && b.is_bounded()) {
-    // Finite bounds: the signs say which end-point products are the least and the greatest, and
-    // mul_down/mul_up are monotone in the exact product, so this is the four-product formula
-    // below, bit for bit, with two or four products instead of eight.
-    const bool a_positive = a.lo >= 0, a_negative = a.hi <= 0;
-    const bool b_positive = b.lo >= 0, b_negative = b.hi <= 0;
-    if (a_positive) {
-      if (b_positive) return make(mul_down(a.lo, b.lo), mul_up(a.hi, b.hi), undefined);
-      if (b_negative) return make(mul_down(a.hi, b.lo), mul_up(a.lo, b.hi), undefined);
-      return make(mul_down(a.hi, b.lo), mul_up(a.hi, b.hi), undefined);
-    }
-    if (a_negative) {
-      if (b_positive) return make(mul_down(a.lo, b.hi), mul_up(a.hi, b.lo), undefined);
-      if (b_negative) return make(mul_down(a.hi, b.hi), mul_up(a.lo, b.lo), undefined);
-      return make(mul_down(a.lo, b.hi), mul_up(a.lo, b.lo), undefined);
-    }
-    if (b_positive) return make(mul_down(a.lo, b.hi), mul_up(a.hi, b.hi), undefined);
-    if (b_negative) return make(mul_down(a.hi, b.lo), mul_up(a.lo, b.lo), undefined);
-    return make(std::min(mul_down(a.lo, b.hi), mul_down(a.hi, b.lo)),
-                std::max(mul_up(a.lo, b.lo), mul_up(a.hi, b.hi)), undefined);
-  }
-  const double lo = std::min(
-      {mul_down(a.lo, b.lo), mul_down(a.lo, b.hi), mul_down(a.hi, b.lo), mul_down(a.hi, b.hi)});
-  const double hi =
-      std::max({mul_up(a.lo, b.lo), mul_up(a.lo, b.hi), mul_up(a.hi, b.lo), mul_up(a.hi, b.hi)});
-  return make(lo, hi, undefined);
 }
 
 Interval operator/(const Interval& a, const Interval& b) {
