@@ -7,6 +7,7 @@
 #include <limits>
 #include <map>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "spar/sensing/error.hpp"
@@ -135,156 +136,26 @@ struct FaceSums {
   Eigen::Vector3d weighted{Eigen::Vector3d::Zero()};  // sum of area * point (camera frame)
 };
 
-}  // namespace
+// A front-facing triangle of the scene, globally numbered by its place in CameraView's list.
+struct TriangleRef {
+  int object, triangle, face;
+};
 
-Rendering render(const Scene& scene, const Camera& camera, const RenderOptions& options) {
-  if (options.supersampling < 1 || options.supersampling > 8)
-    throw SensingError("render: supersampling must be 1 to 8, got " +
-                       std::to_string(options.supersampling));
-  const double scale = std::max(scene.scale(), 1e-12);
-  const double tolerance = 1e-9 * scale;
-  const bool pinhole = camera.projection() == Projection::kPinhole;
-  const Eigen::Matrix3d to_camera_rotation = camera.pose().linear().transpose();
-
-  // Camera-frame vertices, and which faces are turned toward the camera.
-  struct Prepared {
-    std::vector<Eigen::Vector3d> vertices;
-    std::vector<char> front;               // [face id - 1]
-    std::vector<Eigen::Vector3d> normals;  // [face id - 1], camera frame
-  };
-  std::vector<Prepared> prepared(scene.objects().size());
-  for (std::size_t o = 0; o < scene.objects().size(); ++o) {
-    const SceneObject& object = scene.objects()[o];
-    Prepared& p = prepared[o];
-    for (const Eigen::Vector3d& v : object.vertices) p.vertices.push_back(camera.to_camera(v));
-    for (std::size_t f = 0; f < object.face_normals.size(); ++f) {
-      const Eigen::Vector3d& n = object.face_normals[f];
-      // Plane n · x = offset; the eye sees its front when it is on the positive side, by more
-      // than the tolerance (a face seen edge-on, to rounding, is turned away).
-      const double side = pinhole ? n.dot(camera.pose().translation()) - object.face_offsets[f]
-                                  : -n.dot(camera.pose().linear().col(2));
-      p.front.push_back(side > (pinhole ? tolerance : kEdgeOn));
-      p.normals.push_back(to_camera_rotation * n);
-    }
-  }
-
-  // Every front-facing triangle, globally numbered.
-  struct TriangleRef {
-    int object, triangle, face;
-  };
-  std::vector<TriangleRef> triangles;
-  for (std::size_t o = 0; o < scene.objects().size(); ++o) {
-    const SceneObject& object = scene.objects()[o];
-    const auto& faces_of = object.features->triangle_face;
-    for (std::size_t t = 0; t < faces_of.size(); ++t)
-      if (prepared[o].front[static_cast<std::size_t>(faces_of[t] - 1)])
-        triangles.push_back({static_cast<int>(o), static_cast<int>(t), faces_of[t]});
-  }
-  const auto corners_of = [&](const TriangleRef& ref) {
-    const auto& indices = scene.objects()[ref.object].model->mesh().triangles[ref.triangle];
-    const auto& vertices = prepared[ref.object].vertices;
-    return std::array<Eigen::Vector3d, 3>{vertices[indices[0]], vertices[indices[1]],
-                                          vertices[indices[2]]};
-  };
-
-  Rendering out;
-  if (options.faces) {
-    const Camera fine = supersampled(camera, options.supersampling);
-    const Intrinsics& k = fine.intrinsics();
-    // The triangles' image pieces (fans of their parts in front of the near plane), then a
-    // buffer over the window they cover: no sample outside it is drawn, so the window gives what
-    // the whole image would (internal/item_buffer.hpp), for a fraction of the memory.
-    struct Fan {
-      std::array<Eigen::Vector2d, 3> corners;
-      std::array<double, 3> depth;
-      int item;
-    };
-    std::vector<Fan> fans;
-    Eigen::AlignedBox2d covered;
-    for (std::size_t i = 0; i < triangles.size(); ++i) {
-      const std::vector<Eigen::Vector3d> polygon =
-          clip_near(corners_of(triangles[i]), fine.near_depth());
-      for (std::size_t j = 2; j < polygon.size(); ++j) {
-        const std::array<Eigen::Vector3d, 3> fan = {polygon[0], polygon[j - 1], polygon[j]};
-        const Fan drawn{
-            {fine.project_camera(fan[0]), fine.project_camera(fan[1]), fine.project_camera(fan[2])},
-            {depth_key(fine, fan[0]), depth_key(fine, fan[1]), depth_key(fine, fan[2])},
-            static_cast<int>(i)};
-        // A corner that does not project to a finite point draws nothing (ItemBuffer::draw).
-        if (!std::all_of(drawn.corners.begin(), drawn.corners.end(),
-                         [](const Eigen::Vector2d& c) { return c.allFinite(); }))
-          continue;
-        for (const Eigen::Vector2d& corner : drawn.corners) covered.extend(corner);
-        fans.push_back(drawn);
-      }
-    }
-    internal::PixelWindow window{0, 0, 0, 0};
-    if (!covered.isEmpty()) {
-      const auto clamped = [](double value, int high) {
-        return static_cast<int>(std::clamp(value, 0.0, static_cast<double>(high)));
-      };
-      window.x0 = clamped(std::floor(covered.min().x()), k.width);
-      window.y0 = clamped(std::floor(covered.min().y()), k.height);
-      window.width = clamped(std::ceil(covered.max().x()), k.width) - window.x0;
-      window.height = clamped(std::ceil(covered.max().y()), k.height) - window.y0;
-    }
-    internal::ItemBuffer buffer(window);
-    if (window.width > 0 && window.height > 0)
-      for (const Fan& fan : fans) buffer.draw(fan.corners, fan.depth, fan.item);
-    std::map<std::pair<int, int>, FaceSums> sums;
-    for (int y = window.y0; y < window.y0 + window.height; ++y)
-      for (int x = window.x0; x < window.x0 + window.width; ++x) {
-        const int item = buffer.item(x, y);
-        if (item < 0) continue;
-        const TriangleRef& ref = triangles[static_cast<std::size_t>(item)];
-        const Eigen::Vector3d& normal =
-            prepared[ref.object].normals[static_cast<std::size_t>(ref.face - 1)];
-        // The sample's ray (z component 1 for a pinhole) and surface point; its footprint on the
-        // face's plane: z^2 / (fx fy |n · r|) for a pinhole, 1 / (fx fy |n_z|) orthographic.
-        const double u = x + 0.5, v = y + 0.5;
-        Eigen::Vector3d point;
-        double footprint;
-        if (pinhole) {
-          const double z = -1.0 / buffer.depth(x, y);
-          const Eigen::Vector3d ray((u - k.cx) / k.fx, (v - k.cy) / k.fy, 1.0);
-          point = ray * z;
-          footprint = z * z / (k.fx * k.fy * std::abs(normal.dot(ray)));
-        } else {
-          point = {(u - k.cx) / k.fx, (v - k.cy) / k.fy, buffer.depth(x, y)};
-          footprint = 1.0 / (k.fx * k.fy * std::abs(normal.z()));
-        }
-        FaceSums& sum = sums[{ref.object, ref.face}];
-        ++sum.samples;
-        sum.area += footprint;
-        sum.weighted += footprint * point;
-      }
-    for (const auto& [key, sum] : sums) {
-      const auto& [object_index, face_id] = key;
-      const SceneObject& object = scene.objects()[static_cast<std::size_t>(object_index)];
-      const geometry::Face& face = object.model->face(face_id);
-      FaceView view{.object = object_index, .face = face_id, .samples = sum.samples};
-      view.visible_area = sum.area;
-      view.visible_fraction = sum.area / face.area;
-      view.centroid = camera.pose() * (sum.weighted / sum.area);
-      const Eigen::Vector3d world_centroid = object.pose * face.centroid;
-      view.angle =
-          std::acos(std::clamp(object.face_normals[static_cast<std::size_t>(face_id - 1)].dot(
-                                   camera.toward_viewer(world_centroid)),
-                               -1.0, 1.0));
-      out.faces.push_back(view);
-    }
-  }
-
-  if (options.edges) {
+// The occluders (every front-facing triangle) binned by the image tiles their screen boxes
+// touch, for the edge pass: an edge is tested only against the occluders of the tiles its own
+// screen box touches, each once (the stamp).
+class OcclusionGrid {
+ public:
+  OcclusionGrid(const Camera& camera, std::vector<Occluder> occluders)
+      : camera_(&camera),
+        columns_((camera.intrinsics().width + kTile - 1) / kTile),
+        rows_((camera.intrinsics().height + kTile - 1) / kTile),
+        tiles_(static_cast<std::size_t>(columns_ * rows_)),
+        occluders_(std::move(occluders)),
+        stamp_(occluders_.size(), -1) {
     const Intrinsics& k = camera.intrinsics();
-    const int columns = (k.width + kTile - 1) / kTile, rows = (k.height + kTile - 1) / kTile;
-    std::vector<std::vector<int>> tiles(static_cast<std::size_t>(columns * rows));
-    std::vector<Occluder> occluders(triangles.size());
-    for (std::size_t i = 0; i < triangles.size(); ++i) {
-      Occluder& occluder = occluders[i];
-      occluder.corners = corners_of(triangles[i]);
-      occluder.normal = (occluder.corners[1] - occluder.corners[0])
-                            .cross(occluder.corners[2] - occluder.corners[0]);
+    for (std::size_t i = 0; i < occluders_.size(); ++i) {
+      const Occluder& occluder = occluders_[i];
       // Its screen box (the whole image when part of it is behind a pinhole's near plane).
       double x0 = 0, x1 = k.width, y0 = 0, y1 = k.height;
       const bool behind =
@@ -302,81 +173,285 @@ Rendering render(const Scene& scene, const Camera& camera, const RenderOptions& 
         }
       }
       const int c0 = std::max(0, static_cast<int>(std::floor(x0 / kTile)));
-      const int c1 = std::min(columns - 1, static_cast<int>(std::floor(x1 / kTile)));
+      const int c1 = std::min(columns_ - 1, static_cast<int>(std::floor(x1 / kTile)));
       const int r0 = std::max(0, static_cast<int>(std::floor(y0 / kTile)));
-      const int r1 = std::min(rows - 1, static_cast<int>(std::floor(y1 / kTile)));
+      const int r1 = std::min(rows_ - 1, static_cast<int>(std::floor(y1 / kTile)));
       for (int r = r0; r <= r1; ++r)
         for (int c = c0; c <= c1; ++c)
-          tiles[static_cast<std::size_t>(r * columns + c)].push_back(static_cast<int>(i));
-    }
-
-    const std::array<HalfSpace, 5> volume = view_volume(camera);
-    std::vector<int> stamp(triangles.size(), -1);
-    int stamp_value = 0;
-    for (std::size_t o = 0; o < scene.objects().size(); ++o) {
-      const SceneObject& object = scene.objects()[o];
-      const Prepared& p = prepared[o];
-      for (const ModelEdge& edge : object.features->edges) {
-        const bool front_a = p.front[static_cast<std::size_t>(edge.face_a - 1)];
-        const bool front_b = p.front[static_cast<std::size_t>(edge.face_b - 1)];
-        if (!front_a && !front_b) continue;
-        const Eigen::Vector3d start = camera.to_camera(object.pose * edge.p0);
-        const Eigen::Vector3d direction = camera.to_camera(object.pose * edge.p1) - start;
-        double t_in = 0, t_out = 1;
-        if (!clip(start, direction, volume, t_in, t_out)) continue;
-        // Occluders whose tiles the clipped segment's screen box touches.
-        const Eigen::Vector2d a = camera.project_camera(start + t_in * direction);
-        const Eigen::Vector2d b = camera.project_camera(start + t_out * direction);
-        const int c0 = std::clamp(static_cast<int>(std::floor(std::min(a.x(), b.x()) / kTile)), 0,
-                                  columns - 1);
-        const int c1 = std::clamp(static_cast<int>(std::floor(std::max(a.x(), b.x()) / kTile)), 0,
-                                  columns - 1);
-        const int r0 =
-            std::clamp(static_cast<int>(std::floor(std::min(a.y(), b.y()) / kTile)), 0, rows - 1);
-        const int r1 =
-            std::clamp(static_cast<int>(std::floor(std::max(a.y(), b.y()) / kTile)), 0, rows - 1);
-        ++stamp_value;
-        std::vector<std::pair<double, double>> hidden;
-        for (int r = r0; r <= r1; ++r)
-          for (int c = c0; c <= c1; ++c)
-            for (const int i : tiles[static_cast<std::size_t>(r * columns + c)]) {
-              if (stamp[static_cast<std::size_t>(i)] == stamp_value) continue;
-              stamp[static_cast<std::size_t>(i)] = stamp_value;
-              Occluder& occluder = occluders[static_cast<std::size_t>(i)];
-              if (!occluder.shadow_built) build_shadow(occluder, camera, tolerance);
-              double h0 = t_in, h1 = t_out;
-              if (clip(start, direction, occluder.shadow, h0, h1)) hidden.emplace_back(h0, h1);
-            }
-        std::sort(hidden.begin(), hidden.end());
-        // The complement of the hidden intervals inside [t_in, t_out].
-        const double length = direction.norm();
-        double cursor = t_in;
-        const auto emit = [&](double from, double to) {
-          if ((to - from) * length <= tolerance) return;
-          EdgeView view{.object = static_cast<int>(o), .edge = edge.id};
-          view.p0 = camera.pose() * (start + from * direction);
-          view.p1 = camera.pose() * (start + to * direction);
-          view.u0 = camera.project_camera(start + from * direction);
-          view.u1 = camera.project_camera(start + to * direction);
-          view.silhouette = front_a != front_b;
-          if (view.silhouette) {
-            view.contrast = 1.0;
-          } else {
-            const Eigen::Vector3d toward = camera.toward_viewer(0.5 * (view.p0 + view.p1));
-            view.contrast = std::abs(
-                object.face_normals[static_cast<std::size_t>(edge.face_a - 1)].dot(toward) -
-                object.face_normals[static_cast<std::size_t>(edge.face_b - 1)].dot(toward));
-          }
-          out.edges.push_back(view);
-        };
-        for (const auto& [h0, h1] : hidden) {
-          if (h0 > cursor) emit(cursor, h0);
-          cursor = std::max(cursor, h1);
-        }
-        if (cursor < t_out) emit(cursor, t_out);
-      }
+          tiles_[static_cast<std::size_t>(r * columns_ + c)].push_back(static_cast<int>(i));
     }
   }
+
+  // The parameter intervals of start + t direction, t in [t_in, t_out], that some occluder's
+  // shadow volume hides, sorted; a, b are the segment's end points in pixels.
+  std::vector<std::pair<double, double>> hidden(const Eigen::Vector3d& start,
+                                                const Eigen::Vector3d& direction, double t_in,
+                                                double t_out, const Eigen::Vector2d& a,
+                                                const Eigen::Vector2d& b, double tolerance) {
+    const auto column = [&](double x) {
+      return std::clamp(static_cast<int>(std::floor(x / kTile)), 0, columns_ - 1);
+    };
+    const auto row = [&](double y) {
+      return std::clamp(static_cast<int>(std::floor(y / kTile)), 0, rows_ - 1);
+    };
+    const int c0 = column(std::min(a.x(), b.x())), c1 = column(std::max(a.x(), b.x()));
+    const int r0 = row(std::min(a.y(), b.y())), r1 = row(std::max(a.y(), b.y()));
+    ++stamp_value_;
+    std::vector<std::pair<double, double>> out;
+    for (int r = r0; r <= r1; ++r)
+      for (int c = c0; c <= c1; ++c)
+        for (const int i : tiles_[static_cast<std::size_t>(r * columns_ + c)]) {
+          if (stamp_[static_cast<std::size_t>(i)] == stamp_value_) continue;
+          stamp_[static_cast<std::size_t>(i)] = stamp_value_;
+          Occluder& occluder = occluders_[static_cast<std::size_t>(i)];
+          if (!occluder.shadow_built) build_shadow(occluder, *camera_, tolerance);
+          double h0 = t_in, h1 = t_out;
+          if (clip(start, direction, occluder.shadow, h0, h1)) out.emplace_back(h0, h1);
+        }
+    std::sort(out.begin(), out.end());
+    return out;
+  }
+
+ private:
+  const Camera* camera_;
+  int columns_, rows_;
+  std::vector<std::vector<int>> tiles_;  // per tile, row-major: the occluders touching it
+  std::vector<Occluder> occluders_;
+  std::vector<int> stamp_;  // per occluder: the last edge query that tested it
+  int stamp_value_{0};
+};
+
+// The scene as the camera sees it: camera-frame vertices, which faces turn toward the camera,
+// and the front-facing triangles; the face pass (item buffer) and the edge pass (hidden-line
+// clipping) both start from it.
+class CameraView {
+ public:
+  CameraView(const Scene& scene, const Camera& camera)
+      : scene_(&scene),
+        camera_(&camera),
+        tolerance_(1e-9 * std::max(scene.scale(), 1e-12)),
+        pinhole_(camera.projection() == Projection::kPinhole) {
+    const Eigen::Matrix3d to_camera_rotation = camera.pose().linear().transpose();
+    prepared_.resize(scene.objects().size());
+    for (std::size_t o = 0; o < scene.objects().size(); ++o) {
+      const SceneObject& object = scene.objects()[o];
+      Prepared& p = prepared_[o];
+      for (const Eigen::Vector3d& v : object.vertices) p.vertices.push_back(camera.to_camera(v));
+      for (std::size_t f = 0; f < object.face_normals.size(); ++f) {
+        const Eigen::Vector3d& n = object.face_normals[f];
+        // Plane n · x = offset; the eye sees its front when it is on the positive side, by more
+        // than the tolerance (a face seen edge-on, to rounding, is turned away).
+        const double side = pinhole_ ? n.dot(camera.pose().translation()) - object.face_offsets[f]
+                                     : -n.dot(camera.pose().linear().col(2));
+        p.front.push_back(side > (pinhole_ ? tolerance_ : kEdgeOn));
+        p.normals.push_back(to_camera_rotation * n);
+      }
+      const auto& faces_of = object.features->triangle_face;
+      for (std::size_t t = 0; t < faces_of.size(); ++t)
+        if (p.front[static_cast<std::size_t>(faces_of[t] - 1)])
+          triangles_.push_back({static_cast<int>(o), static_cast<int>(t), faces_of[t]});
+    }
+  }
+
+  // The visible faces, by (object, face), from an item buffer with `supersampling` samples per
+  // pixel side.
+  [[nodiscard]] std::vector<FaceView> visible_faces(int supersampling) const {
+    const Camera fine = supersampled(*camera_, supersampling);
+    Eigen::AlignedBox2d covered;
+    const std::vector<Fan> drawn = fans(fine, covered);
+    std::vector<FaceView> out;
+    for (const auto& [key, sum] : face_sums(fine, drawn, covered)) {
+      const auto& [object_index, face_id] = key;
+      const SceneObject& object = scene_->objects()[static_cast<std::size_t>(object_index)];
+      const geometry::Face& face = object.model->face(face_id);
+      FaceView view{.object = object_index, .face = face_id, .samples = sum.samples};
+      view.visible_area = sum.area;
+      view.visible_fraction = sum.area / face.area;
+      view.centroid = camera_->pose() * (sum.weighted / sum.area);
+      const Eigen::Vector3d world_centroid = object.pose * face.centroid;
+      view.angle =
+          std::acos(std::clamp(object.face_normals[static_cast<std::size_t>(face_id - 1)].dot(
+                                   camera_->toward_viewer(world_centroid)),
+                               -1.0, 1.0));
+      out.push_back(view);
+    }
+    return out;
+  }
+
+  // The visible pieces of the model edges of faces turned toward the camera, by (object, edge,
+  // position along the edge).
+  [[nodiscard]] std::vector<EdgeView> visible_edges() const {
+    std::vector<Occluder> occluders(triangles_.size());
+    for (std::size_t i = 0; i < triangles_.size(); ++i) {
+      Occluder& occluder = occluders[i];
+      occluder.corners = corners_of(triangles_[i]);
+      occluder.normal = (occluder.corners[1] - occluder.corners[0])
+                            .cross(occluder.corners[2] - occluder.corners[0]);
+    }
+    OcclusionGrid grid(*camera_, std::move(occluders));
+    const std::array<HalfSpace, 5> volume = view_volume(*camera_);
+    std::vector<EdgeView> out;
+    for (std::size_t o = 0; o < scene_->objects().size(); ++o)
+      for (const ModelEdge& edge : scene_->objects()[o].features->edges)
+        add_visible_pieces(static_cast<int>(o), edge, volume, grid, out);
+    return out;
+  }
+
+ private:
+  struct Prepared {
+    std::vector<Eigen::Vector3d> vertices;
+    std::vector<char> front;               // [face id - 1]
+    std::vector<Eigen::Vector3d> normals;  // [face id - 1], camera frame
+  };
+  // One image piece of a triangle (a fan of its part in front of the near plane).
+  struct Fan {
+    std::array<Eigen::Vector2d, 3> corners;
+    std::array<double, 3> depth;
+    int item;  // the triangle's number
+  };
+
+  [[nodiscard]] std::array<Eigen::Vector3d, 3> corners_of(const TriangleRef& ref) const {
+    const auto& indices = scene_->objects()[ref.object].model->mesh().triangles[ref.triangle];
+    const auto& vertices = prepared_[ref.object].vertices;
+    return {vertices[indices[0]], vertices[indices[1]], vertices[indices[2]]};
+  }
+
+  // The triangles' image pieces on the `fine` camera, and the window they cover.
+  [[nodiscard]] std::vector<Fan> fans(const Camera& fine, Eigen::AlignedBox2d& covered) const {
+    std::vector<Fan> out;
+    for (std::size_t i = 0; i < triangles_.size(); ++i) {
+      const std::vector<Eigen::Vector3d> polygon =
+          clip_near(corners_of(triangles_[i]), fine.near_depth());
+      for (std::size_t j = 2; j < polygon.size(); ++j) {
+        const std::array<Eigen::Vector3d, 3> fan = {polygon[0], polygon[j - 1], polygon[j]};
+        const Fan drawn{
+            {fine.project_camera(fan[0]), fine.project_camera(fan[1]), fine.project_camera(fan[2])},
+            {depth_key(fine, fan[0]), depth_key(fine, fan[1]), depth_key(fine, fan[2])},
+            static_cast<int>(i)};
+        // A corner that does not project to a finite point draws nothing (ItemBuffer::draw).
+        if (!std::all_of(drawn.corners.begin(), drawn.corners.end(),
+                         [](const Eigen::Vector2d& c) { return c.allFinite(); }))
+          continue;
+        for (const Eigen::Vector2d& corner : drawn.corners) covered.extend(corner);
+        out.push_back(drawn);
+      }
+    }
+    return out;
+  }
+
+  // Per (object, face): the samples of an item buffer of the fans over the window they cover (no
+  // sample outside it is drawn, so the window gives what the whole image would:
+  // internal/item_buffer.hpp, for a fraction of the memory), with their footprints on the face's
+  // plane.
+  [[nodiscard]] std::map<std::pair<int, int>, FaceSums> face_sums(
+      const Camera& fine, const std::vector<Fan>& drawn, const Eigen::AlignedBox2d& covered) const {
+    const Intrinsics& k = fine.intrinsics();
+    internal::PixelWindow window{0, 0, 0, 0};
+    if (!covered.isEmpty()) {
+      const auto clamped = [](double value, int high) {
+        return static_cast<int>(std::clamp(value, 0.0, static_cast<double>(high)));
+      };
+      window.x0 = clamped(std::floor(covered.min().x()), k.width);
+      window.y0 = clamped(std::floor(covered.min().y()), k.height);
+      window.width = clamped(std::ceil(covered.max().x()), k.width) - window.x0;
+      window.height = clamped(std::ceil(covered.max().y()), k.height) - window.y0;
+    }
+    internal::ItemBuffer buffer(window);
+    if (window.width > 0 && window.height > 0)
+      for (const Fan& fan : drawn) buffer.draw(fan.corners, fan.depth, fan.item);
+    std::map<std::pair<int, int>, FaceSums> sums;
+    for (int y = window.y0; y < window.y0 + window.height; ++y)
+      for (int x = window.x0; x < window.x0 + window.width; ++x) {
+        const int item = buffer.item(x, y);
+        if (item < 0) continue;
+        const TriangleRef& ref = triangles_[static_cast<std::size_t>(item)];
+        const Eigen::Vector3d& normal =
+            prepared_[ref.object].normals[static_cast<std::size_t>(ref.face - 1)];
+        // The sample's ray (z component 1 for a pinhole) and surface point; its footprint on the
+        // face's plane: z^2 / (fx fy |n · r|) for a pinhole, 1 / (fx fy |n_z|) orthographic.
+        const double u = x + 0.5, v = y + 0.5;
+        Eigen::Vector3d point;
+        double footprint;
+        if (pinhole_) {
+          const double z = -1.0 / buffer.depth(x, y);
+          const Eigen::Vector3d ray((u - k.cx) / k.fx, (v - k.cy) / k.fy, 1.0);
+          point = ray * z;
+          footprint = z * z / (k.fx * k.fy * std::abs(normal.dot(ray)));
+        } else {
+          point = {(u - k.cx) / k.fx, (v - k.cy) / k.fy, buffer.depth(x, y)};
+          footprint = 1.0 / (k.fx * k.fy * std::abs(normal.z()));
+        }
+        FaceSums& sum = sums[{ref.object, ref.face}];
+        ++sum.samples;
+        sum.area += footprint;
+        sum.weighted += footprint * point;
+      }
+    return sums;
+  }
+
+  // Appends the pieces of `edge` of object `o` that lie in the view volume and outside every
+  // occluder's shadow (none when both its faces turn away).
+  void add_visible_pieces(int o, const ModelEdge& edge, std::span<const HalfSpace> volume,
+                          OcclusionGrid& grid, std::vector<EdgeView>& out) const {
+    const SceneObject& object = scene_->objects()[static_cast<std::size_t>(o)];
+    const Prepared& p = prepared_[static_cast<std::size_t>(o)];
+    const bool front_a = p.front[static_cast<std::size_t>(edge.face_a - 1)];
+    const bool front_b = p.front[static_cast<std::size_t>(edge.face_b - 1)];
+    if (!front_a && !front_b) return;
+    const Camera& camera = *camera_;
+    const Eigen::Vector3d start = camera.to_camera(object.pose * edge.p0);
+    const Eigen::Vector3d direction = camera.to_camera(object.pose * edge.p1) - start;
+    double t_in = 0, t_out = 1;
+    if (!clip(start, direction, volume, t_in, t_out)) return;
+    const std::vector<std::pair<double, double>> hidden =
+        grid.hidden(start, direction, t_in, t_out, camera.project_camera(start + t_in * direction),
+                    camera.project_camera(start + t_out * direction), tolerance_);
+    // The complement of the hidden intervals inside [t_in, t_out].
+    const double length = direction.norm();
+    const auto emit = [&](double from, double to) {
+      if ((to - from) * length <= tolerance_) return;
+      EdgeView view{.object = o, .edge = edge.id};
+      view.p0 = camera.pose() * (start + from * direction);
+      view.p1 = camera.pose() * (start + to * direction);
+      view.u0 = camera.project_camera(start + from * direction);
+      view.u1 = camera.project_camera(start + to * direction);
+      view.silhouette = front_a != front_b;
+      if (view.silhouette) {
+        view.contrast = 1.0;
+      } else {
+        const Eigen::Vector3d toward = camera.toward_viewer(0.5 * (view.p0 + view.p1));
+        view.contrast =
+            std::abs(object.face_normals[static_cast<std::size_t>(edge.face_a - 1)].dot(toward) -
+                     object.face_normals[static_cast<std::size_t>(edge.face_b - 1)].dot(toward));
+      }
+      out.push_back(view);
+    };
+    double cursor = t_in;
+    for (const auto& [h0, h1] : hidden) {
+      if (h0 > cursor) emit(cursor, h0);
+      cursor = std::max(cursor, h1);
+    }
+    if (cursor < t_out) emit(cursor, t_out);
+  }
+
+  const Scene* scene_;
+  const Camera* camera_;
+  double tolerance_;  // lengths below it are rounding: 1e-9 of the scene's size
+  bool pinhole_;
+  std::vector<Prepared> prepared_;      // per object
+  std::vector<TriangleRef> triangles_;  // the front-facing ones, by object then triangle
+};
+
+}  // namespace
+
+Rendering render(const Scene& scene, const Camera& camera, const RenderOptions& options) {
+  if (options.supersampling < 1 || options.supersampling > 8)
+    throw SensingError("render: supersampling must be 1 to 8, got " +
+                       std::to_string(options.supersampling));
+  const CameraView view(scene, camera);
+  Rendering out;
+  if (options.faces) out.faces = view.visible_faces(options.supersampling);
+  if (options.edges) out.edges = view.visible_edges();
   return out;
 }
 
