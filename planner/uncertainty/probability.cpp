@@ -544,16 +544,23 @@ ProbabilityAnalysis analyse_probability(const InstanceAnalysis& analysis,
   return out;
 }
 
-std::vector<FusedPose> fuse_readings(std::span<const PoseReading> readings, LinearAlgebra algebra) {
-  std::map<int, std::size_t> block;  // object -> block index (ascending objects)
-  for (const PoseReading& r : readings) block.emplace(r.object, 0);
-  std::vector<FusedPose> out;
-  for (auto& [object, index] : block) {
-    index = out.size();
-    out.push_back({.object = object});
-  }
+namespace {
+
+// The information form of pose readings: Λ (upper triangle stored, one 4x4 block per object) and
+// η, over the objects' blocks in ascending object order.
+struct InformationForm {
+  Csc lambda;
+  Eigen::VectorXd eta;
+};
+
+// Λ and η of `readings`, whose objects' blocks are `out`'s (block_of: object -> index), each
+// object's box in `out` the intersection of its readings' boxes. Throws PlanError for a
+// covariance that is not symmetric positive definite or a negative half-width.
+InformationForm information_form(std::span<const PoseReading> readings,
+                                 const std::map<int, std::size_t>& block_of,
+                                 std::vector<FusedPose>& out) {
   const std::size_t n = 4 * out.size();
-  std::vector<Triplet> information;  // upper triangle of Λ (symmetric, stype 1)
+  std::vector<Triplet> information;
   Eigen::VectorXd eta = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(n));
   for (const PoseReading& r : readings) {
     if (!((r.covariance - r.covariance.transpose()).cwiseAbs().maxCoeff() <=
@@ -568,8 +575,8 @@ std::vector<FusedPose> fuse_readings(std::span<const PoseReading> readings, Line
       throw PlanError("fuse_readings: a negative half-width for object " +
                       std::to_string(r.object));
     const Eigen::Matrix4d inverse = llt.solve(Eigen::Matrix4d::Identity());
-    FusedPose& fused = out[block.at(r.object)];
-    const std::size_t base = 4 * block.at(r.object);
+    FusedPose& fused = out[block_of.at(r.object)];
+    const std::size_t base = 4 * block_of.at(r.object);
     for (int i = 0; i < 4; ++i)
       for (int j = i; j < 4; ++j) information.push_back({base + i, base + j, inverse(i, j)});
     eta.segment<4>(static_cast<Eigen::Index>(base)) += inverse * r.estimate;
@@ -578,25 +585,33 @@ std::vector<FusedPose> fuse_readings(std::span<const PoseReading> readings, Line
     fused.upper = fused.readings == 0 ? upper : Eigen::Vector4d(fused.upper.cwiseMin(upper));
     ++fused.readings;
   }
-  Csc lambda = to_csc(n, n, std::move(information));
+  return {to_csc(n, n, std::move(information)), std::move(eta)};
+}
+
+// Λ^-1 η and the diagonal 4x4 blocks of Λ^-1 (Λ^-1 is block diagonal like Λ).
+struct BlockSolution {
   Eigen::VectorXd mean;
-  const auto set_block = [&](std::size_t b, const Eigen::Matrix4d& covariance) {
-    out[b].covariance = covariance;
-    out[b].mean = mean.segment<4>(static_cast<Eigen::Index>(4 * b));
-    out[b].consistent = (out[b].lower.array() <= out[b].upper.array()).all();
-  };
-  if (algebra == LinearAlgebra::kDense) {
-    const Eigen::MatrixXd dense = to_dense(lambda).selfadjointView<Eigen::Upper>();
-    const Eigen::LLT<Eigen::MatrixXd> llt(dense);
-    mean = llt.solve(eta);
-    const Eigen::MatrixXd inverse = llt.solve(Eigen::MatrixXd::Identity(n, n));
-    for (std::size_t b = 0; b < out.size(); ++b) set_block(b, inverse.block<4, 4>(4 * b, 4 * b));
-    return out;
-  }
-  if (n == 0) return out;
+  std::vector<Eigen::Matrix4d> covariances;  // per block
+};
+
+BlockSolution solve_dense(const InformationForm& form) {
+  const auto n = static_cast<std::size_t>(form.eta.size());
+  const Eigen::MatrixXd dense = to_dense(form.lambda).selfadjointView<Eigen::Upper>();
+  const Eigen::LLT<Eigen::MatrixXd> llt(dense);
+  const Eigen::MatrixXd inverse = llt.solve(Eigen::MatrixXd::Identity(n, n));
+  BlockSolution out{llt.solve(form.eta), {}};
+  for (std::size_t b = 0; 4 * b < n; ++b)
+    out.covariances.push_back(inverse.block<4, 4>(4 * b, 4 * b));
+  return out;
+}
+
+// With CHOLMOD: one factorisation; Λ^-1's blocks from a solve against the sparse identity.
+// (Non-const: CHOLMOD's view of a matrix is not.)
+BlockSolution solve_sparse(InformationForm& form) {
+  const auto n = static_cast<std::size_t>(form.eta.size());
   Cholmod cholmod;
   cholmod_common* common = cholmod.get();
-  cholmod_sparse a = lambda.view();
+  cholmod_sparse a = form.lambda.view();
   a.stype = 1;  // symmetric, upper triangle stored
   const std::unique_ptr<cholmod_factor, FactorDeleter> factor(cholmod_l_analyze(&a, common),
                                                               FactorDeleter{common});
@@ -604,25 +619,47 @@ std::vector<FusedPose> fuse_readings(std::span<const PoseReading> readings, Line
     throw PlanError("internal: CHOLMOD could not factor the information matrix (status " +
                     std::to_string(common->status) + ")");
   DensePtr rhs(cholmod_l_allocate_dense(n, 1, n, CHOLMOD_REAL, common), DenseDeleter{common});
-  std::copy(eta.data(), eta.data() + n, static_cast<double*>(rhs->x));
+  std::copy(form.eta.data(), form.eta.data() + n, static_cast<double*>(rhs->x));
   const DensePtr solution(cholmod_l_solve(CHOLMOD_A, factor.get(), rhs.get(), common),
                           DenseDeleter{common});
-  mean = Eigen::Map<const Eigen::VectorXd>(static_cast<const double*>(solution->x),
-                                           static_cast<Eigen::Index>(n));
-  // Λ^-1 is block diagonal like Λ: solve against the sparse identity, read the blocks.
+  BlockSolution out{Eigen::Map<const Eigen::VectorXd>(static_cast<const double*>(solution->x),
+                                                      static_cast<Eigen::Index>(n)),
+                    {}};
   const SparsePtr identity(cholmod_l_speye(n, n, CHOLMOD_REAL, common), SparseDeleter{common});
   const SparsePtr inverse(cholmod_l_spsolve(CHOLMOD_A, factor.get(), identity.get(), common),
                           SparseDeleter{common});
   const auto* start = static_cast<const SuiteSparse_long*>(inverse->p);
   const auto* index = static_cast<const SuiteSparse_long*>(inverse->i);
   const auto* value = static_cast<const double*>(inverse->x);
-  for (std::size_t b = 0; b < out.size(); ++b) {
+  for (std::size_t b = 0; 4 * b < n; ++b) {
     Eigen::Matrix4d covariance = Eigen::Matrix4d::Zero();
     for (std::size_t j = 4 * b; j < 4 * b + 4; ++j)
       for (SuiteSparse_long i = start[j]; i < start[j + 1]; ++i)
         if (static_cast<std::size_t>(index[i]) / 4 == b)
           covariance(index[i] - 4 * b, j - 4 * b) = value[i];
-    set_block(b, covariance);
+    out.covariances.push_back(covariance);
+  }
+  return out;
+}
+
+}  // namespace
+
+std::vector<FusedPose> fuse_readings(std::span<const PoseReading> readings, LinearAlgebra algebra) {
+  std::map<int, std::size_t> block_of;  // object -> block index (ascending objects)
+  for (const PoseReading& r : readings) block_of.emplace(r.object, 0);
+  std::vector<FusedPose> out;
+  for (auto& [object, index] : block_of) {
+    index = out.size();
+    out.push_back({.object = object});
+  }
+  InformationForm form = information_form(readings, block_of, out);
+  if (out.empty()) return out;
+  const BlockSolution solved =
+      algebra == LinearAlgebra::kDense ? solve_dense(form) : solve_sparse(form);
+  for (std::size_t b = 0; b < out.size(); ++b) {
+    out[b].covariance = solved.covariances[b];
+    out[b].mean = solved.mean.segment<4>(static_cast<Eigen::Index>(4 * b));
+    out[b].consistent = (out[b].lower.array() <= out[b].upper.array()).all();
   }
   return out;
 }
