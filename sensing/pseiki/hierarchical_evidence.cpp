@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <string>
+#include <vector>
 
 #include "spar/common/number.hpp"
 #include "spar/sensing/error.hpp"
@@ -63,6 +65,81 @@ struct Partial {
   }
 };
 
+// A node's pieces of evidence as one draw (header): A if some piece drew A and none "not A", ...
+// (`Pieces`: HypothesisTree's, each with support_for and support_against.)
+template <class Pieces>
+OwnDraw own_draw(const Pieces& pieces) {
+  double none_against = 1, none_for = 1, neither = 1;
+  for (const auto& piece : pieces) {
+    none_against *= 1 - piece.support_against;
+    none_for *= 1 - piece.support_for;
+    neither *= 1 - piece.support_for - piece.support_against;
+  }
+  return {.for_set = none_against - neither,
+          .against = none_for - neither,
+          .neither = neither,
+          .empty = 1 - none_against - none_for + neither};
+}
+
+// The upward sweep: per node, the types of what its strict subtree draws and the types it shows
+// its parent. Nodes are added below existing ones, so every child has a larger index than its
+// parent and a reverse sweep visits children first.
+struct Upward {
+  std::vector<Types> below, shown;
+};
+Upward upward(const std::vector<std::vector<int>>& children, const std::vector<OwnDraw>& own) {
+  const Types leaf_below = {1, 0, 0, 0};  // a leaf's strict subtree draws nothing: I = {leaf}
+  Upward out{std::vector<Types>(own.size()), std::vector<Types>(own.size())};
+  for (std::size_t node = own.size(); node-- > 0;) {
+    if (children[node].empty()) {
+      out.below[node] = leaf_below;
+    } else {
+      Partial all;
+      for (const int child : children[node])
+        all = all.with(out.shown[static_cast<std::size_t>(child)]);
+      out.below[node] = all.below();
+    }
+    out.shown[node] = shown(out.below[node], own[node]);
+  }
+  return out;
+}
+
+// The downward sweep: d Z / d shown[node] for every node but the root (Z = the root's below
+// "kept some" + "lost some"), each child's through the products of its siblings (prefix and
+// suffix products, no division).
+std::vector<Types> downward(const std::vector<std::vector<int>>& children,
+                            const std::vector<OwnDraw>& own, const Upward& up) {
+  std::vector<Types> d_below(own.size()), d_shown(own.size());
+  d_below[0] = {1, 0, 1, 0};
+  for (std::size_t node = 0; node < own.size(); ++node) {
+    const std::vector<int>& kids = children[node];
+    if (kids.empty()) continue;
+    std::vector<Partial> prefix(kids.size() + 1), suffix(kids.size() + 1);
+    for (std::size_t i = 0; i < kids.size(); ++i)
+      prefix[i + 1] = prefix[i].with(up.shown[static_cast<std::size_t>(kids[i])]);
+    for (std::size_t i = kids.size(); i-- > 0;)
+      suffix[i] = suffix[i + 1].with(up.shown[static_cast<std::size_t>(kids[i])]);
+    const Types& outer = d_below[node];
+    for (std::size_t i = 0; i < kids.size(); ++i) {
+      const Partial others = prefix[i].with(suffix[i + 1]);
+      // d(kept some, kept none, lost some) / d(child's four types); lost none = 1 - the others.
+      const std::array<Types, 3> rows = {Types{others.kept, others.kept - others.kept_none, 0, 0},
+                                         Types{0, others.kept_none, 0, 0},
+                                         Types{others.one_lost, others.one_lost, others.kept, 0}};
+      Types d{};
+      for (int t = 0; t < 4; ++t) {
+        const double lost_none = 1 - rows[0][t] - rows[1][t] - rows[2][t];
+        d[t] = outer[kKeptSome] * rows[0][t] + outer[kKeptNone] * rows[1][t] +
+               outer[kLostSome] * rows[2][t] + outer[kLostNone] * lost_none;
+      }
+      const auto child = static_cast<std::size_t>(kids[i]);
+      d_shown[child] = d;
+      d_below[child] = pull_back(d, own[child]);
+    }
+  }
+  return d_shown;
+}
+
 void check_strength(double value, const char* what, int node, const std::string& name) {
   if (!(value >= 0 && value <= 1))
     throw SensingError(std::string("hypothesis tree: the support ") + what + " node " +
@@ -116,80 +193,24 @@ std::vector<int> HypothesisTree::leaves() const {
 
 TreeBeliefs HypothesisTree::combine() const {
   const auto count = static_cast<std::size_t>(size());
-  // Each node's pieces as one draw (header): A if some piece drew A and none "not A", ...
-  std::vector<OwnDraw> own(count);
-  for (std::size_t node = 0; node < count; ++node) {
-    double none_against = 1, none_for = 1, neither = 1;
-    for (const Piece& piece : evidence_[node]) {
-      none_against *= 1 - piece.support_against;
-      none_for *= 1 - piece.support_for;
-      neither *= 1 - piece.support_for - piece.support_against;
-    }
-    own[node] = {.for_set = none_against - neither,
-                 .against = none_for - neither,
-                 .neither = neither,
-                 .empty = 1 - none_against - none_for + neither};
-  }
-
-  // Upward: nodes are added below existing ones, so every child has a larger index than its
-  // parent and a reverse sweep visits children first.
-  const Types leaf_below = {1, 0, 0, 0};  // a leaf's strict subtree draws nothing: I = {leaf}
-  std::vector<Types> below(count), shown_types(count);
-  for (std::size_t node = count; node-- > 0;) {
-    if (children_[node].empty()) {
-      below[node] = leaf_below;
-    } else {
-      Partial all;
-      for (const int child : children_[node])
-        all = all.with(shown_types[static_cast<std::size_t>(child)]);
-      below[node] = all.below();
-    }
-    shown_types[node] = shown(below[node], own[node]);
-  }
+  std::vector<OwnDraw> own;
+  for (const std::vector<Piece>& pieces : evidence_) own.push_back(own_draw(pieces));
+  const Upward up = upward(children_, own);
   // The root draws nothing of its own: R is not empty when its "below" I is not.
-  const double z = below[0][kKeptSome] + below[0][kLostSome];
+  const double z = up.below[0][kKeptSome] + up.below[0][kLostSome];
   if (!(z > 0))
     throw SensingError(
         "Dempster's rule: total conflict (K = 1): the evidence for and against the hypotheses "
         "contradicts itself outright");
-
-  // Downward: d Z / d below[node], then each child's d Z / d shown[child] through the products
-  // of its siblings (prefix and suffix products, no division).
-  std::vector<Types> d_below(count), d_shown(count);
-  d_below[0] = {1, 0, 1, 0};
-  for (std::size_t node = 0; node < count; ++node) {
-    const std::vector<int>& kids = children_[node];
-    if (kids.empty()) continue;
-    std::vector<Partial> prefix(kids.size() + 1), suffix(kids.size() + 1);
-    for (std::size_t i = 0; i < kids.size(); ++i)
-      prefix[i + 1] = prefix[i].with(shown_types[static_cast<std::size_t>(kids[i])]);
-    for (std::size_t i = kids.size(); i-- > 0;)
-      suffix[i] = suffix[i + 1].with(shown_types[static_cast<std::size_t>(kids[i])]);
-    const Types& outer = d_below[node];
-    for (std::size_t i = 0; i < kids.size(); ++i) {
-      const Partial others = prefix[i].with(suffix[i + 1]);
-      // d(kept some, kept none, lost some) / d(child's four types); lost none = 1 - the others.
-      const std::array<Types, 3> rows = {Types{others.kept, others.kept - others.kept_none, 0, 0},
-                                         Types{0, others.kept_none, 0, 0},
-                                         Types{others.one_lost, others.one_lost, others.kept, 0}};
-      Types d{};
-      for (int t = 0; t < 4; ++t) {
-        const double lost_none = 1 - rows[0][t] - rows[1][t] - rows[2][t];
-        d[t] = outer[kKeptSome] * rows[0][t] + outer[kKeptNone] * rows[1][t] +
-               outer[kLostSome] * rows[2][t] + outer[kLostNone] * lost_none;
-      }
-      const auto child = static_cast<std::size_t>(kids[i]);
-      d_shown[child] = d;
-      d_below[child] = pull_back(d, own[child]);
-    }
-  }
+  const std::vector<Types> d_shown = downward(children_, own, up);
 
   TreeBeliefs out;
   out.conflict = 1 - z;
   out.belief.assign(count, 1.0);
   out.plausibility.assign(count, 1.0);
+  // Z with the node's own draw replaced (Z is linear in the types the node shows).
   const auto z_with = [&](std::size_t node, const OwnDraw& draw) {
-    const Types types = shown(below[node], draw);
+    const Types types = shown(up.below[node], draw);
     double sum = 0;
     for (int t = 0; t < 4; ++t) sum += d_shown[node][t] * types[t];
     return sum;
