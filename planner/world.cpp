@@ -420,6 +420,17 @@ void WorldState::move(int object, const kinematics::Transform& pose) {
   for (const int o : moving_with(object)) poses[o] = change * poses[o];
 }
 
+// What the construction steps share: the objects that are not fixed, the initial state's fixed
+// objects, the open gripper shrunk by a micrometre for the approach to its own object (its pads
+// may rest on the contact faces), and the closed gripper at each grasp width, built once (grasps
+// share widths; a body builds three box hierarchies; copies share them).
+struct WorldModel::Setting {
+  std::vector<int> movable;
+  WorldState fixed_only;
+  geometry::Body open_shrunk;
+  std::map<double, geometry::Body> closed_at_width;
+};
+
 WorldModel::WorldModel(Scenario scenario, unsigned threads) : scenario_(std::move(scenario)) {
   gripper_ = scenario_.robot.gripper;
   gripper_.max_approach_tilt = scenario_.robot.max_tool_tilt;
@@ -430,15 +441,12 @@ WorldModel::WorldModel(Scenario scenario, unsigned threads) : scenario_(std::mov
     bodies_.emplace_back(spec.name, geometry::CollisionShape(spec.model.mesh()));
   open_gripper_ = geometry::gripper_body(gripper_, gripper_.max_opening);
   check_initial_world();
-  // What never moves: the fixed objects where they are.
-  WorldState fixed_only = initial_state();
-  std::vector<int> movable;
+  Setting setting{.movable = {},
+                  .fixed_only = initial_state(),
+                  .open_shrunk = geometry::gripper_body(gripper_, gripper_.max_opening, 1e-6),
+                  .closed_at_width = {}};
   for (std::size_t o = 0; o < scenario_.objects.size(); ++o)
-    if (!scenario_.objects[o].fixed) movable.push_back(static_cast<int>(o));
-  // The gripper's approach to its own object, a translation in the object's frame: the open
-  // gripper, its pads allowed to rest on the contact faces (shrunk by a micrometre), must keep
-  // clear of the object along the whole approach.
-  const geometry::Body open_shrunk = geometry::gripper_body(gripper_, gripper_.max_opening, 1e-6);
+    if (!scenario_.objects[o].fixed) setting.movable.push_back(static_cast<int>(o));
   // The grasp searches, one per movable object and independent of each other (parts of one
   // shape, a table of cubes, and the same parts planned again share one: remembered_grasps,
   // which any thread may ask).
@@ -449,146 +457,155 @@ WorldModel::WorldModel(Scenario scenario, unsigned threads) : scenario_(std::mov
     if (!spec.fixed)
       grasp_lists[o] = geometry::remembered_grasps(spec.model, gripper_, scenario_.grasping);
   });
-  // The closed gripper at each grasp width, built once (grasps share widths; a body builds three
-  // box hierarchies); copies share them.
-  std::map<double, geometry::Body> closed_at_width;
-  for (const ObjectSpec& spec : scenario_.objects) {
-    ObjectWorld object;
-    if (!spec.fixed) {
-      object.grasps = *grasp_lists[objects_.size()];
-      if (object.grasps.empty())
-        throw PlanError(spec.location.str() + ": object '" + spec.name +
-                        "' has no grasp the gripper can make (opening " +
-                        std::to_string(gripper_.max_opening) +
-                        " m); if it never moves, say `fixed: true`");
-    }
-    object.positions = position_labels(scenario_, spec);
-    const int index = static_cast<int>(objects_.size());
-    const geometry::Body& own = bodies_[index];
-    std::vector<int> except = movable;
-    except.push_back(index);
-    const std::vector<Obstacle> fixed_objects = obstacles(fixed_only, except);
-    // A place where the object would meet a fixed object is no destination.
-    std::vector<char> position_free(object.positions.size(), 1);
-    for (std::size_t p = 1; p < object.positions.size(); ++p)
-      for (const Obstacle& other : fixed_objects)
-        if (geometry::collide({&own, object.positions[p].pose}, other.placed, margin()))
-          position_free[p] = 0;
-    held_.emplace_back();
-    closed_.emplace_back();
-    object.reachable.assign(object.grasps.size(), std::vector<char>(object.positions.size(), 0));
-    objects_.push_back(std::move(object));  // grasp_check reads it
-    ObjectWorld& added = objects_.back();
-    for (std::size_t g = 0; g < added.grasps.size(); ++g) {
-      const geometry::Grasp& grasp = added.grasps[g];
-      auto closed = closed_at_width.find(grasp.width);
-      if (closed == closed_at_width.end())
-        closed = closed_at_width.emplace(grasp.width, geometry::gripper_body(gripper_, grasp.width))
-                     .first;
-      closed_.back().push_back(closed->second);
-      held_.back().push_back(closed_.back().back().joined(
-          own, grasp.gripper_in_object.inverse(Eigen::Isometry), spec.name + " in the gripper"));
-      const Eigen::Vector3d approach =
-          scenario_.robot.approach_distance * grasp.gripper_in_object.linear().col(2);
-      const geometry::PlacedBody start{&open_shrunk,
-                                       Eigen::Translation3d(-approach) * grasp.gripper_in_object};
-      const geometry::PlacedBody object_at_origin{&own, kinematics::Transform::Identity()};
-      const bool approach_clear =
-          geometry::sweep(start, approach, std::span(&object_at_origin, 1), margin()).clear;
-      for (std::size_t p = 0; p < added.positions.size(); ++p)
-        added.reachable[g][p] =
-            approach_clear && position_free[p] &&
-            grasp_usable_at(grasp, spec, added.positions[p]) &&
-            reach(added.positions[p].pose * grasp.gripper_in_object).reachable &&
-            grasp_check(index, static_cast<int>(g), added.positions[p].pose, fixed_objects, {})
-                .clear;
-    }
-  }
+  for (std::size_t o = 0; o < scenario_.objects.size(); ++o)
+    add_object(scenario_.objects[o],
+               grasp_lists[o] ? *grasp_lists[o] : std::vector<geometry::Grasp>{}, setting);
   for (const Goal& goal : scenario_.goals) {
-    GoalWorld tables;
-    if (const auto* at = std::get_if<AtGoal>(&goal)) {
-      tables.kind = GoalWorld::Kind::kAt;
-      tables.held = object_index(at->object);
-      tables.place = scenario_.place_index(at->place);
-      const std::vector<PositionLabel>& positions = objects_[tables.held].positions;
-      for (std::size_t p = 0; p < positions.size(); ++p)
-        if (positions[p].place == tables.place) tables.at_place.push_back(static_cast<int>(p));
-      tables.initially_true = positions[0].place == tables.place;
-      goals_.push_back(std::move(tables));
-      held_rest_.emplace_back();
-      fixed_rest_.emplace_back();
-      pair_conflict_.emplace_back();
-      continue;
-    }
-    const AssembledGoal& assembled = std::get<AssembledGoal>(goal);
-    tables.held = object_index(assembled.held);
-    tables.fixed = object_index(assembled.fixed);
-    held_rest_.push_back(other_faces(scenario_.objects[tables.held], assembled.held_faces));
-    fixed_rest_.push_back(other_faces(scenario_.objects[tables.fixed], assembled.fixed_faces));
-    const ObjectWorld& held = objects_[tables.held];
-    const ObjectWorld& fixed = objects_[tables.fixed];
-    const ObjectSpec& fixed_spec = scenario_.objects[tables.fixed];
-    tables.initially_true = (fixed_spec.initial_pose * assembled.relative)
-                                .isApprox(scenario_.objects[tables.held].initial_pose, 1e-7);
-    for (const geometry::Grasp& grasp : held.grasps)
-      tables.grasp_leaves_mating_free.push_back(
-          geometry::grasp_leaves_free(grasp, assembled.held_faces));
-    const ObjectSpec& held_spec = scenario_.objects[tables.held];
-    for (const PositionLabel& position : fixed.positions) {
-      // An initial pose that is no stable pose: the sensing system tells how it is supported.
-      const bool sensed = position.stable_pose < 0 && position.joined_goal < 0;
-      const bool faces_free =
-          sensed || (position.stable_pose >= 0 &&
-                     geometry::pose_leaves_free(fixed_spec.stable_poses[position.stable_pose],
-                                                assembled.fixed_faces));
-      const Eigen::Vector3d mating = position.pose.linear() * assembled.mating_vector;
-      const geometry::PosedPart pair[] = {{&fixed_spec.model, position.pose},
-                                          {&held_spec.model, position.pose * assembled.relative}};
-      const std::optional<double> margin =
-          fixed_spec.fixed || sensed
-              ? std::optional<double>(std::numeric_limits<double>::infinity())
-              : geometry::resting_margin(pair, geometry::kTableTolerance);
-      tables.rests_assembled.push_back(margin && *margin > geometry::kTableTolerance);
-      // A position where only a pair rests is none for an insertion: the object stands alone
-      // until the held one is in (faces_free is false there).
-      tables.mating_pose.push_back(faces_free && -mating.z() >= std::cos(kFrictionCone) &&
-                                   tables.rests_assembled.back());
-    }
-    std::vector<int> except = movable;
-    except.push_back(tables.fixed);
-    const std::vector<Obstacle> fixed_objects = obstacles(fixed_only, except);
-    // The gripper taking f with h in it: the same relative geometry wherever f is.
-    for (std::size_t g = 0; g < fixed.grasps.size(); ++g) {
-      const kinematics::Transform gripper = fixed.grasps[g].gripper_in_object;
-      const Eigen::Vector3d approach = scenario_.robot.approach_distance * gripper.linear().col(2);
-      const geometry::PlacedBody part{&bodies_[tables.held], assembled.relative};
-      tables.grasp_clears_assembled.push_back(
-          geometry::sweep({&*open_gripper_, Eigen::Translation3d(-approach) * gripper}, approach,
-                          std::span(&part, 1), margin())
-              .clear &&
-          !geometry::collide({&closed_[tables.fixed][g], gripper}, part, margin()));
-    }
-    const int goal_index = static_cast<int>(goals_.size());
-    goals_.push_back(tables);  // insertion_check reads the goal's objects
-    // The insertion's motions relative to f, per grasp of h (f's pose does not change them).
-    pair_conflict_.emplace_back();
-    for (std::size_t g = 0; g < held.grasps.size(); ++g)
-      pair_conflict_.back().push_back(
-          tables.grasp_leaves_mating_free[g]
-              ? insertion_pair_conflict(goal_index, static_cast<int>(g),
-                                        kinematics::Transform::Identity(), {})
-              : std::optional<std::string>("the grasp obscures a mating face"));
-    tables.mate_reachable.assign(held.grasps.size(), std::vector<char>(fixed.positions.size(), 0));
-    for (std::size_t g = 0; g < held.grasps.size(); ++g)
-      for (std::size_t p = 0; p < fixed.positions.size(); ++p)
-        tables.mate_reachable[g][p] =
-            reach(fixed.positions[p].pose * assembled.relative * held.grasps[g].gripper_in_object)
-                .reachable &&
-            insertion_check(goal_index, static_cast<int>(g), fixed.positions[p].pose, fixed_objects,
-                            {})
-                .clear;
-    goals_.back() = std::move(tables);
+    if (const auto* at = std::get_if<AtGoal>(&goal))
+      add_at_goal(*at);
+    else
+      add_assembled_goal(std::get<AssembledGoal>(goal), setting);
   }
+}
+
+void WorldModel::add_object(const ObjectSpec& spec, std::vector<geometry::Grasp> grasps,
+                            Setting& setting) {
+  ObjectWorld object;
+  if (!spec.fixed) {
+    object.grasps = std::move(grasps);
+    if (object.grasps.empty())
+      throw PlanError(spec.location.str() + ": object '" + spec.name +
+                      "' has no grasp the gripper can make (opening " +
+                      std::to_string(gripper_.max_opening) +
+                      " m); if it never moves, say `fixed: true`");
+  }
+  object.positions = position_labels(scenario_, spec);
+  const int index = static_cast<int>(objects_.size());
+  const geometry::Body& own = bodies_[index];
+  std::vector<int> except = setting.movable;
+  except.push_back(index);
+  const std::vector<Obstacle> fixed_objects = obstacles(setting.fixed_only, except);
+  // A place where the object would meet a fixed object is no destination.
+  std::vector<char> position_free(object.positions.size(), 1);
+  for (std::size_t p = 1; p < object.positions.size(); ++p)
+    for (const Obstacle& other : fixed_objects)
+      if (geometry::collide({&own, object.positions[p].pose}, other.placed, margin()))
+        position_free[p] = 0;
+  held_.emplace_back();
+  closed_.emplace_back();
+  object.reachable.assign(object.grasps.size(), std::vector<char>(object.positions.size(), 0));
+  objects_.push_back(std::move(object));  // grasp_check reads it
+  ObjectWorld& added = objects_.back();
+  for (std::size_t g = 0; g < added.grasps.size(); ++g) {
+    const geometry::Grasp& grasp = added.grasps[g];
+    auto closed = setting.closed_at_width.find(grasp.width);
+    if (closed == setting.closed_at_width.end())
+      closed = setting.closed_at_width
+                   .emplace(grasp.width, geometry::gripper_body(gripper_, grasp.width))
+                   .first;
+    closed_.back().push_back(closed->second);
+    held_.back().push_back(closed_.back().back().joined(
+        own, grasp.gripper_in_object.inverse(Eigen::Isometry), spec.name + " in the gripper"));
+    // The gripper's approach to its own object, a translation in the object's frame: the open
+    // gripper must keep clear of the object along the whole approach.
+    const Eigen::Vector3d approach =
+        scenario_.robot.approach_distance * grasp.gripper_in_object.linear().col(2);
+    const geometry::PlacedBody start{&setting.open_shrunk,
+                                     Eigen::Translation3d(-approach) * grasp.gripper_in_object};
+    const geometry::PlacedBody object_at_origin{&own, kinematics::Transform::Identity()};
+    const bool approach_clear =
+        geometry::sweep(start, approach, std::span(&object_at_origin, 1), margin()).clear;
+    for (std::size_t p = 0; p < added.positions.size(); ++p)
+      added.reachable[g][p] =
+          approach_clear && position_free[p] && grasp_usable_at(grasp, spec, added.positions[p]) &&
+          reach(added.positions[p].pose * grasp.gripper_in_object).reachable &&
+          grasp_check(index, static_cast<int>(g), added.positions[p].pose, fixed_objects, {}).clear;
+  }
+}
+
+void WorldModel::add_at_goal(const AtGoal& at) {
+  GoalWorld tables;
+  tables.kind = GoalWorld::Kind::kAt;
+  tables.held = object_index(at.object);
+  tables.place = scenario_.place_index(at.place);
+  const std::vector<PositionLabel>& positions = objects_[tables.held].positions;
+  for (std::size_t p = 0; p < positions.size(); ++p)
+    if (positions[p].place == tables.place) tables.at_place.push_back(static_cast<int>(p));
+  tables.initially_true = positions[0].place == tables.place;
+  goals_.push_back(std::move(tables));
+  held_rest_.emplace_back();
+  fixed_rest_.emplace_back();
+  pair_conflict_.emplace_back();
+}
+
+void WorldModel::add_assembled_goal(const AssembledGoal& assembled, const Setting& setting) {
+  GoalWorld tables;
+  tables.held = object_index(assembled.held);
+  tables.fixed = object_index(assembled.fixed);
+  held_rest_.push_back(other_faces(scenario_.objects[tables.held], assembled.held_faces));
+  fixed_rest_.push_back(other_faces(scenario_.objects[tables.fixed], assembled.fixed_faces));
+  const ObjectWorld& held = objects_[tables.held];
+  const ObjectWorld& fixed = objects_[tables.fixed];
+  const ObjectSpec& fixed_spec = scenario_.objects[tables.fixed];
+  tables.initially_true = (fixed_spec.initial_pose * assembled.relative)
+                              .isApprox(scenario_.objects[tables.held].initial_pose, 1e-7);
+  for (const geometry::Grasp& grasp : held.grasps)
+    tables.grasp_leaves_mating_free.push_back(
+        geometry::grasp_leaves_free(grasp, assembled.held_faces));
+  const ObjectSpec& held_spec = scenario_.objects[tables.held];
+  for (const PositionLabel& position : fixed.positions) {
+    // An initial pose that is no stable pose: the sensing system tells how it is supported.
+    const bool sensed = position.stable_pose < 0 && position.joined_goal < 0;
+    const bool faces_free =
+        sensed || (position.stable_pose >= 0 &&
+                   geometry::pose_leaves_free(fixed_spec.stable_poses[position.stable_pose],
+                                              assembled.fixed_faces));
+    const Eigen::Vector3d mating = position.pose.linear() * assembled.mating_vector;
+    const geometry::PosedPart pair[] = {{&fixed_spec.model, position.pose},
+                                        {&held_spec.model, position.pose * assembled.relative}};
+    const std::optional<double> margin =
+        fixed_spec.fixed || sensed ? std::optional<double>(std::numeric_limits<double>::infinity())
+                                   : geometry::resting_margin(pair, geometry::kTableTolerance);
+    tables.rests_assembled.push_back(margin && *margin > geometry::kTableTolerance);
+    // A position where only a pair rests is none for an insertion: the object stands alone
+    // until the held one is in (faces_free is false there).
+    tables.mating_pose.push_back(faces_free && -mating.z() >= std::cos(kFrictionCone) &&
+                                 tables.rests_assembled.back());
+  }
+  std::vector<int> except = setting.movable;
+  except.push_back(tables.fixed);
+  const std::vector<Obstacle> fixed_objects = obstacles(setting.fixed_only, except);
+  // The gripper taking f with h in it: the same relative geometry wherever f is.
+  for (std::size_t g = 0; g < fixed.grasps.size(); ++g) {
+    const kinematics::Transform gripper = fixed.grasps[g].gripper_in_object;
+    const Eigen::Vector3d approach = scenario_.robot.approach_distance * gripper.linear().col(2);
+    const geometry::PlacedBody part{&bodies_[tables.held], assembled.relative};
+    tables.grasp_clears_assembled.push_back(
+        geometry::sweep({&*open_gripper_, Eigen::Translation3d(-approach) * gripper}, approach,
+                        std::span(&part, 1), margin())
+            .clear &&
+        !geometry::collide({&closed_[tables.fixed][g], gripper}, part, margin()));
+  }
+  const int goal_index = static_cast<int>(goals_.size());
+  goals_.push_back(tables);  // insertion_check reads the goal's objects
+  // The insertion's motions relative to f, per grasp of h (f's pose does not change them).
+  pair_conflict_.emplace_back();
+  for (std::size_t g = 0; g < held.grasps.size(); ++g)
+    pair_conflict_.back().push_back(
+        tables.grasp_leaves_mating_free[g]
+            ? insertion_pair_conflict(goal_index, static_cast<int>(g),
+                                      kinematics::Transform::Identity(), {})
+            : std::optional<std::string>("the grasp obscures a mating face"));
+  tables.mate_reachable.assign(held.grasps.size(), std::vector<char>(fixed.positions.size(), 0));
+  for (std::size_t g = 0; g < held.grasps.size(); ++g)
+    for (std::size_t p = 0; p < fixed.positions.size(); ++p)
+      tables.mate_reachable[g][p] =
+          reach(fixed.positions[p].pose * assembled.relative * held.grasps[g].gripper_in_object)
+              .reachable &&
+          insertion_check(goal_index, static_cast<int>(g), fixed.positions[p].pose, fixed_objects,
+                          {})
+              .clear;
+  goals_.back() = std::move(tables);
 }
 
 int WorldModel::object_index(std::string_view name) const {

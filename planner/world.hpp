@@ -276,6 +276,12 @@ class WorldModel {
     geometry::PlacedBody placed;
   };
   struct Caches;
+  // The constructor's steps, in this order: each object's world (its grasps, from the grasp
+  // search, its positions and what is reachable), then each goal's tables.
+  struct Setting;  // what the steps share (world.cpp)
+  void add_object(const ObjectSpec& spec, std::vector<geometry::Grasp> grasps, Setting& setting);
+  void add_at_goal(const AtGoal& at);
+  void add_assembled_goal(const AssembledGoal& assembled, const Setting& setting);
   // Every object of `state` except those in `except`, as obstacles.
   [[nodiscard]] std::vector<Obstacle> obstacles(const WorldState& state,
                                                 const std::vector<int>& except) const;
