@@ -666,10 +666,13 @@ WorldModel::ArmChoice WorldModel::arm_branch(const Transform& gripper_pose,
   return choice;
 }
 
-std::optional<std::string> WorldModel::relaxed_obstacle() const {
-  // movable[o][p]: object o can be brought to position p by moves alone.
-  std::vector<std::vector<char>> movable;
-  for (const ObjectWorld& object : objects_) {
+namespace {
+
+// Per object and position: whether the object can be brought there from its initial position
+// (0) by moves alone, each a grasp that reaches it both where it is and where it goes.
+std::vector<std::vector<char>> brought_by_moves(const std::vector<ObjectWorld>& objects) {
+  std::vector<std::vector<char>> out;
+  for (const ObjectWorld& object : objects) {
     std::vector<char> seen(object.positions.size(), 0);
     std::vector<std::size_t> queue = {0};
     seen[0] = 1;
@@ -686,81 +689,101 @@ std::optional<std::string> WorldModel::relaxed_obstacle() const {
           }
       }
     }
-    movable.push_back(std::move(seen));
+    out.push_back(std::move(seen));
   }
-  // Whether some grasp reaches object o at position p.
-  const auto graspable_at = [&](int o, std::size_t p) {
-    for (const std::vector<char>& row : objects_[o].reachable)
-      if (row[p]) return true;
-    return false;
-  };
+  return out;
+}
+
+// Whether some grasp reaches the object at position p.
+bool graspable_at(const ObjectWorld& object, std::size_t p) {
+  return std::any_of(object.reachable.begin(), object.reachable.end(),
+                     [&](const std::vector<char>& row) { return row[p] != 0; });
+}
+
+// Why an at-goal cannot be reached by relaxed moves, or nullopt.
+std::optional<std::string> at_goal_obstacle(const GoalWorld& goal, const Scenario& scenario,
+                                            const std::vector<ObjectWorld>& objects,
+                                            const std::vector<std::vector<char>>& brought) {
+  const std::string& held = scenario.objects[goal.held].name;
+  const std::string& place = scenario.places[goal.place].name;
+  bool placeable = false, reached = false;
+  for (const int p : goal.at_place) {
+    placeable |= graspable_at(objects[goal.held], p);
+    reached |= brought[goal.held][p] != 0;
+  }
+  if (!placeable)
+    return held + ": no stable pose at place " + place +
+           " is reachable with any grasp (reachable(grasp, position) has no pair there)";
+  if (!graspable_at(objects[goal.held], 0))
+    return held + ": no grasp reaches it at its initial pose";
+  if (!reached)
+    return held + ": no sequence of moves the robot can make brings it to place " + place;
+  return std::nullopt;
+}
+
+// Why an assembled goal cannot be reached by relaxed moves (picking the held object up, bringing
+// the fixed one to a mating pose, inserting), or nullopt.
+std::optional<std::string> assembled_goal_obstacle(const GoalWorld& goal, const Scenario& scenario,
+                                                   const std::vector<ObjectWorld>& objects,
+                                                   const std::vector<std::vector<char>>& brought) {
+  const std::string& held = scenario.objects[goal.held].name;
+  const std::string& fixed = scenario.objects[goal.fixed].name;
+  const bool fixed_is_fixed = scenario.objects[goal.fixed].fixed;
+  const ObjectWorld& h = objects[goal.held];
+  if (!graspable_at(h, 0))
+    return held + ": no grasp reaches it at its initial pose (within reach and the " +
+           "tilt limit)";
+  bool any_mating = false, mating_reached = false;
+  for (std::size_t p = 0; p < goal.mating_pose.size(); ++p) {
+    any_mating |= goal.mating_pose[p] != 0;
+    mating_reached |= goal.mating_pose[p] && brought[goal.fixed][p];
+  }
+  if (!any_mating)
+    return fixed + ": no position leaves its mating faces off the table with the " +
+           "mating vector pointing down (in_position_class(position, mating_poses) is empty" +
+           (fixed_is_fixed ? "; it is fixed: its only position is where it is" : "") + ")";
+  if (!mating_reached)
+    return fixed + ": none of its mating poses can be reached by moves the robot " + "can make" +
+           (fixed_is_fixed                         ? " (it is fixed)"
+            : graspable_at(objects[goal.fixed], 0) ? ""
+                                                   : " (no grasp reaches it at its initial pose)");
+  bool any_free = false, free_pickable = false, insertable = false;
+  for (std::size_t g = 0; g < h.grasps.size(); ++g) {
+    if (!goal.grasp_leaves_mating_free[g]) continue;
+    any_free = true;
+    bool pickable = false;
+    for (std::size_t p = 0; p < h.positions.size(); ++p)
+      pickable |= brought[goal.held][p] && h.reachable[g][p] != 0;
+    free_pickable |= pickable;
+    for (std::size_t p = 0; p < goal.mating_pose.size() && pickable; ++p)
+      insertable |= brought[goal.fixed][p] && goal.mating_pose[p] && goal.mate_reachable[g][p];
+  }
+  if (!any_free)
+    return held + ": every grasp obscures a mating face " +
+           "(member(grasp, grasps_leaving_mating_faces_free) is empty)";
+  if (!free_pickable)
+    return held + ": no grasp that leaves its mating faces free picks it up at a " +
+           "pose it can be brought to";
+  if (!insertable)
+    return fixed + ": at none of the mating poses it can be brought to can the robot " +
+           "reach the insertion of " + held + " with a grasp that leaves " + held +
+           "'s mating faces free (mate_reachable(grasp, position) is empty)";
+  return std::nullopt;
+}
+
+}  // namespace
+
+std::optional<std::string> WorldModel::relaxed_obstacle() const {
+  const std::vector<std::vector<char>> brought = brought_by_moves(objects_);
   for (std::size_t i = 0; i < goals_.size(); ++i) {
     const GoalWorld& goal = goals_[i];
     if (goal.initially_true) continue;
     const Goal& spec = scenario_.goals[i];
-    const std::string prefix = "goal " + describe(spec) + " (" + location(spec).str() + "): ";
-    const std::string& held = scenario_.objects[goal.held].name;
-    if (goal.kind == GoalWorld::Kind::kAt) {
-      const std::string& place = scenario_.places[goal.place].name;
-      bool placeable = false, brought = false;
-      for (const int p : goal.at_place) {
-        placeable |= graspable_at(goal.held, p);
-        brought |= movable[goal.held][p] != 0;
-      }
-      if (!placeable)
-        return prefix + held + ": no stable pose at place " + place +
-               " is reachable with any grasp (reachable(grasp, position) has no pair there)";
-      if (!graspable_at(goal.held, 0))
-        return prefix + held + ": no grasp reaches it at its initial pose";
-      if (!brought)
-        return prefix + held + ": no sequence of moves the robot can make brings it to place " +
-               place;
-      continue;
-    }
-    const std::string& fixed = scenario_.objects[goal.fixed].name;
-    const ObjectWorld& h = objects_[goal.held];
-    if (!graspable_at(goal.held, 0))
-      return prefix + held + ": no grasp reaches it at its initial pose (within reach and the " +
-             "tilt limit)";
-    bool any_mating = false, mating_reached = false;
-    for (std::size_t p = 0; p < goal.mating_pose.size(); ++p) {
-      any_mating |= goal.mating_pose[p] != 0;
-      mating_reached |= goal.mating_pose[p] && movable[goal.fixed][p];
-    }
-    if (!any_mating)
-      return prefix + fixed + ": no position leaves its mating faces off the table with the " +
-             "mating vector pointing down (in_position_class(position, mating_poses) is empty" +
-             (scenario_.objects[goal.fixed].fixed
-                  ? "; it is fixed: its only position is where it is"
-                  : "") +
-             ")";
-    if (!mating_reached)
-      return prefix + fixed + ": none of its mating poses can be reached by moves the robot " +
-             "can make" +
-             (scenario_.objects[goal.fixed].fixed ? " (it is fixed)"
-              : graspable_at(goal.fixed, 0)       ? ""
-                                                  : " (no grasp reaches it at its initial pose)");
-    bool any_free = false, free_pickable = false, insertable = false;
-    for (std::size_t g = 0; g < h.grasps.size(); ++g) {
-      if (!goal.grasp_leaves_mating_free[g]) continue;
-      any_free = true;
-      bool pickable = false;
-      for (std::size_t p = 0; p < h.positions.size(); ++p)
-        pickable |= movable[goal.held][p] && h.reachable[g][p] != 0;
-      free_pickable |= pickable;
-      for (std::size_t p = 0; p < goal.mating_pose.size() && pickable; ++p)
-        insertable |= movable[goal.fixed][p] && goal.mating_pose[p] && goal.mate_reachable[g][p];
-    }
-    if (!any_free)
-      return prefix + held + ": every grasp obscures a mating face " +
-             "(member(grasp, grasps_leaving_mating_faces_free) is empty)";
-    if (!free_pickable)
-      return prefix + held + ": no grasp that leaves its mating faces free picks it up at a " +
-             "pose it can be brought to";
-    if (!insertable)
-      return prefix + fixed + ": at none of the mating poses it can be brought to can the robot " +
-             "reach the insertion of " + held + " with a grasp that leaves " + held +
-             "'s mating faces free (mate_reachable(grasp, position) is empty)";
+    const std::optional<std::string> obstacle =
+        goal.kind == GoalWorld::Kind::kAt
+            ? at_goal_obstacle(goal, scenario_, objects_, brought)
+            : assembled_goal_obstacle(goal, scenario_, objects_, brought);
+    if (obstacle) return "goal " + describe(spec) + " (" + location(spec).str() + "): " + *obstacle;
   }
   return std::nullopt;
 }
