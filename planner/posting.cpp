@@ -45,6 +45,48 @@ struct PartialPlan {
   int position_names{0};  // pos_1, pos_2, ...
 };
 
+// The open partial plans, best first: fewest actions plus open goals, the newest first among
+// equals (the sequence number). The plans sit in a store whose slots are reused as they are taken.
+class Agenda {
+ public:
+  [[nodiscard]] bool empty() const { return queue_.empty(); }
+  // Adds `node`; `sequence` orders it among equals (a count of the plans generated).
+  void push(PartialPlan&& node, std::size_t sequence) {
+    const int priority = node.actions + static_cast<int>(node.open.size());
+    std::size_t slot;
+    if (free_slots_.empty()) {
+      slot = store_.size();
+      store_.push_back(std::move(node));
+    } else {
+      slot = free_slots_.back();
+      free_slots_.pop_back();
+      store_[slot] = std::move(node);
+    }
+    queue_.push({priority, sequence, slot});
+  }
+  [[nodiscard]] PartialPlan& best() { return store_[queue_.top().index]; }
+  [[nodiscard]] PartialPlan take_best() {
+    const std::size_t slot = queue_.top().index;
+    queue_.pop();
+    free_slots_.push_back(slot);
+    return std::move(store_[slot]);
+  }
+
+ private:
+  struct Entry {
+    int priority;
+    std::size_t sequence;
+    std::size_t index;
+    bool operator<(const Entry& other) const {  // std::priority_queue pops the largest
+      if (priority != other.priority) return priority > other.priority;
+      return sequence < other.sequence;  // newest first among equals
+    }
+  };
+  std::vector<PartialPlan> store_;
+  std::vector<std::size_t> free_slots_;
+  std::priority_queue<Entry> queue_;
+};
+
 class Planner {
  public:
   Planner(const WorldModel& world, const Domain& domain, const PostingOptions& options)
@@ -53,6 +95,14 @@ class Planner {
   PlanFamily run();
 
  private:
+  // --- the search's ends ---
+  // Records the plan's causal links as operational goals satisfied (by which step).
+  void add_satisfied_links(PlanFamily& plan) const;
+  // Why the search found no plan: the relaxed obstacle or the last refusal, the refused complete
+  // families, the network's budget.
+  [[nodiscard]] std::string no_plan_reason(std::size_t refused,
+                                           const std::string& first_refusal) const;
+
   // --- terms and atoms ---
   // Interns a constant of the domain (e.g. `empty`) and returns its index.
   int constant(PartialPlan& node, const std::string& name) const {
@@ -724,36 +774,43 @@ std::optional<PartialPlan> Planner::initial_plan() const {
   return node;
 }
 
+void Planner::add_satisfied_links(PlanFamily& plan) const {
+  for (const CausalLink& link : plan.links) {
+    std::string condition = link.predicate + "(";
+    for (std::size_t i = 0; i < link.args.size(); ++i)
+      condition += (i ? ", " : "") + plan.term_name(link.args[i], world_);
+    plan.satisfied.push_back({SatisfiedGoal::Level::kOperational, condition + ")", link.consumer,
+                              link.producer != kInitialStep
+                                  ? "step " + std::to_string(link.producer)
+                              : link.consumer == kFinishStep ? std::string("already satisfied")
+                                                             : std::string("initial state")});
+  }
+}
+
+std::string Planner::no_plan_reason(std::size_t refused, const std::string& first_refusal) const {
+  std::string reason = "no plan with at most " + std::to_string(options_.max_steps) +
+                       " actions reaches the goals (every refinement was inconsistent)";
+  if (const std::optional<std::string> obstacle = world_.relaxed_obstacle())
+    reason += ": " + *obstacle;
+  else if (!last_refusal_.empty())
+    reason +=
+        "; each goal is reachable alone, but not together: the last refusal was " + last_refusal_;
+  if (refused > 0)
+    reason += "; " + std::to_string(refused) +
+              " complete plan families were refused, the first because " + first_refusal;
+  if (budget_refusals_ > 0)
+    reason += "; " + std::to_string(budget_refusals_) +
+              " constraint posts ran out of the network's search budget (network_budget), so "
+              "this is not a proof that none exists";
+  return reason;
+}
+
 PlanFamily Planner::run() {
   const auto start = std::chrono::steady_clock::now();
-  struct Entry {
-    int priority;
-    std::size_t sequence;
-    std::size_t index;
-    bool operator<(const Entry& other) const {  // std::priority_queue pops the largest
-      if (priority != other.priority) return priority > other.priority;
-      return sequence < other.sequence;  // newest first among equals
-    }
-  };
-  std::vector<PartialPlan> store;
-  std::vector<std::size_t> free_slots;
-  std::priority_queue<Entry> queue;
+  Agenda agenda;
   PostingStats stats;
-  const auto push = [&](PartialPlan&& node) {
-    const int priority = node.actions + static_cast<int>(node.open.size());
-    std::size_t slot;
-    if (free_slots.empty()) {
-      slot = store.size();
-      store.push_back(std::move(node));
-    } else {
-      slot = free_slots.back();
-      free_slots.pop_back();
-      store[slot] = std::move(node);
-    }
-    queue.push({priority, stats.generated++, slot});
-  };
-  std::optional<PartialPlan> start_plan = initial_plan();
-  if (start_plan) push(std::move(*start_plan));
+  if (std::optional<PartialPlan> start_plan = initial_plan())
+    agenda.push(std::move(*start_plan), stats.generated++);
   const auto finish = [&](PlanFamily plan, PostingStatus status, std::string reason) {
     plan.status = status;
     plan.reason = std::move(reason);
@@ -763,21 +820,18 @@ PlanFamily Planner::run() {
   };
   std::vector<PartialPlan> children;
   std::string first_refusal;  // why the first complete family was refused
-  while (!queue.empty()) {
+  while (!agenda.empty()) {
     check_deadline();  // a batch's --time-limit (common/deadline.hpp); cheap without one
     if (stats.expanded >= options_.max_nodes)
       return finish(
-          std::move(store[queue.top().index].plan), PostingStatus::kNodeLimit,
+          std::move(agenda.best().plan), PostingStatus::kNodeLimit,
           "stopped after " + std::to_string(options_.max_nodes) +
               " partial plans (max_nodes) without a complete plan" +
               (stats.refused == 0 ? std::string()
                                   : "; " + std::to_string(stats.refused) +
                                         " complete plan families were refused, the first because " +
                                         first_refusal));
-    const Entry entry = queue.top();
-    queue.pop();
-    PartialPlan node = std::move(store[entry.index]);
-    free_slots.push_back(entry.index);
+    PartialPlan node = agenda.take_best();
     ++stats.expanded;
     std::erase_if(node.threats, [&](const Threat& t) { return !is_threat(node, t); });
     children.clear();
@@ -794,38 +848,16 @@ PlanFamily Planner::run() {
           continue;
         }
       }
-      for (const CausalLink& link : node.plan.links) {
-        std::string condition = link.predicate + "(";
-        for (std::size_t i = 0; i < link.args.size(); ++i)
-          condition += (i ? ", " : "") + node.plan.term_name(link.args[i], world_);
-        node.plan.satisfied.push_back(
-            {SatisfiedGoal::Level::kOperational, condition + ")", link.consumer,
-             link.producer != kInitialStep  ? "step " + std::to_string(link.producer)
-             : link.consumer == kFinishStep ? std::string("already satisfied")
-                                            : std::string("initial state")});
-      }
+      add_satisfied_links(node.plan);
       return finish(std::move(node.plan), PostingStatus::kPlanned, "");
     }
     // Pushed last-first: among equal priorities the newest is expanded first, so the first
     // refinement (SPAR's preferred: promotion before demotion before re-establishment, an
     // existing step before a new one) is tried first.
-    for (auto child = children.rbegin(); child != children.rend(); ++child) push(std::move(*child));
+    for (auto child = children.rbegin(); child != children.rend(); ++child)
+      agenda.push(std::move(*child), stats.generated++);
   }
-  std::string reason = "no plan with at most " + std::to_string(options_.max_steps) +
-                       " actions reaches the goals (every refinement was inconsistent)";
-  if (const std::optional<std::string> obstacle = world_.relaxed_obstacle())
-    reason += ": " + *obstacle;
-  else if (!last_refusal_.empty())
-    reason +=
-        "; each goal is reachable alone, but not together: the last refusal was " + last_refusal_;
-  if (stats.refused > 0)
-    reason += "; " + std::to_string(stats.refused) +
-              " complete plan families were refused, the first because " + first_refusal;
-  if (budget_refusals_ > 0)
-    reason += "; " + std::to_string(budget_refusals_) +
-              " constraint posts ran out of the network's search budget (network_budget), so "
-              "this is not a proof that none exists";
-  return finish(PlanFamily{}, PostingStatus::kNoPlan, reason);
+  return finish(PlanFamily{}, PostingStatus::kNoPlan, no_plan_reason(stats.refused, first_refusal));
 }
 
 }  // namespace
