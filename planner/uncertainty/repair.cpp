@@ -65,6 +65,28 @@ std::vector<unsigned> sets_of_size(std::size_t n, int size) {
   return sets;
 }
 
+// Per candidate of `kept` (in candidate order): the preconditions it turns, satisfied with the
+// kept set and not without that candidate. `score_of(set)` gives a set's full score; every
+// subset of the kept set was scored by the search, so it only completes partial ones.
+template <class ScoreOf>
+std::vector<std::vector<PreconditionRef>> turned_by_each(std::size_t candidates, unsigned kept,
+                                                         const RepairScore& kept_score,
+                                                         ScoreOf&& score_of) {
+  std::vector<std::vector<PreconditionRef>> out;
+  for (std::size_t i = 0; i < candidates; ++i) {
+    if (!(kept >> i & 1u)) continue;
+    const RepairScore& without = score_of(kept & ~(1u << i));
+    std::vector<PreconditionRef> turned;
+    for (const auto& [ref, satisfied] : kept_score.satisfied) {
+      const auto before = without.satisfied.find(ref);
+      if (satisfied && (before == without.satisfied.end() || !before->second))
+        turned.push_back(ref);
+    }
+    out.push_back(std::move(turned));
+  }
+  return out;
+}
+
 }  // namespace
 
 const char* repair_kind(const RepairCandidate& candidate) {
@@ -270,18 +292,9 @@ RepairChoice choose_repair(const std::vector<RepairCandidate>& candidates,
       }
     }
   }
-  for (int i = 0; i < n; ++i) {
-    if (!(choice.set >> i & 1u)) continue;
-    // Scored before (a subset of the kept set), perhaps only partially.
-    const RepairScore& without = score_of(choice.set & ~(1u << i), ScoreDepth::kFull);
-    std::vector<PreconditionRef> turned;
-    for (const auto& [ref, satisfied] : choice.score.satisfied) {
-      const auto before = without.satisfied.find(ref);
-      if (satisfied && (before == without.satisfied.end() || !before->second))
-        turned.push_back(ref);
-    }
-    choice.turned.push_back(std::move(turned));
-  }
+  choice.turned = turned_by_each(
+      candidates.size(), choice.set, choice.score,
+      [&](unsigned set) -> const RepairScore& { return score_of(set, ScoreDepth::kFull); });
   return choice;
 }
 
