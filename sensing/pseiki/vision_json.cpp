@@ -59,6 +59,62 @@ ordered_json label_of(const ModelPanel& panel, int label) {
                    : ordered_json(panel.edges()[static_cast<std::size_t>(label)].id);
 }
 
+// Input edge i of the image: its element's label and belief, the inputs merged with it, or the
+// labelled pieces it was split into.
+ordered_json image_edge_json(std::size_t i, const Verification& result, const ImageFile& image) {
+  const ModelPanel& panel = *result.expected;
+  const Blackboard& board = result.board;
+  const int element = board.element_of(static_cast<int>(i));
+  ordered_json entry{{"id", image.ids[i]}};
+  if (element < 0) {  // cannot happen: every input is in an active element or its pieces
+    entry["label"] = nullptr;
+    entry["belief"] = 0.0;
+    return entry;
+  }
+  const ImageEdge& edge = board.edges[static_cast<std::size_t>(element)];
+  entry["label"] = label_of(panel, edge.label);
+  entry["belief"] = edge.belief;
+  if (edge.inputs.size() > 1 && edge.split_from < 0) {
+    ordered_json others = ordered_json::array();
+    for (const int input : edge.inputs)
+      if (input != static_cast<int>(i))
+        others.push_back(image.ids[static_cast<std::size_t>(input)]);
+    entry["merged_with"] = others;
+  }
+  if (edge.split_from >= 0) {
+    ordered_json pieces = ordered_json::array();
+    for (const ImageEdge& piece : board.edges)
+      if (piece.active && piece.split_from == edge.split_from)
+        pieces.push_back({{"label", label_of(panel, piece.label)},
+                          {"belief", piece.belief},
+                          {"p0", point(piece.segment.p0)},
+                          {"p1", point(piece.segment.p1)}});
+    entry["pieces"] = pieces;
+  }
+  return entry;
+}
+
+// The accepted interpretation's pose correction, in the output units.
+ordered_json correction_json(const PoseCorrection& c, const ModelPanel& panel,
+                             const std::string& camera, const OutputUnits& units) {
+  const bool on_camera = c.target == kCameraTarget;
+  return {{"object", on_camera ? camera : panel.objects()[static_cast<std::size_t>(c.target)].name},
+          {"frame", on_camera ? "camera" : "object"},
+          {"xyz",
+           {c.offset.dx / units.metres_per_length, c.offset.dy / units.metres_per_length,
+            c.offset.dz / units.metres_per_length}},
+          {"rpy", {0.0, 0.0, c.offset.dtheta / units.radians_per_angle}},
+          {"pose", pose_json(c.pose, units)},
+          {"residual", c.residual_px},
+          {"residual_before", c.residual_before_px},
+          {"uncertainty",
+           {{"dx", c.uncertainty.dx / units.metres_per_length},
+            {"dy", c.uncertainty.dy / units.metres_per_length},
+            {"dz", c.uncertainty.dz / units.metres_per_length},
+            {"dtheta", c.uncertainty.dtheta / units.radians_per_angle}}},
+          {"edges", c.observations}};
+}
+
 }  // namespace
 
 ImageFile image_file(const json& document, const std::string& source) {
@@ -176,37 +232,8 @@ ordered_json match_json(const Verification& result, const ImageFile& image,
   const Blackboard& board = result.board;
   ordered_json out{{"camera", camera}, {"passes", result.passes}};
   out["edges"] = ordered_json::array();
-  for (std::size_t i = 0; i < image.edges.size(); ++i) {
-    const int element = board.element_of(static_cast<int>(i));
-    ordered_json entry{{"id", image.ids[i]}};
-    if (element < 0) {  // cannot happen: every input is in an active element or its pieces
-      entry["label"] = nullptr;
-      entry["belief"] = 0.0;
-      out["edges"].push_back(entry);
-      continue;
-    }
-    const ImageEdge& edge = board.edges[static_cast<std::size_t>(element)];
-    entry["label"] = label_of(panel, edge.label);
-    entry["belief"] = edge.belief;
-    if (edge.inputs.size() > 1 && edge.split_from < 0) {
-      ordered_json others = ordered_json::array();
-      for (const int input : edge.inputs)
-        if (input != static_cast<int>(i))
-          others.push_back(image.ids[static_cast<std::size_t>(input)]);
-      entry["merged_with"] = others;
-    }
-    if (edge.split_from >= 0) {
-      ordered_json pieces = ordered_json::array();
-      for (const ImageEdge& piece : board.edges)
-        if (piece.active && piece.split_from == edge.split_from)
-          pieces.push_back({{"label", label_of(panel, piece.label)},
-                            {"belief", piece.belief},
-                            {"p0", point(piece.segment.p0)},
-                            {"p1", point(piece.segment.p1)}});
-      entry["pieces"] = pieces;
-    }
-    out["edges"].push_back(entry);
-  }
+  for (std::size_t i = 0; i < image.edges.size(); ++i)
+    out["edges"].push_back(image_edge_json(i, result, image));
   out["faces"] = ordered_json::array();
   for (const ImageFace& face : board.faces) {
     ordered_json members = ordered_json::array();
@@ -227,28 +254,9 @@ ordered_json match_json(const Verification& result, const ImageFile& image,
                   {"disbelief", board.scene.disbelief},
                   {"accepted", result.accepted},
                   {"threshold", acceptance}};
-  if (result.correction) {
-    const PoseCorrection& c = *result.correction;
-    const bool on_camera = c.target == kCameraTarget;
-    out["pose_correction"] = {
-        {"object", on_camera ? camera : panel.objects()[static_cast<std::size_t>(c.target)].name},
-        {"frame", on_camera ? "camera" : "object"},
-        {"xyz",
-         {c.offset.dx / units.metres_per_length, c.offset.dy / units.metres_per_length,
-          c.offset.dz / units.metres_per_length}},
-        {"rpy", {0.0, 0.0, c.offset.dtheta / units.radians_per_angle}},
-        {"pose", pose_json(c.pose, units)},
-        {"residual", c.residual_px},
-        {"residual_before", c.residual_before_px},
-        {"uncertainty",
-         {{"dx", c.uncertainty.dx / units.metres_per_length},
-          {"dy", c.uncertainty.dy / units.metres_per_length},
-          {"dz", c.uncertainty.dz / units.metres_per_length},
-          {"dtheta", c.uncertainty.dtheta / units.radians_per_angle}}},
-        {"edges", c.observations}};
-  } else {
-    out["pose_correction"] = nullptr;
-  }
+  out["pose_correction"] = result.correction
+                               ? correction_json(*result.correction, panel, camera, units)
+                               : ordered_json(nullptr);
   out["units"] = units_json(units);
   return out;
 }
