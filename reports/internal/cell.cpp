@@ -197,110 +197,132 @@ std::vector<StepMotion> motions(const planner::PlanResult& result,
   return out;
 }
 
-}  // namespace
+// The plan walked step by step into views (the initial state, then after each step that grasps,
+// releases or inserts), with the outlines the views need listed, not made: each object's once
+// per exact pose (most objects keep theirs from view to view), the gripper's once per view that
+// shows it. make_outlines() makes them, as tasks on the plan's threads: uniting a mesh's
+// projected triangles is the costly part of a view.
+class ViewWalk {
+ public:
+  ViewWalk(const planner::PlanResult& result, const Chosen& chosen,
+           const planner::InstanceAnalysis* analysis, double scale)
+      : result_(&result), chosen_(&chosen), scenario_(&result.world.scenario()), scale_(scale) {
+    if (analysis != nullptr) replay_.emplace(result, *analysis);
+    for (const planner::ObjectSpec& object : scenario_->objects)
+      pose_.push_back(object.initial_pose);
+  }
 
-Cell build_cell(const planner::PlanResult& result, const Chosen& chosen,
-                const planner::PlanInstance& instance, const planner::InstanceAnalysis* analysis) {
-  const planner::Scenario& scenario = result.world.scenario();
-  const double scale = 1.0 / scenario.units.metres_per_length_unit();
-  const std::vector<StepMotion> steps = motions(result, instance, analysis);
-  std::optional<Replay> replay;
-  if (analysis != nullptr) replay.emplace(result, *analysis);
-
-  std::vector<Transform> pose;
-  for (const planner::ObjectSpec& object : scenario.objects) pose.push_back(object.initial_pose);
-  int held = -1;
-  std::optional<std::size_t> held_since;  // the pickup that grasped `held`
-  std::vector<CellSensing> sensed;
-  // The outlines are made after the walk, as tasks on the plan's threads: uniting a mesh's
-  // projected triangles is the costly part of a view. Each object's outline once per exact pose
-  // (most objects keep theirs from view to view), the gripper's once per view that shows it.
-  using PoseKey = std::pair<std::size_t, std::array<double, 16>>;    // object, its pose's matrix
-  std::map<PoseKey, std::size_t> object_outline_of;                  // -> index into `poses`
-  std::vector<std::pair<std::size_t, Transform>> poses;              // object, pose
-  std::vector<std::vector<std::size_t>> view_outlines;               // per view and object
-  std::vector<std::tuple<std::size_t, double, Transform>> grippers;  // view, opening, pose
-  Cell cell;
-  const auto view = [&](std::optional<std::size_t> after, std::optional<Transform> gripper,
-                        double opening, int handled) {
-    CellView& v = cell.views.emplace_back();
-    if (after) v.after = int(*after) + 1;
-    v.title = after ? "after " + step_label(chosen, *after) : "initial state";
-    std::vector<std::size_t>& outlines = view_outlines.emplace_back();
-    for (std::size_t o = 0; o < scenario.objects.size(); ++o) {
-      v.objects.push_back({scenario.objects[o].name, int(o) == held, {}});
-      PoseKey key{o, {}};
-      Eigen::Map<Eigen::Matrix4d>(key.second.data()) = pose[o].matrix();
-      const auto [found, fresh] = object_outline_of.try_emplace(key, poses.size());
-      if (fresh) poses.emplace_back(o, pose[o]);
-      outlines.push_back(found->second);
-    }
-    if (gripper) grippers.emplace_back(cell.views.size() - 1, opening, *gripper);
-    if (replay && handled >= 0)
-      if (auto region = replay->region(handled, handled == held ? held_since : std::nullopt, scale))
-        v.region = *region;
-    v.sensed = std::move(sensed);
-    sensed.clear();
-  };
-  view(std::nullopt, std::nullopt, 0.0, -1);
-  for (std::size_t k = 0; k < steps.size() && k < chosen.steps.size(); ++k) {
-    const StepMotion& step = steps[k];
-    if (replay) replay->advance(k);
-    const auto gripper_at = [&](const Transform& object_pose) {
-      return step.grasp >= 0
-                 ? std::optional<Transform>(
-                       object_pose *
-                       result.world.object(step.object).grasps[step.grasp].gripper_in_object)
-                 : std::nullopt;
-    };
-    const double width =
-        step.grasp >= 0 ? result.world.object(step.object).grasps[step.grasp].width : 0.0;
-    const double open = scenario.robot.gripper.max_opening;
-    switch (step.effect) {
-      case planner::Effect::kGrasp:
-        held = step.object;
-        held_since = k;
-        view(k, gripper_at(pose[step.object]), std::max(width, 1e-6), step.object);
-        break;
-      case planner::Effect::kRelease:
-      case planner::Effect::kInsert: {
-        // A subassembly moves as one body: what is assembled into the object follows it.
-        const Transform moved = step.object_pose * pose[step.object].inverse();
-        for (const std::string& name : chosen.steps[k].carried)
-          for (std::size_t o = 0; o < scenario.objects.size(); ++o)
-            if (scenario.objects[o].name == name) pose[o] = moved * pose[o];
-        pose[step.object] = step.object_pose;
-        held = -1;
-        held_since.reset();
-        view(k, gripper_at(step.object_pose), open, step.object);
-        break;
+  void walk(const std::vector<StepMotion>& steps) {
+    view(std::nullopt, std::nullopt, 0.0, -1);
+    for (std::size_t k = 0; k < steps.size() && k < chosen_->steps.size(); ++k) {
+      const StepMotion& step = steps[k];
+      if (replay_) replay_->advance(k);
+      const auto gripper_at = [&](const Transform& object_pose) {
+        return step.grasp >= 0
+                   ? std::optional<Transform>(
+                         object_pose *
+                         result_->world.object(step.object).grasps[step.grasp].gripper_in_object)
+                   : std::nullopt;
+      };
+      const double width =
+          step.grasp >= 0 ? result_->world.object(step.object).grasps[step.grasp].width : 0.0;
+      const double open = scenario_->robot.gripper.max_opening;
+      switch (step.effect) {
+        case planner::Effect::kGrasp:
+          held_ = step.object;
+          held_since_ = k;
+          view(k, gripper_at(pose_[step.object]), std::max(width, 1e-6), step.object);
+          break;
+        case planner::Effect::kRelease:
+        case planner::Effect::kInsert: {
+          // A subassembly moves as one body: what is assembled into the object follows it.
+          const Transform moved = step.object_pose * pose_[step.object].inverse();
+          for (const std::string& name : chosen_->steps[k].carried)
+            for (std::size_t o = 0; o < scenario_->objects.size(); ++o)
+              if (scenario_->objects[o].name == name) pose_[o] = moved * pose_[o];
+          pose_[step.object] = step.object_pose;
+          held_ = -1;
+          held_since_.reset();
+          view(k, gripper_at(step.object_pose), open, step.object);
+          break;
+        }
+        case planner::Effect::kSense:
+          sensed_.push_back({step_label(*chosen_, k), scenario_->objects.at(step.object).name});
+          break;
+        case planner::Effect::kReduce:
+        case planner::Effect::kNone:
+          break;
       }
-      case planner::Effect::kSense:
-        sensed.push_back({step_label(chosen, k), scenario.objects.at(step.object).name});
-        break;
-      case planner::Effect::kReduce:
-      case planner::Effect::kNone:
-        break;
     }
   }
 
-  std::vector<Silhouette> made(poses.size() + grippers.size());
-  run_tasks(made.size(), result.analysis.threads, [&](std::size_t t) {
-    if (t < poses.size()) {
-      const auto& [o, at] = poses[t];
-      made[t] = object_outline(scenario.objects[o].model.mesh(), at, scale);
-    } else {
-      const auto& [v, opening, at] = grippers[t - poses.size()];
-      made[t] = gripper_outline(scenario.robot.gripper, opening, at, scale);
-    }
-  });
-  for (std::size_t v = 0; v < cell.views.size(); ++v)
-    for (std::size_t o = 0; o < cell.views[v].objects.size(); ++o)
-      cell.views[v].objects[o].outline = made[view_outlines[v][o]];
-  for (std::size_t g = 0; g < grippers.size(); ++g)
-    cell.views[std::get<0>(grippers[g])].gripper = std::move(made[poses.size() + g]);
+  // The views with their outlines, made on `threads` threads.
+  Cell make_outlines(unsigned threads) {
+    std::vector<Silhouette> made(poses_.size() + grippers_.size());
+    run_tasks(made.size(), threads, [&](std::size_t t) {
+      if (t < poses_.size()) {
+        const auto& [o, at] = poses_[t];
+        made[t] = object_outline(scenario_->objects[o].model.mesh(), at, scale_);
+      } else {
+        const auto& [v, opening, at] = grippers_[t - poses_.size()];
+        made[t] = gripper_outline(scenario_->robot.gripper, opening, at, scale_);
+      }
+    });
+    for (std::size_t v = 0; v < cell_.views.size(); ++v)
+      for (std::size_t o = 0; o < cell_.views[v].objects.size(); ++o)
+        cell_.views[v].objects[o].outline = made[view_outlines_[v][o]];
+    for (std::size_t g = 0; g < grippers_.size(); ++g)
+      cell_.views[std::get<0>(grippers_[g])].gripper = std::move(made[poses_.size() + g]);
+    return std::move(cell_);
+  }
 
-  // The table: what the views and the places cover, and a margin.
+ private:
+  using PoseKey = std::pair<std::size_t, std::array<double, 16>>;  // object, its pose's matrix
+
+  // A view after step `after` (none: the initial state), the gripper at `gripper` opened to
+  // `opening`, object `handled` (-1: none) with its region of positions.
+  void view(std::optional<std::size_t> after, std::optional<Transform> gripper, double opening,
+            int handled) {
+    CellView& v = cell_.views.emplace_back();
+    if (after) v.after = int(*after) + 1;
+    v.title = after ? "after " + step_label(*chosen_, *after) : "initial state";
+    std::vector<std::size_t>& outlines = view_outlines_.emplace_back();
+    for (std::size_t o = 0; o < scenario_->objects.size(); ++o) {
+      v.objects.push_back({scenario_->objects[o].name, int(o) == held_, {}});
+      PoseKey key{o, {}};
+      Eigen::Map<Eigen::Matrix4d>(key.second.data()) = pose_[o].matrix();
+      const auto [found, fresh] = object_outline_of_.try_emplace(key, poses_.size());
+      if (fresh) poses_.emplace_back(o, pose_[o]);
+      outlines.push_back(found->second);
+    }
+    if (gripper) grippers_.emplace_back(cell_.views.size() - 1, opening, *gripper);
+    if (replay_ && handled >= 0)
+      if (auto region =
+              replay_->region(handled, handled == held_ ? held_since_ : std::nullopt, scale_))
+        v.region = *region;
+    v.sensed = std::move(sensed_);
+    sensed_.clear();
+  }
+
+  const planner::PlanResult* result_;
+  const Chosen* chosen_;
+  const planner::Scenario* scenario_;
+  double scale_;
+  std::optional<Replay> replay_;
+  std::vector<Transform> pose_;            // per object, as the walk goes
+  int held_{-1};                           // the object in the gripper
+  std::optional<std::size_t> held_since_;  // the pickup that grasped it
+  std::vector<CellSensing> sensed_;        // since the last view
+  Cell cell_;
+  std::map<PoseKey, std::size_t> object_outline_of_;                  // -> index into poses_
+  std::vector<std::pair<std::size_t, Transform>> poses_;              // object, pose
+  std::vector<std::vector<std::size_t>> view_outlines_;               // per view and object
+  std::vector<std::tuple<std::size_t, double, Transform>> grippers_;  // view, opening, pose
+};
+
+// The table the views are drawn on (what they and the places cover, and a margin), the places
+// and the robot.
+void add_table(Cell& cell, const planner::Scenario& scenario, double scale) {
   Eigen::AlignedBox2d covered;
   for (const CellView& v : cell.views)
     for (const CellObject& object : v.objects)
@@ -320,6 +342,18 @@ Cell build_cell(const planner::PlanResult& result, const Chosen& chosen,
   cell.robot_base = {shown(base.x(), scale), shown(base.y(), scale), shown(base.z(), scale)};
   cell.reach = shown(reach_of(scenario.robot), scale);
   cell.shoulder = shown(shoulder_of(scenario.robot.arm).z(), scale);  // above the base
+}
+
+}  // namespace
+
+Cell build_cell(const planner::PlanResult& result, const Chosen& chosen,
+                const planner::PlanInstance& instance, const planner::InstanceAnalysis* analysis) {
+  const planner::Scenario& scenario = result.world.scenario();
+  const double scale = 1.0 / scenario.units.metres_per_length_unit();
+  ViewWalk walk(result, chosen, analysis, scale);
+  walk.walk(motions(result, instance, analysis));
+  Cell cell = walk.make_outlines(result.analysis.threads);
+  add_table(cell, scenario, scale);
   return cell;
 }
 
