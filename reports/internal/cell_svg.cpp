@@ -80,15 +80,16 @@ const char* kStyle =
     ".label{font-size:9px;text-anchor:middle}.small{font-size:8px;fill:#55606e}"
     ".heading{font-size:11px;font-weight:bold}";
 
-}  // namespace
+// Where the drawing puts things: one scale for both views (the table, the robot's base, every
+// view's outlines), and for each view its frame and where it starts. Each view is a nested <svg>
+// (it clips what reaches outside it: the reach's circle) with its own coordinates.
+struct Layout {
+  double scale{1}, slab{0};  // slab: the table's thickness drawn in the side view
+  double top_top{0}, top_height{0}, side_top{0}, side_height{0}, height{0};
+  Frame top, side;
+};
 
-std::string cell_view_file(std::size_t view) { return "cell-" + std::to_string(view) + ".svg"; }
-
-std::string cell_view_svg(const Report& report, std::size_t index, bool standalone) {
-  const Cell& cell = report.cell.value();
-  const CellView& view = cell.views.at(index);
-  const std::string& unit = report.units.length;
-  // One scale for both views: the table, the robot's base, every view's outlines.
+Layout layout_of(const Cell& cell) {
   Extent x, y, z;
   x.add(cell.table_x[0]), x.add(cell.table_x[1]), y.add(cell.table_y[0]), y.add(cell.table_y[1]);
   x.add(cell.robot_base[0]), y.add(cell.robot_base[1]), z.add(0);
@@ -104,60 +105,60 @@ std::string cell_view_svg(const Report& report, std::size_t index, bool standalo
     for (const CellObject& object : v.objects) extend(x, z, object.outline.side);
     if (v.gripper) extend(x, z, v.gripper->side);
   }
+  Layout out;
   const double width = x.hi - x.lo;
-  const double scale = (kWidth - 2 * kPad) / std::max(width, 1e-9);
-  const double slab = 0.04 * width;  // the table's thickness drawn in the side view
-  const double top_height = (y.hi - y.lo) * scale, side_height = (z.hi - z.lo + slab) * scale;
-  // Each view is a nested <svg> (it clips what reaches outside it: the reach's circle) with its
-  // own coordinates; `top` is where it starts in the drawing.
-  const double top_top = kTitle + 14, side_top = top_top + top_height + 2 * kPad + 16;
-  const Frame top_frame{scale, x.lo - kPad / scale, y.hi, kPad};
-  const Frame side_frame{scale, x.lo - kPad / scale, z.hi, kPad};
-  const double height = side_top + side_height + 2 * kPad;
+  out.scale = (kWidth - 2 * kPad) / std::max(width, 1e-9);
+  out.slab = 0.04 * width;
+  out.top_height = (y.hi - y.lo) * out.scale;
+  out.side_height = (z.hi - z.lo + out.slab) * out.scale;
+  out.top_top = kTitle + 14;
+  out.side_top = out.top_top + out.top_height + 2 * kPad + 16;
+  out.top = {out.scale, x.lo - kPad / out.scale, y.hi, kPad};
+  out.side = {out.scale, x.lo - kPad / out.scale, z.hi, kPad};
+  out.height = out.side_top + out.side_height + 2 * kPad;
+  return out;
+}
 
-  std::ostringstream svg;
-  if (standalone) svg << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n";
-  svg << "<svg xmlns=\"http://www.w3.org/2000/svg\" class=\"cell-view\" viewBox=\"0 0 "
-      << num(kWidth) << " " << num(height) << "\" width=\"" << num(kWidth) << "\" height=\""
-      << num(height) << "\" role=\"img\" aria-label=\"the work cell, " << html_escape(view.title)
-      << "\">\n<style>" << kStyle << "</style>\n<text class=\"heading\" x=\"" << num(kPad)
-      << "\" y=\"13\">" << html_escape(view.title) << "</text>\n";
+// The view's objects, gripper and uncertainty region in one of the two views.
+void write_objects(std::ostringstream& svg, const CellView& view, const Frame& f, bool top,
+                   const std::string& unit) {
+  for (const CellObject& object : view.objects) {
+    const std::vector<Ring>& rings = top ? object.outline.top : object.outline.side;
+    if (rings.empty()) continue;
+    const auto at = label_point(rings);
+    svg << "<path class=\"object" << (object.held ? " held" : "") << "\" data-object=\""
+        << html_escape(object.name) << "\" d=\"" << path_of(rings, f) << "\"><title>"
+        << html_escape(object.name) << (object.held ? " (held)" : "") << "</title></path>"
+        << "<text class=\"label\" x=\"" << num(f.x(at[0])) << "\" y=\"" << num(f.y(at[1]) + 3)
+        << "\">" << html_escape(object.name) << "</text>\n";
+  }
+  if (view.gripper)
+    svg << "<path class=\"gripper\" d=\""
+        << path_of(top ? view.gripper->top : view.gripper->side, f)
+        << "\"><title>the gripper</title></path>\n";
+  if (view.region) {
+    const UncertaintyRegion& r = *view.region;
+    const int v = top ? 1 : 2;
+    std::string size;
+    for (const int axis : {0, 1, 2})
+      size += std::string(axis ? " x " : "") + "±" + rounded((r.hi[axis] - r.lo[axis]) / 2, 2);
+    svg << "<rect class=\"uncertainty\" x=\"" << num(f.x(r.lo[0])) << "\" y=\"" << num(f.y(r.hi[v]))
+        << "\" width=\"" << num(std::max(0.6, (r.hi[0] - r.lo[0]) * f.scale)) << "\" height=\""
+        << num(std::max(0.6, (r.hi[v] - r.lo[v]) * f.scale)) << "\"><title>"
+        << html_escape(r.object) << ": the box of positions its origin may occupy, " << size << " "
+        << html_escape(unit) << " (x, y, z)</title></rect>\n";
+  }
+}
 
-  const auto objects = [&](const Frame& f, bool top) {
-    for (const CellObject& object : view.objects) {
-      const std::vector<Ring>& rings = top ? object.outline.top : object.outline.side;
-      if (rings.empty()) continue;
-      const auto at = label_point(rings);
-      svg << "<path class=\"object" << (object.held ? " held" : "") << "\" data-object=\""
-          << html_escape(object.name) << "\" d=\"" << path_of(rings, f) << "\"><title>"
-          << html_escape(object.name) << (object.held ? " (held)" : "") << "</title></path>"
-          << "<text class=\"label\" x=\"" << num(f.x(at[0])) << "\" y=\"" << num(f.y(at[1]) + 3)
-          << "\">" << html_escape(object.name) << "</text>\n";
-    }
-    if (view.gripper)
-      svg << "<path class=\"gripper\" d=\""
-          << path_of(top ? view.gripper->top : view.gripper->side, f)
-          << "\"><title>the gripper</title></path>\n";
-    if (view.region) {
-      const UncertaintyRegion& r = *view.region;
-      const int v = top ? 1 : 2;
-      std::string size;
-      for (const int axis : {0, 1, 2})
-        size += std::string(axis ? " x " : "") + "±" + rounded((r.hi[axis] - r.lo[axis]) / 2, 2);
-      svg << "<rect class=\"uncertainty\" x=\"" << num(f.x(r.lo[0])) << "\" y=\""
-          << num(f.y(r.hi[v])) << "\" width=\"" << num(std::max(0.6, (r.hi[0] - r.lo[0]) * scale))
-          << "\" height=\"" << num(std::max(0.6, (r.hi[v] - r.lo[v]) * scale)) << "\"><title>"
-          << html_escape(r.object) << ": the box of positions its origin may occupy, " << size
-          << " " << html_escape(unit) << " (x, y, z)</title></rect>\n";
-    }
-  };
-
-  // Top view: the table, the reach, the places, the base, the objects, the sensing.
-  const Frame& t = top_frame;
-  svg << "<text class=\"small\" x=\"" << num(kPad) << "\" y=\"" << num(top_top - 4)
+// Top view: the table, the reach, the places, the base, the objects, the sensing.
+void write_top_view(std::ostringstream& svg, const Cell& cell, const CellView& view,
+                    const Layout& layout, const std::string& unit) {
+  const Frame& t = layout.top;
+  const double scale = layout.scale;
+  svg << "<text class=\"small\" x=\"" << num(kPad) << "\" y=\"" << num(layout.top_top - 4)
       << "\">from above (x right, y up)</text>\n<svg class=\"top-view\" x=\"0\" y=\""
-      << num(top_top) << "\" width=\"" << num(kWidth) << "\" height=\""
-      << num(top_height + 2 * kPad) << "\">\n<rect class=\"table\" x=\""
+      << num(layout.top_top) << "\" width=\"" << num(kWidth) << "\" height=\""
+      << num(layout.top_height + 2 * kPad) << "\">\n<rect class=\"table\" x=\""
       << num(t.x(cell.table_x[0])) << "\" y=\"" << num(t.y(cell.table_y[1])) << "\" width=\""
       << num((cell.table_x[1] - cell.table_x[0]) * scale) << "\" height=\""
       << num((cell.table_y[1] - cell.table_y[0]) * scale) << "\"><title>the table top (z = 0)"
@@ -178,7 +179,7 @@ std::string cell_view_svg(const Report& report, std::size_t index, bool standalo
       << num(t.y(cell.robot_base[1])) << "\" r=\"4\"><title>the robot's base</title></circle>"
       << "<text class=\"small\" x=\"" << num(t.x(cell.robot_base[0]) + 6) << "\" y=\""
       << num(t.y(cell.robot_base[1]) - 5) << "\">robot</text>\n";
-  objects(t, true);
+  write_objects(svg, view, t, true, unit);
   for (const CellSensing& sensing : view.sensed)
     for (const CellObject& object : view.objects)
       if (object.name == sensing.object && !object.outline.top.empty()) {
@@ -190,22 +191,49 @@ std::string cell_view_svg(const Report& report, std::size_t index, bool standalo
             << html_escape(sensing.step) << "</text></g>\n";
       }
   svg << "</svg>\n";
+}
 
-  // Side view: the table's slab, the base and the reach about the shoulder, the objects.
-  const Frame& s = side_frame;
-  svg << "<text class=\"small\" x=\"" << num(kPad) << "\" y=\"" << num(side_top - 4)
+// Side view: the table's slab, the base and the reach about the shoulder, the objects.
+void write_side_view(std::ostringstream& svg, const Cell& cell, const CellView& view,
+                     const Layout& layout, const std::string& unit) {
+  const Frame& s = layout.side;
+  const double scale = layout.scale;
+  svg << "<text class=\"small\" x=\"" << num(kPad) << "\" y=\"" << num(layout.side_top - 4)
       << "\">from the front (x right, z up)</text>\n<svg class=\"side-view\" x=\"0\" y=\""
-      << num(side_top) << "\" width=\"" << num(kWidth) << "\" height=\""
-      << num(side_height + 2 * kPad) << "\">\n<rect class=\"table\" x=\""
+      << num(layout.side_top) << "\" width=\"" << num(kWidth) << "\" height=\""
+      << num(layout.side_height + 2 * kPad) << "\">\n<rect class=\"table\" x=\""
       << num(s.x(cell.table_x[0])) << "\" y=\"" << num(s.y(0)) << "\" width=\""
-      << num((cell.table_x[1] - cell.table_x[0]) * scale) << "\" height=\"" << num(slab * scale)
+      << num((cell.table_x[1] - cell.table_x[0]) * scale) << "\" height=\""
+      << num(layout.slab * scale)
       << "\"><title>the table (its top is z = 0)</title></rect>\n<circle class=\"reach\" cx=\""
       << num(s.x(cell.robot_base[0])) << "\" cy=\"" << num(s.y(cell.robot_base[2] + cell.shoulder))
       << "\" r=\"" << num(cell.reach * scale) << "\"/><circle class=\"robot-base\" cx=\""
       << num(s.x(cell.robot_base[0])) << "\" cy=\"" << num(s.y(cell.robot_base[2]))
       << "\" r=\"4\"><title>the robot's base</title></circle>\n";
-  objects(s, false);
-  svg << "</svg>\n</svg>";
+  write_objects(svg, view, s, false, unit);
+  svg << "</svg>\n";
+}
+
+}  // namespace
+
+std::string cell_view_file(std::size_t view) { return "cell-" + std::to_string(view) + ".svg"; }
+
+std::string cell_view_svg(const Report& report, std::size_t index, bool standalone) {
+  const Cell& cell = report.cell.value();
+  const CellView& view = cell.views.at(index);
+  const std::string& unit = report.units.length;
+  const Layout layout = layout_of(cell);
+  std::ostringstream svg;
+  if (standalone) svg << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n";
+  svg << "<svg xmlns=\"http://www.w3.org/2000/svg\" class=\"cell-view\" viewBox=\"0 0 "
+      << num(kWidth) << " " << num(layout.height) << "\" width=\"" << num(kWidth) << "\" height=\""
+      << num(layout.height) << "\" role=\"img\" aria-label=\"the work cell, "
+      << html_escape(view.title) << "\">\n<style>" << kStyle
+      << "</style>\n<text class=\"heading\" x=\"" << num(kPad) << "\" y=\"13\">"
+      << html_escape(view.title) << "</text>\n";
+  write_top_view(svg, cell, view, layout, unit);
+  write_side_view(svg, cell, view, layout, unit);
+  svg << "</svg>";
   if (standalone) svg << '\n';
   return svg.str();
 }
