@@ -65,6 +65,114 @@ std::string id_list(const std::vector<int>& ids) {
   return out + "]";
 }
 
+// What `spar object` reports: the object, its stable poses and grasps for the gripper, and the
+// length unit of the output (metres per unit).
+struct ObjectFacts {
+  geometry::ObjectModel object;
+  std::vector<geometry::StablePose> poses;
+  std::vector<geometry::Grasp> grasps;
+  geometry::GripperSpec gripper;
+  geometry::GraspQuantization quantization;
+  double unit{1};
+
+  // Output in the options' unit: lengths, areas and volumes divided by unit, unit^2, unit^3.
+  [[nodiscard]] double length(double metres) const { return metres / unit; }
+  [[nodiscard]] double area(double square_metres) const { return square_metres / (unit * unit); }
+  [[nodiscard]] Eigen::Vector3d point(const Eigen::Vector3d& metres) const { return metres / unit; }
+  // The labels of the stable poses the grasp is usable in.
+  [[nodiscard]] std::vector<std::string> usable_in(const geometry::Grasp& grasp) const {
+    std::vector<std::string> labels;
+    for (const auto& pose : poses)
+      if (geometry::grasp_usable(grasp, pose, gripper)) labels.push_back(pose.label);
+    return labels;
+  }
+};
+
+nlohmann::json object_json(const ObjectFacts& facts, const ObjectOptions& options) {
+  const geometry::ObjectModel& object = facts.object;
+  nlohmann::json out;
+  out["object"] = object.name();
+  out["units"] = options.units;
+  out["volume"] = object.volume() / (facts.unit * facts.unit * facts.unit);
+  out["center_of_mass"] = vector_json(facts.point(object.center_of_mass()));
+  for (const auto& face : object.faces())
+    out["faces"].push_back({{"id", face.id},
+                            {"name", face.name},
+                            {"normal", vector_json(face.normal)},
+                            {"offset", facts.length(face.offset)},
+                            {"area", facts.area(face.area)}});
+  for (const auto& pair : object.face_pairs())
+    out["face_pairs"].push_back({{"faces", {pair.face_a, pair.face_b}},
+                                 {"width", facts.length(pair.width)},
+                                 {"overlap_area", facts.area(pair.overlap_area)}});
+  out["hull_facets"] = object.hull_facets().size();
+  out["stable_poses"] = nlohmann::json::array();
+  for (const auto& pose : facts.poses)
+    out["stable_poses"].push_back(
+        {{"label", pose.label},
+         {"facet_normal", vector_json(pose.facet_normal)},
+         {"margin", facts.length(pose.margin)},
+         {"tipping_angle", pose.tipping_angle},
+         {"com_height", facts.length(pose.com_height)},
+         {"table_faces", pose.table_faces},
+         {"object_to_world", matrix_json(pose.object_to_world, facts.unit)}});
+  out["grasps"] = nlohmann::json::array();
+  for (const auto& grasp : facts.grasps)
+    out["grasps"].push_back({{"label", grasp.label},
+                             {"contact_faces", {grasp.face_plus_y, grasp.face_minus_y}},
+                             {"width", facts.length(grasp.width)},
+                             {"approach_deg", grasp.approach / units::kDegree},
+                             {"position", grasp.position},
+                             {"obscured_faces", grasp.obscured_faces},
+                             {"T_G", matrix_json(grasp.gripper_in_object, facts.unit)},
+                             {"usable_in", facts.usable_in(grasp)}});
+  return out;
+}
+
+void print_object(const ObjectFacts& facts, const ObjectOptions& options) {
+  const geometry::ObjectModel& object = facts.object;
+  std::cout << std::setprecision(4) << "object " << object.name() << " (" << object.mesh().source
+            << "), lengths in " << options.units << ": " << object.faces().size()
+            << " faces, volume " << object.volume() / (facts.unit * facts.unit * facts.unit)
+            << ", centre of mass " << text(facts.point(object.center_of_mass())) << "\n\nfaces:\n";
+  for (const auto& face : object.faces())
+    std::cout << "  " << std::setw(3) << face.id << "  " << std::left << std::setw(22) << face.name
+              << std::right << " normal " << text(face.normal) << "  area " << facts.area(face.area)
+              << '\n';
+  std::cout << "\nparallel opposite face pairs:\n";
+  for (const auto& pair : object.face_pairs())
+    std::cout << "  " << pair.face_a << " & " << pair.face_b << "  width "
+              << facts.length(pair.width) << "  overlap area " << facts.area(pair.overlap_area)
+              << '\n';
+  std::cout << "\nstable poses: " << facts.poses.size() << " of " << object.hull_facets().size()
+            << " hull facets\n";
+  for (const auto& pose : facts.poses)
+    std::cout << "  " << pose.label << "  facet normal " << text(pose.facet_normal) << "  margin "
+              << facts.length(pose.margin) << "  tipping " << pose.tipping_angle / units::kDegree
+              << " deg  table faces " << id_list(pose.table_faces) << '\n';
+  for (const auto& facet : object.hull_facets())
+    if (facet.com_inset <= object.tolerance())
+      std::cout << "  (unstable facet normal " << text(facet.normal) << ": centre of mass projects "
+                << facts.length(-facet.com_inset) << " outside)\n";
+  std::cout << "\ngrasps: " << facts.grasps.size() << " (approach every "
+            << options.approach_step_degrees << " deg, " << facts.quantization.positions_per_axis
+            << " position(s) per axis, opening " << facts.length(facts.gripper.max_opening)
+            << ")\n";
+  for (const auto& grasp : facts.grasps) {
+    std::cout << "  " << std::left << std::setw(5) << grasp.label << std::right << "faces +y "
+              << grasp.face_plus_y << " -y " << grasp.face_minus_y << "  W "
+              << facts.length(grasp.width) << "  approach " << std::setw(3)
+              << grasp.approach / units::kDegree << " deg  z "
+              << text(grasp.gripper_in_object.linear().col(2)) << "  at "
+              << text(facts.point(grasp.gripper_in_object.translation())) << "  obscures "
+              << id_list(grasp.obscured_faces) << "  usable in";
+    const auto labels = facts.usable_in(grasp);
+    if (labels.empty()) std::cout << " none";
+    for (const auto& label : labels) std::cout << ' ' << label;
+    std::cout << '\n';
+  }
+}
+
 void run(const ObjectOptions& options) {
   const double unit = metres_per_unit(options.units);
   geometry::GripperSpec gripper;
@@ -79,15 +187,10 @@ void run(const ObjectOptions& options) {
               {units::kDegree, "deg"}, format_number(options.approach_step_degrees));
   quantization.positions_per_axis = options.positions_per_axis;
   check_limit("--positions", "grasping.positions_per_axis", options.positions_per_axis);
-  // Output in `options.units`: lengths, areas and volumes divided by unit, unit^2, unit^3.
-  const auto length = [unit](double metres) { return metres / unit; };
-  const auto point = [unit](const Eigen::Vector3d& metres) -> Eigen::Vector3d {
-    return metres / unit;
-  };
   // On a terminal, what a large mesh is at: each step is O(n log n), but seconds at 200k triangles.
   const StatusLine status("spar object");
   status.show("reading the mesh, its faces, convex hull and face pairs");
-  const geometry::ObjectModel object = geometry::load_object(options.object, unit);
+  geometry::ObjectModel object = geometry::load_object(options.object, unit);
   const bool builtin = !std::filesystem::exists(options.object);
   if (!options.write_off.empty()) {
     write_file(options.write_off, "the mesh", [&](std::ostream& file) {
@@ -97,93 +200,16 @@ void run(const ObjectOptions& options) {
     });
   }
   status.show("stable poses");
-  const auto poses = geometry::stable_poses(object);
+  auto poses = geometry::stable_poses(object);
   status.show("grasps");
-  const auto grasps = geometry::compute_grasps(object, gripper, quantization);
+  auto grasps = geometry::compute_grasps(object, gripper, quantization);
   status.clear();
-  const auto usable_in = [&](const geometry::Grasp& grasp) {
-    std::vector<std::string> labels;
-    for (const auto& pose : poses)
-      if (geometry::grasp_usable(grasp, pose, gripper)) labels.push_back(pose.label);
-    return labels;
-  };
-
-  if (options.json) {
-    nlohmann::json out;
-    out["object"] = object.name();
-    out["units"] = options.units;
-    out["volume"] = object.volume() / (unit * unit * unit);
-    out["center_of_mass"] = vector_json(point(object.center_of_mass()));
-    for (const auto& face : object.faces())
-      out["faces"].push_back({{"id", face.id},
-                              {"name", face.name},
-                              {"normal", vector_json(face.normal)},
-                              {"offset", length(face.offset)},
-                              {"area", face.area / (unit * unit)}});
-    for (const auto& pair : object.face_pairs())
-      out["face_pairs"].push_back({{"faces", {pair.face_a, pair.face_b}},
-                                   {"width", length(pair.width)},
-                                   {"overlap_area", pair.overlap_area / (unit * unit)}});
-    out["hull_facets"] = object.hull_facets().size();
-    out["stable_poses"] = nlohmann::json::array();
-    for (const auto& pose : poses)
-      out["stable_poses"].push_back({{"label", pose.label},
-                                     {"facet_normal", vector_json(pose.facet_normal)},
-                                     {"margin", length(pose.margin)},
-                                     {"tipping_angle", pose.tipping_angle},
-                                     {"com_height", length(pose.com_height)},
-                                     {"table_faces", pose.table_faces},
-                                     {"object_to_world", matrix_json(pose.object_to_world, unit)}});
-    out["grasps"] = nlohmann::json::array();
-    for (const auto& grasp : grasps)
-      out["grasps"].push_back({{"label", grasp.label},
-                               {"contact_faces", {grasp.face_plus_y, grasp.face_minus_y}},
-                               {"width", length(grasp.width)},
-                               {"approach_deg", grasp.approach / units::kDegree},
-                               {"position", grasp.position},
-                               {"obscured_faces", grasp.obscured_faces},
-                               {"T_G", matrix_json(grasp.gripper_in_object, unit)},
-                               {"usable_in", usable_in(grasp)}});
-    std::cout << out.dump(2) << '\n';
-    return;
-  }
-  std::cout << std::setprecision(4) << "object " << object.name() << " (" << object.mesh().source
-            << "), lengths in " << options.units << ": " << object.faces().size()
-            << " faces, volume " << object.volume() / (unit * unit * unit) << ", centre of mass "
-            << text(point(object.center_of_mass())) << "\n\nfaces:\n";
-  for (const auto& face : object.faces())
-    std::cout << "  " << std::setw(3) << face.id << "  " << std::left << std::setw(22) << face.name
-              << std::right << " normal " << text(face.normal) << "  area "
-              << face.area / (unit * unit) << '\n';
-  std::cout << "\nparallel opposite face pairs:\n";
-  for (const auto& pair : object.face_pairs())
-    std::cout << "  " << pair.face_a << " & " << pair.face_b << "  width " << length(pair.width)
-              << "  overlap area " << pair.overlap_area / (unit * unit) << '\n';
-  std::cout << "\nstable poses: " << poses.size() << " of " << object.hull_facets().size()
-            << " hull facets\n";
-  for (const auto& pose : poses)
-    std::cout << "  " << pose.label << "  facet normal " << text(pose.facet_normal) << "  margin "
-              << length(pose.margin) << "  tipping " << pose.tipping_angle / units::kDegree
-              << " deg  table faces " << id_list(pose.table_faces) << '\n';
-  for (const auto& facet : object.hull_facets())
-    if (facet.com_inset <= object.tolerance())
-      std::cout << "  (unstable facet normal " << text(facet.normal) << ": centre of mass projects "
-                << length(-facet.com_inset) << " outside)\n";
-  std::cout << "\ngrasps: " << grasps.size() << " (approach every " << options.approach_step_degrees
-            << " deg, " << quantization.positions_per_axis << " position(s) per axis, opening "
-            << length(gripper.max_opening) << ")\n";
-  for (const auto& grasp : grasps) {
-    std::cout << "  " << std::left << std::setw(5) << grasp.label << std::right << "faces +y "
-              << grasp.face_plus_y << " -y " << grasp.face_minus_y << "  W " << length(grasp.width)
-              << "  approach " << std::setw(3) << grasp.approach / units::kDegree << " deg  z "
-              << text(grasp.gripper_in_object.linear().col(2)) << "  at "
-              << text(point(grasp.gripper_in_object.translation())) << "  obscures "
-              << id_list(grasp.obscured_faces) << "  usable in";
-    const auto labels = usable_in(grasp);
-    if (labels.empty()) std::cout << " none";
-    for (const auto& label : labels) std::cout << ' ' << label;
-    std::cout << '\n';
-  }
+  const ObjectFacts facts{std::move(object), std::move(poses), std::move(grasps),
+                          gripper,           quantization,     unit};
+  if (options.json)
+    std::cout << object_json(facts, options).dump(2) << '\n';
+  else
+    print_object(facts, options);
 }
 
 }  // namespace
