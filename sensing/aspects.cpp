@@ -70,22 +70,29 @@ std::vector<int> faces_of_mask(std::uint64_t mask) {
 
 // ---- the exact arrangement (convex objects) ----
 
-AspectSet exact_aspects(const geometry::ObjectModel& model, const AspectOptions& options) {
-  const double c = std::cos(options.max_angle), s = std::sin(options.max_angle);
-  std::vector<Eigen::Vector3d> normals;
-  for (const geometry::Face& face : model.faces()) normals.push_back(face.normal);
-  const int n = static_cast<int>(normals.size());
-  const auto mask_of = [&](const Eigen::Vector3d& d) {
+// The faces a direction d sees within the angle: bit i set when d · normal_i > c.
+struct VisibleFaces {
+  const std::vector<Eigen::Vector3d>* normals;
+  double c;
+  [[nodiscard]] std::uint64_t operator()(const Eigen::Vector3d& d) const {
     std::uint64_t mask = 0;
-    for (int i = 0; i < n; ++i)
-      if (d.dot(normals[i]) > c) mask |= std::uint64_t{1} << i;
+    for (std::size_t i = 0; i < normals->size(); ++i)
+      if (d.dot((*normals)[i]) > c) mask |= std::uint64_t{1} << i;
     return mask;
-  };
-  // A generic sweep axis (no symmetry of a modelled part lines up with it) and a frame around it.
-  const Eigen::Vector3d pole = Eigen::Vector3d(0.2718281828, 0.3141592653, 0.9093).normalized();
-  const Eigen::Vector3d e1 = pole.unitOrthogonal();
-  const Eigen::Vector3d e2 = pole.cross(e1);
+  }
+};
 
+// The sweep's frame: a generic axis (no symmetry of a modelled part lines up with it) and two
+// axes around it.
+struct SweepFrame {
+  Eigen::Vector3d pole, e1, e2;
+};
+
+// The heights along the pole where the arrangement of the visibility circles (cos = c, sin = s
+// of the angle) changes: each circle's top and bottom and each two circles' crossings; sorted,
+// within [-1, 1], near-equal ones merged.
+std::vector<double> band_heights(const std::vector<Eigen::Vector3d>& normals, double c, double s,
+                                 const Eigen::Vector3d& pole) {
   std::vector<double> heights = {-1.0, 1.0};
   for (const Eigen::Vector3d& normal : normals) {
     const double height = normal.dot(pole);
@@ -93,8 +100,8 @@ AspectSet exact_aspects(const geometry::ObjectModel& model, const AspectOptions&
     heights.push_back(c * height - s * radius);
     heights.push_back(c * height + s * radius);
   }
-  for (int i = 0; i < n; ++i)
-    for (int j = i + 1; j < n; ++j) {
+  for (std::size_t i = 0; i < normals.size(); ++i)
+    for (std::size_t j = i + 1; j < normals.size(); ++j) {
       const double g = normals[i].dot(normals[j]);
       if (std::abs(g) > 1 - 1e-12) continue;  // parallel circles: no crossing point
       const double along = c / (1 + g);
@@ -110,20 +117,31 @@ AspectSet exact_aspects(const geometry::ObjectModel& model, const AspectOptions&
   heights.erase(std::unique(heights.begin(), heights.end(),
                             [](double a, double b) { return b - a <= 1e-14; }),
                 heights.end());
+  return heights;
+}
 
-  struct Accumulated {
-    double area{0};
-    Eigen::Vector3d moment{Eigen::Vector3d::Zero()};  // integral of d over the cell
-    double longest{-1};                               // longest latitude arc seen
-    Eigen::Vector3d longest_middle{Eigen::Vector3d::Zero()};
-  };
-  std::map<std::uint64_t, Accumulated> cells;
+// One cell of the arrangement (the directions seeing one face set), integrated.
+struct SweptCell {
+  double area{0};
+  Eigen::Vector3d moment{Eigen::Vector3d::Zero()};  // integral of d over the cell
+  double longest{-1};                               // longest latitude arc seen
+  Eigen::Vector3d longest_middle{Eigen::Vector3d::Zero()};
+};
+
+// The cells by face set: each band between two heights integrated over z with a 20-point Gauss
+// rule (in t, z = low + (high - low)(1 - cos t)/2, which takes the sqrt ends), each latitude cut
+// exactly where a circle crosses it.
+std::map<std::uint64_t, SweptCell> swept_cells(const std::vector<Eigen::Vector3d>& normals,
+                                               const VisibleFaces& visible, const SweepFrame& frame,
+                                               const std::vector<double>& heights) {
+  std::map<std::uint64_t, SweptCell> cells;
   using Gauss = boost::math::quadrature::gauss<double, 20>;
   std::vector<std::pair<double, double>> nodes;  // on [-1, 1]
   for (std::size_t k = 0; k < Gauss::abscissa().size(); ++k) {
     nodes.emplace_back(Gauss::abscissa()[k], Gauss::weights()[k]);
     if (Gauss::abscissa()[k] != 0) nodes.emplace_back(-Gauss::abscissa()[k], Gauss::weights()[k]);
   }
+  const auto& [pole, e1, e2] = frame;
   std::vector<double> breaks;
   for (std::size_t band = 0; band + 1 < heights.size(); ++band) {
     const double low = heights[band], high = heights[band + 1];
@@ -138,7 +156,7 @@ AspectSet exact_aspects(const geometry::ObjectModel& model, const AspectOptions&
         const double a = normal.dot(e1), b = normal.dot(e2), along = normal.dot(pole);
         const double reach = r * std::hypot(a, b);
         if (reach <= 0) continue;
-        const double threshold = (c - z * along) / reach;
+        const double threshold = (visible.c - z * along) / reach;
         if (threshold <= -1 || threshold >= 1) continue;  // the whole latitude or none of it
         const double middle = std::atan2(b, a), half = std::acos(threshold);
         for (const double edge : {middle - half, middle + half})
@@ -152,7 +170,7 @@ AspectSet exact_aspects(const geometry::ObjectModel& model, const AspectOptions&
         const double mid = (from + to) / 2;
         const Eigen::Vector3d direction =
             r * std::cos(mid) * e1 + r * std::sin(mid) * e2 + z * pole;
-        Accumulated& cell = cells[mask_of(direction)];
+        SweptCell& cell = cells[visible(direction)];
         cell.area += weight * span;
         cell.moment += weight * (r * (std::sin(to) - std::sin(from)) * e1 +
                                  r * (std::cos(from) - std::cos(to)) * e2 + z * span * pole);
@@ -163,6 +181,20 @@ AspectSet exact_aspects(const geometry::ObjectModel& model, const AspectOptions&
       }
     }
   }
+  return cells;
+}
+
+AspectSet exact_aspects(const geometry::ObjectModel& model, const AspectOptions& options) {
+  const double c = std::cos(options.max_angle), s = std::sin(options.max_angle);
+  std::vector<Eigen::Vector3d> normals;
+  for (const geometry::Face& face : model.faces()) normals.push_back(face.normal);
+  const VisibleFaces visible{&normals, c};
+  SweepFrame frame;
+  frame.pole = Eigen::Vector3d(0.2718281828, 0.3141592653, 0.9093).normalized();
+  frame.e1 = frame.pole.unitOrthogonal();
+  frame.e2 = frame.pole.cross(frame.e1);
+  const std::map<std::uint64_t, SweptCell> cells =
+      swept_cells(normals, visible, frame, band_heights(normals, c, s, frame.pole));
 
   AspectSet out;
   out.method = AspectMethod::kExactArrangement;
@@ -175,7 +207,7 @@ AspectSet exact_aspects(const geometry::ObjectModel& model, const AspectOptions&
     aspect.faces = faces_of_mask(mask);
     aspect.solid_angle = cell.area;
     const Eigen::Vector3d mean = cell.moment.normalized();
-    aspect.direction = cell.moment.norm() > 1e-12 && mask_of(mean) == mask
+    aspect.direction = cell.moment.norm() > 1e-12 && visible(mean) == mask
                            ? mean
                            : cell.longest_middle.normalized();
     out.aspects.push_back(aspect);
