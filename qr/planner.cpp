@@ -113,21 +113,24 @@ ExecutionHistory::Range ExecutionHistory::contextual_range(const std::vector<dou
   }
 }
 
-// Per-trial planning state. The marks and ranges are shared (pointer to the trial's context);
+// What one trial's planning reads (steps 3-8): the marks per node, the contextual ranges per
+// control, and the most recent planned change per node.
+struct Planner::TrialContext {
+  std::vector<bool> must_change;  // per node
+  std::vector<bool> resist;       // per node, for the thread being planned
+  std::vector<bool> cycle_back;   // per node
+  std::vector<std::array<ExecutionHistory::Range, 2>> ranges;  // per control, [+, -]
+  // Per node: its change in the most recent plan that changed it (+ or -), or 0. Ties between
+  // directions continue it: the history's qualitative vector points towards the goal region.
+  std::vector<Sign> last_change;
+  // Per node: that change rested on a guess, so continuing it is a guess too.
+  std::vector<bool> last_change_guessed;
+};
+
+// One thread's planning state. The marks and ranges are shared (pointer to the trial's context);
 // the decisions are copied on each tentative step so that a failed branch leaves no trace.
 struct Planner::Search {
-  struct Context {
-    std::vector<bool> must_change;  // per node
-    std::vector<bool> resist;       // per node, for the thread being planned
-    std::vector<bool> cycle_back;   // per node
-    std::vector<std::array<ExecutionHistory::Range, 2>> ranges;  // per control, [+, -]
-    // Per node: its change in the most recent plan that changed it (+ or -), or 0. Ties between
-    // directions continue it: the history's qualitative vector points towards the goal region.
-    std::vector<Sign> last_change;
-    // Per node: that change rested on a guess, so continuing it is a guess too.
-    std::vector<bool> last_change_guessed;
-  };
-  const Context* context{nullptr};
+  const TrialContext* context{nullptr};
   std::vector<Sign> planned;   // planned change per node (0 where undecided)
   std::vector<bool> decided;   // per node
   std::vector<int> path;       // nodes from the result down to the control
@@ -179,7 +182,7 @@ bool Planner::plan_node(Search& search, int id, Sign desired, int depth) const {
     return true;
   }
   // 9c: order the causes by preference.
-  const Search::Context& context = *search.context;
+  const TrialContext& context = *search.context;
   struct Candidate {
     int cause;
     int rank;
@@ -272,28 +275,14 @@ std::vector<Visibility> Planner::limit_visibility(int goal, int control) const {
   return visibility;
 }
 
-const Trial& Planner::record_and_plan(const std::vector<double>& point, const Outcome& outcome) {
-  const auto started = std::chrono::steady_clock::now();
+bool Planner::evaluate(const std::vector<double>& point, const Outcome& outcome, Trial& trial,
+                       TrialContext& context) {
   const std::vector<ControlSpec>& controls = history_.controls();
-  if (point.size() != controls.size() || outcome.size() != goals_.size()) {
-    throw QrError("a trial needs " + std::to_string(controls.size()) + " control values and " +
-                  std::to_string(goals_.size()) + " results");
-  }
-  // 1. Record.
-  Trial trial;
-  trial.number = static_cast<int>(history_.trials().size()) + 1;
-  trial.controls = point;
-  trial.outcome = outcome;
-  // 2. Evaluate.
-  for (std::size_t c = 0; c < controls.size(); ++c) {
+  for (std::size_t c = 0; c < controls.size(); ++c)
     network_.set_control_value(controls[c].node, point[c]);
-  }
-  for (std::size_t g = 0; g < goals_.size(); ++g) {
+  for (std::size_t g = 0; g < goals_.size(); ++g)
     network_.observe_threshold(goals_[g].node, outcome[g]);
-  }
   network_.propagate_values();
-  // 3-4. Success, or the must-change results.
-  Search::Context context;
   context.must_change.assign(network_.size(), false);
   bool success = true;
   for (std::size_t g = 0; g < goals_.size(); ++g) {
@@ -303,16 +292,10 @@ const Trial& Planner::record_and_plan(const std::vector<double>& point, const Ou
       context.must_change[goals_[g].node] = true;
     }
   }
-  const auto finish = [&](Status status) -> const Trial& {
-    trial.status = status;
-    trial.planning_microseconds =
-        std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - started)
-            .count();
-    history_.add_trial(std::move(trial));
-    return history_.trials().back();
-  };
-  if (success) return finish(Status::kSuccess);
-  // 6, 8. Visible limits -> contextual ranges -> at-maximum / at-minimum.
+  return success;
+}
+
+void Planner::remember_last_changes(TrialContext& context) const {
   context.last_change.assign(network_.size(), Sign::kZero);
   context.last_change_guessed.assign(network_.size(), false);
   for (auto earlier = history_.trials().rbegin(); earlier != history_.trials().rend(); ++earlier) {
@@ -326,97 +309,95 @@ const Trial& Planner::record_and_plan(const std::vector<double>& point, const Ou
       }
     }
   }
-  std::optional<PlannedChange> previous_plan;
-  if (!history_.trials().empty()) previous_plan = history_.trials().back().plan;
-  std::optional<Search> plan;
-  int planned_goal = -1;
-  while (true) {
-    context.ranges.clear();
-    context.cycle_back.assign(network_.size(), false);
-    trial.marks.at_maximum.clear();
-    trial.marks.at_minimum.clear();
-    trial.marks.cycle_back.clear();
-    for (std::size_t c = 0; c < controls.size(); ++c) {
-      context.ranges.push_back(
-          {history_.contextual_range(point, static_cast<int>(c), Sign::kPlus),
-           history_.contextual_range(point, static_cast<int>(c), Sign::kMinus)});
-      if (context.ranges[c][0].values.empty()) {
-        trial.marks.at_maximum.push_back(static_cast<int>(c));
-      }
-      if (context.ranges[c][1].values.empty()) {
-        trial.marks.at_minimum.push_back(static_cast<int>(c));
-      }
-      // 7. Cycle-back.
-      if (previous_plan && previous_plan->control == static_cast<int>(c) &&
-          context.ranges[c][direction_slot(previous_plan->direction)].values.empty()) {
-        context.cycle_back[controls[c].node] = true;
-        trial.marks.cycle_back.push_back(static_cast<int>(c));
-      }
-    }
-    // 9. Plan, thread by thread in goal order; 5. resist-change per thread.
-    for (int g : trial.marks.must_change) {
-      context.resist.assign(network_.size(), false);
-      for (int id = 0; id < network_.size(); ++id) {
-        bool resists = network_.node(id).kind == NodeKind::kConstant;
-        for (std::size_t other = 0; other < goals_.size() && !resists; ++other) {
-          resists = static_cast<int>(other) != g && network_.is_ancestor(id, goals_[other].node);
-        }
-        context.resist[id] = resists;
-      }
-      Search search{&context,
-                    std::vector<Sign>(network_.size(), Sign::kZero),
-                    std::vector<bool>(network_.size(), false),
-                    {},
-                    std::nullopt};
-      const Sign needed = goals_[g].desired ? Sign::kPlus : Sign::kMinus;
-      if (plan_node(search, goals_[g].node, needed, 0) && search.control) {
-        plan = std::move(search);
-        planned_goal = g;
-        break;
-      }
-    }
-    if (plan) break;
-    // No direction: retract the guessed limits that block, if any, and plan again. Each pass
-    // removes at least one limit, so the loop ends.
-    std::vector<int> guessed;
-    for (const auto& pair : context.ranges) {
-      for (const ExecutionHistory::Range& range : pair) {
-        if (range.values.empty() && range.blocker && range.blocker->guessed) {
-          guessed.push_back(range.blocker->trial);
-        }
-      }
-    }
-    if (guessed.empty()) break;
-    std::sort(guessed.begin(), guessed.end());
-    guessed.erase(std::unique(guessed.begin(), guessed.end()), guessed.end());
-    for (int earlier : guessed) {
-      history_.retract_guessed_limit(earlier);
-      trial.limits_retracted.push_back(earlier);
+}
+
+void Planner::set_ranges(const std::vector<double>& point,
+                         const std::optional<PlannedChange>& previous_plan, Trial& trial,
+                         TrialContext& context) const {
+  const std::vector<ControlSpec>& controls = history_.controls();
+  context.ranges.clear();
+  context.cycle_back.assign(network_.size(), false);
+  trial.marks.at_maximum.clear();
+  trial.marks.at_minimum.clear();
+  trial.marks.cycle_back.clear();
+  for (std::size_t c = 0; c < controls.size(); ++c) {
+    context.ranges.push_back({history_.contextual_range(point, static_cast<int>(c), Sign::kPlus),
+                              history_.contextual_range(point, static_cast<int>(c), Sign::kMinus)});
+    if (context.ranges[c][0].values.empty()) trial.marks.at_maximum.push_back(static_cast<int>(c));
+    if (context.ranges[c][1].values.empty()) trial.marks.at_minimum.push_back(static_cast<int>(c));
+    // 7. Cycle-back.
+    if (previous_plan && previous_plan->control == static_cast<int>(c) &&
+        context.ranges[c][direction_slot(previous_plan->direction)].values.empty()) {
+      context.cycle_back[controls[c].node] = true;
+      trial.marks.cycle_back.push_back(static_cast<int>(c));
     }
   }
-  if (!plan) {
-    for (std::size_t c = 0; c < controls.size(); ++c) {
-      for (Sign direction : {Sign::kPlus, Sign::kMinus}) {
-        const ExecutionHistory::Range& range = context.ranges[c][direction_slot(direction)];
-        if (!range.values.empty()) continue;
-        trial.blocking.push_back(
-            {static_cast<int>(c), direction,
-             range.blocker ? std::optional<int>(range.blocker->trial) : std::nullopt,
-             range.blocker
-                 ? range.blocker->bound
-                 : (direction == Sign::kPlus ? controls[c].maximum : controls[c].minimum)});
-      }
+}
+
+std::optional<Planner::Search> Planner::plan_threads(const Trial& trial, TrialContext& context,
+                                                     int& planned_goal) const {
+  for (int g : trial.marks.must_change) {
+    context.resist.assign(network_.size(), false);
+    for (int id = 0; id < network_.size(); ++id) {
+      bool resists = network_.node(id).kind == NodeKind::kConstant;
+      for (std::size_t other = 0; other < goals_.size() && !resists; ++other)
+        resists = static_cast<int>(other) != g && network_.is_ancestor(id, goals_[other].node);
+      context.resist[id] = resists;
     }
-    return finish(Status::kNoDirectionLeft);
+    Search search{&context,
+                  std::vector<Sign>(network_.size(), Sign::kZero),
+                  std::vector<bool>(network_.size(), false),
+                  {},
+                  std::nullopt};
+    const Sign needed = goals_[g].desired ? Sign::kPlus : Sign::kMinus;
+    if (plan_node(search, goals_[g].node, needed, 0) && search.control) {
+      planned_goal = g;
+      return search;
+    }
   }
-  // 10. The plan and the limit this failed trial asserts.
-  const int control = *plan->control;
+  return std::nullopt;
+}
+
+bool Planner::retract_blocking_guesses(const TrialContext& context, Trial& trial) {
+  std::vector<int> guessed;
+  for (const auto& pair : context.ranges)
+    for (const ExecutionHistory::Range& range : pair)
+      if (range.values.empty() && range.blocker && range.blocker->guessed)
+        guessed.push_back(range.blocker->trial);
+  if (guessed.empty()) return false;
+  std::sort(guessed.begin(), guessed.end());
+  guessed.erase(std::unique(guessed.begin(), guessed.end()), guessed.end());
+  for (int earlier : guessed) {
+    history_.retract_guessed_limit(earlier);
+    trial.limits_retracted.push_back(earlier);
+  }
+  return true;
+}
+
+void Planner::record_blocking(const TrialContext& context, Trial& trial) const {
+  const std::vector<ControlSpec>& controls = history_.controls();
+  for (std::size_t c = 0; c < controls.size(); ++c)
+    for (Sign direction : {Sign::kPlus, Sign::kMinus}) {
+      const ExecutionHistory::Range& range = context.ranges[c][direction_slot(direction)];
+      if (!range.values.empty()) continue;
+      trial.blocking.push_back(
+          {static_cast<int>(c), direction,
+           range.blocker ? std::optional<int>(range.blocker->trial) : std::nullopt,
+           range.blocker ? range.blocker->bound
+                         : (direction == Sign::kPlus ? controls[c].maximum : controls[c].minimum)});
+    }
+}
+
+void Planner::adopt_plan(const std::vector<double>& point, const Search& plan, int planned_goal,
+                         const TrialContext& context, Trial& trial) {
+  const std::vector<ControlSpec>& controls = history_.controls();
+  const int control = *plan.control;
   PlannedChange change;
   change.control = control;
-  change.direction = plan->planned[controls[control].node];
+  change.direction = plan.planned[controls[control].node];
   change.goal = planned_goal;
-  change.path = plan->path;
-  change.guessed = plan->guessed;
+  change.path = plan.path;
+  change.guessed = plan.guessed;
   change.node_changes = network_.propagate_changes({{controls[control].node, change.direction}});
   change.from = point[control];
   Limit limit{control,
@@ -426,7 +407,7 @@ const Trial& Planner::record_and_plan(const std::vector<double>& point, const Ou
               trial.number,
               point,
               limit_visibility(planned_goal, control),
-              plan->guessed};
+              plan.guessed};
   // 11. The next value within the contextual range.
   const ExecutionHistory::Range& range = context.ranges[control][direction_slot(change.direction)];
   if (range.blocker) {
@@ -442,6 +423,51 @@ const Trial& Planner::record_and_plan(const std::vector<double>& point, const Ou
   history_.assert_limit(limit);
   trial.limits_asserted.push_back(std::move(limit));
   trial.plan = std::move(change);
+}
+
+const Trial& Planner::record_and_plan(const std::vector<double>& point, const Outcome& outcome) {
+  const auto started = std::chrono::steady_clock::now();
+  const std::vector<ControlSpec>& controls = history_.controls();
+  if (point.size() != controls.size() || outcome.size() != goals_.size()) {
+    throw QrError("a trial needs " + std::to_string(controls.size()) + " control values and " +
+                  std::to_string(goals_.size()) + " results");
+  }
+  // 1. Record.
+  Trial trial;
+  trial.number = static_cast<int>(history_.trials().size()) + 1;
+  trial.controls = point;
+  trial.outcome = outcome;
+  const auto finish = [&](Status status) -> const Trial& {
+    trial.status = status;
+    trial.planning_microseconds =
+        std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - started)
+            .count();
+    history_.add_trial(std::move(trial));
+    return history_.trials().back();
+  };
+  // 2. Evaluate; 3-4. success, or the must-change results.
+  TrialContext context;
+  if (evaluate(point, outcome, trial, context)) return finish(Status::kSuccess);
+  // 6, 8. Visible limits -> contextual ranges -> at-maximum / at-minimum.
+  remember_last_changes(context);
+  std::optional<PlannedChange> previous_plan;
+  if (!history_.trials().empty()) previous_plan = history_.trials().back().plan;
+  std::optional<Search> plan;
+  int planned_goal = -1;
+  while (true) {
+    set_ranges(point, previous_plan, trial, context);
+    // 9. Plan, thread by thread in goal order; 5. resist-change per thread.
+    plan = plan_threads(trial, context, planned_goal);
+    // No direction: retract the guessed limits that block, if any, and plan again. Each pass
+    // removes at least one limit, so the loop ends.
+    if (plan || !retract_blocking_guesses(context, trial)) break;
+  }
+  if (!plan) {
+    record_blocking(context, trial);
+    return finish(Status::kNoDirectionLeft);
+  }
+  // 10. The plan and the limit this failed trial asserts.
+  adopt_plan(point, *plan, planned_goal, context, trial);
   return finish(Status::kContinue);
 }
 

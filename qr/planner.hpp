@@ -206,8 +206,29 @@ class Planner {
   [[nodiscard]] const std::vector<Goal>& goals() const { return goals_; }
 
  private:
-  struct Search;  // planning state of one trial (planner.cpp)
+  struct TrialContext;  // what one trial's planning reads (planner.cpp)
+  struct Search;        // planning state of one thread of a trial (planner.cpp)
 
+  // record_and_plan's steps, in the paper's numbering. 2-4: sets the controls and observations,
+  // propagates, marks the must-change results; true on success.
+  bool evaluate(const std::vector<double>& point, const Outcome& outcome, Trial& trial,
+                TrialContext& context);
+  // Per node, its change in the most recent plan that changed it (the history's direction).
+  void remember_last_changes(TrialContext& context) const;
+  // 6-8: the contextual ranges per control, the at-maximum / at-minimum and cycle-back marks.
+  void set_ranges(const std::vector<double>& point,
+                  const std::optional<PlannedChange>& previous_plan, Trial& trial,
+                  TrialContext& context) const;
+  // 9 and 5: a plan for the first must-change goal that has one (its index in planned_goal).
+  [[nodiscard]] std::optional<Search> plan_threads(const Trial& trial, TrialContext& context,
+                                                   int& planned_goal) const;
+  // No direction: retracts the guessed limits that block one; false when there are none.
+  bool retract_blocking_guesses(const TrialContext& context, Trial& trial);
+  // What blocks each direction of each control, when no plan is left.
+  void record_blocking(const TrialContext& context, Trial& trial) const;
+  // 10-11: the planned change, its next value and the limit this failed trial asserts.
+  void adopt_plan(const std::vector<double>& point, const Search& plan, int planned_goal,
+                  const TrialContext& context, Trial& trial);
   [[nodiscard]] bool plan_node(Search& search, int node, Sign desired, int depth) const;
   [[nodiscard]] std::vector<Visibility> limit_visibility(int goal, int control) const;
 
