@@ -14,6 +14,7 @@
 #include <mutex>
 #include <random>
 #include <system_error>
+#include <utility>
 
 #include "spar/reports/error.hpp"
 #include "spar/reports/html.hpp"
@@ -163,6 +164,104 @@ int write_new_file(const fs::path& path, const std::string& text) {
   return error;
 }
 
+// A set of files written into a folder all or nothing: each to a temporary first, the old files
+// kept as hard-link backups, then each renamed into place. On any failure the temporaries and
+// backups go and the old set stays (a rename failing half-way renames the replaced ones back).
+class FileSet {
+ public:
+  explicit FileSet(fs::path folder) : folder_(std::move(folder)) {}
+
+  // Writes every (name, text) to a temporary in the folder.
+  void stage(const std::vector<std::pair<std::string, std::string>>& files) {
+    for (const auto& [name, text] : files) {
+      members_.push_back({unique_name(folder_, name, "tmp"), folder_ / name, {}});
+      if (const int failure = write_new_file(members_.back().temporary, text))
+        fail("cannot write " + members_.back().temporary.string() + ": " + system_reason(failure));
+      if (WriterScope::interrupted()) fail("interrupted: the old report is kept");
+    }
+  }
+
+  // Backups as hard links, so a rename that fails half-way can restore the old set.
+  void back_up() {
+    for (Member& member : members_) {
+      struct stat info {};
+      if (::lstat(member.final.c_str(), &info) != 0) continue;
+      if (S_ISDIR(info.st_mode))
+        fail(member.final.string() + " is a directory, not a report file (the old report is kept)");
+      member.backup = unique_name(folder_, member.final.filename().string(), "old");
+      if (::link(member.final.c_str(), member.backup.c_str()) != 0) {
+        const int failure = errno;
+        member.backup.clear();
+        fail("cannot keep the old " + member.final.string() +
+             " while writing: " + system_reason(failure));
+      }
+    }
+  }
+
+  // The renames (a held signal waits for them), then the backups go.
+  void commit() {
+    for (Member& member : members_) {
+      if (::rename(member.temporary.c_str(), member.final.c_str()) == 0) {
+        member.replaced = true;
+        continue;
+      }
+      const int failure = errno;
+      for (const Member& done : members_) {
+        if (!done.replaced) continue;
+        if (done.backup.empty())
+          ::unlink(done.final.c_str());
+        else
+          ::rename(done.backup.c_str(), done.final.c_str());
+      }
+      fail("cannot rename " + member.temporary.string() + " to " + member.final.string() + ": " +
+           system_reason(failure) + " (the old report is kept)");
+    }
+    for (const Member& member : members_)
+      if (!member.backup.empty()) ::unlink(member.backup.c_str());
+  }
+
+  // The final path of the i-th file staged.
+  [[nodiscard]] const fs::path& final_path(std::size_t i) const { return members_.at(i).final; }
+
+ private:
+  struct Member {
+    fs::path temporary, final, backup;
+    bool replaced{false};
+  };
+  [[noreturn]] void fail(const std::string& what) const {
+    for (const Member& member : members_) {
+      ::unlink(member.temporary.c_str());
+      if (!member.backup.empty()) ::unlink(member.backup.c_str());
+    }
+    throw ReportError(what);
+  }
+
+  fs::path folder_;
+  std::vector<Member> members_;
+};
+
+// Removes the files of an older report that this one (`files`) does not have: formats not
+// written, and cell views past this report's (all of them without the Markdown).
+void remove_stale(const fs::path& folder,
+                  const std::vector<std::pair<std::string, std::string>>& files) {
+  const auto remove = [&](const std::string& name) {
+    for (const auto& file : files)
+      if (file.first == name) return;
+    const fs::path old = folder / name;
+    struct stat info {};
+    if (::lstat(old.c_str(), &info) == 0 && !S_ISDIR(info.st_mode)) ::unlink(old.c_str());
+  };
+  for (const Format format : {Format::kJson, Format::kMarkdown, Format::kHtml})
+    remove(file_name(format));
+  std::error_code error;
+  for (const auto& entry : fs::directory_iterator(folder, error)) {
+    const std::string name = entry.path().filename().string();
+    if (name.size() > 9 && name.starts_with("cell-") && name.ends_with(".svg") &&
+        name.find_first_not_of("0123456789", 5) == name.size() - 4)
+      remove(name);
+  }
+}
+
 }  // namespace
 
 std::vector<fs::path> write_reports(const Report& report, const fs::path& folder,
@@ -181,80 +280,13 @@ std::vector<fs::path> write_reports(const Report& report, const fs::path& folder
     throw ReportError("cannot create the report folder " + folder.string() + ": " +
                       error.message());
   const WriterScope writer;
-  // The set: each format's temporary, final name, and (if an old file is there) its backup.
-  struct Member {
-    fs::path temporary, final, backup;
-    bool replaced{false};
-  };
-  std::vector<Member> members;
-  const auto discard = [&] {
-    for (const Member& member : members) {
-      ::unlink(member.temporary.c_str());
-      if (!member.backup.empty()) ::unlink(member.backup.c_str());
-    }
-  };
-  const auto fail = [&](const std::string& what) {
-    discard();
-    throw ReportError(what);
-  };
-  for (const auto& [name, text] : files) {
-    members.push_back({unique_name(folder, name, "tmp"), folder / name, {}});
-    if (const int failure = write_new_file(members.back().temporary, text))
-      fail("cannot write " + members.back().temporary.string() + ": " + system_reason(failure));
-    if (WriterScope::interrupted()) fail("interrupted: the old report is kept");
-  }
-  // Backups as hard links, so a rename that fails half-way can restore the old set.
-  for (Member& member : members) {
-    struct stat info {};
-    if (::lstat(member.final.c_str(), &info) != 0) continue;
-    if (S_ISDIR(info.st_mode))
-      fail(member.final.string() + " is a directory, not a report file (the old report is kept)");
-    member.backup = unique_name(folder, member.final.filename().string(), "old");
-    if (::link(member.final.c_str(), member.backup.c_str()) != 0) {
-      const int failure = errno;
-      member.backup.clear();
-      fail("cannot keep the old " + member.final.string() +
-           " while writing: " + system_reason(failure));
-    }
-  }
-  // Commit: the renames (a held signal waits for them), then the old report's other formats.
-  for (Member& member : members) {
-    if (::rename(member.temporary.c_str(), member.final.c_str()) == 0) {
-      member.replaced = true;
-      continue;
-    }
-    const int failure = errno;
-    for (const Member& done : members) {
-      if (!done.replaced) continue;
-      if (done.backup.empty())
-        ::unlink(done.final.c_str());
-      else
-        ::rename(done.backup.c_str(), done.final.c_str());
-    }
-    fail("cannot rename " + member.temporary.string() + " to " + member.final.string() + ": " +
-         system_reason(failure) + " (the old report is kept)");
-  }
-  for (const Member& member : members)
-    if (!member.backup.empty()) ::unlink(member.backup.c_str());
-  // Files of an older report this one does not have: formats not written, and cell views past
-  // this report's (all of them without the Markdown).
-  const auto remove_stale = [&](const std::string& name) {
-    for (const auto& file : files)
-      if (file.first == name) return;
-    const fs::path old = folder / name;
-    struct stat info {};
-    if (::lstat(old.c_str(), &info) == 0 && !S_ISDIR(info.st_mode)) ::unlink(old.c_str());
-  };
-  for (const Format format : {Format::kJson, Format::kMarkdown, Format::kHtml})
-    remove_stale(file_name(format));
-  for (const auto& entry : fs::directory_iterator(folder, error)) {
-    const std::string name = entry.path().filename().string();
-    if (name.size() > 9 && name.starts_with("cell-") && name.ends_with(".svg") &&
-        name.find_first_not_of("0123456789", 5) == name.size() - 4)
-      remove_stale(name);
-  }
+  FileSet set(folder);
+  set.stage(files);
+  set.back_up();
+  set.commit();
+  remove_stale(folder, files);
   std::vector<fs::path> finals;
-  for (std::size_t i = 0; i < reports; ++i) finals.push_back(members[i].final);
+  for (std::size_t i = 0; i < reports; ++i) finals.push_back(set.final_path(i));
   return finals;
 }
 
