@@ -215,6 +215,16 @@ class Reader {
   void read_pose(const YAML::Node& node, const std::string& path, ObjectSpec& object) const;
   // `pose` of an object with candidate identities or a list of stable poses: its hypotheses.
   void read_hypotheses(const Fields& pose, ObjectSpec& object) const;
+  // read_hypotheses' two forms: a pose given outright (the identity alone is uncertain), or a
+  // place with the stable poses `pose.stable` lists (every one of each candidate's without it).
+  [[nodiscard]] std::vector<ObjectHypothesis> rigid_hypotheses(
+      const Fields& pose, const std::vector<ObjectIdentity>& candidates) const;
+  [[nodiscard]] std::vector<ObjectHypothesis> stable_hypotheses(
+      const Fields& pose, const std::vector<ObjectIdentity>& candidates,
+      const ObjectSpec& object) const;
+  // The labels `pose.stable` lists (one or a list, none repeated), each with its node.
+  [[nodiscard]] std::vector<std::pair<std::string, YAML::Node>> listed_stable_poses(
+      const Fields& pose, bool identities) const;
   // Face ids named by `node` (a face id, a face name, or with `features`, a feature name; or a
   // list of these), ascending and distinct.
   [[nodiscard]] std::vector<int> faces(const YAML::Node& node, const std::string& path,
@@ -808,6 +818,92 @@ void Reader::read_pose(const YAML::Node& node, const std::string& path, ObjectSp
   object.initial_stable_pose = index;
 }
 
+std::vector<ObjectHypothesis> Reader::rigid_hypotheses(
+    const Fields& pose, const std::vector<ObjectIdentity>& candidates) const {
+  for (const char* key : {"stable", "at", "yaw"})
+    if (pose.has(key))
+      fail(pose.get(key), pose.path(key) +
+                              ": give either {stable, at, yaw} or {xyz, rpy} / {matrix}, not "
+                              "both");
+  const Transform placed = rigid_pose(pose);
+  std::vector<ObjectHypothesis> hypotheses;
+  for (std::size_t i = 0; i < candidates.size(); ++i) {
+    ObjectHypothesis hypothesis{.label = candidates[i].name,
+                                .identity = static_cast<int>(i),
+                                .stable_pose = std::nullopt,
+                                .pose = placed};
+    if (const auto id = geometry::classify_orientation(candidates[i].stable_poses, placed.linear()))
+      hypothesis.stable_pose = *id - 1;
+    hypotheses.push_back(hypothesis);
+  }
+  return hypotheses;
+}
+
+std::vector<std::pair<std::string, YAML::Node>> Reader::listed_stable_poses(const Fields& pose,
+                                                                            bool identities) const {
+  const YAML::Node stable = pose.get("stable");
+  std::vector<std::pair<std::string, YAML::Node>> listed;
+  if (stable.IsSequence()) {
+    if (stable.size() == 0)
+      fail(stable, pose.path("stable") + ": the list of stable poses is empty");
+    for (std::size_t k = 0; k < stable.size(); ++k) {
+      const std::string item = pose.path("stable") + "[" + std::to_string(k) + "]";
+      const std::string label = text(stable[k], item);
+      for (const auto& [seen, unused] : listed)
+        if (seen == label) fail(stable[k], item + ": '" + label + "' is listed twice");
+      listed.emplace_back(label, stable[k]);
+    }
+  } else if (stable.IsDefined()) {
+    listed.emplace_back(text(stable, pose.path("stable")), stable);
+  } else if (!identities) {
+    fail(pose.node(), pose.name() + ": missing key 'stable'");
+  }
+  return listed;
+}
+
+std::vector<ObjectHypothesis> Reader::stable_hypotheses(
+    const Fields& pose, const std::vector<ObjectIdentity>& candidates,
+    const ObjectSpec& object) const {
+  const bool identities = !object.identities.empty();
+  const std::vector<std::pair<std::string, YAML::Node>> listed =
+      listed_stable_poses(pose, identities);
+  const std::vector<double> at =
+      quantities(pose.require("at"), pose.path("at"), 2, "pose.position");
+  const double yaw =
+      pose.has("yaw") ? quantity(pose.get("yaw"), pose.path("yaw"), "pose.angle") : 0.0;
+  const Transform above =
+      Eigen::Translation3d(at[0], at[1], 0) * Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ());
+  for (const auto& [label, node] : listed) {
+    bool any = false;
+    for (const ObjectIdentity& candidate : candidates)
+      for (const geometry::StablePose& stable_pose : candidate.stable_poses)
+        any = any || stable_pose.label == label;
+    if (any) continue;
+    std::vector<std::string> labels;
+    for (const geometry::StablePose& stable_pose : candidates.front().stable_poses)
+      labels.push_back(stable_pose.label);
+    fail(node, pose.path("stable") + ": object '" + object.name + "' has no stable pose '" + label +
+                   "'" + (identities ? " in any of its identities" : "") +
+                   "; its stable poses: " + join(labels) + " (spar object prints them)");
+  }
+  std::vector<ObjectHypothesis> hypotheses;
+  for (std::size_t i = 0; i < candidates.size(); ++i)
+    for (std::size_t p = 0; p < candidates[i].stable_poses.size(); ++p) {
+      const geometry::StablePose& stable_pose = candidates[i].stable_poses[p];
+      const bool wanted =
+          listed.empty() || std::any_of(listed.begin(), listed.end(), [&](const auto& entry) {
+            return entry.first == stable_pose.label;
+          });
+      if (!wanted) continue;
+      hypotheses.push_back(
+          {.label = identities ? candidates[i].name + ":" + stable_pose.label : stable_pose.label,
+           .identity = static_cast<int>(i),
+           .stable_pose = static_cast<int>(p),
+           .pose = above * stable_pose.object_to_world});
+    }
+  return hypotheses;
+}
+
 void Reader::read_hypotheses(const Fields& pose, ObjectSpec& object) const {
   // The candidates: the identities, or the object's one shape.
   std::vector<ObjectIdentity> candidates = object.identities;
@@ -816,80 +912,9 @@ void Reader::read_hypotheses(const Fields& pose, ObjectSpec& object) const {
                           .shape = object.shape,
                           .model = object.model,
                           .stable_poses = object.stable_poses});
-  const bool identities = !object.identities.empty();
-  const YAML::Node stable = pose.get("stable");
   const bool rigid = pose.has("xyz") || pose.has("rpy") || pose.has("matrix");
-  std::vector<ObjectHypothesis> hypotheses;
-  if (rigid) {
-    // A pose given outright: the identity alone is uncertain.
-    for (const char* key : {"stable", "at", "yaw"})
-      if (pose.has(key))
-        fail(pose.get(key), pose.path(key) +
-                                ": give either {stable, at, yaw} or {xyz, rpy} / {matrix}, not "
-                                "both");
-    const Transform placed = rigid_pose(pose);
-    for (std::size_t i = 0; i < candidates.size(); ++i) {
-      ObjectHypothesis hypothesis{.label = candidates[i].name,
-                                  .identity = static_cast<int>(i),
-                                  .stable_pose = std::nullopt,
-                                  .pose = placed};
-      if (const auto id =
-              geometry::classify_orientation(candidates[i].stable_poses, placed.linear()))
-        hypothesis.stable_pose = *id - 1;
-      hypotheses.push_back(hypothesis);
-    }
-  } else {
-    // Stable poses: the listed ones (or one), or every one of each identity when none is listed.
-    std::vector<std::pair<std::string, YAML::Node>> listed;
-    if (stable.IsSequence()) {
-      if (stable.size() == 0)
-        fail(stable, pose.path("stable") + ": the list of stable poses is empty");
-      for (std::size_t k = 0; k < stable.size(); ++k) {
-        const std::string item = pose.path("stable") + "[" + std::to_string(k) + "]";
-        const std::string label = text(stable[k], item);
-        for (const auto& [seen, unused] : listed)
-          if (seen == label) fail(stable[k], item + ": '" + label + "' is listed twice");
-        listed.emplace_back(label, stable[k]);
-      }
-    } else if (stable.IsDefined()) {
-      listed.emplace_back(text(stable, pose.path("stable")), stable);
-    } else if (!identities) {
-      fail(pose.node(), pose.name() + ": missing key 'stable'");
-    }
-    const std::vector<double> at =
-        quantities(pose.require("at"), pose.path("at"), 2, "pose.position");
-    const double yaw =
-        pose.has("yaw") ? quantity(pose.get("yaw"), pose.path("yaw"), "pose.angle") : 0.0;
-    const Transform above =
-        Eigen::Translation3d(at[0], at[1], 0) * Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ());
-    for (const auto& [label, node] : listed) {
-      bool any = false;
-      for (const ObjectIdentity& candidate : candidates)
-        for (const geometry::StablePose& stable_pose : candidate.stable_poses)
-          any = any || stable_pose.label == label;
-      if (any) continue;
-      std::vector<std::string> labels;
-      for (const geometry::StablePose& stable_pose : candidates.front().stable_poses)
-        labels.push_back(stable_pose.label);
-      fail(node, pose.path("stable") + ": object '" + object.name + "' has no stable pose '" +
-                     label + "'" + (identities ? " in any of its identities" : "") +
-                     "; its stable poses: " + join(labels) + " (spar object prints them)");
-    }
-    for (std::size_t i = 0; i < candidates.size(); ++i)
-      for (std::size_t p = 0; p < candidates[i].stable_poses.size(); ++p) {
-        const geometry::StablePose& stable_pose = candidates[i].stable_poses[p];
-        const bool wanted =
-            listed.empty() || std::any_of(listed.begin(), listed.end(), [&](const auto& entry) {
-              return entry.first == stable_pose.label;
-            });
-        if (!wanted) continue;
-        hypotheses.push_back(
-            {.label = identities ? candidates[i].name + ":" + stable_pose.label : stable_pose.label,
-             .identity = static_cast<int>(i),
-             .stable_pose = static_cast<int>(p),
-             .pose = above * stable_pose.object_to_world});
-      }
-  }
+  std::vector<ObjectHypothesis> hypotheses =
+      rigid ? rigid_hypotheses(pose, candidates) : stable_hypotheses(pose, candidates, object);
   // The first hypothesis stands for the object wherever a single shape and pose is needed.
   const ObjectIdentity& first = candidates[static_cast<std::size_t>(hypotheses.front().identity)];
   object.shape = first.shape;
