@@ -182,6 +182,14 @@ class Planner {
                                                                  const OpenGoal& goal,
                                                                  std::size_t action,
                                                                  const Atom& add) const;
+  // establish_by_new_step's bindings of the new step's parameters, false when they cannot be
+  // made: those of the matching add atom to the goal's terms, then the typed ones (fresh
+  // variables, or the bound ones checked).
+  [[nodiscard]] bool bind_to_goal(const PartialPlan& child, FamilyStep& step,
+                                  const ActionTemplate& action, const Atom& add,
+                                  const OpenGoal& goal) const;
+  [[nodiscard]] bool bind_typed_parameters(PartialPlan& child, FamilyStep& step,
+                                           const ActionTemplate& action) const;
   void resolve(const PartialPlan& node, const Threat& threat,
                std::vector<PartialPlan>& children) const;
   // The start of the search; nullopt when an at goal's place has no position of its object.
@@ -535,6 +543,61 @@ void Planner::find_threats_by_step(PartialPlan& node, int step) const {
     if (is_threat(node, {link, step})) node.threats.push_back({link, step});
 }
 
+bool Planner::bind_to_goal(const PartialPlan& child, FamilyStep& step, const ActionTemplate& action,
+                           const Atom& add, const OpenGoal& goal) const {
+  for (std::size_t i = 0; i < add.args.size(); ++i) {
+    const int parameter = action.parameter_index(add.args[i]);
+    const Term& term = goal.atom.args[i];
+    if (parameter < 0) {
+      if (term.kind != Term::Kind::kConstant || child.plan.constants[term.index] != add.args[i])
+        return false;
+      continue;
+    }
+    const Parameter& declared = action.parameters[parameter];
+    const bool wants_object = declared.type == ParameterType::kObject;
+    if (wants_object != (term.kind == Term::Kind::kObject)) return false;
+    if (!wants_object && (declared.type == ParameterType::kGrasp) !=
+                             (child.plan.variables[term.index].type == ParameterType::kGrasp))
+      return false;
+    if (step.args[parameter].index >= 0 && !(step.args[parameter] == term)) return false;
+    step.args[parameter] = term;
+  }
+  // Every object parameter must now be bound.
+  for (std::size_t p = 0; p < action.parameters.size(); ++p)
+    if (action.parameters[p].type == ParameterType::kObject && step.args[p].index < 0) return false;
+  return true;
+}
+
+bool Planner::bind_typed_parameters(PartialPlan& child, FamilyStep& step,
+                                    const ActionTemplate& action) const {
+  for (std::size_t p = 0; p < action.parameters.size(); ++p) {
+    const Parameter& declared = action.parameters[p];
+    if (declared.type == ParameterType::kObject) continue;
+    const int object = step.args[action.parameter_index(declared.of)].index;
+    // A fixed object has no grasps: no step may take hold of it.
+    if (declared.type == ParameterType::kGrasp && world_.object(object).grasps.empty())
+      return false;
+    if (step.args[p].index >= 0) {
+      PlanVariable& bound = child.plan.variables[step.args[p].index];
+      if (bound.object != object) return false;
+      if (declared.type == ParameterType::kPlacement) {
+        std::vector<int> placements;
+        for (int label = 1; label < static_cast<int>(world_.object(object).positions.size());
+             ++label)
+          placements.push_back(label);
+        if (!accepted(child.plan.network.restrict(step.args[p].index, placements, budget())))
+          return false;
+      }
+      continue;
+    }
+    const bool grasp = declared.type == ParameterType::kGrasp;
+    int& counter = grasp ? child.grasp_names : child.position_names;
+    const std::string name = (grasp ? "grasp_" : "pos_") + std::to_string(++counter);
+    step.args[p] = {Term::Kind::kVariable, add_variable(child, declared.type, object, name)};
+  }
+  return true;
+}
+
 std::optional<PartialPlan> Planner::establish_by_new_step(const PartialPlan& node,
                                                           const OpenGoal& goal,
                                                           std::size_t action_index,
@@ -545,62 +608,12 @@ std::optional<PartialPlan> Planner::establish_by_new_step(const PartialPlan& nod
   FamilyStep step{
       .id = child.plan.ordering.add_step(), .action = static_cast<int>(action_index), .args = {}};
   step.args.resize(action.parameters.size(), {Term::Kind::kObject, -1});
-  for (const Atom& atom : action.operational)
-    for (const std::string& arg : atom.args)
-      if (action.parameter_index(arg) < 0) constant(child, arg);
-  for (const Atom& atom : action.add)
-    for (const std::string& arg : atom.args)
-      if (action.parameter_index(arg) < 0) constant(child, arg);
-  for (const Atom& atom : action.del)
-    for (const std::string& arg : atom.args)
-      if (action.parameter_index(arg) < 0) constant(child, arg);
-  // Bind the parameters of the matching add atom to the goal's terms.
-  for (std::size_t i = 0; i < add.args.size(); ++i) {
-    const int parameter = action.parameter_index(add.args[i]);
-    const Term& term = goal.atom.args[i];
-    if (parameter < 0) {
-      if (term.kind != Term::Kind::kConstant || child.plan.constants[term.index] != add.args[i])
-        return std::nullopt;
-      continue;
-    }
-    const Parameter& declared = action.parameters[parameter];
-    const bool wants_object = declared.type == ParameterType::kObject;
-    if (wants_object != (term.kind == Term::Kind::kObject)) return std::nullopt;
-    if (!wants_object && (declared.type == ParameterType::kGrasp) !=
-                             (child.plan.variables[term.index].type == ParameterType::kGrasp))
-      return std::nullopt;
-    if (step.args[parameter].index >= 0 && !(step.args[parameter] == term)) return std::nullopt;
-    step.args[parameter] = term;
-  }
-  // Every object parameter must now be bound; typed parameters get fresh variables or are checked.
-  for (std::size_t p = 0; p < action.parameters.size(); ++p)
-    if (action.parameters[p].type == ParameterType::kObject && step.args[p].index < 0)
-      return std::nullopt;
-  for (std::size_t p = 0; p < action.parameters.size(); ++p) {
-    const Parameter& declared = action.parameters[p];
-    if (declared.type == ParameterType::kObject) continue;
-    const int object = step.args[action.parameter_index(declared.of)].index;
-    // A fixed object has no grasps: no step may take hold of it.
-    if (declared.type == ParameterType::kGrasp && world_.object(object).grasps.empty())
-      return std::nullopt;
-    if (step.args[p].index >= 0) {
-      PlanVariable& bound = child.plan.variables[step.args[p].index];
-      if (bound.object != object) return std::nullopt;
-      if (declared.type == ParameterType::kPlacement) {
-        std::vector<int> placements;
-        for (int label = 1; label < static_cast<int>(world_.object(object).positions.size());
-             ++label)
-          placements.push_back(label);
-        if (!accepted(child.plan.network.restrict(step.args[p].index, placements, budget())))
-          return std::nullopt;
-      }
-      continue;
-    }
-    const bool grasp = declared.type == ParameterType::kGrasp;
-    int& counter = grasp ? child.grasp_names : child.position_names;
-    const std::string name = (grasp ? "grasp_" : "pos_") + std::to_string(++counter);
-    step.args[p] = {Term::Kind::kVariable, add_variable(child, declared.type, object, name)};
-  }
+  for (const std::vector<Atom>* atoms : {&action.operational, &action.add, &action.del})
+    for (const Atom& atom : *atoms)
+      for (const std::string& arg : atom.args)
+        if (action.parameter_index(arg) < 0) constant(child, arg);
+  if (!bind_to_goal(child, step, action, add, goal) || !bind_typed_parameters(child, step, action))
+    return std::nullopt;
   child.plan.steps.push_back(step);
   child.actions += 1;
   auto& ordering = child.plan.ordering;
