@@ -2,8 +2,9 @@
 // outward exactly when the double result is not the exact one. The sign of the exact error comes
 // from an error-free transformation (two-sum; fma residual), so the FPU rounding mode is never
 // changed. Inline, with the four arithmetic operators of Interval (interval.hpp): they run on
-// every instruction of every box branch and bound evaluates, and as calls into interval.cpp they
-// cost a fifth of phase 2's time (callgrind on `spar plan` of peg_block_on_back).
+// every instruction of every box branch and bound evaluates (a fifth of `spar plan`'s
+// instructions on peg_block_on_back), and GCC kept them as calls into interval.cpp; inline they
+// save 5-7% of its CPU (bench/RESULTS.md, twenty-second landing).
 //
 // Rules (r = the double result; "exact" = the real result):
 //   - add: the two-sum error (exact - r) decides; from finite operands an infinite r overflowed

@@ -32,7 +32,8 @@
 // the original), run on options.threads threads (common/parallel.hpp): one task per
 // precondition (Monte Carlo, reverse analysis), the first of each expression in a step also with
 // the tight bound and blame, on one compiled problem (the reverse analysis reuses the tight
-// bound's SMP rewrite).
+// bound's SMP rewrite). Tasks are numbered costliest first (DAG nodes x variables), so that the
+// threads finish together.
 // Cost: a tight bound is up to report.max_box_evaluations boxes; a reverse analysis at most 2 +
 // 3 x reverse_iterations decisions (2 + reverse_iterations unguided) of up to
 // quick.max_box_evaluations boxes each (most settle in one box; those near the answer take ~100:
