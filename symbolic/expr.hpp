@@ -204,6 +204,9 @@ class ExprPool {
   [[nodiscard]] std::vector<Term> terms_of(
       std::span<const std::pair<std::uint32_t, Number>> entries);
   struct Impl;
+  // sum()'s and product()'s rules, step by step (expr.cpp).
+  class SumForm;
+  class ProductForm;
   std::unique_ptr<Impl> impl_;
 };
 

@@ -434,6 +434,9 @@ struct Layout {
   }
 };
 
+// Each node's layout, by node id.
+using Layouts = std::unordered_map<std::uint32_t, Layout>;
+
 std::string number_text(const Number& n, Precedence needed) {
   std::string text = n.to_string();
   if (number_precedence(n) < needed) text.insert(0, 1, '(').push_back(')');
@@ -441,7 +444,7 @@ std::string number_text(const Number& n, Precedence needed) {
 }
 
 // Writes the tree text of `root` from the layouts with an explicit stack (any depth).
-std::string emit(Expr root, const std::unordered_map<std::uint32_t, Layout>& layouts) {
+std::string emit(Expr root, const Layouts& layouts) {
   struct Frame {
     const Layout* layout;
     std::size_t next;
@@ -467,6 +470,89 @@ std::string emit(Expr root, const std::unordered_map<std::uint32_t, Layout>& lay
   return out;
 }
 
+// c0 + Σ c_i t_i as "t1 - 2*t2 + 3", each term grouped as its precedence needs.
+Layout sum_layout(Expr e, const Layouts& layouts) {
+  Layout out;
+  for (std::size_t i = 0; i < e.operand_count(); ++i) {
+    const Number& c = e.factor(i);
+    const Layout& term = layouts.at(e.operand(i).id());
+    const bool negative = c.is_negative();
+    const Number magnitude = negative ? -c : c;
+    if (i > 0) {
+      out.text(negative ? " - " : " + ");
+    } else if (negative) {
+      out.text("-");
+    }
+    // After "c*" or a leading unary "-", a product starting with a sum must be grouped.
+    const bool prefixed = !magnitude.is_one() || (i == 0 && negative);
+    if (!magnitude.is_one()) out.text(number_text(magnitude, kProduct) + "*");
+    out.child(e.operand(i), (prefixed && term.starts_with_sum) || term.precedence < kProduct);
+  }
+  const Number& c0 = e.constant();
+  if (!c0.is_zero())
+    out.text((c0.is_negative() ? " - " : " + ") + (c0.is_negative() ? -c0 : c0).to_string());
+  out.precedence = kSum;
+  return out;
+}
+
+// c · Π b_i^e_i as "c*a*b^2/(d*f)" (or "/d/f" past the flattening limit), the sign in front.
+Layout product_layout(Expr e, const Layouts& layouts) {
+  Layout out;
+  Layout numerator, denominator;
+  std::size_t numerator_count = 0, denominator_count = 0;
+  std::size_t first_numerator = e.operand_count();
+  // A denominator of more factors than flattening takes prints as "/a/b/c...": grouped as
+  // "/(a*b*c...)", it would re-parse as one product too long to flatten into this one.
+  std::size_t inverse_count = 0;
+  for (std::size_t i = 0; i < e.operand_count(); ++i) inverse_count += e.factor(i).is_negative();
+  const bool divide_each = inverse_count > kFlattenLimit;
+  for (std::size_t i = 0; i < e.operand_count(); ++i) {
+    const Number& exponent = e.factor(i);
+    const Layout& base = layouts.at(e.operand(i).id());
+    const bool inverse = exponent.is_negative();
+    const Number magnitude = inverse ? -exponent : exponent;
+    Layout& side = inverse ? denominator : numerator;
+    std::size_t& count = inverse ? denominator_count : numerator_count;
+    if (!inverse && count == 0) first_numerator = i;
+    if (count++ > 0) side.text(inverse && divide_each ? "/" : "*");
+    if (magnitude.is_one()) {
+      // A product that is a factor of a product was too long to flatten (expr.hpp): without
+      // parentheses it would re-parse as factors of this product, a different node.
+      side.child(e.operand(i), base.precedence < kProduct || e.operand(i).op() == Op::kMul);
+    } else {
+      side.child(e.operand(i), base.precedence < kAtom);
+      side.text("^");
+      side.text(number_text(magnitude, kAtom));
+    }
+  }
+  Layout rest = numerator;
+  if (denominator_count > 0) {
+    const bool grouped = denominator_count > 1 && !divide_each;
+    rest.text("/");
+    if (grouped) rest.text("(");
+    rest.append(denominator);
+    if (grouped) rest.text(")");
+  }
+  const bool starts_with_sum = numerator_count > 0 && e.operand(first_numerator).op() == Op::kAdd;
+  const Number& c = e.constant();
+  const bool negative = c.is_negative();
+  const Number magnitude = negative ? -c : c;
+  if (negative) out.text("-");
+  if (!magnitude.is_one() || numerator_count == 0) {
+    out.text(number_text(magnitude, kProduct));
+    if (numerator_count > 0) out.text("*");
+  }
+  const bool grouped = (negative || !magnitude.is_one()) && starts_with_sum;
+  if (grouped) out.text("(");
+  out.append(rest);
+  if (grouped) out.text(")");
+  const bool single_power =
+      !negative && magnitude.is_one() && numerator_count == 1 && denominator_count == 0;
+  out.precedence = negative ? kSum : (single_power ? kPower : kProduct);
+  out.starts_with_sum = !negative && magnitude.is_one() && starts_with_sum;
+  return out;
+}
+
 }  // namespace
 
 Expr parse(ExprPool& pool, std::string_view text) { return Parser(pool, text).parse_all(); }
@@ -477,7 +563,7 @@ std::string to_string(Expr root, double max_tree_nodes) {
     throw SymbolicError("expression too large to print as text: " + std::to_string(size) +
                         " nodes as a tree (" + std::to_string(dag_size(root)) + " as a DAG)");
   }
-  std::unordered_map<std::uint32_t, Layout> layouts;
+  Layouts layouts;
   auto get = [&](Expr e) -> const Layout& { return layouts.at(e.id()); };
   for (Expr e : topological_order(std::span<const Expr>(&root, 1))) {
     Layout out;
@@ -489,85 +575,12 @@ std::string to_string(Expr root, double max_tree_nodes) {
       case Op::kVariable:
         out.text(e.name());
         break;
-      case Op::kAdd: {
-        for (std::size_t i = 0; i < e.operand_count(); ++i) {
-          const Number& c = e.factor(i);
-          const Layout& term = get(e.operand(i));
-          const bool negative = c.is_negative();
-          const Number magnitude = negative ? -c : c;
-          if (i > 0) {
-            out.text(negative ? " - " : " + ");
-          } else if (negative) {
-            out.text("-");
-          }
-          // After "c*" or a leading unary "-", a product starting with a sum must be grouped.
-          const bool prefixed = !magnitude.is_one() || (i == 0 && negative);
-          if (!magnitude.is_one()) out.text(number_text(magnitude, kProduct) + "*");
-          out.child(e.operand(i), (prefixed && term.starts_with_sum) || term.precedence < kProduct);
-        }
-        const Number& c0 = e.constant();
-        if (!c0.is_zero())
-          out.text((c0.is_negative() ? " - " : " + ") + (c0.is_negative() ? -c0 : c0).to_string());
-        out.precedence = kSum;
+      case Op::kAdd:
+        out = sum_layout(e, layouts);
         break;
-      }
-      case Op::kMul: {
-        Layout numerator, denominator;
-        std::size_t numerator_count = 0, denominator_count = 0;
-        std::size_t first_numerator = e.operand_count();
-        // A denominator of more factors than flattening takes prints as "/a/b/c...": grouped as
-        // "/(a*b*c...)", it would re-parse as one product too long to flatten into this one.
-        std::size_t inverse_count = 0;
-        for (std::size_t i = 0; i < e.operand_count(); ++i)
-          inverse_count += e.factor(i).is_negative();
-        const bool divide_each = inverse_count > kFlattenLimit;
-        for (std::size_t i = 0; i < e.operand_count(); ++i) {
-          const Number& exponent = e.factor(i);
-          const Layout& base = get(e.operand(i));
-          const bool inverse = exponent.is_negative();
-          const Number magnitude = inverse ? -exponent : exponent;
-          Layout& side = inverse ? denominator : numerator;
-          std::size_t& count = inverse ? denominator_count : numerator_count;
-          if (!inverse && count == 0) first_numerator = i;
-          if (count++ > 0) side.text(inverse && divide_each ? "/" : "*");
-          if (magnitude.is_one()) {
-            // A product that is a factor of a product was too long to flatten (expr.hpp): without
-            // parentheses it would re-parse as factors of this product, a different node.
-            side.child(e.operand(i), base.precedence < kProduct || e.operand(i).op() == Op::kMul);
-          } else {
-            side.child(e.operand(i), base.precedence < kAtom);
-            side.text("^");
-            side.text(number_text(magnitude, kAtom));
-          }
-        }
-        Layout rest = numerator;
-        if (denominator_count > 0) {
-          const bool grouped = denominator_count > 1 && !divide_each;
-          rest.text("/");
-          if (grouped) rest.text("(");
-          rest.append(denominator);
-          if (grouped) rest.text(")");
-        }
-        const bool starts_with_sum =
-            numerator_count > 0 && e.operand(first_numerator).op() == Op::kAdd;
-        const Number& c = e.constant();
-        const bool negative = c.is_negative();
-        const Number magnitude = negative ? -c : c;
-        if (negative) out.text("-");
-        if (!magnitude.is_one() || numerator_count == 0) {
-          out.text(number_text(magnitude, kProduct));
-          if (numerator_count > 0) out.text("*");
-        }
-        const bool grouped = (negative || !magnitude.is_one()) && starts_with_sum;
-        if (grouped) out.text("(");
-        out.append(rest);
-        if (grouped) out.text(")");
-        const bool single_power =
-            !negative && magnitude.is_one() && numerator_count == 1 && denominator_count == 0;
-        out.precedence = negative ? kSum : (single_power ? kPower : kProduct);
-        out.starts_with_sum = !negative && magnitude.is_one() && starts_with_sum;
+      case Op::kMul:
+        out = product_layout(e, layouts);
         break;
-      }
       case Op::kPow:
         out.child(e.operand(0), get(e.operand(0)).precedence < kAtom);
         out.text("^");
