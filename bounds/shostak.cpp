@@ -351,36 +351,29 @@ class Engine {
 
 enum class Direction { kSup, kInf };
 
-Expr bound(Expr target, std::span<const LinearConstraint> constraints, std::span<const Expr> keep,
-           const ShostakOptions& options, Direction direction) {
-  ExprPool& pool = target.pool();
-  // Variables get dense indices in order of first appearance; a wrapped target adds one more.
+// Variables numbered densely in order of first appearance.
+struct VariableIndex {
   std::vector<Expr> variables;
   std::unordered_map<Expr, std::size_t, symbolic::ExprHash> index;
-  const auto index_of = [&](Expr variable) {
+
+  std::size_t of(Expr variable) {
     const auto [it, inserted] = index.emplace(variable, variables.size());
     if (inserted) variables.push_back(variable);
     return it->second;
-  };
-  std::vector<SplitTerms> constraint_terms;
-  for (const LinearConstraint& constraint : constraints) {
-    if (&constraint.expression.pool() != &pool) {
-      throw ShostakError(ShostakFailure::kMalformed,
-                         "SUP-INF: a constraint belongs to another ExprPool than the target");
-    }
-    constraint_terms.push_back(split_terms(constraint.expression));
-    for (const Term& term : constraint_terms.back().linear) index_of(term.expr);
   }
-  const SplitTerms target_terms = split_terms(target);
-  for (const Term& term : target_terms.linear) index_of(term.expr);
-  for (Expr variable : keep) {
-    if (!variable.is_variable()) {
-      throw ShostakError(ShostakFailure::kMalformed,
-                         "SUP-INF: kept '" + symbolic::to_string(variable) + "' is not a variable");
+  // `split`'s linear part over `count` variables (a wrapped target's z comes last).
+  [[nodiscard]] Linear linear(const SplitTerms& split, std::size_t count) const {
+    Linear form{split.constant, std::vector<Number>(count)};
+    for (const Term& term : split.linear) {
+      Number& coefficient = form.coefficients[index.at(term.expr)];
+      coefficient = exact(coefficient + term.factor);
     }
-    index_of(variable);
+    return form;
   }
-  // Non-linear target terms may mention kept variables only; they pass through unchanged.
+};
+
+// The target's non-linear terms: they may mention kept variables only, and pass through.
+Expr passthrough_of(ExprPool& pool, const SplitTerms& target_terms, std::span<const Expr> keep) {
   Expr passthrough = pool.integer(0);
   for (const Term& term : target_terms.other) {
     for (Expr variable : symbolic::free_variables(term.expr)) {
@@ -393,31 +386,19 @@ Expr bound(Expr target, std::span<const LinearConstraint> constraints, std::span
     }
     passthrough = passthrough + pool.sum(Number(), std::span<const Term>(&term, 1));
   }
+  return passthrough;
+}
 
-  std::vector<bool> kept(variables.size(), false);
-  for (Expr variable : keep) kept[index.at(variable)] = true;
-  std::size_t eliminated_in_target = 0;
-  for (const Term& term : target_terms.linear)
-    eliminated_in_target += kept[index.at(term.expr)] ? 0 : 1;
-  const bool wrap = options.wrap_target &&
-                    !(target_terms.linear.size() == 1 && target_terms.linear[0].factor.is_one() &&
-                      target_terms.constant.is_zero()) &&
-                    eliminated_in_target > 0;
-  const std::size_t count = variables.size() + (wrap ? 1 : 0);
-  const auto to_linear = [&](const SplitTerms& split) {
-    Linear form{split.constant, std::vector<Number>(count)};
-    for (const Term& term : split.linear) {
-      Number& coefficient = form.coefficients[index.at(term.expr)];
-      coefficient = exact(coefficient + term.factor);
-    }
-    return form;
-  };
+// The constraints as rows form <= 0 (an equality as two): one without variables is dropped when
+// true, an error when false.
+std::vector<Linear> constraint_rows(std::span<const LinearConstraint> constraints,
+                                    const std::vector<SplitTerms>& constraint_terms,
+                                    const VariableIndex& index, std::size_t count) {
   std::vector<Linear> forms;
   for (std::size_t i = 0; i < constraint_terms.size(); ++i) {
-    const Linear form = to_linear(constraint_terms[i]);
+    const Linear form = index.linear(constraint_terms[i], count);
     const bool equality = constraints[i].relation == LinearConstraint::Relation::kEqual;
     if (constraint_terms[i].linear.empty()) {
-      // No variable: either always true (dropped) or always false.
       if (form.constant.is_zero() || (!equality && form.constant.is_negative())) continue;
       throw ShostakError(ShostakFailure::kInfeasible,
                          "SUP-INF: constraint '" + symbolic::to_string(constraints[i].expression) +
@@ -426,7 +407,65 @@ Expr bound(Expr target, std::span<const LinearConstraint> constraints, std::span
     forms.push_back(form);
     if (equality) forms.push_back(scaled(form, Number::integer(-1)));
   }
-  Linear objective = to_linear(target_terms);
+  return forms;
+}
+
+// The bound from the engine's pieces: sup = min of the pieces; inf = max of the negated pieces.
+Expr bound_of_pieces(ExprPool& pool, const std::vector<Linear>& pieces,
+                     const std::vector<Expr>& variables, bool is_sup) {
+  Expr answer;
+  for (const Linear& piece : pieces) {
+    std::vector<Term> terms;
+    for (std::size_t i = 0; i < piece.coefficients.size(); ++i) {
+      if (!piece.coefficients[i].is_zero())
+        terms.push_back({variables.at(i), piece.coefficients[i]});
+    }
+    Expr form = pool.sum(piece.constant, terms);
+    if (!is_sup) form = -form;
+    answer = answer.is_null()
+                 ? form
+                 : (is_sup ? symbolic::min(answer, form) : symbolic::max(answer, form));
+  }
+  return answer;
+}
+
+Expr bound(Expr target, std::span<const LinearConstraint> constraints, std::span<const Expr> keep,
+           const ShostakOptions& options, Direction direction) {
+  ExprPool& pool = target.pool();
+  // Variables get dense indices in order of first appearance; a wrapped target adds one more.
+  VariableIndex index;
+  std::vector<SplitTerms> constraint_terms;
+  for (const LinearConstraint& constraint : constraints) {
+    if (&constraint.expression.pool() != &pool) {
+      throw ShostakError(ShostakFailure::kMalformed,
+                         "SUP-INF: a constraint belongs to another ExprPool than the target");
+    }
+    constraint_terms.push_back(split_terms(constraint.expression));
+    for (const Term& term : constraint_terms.back().linear) index.of(term.expr);
+  }
+  const SplitTerms target_terms = split_terms(target);
+  for (const Term& term : target_terms.linear) index.of(term.expr);
+  for (Expr variable : keep) {
+    if (!variable.is_variable()) {
+      throw ShostakError(ShostakFailure::kMalformed,
+                         "SUP-INF: kept '" + symbolic::to_string(variable) + "' is not a variable");
+    }
+    index.of(variable);
+  }
+  const Expr passthrough = passthrough_of(pool, target_terms, keep);
+
+  std::vector<bool> kept(index.variables.size(), false);
+  for (Expr variable : keep) kept[index.index.at(variable)] = true;
+  std::size_t eliminated_in_target = 0;
+  for (const Term& term : target_terms.linear)
+    eliminated_in_target += kept[index.index.at(term.expr)] ? 0 : 1;
+  const bool wrap = options.wrap_target &&
+                    !(target_terms.linear.size() == 1 && target_terms.linear[0].factor.is_one() &&
+                      target_terms.constant.is_zero()) &&
+                    eliminated_in_target > 0;
+  const std::size_t count = index.variables.size() + (wrap ? 1 : 0);
+  std::vector<Linear> forms = constraint_rows(constraints, constraint_terms, index, count);
+  Linear objective = index.linear(target_terms, count);
   kept.resize(count, false);
   if (wrap) {
     // z = objective as z - objective <= 0 and objective - z <= 0.
@@ -450,21 +489,7 @@ Expr bound(Expr target, std::span<const LinearConstraint> constraints, std::span
                        std::string("SUP-INF: '") + symbolic::to_string(target) + "' is unbounded " +
                            (is_sup ? "above" : "below") + " under the constraints");
   }
-  // sup = min of pieces; inf = max of the negated pieces.
-  Expr answer;
-  for (const Linear& piece : result.pieces) {
-    std::vector<Term> terms;
-    for (std::size_t i = 0; i < piece.coefficients.size(); ++i) {
-      if (!piece.coefficients[i].is_zero())
-        terms.push_back({variables.at(i), piece.coefficients[i]});
-    }
-    Expr form = pool.sum(piece.constant, terms);
-    if (!is_sup) form = -form;
-    answer = answer.is_null()
-                 ? form
-                 : (is_sup ? symbolic::min(answer, form) : symbolic::max(answer, form));
-  }
-  return answer + passthrough;
+  return bound_of_pieces(pool, result.pieces, index.variables, is_sup) + passthrough;
 }
 
 }  // namespace
