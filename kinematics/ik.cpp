@@ -35,6 +35,39 @@ PlaneDirection direction_of(double x, double y) {
   return {x / norm, y / norm};
 }
 
+// The wrist's q4, q5, q6 for the arm's q1 and q2 + q3 (as directions) and the flange rotation,
+// with |sin q5| (small near the wrist singularity).
+struct WristAngles {
+  double theta4{0}, theta5{0}, theta6{0}, sin_q5_magnitude{0};
+};
+WristAngles wrist_joint_angles(PlaneDirection joint1, PlaneDirection joint23,
+                               const Eigen::Matrix3d& rotation) {
+  const double c1 = joint1.c, s1 = joint1.s, c23 = joint23.c, s23 = joint23.s;
+  // Axes of frame 3 in the base frame; M = R03^T R is the wrist rotation
+  // Rz(q4) Ry(-q5) Rz(q6) (ZYZ Euler angles with the middle one negated).
+  const Eigen::Vector3d x3(c1 * c23, s1 * c23, s23);
+  const Eigen::Vector3d y3(-s1, c1, 0.0);
+  const Eigen::Vector3d z3(-c1 * s23, -s1 * s23, c23);
+  const Eigen::Vector3d r0 = rotation.col(0), r1 = rotation.col(1), r2 = rotation.col(2);
+  const double m00 = x3.dot(r0), m01 = x3.dot(r1), m02 = x3.dot(r2);
+  const double m10 = y3.dot(r0), m11 = y3.dot(r1), m12 = y3.dot(r2);
+  const double m22 = z3.dot(r2);
+  WristAngles out;
+  out.sin_q5_magnitude = std::sqrt(m02 * m02 + m12 * m12);
+  // Where q4 is numerically undetermined, the documented choice q4 = 0.
+  const PlaneDirection joint4 =
+      out.sin_q5_magnitude < kUndeterminedWrist
+          ? PlaneDirection{1.0, 0.0}
+          : PlaneDirection{m02 / out.sin_q5_magnitude, m12 / out.sin_q5_magnitude};
+  out.theta4 = std::atan2(joint4.s, joint4.c);
+  // q5 and q6 given q4 (well conditioned even near the singularity):
+  // Rz(-q4) M = Ry(-q5) Rz(q6).
+  const double c4 = joint4.c, s4 = joint4.s;
+  out.theta5 = -std::atan2(c4 * m02 + s4 * m12, m22);
+  out.theta6 = std::atan2(c4 * m10 - s4 * m00, c4 * m11 - s4 * m01);
+  return out;
+}
+
 void require(bool condition, const std::string& robot, const std::string& what) {
   if (!condition) {
     throw KinematicsError("robot '" + robot +
@@ -189,34 +222,15 @@ IkResult PumaIk::solve(const Transform& flange) const {
                   inverse(direction_of(a2_ + length * elbow_angle.c, length * elbow_angle.s)));
       const double theta2 = std::atan2(joint2.s, joint2.c);
       const PlaneDirection joint23 = compose(joint2, compose(elbow_angle, inverse(elbow_offset)));
-      const double c1 = joint1.c, s1 = joint1.s, c23 = joint23.c, s23 = joint23.s;
-      // Axes of frame 3 in the base frame; M = R03^T R is the wrist rotation
-      // Rz(q4) Ry(-q5) Rz(q6) (ZYZ Euler angles with the middle one negated).
-      const Eigen::Vector3d x3(c1 * c23, s1 * c23, s23);
-      const Eigen::Vector3d y3(-s1, c1, 0.0);
-      const Eigen::Vector3d z3(-c1 * s23, -s1 * s23, c23);
-      const Eigen::Vector3d r0 = rotation.col(0), r1 = rotation.col(1), r2 = rotation.col(2);
-      const double m00 = x3.dot(r0), m01 = x3.dot(r1), m02 = x3.dot(r2);
-      const double m10 = y3.dot(r0), m11 = y3.dot(r1), m12 = y3.dot(r2);
-      const double m22 = z3.dot(r2);
+      const WristAngles angles = wrist_joint_angles(joint1, joint23, rotation);
       std::uint8_t flags = arm_flags;
-      const double sin_q5_magnitude = std::sqrt(m02 * m02 + m12 * m12);
-      if (sin_q5_magnitude < options_.singularity_tolerance) flags |= kWristSingularity;
-      // Where q4 is numerically undetermined, the documented choice q4 = 0.
-      const PlaneDirection joint4 =
-          sin_q5_magnitude < kUndeterminedWrist
-              ? PlaneDirection{1.0, 0.0}
-              : PlaneDirection{m02 / sin_q5_magnitude, m12 / sin_q5_magnitude};
-      const double theta4 = std::atan2(joint4.s, joint4.c);
-      // q5 and q6 given q4 (well conditioned even near the singularity):
-      // Rz(-q4) M = Ry(-q5) Rz(q6).
-      const double c4 = joint4.c, s4 = joint4.s;
-      const double theta5 = -std::atan2(c4 * m02 + s4 * m12, m22);
-      const double theta6 = std::atan2(c4 * m10 - s4 * m00, c4 * m11 - s4 * m01);
+      if (angles.sin_q5_magnitude < options_.singularity_tolerance) flags |= kWristSingularity;
       result.singularities |= flags;
 
-      const double no_flip[6] = {theta1, theta2, theta3, theta4, theta5, theta6};
-      const double flip[6] = {theta1, theta2, theta3, theta4 + kPi, -theta5, theta6 + kPi};
+      const double no_flip[6] = {theta1,        theta2,        theta3,
+                                 angles.theta4, angles.theta5, angles.theta6};
+      const double flip[6] = {
+          theta1, theta2, theta3, angles.theta4 + kPi, -angles.theta5, angles.theta6 + kPi};
       for (const Wrist wrist : {Wrist::no_flip, Wrist::flip}) {
         IkSolution& solution = result.solutions[solution_index(shoulder, elbow, wrist)];
         solution.configuration = {shoulder, elbow, wrist};
