@@ -165,30 +165,28 @@ Planner::Planner(Network network, std::vector<ControlSpec> controls, std::vector
   }
 }
 
-bool Planner::plan_node(Search& search, int id, Sign desired, int depth) const {
-  // Each level moves to a cause, whose index is smaller: depth never exceeds the network size.
-  if (depth > network_.size()) return false;
-  if (search.decided[id]) return search.planned[id] == desired;
+bool Planner::plan_control(Search& search, int id, Sign desired) const {
+  const int control = control_of_node_[id];
+  if (control < 0 || (search.control && *search.control != control)) return false;
+  if (!search.open(control, desired)) return false;
+  search.decided[id] = true;
+  search.planned[id] = desired;
+  search.path.push_back(id);
+  search.control = control;
+  return true;
+}
+
+struct Planner::CauseChoice {
+  int cause;
+  int rank;
+  Potentials potentials;
+};
+
+std::vector<Planner::CauseChoice> Planner::ranked_causes(const Search& search, int id,
+                                                         Sign desired) const {
   const Node& node = network_.node(id);
-  if (node.kind == NodeKind::kConstant) return false;
-  if (node.kind == NodeKind::kControl) {
-    const int control = control_of_node_[id];
-    if (control < 0 || (search.control && *search.control != control)) return false;
-    if (!search.open(control, desired)) return false;
-    search.decided[id] = true;
-    search.planned[id] = desired;
-    search.path.push_back(id);
-    search.control = control;
-    return true;
-  }
-  // 9c: order the causes by preference.
   const TrialContext& context = *search.context;
-  struct Candidate {
-    int cause;
-    int rank;
-    Potentials potentials;
-  };
-  std::vector<Candidate> candidates;
+  std::vector<CauseChoice> candidates;
   for (std::size_t position = 0; position < node.causes.size(); ++position) {
     const int cause = node.causes[position];
     if (search.decided[cause]) continue;
@@ -214,30 +212,49 @@ bool Planner::plan_node(Search& search, int id, Sign desired, int depth) const {
     candidates.push_back({cause, rank, potentials});
   }
   std::stable_sort(candidates.begin(), candidates.end(),
-                   [](const Candidate& a, const Candidate& b) {
+                   [](const CauseChoice& a, const CauseChoice& b) {
                      if (a.rank != b.rank) return a.rank < b.rank;
                      return std::max(a.potentials[0], a.potentials[2]) >
                             std::max(b.potentials[0], b.potentials[2]);
                    });
-  for (const Candidate& candidate : candidates) {
-    // 9d: the direction with the higher likelihood potential first.
-    std::array<Sign, 2> directions{Sign::kPlus, Sign::kMinus};
-    const double plus = candidate.potentials[index(Sign::kPlus)];
-    const double minus = candidate.potentials[index(Sign::kMinus)];
-    bool minus_first = minus > plus;
-    const bool guess = plus == minus && (context.last_change[candidate.cause] == Sign::kZero ||
-                                         context.last_change_guessed[candidate.cause]);
-    if (plus == minus) {
-      const Sign last = context.last_change[candidate.cause];
-      minus_first = last == Sign::kMinus;
-      if (const int control = control_of_node_[candidate.cause];
-          control >= 0 && last == Sign::kZero) {
-        const auto& ranges = context.ranges[control];
-        minus_first = ranges[1].values.size() > ranges[0].values.size();
-      }
+  return candidates;
+}
+
+std::array<Sign, 2> Planner::direction_order(const TrialContext& context,
+                                             const CauseChoice& choice) const {
+  std::array<Sign, 2> directions{Sign::kPlus, Sign::kMinus};
+  const double plus = choice.potentials[index(Sign::kPlus)];
+  const double minus = choice.potentials[index(Sign::kMinus)];
+  bool minus_first = minus > plus;
+  if (plus == minus) {
+    const Sign last = context.last_change[choice.cause];
+    minus_first = last == Sign::kMinus;
+    if (const int control = control_of_node_[choice.cause]; control >= 0 && last == Sign::kZero) {
+      const auto& ranges = context.ranges[control];
+      minus_first = ranges[1].values.size() > ranges[0].values.size();
     }
-    if (minus_first) std::swap(directions[0], directions[1]);
-    for (Sign direction : directions) {
+  }
+  if (minus_first) std::swap(directions[0], directions[1]);
+  return directions;
+}
+
+bool Planner::plan_node(Search& search, int id, Sign desired, int depth) const {
+  // Each level moves to a cause, whose index is smaller: depth never exceeds the network size.
+  if (depth > network_.size()) return false;
+  if (search.decided[id]) return search.planned[id] == desired;
+  const Node& node = network_.node(id);
+  if (node.kind == NodeKind::kConstant) return false;
+  if (node.kind == NodeKind::kControl) return plan_control(search, id, desired);
+  const TrialContext& context = *search.context;
+  // 9c: the causes by preference.
+  for (const CauseChoice& candidate : ranked_causes(search, id, desired)) {
+    // 9d: the direction with the higher likelihood potential first; equal ones are a guess
+    // unless the last change decided them.
+    const double plus = candidate.potentials[index(Sign::kPlus)];
+    const bool guess = plus == candidate.potentials[index(Sign::kMinus)] &&
+                       (context.last_change[candidate.cause] == Sign::kZero ||
+                        context.last_change_guessed[candidate.cause]);
+    for (Sign direction : direction_order(context, candidate)) {
       if (candidate.potentials[index(direction)] <= 0) continue;
       // 9e: make the change on a copy and propagate it towards the ultimate causes.
       Search attempt = search;

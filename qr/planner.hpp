@@ -52,6 +52,7 @@
 //   if (run.status == Status::kSuccess) use(run.trials.back().controls);
 #pragma once
 
+#include <array>
 #include <functional>
 #include <optional>
 #include <string>
@@ -229,7 +230,18 @@ class Planner {
   // 10-11: the planned change, its next value and the limit this failed trial asserts.
   void adopt_plan(const std::vector<double>& point, const Search& plan, int planned_goal,
                   const TrialContext& context, Trial& trial);
+  // 9c-9e: plans `desired` for `node` by changing its causes in turn, recursively, on copies of
+  // `search`; true when a control's change achieves it.
   [[nodiscard]] bool plan_node(Search& search, int node, Sign desired, int depth) const;
+  // A control node: `desired` if no other control is planned and no limit blocks it.
+  [[nodiscard]] bool plan_control(Search& search, int node, Sign desired) const;
+  struct CauseChoice;  // a cause to change, its preference rank and potentials (planner.cpp)
+  // 9c: the undecided causes of `node`, by preference (rank, then the likelier change).
+  [[nodiscard]] std::vector<CauseChoice> ranked_causes(const Search& search, int node,
+                                                       Sign desired) const;
+  // 9d: the order to try a cause's two changes in, the likelier first.
+  [[nodiscard]] std::array<Sign, 2> direction_order(const TrialContext& context,
+                                                    const CauseChoice& choice) const;
   [[nodiscard]] std::vector<Visibility> limit_visibility(int goal, int control) const;
 
   Network network_;
