@@ -206,108 +206,135 @@ bool gripper_hits_object(const ObjectModel& object, const TriangleTree& tree,
   return false;
 }
 
-// Contact positions of a pair (mid-plane points, object frame), per the header's quantization.
-std::vector<Eigen::Vector3d> contact_positions(const ObjectModel& object, const TriangleTree& tree,
-                                               const FacePair& pair, int per_axis) {
-  const Eigen::Vector3d normal = object.face(pair.face_a).normal;
-  const internal::PlaneBasis basis = internal::plane_basis(normal);
-  const double mid_offset = normal.dot(pair.overlap.front().front());
-  std::vector<Polygon2> pieces;
-  Eigen::Vector2d low = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
-  Eigen::Vector2d high = -low;
-  Eigen::Vector2d centroid = Eigen::Vector2d::Zero();
-  for (const auto& piece3 : pair.overlap) {
-    Polygon2 piece;
-    for (const auto& p : piece3) {
-      piece.push_back(internal::project(basis, p));
-      low = low.cwiseMin(piece.back());
-      high = high.cwiseMax(piece.back());
+// The overlap of a face pair in its mid-plane (2-D, plane_basis of face a's normal): where a
+// contact point may go, and which points have both contacts reachable from outside.
+class ContactRegion {
+ public:
+  ContactRegion(const ObjectModel& object, const TriangleTree& tree, const FacePair& pair)
+      : normal_(object.face(pair.face_a).normal),
+        basis_(internal::plane_basis(normal_)),
+        mid_offset_(normal_.dot(pair.overlap.front().front())),
+        face_offset_(object.face(pair.face_a).offset),
+        width_(pair.width),
+        tolerance_(object.tolerance()) {
+    for (const auto& piece3 : pair.overlap) {
+      Polygon2 piece;
+      for (const auto& p : piece3) {
+        piece.push_back(internal::project(basis_, p));
+        low_ = low_.cwiseMin(piece.back());
+        high_ = high_.cwiseMax(piece.back());
+      }
+      centroid_ += internal::signed_area(piece) * internal::area_centroid(piece);
+      pieces_.push_back(std::move(piece));
     }
-    centroid += internal::signed_area(piece) * internal::area_centroid(piece);
-    pieces.push_back(std::move(piece));
+    centroid_ /= pair.overlap_area;
+    exposed_a_.emplace(object, tree, region(face_offset_), normal_);
+    exposed_b_.emplace(object, tree, region(face_offset_ - width_), -normal_);
   }
-  centroid /= pair.overlap_area;
-  const double tolerance = object.tolerance();
-  const Face& face_a = object.face(pair.face_a);
-  // The contact points of mid-plane points q in [low, high]: on face a, and on face b.
-  const auto region = [&](double along_normal) {
-    std::array<Eigen::Vector3d, 4> corners;
-    for (int c = 0; c < 4; ++c)
-      corners[c] = basis.u * (c & 1 ? high.x() : low.x()) + basis.v * (c & 2 ? high.y() : low.y()) +
-                   normal * along_normal;
-    return corners;
-  };
-  Exposure exposed_a(object, tree, region(face_a.offset), normal);
-  Exposure exposed_b(object, tree, region(face_a.offset - pair.width), -normal);
+
+  // The header's targets: the overlap's centroid, or a per_axis x per_axis grid over its box.
+  [[nodiscard]] std::vector<Eigen::Vector2d> targets(int per_axis) const {
+    if (per_axis == 1) return {centroid_};
+    std::vector<Eigen::Vector2d> out;
+    for (int i = 0; i < per_axis; ++i)
+      for (int j = 0; j < per_axis; ++j) out.push_back(grid_point(i, j, per_axis));
+    return out;
+  }
+
   // In the closed overlap (a point on an edge shared by two pieces is inside), and both contact
   // points reachable from outside. The side that failed last is asked first: a face the object
   // hides fails at every point, at its first (remembered) blocker, while the other face's rays
   // pass every blocker of theirs.
-  bool b_first = false;
-  const auto inside = [&](const Eigen::Vector2d& q) {
-    if (std::none_of(pieces.begin(), pieces.end(), [&](const Polygon2& piece) {
-          return internal::inset_at_least(piece, q, -tolerance);
+  bool inside(const Eigen::Vector2d& q) {
+    if (std::none_of(pieces_.begin(), pieces_.end(), [&](const Polygon2& piece) {
+          return internal::inset_at_least(piece, q, -tolerance_);
         }))
       return false;
-    const Eigen::Vector3d mid = basis.u * q.x() + basis.v * q.y() + normal * mid_offset;
-    const Eigen::Vector3d on_a = mid + (face_a.offset - mid_offset) * normal;
-    const Eigen::Vector3d on_b = mid - (pair.width - (face_a.offset - mid_offset)) * normal;
-    if (!(b_first ? exposed_b(on_b) : exposed_a(on_a))) return false;
-    if (b_first ? exposed_a(on_a) : exposed_b(on_b)) return true;
-    b_first = !b_first;
+    const Eigen::Vector3d mid = mid_plane_point(q);
+    const Eigen::Vector3d on_a = mid + (face_offset_ - mid_offset_) * normal_;
+    const Eigen::Vector3d on_b = mid - (width_ - (face_offset_ - mid_offset_)) * normal_;
+    if (!(b_first_ ? (*exposed_b_)(on_b) : (*exposed_a_)(on_a))) return false;
+    if (b_first_ ? (*exposed_a_)(on_a) : (*exposed_b_)(on_b)) return true;
+    b_first_ = !b_first_;
     return false;
-  };
-  // Candidate points: a 41 x 41 grid over the bounding box; a target not inside moves to the
-  // nearest grid point inside (the first in grid order among equally near ones). Each inside()
-  // casts rays against the mesh, so grid points are tested nearest first and only until one is
-  // inside, each at most once for all targets (testing the whole grid made `spar object`
-  // quadratic in the mesh size, and was a tenth of a small scenario's instructions).
-  constexpr int kGrid = 41;
-  std::vector<Eigen::Vector2d> grid;
-  std::vector<signed char> grid_inside;  // -1 untested, else inside(grid[i])
-  const auto nearest_inside = [&](const Eigen::Vector2d& target) -> std::optional<Eigen::Vector2d> {
-    if (grid.empty()) {
+  }
+
+  // The grid point inside nearest `target` (the first in grid order among equally near ones).
+  // A 41 x 41 grid over the bounding box. Each inside() casts rays against the mesh, so grid
+  // points are tested nearest first and only until one is inside, each at most once for all
+  // targets (testing the whole grid made `spar object` quadratic in the mesh size, and was a
+  // tenth of a small scenario's instructions).
+  std::optional<Eigen::Vector2d> nearest_inside(const Eigen::Vector2d& target) {
+    constexpr int kGrid = 41;
+    if (grid_.empty()) {
       for (int i = 0; i < kGrid; ++i)
-        for (int j = 0; j < kGrid; ++j)
-          grid.emplace_back(low.x() + (high.x() - low.x()) * (i + 0.5) / kGrid,
-                            low.y() + (high.y() - low.y()) * (j + 0.5) / kGrid);
-      grid_inside.assign(grid.size(), -1);
+        for (int j = 0; j < kGrid; ++j) grid_.push_back(grid_point(i, j, kGrid));
+      grid_inside_.assign(grid_.size(), -1);
     }
     std::vector<std::pair<double, std::size_t>> order;
-    for (std::size_t i = 0; i < grid.size(); ++i)
-      order.emplace_back((grid[i] - target).squaredNorm(), i);
+    for (std::size_t i = 0; i < grid_.size(); ++i)
+      order.emplace_back((grid_[i] - target).squaredNorm(), i);
     std::sort(order.begin(), order.end());
     for (const auto& [distance, i] : order) {
-      if (grid_inside[i] < 0) grid_inside[i] = inside(grid[i]) ? 1 : 0;
-      if (grid_inside[i] == 1) return grid[i];
+      if (grid_inside_[i] < 0) grid_inside_[i] = inside(grid_[i]) ? 1 : 0;
+      if (grid_inside_[i] == 1) return grid_[i];
     }
     return std::nullopt;
-  };
-  std::vector<Eigen::Vector2d> targets;
-  if (per_axis == 1) {
-    targets.push_back(centroid);
-  } else {
-    for (int i = 0; i < per_axis; ++i)
-      for (int j = 0; j < per_axis; ++j)
-        targets.emplace_back(low.x() + (high.x() - low.x()) * (i + 0.5) / per_axis,
-                             low.y() + (high.y() - low.y()) * (j + 0.5) / per_axis);
   }
+
+  [[nodiscard]] Eigen::Vector3d mid_plane_point(const Eigen::Vector2d& q) const {
+    return basis_.u * q.x() + basis_.v * q.y() + normal_ * mid_offset_;
+  }
+  [[nodiscard]] double tolerance() const { return tolerance_; }
+
+ private:
+  // Cell (i, j)'s centre of an n x n grid over the bounding box.
+  [[nodiscard]] Eigen::Vector2d grid_point(int i, int j, int n) const {
+    return {low_.x() + (high_.x() - low_.x()) * (i + 0.5) / n,
+            low_.y() + (high_.y() - low_.y()) * (j + 0.5) / n};
+  }
+  // The contact points of mid-plane points in [low, high] at `along_normal` (face a or b).
+  [[nodiscard]] std::array<Eigen::Vector3d, 4> region(double along_normal) const {
+    std::array<Eigen::Vector3d, 4> corners;
+    for (int c = 0; c < 4; ++c)
+      corners[c] = basis_.u * (c & 1 ? high_.x() : low_.x()) +
+                   basis_.v * (c & 2 ? high_.y() : low_.y()) + normal_ * along_normal;
+    return corners;
+  }
+
+  Eigen::Vector3d normal_;
+  internal::PlaneBasis basis_;
+  double mid_offset_, face_offset_, width_, tolerance_;
+  std::vector<Polygon2> pieces_;
+  Eigen::Vector2d low_{Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity())};
+  Eigen::Vector2d high_{-low_};
+  Eigen::Vector2d centroid_{Eigen::Vector2d::Zero()};
+  std::optional<Exposure> exposed_a_, exposed_b_;
+  bool b_first_{false};
+  std::vector<Eigen::Vector2d> grid_;
+  std::vector<signed char> grid_inside_;  // -1 untested, else inside(grid_[i])
+};
+
+// Contact positions of a pair (mid-plane points, object frame), per the header's quantization:
+// each target, or the nearest grid point inside when it is not, once within the tolerance.
+std::vector<Eigen::Vector3d> contact_positions(const ObjectModel& object, const TriangleTree& tree,
+                                               const FacePair& pair, int per_axis) {
+  ContactRegion region(object, tree, pair);
   std::vector<Eigen::Vector2d> chosen;
-  for (const auto& target : targets) {
+  for (const auto& target : region.targets(per_axis)) {
     Eigen::Vector2d best = target;
-    if (!inside(target)) {
-      const std::optional<Eigen::Vector2d> moved = nearest_inside(target);
+    if (!region.inside(target)) {
+      const std::optional<Eigen::Vector2d> moved = region.nearest_inside(target);
       if (!moved) continue;
       best = *moved;
     }
     const bool repeated = std::any_of(chosen.begin(), chosen.end(), [&](const auto& c) {
-      return (c - best).norm() <= tolerance;
+      return (c - best).norm() <= region.tolerance();
     });
     if (!repeated) chosen.push_back(best);
   }
   std::vector<Eigen::Vector3d> positions;
-  for (const auto& q : chosen)
-    positions.push_back(basis.u * q.x() + basis.v * q.y() + normal * mid_offset);
+  for (const auto& q : chosen) positions.push_back(region.mid_plane_point(q));
   return positions;
 }
 

@@ -443,17 +443,23 @@ Mesh RectilinearSolid::to_mesh(const std::string& source) const {
   return std::move(builder).build();
 }
 
-void attach_prism(Mesh& mesh, double top_z, const std::vector<Eigen::Vector2d>& polygon,
-                  double height, const std::string& name) {
+namespace {
+
+// A mesh with its upward faces at top_z taken out, the loop that outlined them (counter-clockwise
+// seen from above) and the name of their face.
+struct OpenedTop {
+  Mesh kept;
+  std::vector<int> outline;
+  std::string face_name;
+};
+
+OpenedTop open_top(const Mesh& mesh, double top_z) {
   const double tolerance = 1e-9 * (1 + std::abs(top_z));
-  // Take out the upward triangles at top_z; their outline is the ring's outer loop.
-  std::map<int, int> next_on_outline;  // directed boundary edges of the removed region
+  OpenedTop out{mesh, {}, {}};
+  out.kept.triangles.clear();
+  out.kept.triangle_names.clear();
+  out.kept.triangle_lines.clear();
   std::vector<std::pair<int, int>> removed_edges;
-  Mesh kept = mesh;
-  kept.triangles.clear();
-  kept.triangle_names.clear();
-  kept.triangle_lines.clear();
-  std::string ring_name;
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
     const auto& tri = mesh.triangles[t];
     const Eigen::Vector3d normal = triangle_normal(mesh, tri);
@@ -462,14 +468,15 @@ void attach_prism(Mesh& mesh, double top_z, const std::vector<Eigen::Vector2d>& 
                           return std::abs(mesh.vertices[v].z() - top_z) <= tolerance;
                         });
     if (!on_top) {
-      kept.triangles.push_back(tri);
-      kept.triangle_names.push_back(mesh.triangle_names[t]);
-      kept.triangle_lines.push_back(mesh.triangle_lines[t]);
+      out.kept.triangles.push_back(tri);
+      out.kept.triangle_names.push_back(mesh.triangle_names[t]);
+      out.kept.triangle_lines.push_back(mesh.triangle_lines[t]);
       continue;
     }
-    if (ring_name.empty()) ring_name = mesh.triangle_names[t];
+    if (out.face_name.empty()) out.face_name = mesh.triangle_names[t];
     for (int c = 0; c < 3; ++c) removed_edges.emplace_back(tri[c], tri[(c + 1) % 3]);
   }
+  std::map<int, int> next_on_outline;  // directed boundary edges of the removed region
   for (const auto& [a, b] : removed_edges)
     if (std::find(removed_edges.begin(), removed_edges.end(), std::pair{b, a}) ==
         removed_edges.end())
@@ -477,25 +484,25 @@ void attach_prism(Mesh& mesh, double top_z, const std::vector<Eigen::Vector2d>& 
   if (next_on_outline.empty())
     throw GeometryError(mesh.source +
                         ": attach_prism found no upward face at z = " + std::to_string(top_z));
-  std::vector<int> outer{next_on_outline.begin()->first};
+  out.outline = {next_on_outline.begin()->first};
   while (true) {
-    const int next = next_on_outline.at(outer.back());
-    if (next == outer.front()) break;
-    outer.push_back(next);
-    if (outer.size() > next_on_outline.size())
+    const int next = next_on_outline.at(out.outline.back());
+    if (next == out.outline.front()) break;
+    out.outline.push_back(next);
+    if (out.outline.size() > next_on_outline.size())
       throw GeometryError(mesh.source + ": attach_prism: the top face outline is not one loop");
   }
-  if (outer.size() != next_on_outline.size())
+  if (out.outline.size() != next_on_outline.size())
     throw GeometryError(mesh.source + ": attach_prism: the top face outline is not one loop");
+  return out;
+}
 
-  MeshBuilder builder(mesh.source);
-  for (const auto& p : kept.vertices) builder.add_vertex(p);
-  for (std::size_t t = 0; t < kept.triangles.size(); ++t)  // first, so face ids keep their order
-    builder.add_polygon(kept.triangles[t], kept.triangle_names[t], kept.triangle_lines[t]);
-  std::vector<int> base;
-  for (const auto& p : polygon) base.push_back(builder.add_vertex({p.x(), p.y(), top_z}));
-  // Zip the outer loop and the prism's base by angle about the polygon's centre: both loops are
-  // counter-clockwise seen from above, so each step adds one triangle of the ring.
+// Zips the outer loop (vertex ids, `vertices`) and the prism's base (ids `base` at `polygon`) by
+// angle about the polygon's centre: both loops are counter-clockwise seen from above, so each
+// step adds one triangle of the ring.
+void zip_ring(MeshBuilder& builder, const std::vector<Eigen::Vector3d>& vertices,
+              const std::vector<int>& outer, const std::vector<int>& base,
+              const std::vector<Eigen::Vector2d>& polygon, const std::string& ring_name) {
   Eigen::Vector2d centre = Eigen::Vector2d::Zero();
   for (const auto& p : polygon) centre += p;
   centre /= static_cast<double>(polygon.size());
@@ -512,12 +519,12 @@ void attach_prism(Mesh& mesh, double top_z, const std::vector<Eigen::Vector2d>& 
   const int n = static_cast<int>(polygon.size());
   int first_outer = 0;
   for (int j = 1; j < m; ++j)
-    if (unwrap(angle(kept.vertices[outer[j]].head<2>())) <
-        unwrap(angle(kept.vertices[outer[first_outer]].head<2>())))
+    if (unwrap(angle(vertices[outer[j]].head<2>())) <
+        unwrap(angle(vertices[outer[first_outer]].head<2>())))
       first_outer = j;
   const auto outer_vertex = [&](int j) { return outer[(first_outer + j) % m]; };
   const auto outer_angle = [&](int j) {
-    return unwrap(angle(kept.vertices[outer_vertex(j % m)].head<2>())) +
+    return unwrap(angle(vertices[outer_vertex(j % m)].head<2>())) +
            (j >= m ? 2 * std::numbers::pi : 0);
   };
   const auto inner_angle = [&](int k) {
@@ -534,6 +541,22 @@ void attach_prism(Mesh& mesh, double top_z, const std::vector<Eigen::Vector2d>& 
       ++b;
     }
   }
+}
+
+}  // namespace
+
+void attach_prism(Mesh& mesh, double top_z, const std::vector<Eigen::Vector2d>& polygon,
+                  double height, const std::string& name) {
+  // Take out the upward triangles at top_z; their outline is the ring's outer loop.
+  const OpenedTop top = open_top(mesh, top_z);
+  MeshBuilder builder(mesh.source);
+  for (const auto& p : top.kept.vertices) builder.add_vertex(p);
+  for (std::size_t t = 0; t < top.kept.triangles.size(); ++t)  // first: face ids keep their order
+    builder.add_polygon(top.kept.triangles[t], top.kept.triangle_names[t],
+                        top.kept.triangle_lines[t]);
+  std::vector<int> base;
+  for (const auto& p : polygon) base.push_back(builder.add_vertex({p.x(), p.y(), top_z}));
+  zip_ring(builder, top.kept.vertices, top.outline, base, polygon, top.face_name);
   add_prism_walls(builder, base, polygon, top_z, height, name + " ");
   Mesh result = std::move(builder).build();
   result.source = mesh.source;

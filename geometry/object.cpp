@@ -121,22 +121,32 @@ std::vector<Face> merge_faces(const Mesh& mesh, double tolerance) {
   return faces;
 }
 
-std::vector<HullFacet> compute_hull_facets(const Mesh& mesh, const std::vector<Face>& faces,
-                                           const Eigen::Vector3d& com, double tolerance) {
+namespace {
+
+// The vertices some triangle uses.
+std::vector<Eigen::Vector3d> used_vertices(const Mesh& mesh) {
+  std::vector<char> used(mesh.vertices.size(), 0);
+  for (const auto& t : mesh.triangles)
+    for (const int v : t) used[v] = 1;
   std::vector<Eigen::Vector3d> points;
-  {
-    std::vector<char> used(mesh.vertices.size(), 0);
-    for (const auto& t : mesh.triangles)
-      for (const int v : t) used[v] = 1;
-    for (std::size_t v = 0; v < used.size(); ++v)
-      if (used[v]) points.push_back(mesh.vertices[v]);
-  }
-  // Group the hull's triangles by plane: on a convex hull the triangles of one plane are one
-  // edge-connected facet, so each facet grows from its first triangle (the seed, in CGAL's order)
-  // across shared edges to every triangle with the seed's outward normal and all three corners on
-  // the seed's plane. Comparing with the seed, not the neighbour, keeps a finely tessellated
-  // curved surface from chaining into one facet. Linear in the hull size.
-  const std::vector<std::array<int, 3>> hull = internal::convex_hull_triangles(points);
+  for (std::size_t v = 0; v < used.size(); ++v)
+    if (used[v]) points.push_back(mesh.vertices[v]);
+  return points;
+}
+
+// A hull facet's plane and the corners of its triangles.
+struct PlaneGroup {
+  HullFacet facet;
+  std::vector<Eigen::Vector3d> corners;
+};
+
+// The hull's triangles grouped by plane: on a convex hull the triangles of one plane are one
+// edge-connected facet, so each facet grows from its first triangle (the seed, in CGAL's order)
+// across shared edges to every triangle with the seed's outward normal and all three corners on
+// the seed's plane. Comparing with the seed, not the neighbour, keeps a finely tessellated
+// curved surface from chaining into one facet. Linear in the hull size.
+std::vector<PlaneGroup> hull_planes(const std::vector<std::array<int, 3>>& hull,
+                                    const std::vector<Eigen::Vector3d>& points, double tolerance) {
   const int hull_size = static_cast<int>(hull.size());
   std::unordered_map<std::uint64_t, int> edge_triangle;  // directed edge (a, b) -> triangle
   edge_triangle.reserve(3 * hull.size());
@@ -145,8 +155,7 @@ std::vector<HullFacet> compute_hull_facets(const Mesh& mesh, const std::vector<F
   };
   for (int t = 0; t < hull_size; ++t)
     for (int c = 0; c < 3; ++c) edge_triangle[edge_key(hull[t][c], hull[t][(c + 1) % 3])] = t;
-  std::vector<HullFacet> facets;
-  std::vector<std::vector<Eigen::Vector3d>> facet_points;
+  std::vector<PlaneGroup> groups;
   std::vector<char> assigned(hull.size(), 0);
   std::vector<int> frontier;
   for (int seed = 0; seed < hull_size; ++seed) {
@@ -155,24 +164,23 @@ std::vector<HullFacet> compute_hull_facets(const Mesh& mesh, const std::vector<F
     // A sliver CGAL kept for exactness starts no facet; a facet around it takes it in below.
     if (assigned[seed] || n.norm() == 0) continue;
     const Eigen::Vector3d unit = n.normalized();
-    HullFacet facet{unit, unit.dot(points[t[0]]), {}, 0, 0, {}};
+    PlaneGroup group{{unit, unit.dot(points[t[0]]), {}, 0, 0, {}}, {}};
     const auto in_facet = [&](int u) {
       const auto& tri = hull[u];
       const Eigen::Vector3d m =
           (points[tri[1]] - points[tri[0]]).cross(points[tri[2]] - points[tri[0]]);
       return (m.norm() == 0 || unit.dot(m.normalized()) > kParallelCosine) &&
              std::all_of(tri.begin(), tri.end(), [&](int v) {
-               return std::abs(unit.dot(points[v]) - facet.offset) <= 10 * tolerance;
+               return std::abs(unit.dot(points[v]) - group.facet.offset) <= 10 * tolerance;
              });
     };
-    std::vector<Eigen::Vector3d> corners;
     assigned[seed] = 1;
     frontier.assign(1, seed);
     while (!frontier.empty()) {
       const int current = frontier.back();
       frontier.pop_back();
       for (int c = 0; c < 3; ++c) {
-        corners.push_back(points[hull[current][c]]);
+        group.corners.push_back(points[hull[current][c]]);
         const auto across =
             edge_triangle.find(edge_key(hull[current][(c + 1) % 3], hull[current][c]));
         if (across == edge_triangle.end()) continue;
@@ -183,15 +191,27 @@ std::vector<HullFacet> compute_hull_facets(const Mesh& mesh, const std::vector<F
         }
       }
     }
-    facets.push_back(std::move(facet));
-    facet_points.push_back(std::move(corners));
+    groups.push_back(std::move(group));
   }
+  return groups;
+}
+
+}  // namespace
+
+std::vector<HullFacet> compute_hull_facets(const Mesh& mesh, const std::vector<Face>& faces,
+                                           const Eigen::Vector3d& com, double tolerance) {
+  const std::vector<Eigen::Vector3d> points = used_vertices(mesh);
+  const std::vector<PlaneGroup> groups =
+      hull_planes(internal::convex_hull_triangles(points), points, tolerance);
   const NormalIndex face_normals(faces);
-  for (std::size_t f = 0; f < facets.size(); ++f) {
-    HullFacet& facet = facets[f];
+  std::vector<HullFacet> facets;
+  for (const PlaneGroup& group : groups) {
+    // The facet's outline (the 2-D hull of its corners), where the centre of mass lies from it,
+    // and the faces that rest on the table with it.
+    HullFacet facet = group.facet;
     const internal::PlaneBasis basis = internal::plane_basis(facet.normal);
     std::vector<Eigen::Vector2d> flat;
-    for (const auto& p : facet_points[f]) flat.push_back(internal::project(basis, p));
+    for (const auto& p : group.corners) flat.push_back(internal::project(basis, p));
     const internal::Polygon2 polygon = internal::convex_hull_2d(flat);
     for (const auto& q : polygon)
       facet.polygon.push_back(basis.u * q.x() + basis.v * q.y() + facet.normal * facet.offset);
@@ -204,6 +224,7 @@ std::vector<HullFacet> compute_hull_facets(const Mesh& mesh, const std::vector<F
         facet.table_faces.push_back(face.id);
     }
     std::sort(facet.table_faces.begin(), facet.table_faces.end());
+    facets.push_back(std::move(facet));
   }
   return facets;
 }
