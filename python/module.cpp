@@ -231,15 +231,18 @@ void bind_expressions(py::module_& m) {
       "inner"_a, Release());
 }
 
-void bind_kinematics(py::module_& m) {
+// A robot's package search path from Python's optional list of folders.
+std::vector<std::string> package_path(const std::optional<std::vector<std::string>>& folders) {
+  return folders.value_or(std::vector<std::string>{});
+}
+
+// robots(), robot() and fk().
+void bind_robots(py::module_& m) {
   m.def("robots", &robot_names, doc::of("robots"));
-  const auto package_path = [](const std::optional<std::vector<std::string>>& folders) {
-    return folders.value_or(std::vector<std::string>{});
-  };
   m.def(
       "robot",
-      [package_path](const std::string& robot, const std::string& tip,
-                     const std::optional<std::vector<std::string>>& folders) {
+      [](const std::string& robot, const std::string& tip,
+         const std::optional<std::vector<std::string>>& folders) {
         const RobotInfo info = robot_info({robot, tip, package_path(folders)});
         py::list joints;
         for (const JointInfo& j : info.joints) {
@@ -259,12 +262,15 @@ void bind_kinematics(py::module_& m) {
       "robot"_a, "tip"_a = "", "package_path"_a = py::none(), doc::of("robot"));
   m.def(
       "fk",
-      [package_path](const std::string& robot, const std::vector<double>& q, const std::string& tip,
-                     const std::optional<std::vector<std::string>>& folders) {
+      [](const std::string& robot, const std::vector<double>& q, const std::string& tip,
+         const std::optional<std::vector<std::string>>& folders) {
         return forward_kinematics({robot, tip, package_path(folders)}, q);
       },
       "robot"_a, "q"_a, "tip"_a = "", "package_path"_a = py::none(), doc::of("fk"));
+}
 
+// IkSolution, IkResult and ik().
+void bind_ik(py::module_& m) {
   py::class_<IkSolutionInfo>(m, "IkSolution", doc::of("IkSolution"))
       .def_readonly("configuration", &IkSolutionInfo::configuration,
                     doc::of("IkSolution.configuration"))
@@ -298,14 +304,16 @@ void bind_kinematics(py::module_& m) {
           "configuration"_a, doc::of("IkResult.__getitem__"));
   m.def(
       "ik",
-      [package_path](const std::string& robot, const Matrix4& pose, const std::string& tip,
-                     const std::optional<std::vector<std::string>>& folders,
-                     double redundancy_step) {
+      [](const std::string& robot, const Matrix4& pose, const std::string& tip,
+         const std::optional<std::vector<std::string>>& folders, double redundancy_step) {
         return inverse_kinematics({robot, tip, package_path(folders)}, pose, redundancy_step);
       },
       "robot"_a, "pose"_a, "tip"_a = "", "package_path"_a = py::none(),
       "redundancy_step"_a = 5.0 * std::numbers::pi / 180.0, Release(), doc::of("ik"));
+}
 
+// UncertainPose and the possible object and manipulator poses (SPAR's eq. 1).
+void bind_uncertain_poses(py::module_& m) {
   py::class_<UncertainPose>(m, "UncertainPose", doc::of("UncertainPose"))
       .def("entry", &pose_entry, "row"_a, "column"_a, Release(), doc::of("UncertainPose.entry"))
       .def(
@@ -347,6 +355,12 @@ void bind_kinematics(py::module_& m) {
         return possible_manipulator_pose(ideal, uncertainty_from(uncertainty), tag);
       },
       "ideal"_a, "uncertainty"_a, "tag"_a = "g", doc::of("possible_manipulator_pose"));
+}
+
+void bind_kinematics(py::module_& m) {
+  bind_robots(m);
+  bind_ik(m);
+  bind_uncertain_poses(m);
 }
 
 void bind_planner(py::module_& m) {
