@@ -205,6 +205,7 @@ class ExprPool {
       std::span<const std::pair<std::uint32_t, Number>> entries);
   struct Impl;
   // sum()'s and product()'s rules, step by step (expr.cpp).
+  class CanonicalForm;
   class SumForm;
   class ProductForm;
   std::unique_ptr<Impl> impl_;
