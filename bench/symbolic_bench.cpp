@@ -673,28 +673,9 @@ PeerTime add(const PeerTime& a, const PeerTime& b) {
   return t;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  Config cfg;
-  for (int i = 1; i < argc; ++i) {
-    if (std::strcmp(argv[i], "--quick") == 0) {
-      cfg.quick = true;
-      cfg.repetitions = 3;
-      cfg.peer_budget = 0.4;
-      cfg.peer_timeout = 0.8;
-      cfg.deep_points = 50;
-    } else {
-      std::fprintf(stderr, "usage: %s [--quick]\n", argv[0]);
-      return 2;
-    }
-  }
-  std::printf(
-      "symbolic_bench%s: chain of n uncertain transforms; %zu evaluation points; peer "
-      "budget %.1f s per workload (hard limit %.1f s)\n",
-      cfg.quick ? " --quick" : "", cfg.points, cfg.peer_budget, cfg.peer_timeout);
-
-  // 1. Agreement before timing: spar (tape), GiNaC (subs+evalf), independent double product.
+// 1. Agreement before timing: spar (tape), GiNaC (subs+evalf), independent double product. The
+// values checked, by n (12 entries and one Jacobian entry), for SymPy to check against.
+std::map<int, std::vector<double>> check_agreement(const Config& cfg) {
   std::map<int, std::vector<double>> check;
   for (int n : {6, 12}) {
     sym::ExprPool pool;
@@ -732,183 +713,216 @@ int main(int argc, char** argv) {
     if (!(d_ginac < 1e-9) || !(d_ref < 1e-9)) fail("GiNaC or the double product disagrees");
     check[n] = ours;
   }
+  return check;
+}
+
+// A workload's times: spar's and the peers'.
+struct Ratios {
+  std::string workload;
+  PeerTime ginac, sympy;
+  double ours;
+};
+
+// 3. spar and GiNaC (and SymPy's times from `sympy`) on the chain of n transforms: its rows,
+// its ratios, and spar's build time.
+void size_rows(int n, const Config& cfg, const SympyResults& sympy, std::vector<Ratios>& ratios,
+               std::map<int, double>& build_time) {
+  const std::vector<double> x = make_points(n, cfg.points);
+  const SparRow row = spar_workloads(n, cfg, x);
+  build_time[n] = row.build;
+  const std::size_t vars = 4 * static_cast<std::size_t>(n);
+
+  // Values: every point the peers computed, and the double reference at point 0.
+  const std::array<double, 12> ref = reference_values(n, 0, cfg.points);
+  double d_ref = 0;
+  for (int e = 0; e < 12; ++e)
+    d_ref = std::max(d_ref, std::fabs(ref[e] - row.outputs[e * cfg.points]));
+  if (!(d_ref < 1e-9)) fail("tape disagrees with the double product at n=" + std::to_string(n));
+
+  const PeerTime g_build =
+      summarize(run_in_child(cfg.peer_timeout, [&](auto emit) { ginac_build(n, cfg, emit); }), 1,
+                cfg.peer_timeout, "repetitions");
+  const PeerTime g_jac = summarize(
+      run_in_child(3 * cfg.peer_timeout, [&](auto emit) { ginac_jacobian(n, cfg, emit); }), vars,
+      cfg.peer_timeout, "columns");
+  const std::vector<double> g_eval_raw =
+      run_in_child(3 * cfg.peer_timeout, [&](auto emit) { ginac_eval(n, cfg, x, emit); });
+  std::vector<double> g_point_times;
+  double d_ginac = 0;
+  for (std::size_t p = 0; (p + 1) * 13 <= g_eval_raw.size(); ++p) {
+    g_point_times.push_back(g_eval_raw[p * 13]);
+    for (int e = 0; e < 12; ++e)
+      d_ginac = std::max(d_ginac,
+                         std::fabs(g_eval_raw[p * 13 + 1 + e] - row.outputs[e * cfg.points + p]));
+  }
+  if (!(d_ginac < 1e-9)) fail("GiNaC evaluation disagrees at n=" + std::to_string(n));
+  const PeerTime g_eval = summarize(g_point_times, cfg.points, cfg.peer_timeout, "points");
+
+  auto sympy_time = [&](const std::map<int, std::vector<double>>& m, std::size_t per_rep,
+                        const char* what, const char* unit) {
+    const auto it = m.find(n);
+    std::vector<double> units = it == m.end() ? std::vector<double>{} : it->second;
+    const auto timed_out = sympy.timeouts.find(what);
+    const bool hit = timed_out != sympy.timeouts.end() &&
+                     std::count(timed_out->second.begin(), timed_out->second.end(), n) > 0;
+    if (!units.empty() || hit) return summarize(units, per_rep, cfg.peer_timeout, unit);
+    for (const char* before : {"setup_jac", "setup_eval", "lambdify"}) {
+      const auto it2 = sympy.timeouts.find(before);
+      if (it2 != sympy.timeouts.end() && std::count(it2->second.begin(), it2->second.end(), n))
+        return PeerTime{PeerTime::Kind::kNotRun, NAN,
+                        std::string("not run: ") + before + " > " +
+                            std::to_string(int(3 * cfg.peer_timeout)) + " s"};
+    }
+    return PeerTime{};
+  };
+  const PeerTime s_build = sympy_time(sympy.build, 1, "build", "repetitions");
+  const PeerTime s_jac = sympy_time(sympy.jac, vars, "jac", "columns");
+  const PeerTime s_eval = sympy_time(sympy.eval, 1, "eval", "repetitions");
+  double d_sympy = NAN;
+  if (const auto it = sympy.val.find(n); it != sympy.val.end() && it->second.size() == 12) {
+    d_sympy = 0;
+    for (int e = 0; e < 12; ++e)
+      d_sympy = std::max(d_sympy, std::fabs(it->second[e] - row.outputs[e * cfg.points]));
+    if (!(d_sympy < 1e-9)) fail("SymPy evaluation disagrees at n=" + std::to_string(n));
+  }
+  PeerTime s_compile;
+  if (const auto it = sympy.lambdify.find(n); it != sympy.lambdify.end()) {
+    s_compile = {PeerTime::Kind::kMeasured, it->second.at(0), "1 run"};
+  } else if (sympy.timeouts.count("lambdify") &&
+             std::count(sympy.timeouts.at("lambdify").begin(), sympy.timeouts.at("lambdify").end(),
+                        n)) {
+    s_compile = {PeerTime::Kind::kLowerBound, 3 * cfg.peer_timeout, "timed out"};
+  }
+  const std::string lambdify = peer_cell(s_compile);
+
+  const double ns_per_instruction =
+      row.batch / (static_cast<double>(cfg.points) * row.instructions) * 1e9;
+  std::printf(
+      "%-4d DAG %zu nodes, tree %.4g nodes (12 entries); tape %zu instructions, "
+      "compile %.3g ms; evaluated values agree: double product %.1e, GiNaC %.1e (%zu "
+      "points), SymPy %.1e (point 0); SymPy lambdify(cse=True) %s\n",
+      n, row.dag, row.tree, row.instructions, row.compile * 1e3, d_ref, d_ginac,
+      g_point_times.size(), d_sympy, lambdify.c_str());
+  auto line = [&](const char* workload, double ours, const char* extra, const PeerTime& g,
+                  const PeerTime& s) {
+    std::printf("%-4d %-10s %10.4g s %-36s | %-34s | %-34s\n", n, workload, ours, extra,
+                peer_cell(g).c_str(), peer_cell(s).c_str());
+  };
+  line("build", row.build, "", g_build, s_build);
+  line("jacobian", row.jacobian, "", g_jac, s_jac);
+  char extra[64];
+  std::snprintf(extra, sizeof extra, "(batch; %.2f ns/instr)", ns_per_instruction);
+  line("eval", row.batch, extra, g_eval, s_eval);
+  std::snprintf(extra, sizeof extra, "(TapeEvaluator, %.2f ns/instr)",
+                row.scalar / (static_cast<double>(cfg.points) * row.instructions) * 1e9);
+  line("eval1", row.scalar, extra, PeerTime{}, PeerTime{});
+  const std::string suffix = "_n" + std::to_string(n);
+  ratios.push_back({"build" + suffix, g_build, s_build, row.build});
+  ratios.push_back({"jacobian" + suffix, g_jac, s_jac, row.jacobian});
+  ratios.push_back({"build+jacobian" + suffix, add(g_build, g_jac), add(s_build, s_jac),
+                    row.build + row.jacobian});
+  ratios.push_back({"eval" + suffix, g_eval, s_eval, row.batch});
+  ratios.push_back({"compile" + suffix, PeerTime{}, s_compile, row.compile});
+}
+
+// 4. The deep chain (spar's build against the peers', and issue 13's per-transform targets).
+void deep_chain(const Config& cfg, const SympyResults& sympy,
+                const std::map<int, double>& build_time, std::vector<Ratios>& ratios) {
+  const int n = cfg.deep;
+  const int deep_reps = cfg.quick ? 1 : 3;
+  std::vector<double> times;
+  for (int rep = 1; rep < deep_reps; ++rep) times.push_back(timed_build(n));
+  const Clock::time_point build_start = Clock::now();
+  sym::ExprPool pool;  // the last repetition's chain is the one evaluated below
+  const SparChain chain = spar_chain(pool, n);
+  times.push_back(seconds_since(build_start));
+  const double build = median(times);
+  std::vector<sym::Expr> entries(chain.m.begin(), chain.m.begin() + 12);
+  const std::size_t dag = sym::dag_size(entries);
+  const double tree = sym::tree_size(chain.m[3]);
+  Clock::time_point start = Clock::now();
+  const sym::Tape tape = sym::Tape::compile(entries, chain.variables);
+  const double compile = seconds_since(start);
+  const std::vector<double> x = make_points(n, cfg.deep_points);
+  std::vector<double> out(12 * cfg.deep_points);
+  start = Clock::now();
+  sym::evaluate_batch(tape, x, out, cfg.deep_points);
+  const double batch = seconds_since(start);
+  const std::array<double, 12> ref = reference_values(n, 0, cfg.deep_points);
+  double d_ref = 0;
+  for (int e = 0; e < 12; ++e)
+    d_ref = std::max(d_ref, std::fabs(ref[e] - out[e * cfg.deep_points]));
+  if (!(d_ref < 1e-9)) fail("deep chain: tape disagrees with the double product");
+  Config one = cfg;
+  one.repetitions = deep_reps;
+  one.peer_timeout = cfg.quick ? 3 : 60;
+  const PeerTime g_build =
+      summarize(run_in_child(one.peer_timeout, [&](auto emit) { ginac_build(n, one, emit); }), 1,
+                one.peer_timeout, "repetitions");
+  PeerTime s_build;
+  if (sympy.deep_build) {
+    s_build = {PeerTime::Kind::kMeasured, *sympy.deep_build, "1 run"};
+  } else if (sympy.timeouts.count("deepbuild")) {
+    s_build = {PeerTime::Kind::kLowerBound, 4 * cfg.peer_timeout, "timed out"};
+  }
+  std::printf("\ndeep chain n=%d: build %.4g s (median of %d) | GiNaC %s | SymPy %s\n", n, build,
+              deep_reps, peer_cell(g_build).c_str(), peer_cell(s_build).c_str());
+  std::printf(
+      "deep chain: DAG %zu nodes for 12 entries, tree of m[0][3] %.4g nodes (inf: beyond "
+      "1.8e308); tape %zu instructions, %zu slots, compile %.4g s; evaluate_batch %zu points "
+      "%.4g s = %.2f "
+      "ns/instr; agrees with the double product to %.1e. The peers' trees cannot be "
+      "evaluated (exponential), not attempted.\n",
+      dag, tree, tape.instructions().size(), tape.slot_count(), compile, cfg.deep_points, batch,
+      batch / (static_cast<double>(cfg.deep_points) * tape.instructions().size()) * 1e9, d_ref);
+  ratios.push_back({"deep_build", g_build, s_build, build});
+  // Issue 13's targets: cost per transform independent of the pool's size.
+  std::printf("build per transform:");
+  for (const auto& [size, time] : build_time)
+    std::printf(" n=%d %.2f us,", size, time / size * 1e6);
+  std::printf(" deep %.2f us (target <= 10 us: %s)\n", build / n * 1e6,
+              build / n <= 10e-6 ? "met" : "MISSED");
+  const auto [t24, t48] = paired_build_times(24, 48);
+  const double growth = t48 / t24;
+  std::printf(
+      "build n=48 / n=24: %.2f from the rows above; %.2f from %d builds of each, alternated "
+      "(%.4g / %.4g s; target <= 2.2: %s)\n",
+      build_time.at(48) / build_time.at(24), growth, kBuildRepetitions, t48, t24,
+      growth <= 2.2 ? "met" : "MISSED");
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Config cfg;
+  for (int i = 1; i < argc; ++i) {
+    if (std::strcmp(argv[i], "--quick") == 0) {
+      cfg.quick = true;
+      cfg.repetitions = 3;
+      cfg.peer_budget = 0.4;
+      cfg.peer_timeout = 0.8;
+      cfg.deep_points = 50;
+    } else {
+      std::fprintf(stderr, "usage: %s [--quick]\n", argv[0]);
+      return 2;
+    }
+  }
+  std::printf(
+      "symbolic_bench%s: chain of n uncertain transforms; %zu evaluation points; peer "
+      "budget %.1f s per workload (hard limit %.1f s)\n",
+      cfg.quick ? " --quick" : "", cfg.points, cfg.peer_budget, cfg.peer_timeout);
+
+  const std::map<int, std::vector<double>> check = check_agreement(cfg);
 
   // 2. SymPy (its own process; it re-checks the values above before timing anything).
   const SympyResults sympy = run_sympy(cfg, check);
 
-  // 3. spar and GiNaC, size by size.
   std::printf("\n%-4s %-10s %-10s %-12s %-10s %-8s %-7s | %-34s | %-34s\n", "n", "workload", "spar",
               "", "", "", "", "GiNaC 1.8.6", "SymPy");
-  struct Ratios {
-    std::string workload;
-    PeerTime ginac, sympy;
-    double ours;
-  };
   std::vector<Ratios> ratios;
   std::map<int, double> build_time;  // spar's, by n
-  for (int n : kSizes) {
-    const std::vector<double> x = make_points(n, cfg.points);
-    const SparRow row = spar_workloads(n, cfg, x);
-    build_time[n] = row.build;
-    const std::size_t vars = 4 * static_cast<std::size_t>(n);
-
-    // Values: every point the peers computed, and the double reference at point 0.
-    const std::array<double, 12> ref = reference_values(n, 0, cfg.points);
-    double d_ref = 0;
-    for (int e = 0; e < 12; ++e)
-      d_ref = std::max(d_ref, std::fabs(ref[e] - row.outputs[e * cfg.points]));
-    if (!(d_ref < 1e-9)) fail("tape disagrees with the double product at n=" + std::to_string(n));
-
-    const PeerTime g_build =
-        summarize(run_in_child(cfg.peer_timeout, [&](auto emit) { ginac_build(n, cfg, emit); }), 1,
-                  cfg.peer_timeout, "repetitions");
-    const PeerTime g_jac = summarize(
-        run_in_child(3 * cfg.peer_timeout, [&](auto emit) { ginac_jacobian(n, cfg, emit); }), vars,
-        cfg.peer_timeout, "columns");
-    const std::vector<double> g_eval_raw =
-        run_in_child(3 * cfg.peer_timeout, [&](auto emit) { ginac_eval(n, cfg, x, emit); });
-    std::vector<double> g_point_times;
-    double d_ginac = 0;
-    for (std::size_t p = 0; (p + 1) * 13 <= g_eval_raw.size(); ++p) {
-      g_point_times.push_back(g_eval_raw[p * 13]);
-      for (int e = 0; e < 12; ++e)
-        d_ginac = std::max(d_ginac,
-                           std::fabs(g_eval_raw[p * 13 + 1 + e] - row.outputs[e * cfg.points + p]));
-    }
-    if (!(d_ginac < 1e-9)) fail("GiNaC evaluation disagrees at n=" + std::to_string(n));
-    const PeerTime g_eval = summarize(g_point_times, cfg.points, cfg.peer_timeout, "points");
-
-    auto sympy_time = [&](const std::map<int, std::vector<double>>& m, std::size_t per_rep,
-                          const char* what, const char* unit) {
-      const auto it = m.find(n);
-      std::vector<double> units = it == m.end() ? std::vector<double>{} : it->second;
-      const auto timed_out = sympy.timeouts.find(what);
-      const bool hit = timed_out != sympy.timeouts.end() &&
-                       std::count(timed_out->second.begin(), timed_out->second.end(), n) > 0;
-      if (!units.empty() || hit) return summarize(units, per_rep, cfg.peer_timeout, unit);
-      for (const char* before : {"setup_jac", "setup_eval", "lambdify"}) {
-        const auto it2 = sympy.timeouts.find(before);
-        if (it2 != sympy.timeouts.end() && std::count(it2->second.begin(), it2->second.end(), n))
-          return PeerTime{PeerTime::Kind::kNotRun, NAN,
-                          std::string("not run: ") + before + " > " +
-                              std::to_string(int(3 * cfg.peer_timeout)) + " s"};
-      }
-      return PeerTime{};
-    };
-    const PeerTime s_build = sympy_time(sympy.build, 1, "build", "repetitions");
-    const PeerTime s_jac = sympy_time(sympy.jac, vars, "jac", "columns");
-    const PeerTime s_eval = sympy_time(sympy.eval, 1, "eval", "repetitions");
-    double d_sympy = NAN;
-    if (const auto it = sympy.val.find(n); it != sympy.val.end() && it->second.size() == 12) {
-      d_sympy = 0;
-      for (int e = 0; e < 12; ++e)
-        d_sympy = std::max(d_sympy, std::fabs(it->second[e] - row.outputs[e * cfg.points]));
-      if (!(d_sympy < 1e-9)) fail("SymPy evaluation disagrees at n=" + std::to_string(n));
-    }
-    PeerTime s_compile;
-    if (const auto it = sympy.lambdify.find(n); it != sympy.lambdify.end()) {
-      s_compile = {PeerTime::Kind::kMeasured, it->second.at(0), "1 run"};
-    } else if (sympy.timeouts.count("lambdify") &&
-               std::count(sympy.timeouts.at("lambdify").begin(),
-                          sympy.timeouts.at("lambdify").end(), n)) {
-      s_compile = {PeerTime::Kind::kLowerBound, 3 * cfg.peer_timeout, "timed out"};
-    }
-    const std::string lambdify = peer_cell(s_compile);
-
-    const double ns_per_instruction =
-        row.batch / (static_cast<double>(cfg.points) * row.instructions) * 1e9;
-    std::printf(
-        "%-4d DAG %zu nodes, tree %.4g nodes (12 entries); tape %zu instructions, "
-        "compile %.3g ms; evaluated values agree: double product %.1e, GiNaC %.1e (%zu "
-        "points), SymPy %.1e (point 0); SymPy lambdify(cse=True) %s\n",
-        n, row.dag, row.tree, row.instructions, row.compile * 1e3, d_ref, d_ginac,
-        g_point_times.size(), d_sympy, lambdify.c_str());
-    auto line = [&](const char* workload, double ours, const char* extra, const PeerTime& g,
-                    const PeerTime& s) {
-      std::printf("%-4d %-10s %10.4g s %-36s | %-34s | %-34s\n", n, workload, ours, extra,
-                  peer_cell(g).c_str(), peer_cell(s).c_str());
-    };
-    line("build", row.build, "", g_build, s_build);
-    line("jacobian", row.jacobian, "", g_jac, s_jac);
-    char extra[64];
-    std::snprintf(extra, sizeof extra, "(batch; %.2f ns/instr)", ns_per_instruction);
-    line("eval", row.batch, extra, g_eval, s_eval);
-    std::snprintf(extra, sizeof extra, "(TapeEvaluator, %.2f ns/instr)",
-                  row.scalar / (static_cast<double>(cfg.points) * row.instructions) * 1e9);
-    line("eval1", row.scalar, extra, PeerTime{}, PeerTime{});
-    const std::string suffix = "_n" + std::to_string(n);
-    ratios.push_back({"build" + suffix, g_build, s_build, row.build});
-    ratios.push_back({"jacobian" + suffix, g_jac, s_jac, row.jacobian});
-    ratios.push_back({"build+jacobian" + suffix, add(g_build, g_jac), add(s_build, s_jac),
-                      row.build + row.jacobian});
-    ratios.push_back({"eval" + suffix, g_eval, s_eval, row.batch});
-    ratios.push_back({"compile" + suffix, PeerTime{}, s_compile, row.compile});
-  }
-
-  // 4. The deep chain.
-  {
-    const int n = cfg.deep;
-    const int deep_reps = cfg.quick ? 1 : 3;
-    std::vector<double> times;
-    for (int rep = 1; rep < deep_reps; ++rep) times.push_back(timed_build(n));
-    const Clock::time_point build_start = Clock::now();
-    sym::ExprPool pool;  // the last repetition's chain is the one evaluated below
-    const SparChain chain = spar_chain(pool, n);
-    times.push_back(seconds_since(build_start));
-    const double build = median(times);
-    std::vector<sym::Expr> entries(chain.m.begin(), chain.m.begin() + 12);
-    const std::size_t dag = sym::dag_size(entries);
-    const double tree = sym::tree_size(chain.m[3]);
-    Clock::time_point start = Clock::now();
-    const sym::Tape tape = sym::Tape::compile(entries, chain.variables);
-    const double compile = seconds_since(start);
-    const std::vector<double> x = make_points(n, cfg.deep_points);
-    std::vector<double> out(12 * cfg.deep_points);
-    start = Clock::now();
-    sym::evaluate_batch(tape, x, out, cfg.deep_points);
-    const double batch = seconds_since(start);
-    const std::array<double, 12> ref = reference_values(n, 0, cfg.deep_points);
-    double d_ref = 0;
-    for (int e = 0; e < 12; ++e)
-      d_ref = std::max(d_ref, std::fabs(ref[e] - out[e * cfg.deep_points]));
-    if (!(d_ref < 1e-9)) fail("deep chain: tape disagrees with the double product");
-    Config one = cfg;
-    one.repetitions = deep_reps;
-    one.peer_timeout = cfg.quick ? 3 : 60;
-    const PeerTime g_build =
-        summarize(run_in_child(one.peer_timeout, [&](auto emit) { ginac_build(n, one, emit); }), 1,
-                  one.peer_timeout, "repetitions");
-    PeerTime s_build;
-    if (sympy.deep_build) {
-      s_build = {PeerTime::Kind::kMeasured, *sympy.deep_build, "1 run"};
-    } else if (sympy.timeouts.count("deepbuild")) {
-      s_build = {PeerTime::Kind::kLowerBound, 4 * cfg.peer_timeout, "timed out"};
-    }
-    std::printf("\ndeep chain n=%d: build %.4g s (median of %d) | GiNaC %s | SymPy %s\n", n, build,
-                deep_reps, peer_cell(g_build).c_str(), peer_cell(s_build).c_str());
-    std::printf(
-        "deep chain: DAG %zu nodes for 12 entries, tree of m[0][3] %.4g nodes (inf: beyond "
-        "1.8e308); tape %zu instructions, %zu slots, compile %.4g s; evaluate_batch %zu points "
-        "%.4g s = %.2f "
-        "ns/instr; agrees with the double product to %.1e. The peers' trees cannot be "
-        "evaluated (exponential), not attempted.\n",
-        dag, tree, tape.instructions().size(), tape.slot_count(), compile, cfg.deep_points, batch,
-        batch / (static_cast<double>(cfg.deep_points) * tape.instructions().size()) * 1e9, d_ref);
-    ratios.push_back({"deep_build", g_build, s_build, build});
-    // Issue 13's targets: cost per transform independent of the pool's size.
-    std::printf("build per transform:");
-    for (const auto& [size, time] : build_time)
-      std::printf(" n=%d %.2f us,", size, time / size * 1e6);
-    std::printf(" deep %.2f us (target <= 10 us: %s)\n", build / n * 1e6,
-                build / n <= 10e-6 ? "met" : "MISSED");
-    const auto [t24, t48] = paired_build_times(24, 48);
-    const double growth = t48 / t24;
-    std::printf(
-        "build n=48 / n=24: %.2f from the rows above; %.2f from %d builds of each, alternated "
-        "(%.4g / %.4g s; target <= 2.2: %s)\n",
-        build_time.at(48) / build_time.at(24), growth, kBuildRepetitions, t48, t24,
-        growth <= 2.2 ? "met" : "MISSED");
-  }
+  for (int n : kSizes) size_rows(n, cfg, sympy, ratios, build_time);
+  deep_chain(cfg, sympy, build_time, ratios);
 
   std::printf("\n");
   for (const Ratios& r : ratios) {
