@@ -682,21 +682,30 @@ void run_large(bool quick) {
   run(quick ? "10k terms sin(x + i)" : "100k terms sin(x + i)", sines, 1);
 }
 
-int main(int argc, char** argv) {
-  bool quick = false, per_record = false, gappa = true, gappa_only = false;
-  double tolerance = BoundOptions{}.tolerance;
+// The command line: --quick, --per-record, --no-gappa, --gappa-only, --tol T, --record NAME.
+struct BenchArguments {
+  bool quick{false}, per_record{false}, gappa{true}, gappa_only{false};
+  double tolerance{BoundOptions{}.tolerance};
   std::string only_record;
+};
+
+BenchArguments parse_arguments(int argc, char** argv) {
+  BenchArguments out;
   for (int i = 1; i < argc; ++i) {
-    quick = quick || std::strcmp(argv[i], "--quick") == 0;
-    per_record = per_record || std::strcmp(argv[i], "--per-record") == 0;
-    gappa = gappa && std::strcmp(argv[i], "--no-gappa") != 0;
-    gappa_only = gappa_only || std::strcmp(argv[i], "--gappa-only") == 0;
-    if (std::strcmp(argv[i], "--tol") == 0 && i + 1 < argc) tolerance = std::atof(argv[++i]);
-    if (std::strcmp(argv[i], "--record") == 0 && i + 1 < argc) only_record = argv[++i];
+    out.quick = out.quick || std::strcmp(argv[i], "--quick") == 0;
+    out.per_record = out.per_record || std::strcmp(argv[i], "--per-record") == 0;
+    out.gappa = out.gappa && std::strcmp(argv[i], "--no-gappa") != 0;
+    out.gappa_only = out.gappa_only || std::strcmp(argv[i], "--gappa-only") == 0;
+    if (std::strcmp(argv[i], "--tol") == 0 && i + 1 < argc) out.tolerance = std::atof(argv[++i]);
+    if (std::strcmp(argv[i], "--record") == 0 && i + 1 < argc) out.only_record = argv[++i];
   }
-  // Each stage alone (no SMP rewrite, which `bound` otherwise tries after an effort limit), then
-  // the full pipeline with the defaults.
-  const std::vector<Method> methods = {
+  return out;
+}
+
+// Each stage alone (no SMP rewrite, which `bound` otherwise tries after an effort limit), then
+// the full pipeline with the defaults.
+std::vector<Method> bound_methods(double tolerance) {
+  return {
       {"naive",
        {.inner = false,
         .monotonicity = false,
@@ -719,40 +728,36 @@ int main(int argc, char** argv) {
        {.inner = true, .monotonicity = false, .centred_form = false, .simplify = false}},
       {"full", {.tolerance = tolerance}},
   };
+}
 
+// The corpus records (only the one named `only_record`, unless empty); empty when it has none.
+std::vector<nlohmann::json> read_records(const std::string& only_record) {
   std::ifstream in(std::string(SPAR_CORPUS_DIR) + "/fpbench.jsonl");
   if (!in) {
     std::fprintf(stderr, "cannot open corpus\n");
-    return 1;
+    return {};
   }
   std::vector<nlohmann::json> records;
   for (std::string line; std::getline(in, line);) {
     nlohmann::json record = nlohmann::json::parse(line);
     if (only_record.empty() || record["name"] == only_record) records.push_back(std::move(record));
   }
-  if (records.empty()) {
-    std::fprintf(stderr, "no corpus record named \"%s\"\n", only_record.c_str());
-    return 1;
-  }
-  std::printf("full pipeline tolerance %g\n", tolerance);
-  if (gappa_only) {
-    run_gappa_peer(records, quick, tolerance, per_record);
-    return 0;
-  }
+  if (records.empty()) std::fprintf(stderr, "no corpus record named \"%s\"\n", only_record.c_str());
+  return records;
+}
 
-  std::vector<std::vector<double>> ratios(methods.size()), times(methods.size());
-  std::vector<std::size_t> converged(methods.size(), 0);
-  std::vector<double> eval_ratios;
-  std::size_t fewer_evals = 0, no_more_evals = 0, bounded = 0, instructions = 0;
-  double interval_ns = 0, mpfi_ns_total = 0, our_ns_on_mpfi_records = 0;
-  std::size_t mpfi_records = 0, mpfi_instructions = 0;
-  std::vector<double> gaps;  // full pipeline: max(hi - inner_hi, inner_lo - lo) / width
-  std::vector<std::string> not_converged;
-  const int repeats = quick ? 1 : 3;
-  if (per_record)
-    std::printf("%-40s %10s %10s %9s %9s %10s %8s\n", "record", "naive", "full", "evals",
-                "ref_evals", "time_us", "status");
-  for (const auto& record : records) {
+// The corpus run of every method: per method the width ratios, times and convergence; the tape
+// timings against MPFI; the full pipeline's box evaluations against the reference's.
+class CorpusTally {
+ public:
+  CorpusTally(std::vector<Method> methods, const BenchArguments& arguments)
+      : methods_(std::move(methods)),
+        arguments_(arguments),
+        ratios_(methods_.size()),
+        times_(methods_.size()),
+        converged_(methods_.size(), 0) {}
+
+  void add(const nlohmann::json& record) {
     symbolic::ExprPool pool;
     spar::bounds::Box box;
     for (const auto& [var, range] : record["vars"].items()) {
@@ -764,101 +769,143 @@ int main(int argc, char** argv) {
       constraints.push_back({symbolic::parse(pool, c["g"].get<std::string>()),
                              relation_of(c["rel"].get<std::string>())});
     }
-    const bool unbounded = record.value("range_unbounded", false);
-    const double width = record["ref_max"].get<double>() - record["ref_min"].get<double>();
-    // Plain interval arithmetic on the tape (ns per instruction), and MPFI on the same tape.
-    {
-      const symbolic::Tape tape = symbolic::Tape::compile(std::array{f}, box.variables);
-      symbolic::TapeEvaluator<Interval> evaluator(tape);
-      Interval out[1];
-      const int loops = 2000;
-      const auto timed = [&](auto&& evaluate) {
-        const auto start = std::chrono::steady_clock::now();
-        for (int k = 0; k < loops; ++k) evaluate();
-        return std::chrono::duration<double, std::nano>(std::chrono::steady_clock::now() - start)
-                   .count() /
-               loops;
-      };
-      const double ns = timed([&] { evaluator.evaluate(box.ranges, out); });
-      interval_ns += ns;
-      instructions += tape.instructions().size();
-      if (auto peer = MpfiTape::compile(tape)) {
-        mpfi_ns_total += timed([&] { peer->evaluate(box.ranges); });
-        our_ns_on_mpfi_records += ns;
-        ++mpfi_records;
-        mpfi_instructions += tape.instructions().size();
-      }
+    time_tape(f, box);
+    if (record.value("range_unbounded", false)) return;
+    ++bounded_;
+    bound_with_each_method(record, f, box, constraints);
+  }
+
+  void print() const {
+    std::printf("\n%-12s %14s %16s %14s %10s\n", "method", "median_ratio", "converged(tol)",
+                "median_us", "max_us");
+    for (std::size_t m = 0; m < methods_.size(); ++m) {
+      std::printf("%-12s %14.6g %11zu/%zu %14.1f %10.0f\n", methods_[m].name, median(ratios_[m]),
+                  converged_[m], bounded_, median(times_[m]),
+                  *std::max_element(times_[m].begin(), times_[m].end()));
     }
-    if (unbounded) continue;
-    ++bounded;
+    std::printf(
+        "\nfull pipeline: fewer box evaluations than the reference on %zu/%zu records, "
+        "no more on %zu/%zu (spar evaluates a box once for both directions, the reference once "
+        "per\n"
+        "direction: its least is 2, ours 1)\n",
+        fewer_evals_, bounded_, no_more_evals_, bounded_);
+    std::printf(
+        "full pipeline tightness (outer vs inner, relative to the attained width): "
+        "median %.3g, max %.3g\n",
+        median(gaps_), *std::max_element(gaps_.begin(), gaps_.end()));
+    for (const std::string& name : not_converged_) std::printf("not converged: %s\n", name.c_str());
+    std::printf("interval tape evaluation: %.2f ns per instruction (MPFI on %zu records: %.2f)\n",
+                interval_ns_ / instructions_, mpfi_records_, mpfi_ns_total_ / mpfi_instructions_);
+    // Time ratio, same run, same tapes and boxes.
+    std::printf("ratio interval_tape_eval mpfi %.3g\n", mpfi_ns_total_ / our_ns_on_mpfi_records_);
+    // Not times: box-evaluation counts (the reference's are from the corpus file) and widths.
+    std::printf("ratio fpbench_box_evals(count,median) python_interval_bb %.3g\n",
+                median(eval_ratios_));
+    std::printf("ratio fpbench_width(median) naive_interval %.3g\n",
+                median(ratios_[0]) / median(ratios_.back()));
+  }
+
+ private:
+  // Plain interval arithmetic on the tape (ns per instruction), and MPFI on the same tape.
+  void time_tape(symbolic::Expr f, const spar::bounds::Box& box) {
+    const symbolic::Tape tape = symbolic::Tape::compile(std::array{f}, box.variables);
+    symbolic::TapeEvaluator<Interval> evaluator(tape);
+    Interval out[1];
+    const int loops = 2000;
+    const auto timed = [&](auto&& evaluate) {
+      const auto start = std::chrono::steady_clock::now();
+      for (int k = 0; k < loops; ++k) evaluate();
+      return std::chrono::duration<double, std::nano>(std::chrono::steady_clock::now() - start)
+                 .count() /
+             loops;
+    };
+    const double ns = timed([&] { evaluator.evaluate(box.ranges, out); });
+    interval_ns_ += ns;
+    instructions_ += tape.instructions().size();
+    if (auto peer = MpfiTape::compile(tape)) {
+      mpfi_ns_total_ += timed([&] { peer->evaluate(box.ranges); });
+      our_ns_on_mpfi_records_ += ns;
+      ++mpfi_records_;
+      mpfi_instructions_ += tape.instructions().size();
+    }
+  }
+
+  void bound_with_each_method(const nlohmann::json& record, symbolic::Expr f,
+                              const spar::bounds::Box& box,
+                              const std::vector<Constraint>& constraints) {
+    const double width = record["ref_max"].get<double>() - record["ref_min"].get<double>();
+    const int repeats = arguments_.quick ? 1 : 3;
     BoundResult full_result;
     double full_time = 0, naive_ratio = 0;
-    for (std::size_t m = 0; m < methods.size(); ++m) {
+    for (std::size_t m = 0; m < methods_.size(); ++m) {
       BoundResult r;
       double best = 1e300;
       for (int k = 0; k < repeats; ++k) {
         const auto start = std::chrono::steady_clock::now();
-        r = spar::bounds::bound(f, box, methods[m].options, constraints);
+        r = spar::bounds::bound(f, box, methods_[m].options, constraints);
         best = std::min(best, std::chrono::duration<double, std::micro>(
                                   std::chrono::steady_clock::now() - start)
                                   .count());
       }
       const double ratio = width > 0 ? (r.hi - r.lo) / width : NAN;
-      ratios[m].push_back(ratio);
-      times[m].push_back(best);
-      if (r.status == BoundStatus::kConverged && methods[m].options.branch_and_bound) {
-        ++converged[m];
+      ratios_[m].push_back(ratio);
+      times_[m].push_back(best);
+      if (r.status == BoundStatus::kConverged && methods_[m].options.branch_and_bound) {
+        ++converged_[m];
       }
       if (m == 0) naive_ratio = ratio;
-      if (m + 1 == methods.size()) {
+      if (m + 1 == methods_.size()) {
         full_result = r;
         full_time = best;
       }
     }
-    gaps.push_back(full_result.relative_gap());
+    gaps_.push_back(full_result.relative_gap());
     if (full_result.status != BoundStatus::kConverged) {
-      not_converged.push_back(record["name"].get<std::string>() + " (" +
-                              spar::bounds::to_string(full_result.status) + ")");
+      not_converged_.push_back(record["name"].get<std::string>() + " (" +
+                               spar::bounds::to_string(full_result.status) + ")");
     }
     const double reference_evals = record["bb_evals"].get<double>();
-    eval_ratios.push_back(reference_evals / std::max<double>(1, full_result.evaluations));
-    if (full_result.evaluations < reference_evals) ++fewer_evals;
-    if (full_result.evaluations <= reference_evals) ++no_more_evals;
-    if (per_record) {
+    eval_ratios_.push_back(reference_evals / std::max<double>(1, full_result.evaluations));
+    if (full_result.evaluations < reference_evals) ++fewer_evals_;
+    if (full_result.evaluations <= reference_evals) ++no_more_evals_;
+    if (arguments_.per_record) {
       std::printf("%-40.40s %10.4g %10.6g %9zu %9.0f %10.0f %8s\n",
-                  record["name"].get<std::string>().c_str(), naive_ratio, ratios.back().back(),
+                  record["name"].get<std::string>().c_str(), naive_ratio, ratios_.back().back(),
                   full_result.evaluations, reference_evals, full_time,
                   spar::bounds::to_string(full_result.status));
     }
   }
-  std::printf("\n%-12s %14s %16s %14s %10s\n", "method", "median_ratio", "converged(tol)",
-              "median_us", "max_us");
-  for (std::size_t m = 0; m < methods.size(); ++m) {
-    std::printf("%-12s %14.6g %11zu/%zu %14.1f %10.0f\n", methods[m].name, median(ratios[m]),
-                converged[m], bounded, median(times[m]),
-                *std::max_element(times[m].begin(), times[m].end()));
+
+  std::vector<Method> methods_;
+  BenchArguments arguments_;
+  std::vector<std::vector<double>> ratios_, times_;
+  std::vector<std::size_t> converged_;
+  std::vector<double> eval_ratios_;
+  std::size_t fewer_evals_{0}, no_more_evals_{0}, bounded_{0}, instructions_{0};
+  double interval_ns_{0}, mpfi_ns_total_{0}, our_ns_on_mpfi_records_{0};
+  std::size_t mpfi_records_{0}, mpfi_instructions_{0};
+  std::vector<double> gaps_;  // full pipeline: max(hi - inner_hi, inner_lo - lo) / width
+  std::vector<std::string> not_converged_;
+};
+
+int main(int argc, char** argv) {
+  const BenchArguments arguments = parse_arguments(argc, argv);
+  const std::vector<nlohmann::json> records = read_records(arguments.only_record);
+  if (records.empty()) return 1;
+  std::printf("full pipeline tolerance %g\n", arguments.tolerance);
+  if (arguments.gappa_only) {
+    run_gappa_peer(records, arguments.quick, arguments.tolerance, arguments.per_record);
+    return 0;
   }
-  std::printf(
-      "\nfull pipeline: fewer box evaluations than the reference on %zu/%zu records, "
-      "no more on %zu/%zu (spar evaluates a box once for both directions, the reference once per\n"
-      "direction: its least is 2, ours 1)\n",
-      fewer_evals, bounded, no_more_evals, bounded);
-  std::printf(
-      "full pipeline tightness (outer vs inner, relative to the attained width): "
-      "median %.3g, max %.3g\n",
-      median(gaps), *std::max_element(gaps.begin(), gaps.end()));
-  for (const std::string& name : not_converged) std::printf("not converged: %s\n", name.c_str());
-  std::printf("interval tape evaluation: %.2f ns per instruction (MPFI on %zu records: %.2f)\n",
-              interval_ns / instructions, mpfi_records, mpfi_ns_total / mpfi_instructions);
-  // Time ratio, same run, same tapes and boxes.
-  std::printf("ratio interval_tape_eval mpfi %.3g\n", mpfi_ns_total / our_ns_on_mpfi_records);
-  // Not times: box-evaluation counts (the reference's are from the corpus file) and widths.
-  std::printf("ratio fpbench_box_evals(count,median) python_interval_bb %.3g\n",
-              median(eval_ratios));
-  std::printf("ratio fpbench_width(median) naive_interval %.3g\n",
-              median(ratios[0]) / median(ratios.back()));
-  if (gappa) run_gappa_peer(records, quick, tolerance, per_record);
-  run_reuse(records, quick);
-  run_large(quick);
+  if (arguments.per_record)
+    std::printf("%-40s %10s %10s %9s %9s %10s %8s\n", "record", "naive", "full", "evals",
+                "ref_evals", "time_us", "status");
+  CorpusTally tally(bound_methods(arguments.tolerance), arguments);
+  for (const auto& record : records) tally.add(record);
+  tally.print();
+  if (arguments.gappa)
+    run_gappa_peer(records, arguments.quick, arguments.tolerance, arguments.per_record);
+  run_reuse(records, arguments.quick);
+  run_large(arguments.quick);
   return 0;
 }
