@@ -256,62 +256,67 @@ IntervalPose rigid_inverse(const IntervalPose& a) {
 //   naive direct: the same 4x4 products with bounds::Interval entries (interval sin/cos of the
 //          angle boxes, rigid inverses), no symbolic work at all: a direct interval implementation
 // Also times the phases of the fresh path separately: build only, build + compile.
-void run_pickup_preconditions(const BenchOptions& options) {
+
+// What one way of checking the pickup preconditions did: time per instance, inequalities proved,
+// full bound() calls, and the summed widths (of the example's instances where they alternate).
+struct PickupRun {
+  double seconds{0};
+  int runs{0}, examples{0}, proved{0}, full_bounds{0};
+  double width{0};
+  [[nodiscard]] double per_run(int count) const { return static_cast<double>(count) / runs; }
+  // Mean width of an inequality of the example, in inches.
+  [[nodiscard]] double mean_width() const { return width / (4.0 * examples) / spar::units::kInch; }
+};
+
+// Tallies one instance's checks into `run` (widths only for the example, index 0).
+void tally(PickupRun& run, std::span<const spar::kinematics::PickupCheck> checks, bool example) {
+  for (const spar::kinematics::PickupCheck& check : checks) {
+    run.proved += check.verdict == spar::bounds::Verdict::kSatisfied ? 1 : 0;
+    run.full_bounds += check.bound.evaluations > 1 ? 1 : 0;
+    if (example) run.width += check.bound.hi - check.bound.lo;
+  }
+}
+
+// spar fresh: the poses, the four expressions, compile and check, every instance.
+PickupRun fresh_pickups(const spar::kinematics::PickupGeometry& geometry, int repetitions) {
   using namespace spar::kinematics;
-  using spar::bounds::Interval;
-  const PickupGeometry geometry = peg_pickup_example();
-  const int repetitions = options.quick ? 3000 : 30000;
-
-  int proved = 0, full_bounds = 0;
-  double our_width = 0.0;
-  const double ours = seconds_per_call(repetitions, 1, [&](int) {
+  PickupRun run{.runs = repetitions, .examples = repetitions};
+  run.seconds = seconds_per_call(repetitions, 1, [&](int) {
     spar::symbolic::ExprPool pool;
     const UncertainManipulator gripper(pool, kTable2Gripper);
     const UncertainObject peg(pool, kTable2Object);
-    for (const PickupCheck& check : check_pickup(pickup_preconditions(geometry, gripper, peg))) {
-      proved += check.verdict == Verdict::kSatisfied ? 1 : 0;
-      full_bounds += check.bound.evaluations > 1 ? 1 : 0;
-      our_width += check.bound.hi - check.bound.lo;
-    }
+    tally(run, check_pickup(pickup_preconditions(geometry, gripper, peg)), true);
   });
+  return run;
+}
 
-  std::size_t nodes = 0;
-  const double build_only = seconds_per_call(repetitions, 1, [&](int) {
-    spar::symbolic::ExprPool pool;
-    const UncertainManipulator gripper(pool, kTable2Gripper);
-    const UncertainObject peg(pool, kTable2Object);
-    nodes += pickup_preconditions(geometry, gripper, peg).variables.size();
-  });
-  const double build_compile = seconds_per_call(repetitions, 1, [&](int) {
-    spar::symbolic::ExprPool pool;
-    const UncertainManipulator gripper(pool, kTable2Gripper);
-    const UncertainObject peg(pool, kTable2Object);
-    const PickupChecker checker(pickup_preconditions(geometry, gripper, peg));
-    nodes += 1;
-  });
-
-  spar::symbolic::ExprPool reuse_pool;
-  const UncertainManipulator reuse_gripper(reuse_pool, kTable2Gripper);
-  const UncertainObject reuse_peg(reuse_pool, kTable2Object);
-  const PickupPreconditions reuse_pre = pickup_preconditions(geometry, reuse_gripper, reuse_peg);
-  PickupChecker checker(reuse_pre);
-  std::vector<UncertaintyVariable> boxes[2] = {reuse_pre.variables, reuse_pre.variables};
+// spar reused: one PickupChecker, two boxes alternating.
+PickupRun reused_pickups(const spar::kinematics::PickupGeometry& geometry, int repetitions) {
+  using namespace spar::kinematics;
+  spar::symbolic::ExprPool pool;
+  const UncertainManipulator gripper(pool, kTable2Gripper);
+  const UncertainObject peg(pool, kTable2Object);
+  const PickupPreconditions preconditions = pickup_preconditions(geometry, gripper, peg);
+  PickupChecker checker(preconditions);
+  std::vector<UncertaintyVariable> boxes[2] = {preconditions.variables, preconditions.variables};
   for (UncertaintyVariable& v : boxes[1]) {
     v.lower *= 0.5;
     v.upper *= 0.5;
   }
-  int reuse_proved = 0;
-  const int reuse_repetitions = repetitions * 10;
+  PickupRun run{.runs = repetitions, .examples = repetitions};
   int call = 0;
-  const double reused = seconds_per_call(reuse_repetitions, 1, [&](int) {
-    for (const PickupCheck& check : checker.check(boxes[call++ & 1])) {
-      reuse_proved += check.verdict == Verdict::kSatisfied ? 1 : 0;
-    }
-  });
+  run.seconds = seconds_per_call(repetitions, 1,
+                                 [&](int) { tally(run, checker.check(boxes[call++ & 1]), false); });
+  return run;
+}
 
-  int naive_proved = 0;
-  double naive_width = 0.0;
-  const double naive = seconds_per_call(repetitions, 1, [&](int) {
+// naive: the same 4x4 products built symbolically, compiled to a tape and bounded by one natural
+// interval evaluation.
+PickupRun naive_tape_pickups(const spar::kinematics::PickupGeometry& geometry, int repetitions) {
+  using namespace spar::kinematics;
+  using spar::bounds::Interval;
+  PickupRun run{.runs = repetitions, .examples = repetitions};
+  run.seconds = seconds_per_call(repetitions, 1, [&](int) {
     spar::symbolic::ExprPool pool;
     const UncertainManipulator gripper(pool, kTable2Gripper);
     const UncertainObject peg(pool, kTable2Object);
@@ -339,43 +344,38 @@ void run_pickup_preconditions(const BenchOptions& options) {
     Interval out[4];
     evaluator.evaluate(box, out);
     for (int i = 0; i < 4; ++i) {
-      naive_proved += (i < 2 ? out[i].lo > 0 : out[i].hi < 0) ? 1 : 0;
-      naive_width += out[i].hi - out[i].lo;
+      run.proved += (i < 2 ? out[i].lo > 0 : out[i].hi < 0) ? 1 : 0;
+      run.width += out[i].hi - out[i].lo;
     }
   });
+  return run;
+}
 
-  int template_built = 0;
-  const double template_build = seconds_per_call(repetitions / 10, 1, [&](int) {
-    const PickupTemplate built(kTable2Gripper, kTable2Object);
-    template_built += static_cast<int>(built.variables().size());
-  });
-  PickupTemplate pickup(kTable2Gripper, kTable2Object);
-  std::array<PickupGeometry, 3> instances{geometry, geometry, geometry};
-  instances[1].grasp = Eigen::Translation3d(0.5 * spar::units::kInch, 0, 0) * geometry.grasp;
-  instances[2].object_pose = Eigen::Translation3d(geometry.object_pose.translation()) *
-                             Eigen::AngleAxisd(40 * spar::units::kDegree, Eigen::Vector3d::UnitZ());
-  // Widths are summed over the example's instances only, to compare with the rows above.
-  int template_proved = 0, template_full_bounds = 0, template_examples = 0;
-  double template_width = 0.0;
-  const int template_repetitions = repetitions * 10;
+// spar template: PickupTemplate built once, checked on the instances in turn.
+PickupRun template_pickups(const std::array<spar::kinematics::PickupGeometry, 3>& instances,
+                           int repetitions) {
+  spar::kinematics::PickupTemplate pickup(spar::kinematics::kTable2Gripper,
+                                          spar::kinematics::kTable2Object);
+  PickupRun run{.runs = repetitions};
   std::size_t next_instance = 0;
-  const double templated = seconds_per_call(template_repetitions, 1, [&](int) {
+  run.seconds = seconds_per_call(repetitions, 1, [&](int) {
     const std::size_t index = next_instance++ % instances.size();
-    template_examples += index == 0 ? 1 : 0;
-    for (const PickupCheck& check : pickup.check(instances[index])) {
-      template_proved += check.verdict == Verdict::kSatisfied ? 1 : 0;
-      template_full_bounds += check.bound.evaluations > 1 ? 1 : 0;
-      if (index == 0) template_width += check.bound.hi - check.bound.lo;
-    }
+    run.examples += index == 0 ? 1 : 0;
+    tally(run, pickup.check(instances[index]), index == 0);
   });
+  return run;
+}
 
-  int direct_proved = 0, direct_examples = 0;
-  double direct_width = 0.0;
-  const int direct_repetitions = repetitions * 10;
-  next_instance = 0;
-  const double direct = seconds_per_call(direct_repetitions, 1, [&](int) {
+// naive direct: the same 4x4 products with bounds::Interval entries, no symbolic work at all.
+PickupRun direct_pickups(const std::array<spar::kinematics::PickupGeometry, 3>& instances,
+                         int repetitions) {
+  using namespace spar::kinematics;
+  using spar::bounds::Interval;
+  PickupRun run{.runs = repetitions};
+  std::size_t next_instance = 0;
+  run.seconds = seconds_per_call(repetitions, 1, [&](int) {
     const std::size_t index = next_instance++ % instances.size();
-    direct_examples += index == 0 ? 1 : 0;
+    run.examples += index == 0 ? 1 : 0;
     const PickupGeometry& instance = instances[index];
     const auto box = [](double half_width) { return Interval{-half_width, half_width}; };
     const IntervalPose manipulator_error =
@@ -401,49 +401,84 @@ void run_pickup_preconditions(const BenchOptions& options) {
             inverse * object * grasp *
             interval_pose(Transform(Eigen::Translation3d(0, contact, 0)));
         const Interval y = in_finger.translation[1];
-        direct_proved += (condition++ < 2 ? y.lo > 0 : y.hi < 0) ? 1 : 0;
-        if (index == 0) direct_width += y.hi - y.lo;
+        run.proved += (condition++ < 2 ? y.lo > 0 : y.hi < 0) ? 1 : 0;
+        if (index == 0) run.width += y.hi - y.lo;
       }
     }
   });
+  return run;
+}
+
+void run_pickup_preconditions(const BenchOptions& options) {
+  using namespace spar::kinematics;
+  const PickupGeometry geometry = peg_pickup_example();
+  const int repetitions = options.quick ? 3000 : 30000;
+
+  const PickupRun ours = fresh_pickups(geometry, repetitions);
+  // The fresh path's phases apart: build only, build + compile.
+  std::size_t nodes = 0;
+  const double build_only = seconds_per_call(repetitions, 1, [&](int) {
+    spar::symbolic::ExprPool pool;
+    const UncertainManipulator gripper(pool, kTable2Gripper);
+    const UncertainObject peg(pool, kTable2Object);
+    nodes += pickup_preconditions(geometry, gripper, peg).variables.size();
+  });
+  const double build_compile = seconds_per_call(repetitions, 1, [&](int) {
+    spar::symbolic::ExprPool pool;
+    const UncertainManipulator gripper(pool, kTable2Gripper);
+    const UncertainObject peg(pool, kTable2Object);
+    const PickupChecker checker(pickup_preconditions(geometry, gripper, peg));
+    nodes += 1;
+  });
+  const PickupRun reused = reused_pickups(geometry, repetitions * 10);
+  const PickupRun naive = naive_tape_pickups(geometry, repetitions);
+
+  int template_built = 0;
+  const double template_build = seconds_per_call(repetitions / 10, 1, [&](int) {
+    const PickupTemplate built(kTable2Gripper, kTable2Object);
+    template_built += static_cast<int>(built.variables().size());
+  });
+  std::array<PickupGeometry, 3> instances{geometry, geometry, geometry};
+  instances[1].grasp = Eigen::Translation3d(0.5 * spar::units::kInch, 0, 0) * geometry.grasp;
+  instances[2].object_pose = Eigen::Translation3d(geometry.object_pose.translation()) *
+                             Eigen::AngleAxisd(40 * spar::units::kDegree, Eigen::Vector3d::UnitZ());
+  // Widths are summed over the example's instances only, to compare with the rows above.
+  const PickupRun templated = template_pickups(instances, repetitions * 10);
+  const PickupRun direct = direct_pickups(instances, repetitions * 10);
 
   char note[160];
   std::printf("\npickup preconditions, one plan instance = build + decide 4 inequalities\n");
   std::snprintf(note, sizeof note, "proved %.2f/4, full bound() on %.2f/4, mean width %.4f in",
-                static_cast<double>(proved) / repetitions,
-                static_cast<double>(full_bounds) / repetitions,
-                our_width / (4.0 * repetitions) / spar::units::kInch);
-  print_row("pickup", "spar fresh: build + compile + check", ours, note);
+                ours.per_run(ours.proved), ours.per_run(ours.full_bounds), ours.mean_width());
+  print_row("pickup", "spar fresh: build + compile + check", ours.seconds, note);
   print_row("pickup", "  phase: build poses + 4 expressions", build_only, "");
   print_row("pickup", "  phase: build + compile 1 tape", build_compile, "");
   std::snprintf(note, sizeof note, "proved %.2f/4 (two boxes alternating)",
-                static_cast<double>(reuse_proved) / reuse_repetitions);
-  print_row("pickup", "spar reused checker: check only", reused, note);
-  std::snprintf(note, sizeof note, "proved %.2f/4, mean width %.4f in",
-                static_cast<double>(naive_proved) / repetitions,
-                naive_width / (4.0 * repetitions) / spar::units::kInch);
-  print_row("pickup", "naive 4x4 products + interval tape", naive, note);
+                reused.per_run(reused.proved));
+  print_row("pickup", "spar reused checker: check only", reused.seconds, note);
+  std::snprintf(note, sizeof note, "proved %.2f/4, mean width %.4f in", naive.per_run(naive.proved),
+                naive.mean_width());
+  print_row("pickup", "naive 4x4 products + interval tape", naive.seconds, note);
   std::snprintf(note, sizeof note,
                 "proved %.2f/4, full bound() on %.2f/4, mean width %.4f in (on the example)",
-                static_cast<double>(template_proved) / template_repetitions,
-                static_cast<double>(template_full_bounds) / template_repetitions,
-                template_width / (4.0 * template_examples) / spar::units::kInch);
-  print_row("pickup", "spar template: fresh geometry, check", templated, note);
+                templated.per_run(templated.proved), templated.per_run(templated.full_bounds),
+                templated.mean_width());
+  print_row("pickup", "spar template: fresh geometry, check", templated.seconds, note);
   std::snprintf(note, sizeof note, "once per pair of uncertainty models (checksum %d)",
                 template_built / (repetitions / 10));
   print_row("pickup", "  spar template: one-time build", template_build, note);
   std::snprintf(note, sizeof note, "proved %.2f/4, mean width %.4f in (on the example)",
-                static_cast<double>(direct_proved) / direct_repetitions,
-                direct_width / (4.0 * direct_examples) / spar::units::kInch);
-  print_row("pickup", "naive direct interval 4x4", direct, note);
+                direct.per_run(direct.proved), direct.mean_width());
+  print_row("pickup", "naive direct interval 4x4", direct.seconds, note);
   std::printf(
       "per inequality: spar fresh %.3f us, spar reused %.3f us, naive %.3f us "
       "(target: well under ~8 us)\n",
-      ours * 1e6 / 4, reused * 1e6 / 4, naive * 1e6 / 4);
-  std::printf("ratio pickup_instance naive_interval %.2f\n", naive / ours);
-  std::printf("ratio pickup_recheck naive_interval %.2f\n", naive / reused);
-  std::printf("ratio pickup_template naive_interval %.2f\n", naive / templated);
-  std::printf("ratio pickup_template naive_direct_interval %.2f\n", direct / templated);
+      ours.seconds * 1e6 / 4, reused.seconds * 1e6 / 4, naive.seconds * 1e6 / 4);
+  std::printf("ratio pickup_instance naive_interval %.2f\n", naive.seconds / ours.seconds);
+  std::printf("ratio pickup_recheck naive_interval %.2f\n", naive.seconds / reused.seconds);
+  std::printf("ratio pickup_template naive_interval %.2f\n", naive.seconds / templated.seconds);
+  std::printf("ratio pickup_template naive_direct_interval %.2f\n",
+              direct.seconds / templated.seconds);
   std::printf("(pickup checksum %zu)\n", nodes);
 }
 
