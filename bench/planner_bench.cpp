@@ -806,6 +806,89 @@ WarmTiming warm_timing(const std::function<void()>& work) {
   return {median(times), *std::min_element(times.begin(), times.end())};
 }
 
+// spar's phase-2 times on one instance (seconds): build, analyse with repair and reverse off,
+// analyse (warm median and fastest), and the extras by part, on one thread and on two; with the
+// last analysis and its extras.
+struct Phase2Timing {
+  double build{0}, bare{0};
+  WarmTiming analysed;
+  double tight{0}, blamed{0}, sampled{0}, extras{0}, extras_on_two{0};
+  planner::InstanceAnalysis analysis;
+};
+
+Phase2Timing time_phase2(const planner::WorldModel& world, const planner::PlanInstance& instance,
+                         const std::vector<planner::Phase2Step>& steps, int repeats) {
+  const planner::Domain& domain = planner::builtin_domain();
+  Phase2Timing out;
+  out.build = warm_timing([&] {
+                symbolic::ExprPool pool;
+                planner::Propagation propagation(world, planner::builtin_domain(), pool);
+                for (std::size_t k = 0; k < steps.size(); ++k)
+                  (void)propagation.step(steps[k], static_cast<int>(k) + 1);
+              }).median;
+  const planner::AnalysisOptions options;
+  out.analysed =
+      warm_timing([&] { (void)planner::analyse_instance(world, domain, instance, options); });
+  planner::AnalysisOptions decide_only;
+  decide_only.repair = false;
+  decide_only.reverse = false;
+  out.bare = warm_timing([&] {
+               (void)planner::analyse_instance(world, domain, instance, decide_only);
+             }).median;
+  // add_margins on a fresh analysis each run (it tightens the bounds it is given).
+  const auto time_extras = [&](const planner::AnalysisOptions& with) {
+    std::vector<double> times;
+    for (int r = 0; r < repeats; ++r) {
+      out.analysis = planner::analyse_instance(world, domain, instance, options);
+      const auto start = std::chrono::steady_clock::now();
+      planner::add_margins(out.analysis, with);
+      times.push_back(seconds_since(start));
+    }
+    return median(times);
+  };
+  planner::AnalysisOptions tight_only = options;
+  tight_only.blame = false;
+  tight_only.samples = 0;
+  tight_only.reverse = false;
+  planner::AnalysisOptions with_blame = tight_only;
+  with_blame.blame = true;
+  planner::AnalysisOptions with_monte_carlo = with_blame;
+  with_monte_carlo.samples = options.samples;
+  out.tight = time_extras(tight_only);
+  out.blamed = time_extras(with_blame);
+  out.sampled = time_extras(with_monte_carlo);
+  out.extras = time_extras(options);
+  planner::AnalysisOptions two_threads = options;
+  two_threads.threads = 2;
+  out.extras_on_two = time_extras(two_threads);
+  return out;
+}
+
+// The naive peer over the analysed steps (inserted scans and squeezes included): its time, and
+// its values against spar's tight bounds of the chosen-instance extras in `here`.
+WarmTiming compare_with_peer(const planner::WorldModel& world,
+                             const planner::InstanceAnalysis& analysis, Comparison& here) {
+  std::vector<std::vector<Interval>> peer_values;
+  const WarmTiming peer_time = warm_timing([&] {
+    NaivePeer peer(world);
+    peer_values.clear();
+    for (const planner::AnalysedStep& step : analysis.steps)
+      peer_values.push_back(peer.step(step.step));
+  });
+  for (std::size_t s = 0; s < analysis.steps.size(); ++s) {
+    const auto& results = analysis.steps[s].preconditions;
+    if (results.size() != peer_values[s].size()) {
+      std::printf("  MISMATCH: step %zu has %zu preconditions, the peer %zu\n", s, results.size(),
+                  peer_values[s].size());
+      continue;
+    }
+    for (std::size_t p = 0; p < results.size(); ++p) {
+      here.add(results[p].inequality, results[p].verdict, results[p].bound, peer_values[s][p]);
+    }
+  }
+  return peer_time;
+}
+
 // Adds spar's and the peer's times per instance (median and fastest) to `ours` and `peer`.
 void seed_phase2(int repeats, Comparison& all, WarmTiming& ours, WarmTiming& peer_total) {
   std::printf(
@@ -834,87 +917,30 @@ void seed_phase2(int repeats, Comparison& all, WarmTiming& ours, WarmTiming& pee
     const planner::InstanceList instances = planner::enumerate_instances(family, world, domain, 1);
     const planner::PlanInstance& instance = instances.instances.front();
     const std::vector<planner::Phase2Step> steps = planner::phase2_steps(domain, instance);
-    const double build = warm_timing([&] {
-                           symbolic::ExprPool pool;
-                           planner::Propagation propagation(world, planner::builtin_domain(), pool);
-                           for (std::size_t k = 0; k < steps.size(); ++k)
-                             (void)propagation.step(steps[k], static_cast<int>(k) + 1);
-                         }).median;
-    const planner::AnalysisOptions options;
-    const WarmTiming analysed =
-        warm_timing([&] { (void)planner::analyse_instance(world, domain, instance, options); });
-    const double analyse = analysed.median;
-    planner::AnalysisOptions decide_only;
-    decide_only.repair = false;
-    decide_only.reverse = false;
-    const double bare = warm_timing([&] {
-                          (void)planner::analyse_instance(world, domain, instance, decide_only);
-                        }).median;
-    planner::InstanceAnalysis analysis;
-    // add_margins on a fresh analysis each run (it tightens the bounds it is given).
-    const auto time_extras = [&](const planner::AnalysisOptions& with) {
-      std::vector<double> times;
-      for (int r = 0; r < repeats; ++r) {
-        analysis = planner::analyse_instance(world, domain, instance, options);
-        const auto start = std::chrono::steady_clock::now();
-        planner::add_margins(analysis, with);
-        times.push_back(seconds_since(start));
-      }
-      return median(times);
-    };
-    planner::AnalysisOptions tight_only = options;
-    tight_only.blame = false;
-    tight_only.samples = 0;
-    tight_only.reverse = false;
-    planner::AnalysisOptions with_blame = tight_only;
-    with_blame.blame = true;
-    planner::AnalysisOptions with_monte_carlo = with_blame;
-    with_monte_carlo.samples = options.samples;
-    const double tight = time_extras(tight_only), blamed = time_extras(with_blame),
-                 sampled = time_extras(with_monte_carlo);
-    const double extras = time_extras(options);
-    planner::AnalysisOptions two_threads = options;
-    two_threads.threads = 2;
-    const double extras_on_two = time_extras(two_threads);
+    const Phase2Timing t = time_phase2(world, instance, steps, repeats);
+    const planner::InstanceAnalysis& analysis = t.analysis;
+    const double analyse = t.analysed.median;
     std::size_t preconditions = 0;
     for (const planner::AnalysedStep& step : analysis.steps)
       preconditions += step.preconditions.size();
     std::printf(
         "| %s | %zu (%zu) | %zu | %d | %.3f | %.3f | %.3f | %.3f | %.1f | %.1f | %.1f | %.3f |\n",
-        name, steps.size(), analysis.steps.size(), preconditions, analysis.errors, 1e3 * build,
-        1e3 * bare, 1e3 * analyse, 1e3 * analysed.best, 1e3 * extras, 1e3 * extras_on_two,
-        1e3 * (analyse + extras), preconditions ? 1e3 * analyse / preconditions : 0.0);
+        name, steps.size(), analysis.steps.size(), preconditions, analysis.errors, 1e3 * t.build,
+        1e3 * t.bare, 1e3 * analyse, 1e3 * t.analysed.best, 1e3 * t.extras, 1e3 * t.extras_on_two,
+        1e3 * (analyse + t.extras), preconditions ? 1e3 * analyse / preconditions : 0.0);
     std::printf(
         "  extras, by part (each added to the ones before): tight bound %.1f, blame %.1f, Monte "
         "Carlo %.1f, reverse %.1f ms\n",
-        1e3 * tight, 1e3 * (blamed - tight), 1e3 * (sampled - blamed), 1e3 * (extras - sampled));
+        1e3 * t.tight, 1e3 * (t.blamed - t.tight), 1e3 * (t.sampled - t.blamed),
+        1e3 * (t.extras - t.sampled));
     std::printf("  step decisions: %zu made, %zu reused (DecisionCache)\n", analysis.steps_decided,
                 analysis.steps_reused);
-    // Peer over the analysed steps (inserted scans and squeezes included), against spar's tight
-    // bounds of the chosen-instance extras.
     Comparison here;
-    std::vector<std::vector<Interval>> peer_values;
-    const WarmTiming peer_time = warm_timing([&] {
-      NaivePeer peer(world);
-      peer_values.clear();
-      for (const planner::AnalysedStep& step : analysis.steps)
-        peer_values.push_back(peer.step(step.step));
-    });
+    const WarmTiming peer_time = compare_with_peer(world, analysis, here);
     peer_total.median += peer_time.median;
     peer_total.best += peer_time.best;
-    ours.median += analysed.median;
-    ours.best += analysed.best;
-    for (std::size_t s = 0; s < analysis.steps.size(); ++s) {
-      const auto& results = analysis.steps[s].preconditions;
-      if (results.size() != peer_values[s].size()) {
-        std::printf("  MISMATCH: step %zu has %zu preconditions, the peer %zu\n", s, results.size(),
-                    peer_values[s].size());
-        continue;
-      }
-      for (std::size_t p = 0; p < results.size(); ++p) {
-        here.add(results[p].inequality, results[p].verdict, results[p].bound, peer_values[s][p]);
-      }
-    }
+    ours.median += t.analysed.median;
+    ours.best += t.analysed.best;
     decide_breakdown(world, analysis, repeats);
     here.print((std::string("  peer on ") + name).c_str());
     all.merge(here);
