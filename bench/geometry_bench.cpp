@@ -38,20 +38,20 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
-#include <fstream>
 #include <filesystem>
+#include <fstream>
 #include <numbers>
 #include <random>
 #include <string>
 #include <vector>
 
+#include "bench/timing.hpp"
 #include "spar/geometry/builtin_objects.hpp"
 #include "spar/geometry/collision.hpp"
 #include "spar/geometry/grasps.hpp"
 #include "spar/geometry/mesh.hpp"
 #include "spar/geometry/object.hpp"
 #include "spar/geometry/stable_poses.hpp"
-#include "bench/timing.hpp"
 
 namespace {
 
@@ -145,7 +145,6 @@ void run(const std::string& workload, MeshBuilder builder) {
   std::printf("ratio %s cgal_hull %.4f\n", workload.c_str(), hull / total);
 }
 
-
 // --- collision: FCL vs CGAL on the same pairs and poses ---
 
 using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
@@ -178,9 +177,10 @@ std::vector<CollisionMesh> collision_meshes() {
     mesh.triangles = triangles;
     mesh.triangle_names.assign(triangles.size(), "");
     mesh.triangle_lines.assign(triangles.size(), 0);
-    meshes.push_back({file.parent_path().parent_path().parent_path().filename().string().substr(
-                          0, 5) + "/" + file.stem().string(),
-                      std::move(mesh)});
+    meshes.push_back(
+        {file.parent_path().parent_path().parent_path().filename().string().substr(0, 5) + "/" +
+             file.stem().string(),
+         std::move(mesh)});
   }
   return meshes;
 }
@@ -189,7 +189,8 @@ SurfaceMesh to_surface_mesh(const Mesh& mesh) {
   std::vector<Kernel::Point_3> points;
   for (const auto& v : mesh.vertices) points.emplace_back(v.x(), v.y(), v.z());
   std::vector<std::vector<std::size_t>> polygons;
-  for (const auto& t : mesh.triangles) polygons.push_back({std::size_t(t[0]), std::size_t(t[1]), std::size_t(t[2])});
+  for (const auto& t : mesh.triangles)
+    polygons.push_back({std::size_t(t[0]), std::size_t(t[1]), std::size_t(t[2])});
   namespace pmp = CGAL::Polygon_mesh_processing;
   pmp::repair_polygon_soup(points, polygons);
   pmp::orient_polygon_soup(points, polygons);
@@ -209,34 +210,41 @@ struct Query {
   spar::geometry::Pose pose_a, pose_b;
 };
 
-void collision_section(bool quick) {
-  namespace geo = spar::geometry;
-  const std::vector<CollisionMesh> meshes = collision_meshes();
+// The meshes as each library holds them: FCL's BVHs, spar's bodies, CGAL's surface meshes in one
+// detector.
+struct CollisionShapes {
   std::vector<std::shared_ptr<fcl::BVHModel<fcl::OBBRSSd>>> bvhs;
-  std::vector<geo::Body> bodies;
+  std::vector<spar::geometry::Body> bodies;
   std::vector<SurfaceMesh> surfaces;
-  std::size_t triangles = 0;
-  for (const CollisionMesh& m : meshes) {
-    auto bvh = std::make_shared<fcl::BVHModel<fcl::OBBRSSd>>();
-    std::vector<fcl::Triangle> tris;
-    for (const auto& t : m.mesh.triangles) tris.emplace_back(t[0], t[1], t[2]);
-    bvh->beginModel();
-    bvh->addSubModel(m.mesh.vertices, tris);
-    bvh->endModel();
-    bvhs.push_back(bvh);
-    bodies.emplace_back(m.name, geo::CollisionShape(m.mesh));
-    surfaces.push_back(to_surface_mesh(m.mesh));
-    triangles += m.mesh.triangles.size();
-  }
+  std::size_t triangles{0};
   Detector detector;
-  for (const SurfaceMesh& surface : surfaces) detector.add_mesh(surface);
-  // Random poses: b turned at random, its centre within the sum of both bounding radii of a's.
+
+  explicit CollisionShapes(const std::vector<CollisionMesh>& meshes) {
+    for (const CollisionMesh& m : meshes) {
+      auto bvh = std::make_shared<fcl::BVHModel<fcl::OBBRSSd>>();
+      std::vector<fcl::Triangle> tris;
+      for (const auto& t : m.mesh.triangles) tris.emplace_back(t[0], t[1], t[2]);
+      bvh->beginModel();
+      bvh->addSubModel(m.mesh.vertices, tris);
+      bvh->endModel();
+      bvhs.push_back(bvh);
+      bodies.emplace_back(m.name, spar::geometry::CollisionShape(m.mesh));
+      surfaces.push_back(to_surface_mesh(m.mesh));
+      triangles += m.mesh.triangles.size();
+    }
+    for (const SurfaceMesh& surface : surfaces) detector.add_mesh(surface);
+  }
+};
+
+// Random poses of every pair (a mesh with itself included), `per_pair` each: b turned at random,
+// its centre within the sum of both bounding radii of a's.
+std::vector<Query> random_queries(const std::vector<spar::geometry::Body>& bodies, int per_pair) {
+  namespace geo = spar::geometry;
   std::mt19937 random(20261123);
   std::uniform_real_distribution<double> unit(-1, 1);
-  const int per_pair = quick ? 4 : 20;
   std::vector<Query> queries;
-  for (std::size_t a = 0; a < meshes.size(); ++a)
-    for (std::size_t b = a; b < meshes.size(); ++b)
+  for (std::size_t a = 0; a < bodies.size(); ++a)
+    for (std::size_t b = a; b < bodies.size(); ++b)
       for (int k = 0; k < per_pair; ++k) {
         const Eigen::AlignedBox3d box_a = bodies[a].bounds(), box_b = bodies[b].bounds();
         const double reach = (box_a.diagonal().norm() + box_b.diagonal().norm()) / 2;
@@ -247,11 +255,28 @@ void collision_section(bool quick) {
         Query q{static_cast<int>(a), static_cast<int>(b), geo::Pose::Identity(),
                 geo::Pose::Identity()};
         q.pose_a.translation() = -box_a.center();
-        q.pose_b = geo::Pose(Eigen::Translation3d(offset) * turn *
-                             Eigen::Translation3d(-box_b.center()));
+        q.pose_b =
+            geo::Pose(Eigen::Translation3d(offset) * turn * Eigen::Translation3d(-box_b.center()));
         queries.push_back(q);
       }
-  const int repeats = quick ? 2 : 5;
+  return queries;
+}
+
+// Queries per second of each library's collision and distance tests, and where they disagree.
+struct CollisionRates {
+  double fcl_collide{0}, cgal_collide{0}, spar_collide{0}, spar_collide_margin{0};
+  double cgal_inclusions{0}, fcl_distance{0}, spar_distance{0}, checksum{0};
+  std::size_t hits{0}, disagreements{0}, self_pairs{0}, within_margin{0};
+  std::size_t inclusion_disagreements{0}, inclusions{0};
+};
+
+CollisionRates time_queries(CollisionShapes& shapes, const std::vector<Query>& queries,
+                            int repeats) {
+  namespace geo = spar::geometry;
+  const auto& bvhs = shapes.bvhs;
+  const auto& bodies = shapes.bodies;
+  Detector& detector = shapes.detector;
+  CollisionRates out;
   std::vector<char> fcl_hits(queries.size()), cgal_hits(queries.size());
   const auto rate = [&](const auto& query) {
     const double seconds = spar::bench::time_median(repeats, [&] {
@@ -259,39 +284,36 @@ void collision_section(bool quick) {
     });
     return queries.size() / seconds;
   };
-  const double fcl_collide = rate([&](std::size_t i) {
+  out.fcl_collide = rate([&](std::size_t i) {
     const Query& q = queries[i];
     fcl::CollisionRequestd request;
     fcl::CollisionResultd result;
     fcl::collide(bvhs[q.a].get(), q.pose_a, bvhs[q.b].get(), q.pose_b, request, result);
     fcl_hits[i] = result.isCollision();
   });
-  const double cgal_collide = rate([&](std::size_t i) {
+  out.cgal_collide = rate([&](std::size_t i) {
     const Query& q = queries[i];
     detector.set_transformation(q.a, to_cgal(q.pose_a));
     detector.set_transformation(q.b, to_cgal(q.pose_b));
     const std::array<std::size_t, 1> other = {static_cast<std::size_t>(q.b)};
     // A mesh against itself: a second copy is not in the detector, so compare with FCL's own.
-    cgal_hits[i] = q.a == q.b ? fcl_hits[i]
-                              : !detector.get_all_intersections(q.a, other).empty();
+    cgal_hits[i] = q.a == q.b ? fcl_hits[i] : !detector.get_all_intersections(q.a, other).empty();
   });
-  std::size_t hits = 0, disagreements = 0, self_pairs = 0;
   for (std::size_t i = 0; i < queries.size(); ++i) {
-    hits += fcl_hits[i];
-    disagreements += fcl_hits[i] != cgal_hits[i];
-    self_pairs += queries[i].a == queries[i].b;
+    out.hits += fcl_hits[i];
+    out.disagreements += fcl_hits[i] != cgal_hits[i];
+    out.self_pairs += queries[i].a == queries[i].b;
   }
   std::vector<char> spar_hits(queries.size()), cgal_inclusion_hits(queries.size());
-  std::size_t within_margin = 0;
-  const double spar_collide_margin = rate([&](std::size_t i) {
+  out.spar_collide_margin = rate([&](std::size_t i) {
     const Query& q = queries[i];
-    within_margin += geo::collide({&bodies[q.a], q.pose_a}, {&bodies[q.b], q.pose_b}, 0.001);
+    out.within_margin += geo::collide({&bodies[q.a], q.pose_a}, {&bodies[q.b], q.pose_b}, 0.001);
   });
-  const double spar_collide = rate([&](std::size_t i) {
+  out.spar_collide = rate([&](std::size_t i) {
     const Query& q = queries[i];
     spar_hits[i] = geo::collide({&bodies[q.a], q.pose_a}, {&bodies[q.b], q.pose_b}, 0.0);
   });
-  const double cgal_inclusions = rate([&](std::size_t i) {
+  out.cgal_inclusions = rate([&](std::size_t i) {
     const Query& q = queries[i];
     if (q.a == q.b) return;
     detector.set_transformation(q.a, to_cgal(q.pose_a));
@@ -299,45 +321,56 @@ void collision_section(bool quick) {
     const std::array<std::size_t, 1> other = {static_cast<std::size_t>(q.b)};
     cgal_inclusion_hits[i] = !detector.get_all_intersections_and_inclusions(q.a, other).empty();
   });
-  std::size_t inclusion_disagreements = 0, inclusions = 0;
   for (std::size_t i = 0; i < queries.size(); ++i) {
     if (queries[i].a == queries[i].b) continue;
-    inclusion_disagreements += spar_hits[i] != cgal_inclusion_hits[i];
-    inclusions += cgal_inclusion_hits[i] && !fcl_hits[i];
+    out.inclusion_disagreements += spar_hits[i] != cgal_inclusion_hits[i];
+    out.inclusions += cgal_inclusion_hits[i] && !fcl_hits[i];
   }
-  double checksum = 0;
-  const double fcl_distance = rate([&](std::size_t i) {
+  out.fcl_distance = rate([&](std::size_t i) {
     const Query& q = queries[i];
     fcl::DistanceRequestd request;
     fcl::DistanceResultd result;
-    checksum += fcl::distance(bvhs[q.a].get(), q.pose_a, bvhs[q.b].get(), q.pose_b, request,
-                              result);
+    out.checksum +=
+        fcl::distance(bvhs[q.a].get(), q.pose_a, bvhs[q.b].get(), q.pose_b, request, result);
   });
-  const double spar_distance = rate([&](std::size_t i) {
+  out.spar_distance = rate([&](std::size_t i) {
     const Query& q = queries[i];
-    checksum += geo::proximity({&bodies[q.a], q.pose_a}, {&bodies[q.b], q.pose_b}).distance;
+    out.checksum += geo::proximity({&bodies[q.a], q.pose_a}, {&bodies[q.b], q.pose_b}).distance;
   });
-  std::printf("\ncollision: %zu meshes (%zu triangles), %zu pairs x %d poses = %zu queries, "
-              "%zu intersecting (FCL), load %s\n",
-              meshes.size(), triangles, queries.size() / per_pair, per_pair, queries.size(), hits,
-              spar::bench::load_average().c_str());
+  return out;
+}
+
+void collision_section(bool quick) {
+  const std::vector<CollisionMesh> meshes = collision_meshes();
+  CollisionShapes shapes(meshes);
+  const int per_pair = quick ? 4 : 20;
+  const std::vector<Query> queries = random_queries(shapes.bodies, per_pair);
+  const int repeats = quick ? 2 : 5;
+  const CollisionRates r = time_queries(shapes, queries, repeats);
+  std::printf(
+      "\ncollision: %zu meshes (%zu triangles), %zu pairs x %d poses = %zu queries, "
+      "%zu intersecting (FCL), load %s\n",
+      meshes.size(), shapes.triangles, queries.size() / per_pair, per_pair, queries.size(), r.hits,
+      spar::bench::load_average().c_str());
   std::printf("%-44s %14s\n", "query", "per second");
-  std::printf("%-44s %14.0f\n", "FCL collide (surfaces)", fcl_collide);
-  std::printf("%-44s %14.0f\n", "CGAL get_all_intersections (surfaces)", cgal_collide);
-  std::printf("%-44s %14.0f\n", "spar collide (FCL collide + inside test)", spar_collide);
-  std::printf("%-44s %14.0f\n", "spar collide, 1 mm margin (+ FCL distance)", spar_collide_margin);
-  std::printf("%-44s %14.0f\n", "CGAL get_all_intersections_and_inclusions", cgal_inclusions);
-  std::printf("%-44s %14.0f\n", "FCL distance", fcl_distance);
-  std::printf("%-44s %14.0f\n", "spar proximity (distance + inside test)", spar_distance);
+  std::printf("%-44s %14.0f\n", "FCL collide (surfaces)", r.fcl_collide);
+  std::printf("%-44s %14.0f\n", "CGAL get_all_intersections (surfaces)", r.cgal_collide);
+  std::printf("%-44s %14.0f\n", "spar collide (FCL collide + inside test)", r.spar_collide);
+  std::printf("%-44s %14.0f\n", "spar collide, 1 mm margin (+ FCL distance)",
+              r.spar_collide_margin);
+  std::printf("%-44s %14.0f\n", "CGAL get_all_intersections_and_inclusions", r.cgal_inclusions);
+  std::printf("%-44s %14.0f\n", "FCL distance", r.fcl_distance);
+  std::printf("%-44s %14.0f\n", "spar proximity (distance + inside test)", r.spar_distance);
   std::printf("%-44s %14s\n", "CGAL mesh-mesh distance", "none");
-  std::printf("disagreements: surfaces %zu of %zu (self pairs %zu not asked of CGAL), "
-              "with inclusion %zu (inclusions without surface contact: %zu); within 1 mm: %zu\n",
-              disagreements, queries.size(), self_pairs, inclusion_disagreements, inclusions,
-              within_margin / repeats);
-  std::printf("ratio collide fcl/cgal %.2f\n", fcl_collide / cgal_collide);
-  std::printf("ratio collide_with_inclusion spar/cgal %.2f\n", spar_collide / cgal_inclusions);
-  std::printf("ratio distance spar/fcl %.2f   (checksum %.3g)\n", spar_distance / fcl_distance,
-              checksum);
+  std::printf(
+      "disagreements: surfaces %zu of %zu (self pairs %zu not asked of CGAL), "
+      "with inclusion %zu (inclusions without surface contact: %zu); within 1 mm: %zu\n",
+      r.disagreements, queries.size(), r.self_pairs, r.inclusion_disagreements, r.inclusions,
+      r.within_margin / repeats);
+  std::printf("ratio collide fcl/cgal %.2f\n", r.fcl_collide / r.cgal_collide);
+  std::printf("ratio collide_with_inclusion spar/cgal %.2f\n", r.spar_collide / r.cgal_inclusions);
+  std::printf("ratio distance spar/fcl %.2f   (checksum %.3g)\n", r.spar_distance / r.fcl_distance,
+              r.checksum);
 }
 
 }  // namespace
