@@ -246,117 +246,137 @@ struct Outcome {
   std::vector<double> selection_seconds;
 };
 
-void selection(bool quick) {
-  const BlockProblem block;
-  constexpr double kInch = 0.0254, kDegree = 3.14159265358979323846 / 180;
-  const double offset_limit = 0.11 * kInch, yaw_limit = 5.5 * kDegree;
-  sensing::SelectionProblem problem;
-  for (std::size_t p = 0; p < block.poses.size(); ++p)
-    problem.hypotheses.push_back(block.world(p, Eigen::Vector3d::Zero(), 0));
-  const int n = static_cast<int>(problem.hypotheses.size());
-  problem.sensors = {sensing::default_range_scanner()};
-  problem.tolerances = {sensing::match_tolerances(problem.sensors[0], offset_limit, offset_limit,
-                                                  offset_limit, yaw_limit, 0.074, 0.5)};
-  problem.prior = sensing::MassFunction::vacuous(n);
-  sensing::SelectionOptions options;
-  options.max_operations = 1;
-  const std::vector<sensing::Viewpoint> viewpoints =
-      sensing::candidate_viewpoints(problem, options);
-  const sensing::SensorModel& scanner = problem.sensors[0];
-  // Each viewpoint's expectations (what the hypotheses predict) and its coverage.
-  std::vector<std::vector<sensing::Expectation>> expected;
-  std::vector<double> coverage;
-  for (const sensing::Viewpoint& viewpoint : viewpoints) {
-    expected.push_back(sensing::expectations(problem, 0, viewpoint.sensor_pose));
-    double prominence = 0;
-    for (const sensing::Expectation& e : expected.back())
-      for (const sensing::SensedFace& face : e.faces) prominence += face.prominence;
-    coverage.push_back(prominence);
+// The block's stable-pose hypotheses seen by the wrist range scanner: the selection problem, its
+// candidate viewpoints, what each hypothesis predicts from each, and each viewpoint's coverage.
+class SelectionBench {
+ public:
+  static constexpr double kInch = 0.0254, kDegree = 3.14159265358979323846 / 180;
+
+  SelectionBench() {
+    for (std::size_t p = 0; p < block_.poses.size(); ++p)
+      problem_.hypotheses.push_back(block_.world(p, Eigen::Vector3d::Zero(), 0));
+    problem_.sensors = {sensing::default_range_scanner()};
+    problem_.tolerances = {sensing::match_tolerances(
+        problem_.sensors[0], kOffsetLimit, kOffsetLimit, kOffsetLimit, kYawLimit, 0.074, 0.5)};
+    problem_.prior = sensing::MassFunction::vacuous(hypotheses());
+    options_.max_operations = 1;
+    viewpoints_ = sensing::candidate_viewpoints(problem_, options_);
+    for (const sensing::Viewpoint& viewpoint : viewpoints_) {
+      expected_.push_back(sensing::expectations(problem_, 0, viewpoint.sensor_pose));
+      double prominence = 0;
+      for (const sensing::Expectation& e : expected_.back())
+        for (const sensing::SensedFace& face : e.faces) prominence += face.prominence;
+      coverage_.push_back(prominence);
+    }
   }
-  const auto index_of = [&](const sensing::Viewpoint& chosen) {
-    for (std::size_t c = 0; c < viewpoints.size(); ++c)
-      if (viewpoints[c].label == chosen.label) return static_cast<int>(c);
+
+  [[nodiscard]] int hypotheses() const { return static_cast<int>(problem_.hypotheses.size()); }
+  [[nodiscard]] std::size_t viewpoints() const { return viewpoints_.size(); }
+  [[nodiscard]] double threshold() const { return options_.ambiguity_threshold; }
+
+  // One closed-loop trial: the truth (trial mod the hypotheses) at a random pose error, operations
+  // chosen by `strategy` until the ambiguity is below the threshold or `max_operations` ran. The
+  // same truth, pose error, noise and random choices for every strategy.
+  void trial(Strategy strategy, int trial, int max_operations, Outcome& outcome) {
+    std::mt19937_64 random(20261203U + static_cast<unsigned>(trial));
+    std::uniform_real_distribution<double> offset(-kOffsetLimit, kOffsetLimit),
+        yaw(-kYawLimit, kYawLimit);
+    const int truth = trial % hypotheses();
+    const sensing::HypothesisWorld actual = block_.world(
+        static_cast<std::size_t>(truth), {offset(random), offset(random), 0}, yaw(random));
+    std::mt19937_64 chooser(7U + static_cast<unsigned>(trial));
+    sensing::MassFunction belief = problem_.prior;
+    std::vector<char> used(viewpoints_.size(), 0);
+    int operations = 0;
+    const sensing::SensorModel& scanner = problem_.sensors[0];
+    while (belief.ambiguity() >= threshold() && operations < max_operations) {
+      const auto start = std::chrono::steady_clock::now();
+      const int chosen = choose(strategy, belief, used, chooser, outcome);
+      outcome.selection_seconds.push_back(spar::bench::seconds_since(start));
+      if (chosen < 0) break;  // nothing left that helps
+      const auto c = static_cast<std::size_t>(chosen);
+      used[c] = 1;
+      const sensing::Observation measured =
+          sensing::measure(actual.scene, scanner, viewpoints_[c].sensor_pose, random);
+      belief =
+          sensing::weigh_evidence(measured, expected_[c], problem_.tolerances[0], scanner, belief)
+              .combined;
+      ++operations;
+    }
+    problem_.prior = sensing::MassFunction::vacuous(hypotheses());
+    ++outcome.trials;
+    const std::vector<double> betp = belief.pignistic();
+    const bool leads = std::max_element(betp.begin(), betp.end()) - betp.begin() == truth;
+    if (belief.ambiguity() < threshold()) {
+      ++outcome.reached;
+      outcome.operations_to_threshold += operations;
+      if (leads) ++outcome.truth_leads;
+    }
+  }
+
+ private:
+  static constexpr double kOffsetLimit = 0.11 * kInch, kYawLimit = 5.5 * kDegree;
+
+  // The viewpoint `strategy` takes next (-1: none left that helps).
+  int choose(Strategy strategy, const sensing::MassFunction& belief, const std::vector<char>& used,
+             std::mt19937_64& chooser, Outcome& outcome) {
+    if (strategy == Strategy::kMinimax) {
+      problem_.prior = belief;
+      const sensing::Selection selection = sensing::select_operations(problem_, options_);
+      if (!selection.sequence.empty()) {
+        return index_of(
+            selection.candidates[static_cast<std::size_t>(selection.sequence[0].candidate)]
+                .viewpoint);
+      }
+      // No operation lowers the worst case below the current ambiguity (the unlikely
+      // hypotheses' worst cases dominate once the belief leans): select_operations stops an
+      // open-loop plan there; closed loop still takes the least maximum ambiguity.
+      ++outcome.fallbacks;
+      const auto least = std::min_element(
+          selection.candidates.begin(), selection.candidates.end(),
+          [](const sensing::CandidateOperation& a, const sensing::CandidateOperation& b) {
+            return a.max_ambiguity < b.max_ambiguity;
+          });
+      return index_of(least->viewpoint);
+    }
+    std::vector<int> open;
+    for (std::size_t c = 0; c < viewpoints_.size(); ++c)
+      if (!used[c]) open.push_back(static_cast<int>(c));
+    if (open.empty()) return -1;
+    if (strategy == Strategy::kRandom)
+      return open[std::uniform_int_distribution<std::size_t>(0, open.size() - 1)(chooser)];
+    return *std::max_element(open.begin(), open.end(), [&](int a, int b) {
+      return coverage_[static_cast<std::size_t>(a)] < coverage_[static_cast<std::size_t>(b)];
+    });
+  }
+
+  int index_of(const sensing::Viewpoint& chosen) const {
+    for (std::size_t c = 0; c < viewpoints_.size(); ++c)
+      if (viewpoints_[c].label == chosen.label) return static_cast<int>(c);
     throw std::runtime_error("selection chose an unknown viewpoint " + chosen.label);
-  };
+  }
+
+  const BlockProblem block_;
+  sensing::SelectionProblem problem_;
+  sensing::SelectionOptions options_;
+  std::vector<sensing::Viewpoint> viewpoints_;
+  std::vector<std::vector<sensing::Expectation>> expected_;
+  std::vector<double> coverage_;
+};
+
+void selection(bool quick) {
+  SelectionBench bench;
+  const int n = bench.hypotheses();
   const int per_hypothesis = quick ? 1 : 4;
   const int max_operations = 6;
   std::printf(
       "selection block: %d hypotheses (stable poses), %zu wrist viewpoint classes, %d "
       "trials per strategy, threshold %.1f bits, at most %d operations\n",
-      n, viewpoints.size(), n * per_hypothesis, options.ambiguity_threshold, max_operations);
+      n, bench.viewpoints(), n * per_hypothesis, bench.threshold(), max_operations);
   for (const Strategy strategy : {Strategy::kMinimax, Strategy::kCoverage, Strategy::kRandom}) {
     Outcome outcome;
-    for (int trial = 0; trial < n * per_hypothesis; ++trial) {
-      // The same truth, pose error, noise and random choices for every strategy.
-      std::mt19937_64 random(20261203U + static_cast<unsigned>(trial));
-      std::uniform_real_distribution<double> offset(-offset_limit, offset_limit),
-          yaw(-yaw_limit, yaw_limit);
-      const int truth = trial % n;
-      const sensing::HypothesisWorld actual = block.world(
-          static_cast<std::size_t>(truth), {offset(random), offset(random), 0}, yaw(random));
-      std::mt19937_64 chooser(7U + static_cast<unsigned>(trial));
-      sensing::MassFunction belief = problem.prior;
-      std::vector<char> used(viewpoints.size(), 0);
-      int operations = 0;
-      while (belief.ambiguity() >= options.ambiguity_threshold && operations < max_operations) {
-        int chosen = -1;
-        const auto start = std::chrono::steady_clock::now();
-        if (strategy == Strategy::kMinimax) {
-          problem.prior = belief;
-          const sensing::Selection selection = sensing::select_operations(problem, options);
-          if (!selection.sequence.empty()) {
-            chosen = index_of(
-                selection.candidates[static_cast<std::size_t>(selection.sequence[0].candidate)]
-                    .viewpoint);
-          } else {
-            // No operation lowers the worst case below the current ambiguity (the unlikely
-            // hypotheses' worst cases dominate once the belief leans): select_operations stops
-            // an open-loop plan there; closed loop still takes the least maximum ambiguity.
-            ++outcome.fallbacks;
-            const auto least = std::min_element(
-                selection.candidates.begin(), selection.candidates.end(),
-                [](const sensing::CandidateOperation& a, const sensing::CandidateOperation& b) {
-                  return a.max_ambiguity < b.max_ambiguity;
-                });
-            chosen = index_of(least->viewpoint);
-          }
-        } else {
-          std::vector<int> open;
-          for (std::size_t c = 0; c < viewpoints.size(); ++c)
-            if (!used[c]) open.push_back(static_cast<int>(c));
-          if (!open.empty()) {
-            if (strategy == Strategy::kRandom) {
-              chosen =
-                  open[std::uniform_int_distribution<std::size_t>(0, open.size() - 1)(chooser)];
-            } else {
-              chosen = *std::max_element(open.begin(), open.end(), [&](int a, int b) {
-                return coverage[static_cast<std::size_t>(a)] <
-                       coverage[static_cast<std::size_t>(b)];
-              });
-            }
-          }
-        }
-        outcome.selection_seconds.push_back(spar::bench::seconds_since(start));
-        if (chosen < 0) break;  // nothing left that helps
-        const auto c = static_cast<std::size_t>(chosen);
-        used[c] = 1;
-        const sensing::Observation measured =
-            sensing::measure(actual.scene, scanner, viewpoints[c].sensor_pose, random);
-        belief =
-            sensing::weigh_evidence(measured, expected[c], problem.tolerances[0], scanner, belief)
-                .combined;
-        ++operations;
-      }
-      problem.prior = sensing::MassFunction::vacuous(n);
-      ++outcome.trials;
-      const std::vector<double> betp = belief.pignistic();
-      const bool leads = std::max_element(betp.begin(), betp.end()) - betp.begin() == truth;
-      if (belief.ambiguity() < options.ambiguity_threshold) {
-        ++outcome.reached;
-        outcome.operations_to_threshold += operations;
-        if (leads) ++outcome.truth_leads;
-      }
-    }
+    for (int trial = 0; trial < n * per_hypothesis; ++trial)
+      bench.trial(strategy, trial, max_operations, outcome);
     const double per_selection = spar::bench::median(outcome.selection_seconds);
     std::printf(
         "selection %-8s reached the threshold in %d/%d trials, %.2f operations on average, "
@@ -366,7 +386,7 @@ void selection(bool quick) {
         outcome.reached ? static_cast<double>(outcome.operations_to_threshold) / outcome.reached
                         : NAN,
         outcome.truth_leads, outcome.reached, per_selection,
-        per_selection / static_cast<double>(viewpoints.size()), outcome.fallbacks);
+        per_selection / static_cast<double>(bench.viewpoints()), outcome.fallbacks);
   }
 }
 
