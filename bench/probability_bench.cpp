@@ -211,84 +211,66 @@ struct Row {
   double max_difference{0};
 };
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  const bool quick = argc > 1 && std::strcmp(argv[1], "--quick") == 0;
-  const std::vector<int> sizes =
-      quick ? std::vector<int>{1, 5, 10} : std::vector<int>{1, 2, 5, 10, 20, 30, 40, 50};
-  std::printf("probability_bench%s: load average %s at start\n", quick ? " --quick" : "",
-              load_average().c_str());
-  std::printf("%4s %5s %5s %6s %8s %7s | %9s %9s | %19s | %19s | %19s | %7s\n", "N", "rows", "cols",
-              "nnz", "density", "build s", "J ms", "dense J", "moments sparse/dense",
-              "fusion sparse/dense", "alloc sparse/dense", "max diff");
-  std::vector<Row> table;
-  Plan largest;
-  for (const int pairs : sizes) {
-    Row row{.pairs = pairs};
-    Plan plan = build_plan(pairs);
-    row.build = plan.build_seconds;
-    const planner::InstanceAnalysis& analysis = plan.analysis;
-    const int repeats = pairs <= 10 ? 9 : 5;
-    planner::Sensitivities jacobian;
-    row.jacobian = time_median(repeats, [&] { jacobian = planner::sensitivities(analysis); });
-    row.rows = jacobian.rows;
-    row.cols = jacobian.cols;
-    row.nonzeros = jacobian.nonzeros();
-    row.density = jacobian.density();
-    row.dense_copy = time_median(repeats, [&] {
-      Eigen::MatrixXd dense = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(jacobian.rows),
-                                                    static_cast<Eigen::Index>(jacobian.cols));
-      for (std::size_t j = 0; j < jacobian.cols; ++j)
-        for (std::int64_t i = jacobian.column_start[j]; i < jacobian.column_start[j + 1]; ++i)
-          dense(jacobian.row_index[i], static_cast<Eigen::Index>(j)) = jacobian.value[i];
-      volatile double sink = dense.sum();  // keep the work
-      (void)sink;
+// One size's row: the plan of `pairs` pairs, its sensitivities, and each kernel (moments, fusion,
+// allocation) with SuiteSparse and dense Eigen, with how far the two answers differ.
+Row measure(int pairs, const Plan& plan) {
+  Row row{.pairs = pairs};
+  row.build = plan.build_seconds;
+  const planner::InstanceAnalysis& analysis = plan.analysis;
+  const int repeats = pairs <= 10 ? 9 : 5;
+  planner::Sensitivities jacobian;
+  row.jacobian = time_median(repeats, [&] { jacobian = planner::sensitivities(analysis); });
+  row.rows = jacobian.rows;
+  row.cols = jacobian.cols;
+  row.nonzeros = jacobian.nonzeros();
+  row.density = jacobian.density();
+  row.dense_copy = time_median(repeats, [&] {
+    Eigen::MatrixXd dense = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(jacobian.rows),
+                                                  static_cast<Eigen::Index>(jacobian.cols));
+    for (std::size_t j = 0; j < jacobian.cols; ++j)
+      for (std::int64_t i = jacobian.column_start[j]; i < jacobian.column_start[j + 1]; ++i)
+        dense(jacobian.row_index[i], static_cast<Eigen::Index>(j)) = jacobian.value[i];
+    volatile double sink = dense.sum();  // keep the work
+    (void)sink;
+  });
+  const std::vector<planner::PoseReading> readings = readings_of(pairs);
+  row.readings = readings.size();
+  const planner::Scenario& scenario = plan.world->scenario();
+  planner::PreconditionCovariance covariance[2];
+  std::vector<planner::FusedPose> fused[2];
+  planner::ToleranceAllocation allocation[2];
+  for (int a = 0; a < 2; ++a) {
+    const LinearAlgebra algebra = a == 0 ? LinearAlgebra::kSparse : LinearAlgebra::kDense;
+    row.moments[a] = time_median(repeats, [&] {
+      covariance[a] = planner::precondition_covariance(jacobian, analysis.variables, algebra);
     });
-    const std::vector<planner::PoseReading> readings = readings_of(pairs);
-    row.readings = readings.size();
-    const planner::Scenario& scenario = plan.world->scenario();
-    planner::PreconditionCovariance covariance[2];
-    std::vector<planner::FusedPose> fused[2];
-    planner::ToleranceAllocation allocation[2];
-    for (int a = 0; a < 2; ++a) {
-      const LinearAlgebra algebra = a == 0 ? LinearAlgebra::kSparse : LinearAlgebra::kDense;
-      row.moments[a] = time_median(repeats, [&] {
-        covariance[a] = planner::precondition_covariance(jacobian, analysis.variables, algebra);
-      });
-      row.fusion[a] =
-          time_median(repeats, [&] { fused[a] = planner::fuse_readings(readings, algebra); });
-      row.allocation[a] = time_median(repeats, [&] {
-        allocation[a] = planner::allocate_tolerances(scenario, analysis, jacobian,
-                                                     {.algebra = algebra, .verify = false});
-      });
-    }
-    row.covariance_nonzeros = covariance[0].nonzeros;
-    row.allocation_parameters = allocation[0].parameters.size();
-    for (std::size_t k = 0; k < covariance[0].variance.size(); ++k)
-      row.max_difference =
-          std::max(row.max_difference,
-                   relative_difference(covariance[0].variance[k], covariance[1].variance[k]));
-    for (std::size_t o = 0; o < fused[0].size(); ++o)
-      row.max_difference =
-          std::max(row.max_difference, (fused[0][o].covariance - fused[1][o].covariance).norm() /
-                                           fused[1][o].covariance.norm());
-    for (std::size_t q = 0; q < allocation[0].parameters.size(); ++q)
-      row.max_difference = std::max(
-          row.max_difference,
-          std::abs(allocation[0].parameters[q].allocated - allocation[1].parameters[q].allocated) /
-              allocation[0].parameters[q].half_width);
-    std::printf(
-        "%4d %5zu %5zu %6zu %8.4f %7.2f | %9.2f %9.3f | %8.3f / %8.3f | %8.3f / %8.3f | "
-        "%8.3f / %8.3f | %7.1e\n",
-        pairs, row.rows, row.cols, row.nonzeros, row.density, row.build, 1e3 * row.jacobian,
-        1e3 * row.dense_copy, 1e3 * row.moments[0], 1e3 * row.moments[1], 1e3 * row.fusion[0],
-        1e3 * row.fusion[1], 1e3 * row.allocation[0], 1e3 * row.allocation[1], row.max_difference);
-    std::fflush(stdout);
-    table.push_back(row);
-    if (pairs == sizes.back()) largest = std::move(plan);
+    row.fusion[a] =
+        time_median(repeats, [&] { fused[a] = planner::fuse_readings(readings, algebra); });
+    row.allocation[a] = time_median(repeats, [&] {
+      allocation[a] = planner::allocate_tolerances(scenario, analysis, jacobian,
+                                                   {.algebra = algebra, .verify = false});
+    });
   }
-  // Crossovers: the smallest N from which SuiteSparse stays faster (to the largest N).
+  row.covariance_nonzeros = covariance[0].nonzeros;
+  row.allocation_parameters = allocation[0].parameters.size();
+  for (std::size_t k = 0; k < covariance[0].variance.size(); ++k)
+    row.max_difference =
+        std::max(row.max_difference,
+                 relative_difference(covariance[0].variance[k], covariance[1].variance[k]));
+  for (std::size_t o = 0; o < fused[0].size(); ++o)
+    row.max_difference =
+        std::max(row.max_difference, (fused[0][o].covariance - fused[1][o].covariance).norm() /
+                                         fused[1][o].covariance.norm());
+  for (std::size_t q = 0; q < allocation[0].parameters.size(); ++q)
+    row.max_difference = std::max(
+        row.max_difference,
+        std::abs(allocation[0].parameters[q].allocated - allocation[1].parameters[q].allocated) /
+            allocation[0].parameters[q].half_width);
+  return row;
+}
+
+// Crossovers: the smallest N from which SuiteSparse stays faster (to the largest N).
+void print_crossovers(const std::vector<Row>& table) {
   const char* names[3] = {"moments", "fusion", "allocation"};
   for (int kernel = 0; kernel < 3; ++kernel) {
     const auto times = [&](const Row& r) {
@@ -311,7 +293,10 @@ int main(int argc, char** argv) {
     std::printf("ratio probability_%s(N=%d) dense_eigen %.2f\n", names[kernel], table.back().pairs,
                 dense / sparse);
   }
-  // The largest plan: one verified allocation and a Monte Carlo run.
+}
+
+// The largest plan: one verified allocation and a Monte Carlo run.
+void verify_largest(const Plan& largest, int pairs) {
   auto start = std::chrono::steady_clock::now();
   const planner::ToleranceAllocation verified =
       planner::allocate_tolerances(largest.world->scenario(), largest.analysis);
@@ -329,9 +314,39 @@ int main(int argc, char** argv) {
       "N = %d: verified allocation %s in %d rounds, %.2f s (cost %.3g); analyse_probability "
       "(2000 samples) %.2f s: %zu proved, %zu first order outside the Monte Carlo "
       "interval, P(plan fails) = %.3g [%.3g, %.3g]\n",
-      table.back().pairs, planner::to_string(verified.status), verified.rounds, verify_seconds,
-      verified.cost, monte_carlo_seconds, proved, disagree, probability.p_plan,
-      probability.p_plan_ci_lo, probability.p_plan_ci_hi);
+      pairs, planner::to_string(verified.status), verified.rounds, verify_seconds, verified.cost,
+      monte_carlo_seconds, proved, disagree, probability.p_plan, probability.p_plan_ci_lo,
+      probability.p_plan_ci_hi);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const bool quick = argc > 1 && std::strcmp(argv[1], "--quick") == 0;
+  const std::vector<int> sizes =
+      quick ? std::vector<int>{1, 5, 10} : std::vector<int>{1, 2, 5, 10, 20, 30, 40, 50};
+  std::printf("probability_bench%s: load average %s at start\n", quick ? " --quick" : "",
+              load_average().c_str());
+  std::printf("%4s %5s %5s %6s %8s %7s | %9s %9s | %19s | %19s | %19s | %7s\n", "N", "rows", "cols",
+              "nnz", "density", "build s", "J ms", "dense J", "moments sparse/dense",
+              "fusion sparse/dense", "alloc sparse/dense", "max diff");
+  std::vector<Row> table;
+  Plan largest;
+  for (const int pairs : sizes) {
+    Plan plan = build_plan(pairs);
+    const Row row = measure(pairs, plan);
+    std::printf(
+        "%4d %5zu %5zu %6zu %8.4f %7.2f | %9.2f %9.3f | %8.3f / %8.3f | %8.3f / %8.3f | "
+        "%8.3f / %8.3f | %7.1e\n",
+        pairs, row.rows, row.cols, row.nonzeros, row.density, row.build, 1e3 * row.jacobian,
+        1e3 * row.dense_copy, 1e3 * row.moments[0], 1e3 * row.moments[1], 1e3 * row.fusion[0],
+        1e3 * row.fusion[1], 1e3 * row.allocation[0], 1e3 * row.allocation[1], row.max_difference);
+    std::fflush(stdout);
+    table.push_back(row);
+    if (pairs == sizes.back()) largest = std::move(plan);
+  }
+  print_crossovers(table);
+  verify_largest(largest, table.back().pairs);
   std::printf("load average %s at end\n", load_average().c_str());
   return 0;
 }
