@@ -76,50 +76,56 @@ KDL::Frame kdl_frame(const Transform& pose) {
                     KDL::Vector(p.x(), p.y(), p.z()));
 }
 
-// Forward and inverse kinematics of the Puma 560, spar vs KDL.
-void run_numeric_kinematics(const BenchOptions& options) {
-  const DhChain& robot = spar::kinematics::puma560();
-  const PumaIk solver(robot);
-  const KDL::Chain chain = kdl_chain(robot);
+// Random joint vectors of the Puma 560 within its limits, their flange poses, and KDL's copies
+// (with seeds for its iterative IK, 0.3 rad off).
+struct PumaSamples {
+  std::vector<JointVector> joints;
+  std::vector<KDL::JntArray> kdl_joints, kdl_seeds;
+  std::vector<Transform> poses;
+};
 
+PumaSamples puma_samples(const DhChain& robot, int count) {
   std::mt19937_64 random(20260523);
-  const int count = 1000;
-  std::vector<JointVector> joints(count);
-  std::vector<KDL::JntArray> kdl_joints(count, KDL::JntArray(6));
-  std::vector<KDL::JntArray> kdl_seeds(count, KDL::JntArray(6));
+  PumaSamples out{
+      std::vector<JointVector>(count), std::vector<KDL::JntArray>(count, KDL::JntArray(6)),
+      std::vector<KDL::JntArray>(count, KDL::JntArray(6)), std::vector<Transform>(count)};
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   std::uniform_real_distribution<double> seed_noise(-0.3, 0.3);
   for (int i = 0; i < count; ++i) {
     for (int j = 0; j < 6; ++j) {
       const auto& limits = robot.joint(static_cast<std::size_t>(j)).limits;
-      joints[i][j] = limits.lower + (limits.upper - limits.lower) * unit(random);
-      kdl_joints[i](j) = joints[i][j];
-      kdl_seeds[i](j) = joints[i][j] + seed_noise(random);
+      out.joints[i][j] = limits.lower + (limits.upper - limits.lower) * unit(random);
+      out.kdl_joints[i](j) = out.joints[i][j];
+      out.kdl_seeds[i](j) = out.joints[i][j] + seed_noise(random);
     }
   }
-  std::vector<Transform> poses(count);
   for (int i = 0; i < count; ++i)
-    poses[i] = robot.forward(std::span<const double>(joints[i].data(), 6));
+    out.poses[i] = robot.forward(std::span<const double>(out.joints[i].data(), 6));
+  return out;
+}
 
-  // Agreement check before timing: same FK, and our IK contains the generating q.
-  KDL::ChainFkSolverPos_recursive kdl_fk(chain);
+// Agreement check before timing: the same FK as KDL, and spar's IK contains the generating q.
+void check_puma(const PumaSamples& samples, const PumaIk& solver,
+                KDL::ChainFkSolverPos_recursive& kdl_fk) {
+  const int count = static_cast<int>(samples.joints.size());
   double fk_disagreement = 0.0;
   int ik_contains_q = 0;
   for (int i = 0; i < count; ++i) {
     KDL::Frame frame;
-    kdl_fk.JntToCart(kdl_joints[i], frame);
+    kdl_fk.JntToCart(samples.kdl_joints[i], frame);
     for (int r = 0; r < 3; ++r) {
-      fk_disagreement = std::max(fk_disagreement, std::abs(frame.p(r) - poses[i].translation()[r]));
+      fk_disagreement =
+          std::max(fk_disagreement, std::abs(frame.p(r) - samples.poses[i].translation()[r]));
       for (int c = 0; c < 3; ++c)
         fk_disagreement =
-            std::max(fk_disagreement, std::abs(frame.M(r, c) - poses[i].linear()(r, c)));
+            std::max(fk_disagreement, std::abs(frame.M(r, c) - samples.poses[i].linear()(r, c)));
     }
-    const spar::kinematics::IkResult result = solver.solve(poses[i]);
+    const spar::kinematics::IkResult result = solver.solve(samples.poses[i]);
     for (const auto& solution : result.solutions) {
       double distance = 0.0;
       for (int j = 0; j < 6; ++j)
-        distance = std::max(distance,
-                            std::abs(spar::kinematics::wrap_angle(solution.q[j] - joints[i][j])));
+        distance = std::max(
+            distance, std::abs(spar::kinematics::wrap_angle(solution.q[j] - samples.joints[i][j])));
       if (result.solved() && distance < 1e-7) {
         ++ik_contains_q;
         break;
@@ -130,6 +136,17 @@ void run_numeric_kinematics(const BenchOptions& options) {
       "check: max |FK spar - FK KDL| = %.2e over %d joint vectors; spar IK contains q for "
       "%d/%d\n",
       fk_disagreement, count, ik_contains_q, count);
+}
+
+// Forward and inverse kinematics of the Puma 560, spar vs KDL.
+void run_numeric_kinematics(const BenchOptions& options) {
+  const DhChain& robot = spar::kinematics::puma560();
+  const PumaIk solver(robot);
+  const KDL::Chain chain = kdl_chain(robot);
+  const int count = 1000;
+  const PumaSamples samples = puma_samples(robot, count);
+  KDL::ChainFkSolverPos_recursive kdl_fk(chain);
+  check_puma(samples, solver, kdl_fk);
 
   const int fk_repetitions = options.quick ? 200 : 2000;
   const int ik_repetitions = options.quick ? 200 : 2000;
@@ -137,18 +154,18 @@ void run_numeric_kinematics(const BenchOptions& options) {
 
   double checksum = 0.0;
   const double our_fk = seconds_per_call(fk_repetitions, count, [&](int i) {
-    const Transform pose = robot.forward(std::span<const double>(joints[i].data(), 6));
+    const Transform pose = robot.forward(std::span<const double>(samples.joints[i].data(), 6));
     checksum += pose.translation().x() + pose.linear()(2, 1);
   });
   KDL::Frame frame;
   const double kdl_fk_time = seconds_per_call(fk_repetitions, count, [&](int i) {
-    kdl_fk.JntToCart(kdl_joints[i], frame);
+    kdl_fk.JntToCart(samples.kdl_joints[i], frame);
     checksum += frame.p.x() + frame.M(2, 1);
   });
 
   int in_limits = 0;
   const double our_ik = seconds_per_call(ik_repetitions, count, [&](int i) {
-    const spar::kinematics::IkResult result = solver.solve(poses[i]);
+    const spar::kinematics::IkResult result = solver.solve(samples.poses[i]);
     in_limits += result.count_within_limits();
     checksum += result.solutions[7].q[5];
   });
@@ -156,10 +173,10 @@ void run_numeric_kinematics(const BenchOptions& options) {
   KDL::ChainIkSolverPos_LMA kdl_ik(chain);
   KDL::JntArray kdl_out(6);
   std::vector<KDL::Frame> kdl_targets(count);
-  for (int i = 0; i < count; ++i) kdl_targets[i] = kdl_frame(poses[i]);
+  for (int i = 0; i < count; ++i) kdl_targets[i] = kdl_frame(samples.poses[i]);
   int converged = 0;
   const double kdl_ik_time = seconds_per_call(1, lma_count, [&](int i) {
-    converged += kdl_ik.CartToJnt(kdl_seeds[i], kdl_targets[i], kdl_out) >= 0 ? 1 : 0;
+    converged += kdl_ik.CartToJnt(samples.kdl_seeds[i], kdl_targets[i], kdl_out) >= 0 ? 1 : 0;
     checksum += kdl_out(0);
   });
 
