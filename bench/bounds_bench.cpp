@@ -271,65 +271,44 @@ void print_reuse(const char* workload, const ReuseTimes& t) {
       t.different);
 }
 
-// Reuse over 1000 boxes: what phase 2 does when it widens, senses or bisects.
-void run_reuse(const std::vector<nlohmann::json>& records, bool quick) {
-  const std::size_t box_count = 1000;
-  const BoundOptions options{};  // the defaults: a work budget, no clock
-  std::printf("\nreuse: one compiled problem over %zu boxes vs a fresh bound() per box\n",
-              box_count);
-  // 1. The pickup-like inequality over a widening of the object's uncertainty (0.02 to 0.6).
-  symbolic::ExprPool pool;
-  std::vector<symbolic::Expr> variables;
-  for (const char* name : {"dxg", "dyg", "tg", "dxo", "dyo", "tho"}) {
-    variables.push_back(pool.variable(name));
-  }
-  std::vector<std::vector<Interval>> widening;
-  for (std::size_t b = 0; b < box_count; ++b) {
-    const double w = 0.02 + 0.58 * static_cast<double>(b) / (box_count - 1);
-    widening.push_back(
-        {{-1e-3, 1e-3}, {-1e-3, 1e-3}, {-1e-3, 1e-3}, {-w, w}, {-w, w}, {-0.096, 0.096}});
-  }
-  const symbolic::Expr y = symbolic::parse(pool, pickup_like("2", "1.5"));
-  const ReuseTimes pickup = time_reuse(y, variables, widening, {}, options);
-  print_reuse("pickup-like inequality, widening", pickup);
-  // 2. The same four pickup inequalities as one ConditionSet vs a fresh bound() of each.
-  const std::vector<spar::bounds::Inequality> inequalities{
-      {"P1.C1", y, Relation::kGreater, 0.0},
-      {"P1.C2", symbolic::parse(pool, pickup_like("2", "-1.5")), Relation::kGreater, 0.0},
-      {"P2.C1", symbolic::parse(pool, pickup_like("-2", "1.5")), Relation::kLess, 0.0},
-      {"P2.C2", symbolic::parse(pool, pickup_like("-2", "-1.5")), Relation::kLess, 0.0}};
+// 2. The four pickup-like inequalities as one ConditionSet vs a fresh bound() of each, over the
+// widening boxes; `escalated` counts the checks that needed a full bound.
+ReuseTimes time_condition_set(const std::vector<spar::bounds::Inequality>& inequalities,
+                              const std::vector<symbolic::Expr>& variables,
+                              const std::vector<std::vector<Interval>>& widening,
+                              const BoundOptions& options, std::size_t& escalated) {
   ReuseTimes set_times;
-  std::size_t escalated = 0;
-  {
-    spar::bounds::ConditionSet set(inequalities, variables);
-    for (const auto& ranges : widening) {
-      auto start = std::chrono::steady_clock::now();
-      spar::bounds::Box box;
-      for (std::size_t i = 0; i < variables.size(); ++i) {
-        box.add(variables[i], ranges[i].lo, ranges[i].hi);
-      }
-      std::vector<spar::bounds::Verdict> fresh;
-      for (const auto& q : inequalities) {
-        fresh.push_back(decide(q, spar::bounds::bound(q.expression, box, options)));
-      }
-      const double fresh_seconds = seconds_since(start);
-      start = std::chrono::steady_clock::now();
-      const std::vector<spar::bounds::ConditionCheck> checks = set.check(ranges, options);
-      const double reused_seconds = seconds_since(start);
-      set_times.fresh += fresh_seconds;
-      set_times.reused += reused_seconds;
-      set_times.per_box_ratio.push_back(fresh_seconds / reused_seconds);
-      for (std::size_t k = 0; k < checks.size(); ++k) {
-        set_times.different += checks[k].verdict != fresh[k] ? 1 : 0;
-        escalated += checks[k].escalated ? 1 : 0;
-      }
+  spar::bounds::ConditionSet set(inequalities, variables);
+  for (const auto& ranges : widening) {
+    auto start = std::chrono::steady_clock::now();
+    spar::bounds::Box box;
+    for (std::size_t i = 0; i < variables.size(); ++i) {
+      box.add(variables[i], ranges[i].lo, ranges[i].hi);
     }
-    set_times.boxes = widening.size();
+    std::vector<spar::bounds::Verdict> fresh;
+    for (const auto& q : inequalities) {
+      fresh.push_back(decide(q, spar::bounds::bound(q.expression, box, options)));
+    }
+    const double fresh_seconds = seconds_since(start);
+    start = std::chrono::steady_clock::now();
+    const std::vector<spar::bounds::ConditionCheck> checks = set.check(ranges, options);
+    const double reused_seconds = seconds_since(start);
+    set_times.fresh += fresh_seconds;
+    set_times.reused += reused_seconds;
+    set_times.per_box_ratio.push_back(fresh_seconds / reused_seconds);
+    for (std::size_t k = 0; k < checks.size(); ++k) {
+      set_times.different += checks[k].verdict != fresh[k] ? 1 : 0;
+      escalated += checks[k].escalated ? 1 : 0;
+    }
   }
-  print_reuse("4 pickup-like, ConditionSet", set_times);
-  std::printf("  (verdicts compared; %zu of %zu inequality checks escalated to a full bound)\n",
-              escalated, 4 * widening.size());
-  // 3. FPBench: sub-boxes of every bounded record (constraints included), 1000 in all.
+  set_times.boxes = widening.size();
+  return set_times;
+}
+
+// 3. FPBench: random sub-boxes of every bounded record (constraints included), `box_count` in
+// all (a quarter with `quick`).
+ReuseTimes time_corpus_reuse(const std::vector<nlohmann::json>& records, std::size_t box_count,
+                             bool quick, const BoundOptions& options) {
   Lcg random;
   ReuseTimes corpus;
   std::size_t bounded = 0;
@@ -363,6 +342,42 @@ void run_reuse(const std::vector<nlohmann::json>& records, bool quick) {
     const symbolic::Expr f = symbolic::parse(record_pool, record["expr"].get<std::string>());
     corpus.add(time_reuse(f, record_variables, boxes, constraints, options));
   }
+  return corpus;
+}
+
+// Reuse over 1000 boxes: what phase 2 does when it widens, senses or bisects.
+void run_reuse(const std::vector<nlohmann::json>& records, bool quick) {
+  const std::size_t box_count = 1000;
+  const BoundOptions options{};  // the defaults: a work budget, no clock
+  std::printf("\nreuse: one compiled problem over %zu boxes vs a fresh bound() per box\n",
+              box_count);
+  // 1. The pickup-like inequality over a widening of the object's uncertainty (0.02 to 0.6).
+  symbolic::ExprPool pool;
+  std::vector<symbolic::Expr> variables;
+  for (const char* name : {"dxg", "dyg", "tg", "dxo", "dyo", "tho"}) {
+    variables.push_back(pool.variable(name));
+  }
+  std::vector<std::vector<Interval>> widening;
+  for (std::size_t b = 0; b < box_count; ++b) {
+    const double w = 0.02 + 0.58 * static_cast<double>(b) / (box_count - 1);
+    widening.push_back(
+        {{-1e-3, 1e-3}, {-1e-3, 1e-3}, {-1e-3, 1e-3}, {-w, w}, {-w, w}, {-0.096, 0.096}});
+  }
+  const symbolic::Expr y = symbolic::parse(pool, pickup_like("2", "1.5"));
+  const ReuseTimes pickup = time_reuse(y, variables, widening, {}, options);
+  print_reuse("pickup-like inequality, widening", pickup);
+  const std::vector<spar::bounds::Inequality> inequalities{
+      {"P1.C1", y, Relation::kGreater, 0.0},
+      {"P1.C2", symbolic::parse(pool, pickup_like("2", "-1.5")), Relation::kGreater, 0.0},
+      {"P2.C1", symbolic::parse(pool, pickup_like("-2", "1.5")), Relation::kLess, 0.0},
+      {"P2.C2", symbolic::parse(pool, pickup_like("-2", "-1.5")), Relation::kLess, 0.0}};
+  std::size_t escalated = 0;
+  const ReuseTimes set_times =
+      time_condition_set(inequalities, variables, widening, options, escalated);
+  print_reuse("4 pickup-like, ConditionSet", set_times);
+  std::printf("  (verdicts compared; %zu of %zu inequality checks escalated to a full bound)\n",
+              escalated, 4 * widening.size());
+  const ReuseTimes corpus = time_corpus_reuse(records, box_count, quick, options);
   print_reuse("FPBench sub-boxes", corpus);
   // Medians of the per-box ratios: robust to a busy machine (the totals are printed above).
   std::printf("ratio bound_problem_reuse(pickup_like,median_per_box) fresh_bound %.3g\n",
