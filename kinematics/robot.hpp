@@ -35,7 +35,10 @@
 //                        spherical shoulder (axes 1, 2, 3 meet) and axes 5, 6 meeting (Franka
 //                        Panda, KUKA iiwa): q7 is sampled at every multiple of
 //                        `redundancy_step` within its limits, the other six in closed form (up
-//                        to eight branches l|r u|d n|f each); labels "run@q7=35deg". Only
+//                        to eight branches l|r u|d n|f each; at the shoulder singularity, axes
+//                        1 and 3 aligned, only q1 +- q3 is fixed: q1 = 0, or where that leaves
+//                        q3 outside its limits the middle of the splits within both);
+//                        labels "run@q7=35deg". Only
 //                        solutions within limits are returned, sorted by preference: the
 //                        largest limit margin first (the smallest distance of any joint to
 //                        the nearer of its limits, as a fraction of that joint's range), ties

@@ -190,6 +190,31 @@ class UrIk final : public IkSolver {
 // ---- Six joints with a spherical shoulder (axes 1, 2, 3 meet at S) and axes 5, 6 meeting at W.
 // The home pose is an argument: the redundant solver moves it with q7. ----
 
+// At the shoulder singularity axes 1 and 3 are aligned (axis 3 turned by q2 is `sign` times axis
+// 1): R_03 fixes only q1 + sign q3, and solve_two_rotations reports q1 = 0. Where that leaves q3
+// with no representative within joint 3's limits, the split moves by d (q1 + d, q3 - sign d) to
+// the middle of the shifts that keep both within their limits; where none does, it is left as it
+// is (the branch is then dropped). A split within limits is never moved: only branches that
+// would be dropped change.
+void resplit_at_shoulder_singularity(double& q1, double& q3, double sign, const JointLimits& first,
+                                     const JointLimits& third) {
+  double representative = q3;
+  if (choose_representative(representative, third, 1e-9)) return;
+  for (int turns = -1; turns <= 1; ++turns) {
+    const double q3k = q3 + 2 * std::numbers::pi * turns;
+    // q1 + d within the first joint's limits; q3k - sign d within the third's.
+    double low = first.lower - q1, high = first.upper - q1;
+    const double a = q3k - third.upper, b = q3k - third.lower;
+    low = std::max(low, sign > 0 ? a : -b);
+    high = std::min(high, sign > 0 ? b : -a);
+    if (!(low <= high)) continue;
+    const double d = (low + high) / 2;
+    q1 += d;
+    q3 = q3k - sign * d;
+    return;
+  }
+}
+
 struct Branch {
   std::array<double, 6> q{};
   std::array<char, 3> label{};
@@ -258,10 +283,15 @@ class SphericalShoulder {
         // q1, q2: rot(h1, q1) rot(h2, q2) h3 = R_03 h3; then q3 and q6 by one rotation each.
         const AnglePairs arm = solve_two_rotations(*r03 * h[2], -h[0], h[2], h[1]);
         for (std::size_t s = 0; s < arm.count; ++s) {
-          const double q1 = arm.values[s][0], q2 = arm.values[s][1];
+          double q1 = arm.values[s][0];
+          const double q2 = arm.values[s][1];
           if (!admissible(0, q1) || !admissible(1, q2)) continue;
           const Eigen::Matrix3d r02 = rotation_about(h[0], q1) * rotation_about(h[1], q2);
-          const double q3 = angle_about(r02.transpose() * *r03, h[2]);
+          double q3 = angle_about(r02.transpose() * *r03, h[2]);
+          if (arm.degenerate) {
+            const double sign = h[0].dot(rotation_about(h[1], q2) * h[2]) < 0 ? -1.0 : 1.0;
+            resplit_at_shoulder_singularity(q1, q3, sign, joints[0].limits, joints[2].limits);
+          }
           const double q6 = angle_about((*r03 * r35).transpose() * r06, h[5]);
           const std::uint8_t flags = (arm.tangent || arm.degenerate ? kShoulderSingularity : 0) |
                                      (singular(elbow) ? kElbowSingularity : 0) |

@@ -269,8 +269,20 @@ RC_GTEST_PROP(RobotModelProperty, Ur5InverseOfForwardContainsTheJoints, ()) {
   RC_ASSERT(found);
 }
 
+// At the Panda's shoulder singularity (q2 = 0: axes 1 and 3 aligned) only q1 + q3 is fixed, and
+// the solver reports one split of it, q1 = 0 (kinematics/internal/subproblems.hpp): `solution`
+// is then `q` up to that split.
+bool same_up_to_shoulder_split(const JointSolution& solution, const std::vector<double>& q) {
+  if (!(solution.singularities & kShoulderSingularity)) return false;
+  std::vector<double> moved = solution.q;
+  moved[2] += moved[0] - q[0];  // the same q1 + q3, split as in q
+  moved[0] = q[0];
+  return same_joints(moved, q, 1e-7);
+}
+
 // With q7 on the sampling grid, the Panda's joint vector is among its solutions (when within
-// limits), and every solution reproduces the pose.
+// limits; up to the split of q1 + q3 at the shoulder singularity), and every solution reproduces
+// the pose.
 RC_GTEST_PROP(RobotModelProperty, PandaInverseOfForwardContainsTheJointsOnTheGrid, ()) {
   const RobotModel& panda = builtin_robot_model("panda");
   std::vector<double> q;
@@ -285,9 +297,29 @@ RC_GTEST_PROP(RobotModelProperty, PandaInverseOfForwardContainsTheJointsOnTheGri
   for (const JointSolution& solution : panda.inverse(pose)) {
     RC_ASSERT(pose_error(panda.forward(solution.q), pose) < 1e-9);
     RC_ASSERT(panda.within_limits(solution.q));
-    found |= same_joints(solution.q, q, 1e-7);
+    found |= same_joints(solution.q, q, 1e-7) || same_up_to_shoulder_split(solution, q);
   }
   RC_ASSERT(found);
+}
+
+// Regression (random-seed hunt, seed 2690832172): q2 = 0 exactly puts the Panda at its shoulder
+// singularity; its solutions hold the generating q only up to the split of q1 + q3.
+TEST(RobotModel, PandaAtTheShoulderSingularityKeepsQ1PlusQ3) {
+  const RobotModel& panda = builtin_robot_model("panda");
+  std::vector<double> q;
+  const int steps[6] = {1, 500, 1, 1, 1, 1};
+  for (std::size_t i = 0; i < 6; ++i) {
+    const JointLimits& limits = panda.joints()[i].limits;
+    q.push_back(limits.lower + (limits.upper - limits.lower) * steps[i] / 1000.0);
+  }
+  q.push_back(-33 * 5.0 * kPi / 180.0);
+  const Transform pose = panda.forward(q);
+  bool split = false;  // a solution flagged singular holds q up to the split (q1 = 0 here)
+  for (const JointSolution& solution : panda.inverse(pose)) {
+    EXPECT_LT(pose_error(panda.forward(solution.q), pose), 1e-9);
+    split |= same_up_to_shoulder_split(solution, q);
+  }
+  EXPECT_TRUE(split);
 }
 
 // The numeric solver finds an in-limit solution of a reachable pose of either arm.
