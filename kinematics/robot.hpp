@@ -44,7 +44,8 @@
 //                        the nearer of its limits, as a fraction of that joint's range), ties
 //                        by |q7|, then label. When no sample gives one, the numeric solver runs;
 //   kNumeric             any other chain: damped least squares (Levenberg-Marquardt) on the
-//                        6-D pose error from random starts within limits, up to
+//                        6-D pose error, a joint at a limit held where its step points
+//                        beyond it, from random starts within limits, up to
 //                        `numeric_attempts` starts, collecting up to `numeric_solutions`
 //                        distinct solutions within limits ("n1", "n2", ... sorted by margin).
 //                        Deterministic: the starts come from `random_seed`.

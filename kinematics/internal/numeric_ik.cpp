@@ -25,6 +25,31 @@ JointLimits start_range(const MovingJoint& joint) {
           std::isfinite(joint.limits.upper) ? joint.limits.upper : open};
 }
 
+// The damped step `damped` * step = `gradient`, solved again without the joints that sit at a
+// limit and would step beyond it (an active set, at most one pass per joint): clamping such a
+// joint's step alone would leave the others' steps computed for a motion it cannot make, and
+// the descent stalls at the limit although the other joints could reach the pose.
+Eigen::VectorXd step_within_limits(std::span<const MovingJoint> joints, std::span<const double> q,
+                                   Eigen::MatrixXd damped, Eigen::VectorXd gradient) {
+  for (std::size_t pass = 0; pass <= joints.size(); ++pass) {
+    const Eigen::VectorXd step = damped.ldlt().solve(gradient);
+    bool fixed_one = false;
+    for (Eigen::Index i = 0; i < step.size(); ++i) {
+      const std::size_t j = static_cast<std::size_t>(i);
+      const bool pushes_out = (q[j] <= joints[j].limits.lower && step[i] < 0.0) ||
+                              (q[j] >= joints[j].limits.upper && step[i] > 0.0);
+      if (!pushes_out) continue;
+      damped.row(i).setZero();
+      damped.col(i).setZero();
+      damped(i, i) = 1.0;
+      gradient[i] = 0.0;
+      fixed_one = true;
+    }
+    if (!fixed_one) return step;
+  }
+  return Eigen::VectorXd::Zero(gradient.size());
+}
+
 // Levenberg-Marquardt from q (within limits, each step clamped to them). True when it reaches the
 // pose to kConverged.
 bool descend(std::span<const MovingJoint> joints, const Transform& tip, const Transform& target,
@@ -43,7 +68,7 @@ bool descend(std::span<const MovingJoint> joints, const Transform& tip, const Tr
     while (!improved && damping < 1e10) {
       Eigen::MatrixXd damped = normal;
       damped.diagonal().array() += damping * (1.0 + normal.diagonal().array());
-      const Eigen::VectorXd step = damped.ldlt().solve(gradient);
+      const Eigen::VectorXd step = step_within_limits(joints, q, damped, gradient);
       for (Eigen::Index i = 0; i < n; ++i) {
         const std::size_t j = static_cast<std::size_t>(i);
         candidate[j] = std::clamp(q[j] + step[i], joints[j].limits.lower, joints[j].limits.upper);

@@ -323,6 +323,26 @@ TEST(RobotModel, PandaAtTheShoulderSingularityKeepsQ1PlusQ3) {
   EXPECT_TRUE(split);
 }
 
+// Regression (random-seed hunt, seed 3024810286): a Panda pose with q4 at its lower limit and q6
+// near its own. Clamping only the step of a joint at its limit left the other joints' steps
+// computed for a motion q4 could not make: every start stalled there, and no solution was found.
+TEST(RobotModel, NumericSolverReachesAPoseWithAJointAtItsLimit) {
+  const RobotModel& panda = builtin_robot_model("panda");
+  std::vector<double> q;
+  const int steps[7] = {184, 20, 61, 0, 210, 14, 116};
+  for (std::size_t i = 0; i < 7; ++i) {
+    const double lower = std::max(panda.joints()[i].limits.lower, -kPi);
+    const double upper = std::min(panda.joints()[i].limits.upper, kPi);
+    q.push_back(lower + (upper - lower) * steps[i] / 1000.0);
+  }
+  const Transform pose = panda.forward(q);
+  const std::vector<JointSolution> solutions =
+      panda.inverse_numeric(pose, {.numeric_solutions = 1});
+  ASSERT_FALSE(solutions.empty());
+  EXPECT_LT(pose_error(panda.forward(solutions.front().q), pose), 1e-9);
+  EXPECT_TRUE(panda.within_limits(solutions.front().q));
+}
+
 // The numeric solver finds an in-limit solution of a reachable pose of either arm.
 RC_GTEST_PROP(RobotModelProperty, NumericSolverReachesRandomReachablePoses, ()) {
   const RobotModel& robot = builtin_robot_model(*rc::gen::element("ur5", "panda"));
