@@ -34,7 +34,9 @@
 //   kRedundantClosedForm seven revolute joints whose first six, with joint 7 held, have a
 //                        spherical shoulder (axes 1, 2, 3 meet) and axes 5, 6 meeting (Franka
 //                        Panda, KUKA iiwa): q7 is sampled at every multiple of
-//                        `redundancy_step` within its limits, the other six in closed form (up
+//                        `redundancy_step` within its limits, and in the middle of each arc of
+//                        q7 that keeps the wrist point within reach but holds no such multiple
+//                        (a band narrower than the step), the other six in closed form (up
 //                        to eight branches l|r u|d n|f each; at the shoulder singularity, axes
 //                        1 and 3 aligned, only q1 +- q3 is fixed: q1 = 0, or where that leaves
 //                        q3 outside its limits the middle of the splits within both);
@@ -42,7 +44,8 @@
 //                        solutions within limits are returned, sorted by preference: the
 //                        largest limit margin first (the smallest distance of any joint to
 //                        the nearer of its limits, as a fraction of that joint's range), ties
-//                        by |q7|, then label. When no sample gives one, the numeric solver runs;
+//                        by |q7|, then label. When no sample gives one but one is within reach,
+//                        the numeric solver runs;
 //   kNumeric             any other chain: damped least squares (Levenberg-Marquardt) on the
 //                        6-D pose error, a joint at a limit held where its step points
 //                        beyond it, from random starts within limits, up to

@@ -242,11 +242,29 @@ class SphericalShoulder {
     solver.wrist_ = *wrist;
     solver.p34_ = p[3] - *shoulder;
     solver.p45_ = *wrist - p[3];
+    // |p34 + rot(h4, q4) p45| over q4: the components along h4 add, the perpendicular ones
+    // turn against each other.
+    const auto across = [&](const Eigen::Vector3d& v) { return (v - v.dot(h[3]) * h[3]).norm(); };
+    const double along = (solver.p34_ + solver.p45_).dot(h[3]);
+    const double a = across(solver.p34_), b = across(solver.p45_);
+    solver.reach_ = {std::hypot(along, a - b), std::hypot(along, a + b)};
     // q4 must change the shoulder-wrist distance.
     if (parallel(solver.p34_, h[3], kGeometryTolerance * std::max(1.0, solver.p34_.norm())) ||
         parallel(solver.p45_, h[3], kGeometryTolerance * std::max(1.0, solver.p45_.norm())))
       return std::nullopt;
     return solver;
+  }
+
+  // The wrist point (axes 5 and 6 meet there) with every joint at 0.
+  [[nodiscard]] const Eigen::Vector3d& wrist() const { return wrist_; }
+  // The shortest and the longest shoulder-wrist distance q4 can give.
+  [[nodiscard]] const std::array<double, 2>& reach() const { return reach_; }
+
+  // S W, the wrist point seen from the shoulder, with the tip at `target` (at `home` when
+  // q1..q6 = 0).
+  [[nodiscard]] Eigen::Vector3d to_wrist(const Transform& target, const Transform& home) const {
+    const Eigen::Matrix3d r06 = target.linear() * home.linear().transpose();
+    return target.translation() - r06 * (home.translation() - wrist_) - shoulder_;
   }
 
   // Up to eight branches reaching `target` with the tip at `home` when q1..q6 = 0; a branch is
@@ -261,8 +279,7 @@ class SphericalShoulder {
     const auto& h = h_;
     std::vector<Branch> branches;
     const Eigen::Matrix3d r06 = target.linear() * home.linear().transpose();
-    const Eigen::Vector3d wrist = target.translation() - r06 * (home.translation() - wrist_);
-    const Eigen::Vector3d to_wrist = wrist - shoulder_;
+    const Eigen::Vector3d to_wrist = this->to_wrist(target, home);
     const Eigen::Vector3d h6 = r06 * h[5];
     // q4: |p_34 + rot(h4, q4) p_45| = |S W|.
     const Angles elbow = solve_distance(p45_, -p34_, h[3], to_wrist.norm());
@@ -330,6 +347,7 @@ class SphericalShoulder {
 
   std::array<Eigen::Vector3d, 6> h_{};
   Eigen::Vector3d shoulder_, wrist_, p34_, p45_;
+  std::array<double, 2> reach_{};
 };
 
 // ---- Seven joints: q7 sampled, the first six in closed form (robot.hpp, kRedundantClosedForm).
@@ -360,6 +378,7 @@ class RedundantIk final : public IkSolver {
       const long last = static_cast<long>(std::floor(upper / options.redundancy_step + 1e-9));
       for (long k = first; k <= last; ++k)
         samples.push_back(static_cast<double>(k) * options.redundancy_step);
+      add_samples_within_reach(target, lower, upper, samples);
     }
     struct Ranked {
       JointSolution solution;
@@ -369,12 +388,7 @@ class RedundantIk final : public IkSolver {
     std::vector<Ranked> ranked;
     bool within_reach = false;
     for (const double q7 : samples) {
-      // The tip at q1..q6 = 0 with joint 7 at q7: turned about axis 7.
-      Transform turn = Transform::Identity();
-      turn.linear() = rotation_about(axis7_, q7);
-      turn.translation() = point7_ - turn.linear() * point7_;
-      const Transform home = turn * home_;
-      for (const Branch& branch : six_.solve(target, home, joints_, within_reach)) {
+      for (const Branch& branch : six_.solve(target, home_at(q7), joints_, within_reach)) {
         std::vector<double> q(branch.q.begin(), branch.q.end());
         q.push_back(q7);
         // Most branches leave the limits: drop them before verifying the pose.
@@ -402,6 +416,47 @@ class RedundantIk final : public IkSolver {
   }
 
  private:
+  // The tip at q1..q6 = 0 with joint 7 at q7: turned about axis 7.
+  [[nodiscard]] Transform home_at(double q7) const {
+    Transform turn = Transform::Identity();
+    turn.linear() = rotation_about(axis7_, q7);
+    turn.translation() = point7_ - turn.linear() * point7_;
+    return turn * home_;
+  }
+
+  // The wrist point is fixed in link 6, so with the tip at `target` it turns with q7 on a circle
+  // about axis 7: |S W|^2 = A + B cos q7 + C sin q7 exactly (three values fix A, B, C). Where the
+  // arcs of q7 in [lower, upper] that keep |S W| within the shoulder's reach hold no sample (a
+  // band narrower than the step, near the reach's ends), their middles are added: else no
+  // sample reaches a pose the arm reaches.
+  void add_samples_within_reach(const Transform& target, double lower, double upper,
+                                std::vector<double>& samples) const {
+    const auto squared = [&](double q7) {
+      return six_.to_wrist(target, home_at(q7)).squaredNorm();
+    };
+    const double at_0 = squared(0.0), at_half = squared(std::numbers::pi / 2),
+                 at_pi = squared(std::numbers::pi);
+    const double a = (at_0 + at_pi) / 2, b = (at_0 - at_pi) / 2, c = at_half - a;
+    const double amplitude = std::hypot(b, c);
+    if (!(amplitude > 1e-12 * std::max(1.0, a))) return;  // |S W| does not change with q7
+    const double phase = std::atan2(c, b);                // |S W|^2 = a + amplitude cos(q7 - phase)
+    const std::array<double, 2>& reach = six_.reach();
+    const double cos_lo = std::max(-1.0, (reach[0] * reach[0] - a) / amplitude);
+    const double cos_hi = std::min(1.0, (reach[1] * reach[1] - a) / amplitude);
+    if (cos_lo > cos_hi) return;
+    const double near = std::acos(cos_hi), far = std::acos(cos_lo);  // 0 <= near <= far <= pi
+    for (const auto& [from, to] : {std::pair{near, far}, std::pair{-far, -near}}) {
+      for (int turns = -1; turns <= 1; ++turns) {
+        const double shift = phase + 2 * std::numbers::pi * turns;
+        const double x = std::max(lower, from + shift), y = std::min(upper, to + shift);
+        if (x > y) continue;
+        const bool sampled = std::any_of(samples.begin(), samples.end(),
+                                         [&](double q7) { return x <= q7 && q7 <= y; });
+        if (!sampled) samples.push_back((x + y) / 2);
+      }
+    }
+  }
+
   std::vector<MovingJoint> joints_;
   Transform tip_;
   Transform home_;

@@ -323,6 +323,40 @@ TEST(RobotModel, PandaAtTheShoulderSingularityKeepsQ1PlusQ3) {
   EXPECT_TRUE(split);
 }
 
+// Any in-limit joint vector's pose, q7 off the grid too, gets an in-limit solution from the
+// closed form (the sweep's samples, the arcs of q7 that keep the wrist within reach, the numeric
+// fallback).
+RC_GTEST_PROP(RobotModelProperty, PandaInverseReachesRandomReachablePoses, ()) {
+  const RobotModel& panda = builtin_robot_model("panda");
+  std::vector<double> q;
+  for (const MovingJoint& joint : panda.joints())
+    q.push_back(joint.limits.lower +
+                (joint.limits.upper - joint.limits.lower) * *rc::gen::inRange(1, 10000) / 1e4);
+  const Transform pose = panda.forward(q);
+  const std::vector<JointSolution> solutions = panda.inverse(pose);
+  RC_ASSERT(!solutions.empty());
+  for (const JointSolution& solution : solutions) {
+    RC_ASSERT(pose_error(panda.forward(solution.q), pose) < 1e-9);
+    RC_ASSERT(panda.within_limits(solution.q));
+  }
+}
+
+// Regression (kinematics_bench, 4 of 10 000 random poses): with q2 near its limit and the arm
+// nearly stretched, only q7 in a band around 102 degrees narrower than the step keeps the wrist
+// point within reach; no 5-degree sample was within reach, so neither were the numeric fallback's
+// conditions met, and the closed form returned nothing.
+TEST(RobotModel, PandaReachedOnlyBetweenTheSamplesOfQ7) {
+  const RobotModel& panda = builtin_robot_model("panda");
+  const std::vector<double> q = {2.4427, 1.7138, -0.0439, -0.4724, 0.0058, 0.2016, 1.7809};
+  const Transform pose = panda.forward(q);
+  EXPECT_TRUE(panda.inverse(pose, {.redundancy_at = 100 * kPi / 180}).empty());
+  EXPECT_TRUE(panda.inverse(pose, {.redundancy_at = 105 * kPi / 180}).empty());
+  const std::vector<JointSolution> solutions = panda.inverse(pose);
+  ASSERT_FALSE(solutions.empty());
+  EXPECT_LT(pose_error(panda.forward(solutions.front().q), pose), 1e-9);
+  EXPECT_TRUE(panda.within_limits(solutions.front().q));
+}
+
 // Regression (random-seed hunt, seed 3024810286): a Panda pose with q4 at its lower limit and q6
 // near its own. Clamping only the step of a joint at its limit left the other joints' steps
 // computed for a motion q4 could not make: every start stalled there, and no solution was found.
