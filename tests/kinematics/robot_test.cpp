@@ -272,12 +272,15 @@ RC_GTEST_PROP(RobotModelProperty, Ur5InverseOfForwardContainsTheJoints, ()) {
 // At the Panda's shoulder singularity (q2 = 0: axes 1 and 3 aligned) only q1 + q3 is fixed, and
 // the solver reports one split of it, q1 = 0 (kinematics/internal/subproblems.hpp): `solution`
 // is then `q` up to that split.
-bool same_up_to_shoulder_split(const JointSolution& solution, const std::vector<double>& q) {
-  if (!(solution.singularities & kShoulderSingularity)) return false;
-  std::vector<double> moved = solution.q;
+bool same_up_to_split_of_q1_q3(const std::vector<double>& solution, const std::vector<double>& q) {
+  std::vector<double> moved = solution;
   moved[2] += moved[0] - q[0];  // the same q1 + q3, split as in q
   moved[0] = q[0];
   return same_joints(moved, q, 1e-7);
+}
+bool same_up_to_shoulder_split(const JointSolution& solution, const std::vector<double>& q) {
+  return (solution.singularities & kShoulderSingularity) &&
+         same_up_to_split_of_q1_q3(solution.q, q);
 }
 
 // With q7 on the sampling grid, the Panda's joint vector is among its solutions (when within
@@ -321,6 +324,34 @@ TEST(RobotModel, PandaAtTheShoulderSingularityKeepsQ1PlusQ3) {
     split |= same_up_to_shoulder_split(solution, q);
   }
   EXPECT_TRUE(split);
+}
+
+// Near the shoulder singularity (q2 within a few 1e-10 of 0, where the subproblem may still
+// call axes 1 and 3 aligned and the split of q1 + q3 is moved into the limits), every solution
+// still reproduces the pose and keeps the limits, and q is among them up to that split: off the
+// singularity the pose fixes the split only to about 1e-16 / |q2| (1e-5 at q2 = 1e-11), so the
+// split is compared only where q2 is that small.
+TEST(RobotModel, PandaNearTheShoulderSingularityReproducesThePose) {
+  const RobotModel& panda = builtin_robot_model("panda");
+  for (const double q2 : {0.0, 1e-13, -1e-12, 1e-11, -1e-10, 1e-9, 1e-8, 1e-6}) {
+    std::vector<double> q;
+    const int steps[6] = {717, 500, 784, 1, 1, 1};
+    for (std::size_t i = 0; i < 6; ++i) {
+      const JointLimits& limits = panda.joints()[i].limits;
+      q.push_back(limits.lower + (limits.upper - limits.lower) * steps[i] / 1000.0);
+    }
+    q[1] = q2;
+    q.push_back(-33 * 5.0 * kPi / 180.0);
+    const Transform pose = panda.forward(q);
+    bool found = false;
+    for (const JointSolution& solution : panda.inverse(pose)) {
+      EXPECT_LT(pose_error(panda.forward(solution.q), pose), 1e-9) << "q2 " << q2;
+      EXPECT_TRUE(panda.within_limits(solution.q)) << "q2 " << q2;
+      found |= same_joints(solution.q, q, 1e-7) ||
+               (std::abs(q2) < 1e-8 && same_up_to_split_of_q1_q3(solution.q, q));
+    }
+    EXPECT_TRUE(found) << "q2 " << q2;
+  }
 }
 
 // Any in-limit joint vector's pose, q7 off the grid too, gets an in-limit solution from the
