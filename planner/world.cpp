@@ -123,13 +123,14 @@ struct ArmLink {
 
 // The links that move with the arm (the base's never do), each a body of its collision shapes:
 // a mesh as it is, a box as itself, a cylinder or a sphere as the box around it (conservative).
-// A shape without volume (an empty mesh, a zero-sized box) is left out.
-std::vector<ArmLink> arm_links(const kinematics::RobotModel& arm) {
+// A shape without volume (an empty mesh, a zero-sized box) is left out. The links' box hierarchies
+// are built on up to `threads` threads (a URDF arm's meshes: most of the world model's set-up).
+std::vector<ArmLink> arm_links(const kinematics::RobotModel& arm, unsigned threads) {
   using kinematics::ShapeKind;
-  std::vector<ArmLink> result;
-  for (std::size_t l = 0; l < arm.links().size(); ++l) {
+  std::vector<std::optional<ArmLink>> built(arm.links().size());
+  run_tasks(arm.links().size(), threads, [&](std::size_t l) {
     const kinematics::RobotLinkInfo& link = arm.links()[l];
-    if (link.body == 0) continue;
+    if (link.body == 0) return;
     std::vector<geometry::BodyPart> parts;
     double radius = 0.0;
     for (const kinematics::LinkShape& shape : link.collision) {
@@ -153,8 +154,11 @@ std::vector<ArmLink> arm_links(const kinematics::RobotModel& arm) {
       }
     }
     if (!parts.empty())
-      result.push_back({l, link.body, geometry::Body(link.name, std::move(parts)), radius});
-  }
+      built[l] = ArmLink{l, link.body, geometry::Body(link.name, std::move(parts)), radius};
+  });
+  std::vector<ArmLink> result;
+  for (std::optional<ArmLink>& link : built)
+    if (link) result.push_back(std::move(*link));
   return result;
 }
 
@@ -422,20 +426,23 @@ void WorldState::move(int object, const kinematics::Transform& pose) {
 
 // What the construction steps share: the objects that are not fixed, the initial state's fixed
 // objects, the open gripper shrunk by a micrometre for the approach to its own object (its pads
-// may rest on the contact faces), and the closed gripper at each grasp width, built once (grasps
-// share widths; a body builds three box hierarchies; copies share them).
+// may rest on the contact faces), the closed gripper at each grasp width, built once (grasps
+// share widths; a body builds three box hierarchies; copies share them), and the threads the
+// per-grasp tables run on (one task per grasp: the checks only read the model, its memo tables
+// under a lock, and each task writes its grasp's row).
 struct WorldModel::Setting {
   std::vector<int> movable;
   WorldState fixed_only;
   geometry::Body open_shrunk;
   std::map<double, geometry::Body> closed_at_width;
+  unsigned threads{1};
 };
 
 WorldModel::WorldModel(Scenario scenario, unsigned threads) : scenario_(std::move(scenario)) {
   gripper_ = scenario_.robot.gripper;
   gripper_.max_approach_tilt = scenario_.robot.max_tool_tilt;
   caches_ = std::make_shared<Caches>();
-  caches_->arm.links = arm_links(scenario_.robot.arm);
+  caches_->arm.links = arm_links(scenario_.robot.arm, threads);
   caches_->arm.lever = joint_levers(scenario_.robot.arm, caches_->arm.links);
   for (const ObjectSpec& spec : scenario_.objects)
     bodies_.emplace_back(spec.name, geometry::CollisionShape(spec.model.mesh()));
@@ -444,7 +451,8 @@ WorldModel::WorldModel(Scenario scenario, unsigned threads) : scenario_(std::mov
   Setting setting{.movable = {},
                   .fixed_only = initial_state(),
                   .open_shrunk = geometry::gripper_body(gripper_, gripper_.max_opening, 1e-6),
-                  .closed_at_width = {}};
+                  .closed_at_width = {},
+                  .threads = threads};
   for (std::size_t o = 0; o < scenario_.objects.size(); ++o)
     if (!scenario_.objects[o].fixed) setting.movable.push_back(static_cast<int>(o));
   // The grasp searches, one per movable object and independent of each other (parts of one
@@ -496,8 +504,7 @@ void WorldModel::add_object(const ObjectSpec& spec, std::vector<geometry::Grasp>
   object.reachable.assign(object.grasps.size(), std::vector<char>(object.positions.size(), 0));
   objects_.push_back(std::move(object));  // grasp_check reads it
   ObjectWorld& added = objects_.back();
-  for (std::size_t g = 0; g < added.grasps.size(); ++g) {
-    const geometry::Grasp& grasp = added.grasps[g];
+  for (const geometry::Grasp& grasp : added.grasps) {
     auto closed = setting.closed_at_width.find(grasp.width);
     if (closed == setting.closed_at_width.end())
       closed = setting.closed_at_width
@@ -506,6 +513,9 @@ void WorldModel::add_object(const ObjectSpec& spec, std::vector<geometry::Grasp>
     closed_.back().push_back(closed->second);
     held_.back().push_back(closed_.back().back().joined(
         own, grasp.gripper_in_object.inverse(Eigen::Isometry), spec.name + " in the gripper"));
+  }
+  run_tasks(added.grasps.size(), setting.threads, [&](std::size_t g) {
+    const geometry::Grasp& grasp = added.grasps[g];
     // The gripper's approach to its own object, a translation in the object's frame: the open
     // gripper must keep clear of the object along the whole approach.
     const Eigen::Vector3d approach =
@@ -520,7 +530,7 @@ void WorldModel::add_object(const ObjectSpec& spec, std::vector<geometry::Grasp>
           approach_clear && position_free[p] && grasp_usable_at(grasp, spec, added.positions[p]) &&
           reach(added.positions[p].pose * grasp.gripper_in_object).reachable &&
           grasp_check(index, static_cast<int>(g), added.positions[p].pose, fixed_objects, {}).clear;
-  }
+  });
 }
 
 void WorldModel::add_at_goal(const AtGoal& at) {
@@ -589,15 +599,13 @@ void WorldModel::add_assembled_goal(const AssembledGoal& assembled, const Settin
   const int goal_index = static_cast<int>(goals_.size());
   goals_.push_back(tables);  // insertion_check reads the goal's objects
   // The insertion's motions relative to f, per grasp of h (f's pose does not change them).
-  pair_conflict_.emplace_back();
-  for (std::size_t g = 0; g < held.grasps.size(); ++g)
-    pair_conflict_.back().push_back(
-        tables.grasp_leaves_mating_free[g]
-            ? insertion_pair_conflict(goal_index, static_cast<int>(g),
-                                      kinematics::Transform::Identity(), {})
-            : std::optional<std::string>("the grasp obscures a mating face"));
+  pair_conflict_.emplace_back(held.grasps.size());
   tables.mate_reachable.assign(held.grasps.size(), std::vector<char>(fixed.positions.size(), 0));
-  for (std::size_t g = 0; g < held.grasps.size(); ++g)
+  run_tasks(held.grasps.size(), setting.threads, [&](std::size_t g) {
+    pair_conflict_.back()[g] = tables.grasp_leaves_mating_free[g]
+                                   ? insertion_pair_conflict(goal_index, static_cast<int>(g),
+                                                             kinematics::Transform::Identity(), {})
+                                   : std::optional<std::string>("the grasp obscures a mating face");
     for (std::size_t p = 0; p < fixed.positions.size(); ++p)
       tables.mate_reachable[g][p] =
           reach(fixed.positions[p].pose * assembled.relative * held.grasps[g].gripper_in_object)
@@ -605,6 +613,7 @@ void WorldModel::add_assembled_goal(const AssembledGoal& assembled, const Settin
           insertion_check(goal_index, static_cast<int>(g), fixed.positions[p].pose, fixed_objects,
                           {})
               .clear;
+  });
   goals_.back() = std::move(tables);
 }
 

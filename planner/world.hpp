@@ -201,8 +201,9 @@ struct Reach {
 
 class WorldModel {
  public:
-  // Computes every label and table; the movable objects' grasp searches run on up to `threads`
-  // threads (common/parallel.hpp; the model does not depend on it). Throws PlanError if a
+  // Computes every label and table; the movable objects' grasp searches, and each object's and
+  // goal's per-grasp reach and collision tables, run on up to `threads` threads
+  // (common/parallel.hpp; the model does not depend on it). Throws PlanError if a
   // movable object has no grasp, or if in the initial world two objects meet or one is below the
   // table or floats (naming the objects and their poses' file:line:col).
   explicit WorldModel(Scenario scenario, unsigned threads = 1);

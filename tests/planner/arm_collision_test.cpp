@@ -72,6 +72,34 @@ TEST(ArmCollision, ReachChoosesABranchAboveTheTable) {
   EXPECT_GT(avoided, 0);
 }
 
+// The world model's per-grasp tables and arm links are built on its threads, one task per grasp
+// or link: on one thread and on three the UR5 example's tables are the same, and an insertion
+// check (which reads the per-grasp pair conflicts) gives the same verdict for every held grasp.
+TEST(ArmCollision, TheWorldModelDoesNotDependOnItsThreads) {
+  const WorldModel one(load_scenario(kUr5), 1), three(load_scenario(kUr5), 3);
+  ASSERT_EQ(one.scenario().objects.size(), three.scenario().objects.size());
+  for (std::size_t o = 0; o < one.scenario().objects.size(); ++o)
+    EXPECT_EQ(one.object(static_cast<int>(o)).reachable,
+              three.object(static_cast<int>(o)).reachable);
+  ASSERT_EQ(one.goals().size(), three.goals().size());
+  for (std::size_t g = 0; g < one.goals().size(); ++g) {
+    const GoalWorld& a = one.goals()[g];
+    const GoalWorld& b = three.goals()[g];
+    EXPECT_EQ(a.mate_reachable, b.mate_reachable);
+    EXPECT_EQ(a.grasp_clears_assembled, b.grasp_clears_assembled);
+    if (a.kind != GoalWorld::Kind::kAssembled) continue;
+    const Transform fixed_pose = one.object(a.fixed).positions[0].pose;
+    for (std::size_t grasp = 0; grasp < one.object(a.held).grasps.size(); ++grasp) {
+      const StepCheck x = one.check_insertion(one.initial_state(), static_cast<int>(g),
+                                              static_cast<int>(grasp), fixed_pose, false);
+      const StepCheck y = three.check_insertion(three.initial_state(), static_cast<int>(g),
+                                                static_cast<int>(grasp), fixed_pose, false);
+      EXPECT_EQ(x.clear, y.clear);
+      EXPECT_EQ(x.conflict, y.conflict);
+    }
+  }
+}
+
 // The UR5 example with one more object (`entry`: its YAML under `objects:`).
 WorldModel ur5_with(const std::string& entry) {
   std::ifstream file(kUr5);
