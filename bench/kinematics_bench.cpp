@@ -76,6 +76,17 @@ KDL::Frame kdl_frame(const Transform& pose) {
                     KDL::Vector(p.x(), p.y(), p.z()));
 }
 
+// The largest entry of |KDL's frame - spar's pose| (rotation and translation alike).
+double frame_disagreement(const KDL::Frame& frame, const Transform& pose) {
+  double most = 0.0;
+  for (int r = 0; r < 3; ++r) {
+    most = std::max(most, std::abs(frame.p(r) - pose.translation()[r]));
+    for (int c = 0; c < 3; ++c)
+      most = std::max(most, std::abs(frame.M(r, c) - pose.linear()(r, c)));
+  }
+  return most;
+}
+
 // Random joint vectors of the Puma 560 within its limits, their flange poses, and KDL's copies
 // (with seeds for its iterative IK, 0.3 rad off).
 struct PumaSamples {
@@ -113,13 +124,7 @@ void check_puma(const PumaSamples& samples, const PumaIk& solver,
   for (int i = 0; i < count; ++i) {
     KDL::Frame frame;
     kdl_fk.JntToCart(samples.kdl_joints[i], frame);
-    for (int r = 0; r < 3; ++r) {
-      fk_disagreement =
-          std::max(fk_disagreement, std::abs(frame.p(r) - samples.poses[i].translation()[r]));
-      for (int c = 0; c < 3; ++c)
-        fk_disagreement =
-            std::max(fk_disagreement, std::abs(frame.M(r, c) - samples.poses[i].linear()(r, c)));
-    }
+    fk_disagreement = std::max(fk_disagreement, frame_disagreement(frame, samples.poses[i]));
     const spar::kinematics::IkResult result = solver.solve(samples.poses[i]);
     for (const auto& solution : result.solutions) {
       double distance = 0.0;
@@ -621,13 +626,7 @@ void run_robot_ik(const BenchOptions& options) {
       poses.push_back(robot.forward(q));
       KDL::Frame frame;
       kdl_fk.JntToCart(kdl_q, frame);
-      for (int r = 0; r < 3; ++r) {
-        fk_disagreement =
-            std::max(fk_disagreement, std::abs(frame.p(r) - poses.back().translation()[r]));
-        for (int c = 0; c < 3; ++c)
-          fk_disagreement =
-              std::max(fk_disagreement, std::abs(frame.M(r, c) - poses.back().linear()(r, c)));
-      }
+      fk_disagreement = std::max(fk_disagreement, frame_disagreement(frame, poses.back()));
     }
     KDL::JntArray lower(chain.getNrOfJoints()), upper(chain.getNrOfJoints());
     for (std::size_t j = 0; j < robot.dof(); ++j) {
