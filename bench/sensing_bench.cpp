@@ -44,6 +44,7 @@
 #include <vector>
 
 #include "bench/timing.hpp"
+#include "spar/common/units.hpp"
 #include "spar/geometry/builtin_objects.hpp"
 #include "spar/geometry/mesh.hpp"
 #include "spar/geometry/object.hpp"
@@ -250,8 +251,6 @@ struct Outcome {
 // candidate viewpoints, what each hypothesis predicts from each, and each viewpoint's coverage.
 class SelectionBench {
  public:
-  static constexpr double kInch = 0.0254, kDegree = 3.14159265358979323846 / 180;
-
   SelectionBench() {
     for (std::size_t p = 0; p < block_.poses.size(); ++p)
       problem_.hypotheses.push_back(block_.world(p, Eigen::Vector3d::Zero(), 0));
@@ -315,7 +314,8 @@ class SelectionBench {
   }
 
  private:
-  static constexpr double kOffsetLimit = 0.11 * kInch, kYawLimit = 5.5 * kDegree;
+  static constexpr double kOffsetLimit = 0.11 * spar::units::kInch,
+                          kYawLimit = 5.5 * spar::units::kDegree;
 
   // The viewpoint `strategy` takes next (-1: none left that helps).
   int choose(Strategy strategy, const sensing::MassFunction& belief, const std::vector<char>& used,
