@@ -50,6 +50,8 @@ def main():
     parser.add_argument("--base", help="another spar binary, timed alternately with --spar")
     parser.add_argument("--runs", type=int, help="rounds (default 21, --quick 5)")
     args = parser.parse_args()
+    if args.runs is not None and args.runs < 1:
+        parser.error(f"--runs must be at least 1, got {args.runs}")
     runs = args.runs or (5 if args.quick else 21)
     binaries = {"spar": args.spar}
     if args.base:

@@ -263,8 +263,7 @@ class SphericalShoulder {
   // S W, the wrist point seen from the shoulder, with the tip at `target` (at `home` when
   // q1..q6 = 0).
   [[nodiscard]] Eigen::Vector3d to_wrist(const Transform& target, const Transform& home) const {
-    const Eigen::Matrix3d r06 = target.linear() * home.linear().transpose();
-    return target.translation() - r06 * (home.translation() - wrist_) - shoulder_;
+    return to_wrist(target, home, target.linear() * home.linear().transpose());
   }
 
   // Up to eight branches reaching `target` with the tip at `home` when q1..q6 = 0; a branch is
@@ -279,7 +278,7 @@ class SphericalShoulder {
     const auto& h = h_;
     std::vector<Branch> branches;
     const Eigen::Matrix3d r06 = target.linear() * home.linear().transpose();
-    const Eigen::Vector3d to_wrist = this->to_wrist(target, home);
+    const Eigen::Vector3d to_wrist = this->to_wrist(target, home, r06);
     const Eigen::Vector3d h6 = r06 * h[5];
     // q4: |p_34 + rot(h4, q4) p_45| = |S W|.
     const Angles elbow = solve_distance(p45_, -p34_, h[3], to_wrist.norm());
@@ -323,6 +322,12 @@ class SphericalShoulder {
   }
 
  private:
+  // to_wrist with r06 = R_target R_home^T given.
+  [[nodiscard]] Eigen::Vector3d to_wrist(const Transform& target, const Transform& home,
+                                         const Eigen::Matrix3d& r06) const {
+    return target.translation() - r06 * (home.translation() - wrist_) - shoulder_;
+  }
+
   // The rotation R with R a1 = b1 and R a2 = b2 (|a1| = |b1| and a1 . a2 = b1 . b2 given), or
   // nullopt when a2 is (nearly) parallel to a1.
   static std::optional<Eigen::Matrix3d> rotation_taking(const Eigen::Vector3d& a1,

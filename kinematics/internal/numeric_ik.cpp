@@ -31,9 +31,10 @@ JointLimits start_range(const MovingJoint& joint) {
 // the descent stalls at the limit although the other joints could reach the pose.
 Eigen::VectorXd step_within_limits(std::span<const MovingJoint> joints, std::span<const double> q,
                                    Eigen::MatrixXd damped, Eigen::VectorXd gradient) {
-  for (std::size_t pass = 0; pass <= joints.size(); ++pass) {
-    const Eigen::VectorXd step = damped.ldlt().solve(gradient);
-    bool fixed_one = false;
+  Eigen::VectorXd step = damped.ldlt().solve(gradient);
+  // A held joint's step is 0 from then on, so each pass holds a new joint: at most n passes.
+  for (bool held_one = true; held_one;) {
+    held_one = false;
     for (Eigen::Index i = 0; i < step.size(); ++i) {
       const std::size_t j = static_cast<std::size_t>(i);
       const bool pushes_out = (q[j] <= joints[j].limits.lower && step[i] < 0.0) ||
@@ -43,11 +44,11 @@ Eigen::VectorXd step_within_limits(std::span<const MovingJoint> joints, std::spa
       damped.col(i).setZero();
       damped(i, i) = 1.0;
       gradient[i] = 0.0;
-      fixed_one = true;
+      held_one = true;
     }
-    if (!fixed_one) return step;
+    if (held_one) step = damped.ldlt().solve(gradient);
   }
-  return Eigen::VectorXd::Zero(gradient.size());
+  return step;
 }
 
 // Levenberg-Marquardt from q (within limits, each step clamped to them). True when it reaches the
