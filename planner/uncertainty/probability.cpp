@@ -910,8 +910,20 @@ std::vector<ToleranceAllocation::Miss> verify_allocation(
             bounds::Interval(boxes[k][v].lo * p[q] / p0[q], boxes[k][v].hi * p[q] / p0[q]);
     }
   }
+  // A row phase 2 proved over a box holding its new one stays proved: that bound encloses f over
+  // the new box too. Only the others are decided again.
   std::vector<char> proved(n, 0);
-  run_tasks(n, threads, [&](std::size_t k) {
+  std::vector<std::size_t> deciding_rows;
+  for (std::size_t k = 0; k < n; ++k) {
+    const PreconditionResult& result = *rows.results[k];
+    proved[k] = result.verdict == bounds::Verdict::kSatisfied &&
+                std::ranges::equal(boxes[k], result.box, [](const auto& inner, const auto& outer) {
+                  return outer.lo <= inner.lo && inner.hi <= outer.hi;
+                });
+    if (!proved[k]) deciding_rows.push_back(k);
+  }
+  run_tasks(deciding_rows.size(), threads, [&](std::size_t i) {
+    const std::size_t k = deciding_rows[i];
     const bounds::Inequality& inequality = rows.results[k]->inequality;
     bounds::BoundOptions deciding = options;
     deciding.decide = bounds::DecisionTarget{inequality.relation, inequality.threshold};
