@@ -39,13 +39,45 @@ bool covers_every_piece(const BoostShape& united, const std::vector<BoostShape>&
   });
 }
 
+// Drops the corners within `tolerance` of the line through their neighbours: points on a straight
+// edge, and the tips of spikes that run out and back along one line (the union leaves some where
+// projected triangles meet edge to edge; simplify keeps them, as a tip is far from its segment).
+void drop_flat_corners(Ring& ring, double tolerance) {
+  const auto flat = [&](std::size_t i) {
+    const std::size_t n = ring.size();
+    const Eigen::Vector2d a(ring[(i + n - 1) % n][0], ring[(i + n - 1) % n][1]),
+        b(ring[i][0], ring[i][1]), c(ring[(i + 1) % n][0], ring[(i + 1) % n][1]);
+    const Eigen::Vector2d along = c - a, out = b - a;
+    const double length = along.norm();
+    // a = c: b is a spike's tip whatever its distance.
+    return length <= tolerance ||
+           std::fabs(along.x() * out.y() - along.y() * out.x()) <= tolerance * length;
+  };
+  // Until a pass drops nothing: a drop gives its neighbours new neighbours.
+  for (bool dropped = true; dropped;) {
+    dropped = false;
+    for (std::size_t i = 0; ring.size() >= 3 && i < ring.size();) {
+      if (!flat(i)) {
+        ++i;
+        continue;
+      }
+      ring.erase(ring.begin() + static_cast<std::ptrdiff_t>(i));
+      dropped = true;
+    }
+  }
+}
+
 // A Boost ring (closed; outer rings clockwise, holes counter-clockwise) as a Ring turning the
-// way the header says (the reverse), without the repeated last point.
-Ring ring_of(const bg::model::ring<BoostPoint>& boost_ring) {
+// way the header says (the reverse), without the repeated last point or flat corners, from its
+// lowest corner.
+Ring ring_of(const bg::model::ring<BoostPoint>& boost_ring, double tolerance) {
   Ring ring;
   for (std::size_t i = 0; i + 1 < boost_ring.size(); ++i)
     ring.push_back({boost_ring[i].x(), boost_ring[i].y()});
   std::reverse(ring.begin(), ring.end());
+  drop_flat_corners(ring, tolerance);
+  if (!ring.empty())
+    std::rotate(ring.begin(), std::min_element(ring.begin(), ring.end()), ring.end());
   return ring;
 }
 
@@ -89,14 +121,15 @@ std::vector<Ring> silhouette(const std::vector<Polygon2>& pieces) {
     bg::convex_hull(all, hull);
     united = BoostShape{hull};
   }
+  const double flat = 1e-7 * size;
   BoostShape simple;
-  bg::simplify(united, simple, 1e-7 * size);
+  bg::simplify(united, simple, flat);
   std::vector<Ring> rings;
   for (const BoostPolygon& polygon : simple) {
-    if (polygon.outer().size() >= 4) rings.push_back(ring_of(polygon.outer()));
-    for (const auto& hole : polygon.inners())
-      if (hole.size() >= 4) rings.push_back(ring_of(hole));
+    rings.push_back(ring_of(polygon.outer(), flat));
+    for (const auto& hole : polygon.inners()) rings.push_back(ring_of(hole, flat));
   }
+  std::erase_if(rings, [](const Ring& ring) { return ring.size() < 3; });
   return rings;
 }
 

@@ -4,7 +4,9 @@
 // collinear points are dropped from the result.
 //
 // Invariants: every ring is closed implicitly (the last point is not repeated), outer rings run
-// counter-clockwise and holes clockwise (x right, y up), and no ring has fewer than 3 points.
+// counter-clockwise and holes clockwise (x right, y up), each starts at its lowest corner (least x,
+// then least y: the rings do not depend on where Boost starts them), and no ring has fewer than 3
+// points.
 // Corners are snapped to a grid of 1e-9 drawing sizes first (Boost's union is far more reliable
 // on it). A union Boost.Geometry cannot form (degenerate input it refuses), or one that misses a
 // piece (no point of the union near the piece's centroid), falls back to the convex hull of every

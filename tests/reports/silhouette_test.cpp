@@ -29,6 +29,22 @@ double area(const std::vector<Ring>& rings) {
   return sum;
 }
 
+// Corners of `ring` within 1e-9 of the line through their neighbours (flat for the silhouette,
+// whose tolerance is 1e-7 of the drawing's size, on any drawing larger than 1 cm).
+std::size_t flat_corners(const Ring& ring) {
+  std::size_t flat = 0;
+  for (std::size_t i = 0; i < ring.size(); ++i) {
+    const auto& a = ring[(i + ring.size() - 1) % ring.size()];
+    const auto& b = ring[i];
+    const auto& c = ring[(i + 1) % ring.size()];
+    const double along_x = c[0] - a[0], along_y = c[1] - a[1];
+    const double length = std::hypot(along_x, along_y);
+    flat += length == 0 ||
+            std::fabs(along_x * (b[1] - a[1]) - along_y * (b[0] - a[0])) <= 1e-9 * length;
+  }
+  return flat;
+}
+
 // The mesh's faces turned, seen from above (x, y): every face, or those whose outward normal
 // points up.
 std::vector<Polygon2> from_above(const geometry::Mesh& mesh, const Eigen::Matrix3d& turn,
@@ -106,14 +122,37 @@ RC_GTEST_PROP(Silhouette, OutlineOfATurnedMeshCoversItsProjection, ()) {
   const int x = *rc::gen::inRange(-4, 5), y = *rc::gen::inRange(-4, 5), z = *rc::gen::inRange(1, 5);
   const Eigen::Matrix3d turn =
       Eigen::AngleAxisd(angle, Eigen::Vector3d(x, y, z).normalized()).toRotationMatrix();
-  const std::vector<Polygon2> faces = from_above(mesh, turn, false);
-  const double projection = covered_area(faces, 300);
-  const double outline = area(silhouette(faces));
-  const double hull = hull_area(faces);
-  RC_LOG() << name << " projection " << projection << " outline " << outline << " hull " << hull
-           << std::endl;
+  // The faces facing the viewer alone have the same projection (the cell's outlines use them).
+  const bool facing_only = *rc::gen::arbitrary<bool>();
+  const std::vector<Polygon2> faces = from_above(mesh, turn, facing_only);
+  const std::vector<Polygon2> all = from_above(mesh, turn, false);
+  const double projection = covered_area(all, 300);
+  const std::vector<Ring> rings = silhouette(faces);
+  const double outline = area(rings);
+  const double hull = hull_area(all);
+  RC_LOG() << name << (facing_only ? " facing" : " all") << " projection " << projection
+           << " outline " << outline << " hull " << hull << std::endl;
   RC_ASSERT(outline >= 0.98 * projection);
   RC_ASSERT(outline <= 1.0001 * hull);
+  for (const Ring& ring : rings) {
+    RC_ASSERT(ring.size() >= 3U);
+    RC_ASSERT(ring.front() == *std::min_element(ring.begin(), ring.end()));
+    RC_ASSERT(flat_corners(ring) == 0);
+  }
+}
+
+// A spike out and back along one line (Boost's union leaves some where projected triangles meet
+// edge to edge) or a point on a straight edge is no corner of an outline. The block's faces
+// facing up, turned 156 degrees about (0.1, 0.2, 1.3), left one (seen in a 1-degree sweep of the
+// built-in objects about three axes: 9 outlines had one, all from the facing faces alone).
+TEST(Silhouette, NoSpikesOrStraightCorners) {
+  const Eigen::Matrix3d turn =
+      Eigen::AngleAxisd(156 * M_PI / 180, Eigen::Vector3d(0.1, 0.2, 1.3).normalized())
+          .toRotationMatrix();
+  const std::vector<Ring> rings =
+      silhouette(from_above(geometry::builtin_mesh("block"), turn, true));
+  ASSERT_FALSE(rings.empty());
+  for (const Ring& ring : rings) EXPECT_EQ(flat_corners(ring), 0U);
 }
 
 // The property compares areas, and a face missing from a union shows in its area (the block's
