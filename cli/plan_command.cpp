@@ -35,6 +35,7 @@
 #include <chrono>
 #include <condition_variable>
 #include <filesystem>
+#include <future>
 #include <iostream>
 #include <iterator>
 #include <mutex>
@@ -128,7 +129,9 @@ planner::Scenario read_scenario(const PlanArguments& arguments) {
   return planner::load_scenario(arguments.scenario);
 }
 
-int run_single(const PlanArguments& arguments, const planner::Domain& domain,
+// `domain` is read on another thread meanwhile: the scenario's loading and the domain's parsing
+// take a few milliseconds each.
+int run_single(const PlanArguments& arguments, std::future<planner::Domain> domain,
                planner::PlanOptions options) {
   const std::vector<reports::Format> formats =
       html_first(reports::parse_formats(arguments.formats));
@@ -142,11 +145,19 @@ int run_single(const PlanArguments& arguments, const planner::Domain& domain,
     if (arguments.time_limit)
       deadline.emplace(std::chrono::duration<double>(*arguments.time_limit));
     status.show("loading the scenario (meshes, stable poses)");
-    const planner::Scenario scenario = read_scenario(arguments);
+    const planner::Scenario scenario = [&] {
+      try {
+        return read_scenario(arguments);
+      } catch (...) {
+        (void)domain.get();  // a bad domain is reported first, as when it was read first
+        throw;
+      }
+    }();
+    const planner::Domain read_domain = domain.get();
     status.clear();
     for (const std::string& warning : scenario.warnings)
       std::cerr << "spar: warning: " << warning << '\n';
-    return plan_report(scenario, domain, options);
+    return plan_report(scenario, read_domain, options);
   }();
   std::vector<fs::path> files;
   if (!arguments.report.empty()) files = reports::write_reports(report, arguments.report, formats);
@@ -258,8 +269,10 @@ int run_plan(const PlanArguments& arguments) {
     throw UsageError("spar plan takes a SCENARIO file or --batch FILE_OR_DIR (one of the two)");
   if (!arguments.batch.empty() && arguments.json)
     throw UsageError("--json: a batch always prints JSON lines");
-  const planner::Domain domain =
-      arguments.domain.empty() ? planner::builtin_domain() : planner::load_domain(arguments.domain);
+  std::future<planner::Domain> domain = std::async(std::launch::async, [&arguments] {
+    return arguments.domain.empty() ? planner::builtin_domain()
+                                    : planner::load_domain(arguments.domain);
+  });
   planner::PlanOptions options;
   options.max_instances = arguments.instances;
   options.posting.max_nodes = arguments.max_nodes;
@@ -271,8 +284,8 @@ int run_plan(const PlanArguments& arguments) {
   // One scenario uses every core for its parts; a batch uses them for its scenarios.
   if (arguments.batch.empty())
     options.threads = arguments.jobs > 0 ? arguments.jobs : default_threads();
-  return arguments.batch.empty() ? run_single(arguments, domain, options)
-                                 : run_batch(arguments, domain, options);
+  return arguments.batch.empty() ? run_single(arguments, std::move(domain), options)
+                                 : run_batch(arguments, domain.get(), options);
 }
 
 // The options `spar plan` and `spar demo` share.
