@@ -4,6 +4,7 @@
 #include <cctype>
 #include <cmath>
 #include <cstdio>
+#include <exception>
 #include <limits>
 #include <map>
 #include <mutex>
@@ -121,45 +122,38 @@ struct ArmLink {
   double radius{0.0};  // the farthest point of its shapes from its body's frame origin
 };
 
-// The links that move with the arm (the base's never do), each a body of its collision shapes:
-// a mesh as it is, a box as itself, a cylinder or a sphere as the box around it (conservative).
-// A shape without volume (an empty mesh, a zero-sized box) is left out. The links' box hierarchies
-// are built on up to `threads` threads (a URDF arm's meshes: most of the world model's set-up).
-std::vector<ArmLink> arm_links(const kinematics::RobotModel& arm, unsigned threads) {
+// Link `l` of the arm as a body of its collision shapes, if it moves with the arm (the base's
+// never does): a mesh as it is, a box as itself, a cylinder or a sphere as the box around it
+// (conservative). A shape without volume (an empty mesh, a zero-sized box) is left out; nullopt
+// when none is left.
+std::optional<ArmLink> arm_link(const kinematics::RobotModel& arm, std::size_t l) {
   using kinematics::ShapeKind;
-  std::vector<std::optional<ArmLink>> built(arm.links().size());
-  run_tasks(arm.links().size(), threads, [&](std::size_t l) {
-    const kinematics::RobotLinkInfo& link = arm.links()[l];
-    if (link.body == 0) return;
-    std::vector<geometry::BodyPart> parts;
-    double radius = 0.0;
-    for (const kinematics::LinkShape& shape : link.collision) {
-      const Transform in_body = link.offset * shape.origin;
-      if (shape.kind == ShapeKind::kMesh) {
-        if (shape.mesh && !shape.mesh->triangles.empty()) {
-          parts.push_back({geometry::CollisionShape(*shape.mesh), shape.origin});
-          for (const Eigen::Vector3d& v : shape.mesh->vertices)
-            radius = std::max(radius, (in_body * v).norm());
-        }
-        continue;
+  const kinematics::RobotLinkInfo& link = arm.links()[l];
+  if (link.body == 0) return std::nullopt;
+  std::vector<geometry::BodyPart> parts;
+  double radius = 0.0;
+  for (const kinematics::LinkShape& shape : link.collision) {
+    const Transform in_body = link.offset * shape.origin;
+    if (shape.kind == ShapeKind::kMesh) {
+      if (shape.mesh && !shape.mesh->triangles.empty()) {
+        parts.push_back({geometry::CollisionShape(*shape.mesh), shape.origin});
+        for (const Eigen::Vector3d& v : shape.mesh->vertices)
+          radius = std::max(radius, (in_body * v).norm());
       }
-      const Eigen::Vector3d half =
-          shape.kind == ShapeKind::kSphere ? shape.size
-          : shape.kind == ShapeKind::kCylinder
-              ? Eigen::Vector3d(shape.size.x(), shape.size.y(), shape.size.z() / 2)
-              : Eigen::Vector3d(shape.size / 2);
-      if ((half.array() > 0).all()) {
-        parts.push_back({geometry::CollisionShape::box(-half, half), shape.origin});
-        radius = std::max(radius, in_body.translation().norm() + half.norm());
-      }
+      continue;
     }
-    if (!parts.empty())
-      built[l] = ArmLink{l, link.body, geometry::Body(link.name, std::move(parts)), radius};
-  });
-  std::vector<ArmLink> result;
-  for (std::optional<ArmLink>& link : built)
-    if (link) result.push_back(std::move(*link));
-  return result;
+    const Eigen::Vector3d half =
+        shape.kind == ShapeKind::kSphere ? shape.size
+        : shape.kind == ShapeKind::kCylinder
+            ? Eigen::Vector3d(shape.size.x(), shape.size.y(), shape.size.z() / 2)
+            : Eigen::Vector3d(shape.size / 2);
+    if ((half.array() > 0).all()) {
+      parts.push_back({geometry::CollisionShape::box(-half, half), shape.origin});
+      radius = std::max(radius, in_body.translation().norm() + half.norm());
+    }
+  }
+  if (parts.empty()) return std::nullopt;
+  return ArmLink{l, link.body, geometry::Body(link.name, std::move(parts)), radius};
 }
 
 // Per link l and moving joint i: a bound on the distance from joint i's axis to any point of link
@@ -442,10 +436,40 @@ WorldModel::WorldModel(Scenario scenario, unsigned threads) : scenario_(std::mov
   gripper_ = scenario_.robot.gripper;
   gripper_.max_approach_tilt = scenario_.robot.max_tool_tilt;
   caches_ = std::make_shared<Caches>();
-  caches_->arm.links = arm_links(scenario_.robot.arm, threads);
+  // Independent of each other, so one list of tasks on the threads: the grasp searches, one per
+  // movable object and the longest, first (parts of one shape, a table of cubes, and the same
+  // parts planned again share one: remembered_grasps, which any thread may ask); then the box
+  // hierarchies of the arm's links (a URDF arm's meshes) and of the objects. Errors, whatever
+  // the schedule: the first failing link's, else object's, else grasp search's.
+  const std::size_t objects = scenario_.objects.size();
+  const std::size_t links = scenario_.robot.arm.links().size();
+  std::vector<std::shared_ptr<const std::vector<geometry::Grasp>>> grasp_lists(objects);
+  std::vector<std::optional<ArmLink>> arm(links);
+  std::vector<std::optional<geometry::Body>> bodies(objects);
+  std::vector<std::exception_ptr> failed(2 * objects + links);
+  run_tasks(failed.size(), threads, [&](std::size_t t) {
+    try {
+      if (t < objects) {
+        const ObjectSpec& spec = scenario_.objects[t];
+        if (!spec.fixed)
+          grasp_lists[t] = geometry::remembered_grasps(spec.model, gripper_, scenario_.grasping);
+      } else if (t < objects + links) {
+        arm[t - objects] = arm_link(scenario_.robot.arm, t - objects);
+      } else {
+        const ObjectSpec& spec = scenario_.objects[t - objects - links];
+        bodies[t - objects - links].emplace(spec.name, geometry::CollisionShape(spec.model.mesh()));
+      }
+    } catch (...) {
+      failed[t] = std::current_exception();
+    }
+  });
+  for (std::size_t i = 0; i < failed.size(); ++i)  // links and objects, then grasp searches
+    if (const std::exception_ptr& error = failed[(objects + i) % failed.size()])
+      std::rethrow_exception(error);
+  for (std::optional<ArmLink>& link : arm)
+    if (link) caches_->arm.links.push_back(std::move(*link));
   caches_->arm.lever = joint_levers(scenario_.robot.arm, caches_->arm.links);
-  for (const ObjectSpec& spec : scenario_.objects)
-    bodies_.emplace_back(spec.name, geometry::CollisionShape(spec.model.mesh()));
+  for (std::optional<geometry::Body>& body : bodies) bodies_.push_back(std::move(*body));
   open_gripper_ = geometry::gripper_body(gripper_, gripper_.max_opening);
   check_initial_world();
   Setting setting{.movable = {},
@@ -453,18 +477,8 @@ WorldModel::WorldModel(Scenario scenario, unsigned threads) : scenario_(std::mov
                   .open_shrunk = geometry::gripper_body(gripper_, gripper_.max_opening, 1e-6),
                   .closed_at_width = {},
                   .threads = threads};
-  for (std::size_t o = 0; o < scenario_.objects.size(); ++o)
+  for (std::size_t o = 0; o < objects; ++o)
     if (!scenario_.objects[o].fixed) setting.movable.push_back(static_cast<int>(o));
-  // The grasp searches, one per movable object and independent of each other (parts of one
-  // shape, a table of cubes, and the same parts planned again share one: remembered_grasps,
-  // which any thread may ask).
-  std::vector<std::shared_ptr<const std::vector<geometry::Grasp>>> grasp_lists(
-      scenario_.objects.size());
-  run_tasks(scenario_.objects.size(), threads, [&](std::size_t o) {
-    const ObjectSpec& spec = scenario_.objects[o];
-    if (!spec.fixed)
-      grasp_lists[o] = geometry::remembered_grasps(spec.model, gripper_, scenario_.grasping);
-  });
   for (std::size_t o = 0; o < scenario_.objects.size(); ++o)
     add_object(scenario_.objects[o],
                grasp_lists[o] ? *grasp_lists[o] : std::vector<geometry::Grasp>{}, setting);
@@ -552,10 +566,34 @@ void WorldModel::add_assembled_goal(const AssembledGoal& assembled, const Settin
   GoalWorld tables;
   tables.held = object_index(assembled.held);
   tables.fixed = object_index(assembled.fixed);
-  held_rest_.push_back(other_faces(scenario_.objects[tables.held], assembled.held_faces));
-  fixed_rest_.push_back(other_faces(scenario_.objects[tables.fixed], assembled.fixed_faces));
   const ObjectWorld& held = objects_[tables.held];
   const ObjectWorld& fixed = objects_[tables.fixed];
+  // On the threads: the objects but their mating faces (two surfaces' box hierarchies) and, per
+  // grasp of f, whether the gripper taking f with h in it keeps clear of h (the same relative
+  // geometry wherever f is).
+  std::optional<geometry::Body> held_rest, fixed_rest;
+  tables.grasp_clears_assembled.assign(fixed.grasps.size(), 0);
+  run_tasks(2 + fixed.grasps.size(), setting.threads, [&](std::size_t t) {
+    if (t == 0) {
+      held_rest = other_faces(scenario_.objects[tables.held], assembled.held_faces);
+      return;
+    }
+    if (t == 1) {
+      fixed_rest = other_faces(scenario_.objects[tables.fixed], assembled.fixed_faces);
+      return;
+    }
+    const std::size_t g = t - 2;
+    const kinematics::Transform gripper = fixed.grasps[g].gripper_in_object;
+    const Eigen::Vector3d approach = scenario_.robot.approach_distance * gripper.linear().col(2);
+    const geometry::PlacedBody part{&bodies_[tables.held], assembled.relative};
+    tables.grasp_clears_assembled[g] =
+        geometry::sweep({&*open_gripper_, Eigen::Translation3d(-approach) * gripper}, approach,
+                        std::span(&part, 1), margin())
+            .clear &&
+        !geometry::collide({&closed_[tables.fixed][g], gripper}, part, margin());
+  });
+  held_rest_.push_back(std::move(held_rest));
+  fixed_rest_.push_back(std::move(fixed_rest));
   const ObjectSpec& fixed_spec = scenario_.objects[tables.fixed];
   tables.initially_true = (fixed_spec.initial_pose * assembled.relative)
                               .isApprox(scenario_.objects[tables.held].initial_pose, 1e-7);
@@ -585,17 +623,6 @@ void WorldModel::add_assembled_goal(const AssembledGoal& assembled, const Settin
   std::vector<int> except = setting.movable;
   except.push_back(tables.fixed);
   const std::vector<Obstacle> fixed_objects = obstacles(setting.fixed_only, except);
-  // The gripper taking f with h in it: the same relative geometry wherever f is.
-  for (std::size_t g = 0; g < fixed.grasps.size(); ++g) {
-    const kinematics::Transform gripper = fixed.grasps[g].gripper_in_object;
-    const Eigen::Vector3d approach = scenario_.robot.approach_distance * gripper.linear().col(2);
-    const geometry::PlacedBody part{&bodies_[tables.held], assembled.relative};
-    tables.grasp_clears_assembled.push_back(
-        geometry::sweep({&*open_gripper_, Eigen::Translation3d(-approach) * gripper}, approach,
-                        std::span(&part, 1), margin())
-            .clear &&
-        !geometry::collide({&closed_[tables.fixed][g], gripper}, part, margin()));
-  }
   const int goal_index = static_cast<int>(goals_.size());
   goals_.push_back(tables);  // insertion_check reads the goal's objects
   // The insertion's motions relative to f, per grasp of h (f's pose does not change them).
