@@ -13,23 +13,36 @@
 namespace spar {
 
 void run_tasks(std::size_t count, unsigned threads, const std::function<void(std::size_t)>& task,
-               const std::function<void(std::size_t finished)>& on_caller_done) {
+               const std::function<void(std::size_t finished)>& on_caller_done,
+               const std::function<void()>& caller_first) {
   std::atomic<std::size_t> next{0}, finished{0};
   std::atomic<bool> failed{false};
   std::exception_ptr first_error;
   std::mutex error_mutex;
+  // Remembers the first error and stops the others from taking tasks.
+  const auto fail = [&] {
+    const std::lock_guard lock(error_mutex);
+    if (!first_error) first_error = std::current_exception();
+    failed = true;
+  };
   // Takes tasks until none is left or a task (or the caller's progress report: a time limit
   // checked there) has thrown.
   const auto work = [&](bool on_caller) {
+    if (on_caller && caller_first) {
+      try {
+        caller_first();
+      } catch (...) {
+        fail();
+        return;
+      }
+    }
     for (std::size_t i = next++; i < count && !failed; i = next++) {
       try {
         task(i);
         const std::size_t done = ++finished;
         if (on_caller && on_caller_done) on_caller_done(done);
       } catch (...) {
-        const std::lock_guard lock(error_mutex);
-        if (!first_error) first_error = std::current_exception();
-        failed = true;
+        fail();
         return;
       }
     }

@@ -14,6 +14,10 @@
 //   - `on_caller_done(finished)`, if set, is called on the calling thread only, after each task
 //     it ran, with the number of tasks finished so far on every thread: progress reports stay on
 //     the thread that asked for the work.
+//   - `caller_first`, if set, runs once on the calling thread after the workers have started and
+//     before it takes a task: work only that thread may do (reading an expression pool it owns)
+//     overlaps the workers' first tasks. A task that needs its result waits for it (a std::latch
+//     it counts down when it ends, thrown or not); if it throws, that is rethrown like a task's.
 // Cost: threads - 1 thread starts per call, one atomic increment per task.
 //
 // Example:
@@ -27,7 +31,8 @@
 namespace spar {
 
 void run_tasks(std::size_t count, unsigned threads, const std::function<void(std::size_t)>& task,
-               const std::function<void(std::size_t finished)>& on_caller_done = {});
+               const std::function<void(std::size_t finished)>& on_caller_done = {},
+               const std::function<void()>& caller_first = {});
 
 // The threads a command line uses by default: one per hardware thread (at least 1).
 [[nodiscard]] unsigned default_threads();

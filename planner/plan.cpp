@@ -1,6 +1,7 @@
 #include "spar/planner/plan.hpp"
 
 #include <algorithm>
+#include <latch>
 #include <optional>
 #include <string>
 
@@ -51,37 +52,52 @@ PlanResult started(Scenario scenario, const Domain& domain, const PlanOptions& o
 
 // The chosen instance's margins (margins.hpp) and, when asked, its probability and tolerance
 // allocation (probability.hpp), as one list of tasks on the plan's threads, so that the cores
-// share all of it: the allocation and the Monte Carlo first (each one task, the longest), then
-// the margins. Each part reads the analysis' pool in its constructor, here, on this thread.
+// share all of it. Each part reads the analysis' pool when it is built, so on this thread: the
+// probability's (its Jacobian, a few ms) while the other threads start on the margins (the
+// costliest first). Its two tasks, the allocation and the Monte Carlo (each one task, the
+// longest), come right after the first margin task and wait until it is built.
 void add_extras(PlanResult& result, InstanceAnalysis& chosen, const PlanOptions& options,
                 const std::function<void(std::string_view)>& stage) {
   stage(options.probability ? "phase 2: margins, probability, tolerance allocation"
                             : "phase 2: margins");
   MarginWork margins(chosen, result.analysis);
-  // The allocation is one task among the margins' here, so its rows get half the threads: on all
-  // of them its verification only competed with the margins for the cores (on-back's extras on
-  // two threads: 45 ms with it on two, 42 on one).
   std::optional<ProbabilityWork> probability;
-  if (options.probability)
+  std::latch built(1);
+  const auto build_probability = [&] {
+    const struct CountDown {
+      std::latch& latch;
+      ~CountDown() { latch.count_down(); }
+    } when_done{built};
+    // The allocation is one task among the margins' here, so its rows get half the threads: on
+    // all of them its verification only competed with the margins for the cores (on-back's
+    // extras on two threads: 45 ms with it on two, 42 on one).
     probability.emplace(result.world.scenario(), chosen, *options.probability,
                         AllocationOptions{.algebra = options.probability->algebra,
                                           .threads = std::max(1u, options.threads / 2)});
-  const std::size_t first_margin = probability ? 2 : 0;
-  const std::size_t tasks = first_margin + margins.tasks();
+  };
+  const std::size_t first_probability =
+      options.probability ? std::min<std::size_t>(1, margins.tasks()) : 0;
+  const std::size_t probability_tasks = options.probability ? 2 : 0;
+  const std::size_t tasks = margins.tasks() + probability_tasks;
   const std::string of_total = " of " + std::to_string(tasks) + " done";
   run_tasks(
       tasks, options.threads,
       [&](std::size_t t) {
-        if (t >= first_margin)
-          margins.run(t - first_margin);
-        else if (t == 0)
+        if (t < first_probability || t >= first_probability + probability_tasks) {
+          margins.run(t < first_probability ? t : t - probability_tasks);
+          return;
+        }
+        built.wait();
+        if (!probability) return;  // its building threw: run_tasks rethrows that
+        if (t == first_probability)
           probability->allocate();
         else
           probability->sample();
       },
       [&](std::size_t finished) {
         stage("phase 2: extras: " + std::to_string(finished) + of_total);
-      });
+      },
+      options.probability ? std::function<void()>(build_probability) : std::function<void()>());
   margins.finish();
   if (probability) {
     result.probability = probability->probability();

@@ -1,12 +1,14 @@
 // run_tasks (common/parallel.hpp): every task runs once on any number of threads, progress is
 // reported on the calling thread only, the first error comes back to the caller and stops new
-// tasks, and workers run under the caller's deadline.
+// tasks, workers run under the caller's deadline, and caller_first runs on the caller meanwhile.
 #include "spar/common/parallel.hpp"
 
 #include <gtest/gtest.h>
 
 #include <atomic>
 #include <chrono>
+#include <latch>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -113,6 +115,59 @@ TEST(RunTasks, WorkersRunUnderTheCallersDeadline) {
                                  }),
                        "time limit of 0.001 s reached");
   EXPECT_TRUE(worker_checked);
+}
+
+// caller_first runs once, on the caller, before its first task, while the workers already take
+// tasks; with one thread it runs before every task.
+TEST(RunTasks, CallerFirstRunsOnTheCallerWhileTheWorkersStart) {
+  const std::thread::id caller = std::this_thread::get_id();
+  std::vector<std::string> order;
+  run_tasks(
+      3, 1, [&](std::size_t i) { order.push_back("task " + std::to_string(i)); }, {},
+      [&] {
+        EXPECT_EQ(std::this_thread::get_id(), caller);
+        order.push_back("first");
+      });
+  EXPECT_EQ(order, (std::vector<std::string>{"first", "task 0", "task 1", "task 2"}));
+  // Two threads: the worker finishes task 0 while the caller is still in caller_first (it waits
+  // for that task), and the task needing caller_first's result waits for it.
+  std::latch task_zero_done(1), built(1);
+  std::atomic<bool> first_ran{false};
+  std::atomic<int> runs{0};
+  run_tasks(
+      2, 2,
+      [&](std::size_t i) {
+        if (i == 0) {
+          EXPECT_NE(std::this_thread::get_id(), caller);
+          task_zero_done.count_down();
+        } else {
+          built.wait();
+          EXPECT_TRUE(first_ran);
+        }
+        ++runs;
+      },
+      {},
+      [&] {
+        task_zero_done.wait();  // task 0 ran meanwhile, on the worker
+        first_ran = true;
+        built.count_down();
+      });
+  EXPECT_EQ(runs, 2);
+}
+
+TEST(RunTasks, AnErrorInCallerFirstReachesTheCaller) {
+  for (const unsigned threads : {1u, 2u}) {
+    std::atomic<int> started{0};
+    EXPECT_THROW_MESSAGE(run_tasks(
+                             1000, threads,
+                             [&](std::size_t) {
+                               ++started;
+                               std::this_thread::sleep_for(100us);
+                             },
+                             {}, [] { throw Error("building failed"); }),
+                         "building failed");
+    EXPECT_LT(started, 1000) << threads << " threads";
+  }
 }
 
 }  // namespace
