@@ -26,7 +26,7 @@ double shown(double metres, double scale) { return std::round(metres * scale * 1
 std::vector<Ring> rounded_rings(std::vector<Ring> rings) {
   for (Ring& ring : rings)
     for (auto& point : ring)
-      for (double& c : point) c = std::round(c * 1e6) / 1e6;
+      for (double& c : point) c = std::round(c * 1e6) / 1e6 + 0.0;  // + 0.0: no -0 in the file
   return rings;
 }
 
@@ -45,19 +45,12 @@ Silhouette silhouette_of(const std::vector<std::vector<Vector3d>>& faces, double
   return {rounded_rings(silhouette(top)), rounded_rings(silhouette(side))};
 }
 
-// An object's mesh is closed and turned outward (geometry::validate_closed_mesh), so a line of
-// sight through the solid enters it through a triangle facing the viewer: the projection is the
-// union of those triangles' projections alone, half the union's work of all of them.
 Silhouette object_outline(const geometry::Mesh& mesh, const Transform& pose, double scale) {
-  std::vector<Polygon2> top, side;
-  for (const auto& triangle : mesh.triangles) {
-    const Vector3d a = pose * mesh.vertices[triangle[0]], b = pose * mesh.vertices[triangle[1]],
-                   c = pose * mesh.vertices[triangle[2]];
-    const Vector3d normal = (b - a).cross(c - a);
-    if (normal.z() > 0) top.push_back({top_of(a, scale), top_of(b, scale), top_of(c, scale)});
-    if (normal.y() < 0) side.push_back({side_of(a, scale), side_of(b, scale), side_of(c, scale)});
-  }
-  return {rounded_rings(silhouette(top)), rounded_rings(silhouette(side))};
+  std::vector<std::vector<Vector3d>> faces;
+  for (const auto& triangle : mesh.triangles)
+    faces.push_back({pose * mesh.vertices[triangle[0]], pose * mesh.vertices[triangle[1]],
+                     pose * mesh.vertices[triangle[2]]});
+  return silhouette_of(faces, scale);
 }
 
 // The gripper's three boxes at `pose`, closed to `opening`.

@@ -5,6 +5,7 @@
 #include <boost/geometry/geometries/point_xy.hpp>
 #include <boost/geometry/geometries/polygon.hpp>
 #include <cmath>
+#include <optional>
 
 namespace spar::reports::internal {
 namespace {
@@ -81,18 +82,11 @@ Ring ring_of(const bg::model::ring<BoostPoint>& boost_ring, double tolerance) {
   return ring;
 }
 
-}  // namespace
-
-std::vector<Ring> silhouette(const std::vector<Polygon2>& pieces) {
-  // Scale of the drawing, for "edge-on" and "collinear".
-  Eigen::Vector2d low = Eigen::Vector2d::Constant(HUGE_VAL), high = -low;
-  for (const Polygon2& piece : pieces)
-    for (const Eigen::Vector2d& p : piece) low = low.cwiseMin(p), high = high.cwiseMax(p);
-  if (pieces.empty() || !(low.array() <= high.array()).all()) return {};
-  const double size = std::max((high - low).norm(), 1e-12);
-  // Corners on a grid of 1e-9 drawing sizes: Boost's union of a mesh's projected triangles lost
-  // part of the outline (area more than 3% off the projection's) at 69 of 624 turns of the
-  // built-in objects (7-degree steps about three axes), at 2 with the grid (2026-12-06).
+// The pieces as Boost shapes, corners snapped to a grid of 1e-9 drawing sizes (`size`), each
+// corrected, without those seen edge-on. The grid: Boost's union of a mesh's projected triangles
+// lost part of the outline (area more than 3% off the projection's) at 69 of 624 turns of the
+// built-in objects (7-degree steps about three axes), at 2 with it (2026-12-06).
+std::vector<BoostShape> shapes_of(const std::vector<Polygon2>& pieces, double size) {
   const double grid = 1e-9 * size;
   const auto snapped = [&](const Eigen::Vector2d& p) {
     return BoostPoint(std::round(p.x() / grid) * grid, std::round(p.y() / grid) * grid);
@@ -107,14 +101,33 @@ std::vector<Ring> silhouette(const std::vector<Polygon2>& pieces) {
     bg::correct(polygon);
     shapes.push_back(BoostShape{polygon});
   }
-  if (shapes.empty()) return {};
-  BoostShape united;
+  return shapes;
+}
+
+// Boost's union of `shapes`, or nullopt where it refuses them or loses one.
+std::optional<BoostShape> union_of(const std::vector<BoostShape>& shapes, double size) {
+  if (shapes.empty()) return std::nullopt;
   try {
-    united = cascaded_union(shapes, 0, shapes.size());
+    BoostShape united = cascaded_union(shapes, 0, shapes.size());
+    if (covers_every_piece(united, shapes, 1e-7 * size)) return united;
   } catch (const bg::exception&) {
-    united.clear();
   }
-  if (!covers_every_piece(united, shapes, 1e-7 * size)) {  // the convex hull contains it
+  return std::nullopt;
+}
+
+}  // namespace
+
+std::vector<Ring> silhouette(const std::vector<Polygon2>& pieces) {
+  // Scale of the drawing, for "edge-on" and "collinear".
+  Eigen::Vector2d low = Eigen::Vector2d::Constant(HUGE_VAL), high = -low;
+  for (const Polygon2& piece : pieces)
+    for (const Eigen::Vector2d& p : piece) low = low.cwiseMin(p), high = high.cwiseMax(p);
+  if (!(low.array() <= high.array()).all()) return {};
+  const double size = std::max((high - low).norm(), 1e-12);
+  const std::vector<BoostShape> shapes = shapes_of(pieces, size);
+  if (shapes.empty()) return {};
+  std::optional<BoostShape> united = union_of(shapes, size);
+  if (!united) {  // the convex hull contains the silhouette
     BoostShape all;
     for (const BoostShape& shape : shapes) all.push_back(shape.front());
     BoostPolygon hull;
@@ -123,7 +136,7 @@ std::vector<Ring> silhouette(const std::vector<Polygon2>& pieces) {
   }
   const double flat = 1e-7 * size;
   BoostShape simple;
-  bg::simplify(united, simple, flat);
+  bg::simplify(*united, simple, flat);
   std::vector<Ring> rings;
   for (const BoostPolygon& polygon : simple) {
     rings.push_back(ring_of(polygon.outer(), flat));

@@ -1,7 +1,7 @@
 // The silhouette of a body seen along an axis (reports/ only): the union of its faces projected
 // onto a plane, as rings. Boost.Geometry computes the union (cascaded: pairs of pieces, then pairs
 // of those, so n faces cost about n log n ring operations); faces seen edge-on are skipped, and
-// collinear points are dropped from the result.
+// collinear points and spikes (out and back along one line) are dropped from the result.
 //
 // Invariants: every ring is closed implicitly (the last point is not repeated), outer rings run
 // counter-clockwise and holes clockwise (x right, y up), each starts at its lowest corner (least x,
