@@ -74,12 +74,14 @@ bool multiples_of_pi(double lo, double hi, double offset, double& first, double&
   return true;
 }
 
-// Far out (|x| >= 1e12) x / pi no longer tells where x lies in its period, so a narrow interval
-// there is moved by a multiple of 2 pi to [phase, phase + width] with |phase| <= pi: glibc's sin
-// and cos reduce every double argument correctly (within the two ulps libm_down/up allow), so
-// atan2(sin(lo), cos(lo)) is lo's phase to within about 2e-15; kPhaseError covers that with room.
-// The same interval, shifted by a multiple of 2 pi, has the same sin, cos and tan.
-constexpr double kFarOut = 1e12;
+// Far out x / pi tells where x lies in its period only to within multiples_of_pi's allowance,
+// 1e-12 (1 + |t|) periods: from |x| = 1e6 on that is more than 3e-7 rad, so a point near an
+// extremum would get +-1 for a bound (sin(-999999999994) came out [0.66, 1]). A narrow interval
+// there is moved by a multiple of 2 pi to [phase, phase + width] with |phase| <= pi instead:
+// glibc's sin and cos reduce every double argument correctly (within the two ulps libm_down/up
+// allow), so atan2(sin(lo), cos(lo)) is lo's phase to within about 2e-15; kPhaseError covers that
+// with room. The same interval, shifted by a multiple of 2 pi, has the same sin, cos and tan.
+constexpr double kFarOut = 1e6;
 constexpr double kPhaseError = 1e-13;
 bool far_out(const Interval& a) {
   return std::isfinite(a.lo) && std::isfinite(a.hi) &&
