@@ -75,9 +75,9 @@ bool multiples_of_pi(double lo, double hi, double offset, double& first, double&
 }
 
 // Far out x / pi tells where x lies in its period only to within multiples_of_pi's allowance,
-// 1e-12 (1 + |t|) periods: from |x| = 1e6 on that is more than 3e-7 rad, so a point near an
-// extremum would get +-1 for a bound (sin(-999999999994) came out [0.66, 1]). A narrow interval
-// there is moved by a multiple of 2 pi to [phase, phase + width] with |phase| <= pi instead:
+// 1e-12 (1 + |t|) pi rad (t = x / pi): from |x| = 1e6 on that is more than 1e-6 rad, so a point
+// near an extremum would get +-1 for a bound (cos(-999999999994) came out [0.66, 1]). A narrow
+// interval there is moved by a multiple of 2 pi to [phase, phase + width], |phase| <= pi:
 // glibc's sin and cos reduce every double argument correctly (within the two ulps libm_down/up
 // allow), so atan2(sin(lo), cos(lo)) is lo's phase to within about 2e-15; kPhaseError covers that
 // with room. The same interval, shifted by a multiple of 2 pi, has the same sin, cos and tan.
