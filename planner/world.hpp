@@ -201,11 +201,12 @@ struct Reach {
 
 class WorldModel {
  public:
-  // Computes every label and table; the movable objects' grasp searches, and each object's and
-  // goal's per-grasp reach and collision tables, run on up to `threads` threads
-  // (common/parallel.hpp; the model does not depend on it). Throws PlanError if a
-  // movable object has no grasp, or if in the initial world two objects meet or one is below the
-  // table or floats (naming the objects and their poses' file:line:col).
+  // Computes every label and table; the movable objects' grasp searches, the box hierarchies of
+  // the arm's links and of the objects, and each object's and goal's per-grasp reach and
+  // collision tables run on up to `threads` threads (common/parallel.hpp; the model does not
+  // depend on it). Throws PlanError if a movable object has no grasp, or if in the initial world
+  // two objects meet or one is below the table or floats (naming the objects and their poses'
+  // file:line:col).
   explicit WorldModel(Scenario scenario, unsigned threads = 1);
 
   [[nodiscard]] const Scenario& scenario() const { return scenario_; }
