@@ -58,6 +58,11 @@ Reading fused(const Reading& earlier, const Reading& latest, int object) {
   return out;
 }
 
+// The last words of both refusals: the domain declares the effects that do not fit.
+std::string effect_question(const Domain& domain) {
+  return "; do the effects in " + domain.source + " fit what its actions do?";
+}
+
 }  // namespace
 
 Propagation::Propagation(const WorldModel& world, const Domain& domain, symbolic::ExprPool& pool)
@@ -193,17 +198,27 @@ std::array<bool, 4> Propagation::corrected_by(int object,
   return corrected;
 }
 
-void Propagation::require_on_table(int object, int index) const {
-  if (object < 0 || !table_.at(object))
-    throw PlanError(
-        "step " + std::to_string(index) + " needs " +
-        (object < 0 ? std::string("an object") : world_->scenario().objects[object].name) +
-        " on the table");
+std::string Propagation::step_name(const Phase2Step& step, int index) const {
+  return "step " + std::to_string(index) + " (" + domain_->actions.at(step.action).name +
+         ", effect " + std::string(to_string(step.effect)) + ")";
 }
 
-void Propagation::require_held(int object, int index, const char* doing) const {
-  if (object < 0 || !held_.at(object))
-    throw PlanError("step " + std::to_string(index) + " " + doing + " an object it does not hold");
+void Propagation::require_on_table(const Phase2Step& step, int object, int index) const {
+  if (object >= 0 && table_.at(object)) return;
+  std::string what = step_name(step, index) + " needs ";
+  if (object < 0) {
+    what += "an object on the table";
+  } else {
+    what += world_->scenario().objects[object].name + " on the table";
+    if (held_.at(object)) what += ", but it is held";
+  }
+  throw PlanError(what + effect_question(*domain_));
+}
+
+void Propagation::require_held(const Phase2Step& step, int index, const char* doing) const {
+  if (step.object >= 0 && held_.at(step.object)) return;
+  throw PlanError(step_name(step, index) + " " + doing + " an object it does not hold" +
+                  effect_question(*domain_));
 }
 
 std::vector<Precondition> Propagation::build(const Phase2Step& step, int index,
@@ -212,12 +227,12 @@ std::vector<Precondition> Propagation::build(const Phase2Step& step, int index,
   for (const Builder builder : domain_->actions.at(step.action).uncertainty) {
     std::vector<Precondition> built;
     if (builder == Builder::kAssemble) {
-      require_held(step.object, index, "inserts");
-      require_on_table(step.fixed_object, index);
+      require_held(step, index, "inserts");
+      require_on_table(step, step.fixed_object, index);
       built = assemble_preconditions(*world_, step, *held_[step.object], *table_[step.fixed_object],
                                      *arm);
     } else {
-      require_on_table(step.object, index);
+      require_on_table(step, step.object, index);
       if (step.grasp < 0)
         throw PlanError("step " + std::to_string(index) + ": builder " +
                         std::string(to_string(builder)) + " needs a grasp");
@@ -314,29 +329,29 @@ void Propagation::sense_scaled(int object, int index) {
 void Propagation::apply(const Phase2Step& step, int index, const std::optional<ArmError>& arm) {
   switch (step.effect) {
     case Effect::kGrasp:
-      require_on_table(step.object, index);
+      require_on_table(step, step.object, index);
       held_[step.object] = HeldState{step.grasp, grip_after_grasp(step, *arm)};
       table_[step.object].reset();
       break;
     case Effect::kReduce: {
-      require_on_table(step.object, index);
+      require_on_table(step, step.object, index);
       Phase2Step in_place = step;
       in_place.object_pose = table_[step.object]->ideal;
       table_[step.object] = released(in_place, *arm, grip_after_grasp(step, *arm));
       break;
     }
     case Effect::kRelease:
-      require_held(step.object, index, "puts down");
+      require_held(step, index, "puts down");
       table_[step.object] = released(step, *arm, held_[step.object]->grip);
       held_[step.object].reset();
       break;
     case Effect::kInsert:
-      require_held(step.object, index, "inserts");
-      require_on_table(step.fixed_object, index);
+      require_held(step, index, "inserts");
+      require_on_table(step, step.fixed_object, index);
       held_[step.object].reset();
       break;
     case Effect::kSense:
-      require_on_table(step.object, index);
+      require_on_table(step, step.object, index);
       sense(step.object, index, step.camera);
       break;
     case Effect::kNone:

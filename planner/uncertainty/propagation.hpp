@@ -145,9 +145,12 @@ class Propagation {
   void apply(const Phase2Step& step, int index, const std::optional<ArmError>& arm);
   // A range-scan (camera -1) or the verification of camera `camera` (its residual; not scaled).
   void sense(int object, int index, int camera);
-  // Throws PlanError naming the step unless `object` is on the table / held.
-  void require_on_table(int object, int index) const;
-  void require_held(int object, int index, const char* doing) const;
+  // Throws PlanError naming the step, its action and effect unless `object` is on the table /
+  // held: a domain whose `effect:` does not fit what phase 1 does with the action ends here.
+  void require_on_table(const Phase2Step& step, int object, int index) const;
+  void require_held(const Phase2Step& step, int index, const char* doing) const;
+  // "step 2 (putdown, effect grasp)".
+  [[nodiscard]] std::string step_name(const Phase2Step& step, int index) const;
 
   // sense() in set_sensor_scale's form.
   void sense_scaled(int object, int index);

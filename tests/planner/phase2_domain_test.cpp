@@ -104,7 +104,30 @@ TEST(Phase2Domain, TheEffectNotThePredicatesSaysWhatAStepDoes) {
   (void)propagation.step(grasp, 1);
   (void)propagation.step(release, 2);
   EXPECT_TRUE(propagation.held(peg));
-  EXPECT_THROW((void)propagation.step(grasp, 3), PlanError);
+  try {
+    (void)propagation.step(grasp, 3);
+    ADD_FAILURE() << "grasping a held peg was accepted";
+  } catch (const PlanError& error) {
+    EXPECT_STREQ(error.what(),
+                 "step 3 (pickup, effect grasp) needs peg on the table, but it is held; do the "
+                 "effects in mine.yaml fit what its actions do?");
+  }
+}
+
+// A user's lift declared `effect: none`: phase 2 never sees the peg picked up, and the refusal
+// names the step, its action and effect, and the domain file to look at.
+TEST(Phase2Domain, AnEffectThatDoesNotFitThePlanIsRefusedNamingTheDomain) {
+  const Domain mine = parse_domain(replaced(shipped_text(), "  - name: pickup\n    effect: grasp\n",
+                                            "  - name: lift\n    effect: none\n"),
+                                   "mine.yaml");
+  try {
+    (void)plan(peg_pickup(), mine, testing::quick_options(2));
+    ADD_FAILURE() << "inserting a peg no step grasped was accepted";
+  } catch (const PlanError& error) {
+    EXPECT_STREQ(error.what(),
+                 "step 2 (assemble, effect insert) inserts an object it does not hold; do the "
+                 "effects in mine.yaml fit what its actions do?");
+  }
 }
 
 }  // namespace
