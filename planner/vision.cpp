@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <ranges>
 
 #include "spar/common/units.hpp"
 #include "spar/geometry/collision.hpp"
@@ -193,10 +194,14 @@ bool fixes_pose(const VisionCheck& check) {
 std::optional<VisionCheck> vision_check(const Scenario& scenario, int object,
                                         const kinematics::Transform& pose,
                                         const VisionOccluders& occluders) {
+  // PSEIKI needs a camera's world pose (above): a wrist camera cannot check.
+  const auto fixed = [](const CameraSensor& sensor) {
+    return sensor.mount != sensing::Mount::kWrist;
+  };
+  if (std::ranges::none_of(scenario.cameras, fixed)) return std::nullopt;  // no scene to build
   const StepScene step(scenario, object, pose, occluders);
   std::optional<VisionCheck> best;
-  for (const CameraSensor& sensor : scenario.cameras) {
-    if (sensor.mount == sensing::Mount::kWrist) continue;  // PSEIKI needs a world pose (above)
+  for (const CameraSensor& sensor : scenario.cameras | std::views::filter(fixed)) {
     VisionCheck check = check_with(scenario, step, sensor, object);
     if (!check.edges.empty() && (!best || check.edges.size() > best->edges.size()))
       best = std::move(check);
@@ -207,13 +212,18 @@ std::optional<VisionCheck> vision_check(const Scenario& scenario, int object,
 std::vector<CameraVerification> verifying_cameras(const Scenario& scenario, int object,
                                                   const kinematics::Transform& pose,
                                                   const VisionOccluders& occluders, int camera) {
-  const StepScene step(scenario, object, pose, occluders);
-  std::vector<CameraVerification> out;
+  std::vector<int> candidates;
   for (int c = 0; c < static_cast<int>(scenario.cameras.size()); ++c) {
     const CameraSensor& sensor = scenario.cameras[static_cast<std::size_t>(c)];
-    if ((camera >= 0 && c != camera) || sensor.mount == sensing::Mount::kWrist || !sensor.residual)
-      continue;
-    VisionCheck check = check_with(scenario, step, sensor, object);
+    if ((camera < 0 || c == camera) && sensor.mount != sensing::Mount::kWrist && sensor.residual)
+      candidates.push_back(c);
+  }
+  std::vector<CameraVerification> out;
+  if (candidates.empty()) return out;  // no scene to build
+  const StepScene step(scenario, object, pose, occluders);
+  for (const int c : candidates) {
+    VisionCheck check =
+        check_with(scenario, step, scenario.cameras[static_cast<std::size_t>(c)], object);
     if (fixes_pose(check)) out.push_back({c, std::move(check)});
   }
   return out;
