@@ -225,7 +225,7 @@ class ContactRegion {
         high_ = high_.cwiseMax(piece.back());
       }
       centroid_ += internal::signed_area(piece) * internal::area_centroid(piece);
-      pieces_.push_back(std::move(piece));
+      pieces_.emplace_back(piece, -tolerance_);
     }
     centroid_ /= pair.overlap_area;
     exposed_a_.emplace(object, tree, region(face_offset_), normal_);
@@ -246,9 +246,8 @@ class ContactRegion {
   // hides fails at every point, at its first (remembered) blocker, while the other face's rays
   // pass every blocker of theirs.
   bool inside(const Eigen::Vector2d& q) {
-    if (std::none_of(pieces_.begin(), pieces_.end(), [&](const Polygon2& piece) {
-          return internal::inset_at_least(piece, q, -tolerance_);
-        }))
+    if (std::none_of(pieces_.begin(), pieces_.end(),
+                     [&](const internal::InsetTest& in_piece) { return in_piece(q); }))
       return false;
     const Eigen::Vector3d mid = mid_plane_point(q);
     const Eigen::Vector3d on_a = mid + (face_offset_ - mid_offset_) * normal_;
@@ -305,7 +304,7 @@ class ContactRegion {
   Eigen::Vector3d normal_;
   internal::PlaneBasis basis_;
   double mid_offset_, face_offset_, width_, tolerance_;
-  std::vector<Polygon2> pieces_;
+  std::vector<internal::InsetTest> pieces_;  // within the tolerance of each piece
   Eigen::Vector2d low_{Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity())};
   Eigen::Vector2d high_{-low_};
   Eigen::Vector2d centroid_{Eigen::Vector2d::Zero()};

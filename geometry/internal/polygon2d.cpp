@@ -103,9 +103,46 @@ double inset_distance(const Polygon2& convex_polygon, const Eigen::Vector2d& poi
   return smallest;
 }
 
-bool inset_at_least(const Polygon2& convex_polygon, const Eigen::Vector2d& point, double distance) {
-  for (std::size_t i = 0; i < convex_polygon.size(); ++i)
-    if (edge_inset(convex_polygon, i, point) < distance)
+InsetTest::InsetTest(const Polygon2& convex_polygon, double distance)
+    : distance_(distance),
+      low_(Eigen::Vector2d::Constant(-std::numeric_limits<double>::infinity())),
+      high_(-low_) {
+  const std::size_t n = convex_polygon.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    const Eigen::Vector2d vector = convex_polygon[(i + 1) % n] - convex_polygon[i];
+    edges_.push_back({convex_polygon[i], vector, vector.norm()});
+  }
+  const auto outward = [&](std::size_t i) -> Eigen::Vector2d {
+    return Eigen::Vector2d(edges_[i].vector.y(), -edges_[i].vector.x()) / edges_[i].length;
+  };
+  const double t = -distance;
+  if (n < 3 || !(t >= 0) || !std::isfinite(t)) return;
+  for (std::size_t i = 0; i < n; ++i)
+    if (!(edges_[i].length > 0) || !(cross(edges_[i].vector, edges_[(i + 1) % n].vector) >= 0))
+      return;  // a point edge, a clockwise or reflex corner
+  Eigen::Vector2d low = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
+  Eigen::Vector2d high = -low;
+  for (std::size_t i = 0; i < n; ++i) {
+    const Eigen::Vector2d n1 = outward((i + n - 1) % n), n2 = outward(i);
+    const double meet = 1 + n1.dot(n2);
+    if (!(meet >= 1e-6)) return;  // too sharp a corner to place its miter accurately
+    const Eigen::Vector2d corner = convex_polygon[i] + t * (n1 + n2) / meet;
+    low = low.cwiseMin(corner);
+    high = high.cwiseMax(corner);
+  }
+  if (!low.allFinite() || !high.allFinite()) return;
+  const double pad = 1e-9 * std::max({low.cwiseAbs().maxCoeff(), high.cwiseAbs().maxCoeff(),
+                                      (high - low).maxCoeff()});
+  low_ = low.array() - pad;
+  high_ = high.array() + pad;
+}
+
+bool InsetTest::operator()(const Eigen::Vector2d& point) const {
+  if (point.x() < low_.x() || point.x() > high_.x() || point.y() < low_.y() ||
+      point.y() > high_.y())
+    return false;
+  for (const Edge& edge : edges_)
+    if (cross(edge.vector, point - edge.start) / edge.length < distance_)
       return false;  // NaN (a point edge): skipped, as by std::min
   return true;
 }

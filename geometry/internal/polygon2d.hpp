@@ -29,9 +29,30 @@ struct PlaneBasis {
 // Smallest signed distance from `point` to the lines of the convex polygon's edges: positive
 // inside, negative outside (then its magnitude is a lower bound of the true distance).
 [[nodiscard]] double inset_distance(const Polygon2& convex_polygon, const Eigen::Vector2d& point);
-// inset_distance(convex_polygon, point) >= distance, from the same per-edge values, stopping at
-// the first edge below it.
-[[nodiscard]] bool inset_at_least(const Polygon2& convex_polygon, const Eigen::Vector2d& point,
-                                  double distance);
+
+// inset_distance(convex_polygon, point) >= distance for one polygon and distance and many points
+// (the grasp search's contact regions ask it of a grid): the same per-edge values, each edge's
+// vector and length computed once, stopping at the first edge below `distance`. First, a box no
+// passing point lies outside of: for a counter-clockwise convex polygon and distance <= 0, the
+// points that pass form the polygon with its edges moved out by -distance, whose corners are the
+// vertices moved along their miters (v + t (n1 + n2) / (1 + n1 . n2), n1, n2 the two edges'
+// outward unit normals); the box holds them, padded by 1e-9 of their extent against rounding.
+// Without a box (every point goes to the edges): a point edge (its NaN value is skipped, as by
+// inset_distance's minimum), a clockwise or non-convex polygon, a positive distance, or a corner
+// sharper than 1 + n1 . n2 = 1e-6 (a miter a thousand times the distance).
+class InsetTest {
+ public:
+  InsetTest(const Polygon2& convex_polygon, double distance);
+  [[nodiscard]] bool operator()(const Eigen::Vector2d& point) const;
+
+ private:
+  struct Edge {
+    Eigen::Vector2d start, vector;
+    double length;
+  };
+  std::vector<Edge> edges_;
+  double distance_;
+  Eigen::Vector2d low_, high_;  // the box (infinite without one)
+};
 
 }  // namespace spar::geometry::internal

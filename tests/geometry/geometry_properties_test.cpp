@@ -4,7 +4,7 @@
 // joined rigidly rest somewhere (every rigid body does: on the hull facet nearest its centre of
 // mass), and every resting pose joint_stable_poses gives has both boxes above the table and
 // stands there; one box joined with nothing rests exactly as its stable poses. The triangle tree
-// reports to a segment exactly the triangles whose boxes the segment meets. inset_at_least is
+// reports to a segment exactly the triangles whose boxes the segment meets. InsetTest is
 // inset_distance compared, repeated vertices included.
 #include <gtest/gtest.h>
 #include <rapidcheck/gtest.h>
@@ -160,21 +160,40 @@ RC_GTEST_PROP(GeometryProperties, RandomJoinedBoxesRestSomewhereAndOnlyWhereThey
   RC_ASSERT(joint_stable_poses(alone, base.tolerance()).size() == stable_poses(base).size());
 }
 
-RC_GTEST_PROP(Polygon2d, InsetAtLeastIsInsetDistanceCompared, ()) {
-  // A random convex polygon (the hull of random points) with one vertex repeated: a point edge,
-  // whose distance is NaN and which inset_distance's minimum skips.
+RC_GTEST_PROP(Polygon2d, InsetTestIsInsetDistanceCompared, ()) {
+  // A random convex polygon (the hull of random points), in half the cases with one vertex
+  // repeated: a point edge, whose distance is NaN and which inset_distance's minimum skips (and
+  // which leaves InsetTest without its box). Points anywhere, and points just inside and outside
+  // the corners of the polygon moved out by -distance, where the box's sides are.
   std::vector<Eigen::Vector2d> points;
   for (int i = *rc::gen::inRange(3, 9); i > 0; --i)
     points.emplace_back(random_length(-1, 1), random_length(-1, 1));
   internal::Polygon2 polygon = internal::convex_hull_2d(points);
   RC_PRE(polygon.size() >= 3u);
-  const std::size_t repeated = *rc::gen::inRange<std::size_t>(0, polygon.size());
-  polygon.insert(polygon.begin() + static_cast<std::ptrdiff_t>(repeated), polygon[repeated]);
-  for (int i = 0; i < 20; ++i) {
-    const Eigen::Vector2d point(random_length(-1.2, 1.2), random_length(-1.2, 1.2));
-    const double distance = random_length(-0.3, 0.3);
-    RC_ASSERT(internal::inset_at_least(polygon, point, distance) ==
-              (internal::inset_distance(polygon, point) >= distance));
+  if (*rc::gen::arbitrary<bool>()) {
+    const std::size_t repeated = *rc::gen::inRange<std::size_t>(0, polygon.size());
+    polygon.insert(polygon.begin() + static_cast<std::ptrdiff_t>(repeated), polygon[repeated]);
+  }
+  const double distance = random_length(-0.3, 0.3);
+  const internal::InsetTest inset_at_least(polygon, distance);
+  const auto check = [&](const Eigen::Vector2d& point) {
+    RC_ASSERT(inset_at_least(point) == (internal::inset_distance(polygon, point) >= distance));
+  };
+  for (int i = 0; i < 20; ++i) check({random_length(-1.6, 1.6), random_length(-1.6, 1.6)});
+  const std::size_t n = polygon.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    const Eigen::Vector2d in = polygon[(i + 1) % n] - polygon[i],
+                          out = polygon[(i + n - 1) % n] - polygon[i];
+    if (in.norm() == 0 || out.norm() == 0) continue;
+    // The two edges' outward unit normals; the moved-out corner lies along their bisector, at
+    // t sqrt(2 / (1 + n1 . n2)) from the vertex.
+    const Eigen::Vector2d n1 = Eigen::Vector2d(-out.y(), out.x()).normalized(),
+                          n2 = Eigen::Vector2d(in.y(), -in.x()).normalized();
+    const double t = std::max(0.0, -distance), c = n1.dot(n2);
+    if (1 + c < 1e-3) continue;
+    const Eigen::Vector2d miter = (n1 + n2).normalized();
+    for (const double by : {-1e-9, -1e-12, 0.0, 1e-12, 1e-9, 1e-6})
+      check(polygon[i] + t * std::sqrt(2 / (1 + c)) * (1 + by) * miter);
   }
 }
 
