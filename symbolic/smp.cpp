@@ -47,13 +47,22 @@ bool cheaper(const Price& a, const Price& b) {
 Price price(Expr f, const std::map<std::string, double>& widths, std::size_t& work) {
   const std::vector<Expr> order = topological_order(just(f));
   work += order.size();
-  std::unordered_map<std::uint32_t, double> paths;
-  paths.reserve(order.size());
-  paths[f.id()] = 1;
+  // Path counts by position in `order`, found by node id in a sorted list (a hash map's node per
+  // entry was most of this function's cost; it is called once per candidate rewrite).
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> position(order.size());
+  for (std::size_t k = 0; k < order.size(); ++k)
+    position[k] = {order[k].id(), static_cast<std::uint32_t>(k)};
+  std::sort(position.begin(), position.end());
+  const auto at = [&](Expr e) {
+    return std::lower_bound(position.begin(), position.end(), std::pair(e.id(), std::uint32_t{0}))
+        ->second;
+  };
+  std::vector<double> paths(order.size(), 0.0);
+  paths.back() = 1;  // f, the last in a topological order of it
   Price p;
-  for (auto it = order.rbegin(); it != order.rend(); ++it) {
-    const Expr e = *it;
-    const double n = paths[e.id()];
+  for (std::size_t k = order.size(); k-- > 0;) {
+    const Expr e = order[k];
+    const double n = paths[k];
     p.size += n;
     if (e.is_variable()) {
       const auto width = widths.find(e.name());
@@ -68,7 +77,7 @@ Price price(Expr f, const std::map<std::string, double>& widths, std::size_t& wo
         p.size += n;
         continue;
       }
-      paths[e.operand(i).id()] += n;
+      paths[at(e.operand(i))] += n;
     }
   }
   return p;
