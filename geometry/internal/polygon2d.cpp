@@ -125,7 +125,8 @@ InsetTest::InsetTest(const Polygon2& convex_polygon, double distance)
   for (std::size_t i = 0; i < n; ++i) {
     const Eigen::Vector2d n1 = outward((i + n - 1) % n), n2 = outward(i);
     const double meet = 1 + n1.dot(n2);
-    if (!(meet >= 1e-6)) return;  // too sharp a corner to place its miter accurately
+    // 1e-3: meet is then known to ~1e-13 relative, and the corner far inside the padding.
+    if (!(meet >= 1e-3)) return;  // too sharp a corner to place its miter accurately
     const Eigen::Vector2d corner = convex_polygon[i] + t * (n1 + n2) / meet;
     low = low.cwiseMin(corner);
     high = high.cwiseMax(corner);

@@ -39,7 +39,7 @@ struct PlaneBasis {
 // outward unit normals); the box holds them, padded by 1e-9 of their extent against rounding.
 // Without a box (every point goes to the edges): a point edge (its NaN value is skipped, as by
 // inset_distance's minimum), a clockwise or non-convex polygon, a positive distance, or a corner
-// sharper than 1 + n1 . n2 = 1e-6 (a miter a thousand times the distance).
+// sharper than 1 + n1 . n2 = 1e-3 (under 2.6 degrees inside, a miter over 45 times the distance).
 class InsetTest {
  public:
   InsetTest(const Polygon2& convex_polygon, double distance);
