@@ -234,8 +234,8 @@ std::vector<Precondition> Propagation::build(const Phase2Step& step, int index,
     } else {
       require_on_table(step, step.object, index);
       if (step.grasp < 0)
-        throw PlanError("step " + std::to_string(index) + ": builder " +
-                        std::string(to_string(builder)) + " needs a grasp");
+        throw PlanError(step_name(step, index) + ": builder " + std::string(to_string(builder)) +
+                        " needs a grasp");
       built = pickup_preconditions(*world_, step, *table_[step.object], *arm, builder);
     }
     preconditions.insert(preconditions.end(), built.begin(), built.end());
