@@ -132,11 +132,19 @@ bool shape_contains(const internal::ShapeData& shape, const Eigen::Vector3d& loc
   return winding_number(shape, local_point) > 0.5;
 }
 
+// The box around `box` turned by `pose`: centre R c + t, half-sizes |R| h (the turned corners'
+// hull, in exact arithmetic), widened by twice the rounding bound of a corner turned in doubles,
+// 4.5e-16 (|R| (|c| + h) + |t|) per axis, so it holds every corner as computed: a broad phase
+// that may skip a pair by its box gap stays conservative. A fifth of the cost of turning the
+// eight corners (world_bounds was 5% of a crowded table's plan).
 Eigen::AlignedBox3d turned_box(const Eigen::AlignedBox3d& box, const Pose& pose) {
-  Eigen::AlignedBox3d out;
-  for (int corner = 0; corner < 8; ++corner)
-    out.extend(pose * box.corner(static_cast<Eigen::AlignedBox3d::CornerType>(corner)));
-  return out;
+  if (box.isEmpty()) return box;
+  const Eigen::Vector3d centre = box.center(), half = box.sizes() / 2;
+  const Eigen::Matrix3d turn = pose.linear().cwiseAbs();
+  const Eigen::Vector3d turned_centre = pose * centre, turned_half = turn * half;
+  const Eigen::Vector3d slack =
+      2 * 4.5e-16 * (turn * (centre.cwiseAbs() + half) + pose.translation().cwiseAbs());
+  return {turned_centre - turned_half - slack, turned_centre + turned_half + slack};
 }
 
 // The gap between two boxes (0 when they meet).

@@ -273,5 +273,27 @@ RC_GTEST_PROP(CollisionProperty, ClearSweepKeepsHalfTheMarginEverywhere, ()) {
   }
 }
 
+// world_bounds (the broad phase's box) holds every vertex of the placed body as the exact queries
+// turn it in doubles (by the part's world pose, the body's pose times the part's), far from the
+// origin too, and for box parts it is their hull up to rounding. A body of two parts, the second
+// placed off the first.
+RC_GTEST_PROP(CollisionProperty, WorldBoundsHoldEveryTurnedVertex, ()) {
+  const OrientedBox a = *random_box(), b = *random_box();
+  const double far = std::pow(10.0, *rc::gen::inRange(-1, 4));  // metres: 0.1 to 1000
+  const Pose pose = Pose(Eigen::Translation3d(far * a.pose.translation())) * b.pose;
+  const Body body("two", {{CollisionShape::box(-a.half, a.half)},
+                          {CollisionShape::box(-b.half, b.half), a.pose}});
+  const Eigen::AlignedBox3d bounds = world_bounds({&body, pose});
+  Eigen::AlignedBox3d hull;
+  for (const BodyPart& part : body.parts())
+    for (const Eigen::Vector3d& v : part.shape.vertices()) {
+      const Eigen::Vector3d turned = (pose * part.pose) * v;
+      RC_ASSERT(bounds.contains(turned));
+      hull.extend(turned);
+    }
+  RC_ASSERT((bounds.min() - hull.min()).cwiseAbs().maxCoeff() <= 1e-12 * far + 1e-12);
+  RC_ASSERT((bounds.max() - hull.max()).cwiseAbs().maxCoeff() <= 1e-12 * far + 1e-12);
+}
+
 }  // namespace
 }  // namespace spar::geometry
