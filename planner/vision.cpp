@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <ranges>
 
 #include "spar/common/units.hpp"
 #include "spar/geometry/collision.hpp"
@@ -198,10 +197,12 @@ std::optional<VisionCheck> vision_check(const Scenario& scenario, int object,
   const auto fixed = [](const CameraSensor& sensor) {
     return sensor.mount != sensing::Mount::kWrist;
   };
-  if (std::ranges::none_of(scenario.cameras, fixed)) return std::nullopt;  // no scene to build
+  if (std::none_of(scenario.cameras.begin(), scenario.cameras.end(), fixed))
+    return std::nullopt;  // no scene to build
   const StepScene step(scenario, object, pose, occluders);
   std::optional<VisionCheck> best;
-  for (const CameraSensor& sensor : scenario.cameras | std::views::filter(fixed)) {
+  for (const CameraSensor& sensor : scenario.cameras) {
+    if (!fixed(sensor)) continue;
     VisionCheck check = check_with(scenario, step, sensor, object);
     if (!check.edges.empty() && (!best || check.edges.size() > best->edges.size()))
       best = std::move(check);
