@@ -213,7 +213,7 @@ RC_GTEST_PROP(Interval, EveryKernelContainsTrueValuesAtPoints, ()) {
 
 // Issue 22: sin(1e15) was enclosed by [-1, 1], so the bound's witness "attained" the midpoint 0
 // (sin(1e15) = 0.858). Far out, points and narrow intervals are reduced by their phase. Below
-// 1e12 too: sin(-999999999994) was [0.66, 1] (the property below, seed 3141592653, 2026-12-07),
+// 1e12 too: cos(-999999999994) was [0.66, 1] (the property below, seed 3141592653, 2026-12-07),
 // since x / pi placed it in its period only to within about 1 rad.
 TEST(Interval, PeriodicFunctionsAreTightAtHugePoints) {
   struct Row {
