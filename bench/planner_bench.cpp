@@ -11,7 +11,9 @@
 //   matrices multiplied through the same chain, the same inequality evaluated by interval
 //   arithmetic over the box). Reported: false alarms (preconditions spar proves satisfied that the
 //   peer cannot), the width ratio peer/spar, and on the k-chain the largest uniform scale of the
-//   uncertainty for which each method still proves the last pickup.
+//   uncertainty for which each method still proves the last pickup. The time ratio is given twice:
+//   spar's whole analysis (with its repair search) against the peer, and spar doing only the
+//   peer's job (the same analysed steps built and decided, no search).
 // Usage: planner_bench [--quick] [--scenarios DIR]   (DIR: write the N-pair tasks as YAML there)
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -889,8 +891,37 @@ WarmTiming compare_with_peer(const planner::WorldModel& world,
   return peer_time;
 }
 
+// spar doing only what the peer does: the analysed steps (inserted scans and squeezes included, as
+// the peer gets them) built and decided with the analysis' budgets; no repair search, no
+// verification plan. Its verdicts must be the analysis' own (a MISMATCH line otherwise).
+WarmTiming time_same_steps(const planner::WorldModel& world,
+                           const planner::InstanceAnalysis& analysis) {
+  const planner::AnalysisOptions options;
+  std::vector<Verdict> verdicts;
+  const WarmTiming timing = warm_timing([&] {
+    symbolic::ExprPool pool;
+    planner::Propagation propagation(world, planner::builtin_domain(), pool);
+    verdicts.clear();
+    for (std::size_t k = 0; k < analysis.steps.size(); ++k) {
+      const std::vector<planner::Precondition> built =
+          propagation.step(analysis.steps[k].step, static_cast<int>(k) + 1);
+      for (const planner::PreconditionResult& result :
+           planner::decide(built, propagation.space(), options.quick, options.bound))
+        verdicts.push_back(result.verdict);
+    }
+  });
+  std::vector<Verdict> analysed;
+  for (const planner::AnalysedStep& step : analysis.steps)
+    for (const planner::PreconditionResult& result : step.preconditions)
+      analysed.push_back(result.verdict);
+  if (verdicts != analysed)
+    std::printf("  MISMATCH: deciding the analysed steps again gives other verdicts\n");
+  return timing;
+}
+
 // Adds spar's and the peer's times per instance (median and fastest) to `ours` and `peer`.
-void seed_phase2(int repeats, Comparison& all, WarmTiming& ours, WarmTiming& peer_total) {
+void seed_phase2(int repeats, Comparison& all, WarmTiming& ours, WarmTiming& peer_total,
+                 WarmTiming& same_steps_total) {
   std::printf(
       "\n## phase 2: one instance of each seed experiment (ms; build, analyse and the peer: "
       "median of %d runs after a warm-up run, and the fastest of them; extras: median of %d "
@@ -937,10 +968,17 @@ void seed_phase2(int repeats, Comparison& all, WarmTiming& ours, WarmTiming& pee
                 analysis.steps_reused);
     Comparison here;
     const WarmTiming peer_time = compare_with_peer(world, analysis, here);
+    const WarmTiming same_steps = time_same_steps(world, analysis);
+    std::printf(
+        "  the peer's work only (the %zu analysed steps built and decided, no repair search): "
+        "spar %.3f ms, the peer %.4f ms\n",
+        analysis.steps.size(), 1e3 * same_steps.median, 1e3 * peer_time.median);
     peer_total.median += peer_time.median;
     peer_total.best += peer_time.best;
     ours.median += t.analysed.median;
     ours.best += t.analysed.best;
+    same_steps_total.median += same_steps.median;
+    same_steps_total.best += same_steps.best;
     decide_breakdown(world, analysis, repeats);
     here.print((std::string("  peer on ") + name).c_str());
     all.merge(here);
@@ -1274,8 +1312,8 @@ int main(int argc, char** argv) {
     scaling(8, quick ? 2'000 : planner::PostingOptions{}.max_nodes, scenario_dir, scale_expanded,
             scale_generated, scale_seconds, largest_task);
     Comparison seeds;
-    WarmTiming our_phase2, peer_phase2;
-    seed_phase2(repeats, seeds, our_phase2, peer_phase2);
+    WarmTiming our_phase2, peer_phase2, same_steps_phase2;
+    seed_phase2(repeats, seeds, our_phase2, peer_phase2, same_steps_phase2);
     Comparison chain, chain_tight;
     double chain_ratio = 0;
     int max_k = 0;
@@ -1303,6 +1341,11 @@ int main(int argc, char** argv) {
                 peer_phase2.median / our_phase2.median);
     std::printf("ratio phase2_seed_instances(fastest) naive_interval_4x4 %.3g\n",
                 peer_phase2.best / our_phase2.best);
+    // The same steps without the repair search, the peer's own job: how much of the ratio above
+    // is the deciding's soundness and how much the search the peer does not make.
+    std::printf(
+        "ratio phase2_seed_instances(same_steps,no_repair_search) naive_interval_4x4 %.3g\n",
+        peer_phase2.median / same_steps_phase2.median);
     std::printf("ratio phase2_kchain(k=%d,build+decide) naive_interval_4x4 %.3g\n", max_k,
                 chain_ratio);
     std::printf("ratio phase2_width(seed,median) naive_interval_4x4 %.3g\n",
