@@ -329,6 +329,18 @@ std::string witness_table(const Report& report, const Precondition& precondition
   return out.str();
 }
 
+// A precondition's expression as its name's tooltip, cut after kTooltipCharacters: a chained
+// arm's runs to megabytes (15 MB for a pickup of docs/scenario.md's UR5 task), which made the page
+// as large and is more than any tooltip shows; report.json keeps every expression whole.
+constexpr std::size_t kTooltipCharacters = 20000;
+std::string expression_tooltip(const std::string& expression) {
+  if (expression.empty())
+    return "not printed: its tree form passes 10^7 nodes (its bound is still the expression's)";
+  if (expression.size() <= kTooltipCharacters) return expression;
+  return expression.substr(0, kTooltipCharacters) + " ... (" + std::to_string(expression.size()) +
+         " characters in all; report.json has the whole expression)";
+}
+
 void preconditions_section(const Report& report, std::ostringstream& out) {
   std::map<std::string, std::string> variable_units;
   if (report.chosen->uncertainty_variables)
@@ -354,9 +366,9 @@ void preconditions_section(const Report& report, std::ostringstream& out) {
       out << "<tr class=\"precondition\" data-verdict=\"" << html_escape(verdict)
           << "\"><td data-label=\"step\">" << html_escape(step_label(chosen, k))
           << "</td><td data-label=\"precondition\"><code title=\""
-          << html_escape(precondition.expression) << "\">" << html_escape(precondition.name)
-          << "</code></td><td data-label=\"verdict\">" << verdict_span(verdict)
-          << "</td><td data-label=\"requirement\">"
+          << html_escape(expression_tooltip(precondition.expression)) << "\">"
+          << html_escape(precondition.name) << "</code></td><td data-label=\"verdict\">"
+          << verdict_span(verdict) << "</td><td data-label=\"requirement\">"
           << html_escape(internal::requirement_text(precondition))
           << "</td><td data-label=\"bound\">" << html_escape(internal::bound_text(precondition))
           << "<br><span class=\"note\">inner "

@@ -163,6 +163,32 @@ TEST(Renderers, APreconditionWithoutAWitnessShowsNoSwappedInnerBound) {
       << precondition;
 }
 
+// A chained arm's expressions run to megabytes (docs/scenario.md's UR5 task: 15 MB for a pickup,
+// a 67 MB page when each was its name's tooltip whole): the tooltip is cut, the JSON keeps it all,
+// and an expression too large to print says so; the others stay whole.
+TEST(Html, AHugeExpressionIsCutInItsTooltipAndKeptWholeInTheJson) {
+  Report report = golden_report("peg_block_face_down");
+  std::vector<Precondition*> preconditions;
+  for (Step& step : report.chosen->steps)
+    if (step.preconditions)
+      for (Precondition& precondition : *step.preconditions) preconditions.push_back(&precondition);
+  ASSERT_GE(preconditions.size(), 3u);
+  std::string huge;
+  while (huge.size() < 3'000'000) huge += "(x + 0.5) * y - ";
+  huge += "z";
+  preconditions[0]->expression = huge;
+  preconditions[1]->expression = "";
+  const std::string whole = preconditions[2]->expression;
+  const std::string html = render_html(report);
+  EXPECT_LT(html.size(), render_html(golden_report("peg_block_face_down")).size() + 30'000);
+  EXPECT_NE(html.find(std::to_string(huge.size()) +
+                      " characters in all; report.json has the whole expression"),
+            std::string::npos);
+  EXPECT_NE(html.find("not printed: its tree form passes 10^7 nodes"), std::string::npos);
+  EXPECT_NE(html.find("title=\"" + internal::html_escape(whole) + "\""), std::string::npos);
+  EXPECT_NE(to_json(report).dump().find(huge), std::string::npos);
+}
+
 TEST(Html, IsSelfContained) {
   const std::string html = render_html(golden_report("peg_block_face_down"));
   EXPECT_EQ(html.find("<script"), std::string::npos);
