@@ -337,7 +337,10 @@ std::string expression_tooltip(const std::string& expression) {
   if (expression.empty())
     return "not printed: its tree form passes 10^7 nodes (its bound is still the expression's)";
   if (expression.size() <= kTooltipCharacters) return expression;
-  return expression.substr(0, kTooltipCharacters) + " ... (" + std::to_string(expression.size()) +
+  // Cut before a character, not inside one: object names (hence variable names) may be UTF-8.
+  std::size_t cut = kTooltipCharacters;
+  while (cut > 0 && (static_cast<unsigned char>(expression[cut]) & 0xC0) == 0x80) --cut;
+  return expression.substr(0, cut) + " ... (" + std::to_string(expression.size()) +
          " characters in all; report.json has the whole expression)";
 }
 

@@ -172,19 +172,28 @@ TEST(Html, AHugeExpressionIsCutInItsTooltipAndKeptWholeInTheJson) {
   for (Step& step : report.chosen->steps)
     if (step.preconditions)
       for (Precondition& precondition : *step.preconditions) preconditions.push_back(&precondition);
-  ASSERT_GE(preconditions.size(), 3u);
+  ASSERT_GE(preconditions.size(), 4u);
   std::string huge;
   while (huge.size() < 3'000'000) huge += "(x + 0.5) * y - ";
   huge += "z";
   preconditions[0]->expression = huge;
   preconditions[1]->expression = "";
+  // A variable named in UTF-8 across the cut: two-byte characters from byte 1, so the cut at an
+  // even byte would fall inside one.
+  std::string accented = "x";
+  while (accented.size() < 40'000) accented += "\xC3\xA9";
+  preconditions[3]->expression = accented;
   const std::string whole = preconditions[2]->expression;
   const std::string html = render_html(report);
-  EXPECT_LT(html.size(), render_html(golden_report("peg_block_face_down")).size() + 30'000);
+  // Two tooltips cut to 20 000 characters each, where the huge one alone was 3 MB.
+  EXPECT_LT(html.size(), render_html(golden_report("peg_block_face_down")).size() + 50'000);
   EXPECT_NE(html.find(std::to_string(huge.size()) +
                       " characters in all; report.json has the whole expression"),
             std::string::npos);
   EXPECT_NE(html.find("not printed: its tree form passes 10^7 nodes"), std::string::npos);
+  const std::size_t accented_note = html.find(" ... (" + std::to_string(accented.size()) + " ");
+  ASSERT_NE(accented_note, std::string::npos);
+  EXPECT_EQ(html.substr(accented_note - 2, 2), "\xC3\xA9");  // ends with a whole character
   EXPECT_NE(html.find("title=\"" + internal::html_escape(whole) + "\""), std::string::npos);
   EXPECT_NE(to_json(report).dump().find(huge), std::string::npos);
 }
