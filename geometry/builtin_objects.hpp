@@ -30,12 +30,13 @@
 
 namespace spar::geometry {
 
-[[nodiscard]] Mesh peg_mesh();
-[[nodiscard]] Mesh block_mesh();
-[[nodiscard]] Mesh l_shape_mesh();
 [[nodiscard]] std::vector<std::string> builtin_object_names();
-// Throws GeometryError for an unknown name (the message lists the known ones).
+// The built-in object's mesh, validated. Throws GeometryError for an unknown name (the message
+// lists the known ones).
 [[nodiscard]] Mesh builtin_mesh(const std::string& name);
+// content_digest of the built-in mesh whose validation was recorded (0 for an unknown name):
+// builtin_mesh gives a mesh with this digest without validating it again.
+[[nodiscard]] std::uint64_t builtin_validated_digest(const std::string& name);
 [[nodiscard]] ObjectModel make_builtin_object(const std::string& name);
 // The header comment written at the top of the object's OFF file.
 [[nodiscard]] std::string builtin_description(const std::string& name);

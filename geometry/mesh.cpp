@@ -183,9 +183,9 @@ void MeshBuilder::add_polygon(std::span<const int> loop, const std::string& name
   }
 }
 
-Mesh MeshBuilder::build(double scale) && {
+Mesh MeshBuilder::build(double scale, MeshCheck check) && {
   if (scale != 1.0) mesh_ = scale_mesh(std::move(mesh_), scale);
-  validate_closed_mesh(mesh_);
+  if (check == MeshCheck::kValidate) validate_closed_mesh(mesh_);
   return std::move(mesh_);
 }
 
@@ -397,7 +397,7 @@ void RectilinearSolid::carve(const Eigen::Vector3d& low, const Eigen::Vector3d& 
       }
 }
 
-Mesh RectilinearSolid::to_mesh(const std::string& source) const {
+Mesh RectilinearSolid::to_mesh(const std::string& source, MeshCheck check) const {
   MeshBuilder builder(source);
   std::map<std::array<int, 3>, int> grid_vertex;
   const auto vertex = [&](std::array<int, 3> g) {
@@ -440,7 +440,7 @@ Mesh RectilinearSolid::to_mesh(const std::string& source) const {
                  << "xyz"[axis] << '=' << coordinates_[axis][g[axis]] << ')';
             builder.add_polygon(quad, name.str());
           }
-  return std::move(builder).build();
+  return std::move(builder).build(1.0, check);
 }
 
 namespace {
@@ -546,7 +546,7 @@ void zip_ring(MeshBuilder& builder, const std::vector<Eigen::Vector3d>& vertices
 }  // namespace
 
 void attach_prism(Mesh& mesh, double top_z, const std::vector<Eigen::Vector2d>& polygon,
-                  double height, const std::string& name) {
+                  double height, const std::string& name, MeshCheck check) {
   // Take out the upward triangles at top_z; their outline is the ring's outer loop.
   const OpenedTop top = open_top(mesh, top_z);
   MeshBuilder builder(mesh.source);
@@ -558,7 +558,7 @@ void attach_prism(Mesh& mesh, double top_z, const std::vector<Eigen::Vector2d>& 
   for (const auto& p : polygon) base.push_back(builder.add_vertex({p.x(), p.y(), top_z}));
   zip_ring(builder, top.kept.vertices, top.outline, base, polygon, top.face_name);
   add_prism_walls(builder, base, polygon, top_z, height, name + " ");
-  Mesh result = std::move(builder).build();
+  Mesh result = std::move(builder).build(1.0, check);
   result.source = mesh.source;
   mesh = std::move(result);
 }

@@ -46,6 +46,11 @@ struct Mesh {
   [[nodiscard]] std::string where(int t) const;
 };
 
+// Whether a building step validates what it built (validate_closed_mesh), or leaves that to the
+// caller, who validates the finished mesh once (ObjectModel's constructor always does): a
+// composite built in several steps (the built-in objects) is then checked once, not per step.
+enum class MeshCheck { kValidate, kDeferred };
+
 // Accumulates planar convex polygons and fan-triangulates them.
 class MeshBuilder {
  public:
@@ -56,8 +61,9 @@ class MeshBuilder {
   // or it is not convex (fan triangles would flip).
   void add_polygon(std::span<const int> loop, const std::string& name, int line = 0);
   // Multiplies every vertex by `scale` (finite and > 0, else GeometryError: from the polygons'
-  // length unit to metres), then validates (validate_closed_mesh) the scaled mesh.
-  [[nodiscard]] Mesh build(double scale = 1.0) &&;
+  // length unit to metres), then validates (validate_closed_mesh) the scaled mesh, unless
+  // `check` defers that.
+  [[nodiscard]] Mesh build(double scale = 1.0, MeshCheck check = MeshCheck::kValidate) &&;
   [[nodiscard]] const std::vector<Eigen::Vector3d>& vertices() const { return mesh_.vertices; }
 
  private:
@@ -104,7 +110,8 @@ class RectilinearSolid {
   // Empties every cell whose centre lies in the box [low, high].
   void carve(const Eigen::Vector3d& low, const Eigen::Vector3d& high);
   [[nodiscard]] bool filled(int i, int j, int k) const;
-  [[nodiscard]] Mesh to_mesh(const std::string& source = "<rectilinear solid>") const;
+  [[nodiscard]] Mesh to_mesh(const std::string& source = "<rectilinear solid>",
+                             MeshCheck check = MeshCheck::kValidate) const;
 
  private:
   std::array<std::vector<double>, 3> coordinates_;
@@ -114,8 +121,9 @@ class RectilinearSolid {
 // Stands the prism `polygon` x [top_z, top_z + height] on the mesh's triangles that lie at
 // z = top_z facing +z: they are replaced by a ring joining their outline to the prism's base (the
 // outline must be one convex loop around the polygon; the ring keeps the old triangles' name).
-// New faces: `name` + " side k" and `name` + " end". The result is validated.
+// New faces: `name` + " side k" and `name` + " end". The result is validated unless `check`
+// defers that.
 void attach_prism(Mesh& mesh, double top_z, const std::vector<Eigen::Vector2d>& polygon,
-                  double height, const std::string& name);
+                  double height, const std::string& name, MeshCheck check = MeshCheck::kValidate);
 
 }  // namespace spar::geometry

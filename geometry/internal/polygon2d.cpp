@@ -54,13 +54,18 @@ Polygon2 convex_hull_2d(std::vector<Eigen::Vector2d> points) {
 }
 
 Polygon2 clip_convex(const Polygon2& subject, const Polygon2& clip) {
-  Polygon2 output = subject;
+  // A half-plane adds at most one vertex to a convex polygon: two buffers of this size, reused
+  // by every pass, seldom grow (rounding may bend a near-degenerate one).
+  Polygon2 output, input;
+  output.reserve(subject.size() + clip.size());
+  input.reserve(subject.size() + clip.size());
+  output.assign(subject.begin(), subject.end());
   for (std::size_t e = 0; e < clip.size() && !output.empty(); ++e) {
     const Eigen::Vector2d a = clip[e];
     const Eigen::Vector2d edge = clip[(e + 1) % clip.size()] - a;
     const auto side = [&](const Eigen::Vector2d& p) { return cross(edge, p - a); };
-    Polygon2 input;
     input.swap(output);
+    output.clear();
     for (std::size_t i = 0; i < input.size(); ++i) {
       const Eigen::Vector2d& current = input[i];
       const Eigen::Vector2d& previous = input[(i + input.size() - 1) % input.size()];

@@ -37,6 +37,24 @@ TEST(BuiltinObjects, ExampleFilesMatchTheBuiltins) {
   }
 }
 
+// builtin_mesh skips validating a mesh whose digest is the recorded one: that mesh must pass
+// validate_closed_mesh from scratch, unchanged (not flipped), and each built-in must have that
+// digest (else a builder changed: record its new digest once it validates).
+TEST(BuiltinObjects, KnownDigestsAreOfMeshesThatValidate) {
+  for (const std::string& name : builtin_object_names()) {
+    const Mesh built = builtin_mesh(name);
+    const std::uint64_t digest = content_digest(built);
+    EXPECT_EQ(digest, builtin_validated_digest(name))
+        << name << ": record 0x" << std::hex << digest << " in builtin_validated_digest";
+    EXPECT_EQ(built.validated_digest, digest) << name;
+    Mesh checked = built;
+    checked.validated_digest = 0;
+    EXPECT_NO_THROW(validate_closed_mesh(checked)) << name;
+    EXPECT_EQ(content_digest(checked), digest) << name << ": validation changed the mesh";
+  }
+  EXPECT_EQ(builtin_validated_digest("sphere"), 0u);
+}
+
 TEST(BuiltinObjects, UnknownNameListsTheKnownOnes) {
   try {
     (void)make_builtin_object("sphere");

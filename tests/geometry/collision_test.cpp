@@ -51,7 +51,7 @@ TEST(Collision, BodyWhollyInsideAnotherIntersects) {
   EXPECT_TRUE(collide(inside, big, 0.001));
   // The same in a non-convex mesh: the peg inside the block's blind hole is not inside the
   // block's solid, a cube buried in the block's wall is.
-  const Body block("block", CollisionShape(block_mesh()));
+  const Body block("block", CollisionShape(builtin_mesh("block")));
   const Body tiny("tiny", CollisionShape::box({0, 0, 0}, {0.002, 0.002, 0.002}));
   EXPECT_FALSE(proximity({&block, at(0, 0, 0)}, {&tiny, at(-0.001, -0.001, 2.5 * 0.0254)})
                    .intersecting);  // in the hole, above its floor
@@ -60,7 +60,8 @@ TEST(Collision, BodyWhollyInsideAnotherIntersects) {
 
 TEST(Collision, PegInsertedInTheBlockTouchesOnlyAtTheHoleFloor) {
   // The seed's assembly: the peg upside down, its frame 6 in above the block's (Ta).
-  const Body block("block", CollisionShape(block_mesh())), peg("peg", CollisionShape(peg_mesh()));
+  const Body block("block", CollisionShape(builtin_mesh("block"))),
+      peg("peg", CollisionShape(builtin_mesh("peg")));
   Pose relative = at(0, 0, 6 * units::kInch);
   relative.rotate(Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX()));
   const PlacedBody fixed{&block, Pose::Identity()};

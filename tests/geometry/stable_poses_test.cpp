@@ -113,7 +113,7 @@ TEST(StablePoses, CentreOfMassOutsideTheHullIsAnError) {
 }
 
 TEST(StablePoses, LShapeRejectsUnstableHullFacets) {
-  const ObjectModel l_shape("l", l_shape_mesh());
+  const ObjectModel l_shape("l", builtin_mesh("l-shape"));
   ASSERT_EQ(l_shape.hull_facets().size(), 7u);
   const auto poses = stable_poses(l_shape);
   EXPECT_EQ(poses.size(), 5u);
@@ -162,7 +162,7 @@ TEST(StablePoses, PosesOnNoFaceAreLabelledByNormalWhateverTheMeshOrder) {
   // label, so the labels must follow the shape, not the hull's facet order: the same mesh with its
   // vertices and triangles listed backwards gives the same normals under the same labels, in
   // ascending (x, y, z) order.
-  const Mesh mesh = peg_mesh();
+  const Mesh mesh = builtin_mesh("peg");
   Mesh backwards = mesh;
   const int last = static_cast<int>(mesh.vertices.size()) - 1;
   std::reverse(backwards.vertices.begin(), backwards.vertices.end());
