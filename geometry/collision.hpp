@@ -40,7 +40,7 @@
 // samples, far fewer when the obstacles are far. Hot paths never throw.
 //
 // Example:
-//   const Body block("block", CollisionShape(block_mesh()));
+//   const Body block("block", CollisionShape(builtin_mesh("block")));
 //   const Body cube("cube", CollisionShape::box({0, 0, 0}, {0.0254, 0.0254, 0.0254}));
 //   const PlacedBody a{&block, Pose::Identity()}, b{&cube, Pose(Eigen::Translation3d(0.2, 0, 0))};
 //   const Proximity near = proximity(a, b);              // near.distance: metres apart
