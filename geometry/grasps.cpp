@@ -12,108 +12,16 @@
 #include <vector>
 
 #include "spar/common/deadline.hpp"
+#include "spar/geometry/internal/exposure.hpp"
 #include "spar/geometry/internal/polygon2d.hpp"
 #include "spar/geometry/internal/triangle_tree.hpp"
 
 namespace spar::geometry {
 namespace {
 
+using internal::Exposure;
 using internal::Polygon2;
 using internal::TriangleTree;
-
-// Möller–Trumbore: does the segment from p to q cross the triangle (a, b, c) strictly inside
-// the segment (beyond `slack` of parameter at either end)?
-bool segment_hits_triangle(const Eigen::Vector3d& p, const Eigen::Vector3d& q,
-                           const Eigen::Vector3d& a, const Eigen::Vector3d& b,
-                           const Eigen::Vector3d& c, double slack) {
-  const Eigen::Vector3d direction = q - p, ab = b - a, ac = c - a;
-  const Eigen::Vector3d h = direction.cross(ac);
-  const double det = ab.dot(h);
-  if (std::abs(det) < 1e-300) return false;
-  const Eigen::Vector3d s = p - a;
-  const double u = s.dot(h) / det;
-  if (u < 0 || u > 1) return false;
-  const Eigen::Vector3d k = s.cross(ab);
-  const double v = direction.dot(k) / det;
-  if (v < 0 || u + v > 1) return false;
-  const double t = ac.dot(k) / det;
-  return t > slack && t < 1 - slack;
-}
-
-// A finger can touch a point of a face only from outside: the ray along the face's outward
-// normal must leave the object without crossing it (rules out faces inside holes). One Exposure
-// answers for the points of one region of a face plane (the quadrilateral `corners`) along one
-// normal. The triangles that could block any of those rays are gathered once (their boxes meet
-// the box that holds every ray), and each point then tests only them: a triangle counts only if
-// the ray meets its box and then crosses it, exactly as the tree's walk per ray decides
-// (TriangleTree::segment_meets_box_of), so the answers are the same, for a pass over a few
-// triangles instead of a walk of the tree per point. A point outside the region, or a region
-// whose rays pass many triangles, walks the tree as before.
-class Exposure {
- public:
-  Exposure(const ObjectModel& object, const TriangleTree& tree,
-           const std::array<Eigen::Vector3d, 4>& corners, const Eigen::Vector3d& normal)
-      : mesh_(&object.mesh()),
-        tree_(&tree),
-        normal_(normal),
-        reach_(1e3 * (object.tolerance() / 1e-9)) {  // 1e3 diagonals: well past the object
-    low_ = high_ = corners[0];
-    for (const Eigen::Vector3d& c : corners) {
-      low_ = low_.cwiseMin(c);
-      high_ = high_.cwiseMax(c);
-    }
-    // Padded by far more than the rounding of a ray's end: every gathered ray lies inside.
-    const Eigen::Vector3d pad = Eigen::Vector3d::Constant(1e-9 * reach_);
-    low_ -= pad;
-    high_ += pad;
-    const Eigen::Vector3d far_low = (low_ + reach_ * normal_).cwiseMin(high_ + reach_ * normal_);
-    const Eigen::Vector3d far_high = (low_ + reach_ * normal_).cwiseMax(high_ + reach_ * normal_);
-    gathered_ = !tree.for_each_in_box(low_.cwiseMin(far_low), high_.cwiseMax(far_high), [&](int t) {
-      blockers_.push_back(t);
-      return blockers_.size() > kMaxBlockers;  // stop: the tree per point is cheaper
-    });
-  }
-
-  // Not const: it remembers the last blocker (one Exposure per region, on one thread).
-  bool operator()(const Eigen::Vector3d& point) {
-    const Eigen::Vector3d far = point + reach_ * normal_;
-    const auto blocks = [&](int t) {
-      const auto& tri = mesh_->triangles[t];
-      // Hits within 1e-6 diagonals of the start are the face itself or its neighbours' edges.
-      return segment_hits_triangle(point, far, mesh_->vertices[tri[0]], mesh_->vertices[tri[1]],
-                                   mesh_->vertices[tri[2]], 1e-9);
-    };
-    const auto counts = [&](int t) {
-      return tree_->segment_meets_box_of(point, far, t) && blocks(t);
-    };
-    // The next point is most likely blocked by the triangle that blocked the last one: it is
-    // tried first (the answer, whether any triangle blocks, does not depend on the order).
-    if (last_blocker_ >= 0 && counts(last_blocker_)) return false;
-    const bool in_region =
-        (point.array() >= low_.array()).all() && (point.array() <= high_.array()).all();
-    if (!gathered_ || !in_region)
-      return !tree_->any_on_segment(point, far, [&](int t) {
-        if (!blocks(t)) return false;
-        last_blocker_ = t;
-        return true;
-      });
-    const auto blocker = std::find_if(blockers_.begin(), blockers_.end(), counts);
-    if (blocker == blockers_.end()) return true;
-    last_blocker_ = *blocker;
-    return false;
-  }
-
- private:
-  static constexpr std::size_t kMaxBlockers = 64;
-  const Mesh* mesh_;
-  const TriangleTree* tree_;
-  Eigen::Vector3d normal_;
-  double reach_;
-  Eigen::Vector3d low_, high_;  // the region's box, padded
-  std::vector<int> blockers_;   // the triangles a ray from the region may cross
-  bool gathered_{false};        // blockers_ holds them all
-  int last_blocker_{-1};        // the triangle that blocked the last blocked ray
-};
 
 // The axis-aligned box (object frame) around the gripper-frame box [low, high].
 std::pair<Eigen::Vector3d, Eigen::Vector3d> object_frame_bounds(
@@ -262,14 +170,27 @@ class ContactRegion {
   // A 41 x 41 grid over the bounding box. Each inside() casts rays against the mesh, so grid
   // points are tested nearest first and only until one is inside, each at most once for all
   // targets (testing the whole grid made `spar object` quadratic in the mesh size, and was a
-  // tenth of a small scenario's instructions).
+  // tenth of a small scenario's instructions). Points Exposure::surely_blocked marks on either
+  // side are known outside without a ray: a face the object hides settles its grid at once.
   std::optional<Eigen::Vector2d> nearest_inside(const Eigen::Vector2d& target) {
     constexpr int kGrid = 41;
     if (grid_.empty()) {
       for (int i = 0; i < kGrid; ++i)
         for (int j = 0; j < kGrid; ++j) grid_.push_back(grid_point(i, j, kGrid));
+      const Eigen::Vector3d corner = basis_.u * low_.x() + basis_.v * low_.y();
+      const Eigen::Vector3d u_step = basis_.u * ((high_.x() - low_.x()) / kGrid);
+      const Eigen::Vector3d v_step = basis_.v * ((high_.y() - low_.y()) / kGrid);
+      const std::vector<char> blocked_a =
+          exposed_a_->surely_blocked(corner + face_offset_ * normal_, u_step, v_step, kGrid);
+      const std::vector<char> blocked_b = exposed_b_->surely_blocked(
+          corner + (face_offset_ - width_) * normal_, u_step, v_step, kGrid);
       grid_inside_.assign(grid_.size(), -1);
+      for (std::size_t i = 0; i < grid_.size(); ++i)
+        if (blocked_a[i] || blocked_b[i]) grid_inside_[i] = 0;
     }
+    if (std::all_of(grid_inside_.begin(), grid_inside_.end(),
+                    [](signed char known) { return known == 0; }))
+      return std::nullopt;  // no point inside, nor any left to test
     std::vector<std::pair<double, std::size_t>> order;
     for (std::size_t i = 0; i < grid_.size(); ++i)
       order.emplace_back((grid_[i] - target).squaredNorm(), i);

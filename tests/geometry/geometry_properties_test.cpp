@@ -5,7 +5,8 @@
 // mass), and every resting pose joint_stable_poses gives has both boxes above the table and
 // stands there; one box joined with nothing rests exactly as its stable poses. The triangle tree
 // reports to a segment exactly the triangles whose boxes the segment meets. InsetTest is
-// inset_distance compared, repeated vertices included.
+// inset_distance compared, repeated vertices included. Exposure's lattice shortcut marks only
+// points whose own ray is blocked.
 #include <gtest/gtest.h>
 #include <rapidcheck/gtest.h>
 
@@ -15,7 +16,9 @@
 #include <optional>
 #include <vector>
 
+#include "spar/geometry/builtin_objects.hpp"
 #include "spar/geometry/grasps.hpp"
+#include "spar/geometry/internal/exposure.hpp"
 #include "spar/geometry/internal/polygon2d.hpp"
 #include "spar/geometry/internal/triangle_tree.hpp"
 #include "spar/geometry/stable_poses.hpp"
@@ -96,6 +99,92 @@ RC_GTEST_PROP(GeometryProperties, TheTreeReportsToASegmentTheTrianglesWhoseBoxes
     return false;  // every triangle the walk reaches
   });
   for (int t = 0; t < count; ++t) RC_ASSERT(reported[t] == tree.segment_meets_box_of(p, q, t));
+}
+
+// Over each face of `object`, a lattice of `n` x `n` points spanning the face's box in its plane:
+// every point Exposure::surely_blocked marks must get false from the ray cast itself
+// (Exposure::operator()). Returns how many points were marked.
+int check_surely_blocked(const ObjectModel& object, int n) {
+  const Mesh& mesh = object.mesh();
+  const internal::TriangleTree tree(mesh.vertices, mesh.triangles);
+  int marked = 0;
+  for (const Face& face : object.faces()) {
+    const internal::PlaneBasis basis = internal::plane_basis(face.normal);
+    Eigen::Vector2d low = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
+    Eigen::Vector2d high = -low;
+    for (const int t : face.triangles)
+      for (const int v : mesh.triangles[t]) {
+        low = low.cwiseMin(internal::project(basis, mesh.vertices[v]));
+        high = high.cwiseMax(internal::project(basis, mesh.vertices[v]));
+      }
+    const auto on_plane = [&](double x, double y) {
+      return Eigen::Vector3d(basis.u * x + basis.v * y + face.normal * face.offset);
+    };
+    const std::array<Eigen::Vector3d, 4> corners{
+        on_plane(low.x(), low.y()), on_plane(high.x(), low.y()), on_plane(low.x(), high.y()),
+        on_plane(high.x(), high.y())};
+    internal::Exposure exposed(object, tree, corners, face.normal);
+    const Eigen::Vector3d origin = corners[0];
+    const Eigen::Vector3d u_step = basis.u * ((high.x() - low.x()) / n);
+    const Eigen::Vector3d v_step = basis.v * ((high.y() - low.y()) / n);
+    const std::vector<char> blocked = exposed.surely_blocked(origin, u_step, v_step, n);
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j)
+        if (blocked[static_cast<std::size_t>(i) * n + j]) {
+          ++marked;
+          const Eigen::Vector3d point = origin + (i + 0.5) * u_step + (j + 0.5) * v_step;
+          RC_ASSERT(!exposed(point));
+        }
+  }
+  return marked;
+}
+
+// The block's peg hole walls face each other: their lattices are marked, and rightly.
+TEST(GeometryProperties, TheBlocksHiddenFacesAreSurelyBlocked) {
+  const ObjectModel block = make_builtin_object("block");
+  EXPECT_GT(check_surely_blocked(block, 41), 1000);
+}
+
+// Random stepped solids (a random grid's cells, one or two boxes of them carved out: holes,
+// notches and faces hidden in them), turned by a random rotation so the rays run along no axis.
+RC_GTEST_PROP(GeometryProperties, SurelyBlockedPointsAreBlockedOnRandomSteppedSolids, ()) {
+  std::array<std::vector<double>, 3> grid;
+  for (std::vector<double>& values : grid) {
+    values = {0};
+    const int count = *rc::gen::inRange(2, 6);
+    for (int i = 0; i < count; ++i) values.push_back(values.back() + random_length(0.2, 2));
+  }
+  RectilinearSolid solid(grid[0], grid[1], grid[2]);
+  const int carves = *rc::gen::inRange(1, 3);
+  for (int c = 0; c < carves; ++c) {
+    Eigen::Vector3d low, high;  // cell boundaries, so the carve takes whole cells
+    for (int axis = 0; axis < 3; ++axis) {
+      const int cells = static_cast<int>(grid[axis].size()) - 1;
+      const int first = *rc::gen::inRange(0, cells);
+      const int last = *rc::gen::inRange(first + 1, cells + 1);
+      low[axis] = grid[axis][first] - (first == 0 ? 1 : 0);  // past the edge: a notch or hole
+      high[axis] = grid[axis][last] + (last == cells ? 1 : 0);
+    }
+    solid.carve(low, high);
+  }
+  Mesh mesh;
+  try {
+    mesh = solid.to_mesh();
+  } catch (const GeometryError&) {
+    RC_DISCARD("cells that touch along an edge only, or none left");
+  }
+  const Eigen::Quaterniond turn = Eigen::Quaterniond(random_length(-1, 1), random_length(-1, 1),
+                                                     random_length(-1, 1), random_length(-1, 1))
+                                      .normalized();
+  for (Eigen::Vector3d& vertex : mesh.vertices) vertex = turn * vertex;
+  std::optional<ObjectModel> object;
+  try {
+    object.emplace("stepped", std::move(mesh));
+  } catch (const GeometryError&) {
+    RC_DISCARD("the turned mesh does not validate");
+  }
+  const int marked = check_surely_blocked(*object, *rc::gen::inRange(3, 42));
+  RC_CLASSIFY(marked > 0, "some points marked");
 }
 
 RC_GTEST_PROP(GeometryProperties, RandomBoxesRestOnTheirFacetsAndGraspAcrossWidths, ()) {
