@@ -100,9 +100,10 @@ std::vector<char> Exposure::surely_blocked(const Eigen::Vector3d& origin,
     const Eigen::Vector3d& b = mesh_->vertices[tri[1]];
     const Eigen::Vector3d& c = mesh_->vertices[tri[2]];
     const Eigen::Vector3d facing = (b - a).cross(c - a);
+    // Tiny, or nearly along the rays: rounding could matter.
     if (!(std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()}) > shortest) ||
         !(std::abs(facing.dot(normal_)) >= 1e-3 * facing.norm()) || !(facing.norm() > 0))
-      continue;                             // tiny, or nearly along the rays: rounding could matter
+      continue;
     std::array<Eigen::Vector2d, 3> corner;  // lattice units
     double depth_low = std::numeric_limits<double>::infinity(), depth_high = -depth_low;
     for (int k = 0; k < 3; ++k) {
@@ -111,16 +112,20 @@ std::vector<char> Exposure::surely_blocked(const Eigen::Vector3d& origin,
       depth_low = std::min(depth_low, d.dot(normal_));
       depth_high = std::max(depth_high, d.dot(normal_));
     }
+    // Out of reach, or a shadow too thin (or too vast) to measure in lattice units.
     const double twice_area = cross(corner[1] - corner[0], corner[2] - corner[0]);
-    if (!(depth_low > near && depth_high < far) || !(std::abs(twice_area) > 0)) continue;
+    if (!(depth_low > near && depth_high < far) || !(std::abs(twice_area) > 0) ||
+        !std::isfinite(twice_area))
+      continue;
     const auto index_range = [&](int axis) {  // lattice indices within the corners' box
       double low = std::numeric_limits<double>::infinity(), high = -low;
       for (const Eigen::Vector2d& p : corner) {
         low = std::min(low, p[axis]);
         high = std::max(high, p[axis]);
       }
-      return std::pair(static_cast<int>(std::max(0.0, std::ceil(low - 0.5))),
-                       static_cast<int>(std::min(n - 1.0, std::floor(high - 0.5))));
+      // Clamped before the cast: a far triangle's lattice coordinates may be huge.
+      return std::pair(static_cast<int>(std::clamp(std::ceil(low - 0.5), 0.0, 1.0 * n)),
+                       static_cast<int>(std::clamp(std::floor(high - 0.5), -1.0, n - 1.0)));
     };
     const auto [i_low, i_high] = index_range(0);
     const auto [j_low, j_high] = index_range(1);

@@ -18,7 +18,7 @@
 //     (along the normal) of a triangle that every ray from the shadow crosses well between its
 //     ends is blocked; "well" is a margin far above rounding (below), so operator() would say
 //     false for it too. It never marks a point operator() calls exposed (a property test checks
-//     it on every face of the built-in objects and of random stepped solids).
+//     it on every face of the block and of random turned stepped solids).
 // Cost: gathering O(log n + k); operator() O(k) or a tree walk; surely_blocked O(k) triangles
 // plus a few 2-D tests per lattice point in each one's shadow.
 //
