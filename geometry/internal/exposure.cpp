@@ -6,7 +6,10 @@
 #include <utility>
 
 namespace spar::geometry::internal {
+namespace {
 
+// Möller–Trumbore: does the segment from p to q cross the triangle (a, b, c) strictly inside
+// the segment (beyond `slack` of parameter at either end)?
 bool segment_hits_triangle(const Eigen::Vector3d& p, const Eigen::Vector3d& q,
                            const Eigen::Vector3d& a, const Eigen::Vector3d& b,
                            const Eigen::Vector3d& c, double slack) {
@@ -23,6 +26,8 @@ bool segment_hits_triangle(const Eigen::Vector3d& p, const Eigen::Vector3d& q,
   const double t = ac.dot(k) / det;
   return t > slack && t < 1 - slack;
 }
+
+}  // namespace
 
 Exposure::Exposure(const ObjectModel& object, const TriangleTree& tree,
                    const std::array<Eigen::Vector3d, 4>& corners, const Eigen::Vector3d& normal)

@@ -75,10 +75,4 @@ class Exposure {
   int last_blocker_{-1};                  // the triangle that blocked the last blocked ray
 };
 
-// Möller–Trumbore: does the segment from p to q cross the triangle (a, b, c) strictly inside
-// the segment (beyond `slack` of parameter at either end)?
-[[nodiscard]] bool segment_hits_triangle(const Eigen::Vector3d& p, const Eigen::Vector3d& q,
-                                         const Eigen::Vector3d& a, const Eigen::Vector3d& b,
-                                         const Eigen::Vector3d& c, double slack);
-
 }  // namespace spar::geometry::internal
