@@ -126,6 +126,10 @@ inline BuiltExpr build_random_expr(ExprPool& pool, const std::vector<int>& recip
           r = std::isnan(u) || std::isnan(v) ? NAN : std::fmax(u, v);
           break;
         case 16:
+          // On atan2's cut (y = 0, x <= 0) the sign of a zero decides the value (±π, or 0 against
+          // π at the origin), and the doubles may carry a sign exact construction drops (x·0 is
+          // -0.0 at a negative x, an exact 0 in spar): such a step is skipped.
+          if (u == 0 && !(v > 0)) continue;
           e = atan2(a, b);
           r = std::atan2(u, v);
           break;
