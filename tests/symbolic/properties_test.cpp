@@ -108,16 +108,34 @@ RC_GTEST_PROP(SymbolicProperty, CanonicalFormPreservesValue, ()) {
   pool.check_invariants();
 }
 
-// Regression (seed 314159265, 3 000 cases): x·0 is an exact 0 in spar but -0.0 in the recipe's
-// doubles at a negative x, and atan2(-0.0, x) = -π where atan2(0, x) = π. On atan2's cut the
-// sign of a zero decides the value, so the recipe skips such a step rather than expect a sign
-// that exact construction drops.
+// Regressions: on atan2's cut the sign of a zero decides the value (atan2(±0, x < 0) = ±π), so
+// the recipes skip atan2 steps there (random_expr.hpp). Seed 314159265, 3 000 cases: x·0 is an
+// exact 0 in spar but -0.0 in the recipe's doubles, so spar's π met the recipe's -π.
 TEST(SymbolicPropertyRegression, RecipeSkipsAtan2OnItsCut) {
   const std::vector<int> recipe{9120, 0, 0, 17902, 0, 0, 0, 0, 29716, 3274, 0, 0};
   const std::map<std::string, double> point{{"x", -2.999}, {"y", -3.002}, {"z", -3}};
   ExprPool pool;
   const auto built = build_random_expr(pool, recipe, point);
   EXPECT_TRUE(close(evaluate_by_nodes(built.expr, point), built.reference, built.magnitude));
+}
+// Seed 99991, 20 000 cases: atan2(0·min(x, log x), x) at x < 0, an undefined y the recipe calls
+// NaN; the node oracle's 0 + 0·min(...) gave +0 (π), the tape's product -0 (-π).
+TEST(SymbolicPropertyRegression, RecipeSkipsAtan2OfAnUndefinedZero) {
+  const std::vector<int> recipe{0, 0, 0, 0, 0,     0,     0,     0,     7694,  0,   0, 0,
+                                0, 0, 0, 0, 6746,  0,     21789, 0,     0,     0,   0, 0,
+                                0, 0, 0, 0, 13314, 16097, 0,     30200, 30400, 809, 0, 0};
+  const std::map<std::string, double> point{{"x", -2.999}, {"y", -3.002}, {"z", -3}};
+  ExprPool pool;
+  const auto built = build_random_expr(pool, recipe, point);
+  const std::vector<Expr> inputs{pool.variable("x"), pool.variable("y"), pool.variable("z")};
+  const Tape tape = Tape::compile(std::span<const Expr>(&built.expr, 1), inputs);
+  TapeEvaluator<double> evaluator(tape);
+  const double in[] = {point.at("x"), point.at("y"), point.at("z")};
+  double out[1];
+  evaluator.evaluate(in, out);
+  const double direct = evaluate_by_nodes(built.expr, point);
+  EXPECT_TRUE(std::isnan(direct) || close(out[0], direct, built.magnitude))
+      << out[0] << " against " << direct;
 }
 
 // The tape computes exactly what the node-by-node oracle computes (up to rounding).

@@ -125,14 +125,18 @@ inline BuiltExpr build_random_expr(ExprPool& pool, const std::vector<int>& recip
           e = max(a, b);
           r = std::isnan(u) || std::isnan(v) ? NAN : std::fmax(u, v);
           break;
-        case 16:
-          // On atan2's cut (y = 0, x <= 0) the sign of a zero decides the value (±π, or 0 against
-          // π at the origin), and the doubles may carry a sign exact construction drops (x·0 is
-          // -0.0 at a negative x, an exact 0 in spar): such a step is skipped.
-          if (u == 0 && !(v > 0)) continue;
+        case 16: {
+          // Near atan2's cut (y = 0, x <= 0) the sign of a zero decides the value (±π, or 0
+          // against π at the origin), and two evaluations of one value may give zeros of either
+          // sign or rounding noise around 0 (x·0 is -0.0 at a negative x in the recipe's doubles,
+          // an exact 0 in spar; a tape may skip the "+ 0" the node oracle adds; an undefined y,
+          // NaN here, may evaluate to a zero there): such a step is skipped.
+          const double noise = 1e-9 * magnitude;
+          if (!(std::fabs(u) > noise) && !(v > noise)) continue;
           e = atan2(a, b);
           r = std::atan2(u, v);
           break;
+        }
         default:
           e = asin(a) + acos(b);
           r = std::asin(u) + std::acos(v);
