@@ -137,6 +137,27 @@ TEST(SymbolicPropertyRegression, RecipeSkipsAtan2OfAnUndefinedZero) {
   EXPECT_TRUE(std::isnan(direct) || close(out[0], direct, built.magnitude))
       << out[0] << " against " << direct;
 }
+// Seed 1004, 20 000 cases: atan2(1/(0·tan x), x), where 1/(±0) = ±inf took the recipe to -π/2 and
+// spar to π/2; steps at a pole are skipped.
+TEST(SymbolicPropertyRegression, RecipeSkipsAPole) {
+  const std::vector<int> recipe{0, 0, 0, 0, 191,  0, 0,     0, 0, 0, 0, 0, 1711,  2358,  16588, 0,
+                                0, 0, 0, 0, 4305, 0, 18226, 0, 0, 0, 0, 0, 19942, 14180, 0,     0};
+  const std::map<std::string, double> point{{"x", -2.999}, {"y", -3.002}, {"z", -3}};
+  ExprPool pool;
+  const auto built = build_random_expr(pool, recipe, point);
+  EXPECT_TRUE(close(evaluate_by_nodes(built.expr, point), built.reference, built.magnitude));
+}
+// Seed 2003, 20 000 cases: acos(|x|/x) at x = -0.9999999999999999, where |x|/x is -1 in the
+// recipe and -0.9999999999999999 in the node oracle (|x|·x^-1), and acos's slope near -1 turns
+// that ulp into 1.5e-8; steps so ill-conditioned are skipped.
+TEST(SymbolicPropertyRegression, RecipeSkipsAnIllConditionedStep) {
+  const std::vector<int> recipe{0, 0, 0, 0, 26167, 0, 0,     0,     0, 0, 0,    0, 0,     0,
+                                0, 0, 0, 0, 0,     0, 20541, 23468, 0, 0, 5003, 0, 12882, 0};
+  const std::map<std::string, double> point{{"x", -1001 / 1000.0 + 1e-3}, {"y", -3.002}, {"z", -3}};
+  ExprPool pool;
+  const auto built = build_random_expr(pool, recipe, point);
+  EXPECT_TRUE(close(evaluate_by_nodes(built.expr, point), built.reference, built.magnitude));
+}
 
 // The tape computes exactly what the node-by-node oracle computes (up to rounding).
 RC_GTEST_PROP(SymbolicProperty, TapeEqualsDirectEvaluation, ()) {

@@ -54,6 +54,14 @@ inline BuiltExpr build_random_expr(ExprPool& pool, const std::vector<int>& recip
     const Expr a = exprs[i], b = exprs[j];
     const double u = values[i], v = values[j];
     const int n = recipe[k + 3] % 7 - 3;  // small integer exponent
+    // The recipe's doubles and spar's canonical form round differently, by some 1e-15 of the
+    // magnitude. A step that would turn that noise into more than the tests' tolerance (1e-9 of
+    // the magnitude) is skipped: dividing by, or taking the log, the square root or a negative
+    // power of, a value within `small` of 0; asin or acos within 1e-6 of ±1 (or past it by less:
+    // defined on one side, not on the other); tan within 1e-3 of a pole; atan2 near its cut.
+    const double noise = 1e-9 * magnitude, small = 1e-6 * magnitude;
+    const auto near_zero = [&](double w) { return !(std::fabs(w) > small); };
+    const auto near_unit = [](double w) { return std::fabs(1 - std::fabs(w)) < 1e-6; };
     Expr e;
     double r;
     // Construction folds exact constants, so a step such as (x - x)^-2 divides by an exact zero
@@ -73,11 +81,12 @@ inline BuiltExpr build_random_expr(ExprPool& pool, const std::vector<int>& recip
           r = u * v;
           break;
         case 3:
+          if (near_zero(v)) continue;
           e = a / b;
           r = u / v;
           break;
         case 4:
-          if (n == 0 && u == 0) continue;
+          if ((n == 0 && u == 0) || (n < 0 && near_zero(u))) continue;
           e = pow(a, static_cast<std::int64_t>(n));
           r = std::isnan(u) ? u : std::pow(u, n);  // libm's pow(NaN, 0) is 1; spar keeps undefined
           break;
@@ -94,10 +103,12 @@ inline BuiltExpr build_random_expr(ExprPool& pool, const std::vector<int>& recip
           r = std::exp(u);
           break;
         case 8:
+          if (near_zero(u)) continue;
           e = log(a);
           r = std::log(u);
           break;
         case 9:
+          if (near_zero(u)) continue;
           e = sqrt(a);
           r = std::sqrt(u);
           break;
@@ -106,6 +117,7 @@ inline BuiltExpr build_random_expr(ExprPool& pool, const std::vector<int>& recip
           r = std::atan(u);
           break;
         case 11:
+          if (!(std::fabs(std::cos(u)) > 1e-3)) continue;
           e = tan(a);
           r = std::tan(u);
           break;
@@ -125,19 +137,18 @@ inline BuiltExpr build_random_expr(ExprPool& pool, const std::vector<int>& recip
           e = max(a, b);
           r = std::isnan(u) || std::isnan(v) ? NAN : std::fmax(u, v);
           break;
-        case 16: {
+        case 16:
           // Near atan2's cut (y = 0, x <= 0) the sign of a zero decides the value (±π, or 0
           // against π at the origin), and two evaluations of one value may give zeros of either
-          // sign or rounding noise around 0 (x·0 is -0.0 at a negative x in the recipe's doubles,
-          // an exact 0 in spar; a tape may skip the "+ 0" the node oracle adds; an undefined y,
-          // NaN here, may evaluate to a zero there): such a step is skipped.
-          const double noise = 1e-9 * magnitude;
+          // sign or noise around 0 (x·0 is -0.0 at a negative x in the recipe's doubles, an exact
+          // 0 in spar; a tape may skip the "+ 0" the node oracle adds; an undefined y, NaN here,
+          // may evaluate to a zero there).
           if (!(std::fabs(u) > noise) && !(v > noise)) continue;
           e = atan2(a, b);
           r = std::atan2(u, v);
           break;
-        }
         default:
+          if (near_unit(u) || near_unit(v)) continue;
           e = asin(a) + acos(b);
           r = std::asin(u) + std::acos(v);
           break;
@@ -145,6 +156,10 @@ inline BuiltExpr build_random_expr(ExprPool& pool, const std::vector<int>& recip
     } catch (const SymbolicError&) {
       continue;
     }
+    // A step at a pole (1/0, a negative power of 0: an infinite value) is skipped: which infinity
+    // hangs on the sign of a zero, as at atan2's cut, and a later step may make it finite again
+    // (atan2(1/(0·tan x), x) is ±π/2).
+    if (std::isinf(r)) continue;
     exprs.push_back(e);
     values.push_back(r);
     if (std::isfinite(r)) magnitude = std::max(magnitude, std::fabs(r));
