@@ -57,8 +57,10 @@ inline BuiltExpr build_random_expr(ExprPool& pool, const std::vector<int>& recip
     // The recipe's doubles and spar's canonical form round differently, by some 1e-15 of the
     // magnitude. A step that would turn that noise into more than the tests' tolerance (1e-9 of
     // the magnitude) is skipped: dividing by, or taking the log, the square root or a negative
-    // power of, a value within `small` of 0; asin or acos within 1e-6 of ±1 (or past it by less:
-    // defined on one side, not on the other); tan within 1e-3 of a pole; atan2 near its cut.
+    // power of, a value within `small` of 0 (at a pole, which infinity hangs on the sign of a
+    // zero, and a later step may make it finite: atan2(1/(0·tan x), x) is ±π/2); asin or acos
+    // within 1e-6 of ±1 (or past it by less: defined on one side, not on the other); tan within
+    // 1e-3 of a pole; atan2 near its cut.
     const double noise = 1e-9 * magnitude, small = 1e-6 * magnitude;
     const auto near_zero = [&](double w) { return !(std::fabs(w) > small); };
     const auto near_unit = [](double w) { return std::fabs(1 - std::fabs(w)) < 1e-6; };
@@ -156,10 +158,6 @@ inline BuiltExpr build_random_expr(ExprPool& pool, const std::vector<int>& recip
     } catch (const SymbolicError&) {
       continue;
     }
-    // A step at a pole (1/0, a negative power of 0: an infinite value) is skipped: which infinity
-    // hangs on the sign of a zero, as at atan2's cut, and a later step may make it finite again
-    // (atan2(1/(0·tan x), x) is ±π/2).
-    if (std::isinf(r)) continue;
     exprs.push_back(e);
     values.push_back(r);
     if (std::isfinite(r)) magnitude = std::max(magnitude, std::fabs(r));
