@@ -237,22 +237,6 @@ class Compiler {
   std::vector<std::uint32_t> constant_table_;
 };
 
-bool is_binary(TapeOp op) {
-  switch (op) {
-    case TapeOp::kAdd:
-    case TapeOp::kSub:
-    case TapeOp::kMul:
-    case TapeOp::kDiv:
-    case TapeOp::kPow:
-    case TapeOp::kAtan2:
-    case TapeOp::kMin:
-    case TapeOp::kMax:
-      return true;
-    default:
-      return false;
-  }
-}
-
 }  // namespace
 
 Tape Tape::compile(std::span<const Expr> outputs, std::span<const Expr> inputs) {

@@ -63,6 +63,24 @@ struct Instruction {
   std::uint32_t b;
 };
 
+// Whether an instruction of `op` reads its `b` slot: Add, Sub, Mul, Div, Pow and the binary
+// functions; the others read `a` only.
+[[nodiscard]] constexpr bool is_binary(TapeOp op) {
+  switch (op) {
+    case TapeOp::kAdd:
+    case TapeOp::kSub:
+    case TapeOp::kMul:
+    case TapeOp::kDiv:
+    case TapeOp::kPow:
+#define SPAR_CASE(Name, ...) case TapeOp::k##Name:
+      SPAR_BINARY_FUNCTIONS(SPAR_CASE)
+#undef SPAR_CASE
+      return true;
+    default:
+      return false;
+  }
+}
+
 class Tape {
  public:
   // Throws SymbolicError if an output uses a variable that is not among `inputs`, or if an input

@@ -97,7 +97,7 @@ class GradientEvaluator {
       T partial_a{0.0}, partial_b{0.0};
       partials(in, first_[k], second_[k], partial_a, partial_b);
       adjoints_[in.a] = adjoints_[in.a] + adjoint * partial_a;
-      if (is_binary(in.op)) adjoints_[in.b] = adjoints_[in.b] + adjoint * partial_b;
+      if (symbolic::is_binary(in.op)) adjoints_[in.b] = adjoints_[in.b] + adjoint * partial_b;
     }
     for (std::size_t i = 0; i < gradient.size(); ++i) gradient[i] = adjoints_[i];
     return result;
@@ -123,23 +123,6 @@ class GradientEvaluator {
       s[in.dst] = f(s[in.a], s[in.b]);
     }
   };
-
-  static bool is_binary(symbolic::TapeOp op) {
-    using symbolic::TapeOp;
-    switch (op) {
-      case TapeOp::kAdd:
-      case TapeOp::kSub:
-      case TapeOp::kMul:
-      case TapeOp::kDiv:
-      case TapeOp::kPow:
-#define SPAR_CASE(Name, ...) case TapeOp::k##Name:
-        SPAR_BINARY_FUNCTIONS(SPAR_CASE)
-#undef SPAR_CASE
-        return true;
-      default:
-        return false;
-    }
-  }
 
   // The function set the table's derivative formulas (symbolic/functions.hpp) are written over.
   struct F {
