@@ -176,7 +176,9 @@ PlanResult plan(Scenario scenario, const Domain& domain, const PlanOptions& opti
       enumerate_instances(result.family, result.world, result.domain, options.max_instances);
   if (options.uncertainty && !result.instances.instances.empty()) {
     AnalysisOptions examining = result.analysis;
-    examining.defer_sensor_margins = true;  // the chosen instance's only, below
+    // Sensor margins for the chosen instance only: below, unless analyse_instances added them
+    // on a thread that had finished its round's analysis (add_sensor_margins is then a no-op).
+    examining.defer_sensor_margins = true;
     result.examined = analyse_instances(result.world, result.domain, result.instances.instances,
                                         examining, stage);
     InstanceAnalysis& chosen = result.examined[choose_instance(result.examined)];

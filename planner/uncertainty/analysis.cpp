@@ -477,6 +477,7 @@ void InstanceAnalyser::run(std::vector<Phase2Step> steps, InstanceAnalysis& out)
   }
   if (options_.reverse && !options_.defer_sensor_margins)
     add_sensor_margins(steps, snapshots, analysed);
+  out.sensor_margins_pending = options_.reverse && options_.defer_sensor_margins;
   out.steps = std::move(analysed);
   out.steps_decided = decisions_.misses();
   out.steps_reused = decisions_.hits();
@@ -536,8 +537,9 @@ void add_sensor_margins(const WorldModel& world, const Domain& domain, InstanceA
     throw PlanError(
         "add_sensor_margins: the analysis has no expression pool (give it one that "
         "analyse_instance made)");
-  if (options.reverse)
-    InstanceAnalyser(world, domain, options, *analysis.pool).add_sensor_margins(analysis);
+  if (!options.reverse || !analysis.sensor_margins_pending) return;
+  InstanceAnalyser(world, domain, options, *analysis.pool).add_sensor_margins(analysis);
+  analysis.sensor_margins_pending = false;
 }
 
 std::size_t choose_instance(const std::vector<InstanceAnalysis>& examined) {
@@ -568,7 +570,19 @@ std::vector<InstanceAnalysis> analyse_instances(
             std::to_string(instances.size()));
     std::vector<std::optional<InstanceAnalysis>> analysed(count);
     std::vector<std::exception_ptr> failed(analysed.size());
-    run_tasks(analysed.size(), options.threads, [&](std::size_t i) {
+    InstanceAnalysis* leader =
+        examined.empty() || options.threads < 2 ? nullptr : &examined[choose_instance(examined)];
+    if (leader && !leader->sensor_margins_pending) leader = nullptr;
+    run_tasks(analysed.size() + (leader ? 1 : 0), options.threads, [&](std::size_t i) {
+      if (i == analysed.size()) {
+        // If this fails, the margins stay pending: add_sensor_margins runs them again (and
+        // throws) for the caller if this instance is chosen.
+        try {
+          add_sensor_margins(world, domain, *leader, options);
+        } catch (...) {
+        }
+        return;
+      }
       try {
         analysed[i] = analyse_instance(world, domain, instances[next + i], options);
       } catch (...) {

@@ -119,6 +119,8 @@ struct InstanceAnalysis {
   // Step decisions made and reused (DecisionCache misses and hits: the repair search and the
   // resumed analysis after a repair decide steps again).
   std::size_t steps_decided{0}, steps_reused{0};
+  // Analysed with options.reverse and defer_sensor_margins, and add_sensor_margins() has not run.
+  bool sensor_margins_pending{false};
   std::unique_ptr<symbolic::ExprPool> pool;  // owns every expression above
 };
 
@@ -163,8 +165,9 @@ struct AnalysisOptions {
 // The sensor margins (AnalysedStep::sensor_scale_needed, when options.reverse) of an analysis
 // made with options.defer_sensor_margins, as analyse_instance would have given them: the steps
 // are propagated again to the last failed one (same labels, so the same expressions in
-// analysis.pool). Extends the pool: not beside other work that reads it. Throws PlanError for an
-// analysis without a pool (not one analyse_instance made).
+// analysis.pool). Does nothing unless analysis.sensor_margins_pending (they are there already)
+// or without options.reverse. Extends the pool: not beside other work that reads it. Throws
+// PlanError for an analysis without a pool (not one analyse_instance made).
 void add_sensor_margins(const WorldModel& world, const Domain& domain, InstanceAnalysis& analysis,
                         const AnalysisOptions& options);
 
@@ -173,10 +176,13 @@ void add_sensor_margins(const WorldModel& world, const Domain& domain, InstanceA
 
 // Examines `instances` in order until one has no error; returns every examined analysis (with
 // options.threads > 1, the ones after a first with errors are analysed that many at once, the
-// same analyses one at a time gives). The chosen one's extras (tight bounds, blame, reverse
-// analysis, Monte Carlo) are a separate step: add_margins (margins.hpp; plan() runs them beside
-// the probability). `progress`, when set, is told each instance as it starts ("phase 2: plan
-// instance 2 of 16").
+// same analyses one at a time gives). With options.defer_sensor_margins and threads > 1, such a
+// round also adds the sensor margins of the instance leading so far (choose_instance among those
+// examined before it; plan() chooses it unless a later one has fewer errors): the round's
+// analyses seldom take equal time, and the thread done first would wait. The chosen one's extras
+// (tight bounds, blame, reverse analysis, Monte Carlo) are a separate step: add_margins
+// (margins.hpp; plan() runs them beside the probability). `progress`, when set, is told each
+// instance as it starts ("phase 2: plan instance 2 of 16").
 [[nodiscard]] std::vector<InstanceAnalysis> analyse_instances(
     const WorldModel& world, const Domain& domain, const std::vector<PlanInstance>& instances,
     const AnalysisOptions& options = {},

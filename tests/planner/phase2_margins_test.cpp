@@ -50,6 +50,7 @@ void expect_same_bound(const bounds::BoundResult& a, const bounds::BoundResult& 
 void expect_same_analysis(const InstanceAnalysis& one, const InstanceAnalysis& two,
                           const std::string& name) {
   EXPECT_EQ(one.errors, two.errors) << name;
+  EXPECT_EQ(one.sensor_margins_pending, two.sensor_margins_pending) << name;
   ASSERT_EQ(one.steps.size(), two.steps.size()) << name;
   for (std::size_t k = 0; k < one.steps.size(); ++k) {
     EXPECT_EQ(one.steps[k].sensor_scale_needed, two.steps[k].sensor_scale_needed)
@@ -139,6 +140,41 @@ TEST(AnalyseInstances, TheSameOnTwoThreadsAsOnOne) {
     EXPECT_EQ(one[n].instance, two[n].instance);
     expect_same_analysis(one[n], two[n], "instance " + std::to_string(one[n].instance));
   }
+}
+
+// Deferring the sensor margins as plan() does, two threads add the leading instance's in the
+// round after it (on_back: the first instance, whose insertion fails, while the other two are
+// analysed); they are what add_sensor_margins gives it afterwards on one thread, and the instances
+// analysed in that round stay pending.
+TEST(AnalyseInstances, TwoThreadsAddTheLeadersSensorMarginsAsOneThreadLater) {
+  const WorldModel world(
+      load_scenario(std::string(SPAR_SOURCE_DIR) + "/examples/peg_block_on_back.yaml"));
+  const PlanFamily family = post_plan(world, builtin_domain());
+  ASSERT_EQ(family.status, PostingStatus::kPlanned);
+  const std::vector<PlanInstance> instances =
+      enumerate_instances(family, world, builtin_domain(), 16).instances;
+  AnalysisOptions options;
+  options.samples = 300;
+  options.defer_sensor_margins = true;
+  options.threads = 1;
+  std::vector<InstanceAnalysis> one =
+      analyse_instances(world, builtin_domain(), instances, options);
+  options.threads = 2;
+  const std::vector<InstanceAnalysis> two =
+      analyse_instances(world, builtin_domain(), instances, options);
+  ASSERT_EQ(one.size(), 3u);  // the case under test: one round of two after the first
+  ASSERT_EQ(two.size(), 3u);
+  for (const InstanceAnalysis& analysis : one) EXPECT_TRUE(analysis.sensor_margins_pending);
+  EXPECT_FALSE(two[0].sensor_margins_pending);
+  EXPECT_TRUE(two[1].sensor_margins_pending);
+  EXPECT_TRUE(two[2].sensor_margins_pending);
+  std::size_t margins = 0;
+  for (const AnalysedStep& step : two[0].steps) margins += step.sensor_scale_needed ? 1 : 0;
+  EXPECT_GE(margins, 1u);
+  options.threads = 1;
+  add_sensor_margins(world, builtin_domain(), one[0], options);
+  for (std::size_t n = 0; n < one.size(); ++n)
+    expect_same_analysis(one[n], two[n], "instance " + std::to_string(one[n].instance));
 }
 
 // The copies bound as the originals do: each tight bound equals a BoundProblem's over the
