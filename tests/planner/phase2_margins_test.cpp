@@ -117,51 +117,48 @@ TEST(SensorMargins, AddedLaterTheyAreWhatTheAnalysisGives) {
   }
 }
 
-// on_back's three instances all have an error: after the first, two threads analyse the other two
-// at once, and the examined list is the one a single thread gives.
+// on_back's instances (three, all with an error), analysed by analyse_instances on one thread
+// and on two with `options` (samples 300).
+struct OnBackExamined {
+  explicit OnBackExamined(AnalysisOptions options)
+      : world(load_scenario(std::string(SPAR_SOURCE_DIR) + "/examples/peg_block_on_back.yaml")) {
+    const PlanFamily family = post_plan(world, builtin_domain());
+    EXPECT_EQ(family.status, PostingStatus::kPlanned);
+    const std::vector<PlanInstance> instances =
+        enumerate_instances(family, world, builtin_domain(), 16).instances;
+    options.samples = 300;
+    options.threads = 1;
+    one = analyse_instances(world, builtin_domain(), instances, options);
+    options.threads = 2;
+    two = analyse_instances(world, builtin_domain(), instances, options);
+  }
+  WorldModel world;
+  std::vector<InstanceAnalysis> one, two;
+};
+
+// After the first instance, two threads analyse the other two at once, and the examined list is
+// the one a single thread gives.
 TEST(AnalyseInstances, TheSameOnTwoThreadsAsOnOne) {
-  const WorldModel world(
-      load_scenario(std::string(SPAR_SOURCE_DIR) + "/examples/peg_block_on_back.yaml"));
-  const PlanFamily family = post_plan(world, builtin_domain());
-  ASSERT_EQ(family.status, PostingStatus::kPlanned);
-  const std::vector<PlanInstance> instances =
-      enumerate_instances(family, world, builtin_domain(), 16).instances;
-  AnalysisOptions options;
-  options.samples = 300;
-  options.threads = 1;
-  const std::vector<InstanceAnalysis> one =
-      analyse_instances(world, builtin_domain(), instances, options);
-  options.threads = 2;
-  const std::vector<InstanceAnalysis> two =
-      analyse_instances(world, builtin_domain(), instances, options);
-  ASSERT_GE(one.size(), 3u);  // the case under test: more than the first examined
-  ASSERT_EQ(one.size(), two.size());
-  for (std::size_t n = 0; n < one.size(); ++n) {
-    EXPECT_EQ(one[n].instance, two[n].instance);
-    expect_same_analysis(one[n], two[n], "instance " + std::to_string(one[n].instance));
+  const OnBackExamined examined{AnalysisOptions{}};
+  ASSERT_GE(examined.one.size(), 3u);  // the case under test: more than the first examined
+  ASSERT_EQ(examined.one.size(), examined.two.size());
+  for (std::size_t n = 0; n < examined.one.size(); ++n) {
+    EXPECT_EQ(examined.one[n].instance, examined.two[n].instance);
+    expect_same_analysis(examined.one[n], examined.two[n],
+                         "instance " + std::to_string(examined.one[n].instance));
   }
 }
 
 // Deferring the sensor margins as plan() does, two threads add the leading instance's in the
-// round after it (on_back: the first instance, whose insertion fails, while the other two are
-// analysed); they are what add_sensor_margins gives it afterwards on one thread, and the instances
-// analysed in that round stay pending.
+// round after it (the first instance, whose insertion fails, while the other two are analysed);
+// they are what add_sensor_margins gives it afterwards on one thread, and the instances analysed
+// in that round stay pending.
 TEST(AnalyseInstances, TwoThreadsAddTheLeadersSensorMarginsAsOneThreadLater) {
-  const WorldModel world(
-      load_scenario(std::string(SPAR_SOURCE_DIR) + "/examples/peg_block_on_back.yaml"));
-  const PlanFamily family = post_plan(world, builtin_domain());
-  ASSERT_EQ(family.status, PostingStatus::kPlanned);
-  const std::vector<PlanInstance> instances =
-      enumerate_instances(family, world, builtin_domain(), 16).instances;
-  AnalysisOptions options;
-  options.samples = 300;
-  options.defer_sensor_margins = true;
-  options.threads = 1;
-  std::vector<InstanceAnalysis> one =
-      analyse_instances(world, builtin_domain(), instances, options);
-  options.threads = 2;
-  const std::vector<InstanceAnalysis> two =
-      analyse_instances(world, builtin_domain(), instances, options);
+  AnalysisOptions deferring;
+  deferring.defer_sensor_margins = true;
+  OnBackExamined examined(deferring);
+  std::vector<InstanceAnalysis>& one = examined.one;
+  const std::vector<InstanceAnalysis>& two = examined.two;
   ASSERT_EQ(one.size(), 3u);  // the case under test: one round of two after the first
   ASSERT_EQ(two.size(), 3u);
   for (const InstanceAnalysis& analysis : one) EXPECT_TRUE(analysis.sensor_margins_pending);
@@ -171,8 +168,7 @@ TEST(AnalyseInstances, TwoThreadsAddTheLeadersSensorMarginsAsOneThreadLater) {
   std::size_t margins = 0;
   for (const AnalysedStep& step : two[0].steps) margins += step.sensor_scale_needed ? 1 : 0;
   EXPECT_GE(margins, 1u);
-  options.threads = 1;
-  add_sensor_margins(world, builtin_domain(), one[0], options);
+  add_sensor_margins(examined.world, builtin_domain(), one[0], deferring);
   for (std::size_t n = 0; n < one.size(); ++n)
     expect_same_analysis(one[n], two[n], "instance " + std::to_string(one[n].instance));
 }
