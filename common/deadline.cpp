@@ -10,7 +10,6 @@ struct ThreadDeadline {
   double seconds{0};
   bool active{false};
   unsigned calls{0};  // the clock is read every kClockEvery calls
-  const std::atomic<bool>* stop{nullptr};
 };
 
 thread_local ThreadDeadline current;
@@ -49,17 +48,7 @@ ScopedDeadline::~ScopedDeadline() {
   }
 }
 
-ScopedStop::ScopedStop(const std::atomic<bool>& flag) : previous_(current.stop) {
-  current.stop = &flag;
-}
-
-ScopedStop::~ScopedStop() { current.stop = previous_; }
-
-const std::atomic<bool>* current_stop() { return current.stop; }
-
 void check_deadline() {
-  if (current.stop != nullptr && current.stop->load(std::memory_order_relaxed))
-    throw StopRequested("stopped: the result is no longer wanted");
   if (!current.active || ++current.calls % kClockEvery != 1) return;
   if (std::chrono::steady_clock::now() < current.at) return;
   char seconds[32];

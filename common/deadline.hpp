@@ -5,14 +5,10 @@
 // each scenario under one, so a scenario that would run for minutes gives a `time_limit` record
 // and the batch goes on.
 //
-// The same checks stop work another thread calls off (ScopedStop): phase 2 analyses a few plan
-// instances at once and stops those whose results would be dropped.
-//
-// Rules: check_deadline() is cheap without a deadline or a stop (one thread-local read) and reads
-// the clock at most every 64th call with a deadline, so a loop may call it once per iteration; it
-// is never called where an exception cannot pass (inside an NLopt callback, a destructor). Code
-// that catches spar::Error to turn a failure into a result must let TimeLimitError through
-// (rethrow it); StopRequested is one.
+// Rules: check_deadline() is cheap without a deadline (one thread-local read) and reads the clock
+// at most every 64th call with one, so a loop may call it once per iteration; it is never called
+// where an exception cannot pass (inside an NLopt callback, a destructor). Code that catches
+// spar::Error to turn a failure into a result must let TimeLimitError through (rethrow it).
 //
 // Example:
 //   const ScopedDeadline limit(std::chrono::seconds(30));
@@ -22,7 +18,6 @@
 //   }
 #pragma once
 
-#include <atomic>
 #include <chrono>
 #include <optional>
 
@@ -34,12 +29,6 @@ namespace spar {
 class TimeLimitError : public Error {
  public:
   using Error::Error;
-};
-
-// Another thread called the work off (ScopedStop's flag was set); nobody waits for its result.
-class StopRequested : public TimeLimitError {
- public:
-  using TimeLimitError::TimeLimitError;
 };
 
 // A point in time a thread must finish by, and the limit it came from (for the message).
@@ -67,25 +56,7 @@ class ScopedDeadline {
   std::optional<Deadline> previous_;
 };
 
-// While alive, check_deadline() on the calling thread throws StopRequested once `flag` is set
-// (by any thread); the innermost ScopedStop's flag is the one checked, and the one before it
-// comes back when it is destroyed. Not movable.
-class ScopedStop {
- public:
-  explicit ScopedStop(const std::atomic<bool>& flag);
-  ~ScopedStop();
-  ScopedStop(const ScopedStop&) = delete;
-  ScopedStop& operator=(const ScopedStop&) = delete;
-
- private:
-  const std::atomic<bool>* previous_;
-};
-
-// The calling thread's stop flag (ScopedStop), if any: threads that work for it take it along.
-[[nodiscard]] const std::atomic<bool>* current_stop();
-
-// Throws StopRequested when the calling thread's work was called off, TimeLimitError when its
-// deadline has passed.
+// Throws TimeLimitError when the calling thread's deadline has passed.
 void check_deadline();
 
 }  // namespace spar

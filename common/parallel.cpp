@@ -51,14 +51,11 @@ void run_tasks(std::size_t count, unsigned threads, const std::function<void(std
       std::min<std::size_t>(threads > 1 ? threads - 1 : 0, count > 1 ? count - 1 : 0);
   {
     const std::optional<Deadline> deadline = current_deadline();
-    const std::atomic<bool>* stop = current_stop();
     std::vector<std::jthread> pool;
     for (std::size_t w = 0; w < workers; ++w)
       pool.emplace_back([&] {
         std::optional<ScopedDeadline> inherited;
         if (deadline) inherited.emplace(*deadline);
-        std::optional<ScopedStop> stopped_with;
-        if (stop) stopped_with.emplace(*stop);
         work(false);
       });
     work(true);

@@ -7,8 +7,8 @@
 //     the caller, in order, with no thread started. Which thread runs which task varies from run
 //     to run, so a task must write only what is its own: results do not depend on the schedule.
 //   - Tasks are taken in index order (put the long ones first for a short makespan).
-//   - Workers run under the caller's deadline and stop flag (common/deadline.hpp):
-//     check_deadline() in a task throws there as it would on the caller.
+//   - Workers run under the caller's deadline (common/deadline.hpp): check_deadline() in a task
+//     throws there as it would on the caller.
 //   - The first exception a task (or on_caller_done) throws is rethrown on the caller once every
 //     thread has stopped; no task starts after it is thrown (the ones running finish).
 //   - `on_caller_done(finished)`, if set, is called on the calling thread only, after each task

@@ -1,7 +1,6 @@
 #include "spar/planner/uncertainty/analysis.hpp"
 
 #include <algorithm>
-#include <atomic>
 #include <bit>
 #include <cstdio>
 #include <exception>
@@ -10,7 +9,6 @@
 #include <set>
 
 #include "spar/bounds/interval.hpp"
-#include "spar/common/deadline.hpp"
 #include "spar/common/parallel.hpp"
 #include "spar/planner/error.hpp"
 #include "spar/planner/uncertainty/internal/bisection.hpp"
@@ -559,34 +557,26 @@ std::vector<InstanceAnalysis> analyse_instances(
     if (progress) progress(text);
   };
   std::vector<InstanceAnalysis> examined;
-  // `threads` instances at once, while every one examined has an error: each analysis is
-  // independent (its own pool; the world model is only read, its memo tables under a lock), so
-  // the ones kept are what one at a time gives. Those after one without an error are dropped, so
-  // the analyses of the later ones in its round are stopped once it is known (their next
-  // check_deadline throws StopRequested; a stop can come only from a bound, inside the analysis'
-  // own objects). From the second round on, one more task adds the leading instance's sensor
-  // margins (stopped too once an instance of the round has no error: that one will be chosen).
+  // The first instance alone (most plans have no error there), then, while every one examined has
+  // an error, the next `threads` at once: each analysis is independent (its own pool; the world
+  // model is only read, its memo tables under a lock), so the ones kept are what one at a time
+  // gives, and those past the first without an error are dropped.
   for (std::size_t next = 0;
        next < instances.size() && (examined.empty() || examined.back().errors > 0);) {
-    const std::size_t count = std::clamp<std::size_t>(options.threads, 1, instances.size() - next);
-    stage(count == 1
-              ? "phase 2: plan instance " + std::to_string(next + 1) + " of " +
-                    std::to_string(instances.size())
-              : "phase 2: plan instances " + std::to_string(next + 1) + "-" +
-                    std::to_string(next + count) + " of " + std::to_string(instances.size()));
+    const std::size_t count =
+        examined.empty() ? 1 : std::clamp<std::size_t>(options.threads, 1, instances.size() - next);
+    for (std::size_t i = 0; i < count; ++i)
+      stage("phase 2: plan instance " + std::to_string(next + i + 1) + " of " +
+            std::to_string(instances.size()));
     std::vector<std::optional<InstanceAnalysis>> analysed(count);
-    std::vector<std::exception_ptr> failed(count);
+    std::vector<std::exception_ptr> failed(analysed.size());
     InstanceAnalysis* leader =
         examined.empty() || options.threads < 2 ? nullptr : &examined[choose_instance(examined)];
     if (leader && !leader->sensor_margins_pending) leader = nullptr;
-    // unwanted[i]: an instance before i in the round has no error; unwanted[count]: the leader's
-    // sensor margins, once any of the round has none.
-    std::vector<std::atomic<bool>> unwanted(count + 1);
-    run_tasks(count + (leader ? 1 : 0), options.threads, [&](std::size_t i) {
-      const ScopedStop stop(unwanted[i]);
-      if (i == count) {
-        // If this fails or stops, the margins stay pending: add_sensor_margins runs them again
-        // (and throws) for the caller if the leader is chosen.
+    run_tasks(analysed.size() + (leader ? 1 : 0), options.threads, [&](std::size_t i) {
+      if (i == analysed.size()) {
+        // If this fails, the margins stay pending: add_sensor_margins runs them again (and
+        // throws) for the caller if this instance is chosen.
         try {
           add_sensor_margins(world, domain, *leader, options);
         } catch (...) {
@@ -595,20 +585,16 @@ std::vector<InstanceAnalysis> analyse_instances(
       }
       try {
         analysed[i] = analyse_instance(world, domain, instances[next + i], options);
-        if (analysed[i]->errors == 0)
-          for (std::size_t later = i + 1; later <= count; ++later) unwanted[later] = true;
-      } catch (const StopRequested&) {
-        // Dropped below: an instance before it has no error.
       } catch (...) {
         failed[i] = std::current_exception();  // thrown below only if its turn comes
       }
     });
-    for (std::size_t i = 0; i < count; ++i) {
+    for (std::size_t i = 0; i < analysed.size(); ++i) {
       if (failed[i]) std::rethrow_exception(failed[i]);
       examined.push_back(std::move(*analysed[i]));
       if (examined.back().errors == 0) break;
     }
-    next += count;
+    next += analysed.size();
   }
   return examined;
 }

@@ -174,16 +174,15 @@ void add_sensor_margins(const WorldModel& world, const Domain& domain, InstanceA
 // The instance SPAR would choose: the first with no error, else the fewest (earliest on ties).
 [[nodiscard]] std::size_t choose_instance(const std::vector<InstanceAnalysis>& examined);
 
-// Examines `instances` in order until one has no error; returns every examined analysis, the
-// same whatever options.threads (but for the sensor margins added below). With threads > 1 it
-// analyses that many at once (and stops the ones after an instance without an error, whose results
-// would be dropped); from the second round on, with options.defer_sensor_margins, the round also
-// adds the sensor margins of the instance leading so far (choose_instance among those examined
-// before it; plan() chooses it unless a later one has fewer errors): a round's analyses seldom take
-// equal time, and the thread done first would wait. The chosen one's extras (tight bounds, blame,
-// reverse analysis, Monte Carlo) are a separate step: add_margins (margins.hpp; plan() runs them
-// beside the probability). `progress`, when set, is told each round as it starts ("phase 2: plan
-// instance 1 of 16" on one thread, "phase 2: plan instances 1-2 of 16" on two).
+// Examines `instances` in order until one has no error; returns every examined analysis (with
+// options.threads > 1, the ones after a first with errors are analysed that many at once, the
+// same analyses one at a time gives). With options.defer_sensor_margins and threads > 1, such a
+// round also adds the sensor margins of the instance leading so far (choose_instance among those
+// examined before it; plan() chooses it unless a later one has fewer errors): the round's
+// analyses seldom take equal time, and the thread done first would wait. The chosen one's extras
+// (tight bounds, blame, reverse analysis, Monte Carlo) are a separate step: add_margins
+// (margins.hpp; plan() runs them beside the probability). `progress`, when set, is told each
+// instance as it starts ("phase 2: plan instance 2 of 16").
 [[nodiscard]] std::vector<InstanceAnalysis> analyse_instances(
     const WorldModel& world, const Domain& domain, const std::vector<PlanInstance>& instances,
     const AnalysisOptions& options = {},

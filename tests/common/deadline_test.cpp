@@ -1,12 +1,10 @@
 // Cooperative time limits (common/deadline.hpp, issue 22): nothing happens without a deadline, a
 // loop that checks is stopped soon after its deadline, the earlier of two nested deadlines holds,
-// and leaving a scope restores the one before; a stop flag another thread sets stops the checks of
-// the threads under it, at the next check, and only theirs.
+// and leaving a scope restores the one before.
 #include "spar/common/deadline.hpp"
 
 #include <gtest/gtest.h>
 
-#include <atomic>
 #include <chrono>
 #include <thread>
 
@@ -70,35 +68,6 @@ TEST(Deadline, EachThreadHasItsOwn) {
         for (int i = 0; i < 200; ++i) check_deadline();
       }(),
       "time limit of 0.001 s reached");
-}
-
-TEST(Stop, TheNextCheckAfterTheFlagIsSetThrows) {
-  std::atomic<bool> unwanted{false};
-  const ScopedStop stop(unwanted);
-  for (int i = 0; i < 200; ++i) EXPECT_NO_THROW(check_deadline());
-  std::thread([&] { unwanted = true; }).join();
-  EXPECT_THROW_MESSAGE(check_deadline(), "stopped: the result is no longer wanted");
-  // What code that lets time limits through lets through.
-  EXPECT_THROW(check_deadline(), TimeLimitError);
-}
-
-TEST(Stop, ItHoldsOnlyOnItsThreadAndWithinItsScope) {
-  std::atomic<bool> unwanted{true};
-  {
-    const ScopedStop stop(unwanted);
-    std::thread other([] {
-      for (int i = 0; i < 200; ++i) EXPECT_NO_THROW(check_deadline());
-    });
-    other.join();
-    EXPECT_THROW(check_deadline(), StopRequested);
-    std::atomic<bool> wanted{false};
-    {
-      const ScopedStop inner(wanted);  // the inner flag holds within its scope
-      EXPECT_NO_THROW(check_deadline());
-    }
-    EXPECT_THROW(check_deadline(), StopRequested);
-  }
-  for (int i = 0; i < 200; ++i) EXPECT_NO_THROW(check_deadline());
 }
 
 }  // namespace
