@@ -846,7 +846,7 @@ Phase2Timing time_phase2(const planner::WorldModel& world, const planner::PlanIn
     for (int r = 0; r < repeats; ++r) {
       out.analysis = planner::analyse_instance(world, domain, instance, options);
       const auto start = std::chrono::steady_clock::now();
-      if (with.reverse) planner::add_sensor_margins(world, domain, out.analysis, with);
+      planner::add_sensor_margins(world, domain, out.analysis, with);  // none without reverse
       planner::add_margins(out.analysis, with);
       times.push_back(seconds_since(start));
     }

@@ -22,7 +22,8 @@
 // steps are then taken as its replay propagated them, and decided for the report's bounds.
 // A failed step (any instance) also gets its sensor margin, the largest residual scale of the
 // range-scan that would make it hold (AnalysedStep::sensor_scale_needed); with
-// options.defer_sensor_margins only once add_sensor_margins() runs (plan(): the chosen instance).
+// options.defer_sensor_margins only once add_sensor_margins() runs (plan(): the chosen instance's,
+// by analyse_instances beside a later round or after the choice).
 // The chosen instance's margins (planner/uncertainty/margins.hpp: tight bounds, blame, Monte Carlo
 // and the reverse analysis of every precondition) are added to it after the choice.
 //
